@@ -1,0 +1,113 @@
+!> ringlube-solve: one engine cycle of the top compression ring from a namelist deck.
+!>
+!> Usage: ringlube-solve CASE.nml [-o OUT.h5] [-q]
+!> Exit status: 0 success, 1 runtime error (e.g. output not writable), 2 bad input,
+!> 3 run did not converge (the result is still written, with converged = 0).
+program ringlube_solve
+  use ringlube_kinds, only: dp
+  use ringlube_error, only: error_type, rl_input_error, rl_not_converged, rl_runtime_error
+  use ringlube_case, only: case_type, composite_sigma
+  use ringlube_input, only: read_deck
+  use ringlube_cycle, only: result_type, solve_cycle
+  use ringlube_hdf5_output, only: write_result, ringlube_version
+  use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64
+  implicit none
+  type(case_type) :: c
+  type(result_type) :: res
+  type(error_type), allocatable :: err
+  character(len=:), allocatable :: deck, out
+  character(len=4096) :: arg
+  integer :: i, nargs, nflagged
+  integer(int64) :: t0, t1, rate
+  real(dp) :: runtime
+  logical :: quiet
+
+  quiet = .false.
+  nargs = command_argument_count()
+  i = 1
+  do while (i <= nargs)
+    call get_command_argument(i, arg)
+    select case (trim(arg))
+    case ('-h', '--help')
+      call usage(output_unit)
+      stop
+    case ('--version')
+      write(output_unit, '(a)') 'ringlube-solve ' // ringlube_version
+      stop
+    case ('-q', '--quiet')
+      quiet = .true.
+    case ('-o', '--output')
+      if (i == nargs) call die('option -o needs a file name', rl_input_error)
+      i = i + 1
+      call get_command_argument(i, arg)
+      out = trim(arg)
+    case default
+      if (arg(1:1) == '-') call die('unknown option ' // trim(arg), rl_input_error)
+      if (allocated(deck)) call die('only one deck can be given', rl_input_error)
+      deck = trim(arg)
+    end select
+    i = i + 1
+  end do
+  if (.not. allocated(deck)) then
+    call usage(error_unit)
+    stop rl_input_error, quiet=.true.
+  end if
+
+  call read_deck(deck, c, err)
+  if (allocated(err)) call die(err%message, err%code)
+  if (.not. allocated(out)) out = c%output_file
+
+  call system_clock(t0, rate)
+  call solve_cycle(c, res, err)
+  call system_clock(t1)
+  if (allocated(err)) call die(err%message, err%code)
+  runtime = real(t1 - t0, dp) / real(rate, dp)
+
+  call write_result(out, c, res, runtime, err)
+  if (allocated(err)) call die(err%message, err%code)
+
+  if (.not. quiet) then
+    nflagged = count(res%flags /= 0)
+    write(output_unit, '(a)') 'ringlube ' // ringlube_version // ': ' // deck
+    write(output_unit, '(a, f10.4, a)') '  energy loss per cycle   ', res%energy_loss, ' J'
+    write(output_unit, '(a, f10.3, a)') '  mixed/boundary share    ', res%mixed_share, ' % of the cycle (h0/sigma < 4)'
+    write(output_unit, '(a, f10.3, a)') '  ring mass               ', res%ring_mass * 1e3_dp, ' g'
+    write(output_unit, '(a, f10.4, a)') '  minimum film            ', res%min_film * 1e6_dp, ' um'
+    write(output_unit, '(a, f10.3, a)') '  peak friction           ', res%max_friction, ' N'
+    write(output_unit, '(a, i10, a, es9.2, a)') '  cycles run              ', res%cycles_run, &
+      '   (last cycle change in h0: ', res%cycle_change, ')'
+    write(output_unit, '(a, i10, a)') '  flagged crank steps     ', nflagged, ' (see /cycle/flags)'
+    write(output_unit, '(a, a)') '  converged               ', merge('       yes', '        no', res%converged)
+    write(output_unit, '(a, f10.3, a, f8.1, a)') '  run time                ', runtime, ' s (', &
+      1e3_dp * runtime / res%cycles_run, ' ms per cycle)'
+    write(output_unit, '(a, a)') '  written                 ', out
+  end if
+  if (.not. res%converged) then
+    write(error_unit, '(a)') 'ringlube-solve: warning: the run did not converge; ' // &
+      'result written with converged = 0'
+    stop rl_not_converged, quiet=.true.
+  end if
+
+contains
+
+  subroutine usage(unit)
+    integer, intent(in) :: unit
+    write(unit, '(a)') 'usage: ringlube-solve CASE.nml [-o OUT.h5] [-q]'
+    write(unit, '(a)') '  Computes one engine cycle of the top compression ring (see README.md).'
+    write(unit, '(a)') '  exit status: 0 ok, 1 runtime error, 2 bad input, 3 not converged'
+  end subroutine usage
+
+  subroutine die(msg, code)
+    character(len=*), intent(in) :: msg
+    integer, intent(in) :: code
+    write(error_unit, '(a)') 'ringlube-solve: error: ' // msg
+    select case (code)
+    case (rl_input_error)
+      stop rl_input_error, quiet=.true.
+    case (rl_not_converged)
+      stop rl_not_converged, quiet=.true.
+    case default
+      stop rl_runtime_error, quiet=.true.
+    end select
+  end subroutine die
+end program ringlube_solve

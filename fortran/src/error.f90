@@ -1,0 +1,36 @@
+!> Error values returned by the kernel instead of stopping the process.
+!>
+!> A routine that can fail takes `type(error_type), allocatable, intent(out) :: err`;
+!> the caller checks `if (allocated(err)) return`.
+module ringlube_error
+  implicit none
+  private
+
+  !> Exit statuses of `ringlube-solve`, also used as error codes.
+  integer, parameter, public :: rl_ok = 0
+  integer, parameter, public :: rl_runtime_error = 1
+  integer, parameter, public :: rl_input_error = 2
+  integer, parameter, public :: rl_not_converged = 3
+
+  !> An error travelling back to the caller.
+  type, public :: error_type
+    !> One of the `rl_*` codes above.
+    integer :: code = rl_runtime_error
+    !> Human-readable message (names file, group and variable for input errors).
+    character(len=:), allocatable :: message
+  end type error_type
+
+  public :: fatal_error
+
+contains
+
+  !> Create an error with a message and an optional code (default `rl_runtime_error`).
+  pure subroutine fatal_error(err, message, code)
+    type(error_type), allocatable, intent(out) :: err
+    character(len=*), intent(in) :: message
+    integer, intent(in), optional :: code
+    allocate(err)
+    err%message = message
+    if (present(code)) err%code = code
+  end subroutine fatal_error
+end module ringlube_error

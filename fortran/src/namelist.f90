@@ -1,0 +1,286 @@
+!> A strict scanner for namelist decks of scalar variables.
+!>
+!> gfortran's own namelist read reports a malformed value with messages such as
+!> "Cannot match namelist object name .0e-3" and can read some malformed input as
+!> end-of-file, which a reader could mistake for "group absent". This scanner splits a
+!> deck into (group, variable, value, line) items itself, so that every error can name
+!> the file, the group, the variable and the line. Syntax: `&group name = value, ... /`
+!> (or `&end`), `!` comments, values quoted with ' or " (doubled quotes escape), one
+!> value per variable.
+module ringlube_namelist
+  use ringlube_error, only: error_type, fatal_error, rl_input_error
+  implicit none
+  private
+  public :: nml_item, scan_namelist, lower
+
+  !> One `name = value` of a group.
+  type :: nml_item
+    character(len=:), allocatable :: group, name, value
+    integer :: line = 0
+    logical :: quoted = .false.
+  end type nml_item
+
+contains
+
+  !> Lower-case copy of a string.
+  pure function lower(s) result(t)
+    character(len=*), intent(in) :: s
+    character(len=len(s)) :: t
+    integer :: i
+    t = s
+    do i = 1, len(s)
+      if (s(i:i) >= 'A' .and. s(i:i) <= 'Z') t(i:i) = achar(iachar(s(i:i)) + 32)
+    end do
+  end function lower
+
+  !> Scan the deck text (lines separated by new_line('a')) into items. `path` is used
+  !> in messages only.
+  subroutine scan_namelist(text, path, items, nitems, err)
+    character(len=*), intent(in) :: text, path
+    type(nml_item), allocatable, intent(out) :: items(:)
+    integer, intent(out) :: nitems
+    type(error_type), allocatable, intent(out) :: err
+    integer :: pos, n, line, start, gline
+    character(len=:), allocatable :: group, name, value
+    logical :: quoted
+    character(len=1) :: q
+
+    n = len(text)
+    pos = 1
+    line = 1
+    nitems = 0
+    allocate(items(16))
+
+    outer: do
+      call skip_blank()
+      if (pos > n) exit outer
+      if (text(pos:pos) /= '&') then
+        ! text outside a group (other than comments) is an error: it is usually a
+        ! variable whose group line was lost
+        call fail('text outside a namelist group: "' // snippet() // '"')
+        return
+      end if
+      pos = pos + 1
+      start = pos
+      do while (pos <= n)
+        if (.not. is_ident(text(pos:pos))) exit
+        pos = pos + 1
+      end do
+      group = lower(text(start:pos-1))
+      gline = line
+      if (len(group) == 0) then
+        call fail('"&" not followed by a group name')
+        return
+      end if
+      if (group == 'end') then
+        call fail('"&end" without an open group')
+        return
+      end if
+      ! items of the group
+      do
+        call skip_blank()
+        if (pos > n) then
+          call fail('&' // group // ' (opened on line ' // itoa(gline) // &
+            ') is not closed with "/"')
+          return
+        end if
+        if (text(pos:pos) == '/') then
+          pos = pos + 1
+          cycle outer
+        end if
+        if (text(pos:pos) == '&') then
+          if (pos + 3 <= n) then
+            if (lower(text(pos:pos+3)) == '&end') then
+              pos = pos + 4
+              cycle outer
+            end if
+          end if
+          call fail('&' // group // ' (opened on line ' // itoa(gline) // &
+            ') is not closed with "/" before the next group')
+          return
+        end if
+        if (.not. is_ident(text(pos:pos))) then
+          call fail('&' // group // ': expected a variable name, found "' // snippet() // '"')
+          return
+        end if
+        start = pos
+        do while (pos <= n)
+          if (.not. is_ident(text(pos:pos))) exit
+          pos = pos + 1
+        end do
+        name = lower(text(start:pos-1))
+        call skip_space()
+        if (pos > n) then
+          call fail('&' // group // ' ' // name // ': expected "=" after the name')
+          return
+        end if
+        if (text(pos:pos) /= '=') then
+          call fail('&' // group // ' ' // name // ': expected "=" after the name, found "' &
+            // snippet() // '"')
+          return
+        end if
+        pos = pos + 1
+        call skip_space()
+        quoted = .false.
+        if (pos <= n) then
+          if (text(pos:pos) == "'" .or. text(pos:pos) == '"') then
+            q = text(pos:pos)
+            quoted = .true.
+            pos = pos + 1
+            value = ''
+            do
+              if (pos > n) then
+                call fail('&' // group // ' ' // name // ': unterminated string')
+                return
+              end if
+              if (text(pos:pos) == new_line('a')) then
+                call fail('&' // group // ' ' // name // ': unterminated string')
+                return
+              end if
+              if (text(pos:pos) == q) then
+                if (pos < n) then
+                  if (text(pos+1:pos+1) == q) then
+                    value = value // q
+                    pos = pos + 2
+                    cycle
+                  end if
+                end if
+                pos = pos + 1
+                exit
+              end if
+              value = value // text(pos:pos)
+              pos = pos + 1
+            end do
+          end if
+        end if
+        if (.not. quoted) then
+          start = pos
+          do while (pos <= n)
+            if (is_sep(text(pos:pos))) exit
+            pos = pos + 1
+          end do
+          value = text(start:pos-1)
+          if (len(value) == 0) then
+            call fail('&' // group // ' ' // name // ': missing value')
+            return
+          end if
+        end if
+        call add(group, name, value, quoted)
+        ! the value must be followed by a separator, then a name, "/" or "&end"
+        call skip_space()
+        if (pos <= n) then
+          if (text(pos:pos) == ',') pos = pos + 1
+        end if
+        call skip_blank()
+        if (pos <= n) then
+          if (is_ident(text(pos:pos))) then
+            start = pos
+            do while (pos <= n)
+              if (.not. is_ident(text(pos:pos))) exit
+              pos = pos + 1
+            end do
+            call skip_space()
+            if (pos > n) then
+              call fail('&' // group // ' ' // name // ': malformed value "' // value // ' ' &
+                // text(start:n) // '" (one value per variable)')
+              return
+            end if
+            if (text(pos:pos) /= '=') then
+              call fail('&' // group // ' ' // name // ': malformed value "' // value // ' ' &
+                // text(start:pos-1) // '" (one value per variable)')
+              return
+            end if
+            pos = start
+          else if (text(pos:pos) /= '/' .and. text(pos:pos) /= '&') then
+            call fail('&' // group // ' ' // name // ': malformed value "' // value // &
+              snippet() // '"')
+            return
+          end if
+        end if
+      end do
+    end do outer
+
+  contains
+
+    pure logical function is_ident(ch)
+      character(len=1), intent(in) :: ch
+      is_ident = (ch >= 'a' .and. ch <= 'z') .or. (ch >= 'A' .and. ch <= 'Z') &
+        .or. (ch >= '0' .and. ch <= '9') .or. ch == '_'
+    end function is_ident
+
+    pure logical function is_sep(ch)
+      character(len=1), intent(in) :: ch
+      is_sep = ch == ' ' .or. ch == ',' .or. ch == '/' .or. ch == '!' .or. ch == achar(9) &
+        .or. ch == new_line('a') .or. ch == achar(13)
+    end function is_sep
+
+    !> Skip spaces and tabs (not newlines).
+    subroutine skip_space()
+      do while (pos <= n)
+        if (text(pos:pos) /= ' ' .and. text(pos:pos) /= achar(9) .and. &
+          text(pos:pos) /= achar(13)) exit
+        pos = pos + 1
+      end do
+    end subroutine skip_space
+
+    !> Skip whitespace, newlines and comments.
+    subroutine skip_blank()
+      do while (pos <= n)
+        if (text(pos:pos) == new_line('a')) then
+          line = line + 1
+        else if (text(pos:pos) == '!') then
+          do while (pos <= n)
+            if (text(pos:pos) == new_line('a')) exit
+            pos = pos + 1
+          end do
+          cycle
+        else if (text(pos:pos) /= ' ' .and. text(pos:pos) /= achar(9) .and. &
+          text(pos:pos) /= achar(13)) then
+          exit
+        end if
+        pos = pos + 1
+      end do
+    end subroutine skip_blank
+
+    function snippet() result(s)
+      character(len=:), allocatable :: s
+      integer :: e
+      e = pos
+      do while (e <= n .and. e < pos + 30)
+        if (text(e:e) == new_line('a')) exit
+        e = e + 1
+      end do
+      s = text(pos:e-1)
+    end function snippet
+
+    subroutine add(g, nm, v, qt)
+      character(len=*), intent(in) :: g, nm, v
+      logical, intent(in) :: qt
+      type(nml_item), allocatable :: tmp(:)
+      if (nitems == size(items)) then
+        allocate(tmp(2 * nitems))
+        tmp(1:nitems) = items
+        call move_alloc(tmp, items)
+      end if
+      nitems = nitems + 1
+      items(nitems)%group = g
+      items(nitems)%name = nm
+      items(nitems)%value = v
+      items(nitems)%line = line
+      items(nitems)%quoted = qt
+    end subroutine add
+
+    subroutine fail(msg)
+      character(len=*), intent(in) :: msg
+      call fatal_error(err, path // ':' // itoa(line) // ': ' // msg, rl_input_error)
+    end subroutine fail
+  end subroutine scan_namelist
+
+  pure function itoa(i) result(s)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: s
+    character(len=16) :: buf
+    write(buf, '(i0)') i
+    s = trim(buf)
+  end function itoa
+end module ringlube_namelist
