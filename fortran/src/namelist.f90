@@ -182,12 +182,12 @@ contains
             call skip_space()
             if (pos > n) then
               call fail('&' // group // ' ' // name // ': malformed value "' // value // ' ' &
-                // text(start:n) // '" (one value per variable)')
+                // token(start) // '" (one value per variable)')
               return
             end if
             if (text(pos:pos) /= '=') then
               call fail('&' // group // ' ' // name // ': malformed value "' // value // ' ' &
-                // text(start:pos-1) // '" (one value per variable)')
+                // token(start) // '" (one value per variable)')
               return
             end if
             pos = start
@@ -241,6 +241,19 @@ contains
         pos = pos + 1
       end do
     end subroutine skip_blank
+
+    !> The run of non-separator characters starting at i.
+    function token(i) result(s)
+      integer, intent(in) :: i
+      character(len=:), allocatable :: s
+      integer :: e
+      e = i
+      do while (e <= n)
+        if (is_sep(text(e:e))) exit
+        e = e + 1
+      end do
+      s = text(i:e-1)
+    end function token
 
     function snippet() result(s)
       character(len=:), allocatable :: s
