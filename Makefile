@@ -7,7 +7,10 @@ PYTHON ?= python3
 APT_PACKAGES := gfortran cmake ninja-build libhdf5-dev hdf5-tools liblapack-dev libblas-dev
 DEFAULT_DECK := inputs/crf450r_4000rpm_full_cold.nml
 
-.PHONY: all setup system-deps build run test clean
+PY_STAMP := $(BUILD)/.python-installed
+PY_SOURCES := $(wildcard fortran/src/*.f90 fortran/f2py/*.f90 pydriver/ringlube/*.py) pyproject.toml CMakeLists.txt
+
+.PHONY: all setup system-deps build python run test bench clean
 
 all: build
 
@@ -27,7 +30,15 @@ $(BUILD)/build.ninja: CMakeLists.txt tests/fortran/tests.cmake | system-deps
 build: system-deps $(BUILD)/build.ninja
 	cmake --build $(BUILD)
 
-setup: build
+# The Python package (scikit-build-core builds the f2py extension through CMakeLists.txt).
+$(PY_STAMP): $(PY_SOURCES) | system-deps
+	$(PYTHON) -m pip install -q --disable-pip-version-check "scikit-build-core>=0.10" "numpy>=2.0" "f2py-cmake>=0.2" ninja pytest
+	$(PYTHON) -m pip install -q --disable-pip-version-check --no-build-isolation .
+	@mkdir -p $(BUILD) && touch $@
+
+python: $(PY_STAMP)
+
+setup: build python
 
 run: setup
 	mkdir -p out
@@ -35,6 +46,10 @@ run: setup
 
 test: setup
 	cd $(BUILD) && ctest --output-on-failure
+	$(PYTHON) -m pytest -q
+
+bench: setup
+	$(PYTHON) tests/bench/python_overhead.py
 
 clean:
 	rm -rf $(BUILD) out

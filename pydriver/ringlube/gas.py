@@ -154,9 +154,9 @@ def read_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="inputs/pressure", help="output folder")
-    ap.add_argument("names", nargs="*", default=sorted(PRESETS), help="presets to write")
+    ap.add_argument("names", nargs="*", help="presets to write (default: all)")
     args = ap.parse_args(argv)
-    for name in args.names:
+    for name in args.names or sorted(PRESETS):
         m = PRESETS[name]
         psi, p = trace(m)
         params = ", ".join(f"{k}={v}" for k, v in dataclasses.asdict(m).items())

@@ -1,0 +1,73 @@
+"""The ``ringlube`` command."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from .errors import RinglubeError
+
+__all__ = ["main"]
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from .case import Case
+    from .solve import run
+
+    case = Case.from_namelist(args.deck)
+    result = run(case)
+    out = Path(args.output) if args.output else Path(
+        case.get("output", "file") or Path(args.deck).with_suffix(".h5"))
+    result.to_hdf5(out)
+    print(f"{args.deck}: {result.summary()}\nwritten {out}")
+    return 0 if result.converged else 3
+
+
+def _cmd_plot(args: argparse.Namespace) -> int:
+    from .plot import plot_results
+    from .result import load
+
+    results = [load(p) for p in args.results]
+    if args.labels:
+        for r, label in zip(results, args.labels.split(",")):
+            r.label = label
+    for f in plot_results(results, args.output):
+        print(f"written {f}")
+    return 0
+
+
+def _cmd_gas(args: argparse.Namespace) -> int:
+    from . import gas
+
+    gas.main(["--out", args.out, *args.names])
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="ringlube", description="Piston ring mixed-lubrication "
+                                 "solver and design optimiser.")
+    sub = ap.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("run", help="run one deck (same numbers as ringlube-solve)")
+    p.add_argument("deck")
+    p.add_argument("-o", "--output", help="result file (default: the deck's &output file)")
+    p.set_defaults(func=_cmd_run)
+    p = sub.add_parser("plot", help="friction and film plots of one or more results")
+    p.add_argument("results", nargs="+")
+    p.add_argument("-o", "--output", default=".", help="output folder")
+    p.add_argument("--labels", help="comma-separated legend labels")
+    p.set_defaults(func=_cmd_plot)
+    p = sub.add_parser("gas", help="regenerate the synthetic gas-pressure traces")
+    p.add_argument("--out", default="inputs/pressure")
+    p.add_argument("names", nargs="*")
+    p.set_defaults(func=_cmd_gas)
+    args = ap.parse_args(argv)
+    try:
+        return args.func(args)
+    except RinglubeError as exc:
+        print(f"ringlube: error: {exc}", file=sys.stderr)
+        return exc.code
+
+
+if __name__ == "__main__":
+    sys.exit(main())

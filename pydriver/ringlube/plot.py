@@ -1,0 +1,88 @@
+"""Cycle plots in the style of the source study (friction and film over the cycle)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Sequence
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only; no display needed
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .result import CycleResult  # noqa: E402
+
+__all__ = ["friction_figure", "film_figure", "plot_results"]
+
+_STROKES = (("intake", 90), ("compression", 270), ("expansion", 450), ("exhaust", 630))
+_CENTRES = ((0, "TDC"), (180, "BDC"), (360, "TDC\nfiring"), (540, "BDC"), (720, "TDC"))
+
+
+def _crank_axis(ax: plt.Axes) -> None:
+    ax.set_xlim(0, 720)
+    ax.set_xticks([c for c, _ in _CENTRES])
+    ax.set_xticklabels([f"{c}\n{n}" for c, n in _CENTRES], fontsize=8)
+    ax.set_xlabel("crank angle [deg]")
+    for c, _ in _CENTRES[1:-1]:
+        ax.axvline(c, color="0.8", lw=0.8, zorder=0)
+    for name, mid in _STROKES:
+        ax.text(mid, 1.01, name, transform=ax.get_xaxis_transform(), ha="center", va="bottom",
+                fontsize=8, color="0.35")
+
+
+def _label(r: CycleResult, i: int) -> str:
+    return r.label or f"result {i + 1}"
+
+
+def friction_figure(results: Sequence[CycleResult]) -> plt.Figure:
+    """Friction over the cycle with its viscous and boundary parts (study Figs 3, 5, 11b)."""
+    fig, ax = plt.subplots(figsize=(8, 4.2), layout="constrained")
+    for i, r in enumerate(results):
+        line, = ax.plot(r.crank_angle_deg, r.friction, lw=1.4,
+                        label=f"{_label(r, i)}: total ({r.energy_loss:.3f} J/cycle)")
+        ax.plot(r.crank_angle_deg, r.viscous_friction, lw=0.9, ls="--", color=line.get_color(),
+                label=f"{_label(r, i)}: viscous")
+        ax.plot(r.crank_angle_deg, r.boundary_friction, lw=0.9, ls=":", color=line.get_color(),
+                label=f"{_label(r, i)}: boundary")
+    ax.axhline(0, color="k", lw=0.6)
+    ax.set_ylabel("friction on the ring [N]")
+    _crank_axis(ax)
+    ax.legend(fontsize=7, ncol=1 if len(results) == 1 else 2, loc="lower left")
+    return fig
+
+
+def film_figure(results: Sequence[CycleResult]) -> plt.Figure:
+    """Minimum film thickness over the cycle with the lambda = 4 threshold (Figs 6, 8, 11a)."""
+    fig, ax = plt.subplots(figsize=(8, 4.2), layout="constrained")
+    for i, r in enumerate(results):
+        ax.plot(r.crank_angle_deg, r.lambda_min * r.sigma * 1e6, lw=1.4,
+                label=f"{_label(r, i)} (mixed {r.mixed_share:.1f} % of the cycle)")
+    sigmas = sorted({r.sigma for r in results})
+    for s in sigmas:
+        ax.axhline(4 * s * 1e6, color="tab:red", lw=1, ls="--")
+        ax.text(5, 4 * s * 1e6, f" $\\lambda$ = 4 ({4 * s * 1e6:.2f} $\\mu$m): mixed/boundary below",
+                color="tab:red", fontsize=8, va="bottom")
+    ax.set_ylabel(r"minimum film thickness [$\mu$m]")
+    ax.set_ylim(bottom=0)
+    _crank_axis(ax)
+    ax.legend(fontsize=8, loc="upper right")
+    return fig
+
+
+def plot_results(results: Sequence[CycleResult], outdir: str | os.PathLike,
+                 formats: Sequence[str] = ("png", "pdf"), stem: str = "") -> list[Path]:
+    """Write the friction and film figures for one or several (overlaid) results."""
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    stem = stem or ("_vs_".join(r.label for r in results if r.label) or "result")
+    files = []
+    for kind, make in (("friction", friction_figure), ("film", film_figure)):
+        fig = make(results)
+        for fmt in formats:
+            path = outdir / f"{stem}_{kind}.{fmt}"
+            fig.savefig(path, dpi=150)
+            files.append(path)
+        plt.close(fig)
+    return files

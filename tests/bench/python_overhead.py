@@ -1,0 +1,46 @@
+"""Benchmark (not a test): import-to-first-result time and per-run cost through Python
+against the standalone program, on the shipped cold deck at default numerics.
+
+    python3 tests/bench/python_overhead.py
+"""
+
+from __future__ import annotations
+
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+DECK = ROOT / "inputs" / "crf450r_4000rpm_full_cold.nml"
+SOLVER = ROOT / "build" / "ringlube-solve"
+REPEAT = 5
+
+first = subprocess.run(
+    [sys.executable, "-c",
+     "import time; t=time.perf_counter(); import ringlube; "
+     f"r=ringlube.run({str(DECK)!r}); print(time.perf_counter()-t, r.run_time)"],
+    check=True, capture_output=True, text=True).stdout.split()
+print(f"import + first result (fresh interpreter): {float(first[0]) * 1e3:.0f} ms "
+      f"(kernel {float(first[1]) * 1e3:.0f} ms)")
+
+import ringlube  # noqa: E402
+
+case = ringlube.Case.from_namelist(DECK)
+py, kern = [], []
+for _ in range(REPEAT):
+    t = time.perf_counter()
+    r = ringlube.run(case)
+    py.append(time.perf_counter() - t)
+    kern.append(r.run_time)
+cli = []
+for _ in range(REPEAT):
+    t = time.perf_counter()
+    subprocess.run([str(SOLVER), "-q", str(DECK), "-o", "/tmp/ringlube_bench.h5"], check=True)
+    cli.append(time.perf_counter() - t)
+m = statistics.median
+print(f"per run, median of {REPEAT}: ringlube.run {m(py) * 1e3:.1f} ms "
+      f"(kernel {m(kern) * 1e3:.1f} ms, Python overhead {(m(py) - m(kern)) * 1e3:.1f} ms); "
+      f"ringlube-solve process {m(cli) * 1e3:.1f} ms")
+print(f"cycles per run: {r.cycles_run}; kernel time per cycle {m(kern) / r.cycles_run * 1e3:.1f} ms")

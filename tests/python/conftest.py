@@ -1,0 +1,33 @@
+"""Shared fixtures: paths to the shipped inputs and the standalone solver."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+INPUTS = ROOT / "inputs"
+DECKS = sorted(INPUTS.glob("crf450r_*.nml"))
+COLD = INPUTS / "crf450r_4000rpm_full_cold.nml"
+
+
+@pytest.fixture(scope="session")
+def solver() -> str:
+    """The ringlube-solve executable (the CMake build, else the one pip installed)."""
+    built = ROOT / "build" / "ringlube-solve"
+    if built.exists():
+        return str(built)
+    found = shutil.which("ringlube-solve")
+    if not found:
+        pytest.fail("ringlube-solve not found: run `make test` (it builds it)")
+    return found
+
+
+@pytest.fixture()
+def quick_case():
+    """The cold deck at coarse numerics (a few tens of ms per run)."""
+    import ringlube
+
+    return ringlube.Case.from_namelist(COLD).with_numerics(nodes=41, dpsi_deg=2.0)

@@ -1,0 +1,49 @@
+"""Plots and the ringlube command."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import ringlube
+from ringlube.cli import main
+from ringlube.plot import film_figure, friction_figure, plot_results
+
+from conftest import COLD
+
+
+def test_plot_files_and_data(quick_case, tmp_path):
+    a = ringlube.run(quick_case.with_ring(crown_offset=60e-6))
+    a.label = "offset +60 um"
+    b = ringlube.run(quick_case.with_ring(crown_offset=-60e-6))
+    b.label = "offset -60 um"
+    files = plot_results([a, b], tmp_path)
+    assert {f.suffix for f in files} == {".png", ".pdf"} and len(files) == 4
+    for f in files:
+        assert f.stat().st_size > 1000
+    fig = friction_figure([a, b])
+    lines = fig.axes[0].lines
+    np.testing.assert_array_equal(lines[0].get_xdata(), a.crank_angle_deg)
+    np.testing.assert_array_equal(lines[0].get_ydata(), a.friction)
+    np.testing.assert_array_equal(lines[1].get_ydata(), a.viscous_friction)
+    np.testing.assert_array_equal(lines[2].get_ydata(), a.boundary_friction)
+    np.testing.assert_array_equal(lines[3].get_ydata(), b.friction)
+    fig = film_figure([a])
+    np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), a.lambda_min * a.sigma * 1e6,
+                               rtol=1e-15)
+
+
+def test_cli_run_and_plot(tmp_path, capsys):
+    deck = tmp_path / "q.nml"
+    ringlube.Case.from_namelist(COLD).with_numerics(nodes=41, dpsi_deg=2.0).to_namelist(deck)
+    out = tmp_path / "r.h5"
+    assert main(["run", str(deck), "-o", str(out)]) == 0
+    assert "energy loss" in capsys.readouterr().out
+    assert main(["plot", str(out), "-o", str(tmp_path / "plots")]) == 0
+    assert (tmp_path / "plots" / "r_friction.png").stat().st_size > 1000
+
+
+def test_cli_bad_input_exit_code(tmp_path, capsys):
+    deck = tmp_path / "bad.nml"
+    deck.write_text("&numerics nodes = 2.5 /\n")
+    assert main(["run", str(deck)]) == 2
+    assert "&numerics nodes: malformed integer" in capsys.readouterr().err
