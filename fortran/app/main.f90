@@ -78,8 +78,9 @@ program ringlube_solve
       '   (last cycle change in h0: ', res%cycle_change, ')'
     write(output_unit, '(a, i10, a)') '  flagged crank steps     ', nflagged, ' (see /cycle/flags)'
     write(output_unit, '(a, a)') '  converged               ', merge('       yes', '        no', res%converged)
-    write(output_unit, '(a, f10.3, a, f8.1, a)') '  run time                ', runtime, ' s (', &
-      1e3_dp * runtime / res%cycles_run, ' ms per cycle)'
+    write(output_unit, '(a, f10.3, a, f8.1, a, f5.2, a)') '  run time                ', runtime, &
+      ' s (', 1e3_dp * runtime / res%cycles_computed, ' ms per cycle; ', res%cycles_computed, &
+      ' cycles incl. warm-up)'
     write(output_unit, '(a, a)') '  written                 ', out
   end if
   if (.not. res%converged) then

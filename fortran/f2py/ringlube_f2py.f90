@@ -32,7 +32,8 @@ end subroutine rl_count_steps
 !> lambda_min, gas pressure, applied load, hydrodynamic load, asperity load, viscous
 !> friction, boundary friction, friction, power loss, load residual. `scalars`: energy
 !> loss J, mixed share %, ring mass g, min film m, max friction N, converged, cycles run,
-!> cycle change, sigma m, run time s, film solves, periodic.
+!> cycle change, sigma m, run time s, film solves, periodic, Reynolds solves, cycles
+!> computed (including warm-up).
 subroutine rl_run_deck(deck, nsteps, series, flags, iterations, scalars, code, message)
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_int64_t
   use ringlube_kinds, only: dp
@@ -45,7 +46,7 @@ subroutine rl_run_deck(deck, nsteps, series, flags, iterations, scalars, code, m
   integer(c_int), intent(in) :: nsteps
   real(c_double), intent(out) :: series(nsteps, 13)
   integer(c_int), intent(out) :: flags(nsteps), iterations(nsteps)
-  real(c_double), intent(out) :: scalars(12)
+  real(c_double), intent(out) :: scalars(14)
   integer(c_int), intent(out) :: code
   character(len=2048), intent(out) :: message
   type(case_type) :: c
@@ -105,6 +106,8 @@ subroutine rl_run_deck(deck, nsteps, series, flags, iterations, scalars, code, m
   scalars(10) = real(t1 - t0, dp) / real(rate, dp)
   scalars(11) = r%evaluations
   scalars(12) = merge(1.0_dp, 0.0_dp, r%periodic)
+  scalars(13) = r%reynolds_solves
+  scalars(14) = r%cycles_computed
 end subroutine rl_run_deck
 
 !> Greenwood-Tripp functions at the given lambdas ('exact' unless `fit` is nonzero).

@@ -66,6 +66,7 @@ module ringlube_case
     real(dp) :: h0_floor = 1e-9_dp             !< m, lower bound on h0 (flagged when hit)
     real(dp) :: h0_ceiling = 1e-4_dp           !< m, upper bound on h0 (flagged when hit)
     real(dp) :: h0_initial = 0.0_dp            !< m, h0 before the first step; 0: 4 sigma
+    real(dp) :: warmup_deg = 360.0_dp          !< deg solved (not reported) before cycle 1
     ! &output
     character(len=:), allocatable :: output_file
     ! not namelist variables
@@ -236,6 +237,9 @@ contains
       call bad('numerics', 'h0_ceiling', 'must exceed 10 h0_floor'); return
     end if
     call nonneg('numerics', 'h0_initial', c%h0_initial); if (allocated(err)) return
+    if (.not. (c%warmup_deg >= 0.0_dp .and. c%warmup_deg <= 720.0_dp)) then
+      call bad('numerics', 'warmup_deg', 'must be in [0, 720] deg'); return
+    end if
     if (len_trim(c%output_file) == 0) then
       call bad('output', 'file', 'must not be empty'); return
     end if

@@ -40,6 +40,9 @@ module ringlube_cycle
     logical :: periodic = .false.          !< periodic within cycle_tol
     integer :: cycles_run = 0
     integer :: evaluations = 0             !< film solves over the whole run
+    integer :: reynolds_solves = 0         !< Reynolds solves over the whole run
+    !> cycles' worth of crank steps solved: cycles_run + warm-up + periodicity checks
+    real(dp) :: cycles_computed = 0.0_dp
   end type result_type
 
   !> Workspace of the film at one crank step.
@@ -50,10 +53,16 @@ module ringlube_cycle
     logical, allocatable :: active(:)
     logical :: lead_left = .true.          !< leading edge is the chamber edge (x = -b/2)
     logical :: trailing_cavitated = .false.  !< Reynolds outlet: trailing edge at p_cav
+    ! Roelands constants of the run: eta = eta0 exp(lnc (-1 + rtheta (1 + 5.1e-9 p)^z0))
+    real(dp) :: lnc = 0.0_dp, z0 = 0.0_dp, rtheta = 0.0_dp
     ! state of the last evaluation
     real(dp) :: h0 = -1.0_dp, wh = 0.0_dp, wa = 0.0_dp, aa = 0.0_dp
     integer :: flags = 0
-    integer :: evaluations = 0
+    integer :: evaluations = 0             !< film solves (load-balance trials)
+    integer :: reynolds_solves = 0         !< Reynolds solves (incl. pressure-viscosity loop)
+    ! load-balance memory: the last two trials (y = ln h0, relative residual) and the slope
+    real(dp) :: y_hist(2) = 0.0_dp, g_hist(2) = 0.0_dp
+    real(dp) :: slope = 0.0_dp             !< d residual / d ln h0 of the last step (< 0), 0: none
   end type film_type
 
   !> Constants of a run needed at every step.
@@ -84,6 +93,10 @@ contains
     f%sigma = composite_sigma(c)
     f%e_reduced = reduced_modulus(c)
     f%eta_e = roelands(0.0_dp, c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta)
+    f%lnc = log(c%eta0) + 9.67_dp
+    f%z0 = c%alpha / (5.1e-9_dp * f%lnc)
+    f%rtheta = ((c%liner_temperature - 138.0_dp) / (c%theta0 - 138.0_dp)) &
+      **(-c%beta * (c%theta0 - 138.0_dp) / f%lnc)
     allocate(f%x(n), f%s(n), f%h(n), f%p(n), f%eta(n), f%active(n))
     allocate(f%smid(n-1), f%hmid(n-1), f%kmid(n-1), f%etamid(n-1))
     do i = 1, n
@@ -128,7 +141,9 @@ contains
 
     do it = 1, c%max_pressure_iterations
       if (c%roelands) then
-        f%eta = roelands(f%p, c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta)
+        ! Roelands with the temperature factor of the run precomputed (same formula)
+        f%eta = c%eta0 * exp(f%lnc * (-1.0_dp + f%rtheta &
+          * exp(f%z0 * log(1.0_dp + 5.1e-9_dp * max(f%p, 0.0_dp)))))
       else
         f%eta = f%eta_e
       end if
@@ -137,6 +152,7 @@ contains
       pold = f%p
       call reynolds_solve(f%dx, f%kmid, f%hmid, u, sq, pl, pr, c%cavitation_pressure, f%p, &
         f%active, iters, info)
+      f%reynolds_solves = f%reynolds_solves + iters
       if (info == 1) f%flags = ior(f%flags, flag_cavitation)
       if (info == 2) then
         ! singular system: cannot happen for h > 0; keep a finite state and flag it
@@ -235,6 +251,7 @@ contains
     type(step_context) :: ctx
     integer :: m, k, icycle, flags
     real(dp) :: sigma, h0_prev, h0_prev2, h0_start, h0, h0_end, resid
+    integer :: extra_evaluations, extra_solves
 
     call validate_case(c, err)
     if (allocated(err)) return
@@ -260,6 +277,15 @@ contains
     h0_prev = min(max(h0_prev, c%h0_floor), c%h0_ceiling)
     h0_prev2 = h0_prev
     h0_start = h0_prev
+    extra_evaluations = 0
+    extra_solves = 0
+    ! warm-up: the last warmup_deg of a cycle before the first reported one, so that the
+    ! squeeze-film memory of the initial guess has decayed by psi = 0
+    do k = steps_per_cycle(c) - nint(c%warmup_deg / c%dpsi_deg) + 1, m
+      call balance(c, ctx, f, (k - 1) * c%dpsi_deg, h0_prev, h0_prev2, h0, flags, resid)
+      h0_prev2 = h0_prev
+      h0_prev = h0
+    end do
     do icycle = 1, c%max_cycles
       res%cycles_run = icycle
       do k = 1, m
@@ -271,6 +297,8 @@ contains
       ! psi = 720 deg is psi = 0 of the next cycle: solve it on a copy of the film
       g = f
       call balance(c, ctx, g, 0.0_dp, h0_prev, h0_prev2, h0_end, flags, resid)
+      extra_evaluations = extra_evaluations + g%evaluations - f%evaluations
+      extra_solves = extra_solves + g%reynolds_solves - f%reynolds_solves
       res%cycle_change = abs(h0_end - h0_start) / h0_start
       if (res%cycle_change <= c%cycle_tol) then
         res%periodic = .true.
@@ -282,7 +310,9 @@ contains
     res%mixed_share = 100.0_dp * count(res%h0 / sigma < 4.0_dp) / real(m, dp)
     res%min_film = minval(res%lambda_min) * sigma
     res%max_friction = maxval(abs(res%friction))
-    res%evaluations = f%evaluations + g%evaluations
+    res%evaluations = f%evaluations + extra_evaluations
+    res%reynolds_solves = f%reynolds_solves + extra_solves
+    res%cycles_computed = res%cycles_run + (c%warmup_deg + c%dpsi_deg * res%cycles_run) / 720.0_dp
     res%converged = res%periodic .and. all(res%flags == 0)
     if (.not. all(ieee_is_finite(res%friction)) .or. .not. all(ieee_is_finite(res%h0))) then
       call fatal_error(err, 'internal error: non-finite result', rl_runtime_error)
@@ -372,6 +402,10 @@ contains
     if (c%squeeze) sq = 2.0_dp * (h0 - lp%hp) / lp%dt
     call film_evaluate(c, g, h0, sq, lp%u, lp%pg)
     residual = (g%wh + g%wa - lp%load) / lp%load
+    g%y_hist(1) = g%y_hist(2)
+    g%g_hist(1) = g%g_hist(2)
+    g%y_hist(2) = log(h0)
+    g%g_hist(2) = residual
   end function residual
 
   !> The source study's rule h0 <- (1 + beta_d chi) h0, chi = (W - F)/max(W, F).
@@ -429,10 +463,17 @@ contains
       call finish(guess, ga)
       return
     end if
-    ! expand a bracket: the residual falls with h0 (W > F means the film can open)
-    dy = 0.01_dp
+    ! bracket the root: the residual falls with h0 (W > F means the film can open). The
+    ! first trial is a Newton step with the slope remembered from the previous crank
+    ! step (usually within load_tol at once); then secant extrapolation, then expansion.
+    if (g%slope < 0.0_dp) then
+      dy = -ga / g%slope
+      dy = sign(min(max(abs(dy), 1e-6_dp), 0.5_dp), dy)
+    else
+      dy = sign(0.01_dp, ga)
+    end if
     do it = 1, 200
-      yb = min(max(ya + sign(dy, ga), ylo), yhi)
+      yb = min(max(ya + dy, ylo), yhi)
       gb = residual(c, lp, g, exp(yb))
       if (abs(gb) <= c%load_tol) then
         call finish(exp(yb), gb)
@@ -445,9 +486,15 @@ contains
         call finish(exp(yb), gb)
         return
       end if
+      if ((gb - ga) / (yb - ya) < 0.0_dp .and. abs(gb) < abs(ga)) then
+        ! secant extrapolation past the root (by 50 %), at least doubling the step
+        dy = sign(max(1.5_dp * abs(gb * (yb - ya) / (gb - ga)), 2.0_dp * abs(yb - ya)), dy)
+      else
+        dy = 3.0_dp * dy
+      end if
+      dy = sign(min(abs(dy), 2.0_dp), dy)
       ya = yb
       ga = gb
-      dy = 3.0_dp * dy
     end do
     call brent(ya, yb, ga, gb)
 
@@ -463,6 +510,11 @@ contains
       h0out = h
       if (abs(resid) > c%load_tol .and. flags == 0) flags = flag_load
       flags = ior(flags, g%flags)
+      ! remember the local slope for the next crank step's first trial
+      if (g%y_hist(1) /= g%y_hist(2)) then
+        if ((g%g_hist(2) - g%g_hist(1)) / (g%y_hist(2) - g%y_hist(1)) < 0.0_dp) &
+          g%slope = (g%g_hist(2) - g%g_hist(1)) / (g%y_hist(2) - g%y_hist(1))
+      end if
     end subroutine finish
 
     !> Brent's method (inverse quadratic / secant steps, bisection safeguard).

@@ -71,6 +71,8 @@ contains
     call attr_real(fid, 'sigma_m', composite_sigma(c))
     call attr_real(fid, 'run_time_s', runtime_s)
     call attr_int(fid, 'film_solves', res%evaluations)
+    call attr_int(fid, 'reynolds_solves', res%reynolds_solves)
+    call attr_real(fid, 'cycles_computed', res%cycles_computed)
     call attr_str(fid, 'deck', c%deck_text)
     call attr_str(fid, 'deck_path', c%deck_path)
     call attr_str(fid, 'pressure_file', c%pressure_file)

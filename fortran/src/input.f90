@@ -186,6 +186,7 @@ contains
         case ('h0_floor'); call get_real(it, c%h0_floor)
         case ('h0_ceiling'); call get_real(it, c%h0_ceiling)
         case ('h0_initial'); call get_real(it, c%h0_initial)
+        case ('warmup_deg'); call get_real(it, c%warmup_deg)
         case default; call unknown(it)
         end select
       case ('output')
