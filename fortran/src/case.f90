@@ -53,8 +53,8 @@ module ringlube_case
     character(len=:), allocatable :: contact_area   !< 'local' | 'lumped'
     character(len=:), allocatable :: outlet         !< 'reynolds' | 'ambient'
     ! &numerics
-    integer :: nodes = 201
-    real(dp) :: dpsi_deg = 0.5_dp
+    integer :: nodes = 51                      !< preset 'default'
+    real(dp) :: dpsi_deg = 1.0_dp              !< deg, preset 'default'
     real(dp) :: pressure_tol = 1e-5_dp
     real(dp) :: load_tol = 1e-3_dp
     character(len=:), allocatable :: h0_update      !< 'safeguarded' | 'damped'
@@ -64,7 +64,7 @@ module ringlube_case
     integer :: max_load_iterations = 2000      !< per crank step
     integer :: max_pressure_iterations = 100   !< pressure-viscosity iterations per solve
     real(dp) :: h0_floor = 1e-9_dp             !< m, lower bound on h0 (flagged when hit)
-    real(dp) :: h0_ceiling = 1e-4_dp           !< m, upper bound on h0 (flagged when hit)
+    real(dp) :: h0_ceiling = 1e-3_dp           !< m, upper bound on h0 (flagged when hit)
     real(dp) :: h0_initial = 0.0_dp            !< m, h0 before the first step; 0: 4 sigma
     real(dp) :: warmup_deg = 360.0_dp          !< deg solved (not reported) before cycle 1
     ! &output

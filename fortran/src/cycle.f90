@@ -22,6 +22,12 @@ module ringlube_cycle
   integer, parameter, public :: flag_load = 4         !< load balance outside load_tol
   integer, parameter, public :: flag_viscosity = 8    !< pressure-viscosity loop not converged
   integer, parameter, public :: flag_cavitation = 16  !< cavitation active set not settled
+  integer, parameter, public :: flag_piezo = 32       !< film pressure above roelands_p_max
+
+  !> Roelands is evaluated with the pressure clipped here [Pa]. Ring pressures are far
+  !> lower; only trial films far below the load-balance root reach it, where an unclipped
+  !> pressure-viscosity iteration runs away to overflow.
+  real(dp), parameter, public :: roelands_p_max = 1e9_dp
 
   !> Results of one run: the reported (last) cycle and its summary.
   type :: result_type
@@ -139,11 +145,15 @@ contains
       end if
     end if
 
+    ! every trial starts from the isoviscous film (eta at p = 0): the pressure-viscosity
+    ! fixed point reached from there is unique, so W(h0) is a function (a warm start from
+    ! the previous trial could land on a high-pressure branch and make W(h0) jump)
+    f%p = 0.0_dp
     do it = 1, c%max_pressure_iterations
       if (c%roelands) then
         ! Roelands with the temperature factor of the run precomputed (same formula)
         f%eta = c%eta0 * exp(f%lnc * (-1.0_dp + f%rtheta &
-          * exp(f%z0 * log(1.0_dp + 5.1e-9_dp * max(f%p, 0.0_dp)))))
+          * exp(f%z0 * log(1.0_dp + 5.1e-9_dp * min(max(f%p, 0.0_dp), roelands_p_max)))))
       else
         f%eta = f%eta_e
       end if
@@ -167,6 +177,7 @@ contains
       if (it == c%max_pressure_iterations) f%flags = ior(f%flags, flag_viscosity)
     end do
 
+    if (c%roelands .and. maxval(f%p) > roelands_p_max) f%flags = ior(f%flags, flag_piezo)
     f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
     if (c%asperity_contact) then
       call asperity_contact(f%h, h0, f%dx, c%width, f%circ, f%sigma, c%zeta_kappa_sigma, &

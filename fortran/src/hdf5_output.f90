@@ -96,7 +96,8 @@ contains
     call dset(gid, 'load_residual', res%load_residual, '1')
     call dset_int(gid, 'flags', res%flags, '1', &
       '1: h0 at h0_floor, 2: h0 at h0_ceiling, 4: load outside load_tol, ' // &
-      '8: pressure-viscosity loop not converged, 16: cavitation set not settled')
+      '8: pressure-viscosity loop not converged, 16: cavitation set not settled, ' // &
+      '32: film pressure above 1 GPa (Roelands clipped)')
     call dset_int(gid, 'film_solves', res%iterations, '1', &
       'film (Reynolds + contact) solves used by the load balance at this step')
     call h5gclose_f(gid, herr)

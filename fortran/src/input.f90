@@ -12,7 +12,7 @@ module ringlube_input
   use ringlube_gas, only: read_pressure_csv
   implicit none
   private
-  public :: read_deck, read_text_file, resolve_path, finish_case
+  public :: read_deck, read_text_file, resolve_path, finish_case, apply_preset
 
 contains
 
@@ -85,6 +85,16 @@ contains
     c%deck_text = text
     call scan_namelist(text, path, items, nitems, err)
     if (allocated(err)) return
+    ! a preset first, so that numerics given explicitly override it
+    do i = 1, nitems
+      if (items(i)%group == 'numerics' .and. items(i)%name == 'preset') then
+        call apply_preset(c, items(i)%value, err)
+        if (allocated(err)) then
+          call item_error(items(i), err%message)
+          return
+        end if
+      end if
+    end do
     do i = 1, nitems
       do j = 1, i - 1
         if (items(j)%group == items(i)%group .and. items(j)%name == items(i)%name) then
@@ -92,6 +102,7 @@ contains
           return
         end if
       end do
+      if (items(i)%group == 'numerics' .and. items(i)%name == 'preset') cycle
       call assign_item(items(i))
       if (allocated(err)) return
     end do
@@ -173,6 +184,7 @@ contains
         end select
       case ('numerics')
         select case (it%name)
+        case ('preset'); continue
         case ('nodes'); call get_int(it, c%nodes)
         case ('dpsi_deg'); call get_real(it, c%dpsi_deg)
         case ('pressure_tol'); call get_real(it, c%pressure_tol)
@@ -258,6 +270,34 @@ contains
       v = it%value
     end subroutine get_string
   end subroutine read_deck
+
+  !> Numerical settings of a named preset (chosen from the measured speed/accuracy front,
+  !> docs/performance.md): nodes, crank step, pressure and load tolerances.
+  subroutine apply_preset(c, name, err)
+    type(case_type), intent(inout) :: c
+    character(len=*), intent(in) :: name
+    type(error_type), allocatable, intent(out) :: err
+    select case (name)
+    case ('fast')
+      c%nodes = 31
+      c%dpsi_deg = 2.0_dp
+      c%pressure_tol = 1e-4_dp
+      c%load_tol = 3e-3_dp
+    case ('default')
+      c%nodes = 51
+      c%dpsi_deg = 1.0_dp
+      c%pressure_tol = 1e-5_dp
+      c%load_tol = 1e-3_dp
+    case ('accurate')
+      c%nodes = 201
+      c%dpsi_deg = 0.25_dp
+      c%pressure_tol = 1e-6_dp
+      c%load_tol = 1e-4_dp
+    case default
+      call fatal_error(err, "unknown preset '" // name // "' (use 'fast', 'default' or 'accurate')", &
+        rl_input_error)
+    end select
+  end subroutine apply_preset
 
   !> Validate a case and load its gas-pressure trace (shared by the deck reader and the
   !> Python entry points).

@@ -11,6 +11,7 @@ The pipeline reads case -> run -> (sample -> fit -> optimise) -> plot:
 from .case import GROUPS, Case
 from .errors import InputError, NotConvergedError, RinglubeError
 from .result import CycleResult, load
+from . import gas
 from .solve import run, run_many
 
 __version__ = "0.1.0"

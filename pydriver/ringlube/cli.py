@@ -44,6 +44,18 @@ def _cmd_gas(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_convergence(args: argparse.Namespace) -> int:
+    from .convergence import convergence_study, write_report
+
+    command = "ringlube convergence " + " ".join(
+        [*args.decks, *(["--quick"] if args.quick else []), "--out", args.out])
+    for deck in args.decks:
+        reference, rows = convergence_study(deck, quick=args.quick, repeats=args.repeats)
+        for f in write_report(deck, reference, rows, args.out, command):
+            print(f"written {f}")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="ringlube", description="Piston ring mixed-lubrication "
                                  "solver and design optimiser.")
@@ -61,6 +73,12 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", default="inputs/pressure")
     p.add_argument("names", nargs="*")
     p.set_defaults(func=_cmd_gas)
+    p = sub.add_parser("convergence", help="speed against accuracy over numerical settings")
+    p.add_argument("decks", nargs="+")
+    p.add_argument("--out", default="out/convergence", help="output folder")
+    p.add_argument("--quick", action="store_true", help="shorter ladders (no 801/1601 nodes)")
+    p.add_argument("--repeats", type=int, default=3, help="timing repeats per setting (best kept)")
+    p.set_defaults(func=_cmd_convergence)
     args = ap.parse_args(argv)
     try:
         return args.func(args)

@@ -34,6 +34,7 @@ FLAG_BITS = {
     4: "load outside load_tol",
     8: "pressure-viscosity loop not converged",
     16: "cavitation set not settled",
+    32: "film pressure above 1 GPa (Roelands clipped)",
 }
 
 

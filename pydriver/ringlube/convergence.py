@@ -1,0 +1,214 @@
+"""Speed against accuracy: a case over a ladder of numerical settings and physics switches.
+
+Each setting is changed one at a time from a converged reference (the finest settings),
+and a few combined presets are run too; every run reports its kernel time and its error
+in energy loss, mixed share and minimum film against the reference. The reference's own
+error is estimated by Richardson extrapolation from its halvings in N and in the crank
+step (both second order where the solution is smooth). Output: a Markdown table, a CSV
+and a plot of error against time with the Pareto front of settings.
+
+    ringlube convergence DECK [--out DIR] [--quick]
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import os
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from .case import Case
+from .solve import run
+
+__all__ = ["Setting", "Row", "REFERENCE", "PRESETS", "ladder", "measure", "convergence_study"]
+
+#: The reference numerics (finest settings of the ladder).
+REFERENCE = {"nodes": 801, "dpsi_deg": 0.125, "pressure_tol": 1e-8, "load_tol": 1e-6,
+             "h0_update": "safeguarded"}
+#: The presets of &numerics preset (kept in step with fortran/src/input.f90).
+PRESETS = {
+    "fast": {"nodes": 31, "dpsi_deg": 2.0, "pressure_tol": 1e-4, "load_tol": 3e-3},
+    "default": {"nodes": 51, "dpsi_deg": 1.0, "pressure_tol": 1e-5, "load_tol": 1e-3},
+    "accurate": {"nodes": 201, "dpsi_deg": 0.25, "pressure_tol": 1e-6, "load_tol": 1e-4},
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class Setting:
+    """One point of the ladder: a label and the changes from the reference."""
+
+    kind: str
+    label: str
+    numerics: dict
+    physics: dict = dataclasses.field(default_factory=dict)
+
+
+@dataclasses.dataclass
+class Row:
+    setting: Setting
+    time_ms: float            # kernel time per run (best of the repeats)
+    ms_per_cycle: float       # per cycle of crank steps computed (warm-up included)
+    energy: float
+    mixed: float
+    min_film: float
+    err_energy: float         # relative
+    err_mixed: float          # percentage points
+    err_min_film: float       # relative
+    converged: bool
+    film_solves: int
+
+
+def ladder(quick: bool = False) -> list[Setting]:
+    """The settings to run, each a change from :data:`REFERENCE`."""
+    out: list[Setting] = []
+    nodes = (25, 51, 101, 201, 401) if quick else (25, 51, 101, 201, 401, 801, 1601)
+    steps = (2.0, 1.0, 0.5, 0.25) if quick else (2.0, 1.0, 0.5, 0.25, 0.125)
+    for n in nodes:
+        out.append(Setting("nodes", f"nodes = {n}", {"nodes": n}))
+    for d in steps:
+        out.append(Setting("crank step", f"dpsi_deg = {d}", {"dpsi_deg": d}))
+    for t in (1e-3, 1e-4, 1e-5, 1e-6):
+        out.append(Setting("pressure_tol", f"pressure_tol = {t:g}", {"pressure_tol": t}))
+    for t in (1e-2, 3e-3, 1e-3, 1e-4, 1e-5):
+        out.append(Setting("load_tol", f"load_tol = {t:g}", {"load_tol": t}))
+    for upd in ("safeguarded", "damped"):
+        out.append(Setting("h0 update", f"h0_update = '{upd}' (load_tol 1e-3)",
+                           {"h0_update": upd, "load_tol": 1e-3}))
+    out.append(Setting("physics", "gt_functions = 'fit'", {}, {"gt_functions": "fit"}))
+    out.append(Setting("physics", "roelands = .false.", {}, {"roelands": False}))
+    out.append(Setting("physics", "squeeze = .false.", {}, {"squeeze": False}))
+    out.append(Setting("physics", "asperity_contact = .false.", {}, {"asperity_contact": False}))
+    out.append(Setting("physics", "contact_area = 'lumped'", {}, {"contact_area": "lumped"}))
+    out.append(Setting("physics", "outlet = 'ambient'", {}, {"outlet": "ambient"}))
+    for name, p in PRESETS.items():
+        out.append(Setting("preset", f"preset = '{name}'", dict(p)))
+        out.append(Setting("preset+fit", f"preset = '{name}', gt 'fit', no Roelands", dict(p),
+                           {"gt_functions": "fit", "roelands": False}))
+    return out
+
+
+def _case_for(base: Case, s: Setting) -> Case:
+    c = base.with_("numerics", **{**REFERENCE, **s.numerics})
+    if s.physics:
+        c = c.with_("physics", **s.physics)
+    return c
+
+
+def measure(case: Case, repeats: int = 3):
+    """Run a case ``repeats`` times (the kernel is deterministic) and keep the best time."""
+    best = None
+    for _ in range(repeats):
+        r = run(case)
+        if best is None or r.run_time < best.run_time:
+            best = r
+    return best
+
+
+def convergence_study(deck: str | os.PathLike, quick: bool = False, repeats: int = 3,
+                      progress: bool = True) -> tuple[dict, list[Row]]:
+    """Run the ladder on a deck; returns (reference summary, rows)."""
+    from tqdm.auto import tqdm
+
+    base = Case.from_namelist(deck)
+    ref_case = base.with_("numerics", **REFERENCE)
+    ref = run(ref_case)
+    # Richardson: halve the resolution of the reference in N and in the crank step
+    coarse_n = run(ref_case.with_numerics(nodes=(REFERENCE["nodes"] - 1) // 2 + 1))
+    coarse_t = run(ref_case.with_numerics(dpsi_deg=2 * REFERENCE["dpsi_deg"]))
+    rich_n = (ref.energy_loss - coarse_n.energy_loss) / 3.0
+    rich_t = (ref.energy_loss - coarse_t.energy_loss) / 3.0
+    reference = {
+        "energy": ref.energy_loss, "mixed": ref.mixed_share, "min_film": ref.min_film,
+        "time_ms": ref.run_time * 1e3, "richardson_energy": ref.energy_loss + rich_n + rich_t,
+        "est_err_n": abs(rich_n) / ref.energy_loss, "est_err_t": abs(rich_t) / ref.energy_loss,
+    }
+    rows: list[Row] = []
+    for s in tqdm(ladder(quick), desc="convergence ladder", disable=not progress):
+        case = _case_for(base, s)
+        r = measure(case, repeats)
+        rows.append(Row(
+            setting=s, time_ms=r.run_time * 1e3,
+            ms_per_cycle=r.run_time * 1e3 / max(r.cycles_computed, 1e-9),
+            energy=r.energy_loss, mixed=r.mixed_share, min_film=r.min_film,
+            err_energy=abs(r.energy_loss - ref.energy_loss) / ref.energy_loss,
+            err_mixed=abs(r.mixed_share - ref.mixed_share),
+            err_min_film=abs(r.min_film - ref.min_film) / ref.min_film,
+            converged=r.converged, film_solves=int(r.film_solves.sum()),
+        ))
+    return reference, rows
+
+
+def pareto(rows: Sequence[Row]) -> list[Row]:
+    """Rows not beaten in both time and energy error by another row."""
+    front = []
+    for r in sorted(rows, key=lambda r: (r.time_ms, r.err_energy)):
+        if not front or r.err_energy < front[-1].err_energy:
+            front.append(r)
+    return front
+
+
+def write_report(deck: str, reference: dict, rows: Sequence[Row], outdir: str | os.PathLike,
+                 command: str) -> list[Path]:
+    """Markdown table, CSV and error-vs-time plot."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    stem = Path(deck).stem
+    front = {id(r) for r in pareto(rows)}
+    md = [f"### `{stem}`", "",
+          f"Command: `{command}`", "",
+          f"Reference (nodes {REFERENCE['nodes']}, dpsi {REFERENCE['dpsi_deg']} deg, pressure_tol "
+          f"{REFERENCE['pressure_tol']:g}, load_tol {REFERENCE['load_tol']:g}): energy "
+          f"{reference['energy']:.5f} J, mixed share {reference['mixed']:.3f} %, min film "
+          f"{reference['min_film'] * 1e6:.4f} um, {reference['time_ms']:.0f} ms. Richardson estimate of "
+          f"the reference's own energy error: {reference['est_err_n']:.1e} (N), "
+          f"{reference['est_err_t']:.1e} (crank step).", "",
+          "| kind | setting | ms/run | ms/cycle | film solves | energy J | err energy | err mixed (pts) "
+          "| err min film | converged | front |",
+          "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        md.append(f"| {r.setting.kind} | {r.setting.label} | {r.time_ms:.1f} | {r.ms_per_cycle:.1f} | "
+                  f"{r.film_solves} | {r.energy:.5f} | {r.err_energy:.2e} | {r.err_mixed:.3f} | "
+                  f"{r.err_min_film:.2e} | {'yes' if r.converged else 'NO'} | "
+                  f"{'*' if id(r) in front else ''} |")
+    md_path = outdir / f"convergence_{stem}.md"
+    md_path.write_text("\n".join(md) + "\n")
+    csv_path = outdir / f"convergence_{stem}.csv"
+    with open(csv_path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["kind", "setting", "ms_per_run", "ms_per_cycle", "film_solves", "energy_J",
+                     "err_energy", "err_mixed_pts", "err_min_film", "converged"])
+        for r in rows:
+            w.writerow([r.setting.kind, r.setting.label, f"{r.time_ms:.3f}", f"{r.ms_per_cycle:.3f}",
+                        r.film_solves, r.energy, r.err_energy, r.err_mixed, r.err_min_film,
+                        int(r.converged)])
+    fig, ax = plt.subplots(figsize=(7.5, 5), layout="constrained")
+    kinds = sorted({r.setting.kind for r in rows})
+    for k in kinds:
+        sel = [r for r in rows if r.setting.kind == k]
+        ax.scatter([r.time_ms for r in sel], [max(r.err_energy, 1e-9) for r in sel], label=k, s=22)
+    fr = pareto(rows)
+    ax.plot([r.time_ms for r in fr], [max(r.err_energy, 1e-9) for r in fr], "k--", lw=0.8,
+            label="Pareto front")
+    for r in rows:
+        if r.setting.kind == "preset":
+            ax.annotate(r.setting.label.split("'")[1], (r.time_ms, max(r.err_energy, 1e-9)),
+                        fontsize=8, xytext=(4, 4), textcoords="offset points")
+    ax.axhline(5e-3, color="tab:red", lw=0.8, ls=":")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("kernel time per run [ms]")
+    ax.set_ylabel("relative error in energy loss vs reference")
+    ax.set_title(stem, fontsize=9)
+    ax.legend(fontsize=7)
+    png = outdir / f"convergence_{stem}.png"
+    fig.savefig(png, dpi=150)
+    plt.close(fig)
+    return [md_path, csv_path, png]
