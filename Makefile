@@ -50,6 +50,7 @@ test: setup
 
 bench: setup
 	$(PYTHON) tests/bench/python_overhead.py
+	$(PYTHON) tests/bench/bench.py
 
 clean:
 	rm -rf $(BUILD) out

@@ -18,6 +18,7 @@ module ringlube_case
     real(dp) :: liner_temperature = 348.0_dp   !< K, film temperature theta_e
     real(dp) :: crankcase_pressure = 101325.0_dp  !< Pa abs
     real(dp) :: cavitation_pressure = 0.0_dp   !< Pa abs
+    real(dp) :: pressure_scale = 1.0_dp        !< multiplies the gas-pressure trace
     !> Gas-pressure CSV as resolved against the deck folder; empty: chamber at
     !> crankcase pressure all cycle (no compression, no combustion).
     character(len=:), allocatable :: pressure_file
@@ -156,6 +157,7 @@ contains
     end if
     call nonneg('operating', 'crankcase_pressure', c%crankcase_pressure); if (allocated(err)) return
     call nonneg('operating', 'cavitation_pressure', c%cavitation_pressure); if (allocated(err)) return
+    call positive('operating', 'pressure_scale', c%pressure_scale); if (allocated(err)) return
     if (c%cavitation_pressure > c%crankcase_pressure) then
       call bad('operating', 'cavitation_pressure', 'must not exceed crankcase_pressure'); return
     end if

@@ -75,7 +75,7 @@ contains
     character(len=*), intent(in) :: path
     type(case_type), intent(out) :: c
     type(error_type), allocatable, intent(out) :: err
-    character(len=:), allocatable :: text
+    character(len=:), allocatable :: text, calibration_file
     type(nml_item), allocatable :: items(:)
     integer :: nitems, i, j
 
@@ -85,6 +85,26 @@ contains
     c%deck_text = text
     call scan_namelist(text, path, items, nitems, err)
     if (allocated(err)) return
+    ! &calibration file = '...': that file's values are read as if they were in the deck
+    ! (a variable may be set in one of the two, not both)
+    j = 0
+    do i = 1, nitems
+      if (items(i)%group /= 'calibration') cycle
+      if (items(i)%name /= 'file') then
+        call item_error(items(i), 'unknown variable')
+        return
+      end if
+      if (j > 0) then
+        call item_error(items(i), 'given twice (also on line ' // itoa(items(j)%line) // ')')
+        return
+      end if
+      j = i
+    end do
+    if (j > 0) then
+      calibration_file = resolve_path(items(j)%value, dirname(path))
+      call include_calibration(calibration_file)
+      if (allocated(err)) return
+    end if
     ! a preset first, so that numerics given explicitly override it
     do i = 1, nitems
       if (items(i)%group == 'numerics' .and. items(i)%name == 'preset') then
@@ -103,6 +123,7 @@ contains
         end if
       end do
       if (items(i)%group == 'numerics' .and. items(i)%name == 'preset') cycle
+      if (items(i)%group == 'calibration') cycle
       call assign_item(items(i))
       if (allocated(err)) return
     end do
@@ -113,10 +134,47 @@ contains
 
   contains
 
+    !> Read the calibration file and add its items (named by their own file) to the deck's.
+    subroutine include_calibration(cpath)
+      character(len=*), intent(in) :: cpath
+      character(len=:), allocatable :: ctext
+      type(nml_item), allocatable :: citems(:), all(:)
+      integer :: ncitems, k, m
+      call read_text_file(cpath, ctext, err)
+      if (allocated(err)) then
+        err%message = path // ': &calibration file: ' // err%message
+        return
+      end if
+      call scan_namelist(ctext, cpath, citems, ncitems, err)
+      if (allocated(err)) return
+      do k = 1, ncitems
+        if (citems(k)%group == 'calibration' .or. citems(k)%group == 'output' .or. &
+          citems(k)%group == 'numerics') then
+          call fatal_error(err, cpath // ':' // itoa(citems(k)%line) // ': &' // citems(k)%group &
+            // ' cannot be set in a calibration file', rl_input_error)
+          return
+        end if
+        do m = 1, nitems
+          if (items(m)%group == citems(k)%group .and. items(m)%name == citems(k)%name) then
+            call item_error(items(m), 'also set by the calibration file ' // cpath // &
+              ' (set it in one place only)')
+            return
+          end if
+        end do
+      end do
+      c%deck_text = c%deck_text // new_line('a') // '! --- calibration file ' // cpath // &
+        ' ---' // new_line('a') // ctext
+      allocate(all(nitems + ncitems))
+      all(1:ncitems) = citems(1:ncitems)
+      all(ncitems+1:) = items(1:nitems)
+      call move_alloc(all, items)
+      nitems = nitems + ncitems
+    end subroutine include_calibration
+
     subroutine item_error(it, why)
       type(nml_item), intent(in) :: it
       character(len=*), intent(in) :: why
-      call fatal_error(err, path // ':' // itoa(it%line) // ': &' // it%group // ' ' // &
+      call fatal_error(err, it%file // ':' // itoa(it%line) // ': &' // it%group // ' ' // &
         it%name // ': ' // why, rl_input_error)
     end subroutine item_error
 
@@ -137,6 +195,7 @@ contains
         case ('pressure_file'); call get_string(it, c%pressure_file)
         case ('crankcase_pressure'); call get_real(it, c%crankcase_pressure)
         case ('cavitation_pressure'); call get_real(it, c%cavitation_pressure)
+        case ('pressure_scale'); call get_real(it, c%pressure_scale)
         case default; call unknown(it)
         end select
       case ('ring')
@@ -207,9 +266,9 @@ contains
         case default; call unknown(it)
         end select
       case default
-        call fatal_error(err, path // ':' // itoa(it%line) // ': unknown namelist group &' // &
+        call fatal_error(err, it%file // ':' // itoa(it%line) // ': unknown namelist group &' // &
           it%group // ' (known: engine, operating, ring, lubricant, surface, physics, ' // &
-          'numerics, output)', rl_input_error)
+          'numerics, output, calibration)', rl_input_error)
       end select
     end subroutine assign_item
 
@@ -313,6 +372,7 @@ contains
         err%message = c%deck_path // ': &operating pressure_file: ' // err%message
         return
       end if
+      c%gas_p = c%pressure_scale * c%gas_p
     else
       allocate(c%gas_psi(0), c%gas_p(0))
     end if

@@ -16,6 +16,7 @@ module ringlube_namelist
   !> One `name = value` of a group.
   type :: nml_item
     character(len=:), allocatable :: group, name, value
+    character(len=:), allocatable :: file   !< the file the item was read from
     integer :: line = 0
     logical :: quoted = .false.
   end type nml_item
@@ -281,6 +282,7 @@ contains
       items(nitems)%value = v
       items(nitems)%line = line
       items(nitems)%quoted = qt
+      items(nitems)%file = path
     end subroutine add
 
     subroutine fail(msg)

@@ -15,8 +15,9 @@ from .errors import InputError
 __all__ = ["Case", "GROUPS"]
 
 #: Namelist groups of a deck (SPEC section 9).
-GROUPS = ("engine", "operating", "ring", "lubricant", "surface", "physics", "numerics", "output")
-_PATH_VARS = {("operating", "pressure_file"), ("output", "file")}
+GROUPS = ("engine", "operating", "ring", "lubricant", "surface", "physics", "numerics", "output",
+          "calibration")
+_PATH_VARS = {("operating", "pressure_file"), ("output", "file"), ("calibration", "file")}
 
 
 class Case:
@@ -127,6 +128,18 @@ class Case:
 
     def with_physics(self, **values: Any) -> "Case":
         return self.with_("physics", **values)
+
+    def inline_calibration(self) -> "Case":
+        """A copy with the calibration file's values written into the deck itself (no
+        ``&calibration`` group), so that any calibrated variable can then be changed."""
+        path = self.get("calibration", "file")
+        c = self.copy()
+        if path is None:
+            return c
+        c._nml.pop("calibration", None)
+        for group, values in Case.from_namelist(path).to_dict().items():
+            c.set(group, **values)
+        return c
 
     # checking -------------------------------------------------------------------------
     def validate(self) -> int:

@@ -56,6 +56,27 @@ def _cmd_convergence(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_calibrate(args: argparse.Namespace) -> int:
+    from .calibrate import calibrate, correlation, strip_calibrated, write_calibration
+    from .case import Case
+
+    fit, fits = calibrate(args.deck)
+    base = strip_calibrated(Case.from_namelist(args.deck))
+    jac, corr = correlation(base, fit)
+    path = write_calibration(args.out, fit, fits, jac, corr, args.deck)
+    print(f"chosen: {fit.values()}\n  energy {fit.energy_loss:.4f} J (target 1.92), mixed "
+          f"{fit.mixed_share:.3f} % (target 8.47), correlation of fitted inputs {corr:+.3f}")
+    print(f"written {path}")
+    return 0
+
+
+def _cmd_validate(args: argparse.Namespace) -> int:
+    from .validate import validate
+
+    print(f"written {validate(args.root, args.out)}")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="ringlube", description="Piston ring mixed-lubrication "
                                  "solver and design optimiser.")
@@ -79,6 +100,14 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--quick", action="store_true", help="shorter ladders (no 801/1601 nodes)")
     p.add_argument("--repeats", type=int, default=3, help="timing repeats per setting (best kept)")
     p.set_defaults(func=_cmd_convergence)
+    p = sub.add_parser("calibrate", help="fit the uncertain inputs to the cold Table 2 case")
+    p.add_argument("deck", nargs="?", default="inputs/crf450r_4000rpm_full_cold.nml")
+    p.add_argument("--out", default="inputs/calibration.nml")
+    p.set_defaults(func=_cmd_calibrate)
+    p = sub.add_parser("validate", help="regenerate docs/validation.md against the study's Table 2")
+    p.add_argument("--root", default=".", help="project folder (with inputs/)")
+    p.add_argument("--out", default="docs", help="output folder")
+    p.set_defaults(func=_cmd_validate)
     args = ap.parse_args(argv)
     try:
         return args.func(args)

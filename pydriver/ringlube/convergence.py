@@ -112,7 +112,8 @@ def convergence_study(deck: str | os.PathLike, quick: bool = False, repeats: int
     """Run the ladder on a deck; returns (reference summary, rows)."""
     from tqdm.auto import tqdm
 
-    base = Case.from_namelist(deck)
+    base = Case.from_namelist(deck).inline_calibration()
+    base._nml.get("numerics", {}).pop("preset", None)
     ref_case = base.with_("numerics", **REFERENCE)
     ref = run(ref_case)
     # Richardson: halve the resolution of the reference in N and in the crank step

@@ -14,7 +14,7 @@ import numpy as np  # noqa: E402
 
 from .result import CycleResult  # noqa: E402
 
-__all__ = ["friction_figure", "film_figure", "plot_results"]
+__all__ = ["friction_figure", "film_figure", "gas_figure", "plot_results"]
 
 _STROKES = (("intake", 90), ("compression", 270), ("expansion", 450), ("exhaust", 630))
 _CENTRES = ((0, "TDC"), (180, "BDC"), (360, "TDC\nfiring"), (540, "BDC"), (720, "TDC"))
@@ -86,3 +86,16 @@ def plot_results(results: Sequence[CycleResult], outdir: str | os.PathLike,
             files.append(path)
         plt.close(fig)
     return files
+
+
+def gas_figure(traces: dict[str, tuple[np.ndarray, np.ndarray]]) -> plt.Figure:
+    """In-cylinder gas pressure over the cycle (study Fig 2)."""
+    fig, ax = plt.subplots(figsize=(8, 4.2), layout="constrained")
+    for label, (psi, p) in traces.items():
+        i = int(np.argmax(p))
+        ax.plot(psi, p / 1e5, lw=1.4, label=f"{label} (peak {p[i] / 1e5:.1f} bar at {psi[i]:.1f} deg)")
+    ax.set_ylabel("gas pressure [bar abs]")
+    ax.set_ylim(bottom=0)
+    _crank_axis(ax)
+    ax.legend(fontsize=8)
+    return fig

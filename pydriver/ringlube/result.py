@@ -69,6 +69,8 @@ class CycleResult:
     run_time: float             #: s, kernel time
     deck: str = ""
     label: str = ""
+    reynolds_solves: int = 0    #: Reynolds (Thomas) solves over the run
+    cycles_computed: float = 0.0  #: cycles' worth of crank steps solved, warm-up included
 
     @property
     def film_ratio(self) -> np.ndarray:
@@ -97,6 +99,8 @@ class CycleResult:
                 f.attrs["cycle_change"] = self.cycle_change
                 f.attrs["sigma_m"] = self.sigma
                 f.attrs["run_time_s"] = self.run_time
+                f.attrs["reynolds_solves"] = np.int32(self.reynolds_solves)
+                f.attrs["cycles_computed"] = self.cycles_computed
                 f.attrs["deck"] = np.bytes_(self.deck.encode())
                 g = f.create_group("cycle")
                 for dset, attr, units in SERIES:
@@ -143,4 +147,6 @@ def load(path: str | os.PathLike) -> CycleResult:
             run_time=float(a.get("run_time_s", np.nan)),
             deck=_attr_text(a.get("deck", b"")),
             label=Path(path).stem,
+            reynolds_solves=int(a.get("reynolds_solves", 0)),
+            cycles_computed=float(a.get("cycles_computed", 0.0)),
         )

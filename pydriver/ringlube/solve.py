@@ -50,6 +50,8 @@ def run(case: Case | str | os.PathLike, *, strict: bool = False) -> CycleResult:
         run_time=float(scalars[9]),
         deck=case.to_namelist(),
         label=case.name,
+        reynolds_solves=int(scalars[12]),
+        cycles_computed=float(scalars[13]),
     )
     if strict and not result.converged:
         raise NotConvergedError(f"{case.source or case.name}: the run did not converge "
