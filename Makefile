@@ -40,9 +40,13 @@ python: $(PY_STAMP)
 
 setup: build python
 
+DEFAULT_STUDY := inputs/study_default.nml
+
+# The main job: the cold deck's summary, then the default design study (cold and hot).
 run: setup
 	mkdir -p out
 	$(BUILD)/ringlube-solve $(DEFAULT_DECK) -o out/crf450r_4000rpm_full_cold.h5
+	ringlube optimise $(DEFAULT_STUDY) --direct
 
 test: setup
 	cd $(BUILD) && ctest --output-on-failure

@@ -19,7 +19,7 @@ subroutine rl_count_steps(deck, nsteps, code, message)
   nsteps = 0
   code = 0
   message = ''
-  call read_deck(deck, c, err)
+  call read_deck(deck, c, err, load_trace=.false.)
   if (allocated(err)) then
     code = err%code
     message = err%message

@@ -145,10 +145,12 @@ contains
       end if
     end if
 
-    ! every trial starts from the isoviscous film (eta at p = 0): the pressure-viscosity
-    ! fixed point reached from there is unique, so W(h0) is a function (a warm start from
-    ! the previous trial could land on a high-pressure branch and make W(h0) jump)
-    f%p = 0.0_dp
+    ! The pressure-viscosity loop starts from the previous trial's pressure, where the fixed
+    ! point is a contraction and unique (ring pressures, far below 100 MPa). After a trial
+    ! above 100 MPa it starts from the isoviscous film (eta at p = 0) instead: from a
+    ! high-pressure state the iteration can land on a second, high-pressure branch and make
+    ! W(h0) jump, which the load balance cannot bracket.
+    if (maxval(f%p) > 1e8_dp) f%p = 0.0_dp
     do it = 1, c%max_pressure_iterations
       if (c%roelands) then
         ! Roelands with the temperature factor of the run precomputed (same formula)

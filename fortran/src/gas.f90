@@ -2,58 +2,71 @@
 module ringlube_gas
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_input_error
+  use ringlube_textio, only: read_text_file, itoa
+  use, intrinsic :: iso_c_binding, only: c_char, c_double, c_ptr, c_null_char, c_loc, c_size_t
   implicit none
   private
   public :: read_pressure_csv, gas_pressure
+
+  interface
+    real(c_double) function c_strtod(str, endptr) bind(c, name='strtod')
+      import :: c_char, c_double, c_ptr
+      character(kind=c_char), intent(in) :: str(*)
+      type(c_ptr), intent(out) :: endptr
+    end function c_strtod
+  end interface
 
 contains
 
   !> Read a two-column CSV (crank angle deg, absolute pressure Pa) with an optional
   !> header line; blank lines and lines starting with '#' are skipped. Angles must
-  !> increase strictly and lie in [0, 720]; pressures must be positive.
+  !> increase strictly and lie in [0, 720]; pressures must be positive. Numbers are
+  !> converted with C's strtod (correctly rounded, as gfortran's own reads).
   subroutine read_pressure_csv(path, psi, p, err)
     character(len=*), intent(in) :: path
     real(dp), allocatable, intent(out) :: psi(:), p(:)
     type(error_type), allocatable, intent(out) :: err
-    integer :: u, ios, nline, nrow, icomma
-    character(len=1024) :: line
-    character(len=256) :: msg
-    real(dp) :: a, b
+    character(len=:), allocatable :: text, line
     real(dp), allocatable :: tpsi(:), tp(:)
-    logical :: exists, seen_header
+    real(dp) :: a, b
+    integer :: sz, nline, nrow, pos, eol, icomma
+    logical :: exists, seen_header, ok
 
     inquire(file=path, exist=exists)
     if (.not. exists) then
       call fatal_error(err, trim(path) // ': pressure file not found', rl_input_error)
       return
     end if
-    open(newunit=u, file=path, status='old', action='read', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call fatal_error(err, trim(path) // ': cannot open pressure file: ' // trim(msg), &
-        rl_input_error)
-      return
-    end if
-    allocate(tpsi(1024), tp(1024))
+    call read_text_file(path, text, err)
+    if (allocated(err)) return
+    sz = len(text)
+    allocate(tpsi(max(16, sz / 8)), tp(max(16, sz / 8)))
     nline = 0
-    seen_header = .false.
     nrow = 0
-    do
-      read(u, '(a)', iostat=ios) line
-      if (ios /= 0) exit
+    seen_header = .false.
+    pos = 1
+    do while (pos <= len(text))
+      eol = index(text(pos:), new_line('a'))
+      if (eol == 0) then
+        eol = len(text) + 1
+      else
+        eol = pos + eol - 1
+      end if
+      line = trim(adjustl(text(pos:eol-1)))
+      if (len(line) > 0) then
+        if (line(len(line):len(line)) == achar(13)) line = line(1:len(line)-1)
+      end if
+      pos = eol + 1
       nline = nline + 1
-      line = adjustl(line)
       if (len_trim(line) == 0) cycle
       if (line(1:1) == '#') cycle
       icomma = index(line, ',')
-      ios = 1
-      if (icomma > 1) then
-        read(line(1:icomma-1), *, iostat=ios) a
-        if (ios == 0) read(line(icomma+1:), *, iostat=ios) b
-        if (ios == 0 .and. len_trim(line(icomma+1:)) == 0) ios = 1
-        if (ios == 0 .and. index(line(icomma+1:), ',') > 0) ios = 1
-      end if
-      if (ios /= 0) then
-        if (nrow == 0 .and. .not. has_digit_start(line) .and. .not. seen_header) then
+      ok = icomma > 1
+      if (ok) ok = index(line(icomma+1:), ',') == 0
+      if (ok) call to_real(line(1:icomma-1), a, ok)
+      if (ok) call to_real(line(icomma+1:), b, ok)
+      if (.not. ok) then
+        if (nrow == 0 .and. .not. seen_header .and. scan(line(1:1), '0123456789+-.') == 0) then
           seen_header = .true.  ! one optional header line before the first row
           cycle
         end if
@@ -82,7 +95,6 @@ contains
       tpsi(nrow) = a
       tp(nrow) = b
     end do
-    close(u)
     if (nrow < 2) then
       call fatal_error(err, trim(path) // ': pressure file needs at least two rows', rl_input_error)
       return
@@ -94,18 +106,36 @@ contains
 
     subroutine bad_row(why)
       character(len=*), intent(in) :: why
-      character(len=16) :: num
-      write(num, '(i0)') nline
-      close(u)
-      call fatal_error(err, trim(path) // ': line ' // trim(num) // ': ' // why // ': "' &
+      call fatal_error(err, trim(path) // ': line ' // itoa(nline) // ': ' // why // ': "' &
         // trim(line) // '"', rl_input_error)
     end subroutine bad_row
-
-    pure logical function has_digit_start(s)
-      character(len=*), intent(in) :: s
-      has_digit_start = scan(s(1:1), '0123456789+-.') > 0
-    end function has_digit_start
   end subroutine read_pressure_csv
+
+  !> A whole field (surrounding blanks allowed) as a real, by C's strtod.
+  subroutine to_real(field, v, ok)
+    character(len=*), intent(in) :: field
+    real(dp), intent(out) :: v
+    logical, intent(out) :: ok
+    character(kind=c_char, len=:), allocatable, target :: buf
+    type(c_ptr) :: endp
+    integer(c_size_t) :: consumed
+    integer :: i
+    character(len=:), allocatable :: f
+    f = trim(adjustl(field))
+    v = 0.0_dp
+    ok = len(f) > 0
+    if (.not. ok) return
+    ok = verify(f, '0123456789+-.eEdD') == 0   ! no 'nan', 'inf', hex or other words
+    if (.not. ok) return
+    ! Fortran-style exponents (1.0d5) as C ones
+    do i = 1, len(f)
+      if (f(i:i) == 'd' .or. f(i:i) == 'D') f(i:i) = 'e'
+    end do
+    buf = f // c_null_char
+    v = c_strtod(buf, endp)
+    consumed = transfer(endp, consumed) - transfer(c_loc(buf), consumed)
+    ok = consumed == int(len(f), c_size_t)
+  end subroutine to_real
 
   !> Pressure [Pa] at crank angle psi_deg, linear and periodic over 720 deg. With no
   !> trace (`size(psi) == 0`) the constant `p_default` is returned.

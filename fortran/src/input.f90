@@ -9,40 +9,13 @@ module ringlube_input
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, validate_case
   use ringlube_namelist, only: nml_item, scan_namelist, lower
+  use ringlube_textio, only: read_text_file, itoa
   use ringlube_gas, only: read_pressure_csv
   implicit none
   private
-  public :: read_deck, read_text_file, resolve_path, finish_case, apply_preset
+  public :: read_deck, resolve_path, finish_case, apply_preset
 
 contains
-
-  !> Read a whole text file into one string (lines joined by new_line).
-  subroutine read_text_file(path, text, err)
-    character(len=*), intent(in) :: path
-    character(len=:), allocatable, intent(out) :: text
-    type(error_type), allocatable, intent(out) :: err
-    integer :: u, ios, sz
-    character(len=256) :: msg
-    logical :: exists
-    inquire(file=path, exist=exists)
-    if (.not. exists) then
-      call fatal_error(err, trim(path) // ': file not found', rl_input_error)
-      return
-    end if
-    open(newunit=u, file=path, access='stream', form='unformatted', status='old', &
-      action='read', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call fatal_error(err, trim(path) // ': cannot open: ' // trim(msg), rl_input_error)
-      return
-    end if
-    inquire(unit=u, size=sz)
-    allocate(character(len=max(sz, 0)) :: text)
-    if (sz > 0) read(u, iostat=ios, iomsg=msg) text
-    close(u)
-    if (ios /= 0) then
-      call fatal_error(err, trim(path) // ': cannot read: ' // trim(msg), rl_input_error)
-    end if
-  end subroutine read_text_file
 
   !> Folder part of a path ('' for a bare file name).
   pure function dirname(path) result(d)
@@ -70,11 +43,13 @@ contains
     end if
   end function resolve_path
 
-  !> Read, check and complete a case from the deck at `path`.
-  subroutine read_deck(path, c, err)
+  !> Read, check and complete a case from the deck at `path`. With `load_trace = .false.`
+  !> the gas-pressure file is not read (its existence is still checked).
+  subroutine read_deck(path, c, err, load_trace)
     character(len=*), intent(in) :: path
     type(case_type), intent(out) :: c
     type(error_type), allocatable, intent(out) :: err
+    logical, intent(in), optional :: load_trace
     character(len=:), allocatable :: text, calibration_file
     type(nml_item), allocatable :: items(:)
     integer :: nitems, i, j
@@ -110,7 +85,8 @@ contains
       if (items(i)%group == 'numerics' .and. items(i)%name == 'preset') then
         call apply_preset(c, items(i)%value, err)
         if (allocated(err)) then
-          call item_error(items(i), err%message)
+          text = err%message   ! err is intent(out) in item_error: copy its message first
+          call item_error(items(i), text)
           return
         end if
       end if
@@ -130,7 +106,7 @@ contains
     call c%set_string_defaults()
     c%pressure_file = resolve_path(c%pressure_file, dirname(path))
     c%output_file = resolve_path(c%output_file, dirname(path))
-    call finish_case(c, err)
+    call finish_case(c, err, load_trace)
 
   contains
 
@@ -360,12 +336,23 @@ contains
 
   !> Validate a case and load its gas-pressure trace (shared by the deck reader and the
   !> Python entry points).
-  subroutine finish_case(c, err)
+  subroutine finish_case(c, err, load_trace)
     type(case_type), intent(inout) :: c
     type(error_type), allocatable, intent(out) :: err
+    logical, intent(in), optional :: load_trace
+    logical :: exists
     call c%set_string_defaults()
     call validate_case(c, err)
     if (allocated(err)) return
+    if (present(load_trace)) then
+      if (.not. load_trace .and. len(c%pressure_file) > 0) then
+        inquire(file=c%pressure_file, exist=exists)
+        if (.not. exists) call fatal_error(err, c%deck_path // ': &operating pressure_file: ' // &
+          c%pressure_file // ': pressure file not found', rl_input_error)
+        allocate(c%gas_psi(0), c%gas_p(0))
+        return
+      end if
+    end if
     if (len(c%pressure_file) > 0) then
       call read_pressure_csv(c%pressure_file, c%gas_psi, c%gas_p, err)
       if (allocated(err)) then
@@ -377,12 +364,4 @@ contains
       allocate(c%gas_psi(0), c%gas_p(0))
     end if
   end subroutine finish_case
-
-  pure function itoa(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: buf
-    write(buf, '(i0)') i
-    s = trim(buf)
-  end function itoa
 end module ringlube_input

@@ -9,6 +9,7 @@
 !> value per variable.
 module ringlube_namelist
   use ringlube_error, only: error_type, fatal_error, rl_input_error
+  use ringlube_textio, only: itoa
   implicit none
   private
   public :: nml_item, scan_namelist, lower
@@ -290,12 +291,4 @@ contains
       call fatal_error(err, path // ':' // itoa(line) // ': ' // msg, rl_input_error)
     end subroutine fail
   end subroutine scan_namelist
-
-  pure function itoa(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: buf
-    write(buf, '(i0)') i
-    s = trim(buf)
-  end function itoa
 end module ringlube_namelist

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 import os
 import tempfile
 from pathlib import Path
@@ -111,7 +110,13 @@ class Case:
 
     # variants -------------------------------------------------------------------------
     def copy(self) -> "Case":
-        return copy.deepcopy(self)
+        """An independent copy (values are immutable scalars, so copying groups suffices)."""
+        new = Case.__new__(Case)
+        new.name, new.source = self.name, self.source
+        new._nml = f90nml.Namelist()
+        for group, values in self._nml.items():
+            new._nml[group] = f90nml.Namelist(values)
+        return new
 
     def with_(self, group: str, **values: Any) -> "Case":
         """A copy with variables of ``group`` changed."""
@@ -171,13 +176,14 @@ class _DeckFile:
         self.case = case
 
     def __enter__(self) -> str:
-        self._dir = tempfile.TemporaryDirectory(prefix="ringlube-")
-        path = Path(self._dir.name) / f"{self.case.name}.nml"
-        self.case.to_namelist(path)
-        return str(path)
+        fd, self.path = tempfile.mkstemp(prefix=f"ringlube-{self.case.name}-", suffix=".nml")
+        self.text = self.case.to_namelist()
+        with os.fdopen(fd, "w") as fh:
+            fh.write(self.text)
+        return self.path
 
     def __exit__(self, *exc: object) -> None:
-        self._dir.cleanup()
+        os.unlink(self.path)
 
 
 def _text(message: bytes | str) -> str:

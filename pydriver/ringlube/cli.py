@@ -77,6 +77,17 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_optimise(args: argparse.Namespace) -> int:
+    from .study import run_study
+    from .study_report import summary
+
+    study = run_study(args.study, args.out, scheduler=args.scheduler, workers=args.workers,
+                      serial=args.serial, with_direct=args.direct)
+    print(summary(study))
+    print(f"written {study.path} and figures in {study.path.parent}")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="ringlube", description="Piston ring mixed-lubrication "
                                  "solver and design optimiser.")
@@ -108,6 +119,14 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--root", default=".", help="project folder (with inputs/)")
     p.add_argument("--out", default="docs", help="output folder")
     p.set_defaults(func=_cmd_validate)
+    p = sub.add_parser("optimise", help="DOE, quadratic surfaces and NSGA-II from a &study deck")
+    p.add_argument("study")
+    p.add_argument("--out", help="output folder (default out/NAME); an existing study there is resumed")
+    p.add_argument("--scheduler", help="address of an existing Dask scheduler (default: LocalCluster)")
+    p.add_argument("--workers", type=int, help="LocalCluster workers (default: one per core)")
+    p.add_argument("--serial", action="store_true", help="no Dask: run everything in this process")
+    p.add_argument("--direct", action="store_true", help="also NSGA-II on the true model, and compare")
+    p.set_defaults(func=_cmd_optimise)
     args = ap.parse_args(argv)
     try:
         return args.func(args)

@@ -14,7 +14,15 @@ import numpy as np  # noqa: E402
 
 from .result import CycleResult  # noqa: E402
 
-__all__ = ["friction_figure", "film_figure", "gas_figure", "plot_results"]
+__all__ = ["friction_figure", "film_figure", "gas_figure", "plot_results", "save_metadata"]
+
+# no creation date in the files, so that regenerated figures differ only when their data do
+_METADATA = {"png": {"Software": None}, "pdf": {"CreationDate": None, "Producer": None}}
+
+
+def save_metadata(fmt: str) -> dict:
+    """savefig metadata without timestamps for the given format."""
+    return _METADATA.get(fmt, {})
 
 _STROKES = (("intake", 90), ("compression", 270), ("expansion", 450), ("exhaust", 630))
 _CENTRES = ((0, "TDC"), (180, "BDC"), (360, "TDC\nfiring"), (540, "BDC"), (720, "TDC"))
@@ -82,7 +90,7 @@ def plot_results(results: Sequence[CycleResult], outdir: str | os.PathLike,
         fig = make(results)
         for fmt in formats:
             path = outdir / f"{stem}_{kind}.{fmt}"
-            fig.savefig(path, dpi=150)
+            fig.savefig(path, dpi=150, metadata=_METADATA[fmt])
             files.append(path)
         plt.close(fig)
     return files

@@ -26,7 +26,8 @@ def run(case: Case | str | os.PathLike, *, strict: bool = False) -> CycleResult:
 
     if not isinstance(case, Case):
         case = Case.from_namelist(case)
-    with case.deck_file() as deck:
+    deck_file = case.deck_file()
+    with deck_file as deck:
         nsteps, code, message = _kernel.rl_count_steps(deck)
         if code:
             raise error_for(code, case.describe_message(message, deck))
@@ -48,7 +49,7 @@ def run(case: Case | str | os.PathLike, *, strict: bool = False) -> CycleResult:
         cycle_change=float(scalars[7]),
         sigma=float(scalars[8]),
         run_time=float(scalars[9]),
-        deck=case.to_namelist(),
+        deck=deck_file.text,
         label=case.name,
         reynolds_solves=int(scalars[12]),
         cycles_computed=float(scalars[13]),
@@ -84,7 +85,8 @@ def run_many(cases: Iterable[Case], workers: int | None = None, *, strict: bool 
             return out
         with ProcessPoolExecutor(max_workers=workers) as pool:
             out = []
-            for r in pool.map(_run_one, [(c, strict) for c in cases], chunksize=1):
+            chunk = max(1, min(16, len(cases) // (4 * workers)))
+            for r in pool.map(_run_one, [(c, strict) for c in cases], chunksize=chunk):
                 out.append(r)
                 bar.update()
             return out

@@ -18,7 +18,7 @@ import numpy as np
 from . import gas
 from .calibrate import BOUNDS, TARGETS, calibrate, correlation, strip_calibrated
 from .case import Case
-from .plot import gas_figure, plot_results
+from .plot import gas_figure, plot_results, save_metadata
 from .solve import run, run_many
 
 __all__ = ["PUBLISHED", "ASSUMED", "OPTIONS", "TRENDS", "validate"]
@@ -245,7 +245,7 @@ def validate(root: str | os.PathLike = ".", out: str | os.PathLike = "docs") -> 
         traces[name] = gas.read_csv(root / "inputs" / "pressure" / f"{name}.csv")
     fig = gas_figure(traces)
     for fmt in ("png", "pdf"):
-        fig.savefig(figdir / f"fig2_gas_pressure.{fmt}", dpi=150)
+        fig.savefig(figdir / f"fig2_gas_pressure.{fmt}", dpi=150, metadata=save_metadata(fmt))
         files.append(figdir / f"fig2_gas_pressure.{fmt}")
     md += ["## Figures", "",
            "Gas pressure (synthetic traces, study Fig 2; the decks use them times `pressure_scale`):", "",
