@@ -45,8 +45,33 @@ def best(case: Case, repeats: int = 3) -> ringlube.CycleResult:
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--sweep", type=int, default=10_001, help="runs in the sweep")
+    ap.add_argument("--sweep-presets", default="default,fast", help="presets of the sweeps")
+    ap.add_argument("--only-sweep", action="store_true", help="skip the tables, run the sweeps")
     args = ap.parse_args()
     cores = os.cpu_count() or 1
+    cold = DECKS[[d.stem for d in DECKS].index("crf450r_4000rpm_full_cold")]
+    from scipy.stats import qmc
+
+    lo = np.array([v[0] for v in VARS.values()])
+    hi = np.array([v[1] for v in VARS.values()])
+
+    def cases(base: Case, n: int, seed: int = 0) -> list[Case]:
+        x = qmc.scale(qmc.Sobol(d=4, seed=seed).random(n), lo, hi)
+        return [base.with_ring(**dict(zip(VARS, row))) for row in x]
+
+    if not args.only_sweep:
+        tables(cold, cases, cores)
+    for preset in args.sweep_presets.split(","):
+        print(f"\n== sweep of {args.sweep} runs on {cores} cores (preset '{preset}')")
+        sweep = cases(preset_case(cold, preset), args.sweep, seed=2)
+        t = time.perf_counter()
+        res = ringlube.run_many(sweep, workers=cores, progress=True)
+        wall = time.perf_counter() - t
+        print(f"{args.sweep} runs: {wall:.1f} s wall ({args.sweep / wall:.1f} runs/s); "
+              f"{sum(not r.converged for r in res)} not converged")
+
+
+def tables(cold: Path, cases, cores: int) -> None:
 
     print("== ms per cycle by preset (kernel time / cycles computed incl. warm-up; "
           "error vs 'accurate')")
@@ -62,7 +87,6 @@ def main() -> None:
                   f"{r.mixed_share:8.2f}")
 
     print("\n== damped vs safeguarded h0 update (cold deck, preset 'default', load_tol 1e-3)")
-    cold = DECKS[[d.stem for d in DECKS].index("crf450r_4000rpm_full_cold")]
     ref = best(preset_case(cold, "accurate"), 1)
     rows = {}
     for upd in ("safeguarded", "damped"):
@@ -74,17 +98,7 @@ def main() -> None:
     print(f"damped / safeguarded time ratio: {rows['damped'].run_time / rows['safeguarded'].run_time:.1f}")
 
     print("\n== runs per second through run_many (cold deck variants, preset 'default')")
-    from scipy.stats import qmc
-
-    lo = np.array([v[0] for v in VARS.values()])
-    hi = np.array([v[1] for v in VARS.values()])
-    base = preset_case(cold, "default")
-
-    def cases(n: int, seed: int = 0) -> list[Case]:
-        x = qmc.scale(qmc.Sobol(d=4, seed=seed).random(n), lo, hi)
-        return [base.with_ring(**dict(zip(VARS, row))) for row in x]
-
-    sample = cases(200, seed=1)
+    sample = cases(preset_case(cold, "default"), 200, seed=1)
     t = time.perf_counter()
     ringlube.run_many(sample, workers=1, progress=False)
     t1 = time.perf_counter() - t
@@ -94,13 +108,6 @@ def main() -> None:
     print(f"1 worker: {len(sample) / t1:.1f} runs/s; {cores} workers: {len(sample) / tn:.1f} runs/s; "
           f"parallel efficiency {t1 / tn / cores:.0%}")
 
-    print(f"\n== sweep of {args.sweep} runs on {cores} cores (preset 'default')")
-    sweep = cases(args.sweep, seed=2)
-    t = time.perf_counter()
-    res = ringlube.run_many(sweep, workers=cores, progress=True)
-    wall = time.perf_counter() - t
-    print(f"{args.sweep} runs: {wall:.1f} s wall ({args.sweep / wall:.1f} runs/s); "
-          f"{sum(not r.converged for r in res)} not converged")
 
 
 if __name__ == "__main__":
