@@ -150,7 +150,8 @@ class Case:
     def validate(self) -> int:
         """Check the case with the kernel's own reader; returns the number of crank steps.
 
-        Raises :class:`InputError` naming the group and variable on a bad value.
+        Raises :class:`InputError` naming the group and variable on a bad value. The gas
+        pressure file is checked to exist here; its rows are checked when the case runs.
         """
         from . import _kernel
 
