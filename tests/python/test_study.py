@@ -53,7 +53,8 @@ def test_quadratic_fit_recovers_known_coefficients():
 
 
 def test_small_study_end_to_end(tmp_path):
-    deck = write_study(tmp_path, name="e2e", samples=40, cases=("cold", "hot"))
+    deck = write_study(tmp_path, name="e2e", samples=40, cases=("cold", "hot"),
+                       scene=".true.", weights="3.0, 1.0")
     study = run_study(deck, tmp_path / "out", serial=True, with_direct=True, progress=False)
     s = study.s
     with h5py.File(study.path) as f:
@@ -67,6 +68,11 @@ def test_small_study_end_to_end(tmp_path):
             assert "chosen/f_true" in g and "direct/f" in g
         assert set(json.loads(f.attrs["stages"])) >= {"sampled", "ran", "fitted", "optimised",
                                                       "checked", "direct"}
+    # the weighted scene: 3:1 mean of the two cases' objectives, with its own front
+    sc = study.cases["scene"]
+    np.testing.assert_allclose(sc["objectives"], 0.75 * study.cases["cold"]["objectives"]
+                               + 0.25 * study.cases["hot"]["objectives"], rtol=1e-14)
+    assert np.asarray(sc["front"]["f"]).shape[1] == 3
     # stored objectives are the true model's: re-run two samples and one chosen design
     base = Case.from_namelist(s.cases[0])
     for i in (0, 17):
