@@ -78,8 +78,15 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
 
 def _cmd_optimise(args: argparse.Namespace) -> int:
+    import signal
+
     from .study import run_study
     from .study_report import summary
+
+    def terminate(signum, frame):  # a batch system's SIGTERM: save finished runs, then stop
+        raise KeyboardInterrupt(f"signal {signum}")
+
+    signal.signal(signal.SIGTERM, terminate)
 
     study = run_study(args.study, args.out, scheduler=args.scheduler, workers=args.workers,
                       serial=args.serial, with_direct=args.direct)
@@ -133,6 +140,10 @@ def main(argv: list[str] | None = None) -> int:
     except RinglubeError as exc:
         print(f"ringlube: error: {exc}", file=sys.stderr)
         return exc.code
+    except KeyboardInterrupt:
+        print("ringlube: interrupted; finished work is saved (run the same command to resume)",
+              file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

@@ -113,6 +113,8 @@ def read_study(path: str | os.PathLike) -> StudySettings:
     # checks, each naming the variable
     def bad(var, why):
         raise InputError(f"{path}: &study {var}: {why}")
+    if not st.name or any(ch in st.name for ch in "/\\") or st.name.startswith("."):
+        bad("name", "must be a plain file name (no folders): it names the study file")
     if len(labels) != len(cases) or len(set(labels)) != len(labels):
         bad("labels", "one distinct label per case")
     if len(weights) != len(cases) or any(w <= 0 for w in weights):

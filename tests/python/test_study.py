@@ -175,3 +175,21 @@ def test_dask_cluster_matches_serial_and_survives_a_killed_worker(tmp_path, loop
     c = on_cluster.cases["cold"]
     assert c["done"].all()
     np.testing.assert_array_equal(c["objectives"], serial.cases["cold"]["objectives"])
+
+
+def test_bad_study_deck_names_the_variable(tmp_path):
+    from ringlube import InputError
+
+    with pytest.raises(InputError, match=r"&study name: must be a plain file name"):
+        read_study(_with_name(tmp_path, "../escape"))
+    with pytest.raises(InputError, match=r"&study samples: need at least 20"):
+        read_study(write_study(tmp_path, name="few", samples=10))
+    with pytest.raises(InputError, match=r"&study bogus: unknown variable"):
+        read_study(write_study(tmp_path, name="bogus", samples=40, bogus=1))
+
+
+def _with_name(tmp_path, name: str) -> str:
+    path = write_study(tmp_path, name="named", samples=40)
+    text = open(path).read().replace("name = 'named'", f"name = '{name}'")
+    open(path, "w").write(text)
+    return path
