@@ -264,6 +264,7 @@ contains
     type(step_context) :: ctx
     integer :: m, k, icycle, flags
     real(dp) :: sigma, h0_prev, h0_prev2, h0_start, h0, h0_end, resid
+    type(load_problem) :: lp
     integer :: extra_evaluations, extra_solves
 
     call validate_case(c, err)
@@ -295,7 +296,7 @@ contains
     ! warm-up: the last warmup_deg of a cycle before the first reported one, so that the
     ! squeeze-film memory of the initial guess has decayed by psi = 0
     do k = steps_per_cycle(c) - nint(c%warmup_deg / c%dpsi_deg) + 1, m
-      call balance(c, ctx, f, (k - 1) * c%dpsi_deg, h0_prev, h0_prev2, h0, flags, resid)
+      call balance(c, ctx, f, (k - 1) * c%dpsi_deg, h0_prev, h0_prev2, h0, flags, resid, lp)
       h0_prev2 = h0_prev
       h0_prev = h0
     end do
@@ -309,7 +310,7 @@ contains
       end do
       ! psi = 720 deg is psi = 0 of the next cycle: solve it on a copy of the film
       g = f
-      call balance(c, ctx, g, 0.0_dp, h0_prev, h0_prev2, h0_end, flags, resid)
+      call balance(c, ctx, g, 0.0_dp, h0_prev, h0_prev2, h0_end, flags, resid, lp)
       extra_evaluations = extra_evaluations + g%evaluations - f%evaluations
       extra_solves = extra_solves + g%reynolds_solves - f%reynolds_solves
       res%cycle_change = abs(h0_end - h0_start) / h0_start
@@ -338,27 +339,25 @@ contains
       integer, intent(in) :: k
       real(dp), intent(in) :: hp, hp2
       real(dp), intent(out) :: h0out
-      real(dp) :: psi, u, pg, load, fv, fb, resid
+      real(dp) :: psi, fv, fb, resid
+      type(load_problem) :: lp
       integer :: flags, nev
       psi = (k - 1) * c%dpsi_deg
       nev = f%evaluations
-      call balance(c, ctx, f, psi, hp, hp2, h0out, flags, resid)
-      u = speed(c, ctx, psi)
-      pg = gas_pressure(c%gas_psi, c%gas_p, psi, c%crankcase_pressure)
-      load = (ctx%p_e + pg) * c%width * f%circ
-      call film_friction(c, f, u, fv, fb)
+      call balance(c, ctx, f, psi, hp, hp2, h0out, flags, resid, lp)
+      call film_friction(c, f, lp%u, fv, fb)
       res%crank_angle_deg(k) = psi
-      res%sliding_speed(k) = u
+      res%sliding_speed(k) = lp%u
       res%h0(k) = h0out
       res%lambda_min(k) = minval(f%h) / sigma
-      res%gas_pressure(k) = pg
-      res%applied_load(k) = load
+      res%gas_pressure(k) = lp%pg
+      res%applied_load(k) = lp%load
       res%hydrodynamic_load(k) = f%wh
       res%asperity_load(k) = f%wa
       res%viscous_friction(k) = fv
       res%boundary_friction(k) = fb
       res%friction(k) = fv + fb
-      res%power_loss(k) = abs((fv + fb) * u)
+      res%power_loss(k) = abs((fv + fb) * lp%u)
       res%load_residual(k) = resid
       res%flags(k) = flags
       res%iterations(k) = f%evaluations - nev
@@ -376,15 +375,16 @@ contains
   end function speed
 
   !> Find h0 at crank angle psi so that W_h + W_a = F (within load_tol); hp, hp2 are h0
-  !> at the two previous steps. The film `g` is left solved at the returned h0.
-  subroutine balance(c, ctx, g, psi, hp, hp2, h0out, flags, resid)
+  !> at the two previous steps. The film `g` is left solved at the returned h0; `lp`
+  !> returns the step's sliding speed, gas pressure and applied load.
+  subroutine balance(c, ctx, g, psi, hp, hp2, h0out, flags, resid, lp)
     type(case_type), intent(in) :: c
     type(step_context), intent(in) :: ctx
     type(film_type), intent(inout) :: g
     real(dp), intent(in) :: psi, hp, hp2
     real(dp), intent(out) :: h0out, resid
     integer, intent(out) :: flags
-    type(load_problem) :: lp
+    type(load_problem), intent(out) :: lp
     real(dp) :: u, guess
     u = speed(c, ctx, psi)
     if (u < 0.0_dp) g%lead_left = .true.

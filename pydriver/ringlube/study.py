@@ -468,11 +468,11 @@ def check_designs(study: Study, ex: Executor) -> None:
     for label, (names, xs) in chosen.items():
         if label == "scene":
             continue
-        deck = s.cases[s.labels.index(label)]
-        tasks.append((Case.from_namelist(deck).to_dict(), s.variables, xs, s.objectives))
+        base = Case.from_namelist(s.cases[s.labels.index(label)]).to_dict()
+        tasks.append((base, s.variables, xs, s.objectives))
         where.append(label)
         # the study's published optimum too, for comparison
-        tasks.append((Case.from_namelist(deck).to_dict(), s.variables,
+        tasks.append((base, s.variables,
                       np.array([[STUDY_OPTIMUM.get(v, np.nan) for v in s.variables]]), s.objectives))
         where.append(label + "#study")
     results = {}

@@ -14,7 +14,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .plot import save_metadata  # noqa: E402
-from .study import OBJECTIVES, STUDY_OPTIMUM, UNITS_LABEL, UNITS_SCALE, Study, surfaces_of  # noqa: E402
+from .study import (OBJECTIVES, STUDY_OPTIMUM, UNITS_LABEL, UNITS_SCALE, Study,  # noqa: E402
+                    _objective_matrix, surfaces_of)
 
 __all__ = ["study_figures"]
 
@@ -32,8 +33,7 @@ def _save(fig, out: Path, stem: str) -> list[Path]:
 def fit_figure(study: Study, label: str) -> plt.Figure:
     s = study.s
     c = study.cases[label]
-    ok = c["done"].astype(bool) & c["converged"].astype(bool)
-    x, y = study.x[ok], c["objectives"][ok]
+    x, y = _objective_matrix(study, label)
     surfs = surfaces_of(study, label)
     fig, axes = plt.subplots(1, len(s.objectives), figsize=(4.2 * len(s.objectives), 4), layout="constrained")
     for j, (ax, o) in enumerate(zip(np.atleast_1d(axes), s.objectives)):
