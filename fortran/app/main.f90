@@ -8,7 +8,8 @@ program ringlube_solve
   use ringlube_error, only: error_type, rl_input_error, rl_not_converged, rl_runtime_error
   use ringlube_case, only: case_type, composite_sigma
   use ringlube_input, only: read_deck
-  use ringlube_cycle, only: result_type, solve_cycle
+  use ringlube_cycle, only: solve_cycle
+  use ringlube_results, only: result_type
   use ringlube_hdf5_output, only: write_result, ringlube_version
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64
   implicit none

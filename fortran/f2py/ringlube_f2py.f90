@@ -1,114 +1,275 @@
-!> The f2py layer: plain-array entry points with iso_c_binding kinds.
+!> The f2py layer: plain-array entry points with iso_c_binding kinds over ringlube_api.
 !>
-!> f2py cannot pass derived types, so a case travels as a deck file (the same reader as
-!> ringlube-solve, hence identical numbers) and results come back as arrays. Errors come
-!> back as (code, message); nothing here stops the process.
+!> f2py cannot pass derived types, so a case is parsed once from deck text into a handle
+!> (`rl_open`), run (`rl_run`, `rl_run_batch`) and closed (`rl_close`). Results come back
+!> as arrays whose columns follow the kernel's result tables (`rl_table`), so Python
+!> addresses them by name. Text travels as UTF-8 bytes. Errors come back as (code,
+!> message); nothing here stops the process.
 
-!> Number of crank steps a deck will produce, or an input error.
-subroutine rl_count_steps(deck, nsteps, code, message)
+!> A kernel table as tab-separated text: 'inputs', 'presets', 'series', 'int_series',
+!> 'scalars', 'flags'. `n` is the text's length (0 for an unknown table).
+subroutine rl_table(which, text, n)
+  use, intrinsic :: iso_c_binding, only: c_int
+  use ringlube_api, only: api_table
+  implicit none
+  character(len=*), intent(in) :: which
+  character(len=65536), intent(out) :: text
+  integer(c_int), intent(out) :: n
+  character(len=:), allocatable :: t
+  t = api_table(which)
+  n = min(len(t), len(text))
+  text = t
+end subroutine rl_table
+
+!> The kernel's version.
+subroutine rl_version(text)
+  use ringlube_hdf5_output, only: ringlube_version
+  implicit none
+  character(len=32), intent(out) :: text
+  text = ringlube_version
+end subroutine rl_version
+
+!> Parse deck text (named `name` in messages, relative paths against `base_dir`) with the
+!> variables of `overrides` replacing the deck's. Returns a handle and the crank steps.
+subroutine rl_open(text, name, base_dir, overrides, overrides_name, load_trace, handle, &
+    nsteps, code, message)
   use, intrinsic :: iso_c_binding, only: c_int
   use ringlube_error, only: error_type
-  use ringlube_case, only: case_type, steps_per_cycle
-  use ringlube_input, only: read_deck
+  use ringlube_api, only: api_open, api_nsteps
   implicit none
-  character(len=*), intent(in) :: deck
-  integer(c_int), intent(out) :: nsteps, code
-  character(len=2048), intent(out) :: message
-  type(case_type) :: c
+  character(len=*), intent(in) :: text, name, base_dir, overrides, overrides_name
+  integer(c_int), intent(in) :: load_trace
+  integer(c_int), intent(out) :: handle, nsteps, code
+  character(len=4096), intent(out) :: message
   type(error_type), allocatable :: err
+  integer :: h
+  handle = 0
   nsteps = 0
   code = 0
   message = ''
-  call read_deck(deck, c, err, load_trace=.false.)
+  call api_open(text, name, base_dir, overrides, overrides_name, load_trace /= 0, h, err)
   if (allocated(err)) then
     code = err%code
     message = err%message
     return
   end if
-  nsteps = steps_per_cycle(c)
-end subroutine rl_count_steps
+  handle = h
+  nsteps = api_nsteps(h)
+end subroutine rl_open
 
-!> Run the deck. `series(:, j)` holds, for j = 1..13: crank angle, sliding speed, h0,
-!> lambda_min, gas pressure, applied load, hydrodynamic load, asperity load, viscous
-!> friction, boundary friction, friction, power loss, load residual. `scalars`: energy
-!> loss J, mixed share %, ring mass g, min film m, max friction N, converged, cycles run,
-!> cycle change, sigma m, run time s, film solves, periodic, Reynolds solves, cycles
-!> computed (including warm-up).
-subroutine rl_run_deck(deck, nsteps, series, flags, iterations, scalars, code, message)
-  use, intrinsic :: iso_c_binding, only: c_int, c_double, c_int64_t
-  use ringlube_kinds, only: dp
-  use ringlube_error, only: error_type, rl_input_error
-  use ringlube_case, only: case_type, steps_per_cycle, composite_sigma
-  use ringlube_input, only: read_deck
-  use ringlube_cycle, only: result_type, solve_cycle
+!> Release a handle.
+subroutine rl_close(handle)
+  use, intrinsic :: iso_c_binding, only: c_int
+  use ringlube_api, only: api_close
   implicit none
-  character(len=*), intent(in) :: deck
-  integer(c_int), intent(in) :: nsteps
-  real(c_double), intent(out) :: series(nsteps, 13)
-  integer(c_int), intent(out) :: flags(nsteps), iterations(nsteps)
-  real(c_double), intent(out) :: scalars(14)
-  integer(c_int), intent(out) :: code
-  character(len=2048), intent(out) :: message
-  type(case_type) :: c
-  type(result_type) :: r
-  type(error_type), allocatable :: err
-  integer(c_int64_t) :: t0, t1, rate
+  integer(c_int), intent(in) :: handle
+  call api_close(handle)
+end subroutine rl_close
 
+!> Effective value of `&group name` as deck text.
+subroutine rl_get(handle, group, name, value, code, message)
+  use, intrinsic :: iso_c_binding, only: c_int
+  use ringlube_error, only: error_type
+  use ringlube_api, only: api_get
+  implicit none
+  integer(c_int), intent(in) :: handle
+  character(len=*), intent(in) :: group, name
+  character(len=4096), intent(out) :: value, message
+  integer(c_int), intent(out) :: code
+  character(len=:), allocatable :: t
+  type(error_type), allocatable :: err
+  code = 0
+  message = ''
+  call api_get(handle, group, name, t, err)
+  value = t
+  if (allocated(err)) then
+    code = err%code
+    message = err%message
+  end if
+end subroutine rl_get
+
+!> Length in bytes of the deck text the kernel read (the deck, its calibration file and
+!> the overrides).
+subroutine rl_deck_length(handle, n)
+  use, intrinsic :: iso_c_binding, only: c_int
+  use ringlube_api, only: api_deck_text
+  implicit none
+  integer(c_int), intent(in) :: handle
+  integer(c_int), intent(out) :: n
+  n = len(api_deck_text(handle))
+end subroutine rl_deck_length
+
+!> The deck text the kernel read, one byte per element (f2py mishandles 1-byte integers).
+subroutine rl_deck_text(handle, n, buf)
+  use, intrinsic :: iso_c_binding, only: c_int
+  use ringlube_api, only: api_deck_text
+  implicit none
+  integer(c_int), intent(in) :: handle, n
+  integer(c_int), intent(out) :: buf(n)
+  character(len=:), allocatable :: t
+  integer :: i
+  t = api_deck_text(handle)
+  buf = 0
+  do i = 1, min(n, len(t))
+    buf(i) = ichar(t(i:i))
+  end do
+end subroutine rl_deck_text
+
+!> Replace the case's gas-pressure trace (deg, Pa abs).
+subroutine rl_set_trace(handle, n, psi, p, code, message)
+  use, intrinsic :: iso_c_binding, only: c_int, c_double
+  use ringlube_error, only: error_type
+  use ringlube_api, only: api_set_trace
+  implicit none
+  integer(c_int), intent(in) :: handle, n
+  real(c_double), intent(in) :: psi(n), p(n)
+  integer(c_int), intent(out) :: code
+  character(len=4096), intent(out) :: message
+  type(error_type), allocatable :: err
+  code = 0
+  message = ''
+  call api_set_trace(handle, psi, p, err)
+  if (allocated(err)) then
+    code = err%code
+    message = err%message
+  end if
+end subroutine rl_set_trace
+
+!> Run the case. Columns of `series`, `iseries` and `scalars` follow the tables 'series',
+!> 'int_series' and 'scalars'.
+subroutine rl_run(handle, nsteps, ns, ni, nc, series, iseries, scalars, code, message)
+  use, intrinsic :: iso_c_binding, only: c_int, c_double
+  use ringlube_kinds, only: dp
+  use ringlube_error, only: error_type, rl_runtime_error
+  use ringlube_api, only: api_run
+  use ringlube_results, only: result_type, n_series, n_int_series, n_scalars, series_ptr, &
+    int_series_ptr, result_scalar
+  implicit none
+  integer(c_int), intent(in) :: handle, nsteps, ns, ni, nc
+  real(c_double), intent(out) :: series(nsteps, ns)
+  integer(c_int), intent(out) :: iseries(nsteps, ni)
+  real(c_double), intent(out) :: scalars(nc)
+  integer(c_int), intent(out) :: code
+  character(len=4096), intent(out) :: message
+  type(result_type), target :: r
+  type(error_type), allocatable :: err
+  real(dp) :: v
+  integer :: j
   series = 0.0_c_double
-  flags = 0
-  iterations = 0
+  iseries = 0
   scalars = 0.0_c_double
   code = 0
   message = ''
-  call read_deck(deck, c, err)
+  if (ns /= n_series .or. ni /= n_int_series .or. nc /= n_scalars) then
+    code = rl_runtime_error
+    message = 'rl_run: result table sizes differ from the caller''s'
+    return
+  end if
+  call api_run(handle, r, err)
   if (allocated(err)) then
     code = err%code
     message = err%message
     return
   end if
-  if (steps_per_cycle(c) /= nsteps) then
-    code = rl_input_error
-    message = deck // ': number of crank steps changed between calls'
+  if (r%nsteps /= nsteps) then
+    code = rl_runtime_error
+    message = 'rl_run: number of crank steps differs from rl_open''s'
     return
   end if
-  call system_clock(t0, rate)
-  call solve_cycle(c, r, err)
-  call system_clock(t1)
+  do j = 1, n_series
+    series(:, j) = series_ptr(r, j)
+  end do
+  do j = 1, n_int_series
+    iseries(:, j) = int_series_ptr(r, j)
+  end do
+  do j = 1, n_scalars
+    call result_scalar(r, j, v, .false.)
+    scalars(j) = v
+  end do
+end subroutine rl_run
+
+!> Run `nd` designs of one case: row i of `x` gives the values of the variables named in
+!> `keys` ('group.name' separated by blanks). `out(i, :)` are the scalar results of design
+!> i (table 'scalars'); `codes(i)` its error code (0: ok).
+subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes)
+  use, intrinsic :: iso_c_binding, only: c_int, c_double
+  use ringlube_kinds, only: dp
+  use ringlube_error, only: error_type
+  use ringlube_api, only: api_run_design
+  use ringlube_results, only: n_scalars
+  implicit none
+  integer(c_int), intent(in) :: handle, nd, nv, nc
+  character(len=*), intent(in) :: keys
+  real(c_double), intent(in) :: x(nd, nv)
+  real(c_double), intent(out) :: out(nd, nc)
+  integer(c_int), intent(out) :: codes(nd)
+  character(len=64) :: names(nv)
+  type(error_type), allocatable :: err
+  real(dp) :: s(n_scalars)
+  integer :: i
+  out = 0.0_c_double
+  codes = 0
+  read(keys, *) names
+  do i = 1, nd
+    call api_run_design(handle, names, x(i, :), s, err)
+    if (allocated(err)) then
+      codes(i) = err%code
+      deallocate(err)
+      cycle
+    end if
+    out(i, :) = s(1:nc)
+  end do
+end subroutine rl_run_batch
+
+!> Write a result given as arrays (columns as in rl_run) with the kernel's HDF5 writer.
+subroutine rl_write(path, nsteps, ns, ni, nc, series, iseries, scalars, deck_text, deck_path, &
+    pressure_file, code, message)
+  use, intrinsic :: iso_c_binding, only: c_int, c_double
+  use ringlube_kinds, only: dp
+  use ringlube_error, only: error_type
+  use ringlube_case, only: case_type, default_case
+  use ringlube_results, only: result_type, allocate_result, series_ptr, int_series_ptr, &
+    result_scalar, n_series, n_int_series, n_scalars
+  use ringlube_hdf5_output, only: write_result
+  implicit none
+  character(len=*), intent(in) :: path, deck_text, deck_path, pressure_file
+  integer(c_int), intent(in) :: nsteps, ns, ni, nc
+  real(c_double), intent(in) :: series(nsteps, ns), scalars(nc)
+  integer(c_int), intent(in) :: iseries(nsteps, ni)
+  integer(c_int), intent(out) :: code
+  character(len=4096), intent(out) :: message
+  type(result_type), target :: r
+  type(case_type) :: c
+  type(error_type), allocatable :: err
+  real(dp), pointer :: ps(:)
+  integer, pointer :: pi(:)
+  real(dp) :: v
+  integer :: j
+  code = 0
+  message = ''
+  call allocate_result(r, nsteps)
+  do j = 1, min(ns, n_series)
+    ps => series_ptr(r, j)
+    ps = series(:, j)
+  end do
+  do j = 1, min(ni, n_int_series)
+    pi => int_series_ptr(r, j)
+    pi = iseries(:, j)
+  end do
+  do j = 1, min(nc, n_scalars)
+    v = scalars(j)
+    call result_scalar(r, j, v, .true.)
+  end do
+  c = default_case()
+  c%deck_text = deck_text
+  c%deck_path = deck_path
+  c%pressure_file = pressure_file
+  call write_result(path, c, r, r%run_time, err)
   if (allocated(err)) then
     code = err%code
     message = err%message
-    return
   end if
-  series(:, 1) = r%crank_angle_deg
-  series(:, 2) = r%sliding_speed
-  series(:, 3) = r%h0
-  series(:, 4) = r%lambda_min
-  series(:, 5) = r%gas_pressure
-  series(:, 6) = r%applied_load
-  series(:, 7) = r%hydrodynamic_load
-  series(:, 8) = r%asperity_load
-  series(:, 9) = r%viscous_friction
-  series(:, 10) = r%boundary_friction
-  series(:, 11) = r%friction
-  series(:, 12) = r%power_loss
-  series(:, 13) = r%load_residual
-  flags = r%flags
-  iterations = r%iterations
-  scalars(1) = r%energy_loss
-  scalars(2) = r%mixed_share
-  scalars(3) = r%ring_mass * 1e3_dp
-  scalars(4) = r%min_film
-  scalars(5) = r%max_friction
-  scalars(6) = merge(1.0_dp, 0.0_dp, r%converged)
-  scalars(7) = r%cycles_run
-  scalars(8) = r%cycle_change
-  scalars(9) = composite_sigma(c)
-  scalars(10) = real(t1 - t0, dp) / real(rate, dp)
-  scalars(11) = r%evaluations
-  scalars(12) = merge(1.0_dp, 0.0_dp, r%periodic)
-  scalars(13) = r%reynolds_solves
-  scalars(14) = r%cycles_computed
-end subroutine rl_run_deck
+end subroutine rl_write
 
 !> Greenwood-Tripp functions at the given lambdas ('exact' unless `fit` is nonzero).
 subroutine rl_greenwood_tripp(n, lam, f2, f52, fit)

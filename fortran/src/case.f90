@@ -1,99 +1,350 @@
-!> One ringlube case: every input of SPEC section 9 with its documented default.
+!> One ringlube case: every input of the table in ringlube_inputs, stored by name.
+!>
+!> The defaults, plausible ranges, choices and units are those of the table; this module
+!> holds the storage (`case_type`), its one binding to the table (`case_access`), the
+!> checks that relate two variables, and small derived quantities.
 module ringlube_case
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type, fatal_error, rl_input_error
+  use ringlube_inputs, only: inputs, n_inputs, find_input, input_key, presets, n_presets, &
+    preset_names, kind_choice
+  use ringlube_textio, only: itoa
+  use ringlube_namelist, only: lower
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
-  public :: case_type, validate_case, composite_sigma, reduced_modulus, elastic_pressure, &
-    ring_profile, ring_mass, steps_per_cycle
+  public :: case_type, default_case, apply_preset, case_access, validate_case, parse_real, &
+    real_text, choice_list, composite_sigma, reduced_modulus, elastic_pressure, ring_profile, &
+    ring_mass, steps_per_cycle
 
-  !> All inputs of one run. Names follow the namelist variables (SPEC section 9).
+  !> Most crank steps per cycle (0.01 deg): bounds the memory of a run.
+  integer, parameter, public :: max_steps_per_cycle = 72000
+
+  !> All inputs of one run. Names follow the namelist variables; defaults, ranges, units
+  !> and descriptions live in the table of ringlube_inputs (start from `default_case()`).
   type :: case_type
     ! &engine
-    real(dp) :: crank_radius = 31.5e-3_dp      !< m
-    real(dp) :: conrod_length = 107e-3_dp      !< m
-    real(dp) :: bore_radius = 48e-3_dp         !< m (r0)
+    real(dp) :: crank_radius = 0.0_dp, conrod_length = 0.0_dp, bore_radius = 0.0_dp
     ! &operating
-    real(dp) :: speed_rpm = 4000.0_dp
-    real(dp) :: liner_temperature = 348.0_dp   !< K, film temperature theta_e
-    real(dp) :: crankcase_pressure = 101325.0_dp  !< Pa abs
-    real(dp) :: cavitation_pressure = 0.0_dp   !< Pa abs
-    real(dp) :: pressure_scale = 1.0_dp        !< multiplies the gas-pressure trace
+    real(dp) :: speed_rpm = 0.0_dp, liner_temperature = 0.0_dp, crankcase_pressure = 0.0_dp, &
+      cavitation_pressure = 0.0_dp, pressure_scale = 0.0_dp
     !> Gas-pressure CSV as resolved against the deck folder; empty: chamber at
     !> crankcase pressure all cycle (no compression, no combustion).
     character(len=:), allocatable :: pressure_file
-    ! &ring (defaults: the study's optimum ring, SPEC section 11)
-    real(dp) :: width = 1.004e-3_dp            !< m, face width b
-    real(dp) :: crown_height = 9.31e-6_dp      !< m, c
-    real(dp) :: crown_offset = -38.3e-6_dp     !< m, x_s
-    real(dp) :: tension = 8.0_dp               !< N (or N/m, see tension_unit)
-    character(len=:), allocatable :: tension_unit  !< 'N' (default) or 'N/m'
-    real(dp) :: radial_depth = 3.5e-3_dp       !< m, a
-    real(dp) :: density = 7800.0_dp            !< kg/m^3
+    ! &ring
+    real(dp) :: width = 0.0_dp, crown_height = 0.0_dp, crown_offset = 0.0_dp, tension = 0.0_dp
+    character(len=:), allocatable :: tension_unit
+    real(dp) :: radial_depth = 0.0_dp, density = 0.0_dp
     ! &lubricant
-    real(dp) :: eta0 = 0.05_dp                 !< Pa s at theta0
-    real(dp) :: theta0 = 313.15_dp             !< K
-    real(dp) :: beta = 0.04_dp                 !< 1/K
-    real(dp) :: alpha = 1e-8_dp                !< 1/Pa
+    real(dp) :: eta0 = 0.0_dp, theta0 = 0.0_dp, beta = 0.0_dp, alpha = 0.0_dp
     ! &surface
-    real(dp) :: rq_liner = 0.378e-6_dp
-    real(dp) :: rq_ring = 0.238e-6_dp
-    real(dp) :: zeta_kappa_sigma = 0.04_dp
-    real(dp) :: sigma_over_kappa = 1e-3_dp
-    real(dp) :: tau0 = 2e6_dp
-    real(dp) :: boundary_coefficient = 0.17_dp
-    real(dp) :: e_ring = 203e9_dp
-    real(dp) :: nu_ring = 0.3_dp
-    real(dp) :: e_liner = 400e9_dp
-    real(dp) :: nu_liner = 0.3_dp
+    real(dp) :: rq_liner = 0.0_dp, rq_ring = 0.0_dp, zeta_kappa_sigma = 0.0_dp, &
+      sigma_over_kappa = 0.0_dp, tau0 = 0.0_dp, boundary_coefficient = 0.0_dp, e_ring = 0.0_dp, &
+      nu_ring = 0.0_dp, e_liner = 0.0_dp, nu_liner = 0.0_dp
     ! &physics
-    logical :: roelands = .true.
-    logical :: squeeze = .true.
-    logical :: asperity_contact = .true.
-    character(len=:), allocatable :: gt_functions   !< 'exact' | 'fit'
-    character(len=:), allocatable :: contact_area   !< 'local' | 'lumped'
-    character(len=:), allocatable :: outlet         !< 'reynolds' | 'ambient'
+    logical :: roelands = .false., squeeze = .false., asperity_contact = .false.
+    character(len=:), allocatable :: gt_functions, contact_area, outlet
     ! &numerics
-    integer :: nodes = 51                      !< preset 'default'
-    real(dp) :: dpsi_deg = 1.0_dp              !< deg, preset 'default'
-    real(dp) :: pressure_tol = 1e-5_dp
-    real(dp) :: load_tol = 1e-3_dp
-    character(len=:), allocatable :: h0_update      !< 'safeguarded' | 'damped'
-    real(dp) :: damping = 0.005_dp
-    integer :: max_cycles = 10
-    real(dp) :: cycle_tol = 1e-3_dp
-    integer :: max_load_iterations = 2000      !< per crank step
-    integer :: max_pressure_iterations = 100   !< pressure-viscosity iterations per solve
-    real(dp) :: h0_floor = 1e-9_dp             !< m, lower bound on h0 (flagged when hit)
-    real(dp) :: h0_ceiling = 1e-3_dp           !< m, upper bound on h0 (flagged when hit)
-    real(dp) :: h0_initial = 0.0_dp            !< m, h0 before the first step; 0: 4 sigma
-    real(dp) :: warmup_deg = 360.0_dp          !< deg solved (not reported) before cycle 1
-    ! &output
-    character(len=:), allocatable :: output_file
+    character(len=:), allocatable :: preset
+    integer :: nodes = 0
+    real(dp) :: dpsi_deg = 0.0_dp, pressure_tol = 0.0_dp, load_tol = 0.0_dp
+    character(len=:), allocatable :: h0_update
+    real(dp) :: damping = 0.0_dp
+    integer :: max_cycles = 0
+    real(dp) :: cycle_tol = 0.0_dp
+    integer :: max_load_iterations = 0, max_pressure_iterations = 0
+    real(dp) :: h0_floor = 0.0_dp, h0_ceiling = 0.0_dp, h0_initial = 0.0_dp, warmup_deg = 0.0_dp
+    ! &output, &calibration
+    character(len=:), allocatable :: output_file, calibration_file
     ! not namelist variables
     real(dp), allocatable :: gas_psi(:)        !< deg, 0..720, increasing
     real(dp), allocatable :: gas_p(:)          !< Pa abs
-    character(len=:), allocatable :: deck_path
-    character(len=:), allocatable :: deck_text
-  contains
-    procedure :: set_string_defaults
+    character(len=:), allocatable :: deck_path  !< where the case came from (in messages)
+    character(len=:), allocatable :: deck_text  !< the deck's text (and included files')
   end type case_type
+
+  !> Modes of `case_access`.
+  integer, parameter, public :: access_set = 1, access_get = 2, access_check = 3
 
 contains
 
-  !> Give the deferred-length strings their defaults (call once after construction).
-  pure subroutine set_string_defaults(self)
-    class(case_type), intent(inout) :: self
-    if (.not. allocated(self%pressure_file)) self%pressure_file = ''
-    if (.not. allocated(self%tension_unit)) self%tension_unit = 'N'
-    if (.not. allocated(self%gt_functions)) self%gt_functions = 'exact'
-    if (.not. allocated(self%contact_area)) self%contact_area = 'local'
-    if (.not. allocated(self%outlet)) self%outlet = 'reynolds'
-    if (.not. allocated(self%h0_update)) self%h0_update = 'safeguarded'
-    if (.not. allocated(self%output_file)) self%output_file = 'result.h5'
-    if (.not. allocated(self%deck_path)) self%deck_path = '<memory>'
-    if (.not. allocated(self%deck_text)) self%deck_text = ''
-  end subroutine set_string_defaults
+  !> A case with every variable at its table default (the numerics a preset sets from
+  !> preset 'default').
+  function default_case() result(c)
+    type(case_type) :: c
+    character(len=:), allocatable :: why, text
+    integer :: i
+    do i = 1, n_inputs
+      if (inputs(i)%default == '(preset)') cycle
+      text = trim(inputs(i)%default)
+      call case_access(c, i, access_set, text, why)
+      if (allocated(why)) error stop 'ringlube_inputs: bad default of ' // input_key(i)
+    end do
+    call apply_preset(c, 'default', why)
+    if (allocated(why)) error stop 'ringlube_inputs: bad preset default'
+    c%deck_path = '<memory>'
+    c%deck_text = ''
+    allocate(c%gas_psi(0), c%gas_p(0))
+  end function default_case
+
+  !> Set the numerics of a named preset; `why` is allocated if the name is unknown.
+  subroutine apply_preset(c, name, why)
+    type(case_type), intent(inout) :: c
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable, intent(out) :: why
+    character(len=:), allocatable :: text
+    integer :: i, found
+    found = 0
+    do i = 1, n_presets
+      if (presets(i)%preset /= name) cycle
+      found = found + 1
+      text = trim(presets(i)%value)
+      call case_access(c, find_input('numerics', trim(presets(i)%name)), access_set, text, why)
+      if (allocated(why)) return
+    end do
+    if (found == 0) then
+      why = "unknown preset '" // name // "' (use " // choice_list(preset_names()) // ')'
+      return
+    end if
+    c%preset = name
+  end subroutine apply_preset
+
+  !> Read, write or check table row `i` of a case: the one binding of the table's names to
+  !> the components of case_type.
+  !>
+  !> `access_set`: parse `text` (deck syntax, unquoted value) into the variable and check it
+  !> against its range or choices; `access_get`: the value as deck text in `text`;
+  !> `access_check`: check the current value. On a bad value `why` says why (without file,
+  !> group or variable: the caller adds them).
+  subroutine case_access(c, i, mode, text, why)
+    type(case_type), intent(inout) :: c
+    integer, intent(in) :: i, mode
+    character(len=:), allocatable, intent(inout) :: text
+    character(len=:), allocatable, intent(out) :: why
+    select case (input_key(i))
+    case ('engine.crank_radius'); call r(c%crank_radius)
+    case ('engine.conrod_length'); call r(c%conrod_length)
+    case ('engine.bore_radius'); call r(c%bore_radius)
+    case ('operating.speed_rpm'); call r(c%speed_rpm)
+    case ('operating.liner_temperature'); call r(c%liner_temperature)
+    case ('operating.pressure_file'); call s(c%pressure_file)
+    case ('operating.crankcase_pressure'); call r(c%crankcase_pressure)
+    case ('operating.cavitation_pressure'); call r(c%cavitation_pressure)
+    case ('operating.pressure_scale'); call r(c%pressure_scale)
+    case ('ring.width'); call r(c%width)
+    case ('ring.crown_height'); call r(c%crown_height)
+    case ('ring.crown_offset'); call r(c%crown_offset)
+    case ('ring.tension'); call r(c%tension)
+    case ('ring.tension_unit'); call s(c%tension_unit)
+    case ('ring.radial_depth'); call r(c%radial_depth)
+    case ('ring.density'); call r(c%density)
+    case ('lubricant.eta0'); call r(c%eta0)
+    case ('lubricant.theta0'); call r(c%theta0)
+    case ('lubricant.beta'); call r(c%beta)
+    case ('lubricant.alpha'); call r(c%alpha)
+    case ('surface.rq_liner'); call r(c%rq_liner)
+    case ('surface.rq_ring'); call r(c%rq_ring)
+    case ('surface.zeta_kappa_sigma'); call r(c%zeta_kappa_sigma)
+    case ('surface.sigma_over_kappa'); call r(c%sigma_over_kappa)
+    case ('surface.tau0'); call r(c%tau0)
+    case ('surface.boundary_coefficient'); call r(c%boundary_coefficient)
+    case ('surface.e_ring'); call r(c%e_ring)
+    case ('surface.nu_ring'); call r(c%nu_ring)
+    case ('surface.e_liner'); call r(c%e_liner)
+    case ('surface.nu_liner'); call r(c%nu_liner)
+    case ('physics.roelands'); call l(c%roelands)
+    case ('physics.squeeze'); call l(c%squeeze)
+    case ('physics.asperity_contact'); call l(c%asperity_contact)
+    case ('physics.gt_functions'); call s(c%gt_functions)
+    case ('physics.contact_area'); call s(c%contact_area)
+    case ('physics.outlet'); call s(c%outlet)
+    case ('numerics.preset'); call s(c%preset)
+    case ('numerics.nodes'); call n(c%nodes)
+    case ('numerics.dpsi_deg'); call r(c%dpsi_deg)
+    case ('numerics.pressure_tol'); call r(c%pressure_tol)
+    case ('numerics.load_tol'); call r(c%load_tol)
+    case ('numerics.h0_update'); call s(c%h0_update)
+    case ('numerics.damping'); call r(c%damping)
+    case ('numerics.max_cycles'); call n(c%max_cycles)
+    case ('numerics.cycle_tol'); call r(c%cycle_tol)
+    case ('numerics.max_load_iterations'); call n(c%max_load_iterations)
+    case ('numerics.max_pressure_iterations'); call n(c%max_pressure_iterations)
+    case ('numerics.h0_floor'); call r(c%h0_floor)
+    case ('numerics.h0_ceiling'); call r(c%h0_ceiling)
+    case ('numerics.h0_initial'); call r(c%h0_initial)
+    case ('numerics.warmup_deg'); call r(c%warmup_deg)
+    case ('output.file'); call s(c%output_file)
+    case ('calibration.file'); call s(c%calibration_file)
+    case default
+      why = 'no storage for ' // input_key(i) // ' (ringlube_case: case_access)'
+    end select
+
+  contains
+
+    subroutine r(v)
+      real(dp), intent(inout) :: v
+      real(dp) :: tmp
+      logical :: ok
+      select case (mode)
+      case (access_set)
+        call parse_real(text, tmp, ok)
+        if (.not. ok) then
+          why = 'malformed number "' // text // '"'
+          return
+        end if
+        call check_range(tmp)
+        if (.not. allocated(why)) v = tmp
+      case (access_get)
+        text = real_text(v)
+      case (access_check)
+        call check_range(v)
+      end select
+    end subroutine r
+
+    subroutine n(v)
+      integer, intent(inout) :: v
+      integer :: tmp, ios
+      select case (mode)
+      case (access_set)
+        if (len(text) == 0 .or. verify(text, '0123456789+-') /= 0) then
+          why = 'malformed integer "' // text // '"'
+          return
+        end if
+        read(text, *, iostat=ios) tmp
+        if (ios /= 0) then
+          why = 'malformed integer "' // text // '"'
+          return
+        end if
+        call check_range(real(tmp, dp))
+        if (.not. allocated(why)) v = tmp
+      case (access_get)
+        text = itoa(v)
+      case (access_check)
+        call check_range(real(v, dp))
+      end select
+    end subroutine n
+
+    subroutine l(v)
+      logical, intent(inout) :: v
+      select case (mode)
+      case (access_set)
+        select case (lower(text))
+        case ('.true.', '.t.', 't', 'true')
+          v = .true.
+        case ('.false.', '.f.', 'f', 'false')
+          v = .false.
+        case default
+          why = 'malformed logical "' // text // '" (use .true. or .false.)'
+        end select
+      case (access_get)
+        if (v) then
+          text = '.true.'
+        else
+          text = '.false.'
+        end if
+      end select
+    end subroutine l
+
+    subroutine s(v)
+      character(len=:), allocatable, intent(inout) :: v
+      select case (mode)
+      case (access_set)
+        call check_choice(text)
+        if (.not. allocated(why)) v = text
+      case (access_get)
+        text = v
+      case (access_check)
+        if (.not. allocated(v)) then
+          why = 'not set'
+        else
+          call check_choice(v)
+        end if
+      end select
+    end subroutine s
+
+    subroutine check_choice(v)
+      character(len=*), intent(in) :: v
+      if (inputs(i)%kind /= kind_choice) return
+      if (index('|' // trim(inputs(i)%choices) // '|', '|' // v // '|') == 0 .or. len(v) == 0 &
+        .or. index(v, '|') > 0) then
+        why = 'must be ' // choice_list(inputs(i)%choices) // ", got '" // v // "'"
+      end if
+    end subroutine check_choice
+
+    subroutine check_range(v)
+      real(dp), intent(in) :: v
+      if (.not. (v >= inputs(i)%lower .and. v <= inputs(i)%upper)) then
+        why = 'must be in [' // real_text(inputs(i)%lower) // ', ' // real_text(inputs(i)%upper) &
+          // ']' // unit_text() // ', got ' // real_text(v)
+      end if
+    end subroutine check_range
+
+    function unit_text() result(u)
+      character(len=:), allocatable :: u
+      select case (trim(inputs(i)%unit))
+      case ('', '1')
+        u = ''
+      case ('(unit)')
+        u = ' ' // c%tension_unit
+      case default
+        u = ' ' // trim(inputs(i)%unit)
+      end select
+    end function unit_text
+  end subroutine case_access
+
+  !> A number in deck syntax (Fortran or C exponents; no words such as nan or inf).
+  subroutine parse_real(text, v, ok)
+    character(len=*), intent(in) :: text
+    real(dp), intent(out) :: v
+    logical, intent(out) :: ok
+    integer :: ios
+    v = 0.0_dp
+    ok = len(text) > 0
+    if (.not. ok) return
+    ok = verify(text, '0123456789+-.eEdD') == 0 .and. scan(text, '0123456789') > 0
+    if (.not. ok) return
+    read(text, *, iostat=ios) v
+    ok = ios == 0
+    if (ok) ok = ieee_is_finite(v)
+  end subroutine parse_real
+
+  !> Shortest scientific text that reads back as the same double.
+  function real_text(v) result(t)
+    real(dp), intent(in) :: v
+    character(len=:), allocatable :: t
+    character(len=40) :: buf
+    real(dp) :: back
+    integer :: d, ios
+    if (.not. ieee_is_finite(v)) then
+      write(buf, *) v
+      t = trim(adjustl(buf))
+      return
+    end if
+    do d = 1, 17   ! (es0.0 would print every digit)
+      write(buf, '(es0.' // itoa(d) // ')') v
+      read(buf, *, iostat=ios) back
+      if (ios == 0 .and. back == v) exit
+    end do
+    t = trim(adjustl(buf))
+  end function real_text
+
+  !> "'a', 'b' or 'c'" from "a|b|c".
+  pure function choice_list(choices) result(t)
+    character(len=*), intent(in) :: choices
+    character(len=:), allocatable :: t, rest
+    integer :: k
+    t = ''
+    rest = trim(choices)
+    do
+      k = index(rest, '|')
+      if (k == 0) exit
+      if (len(t) > 0) t = t // ', '
+      t = t // "'" // rest(1:k-1) // "'"
+      rest = rest(k+1:)
+    end do
+    if (len(t) > 0) t = t // ' or '
+    t = t // "'" // rest // "'"
+  end function choice_list
 
   !> Composite roughness sigma = sqrt(Rq_liner^2 + Rq_ring^2) [m].
   pure real(dp) function composite_sigma(c)
@@ -140,107 +391,42 @@ contains
     steps_per_cycle = nint(720.0_dp / c%dpsi_deg)
   end function steps_per_cycle
 
-  !> Check every value against its physical range; the message names group and variable.
+  !> Check every value against its range or choices (the table), then the conditions that
+  !> relate two variables; the message names the case, the group and the variable.
   subroutine validate_case(c, err)
-    type(case_type), intent(in) :: c
+    type(case_type), intent(inout) :: c
     type(error_type), allocatable, intent(out) :: err
+    character(len=:), allocatable :: why, text
+    integer :: i
 
-    call positive('engine', 'crank_radius', c%crank_radius); if (allocated(err)) return
-    call positive('engine', 'conrod_length', c%conrod_length); if (allocated(err)) return
+    do i = 1, n_inputs
+      call case_access(c, i, access_check, text, why)
+      if (allocated(why)) then
+        call bad(trim(inputs(i)%group), trim(inputs(i)%name), why)
+        return
+      end if
+    end do
     if (c%conrod_length <= c%crank_radius) then
       call bad('engine', 'conrod_length', 'must exceed crank_radius'); return
     end if
-    call positive('engine', 'bore_radius', c%bore_radius); if (allocated(err)) return
-    call positive('operating', 'speed_rpm', c%speed_rpm); if (allocated(err)) return
-    if (c%liner_temperature <= 138.0_dp) then
-      call bad('operating', 'liner_temperature', 'must be above 138 K (Roelands pole)'); return
-    end if
-    call nonneg('operating', 'crankcase_pressure', c%crankcase_pressure); if (allocated(err)) return
-    call nonneg('operating', 'cavitation_pressure', c%cavitation_pressure); if (allocated(err)) return
-    call positive('operating', 'pressure_scale', c%pressure_scale); if (allocated(err)) return
     if (c%cavitation_pressure > c%crankcase_pressure) then
       call bad('operating', 'cavitation_pressure', 'must not exceed crankcase_pressure'); return
     end if
-    call positive('ring', 'width', c%width); if (allocated(err)) return
-    call nonneg('ring', 'crown_height', c%crown_height); if (allocated(err)) return
     if (abs(c%crown_offset) >= 0.5_dp * c%width) then
       call bad('ring', 'crown_offset', 'must lie inside the face, |crown_offset| < width/2'); return
     end if
-    call nonneg('ring', 'tension', c%tension); if (allocated(err)) return
-    if (c%tension_unit /= 'N' .and. c%tension_unit /= 'N/m') then
-      call bad('ring', 'tension_unit', "must be 'N' or 'N/m'"); return
-    end if
-    call positive('ring', 'radial_depth', c%radial_depth); if (allocated(err)) return
     if (c%radial_depth >= c%bore_radius) then
       call bad('ring', 'radial_depth', 'must be smaller than bore_radius'); return
-    end if
-    call positive('ring', 'density', c%density); if (allocated(err)) return
-    call positive('lubricant', 'eta0', c%eta0); if (allocated(err)) return
-    if (log(c%eta0) + 9.67_dp <= 0.0_dp) then
-      call bad('lubricant', 'eta0', 'must exceed 6.3e-5 Pa s (Roelands reference 10^-4.2)'); return
-    end if
-    if (c%theta0 <= 138.0_dp) then
-      call bad('lubricant', 'theta0', 'must be above 138 K (Roelands pole)'); return
-    end if
-    call nonneg('lubricant', 'beta', c%beta); if (allocated(err)) return
-    call nonneg('lubricant', 'alpha', c%alpha); if (allocated(err)) return
-    call positive('surface', 'rq_liner', c%rq_liner); if (allocated(err)) return
-    call positive('surface', 'rq_ring', c%rq_ring); if (allocated(err)) return
-    call positive('surface', 'zeta_kappa_sigma', c%zeta_kappa_sigma); if (allocated(err)) return
-    call positive('surface', 'sigma_over_kappa', c%sigma_over_kappa); if (allocated(err)) return
-    call nonneg('surface', 'tau0', c%tau0); if (allocated(err)) return
-    call nonneg('surface', 'boundary_coefficient', c%boundary_coefficient); if (allocated(err)) return
-    call positive('surface', 'e_ring', c%e_ring); if (allocated(err)) return
-    call positive('surface', 'e_liner', c%e_liner); if (allocated(err)) return
-    if (c%nu_ring < 0.0_dp .or. c%nu_ring >= 0.5_dp) then
-      call bad('surface', 'nu_ring', 'must be in [0, 0.5)'); return
-    end if
-    if (c%nu_liner < 0.0_dp .or. c%nu_liner >= 0.5_dp) then
-      call bad('surface', 'nu_liner', 'must be in [0, 0.5)'); return
-    end if
-    if (c%gt_functions /= 'exact' .and. c%gt_functions /= 'fit') then
-      call bad('physics', 'gt_functions', "must be 'exact' or 'fit'"); return
-    end if
-    if (c%contact_area /= 'local' .and. c%contact_area /= 'lumped') then
-      call bad('physics', 'contact_area', "must be 'local' or 'lumped'"); return
-    end if
-    if (c%outlet /= 'reynolds' .and. c%outlet /= 'ambient') then
-      call bad('physics', 'outlet', "must be 'reynolds' or 'ambient'"); return
-    end if
-    if (c%nodes < 5 .or. c%nodes > 100001) then
-      call bad('numerics', 'nodes', 'must be between 5 and 100001'); return
-    end if
-    if (c%dpsi_deg <= 0.0_dp .or. c%dpsi_deg > 10.0_dp) then
-      call bad('numerics', 'dpsi_deg', 'must be in (0, 10] deg'); return
     end if
     if (abs(720.0_dp / c%dpsi_deg - nint(720.0_dp / c%dpsi_deg)) > 1e-6_dp) then
       call bad('numerics', 'dpsi_deg', 'must divide 720 deg into a whole number of steps'); return
     end if
-    call tol('numerics', 'pressure_tol', c%pressure_tol); if (allocated(err)) return
-    call tol('numerics', 'load_tol', c%load_tol); if (allocated(err)) return
-    call tol('numerics', 'cycle_tol', c%cycle_tol); if (allocated(err)) return
-    if (c%h0_update /= 'safeguarded' .and. c%h0_update /= 'damped') then
-      call bad('numerics', 'h0_update', "must be 'safeguarded' or 'damped'"); return
+    if (steps_per_cycle(c) > max_steps_per_cycle) then
+      call bad('numerics', 'dpsi_deg', 'gives more than ' // itoa(max_steps_per_cycle) // &
+        ' crank steps per cycle'); return
     end if
-    if (c%damping <= 0.0_dp .or. c%damping >= 1.0_dp) then
-      call bad('numerics', 'damping', 'must be in (0, 1)'); return
-    end if
-    if (c%max_cycles < 1) then
-      call bad('numerics', 'max_cycles', 'must be at least 1'); return
-    end if
-    if (c%max_load_iterations < 1) then
-      call bad('numerics', 'max_load_iterations', 'must be at least 1'); return
-    end if
-    if (c%max_pressure_iterations < 1) then
-      call bad('numerics', 'max_pressure_iterations', 'must be at least 1'); return
-    end if
-    call positive('numerics', 'h0_floor', c%h0_floor); if (allocated(err)) return
     if (c%h0_ceiling <= 10.0_dp * c%h0_floor) then
       call bad('numerics', 'h0_ceiling', 'must exceed 10 h0_floor'); return
-    end if
-    call nonneg('numerics', 'h0_initial', c%h0_initial); if (allocated(err)) return
-    if (.not. (c%warmup_deg >= 0.0_dp .and. c%warmup_deg <= 720.0_dp)) then
-      call bad('numerics', 'warmup_deg', 'must be in [0, 720] deg'); return
     end if
     if (len_trim(c%output_file) == 0) then
       call bad('output', 'file', 'must not be empty'); return
@@ -248,28 +434,10 @@ contains
 
   contains
 
-    subroutine bad(group, name, why)
-      character(len=*), intent(in) :: group, name, why
-      call fatal_error(err, trim(c%deck_path) // ': &' // group // ' ' // name // ': ' // why, &
+    subroutine bad(group, name, reason)
+      character(len=*), intent(in) :: group, name, reason
+      call fatal_error(err, c%deck_path // ': &' // group // ' ' // name // ': ' // reason, &
         rl_input_error)
     end subroutine bad
-
-    subroutine positive(group, name, v)
-      character(len=*), intent(in) :: group, name
-      real(dp), intent(in) :: v
-      if (.not. (v > 0.0_dp .and. v < huge(v))) call bad(group, name, 'must be positive and finite')
-    end subroutine positive
-
-    subroutine nonneg(group, name, v)
-      character(len=*), intent(in) :: group, name
-      real(dp), intent(in) :: v
-      if (.not. (v >= 0.0_dp .and. v < huge(v))) call bad(group, name, 'must be >= 0 and finite')
-    end subroutine nonneg
-
-    subroutine tol(group, name, v)
-      character(len=*), intent(in) :: group, name
-      real(dp), intent(in) :: v
-      if (.not. (v > 0.0_dp .and. v < 1.0_dp)) call bad(group, name, 'must be in (0, 1)')
-    end subroutine tol
   end subroutine validate_case
 end module ringlube_case

@@ -6,7 +6,7 @@ module ringlube_gas
   use, intrinsic :: iso_c_binding, only: c_char, c_double, c_ptr, c_null_char, c_loc, c_size_t
   implicit none
   private
-  public :: read_pressure_csv, gas_pressure
+  public :: read_pressure_csv, gas_pressure, check_pressure_trace
 
   interface
     real(c_double) function c_strtod(str, endptr) bind(c, name='strtod')
@@ -136,6 +136,33 @@ contains
     consumed = transfer(endp, consumed) - transfer(c_loc(buf), consumed)
     ok = consumed == int(len(f), c_size_t)
   end subroutine to_real
+
+  !> Check a trace given as arrays: at least two points, crank angles strictly increasing
+  !> in [0, 720] deg, pressures positive and finite (absolute, Pa).
+  subroutine check_pressure_trace(psi, p, err)
+    real(dp), intent(in) :: psi(:), p(:)
+    type(error_type), allocatable, intent(out) :: err
+    integer :: i
+    if (size(psi) /= size(p)) then
+      call fatal_error(err, 'crank angles and pressures differ in length', rl_input_error)
+    else if (size(psi) < 2) then
+      call fatal_error(err, 'needs at least two points', rl_input_error)
+    else
+      do i = 1, size(psi)
+        if (.not. (psi(i) >= 0.0_dp .and. psi(i) <= 720.0_dp)) then
+          call fatal_error(err, 'point ' // itoa(i) // ': crank angle outside [0, 720] deg', &
+            rl_input_error)
+        else if (.not. (p(i) > 0.0_dp .and. p(i) < huge(p))) then
+          call fatal_error(err, 'point ' // itoa(i) // ': pressure must be positive and finite', &
+            rl_input_error)
+        else if (i > 1) then
+          if (.not. (psi(i) > psi(i-1))) call fatal_error(err, 'point ' // itoa(i) // &
+            ': crank angles must increase strictly', rl_input_error)
+        end if
+        if (allocated(err)) return
+      end do
+    end if
+  end subroutine check_pressure_trace
 
   !> Pressure [Pa] at crank angle psi_deg, linear and periodic over 720 deg. With no
   !> trace (`size(psi) == 0`) the constant `p_default` is returned.

@@ -7,7 +7,8 @@ module ringlube_hdf5_output
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_runtime_error
   use ringlube_case, only: case_type, composite_sigma
-  use ringlube_cycle, only: result_type
+  use ringlube_results, only: result_type, result_scalar, scalar_spec, n_scalars, series_spec, &
+    n_series, int_series_spec, n_int_series, series_ptr, int_series_ptr, flag_description
   use hdf5
   implicit none
   private
@@ -39,13 +40,17 @@ contains
   subroutine write_result(path, c, res, runtime_s, err)
     character(len=*), intent(in) :: path
     type(case_type), intent(in) :: c
-    type(result_type), intent(in) :: res
+    type(result_type), intent(in), target :: res
     real(dp), intent(in) :: runtime_s
     type(error_type), allocatable, intent(out) :: err
     character(len=:), allocatable :: tmp
     integer(hid_t) :: fid, gid
-    integer :: herr, conv
+    integer :: herr, i
+    type(result_type) :: r
+    real(dp) :: v
 
+    r = res
+    r%run_time = runtime_s
     tmp = path // '.part'
     call h5open_f(herr)
     if (herr /= 0) then
@@ -58,21 +63,14 @@ contains
       call fatal_error(err, tmp // ': cannot create HDF5 file', rl_runtime_error)
       return
     end if
-    conv = 0
-    if (res%converged) conv = 1
-    call attr_real(fid, 'energy_loss_J', res%energy_loss)
-    call attr_real(fid, 'mixed_share_pct', res%mixed_share)
-    call attr_real(fid, 'ring_mass_g', res%ring_mass * 1e3_dp)
-    call attr_real(fid, 'min_film_m', res%min_film)
-    call attr_real(fid, 'max_friction_N', res%max_friction)
-    call attr_int(fid, 'converged', conv)
-    call attr_int(fid, 'cycles_run', res%cycles_run)
-    call attr_real(fid, 'cycle_change', res%cycle_change)
-    call attr_real(fid, 'sigma_m', composite_sigma(c))
-    call attr_real(fid, 'run_time_s', runtime_s)
-    call attr_int(fid, 'film_solves', res%evaluations)
-    call attr_int(fid, 'reynolds_solves', res%reynolds_solves)
-    call attr_real(fid, 'cycles_computed', res%cycles_computed)
+    do i = 1, n_scalars
+      call result_scalar(r, i, v, .false.)
+      if (scalar_spec(i)%integer_valued) then
+        call attr_int(fid, trim(scalar_spec(i)%stored), nint(v))
+      else
+        call attr_real(fid, trim(scalar_spec(i)%stored), v)
+      end if
+    end do
     call attr_str(fid, 'deck', c%deck_text)
     call attr_str(fid, 'deck_path', c%deck_path)
     call attr_str(fid, 'pressure_file', c%pressure_file)
@@ -81,25 +79,18 @@ contains
 
     call h5gcreate_f(fid, 'cycle', gid, herr)
     if (herr /= 0) goto 900
-    call dset(gid, 'crank_angle_deg', res%crank_angle_deg, 'deg')
-    call dset(gid, 'sliding_speed_m_s', res%sliding_speed, 'm/s')
-    call dset(gid, 'h0_m', res%h0, 'm')
-    call dset(gid, 'lambda_min', res%lambda_min, '1')
-    call dset(gid, 'gas_pressure_Pa', res%gas_pressure, 'Pa')
-    call dset(gid, 'applied_load_N', res%applied_load, 'N')
-    call dset(gid, 'hydrodynamic_load_N', res%hydrodynamic_load, 'N')
-    call dset(gid, 'asperity_load_N', res%asperity_load, 'N')
-    call dset(gid, 'viscous_friction_N', res%viscous_friction, 'N')
-    call dset(gid, 'boundary_friction_N', res%boundary_friction, 'N')
-    call dset(gid, 'friction_N', res%friction, 'N')
-    call dset(gid, 'power_loss_W', res%power_loss, 'W')
-    call dset(gid, 'load_residual', res%load_residual, '1')
-    call dset_int(gid, 'flags', res%flags, '1', &
-      '1: h0 at h0_floor, 2: h0 at h0_ceiling, 4: load outside load_tol, ' // &
-      '8: pressure-viscosity loop not converged, 16: cavitation set not settled, ' // &
-      '32: film pressure above 1 GPa (Roelands clipped)')
-    call dset_int(gid, 'film_solves', res%iterations, '1', &
-      'film (Reynolds + contact) solves used by the load balance at this step')
+    do i = 1, n_series
+      call dset(gid, trim(series_spec(i)%stored), series_ptr(res, i), trim(series_spec(i)%unit))
+    end do
+    do i = 1, n_int_series
+      if (trim(int_series_spec(i)%stored) == 'flags') then
+        call dset_int(gid, trim(int_series_spec(i)%stored), int_series_ptr(res, i), &
+          trim(int_series_spec(i)%unit), flag_description())
+      else
+        call dset_int(gid, trim(int_series_spec(i)%stored), int_series_ptr(res, i), &
+          trim(int_series_spec(i)%unit), trim(int_series_spec(i)%long_name))
+      end if
+    end do
     call h5gclose_f(gid, herr)
     if (herr /= 0) goto 900
     call h5fclose_f(fid, herr)

@@ -1,25 +1,48 @@
-!> Roelands pressure-temperature viscosity (SPEC section 5).
+!> Roelands pressure-temperature viscosity (SPEC section 5), the one home of the formula.
 module ringlube_viscosity
   use ringlube_kinds, only: dp
   implicit none
   private
-  public :: roelands
+  public :: roelands_law, roelands_law_at, roelands_eta, roelands
+
+  !> The constants of Roelands' law at one film temperature:
+  !> `eta = eta0 exp(lnc (-1 + rtheta (1 + 5.1e-9 p)^z0))`.
+  type :: roelands_law
+    real(dp) :: eta0 = 0.0_dp   !< Pa s at theta0
+    real(dp) :: lnc = 0.0_dp    !< ln eta0 + 9.67
+    real(dp) :: z0 = 0.0_dp     !< alpha / (5.1e-9 lnc)
+    !> ((theta - 138)/(theta0 - 138))^(-s0), s0 = beta (theta0 - 138) / lnc
+    real(dp) :: rtheta = 0.0_dp
+  end type roelands_law
 
 contains
 
-  !> Viscosity [Pa s] at absolute pressure p [Pa] and film temperature theta [K].
-  !>
-  !> eta0 is the viscosity at theta0; alpha [1/Pa] the pressure-viscosity and beta [1/K]
-  !> the viscosity-temperature coefficient. Gauge pressures below zero are not used by
-  !> the solver (p >= p_cav >= 0); a negative p is treated as 0.
+  !> The law at film temperature theta [K]; eta0 [Pa s] is the viscosity at theta0 [K],
+  !> alpha [1/Pa] the pressure-viscosity and beta [1/K] the viscosity-temperature
+  !> coefficient.
+  pure function roelands_law_at(theta, eta0, theta0, alpha, beta) result(law)
+    real(dp), intent(in) :: theta, eta0, theta0, alpha, beta
+    type(roelands_law) :: law
+    law%eta0 = eta0
+    law%lnc = log(eta0) + 9.67_dp
+    law%z0 = alpha / (5.1e-9_dp * law%lnc)
+    law%rtheta = ((theta - 138.0_dp) / (theta0 - 138.0_dp))**(-beta * (theta0 - 138.0_dp) / law%lnc)
+  end function roelands_law_at
+
+  !> Viscosity [Pa s] at absolute pressure p >= 0 [Pa] (one exp-log pair per call for the
+  !> pressure factor, the temperature factor folded into the law).
+  elemental real(dp) function roelands_eta(law, p)
+    type(roelands_law), intent(in) :: law
+    real(dp), intent(in) :: p
+    roelands_eta = law%eta0 * exp(law%lnc * (-1.0_dp + law%rtheta &
+      * exp(law%z0 * log(1.0_dp + 5.1e-9_dp * p))))
+  end function roelands_eta
+
+  !> Viscosity [Pa s] at absolute pressure p [Pa] and film temperature theta [K]. Gauge
+  !> pressures below zero are not used by the solver (p >= p_cav >= 0); a negative p is
+  !> treated as 0.
   elemental real(dp) function roelands(p, theta, eta0, theta0, alpha, beta)
     real(dp), intent(in) :: p, theta, eta0, theta0, alpha, beta
-    real(dp) :: lnc, z0, s0, pp
-    lnc = log(eta0) + 9.67_dp
-    z0 = alpha / (5.1e-9_dp * lnc)
-    s0 = beta * (theta0 - 138.0_dp) / lnc
-    pp = max(p, 0.0_dp)
-    roelands = eta0 * exp(lnc * (-1.0_dp + (1.0_dp + 5.1e-9_dp * pp)**z0 &
-      * ((theta - 138.0_dp) / (theta0 - 138.0_dp))**(-s0)))
+    roelands = roelands_eta(roelands_law_at(theta, eta0, theta0, alpha, beta), max(p, 0.0_dp))
   end function roelands
 end module ringlube_viscosity

@@ -5,15 +5,21 @@ The pipeline reads case -> run -> (sample -> fit -> optimise) -> plot:
 >>> import ringlube
 >>> case = ringlube.Case.from_namelist("inputs/crf450r_4000rpm_full_cold.nml")
 >>> result = ringlube.run(case.with_ring(crown_offset=+60e-6))
->>> result.energy_loss, result.mixed_share, result.ring_mass
+>>> result.energy_loss, result.mixed_share, result.ring_mass  # doctest: +SKIP
 """
 
+from importlib.metadata import PackageNotFoundError, version as _dist_version
+
+from . import gas
 from .case import GROUPS, Case
 from .errors import InputError, NotConvergedError, RinglubeError
 from .result import CycleResult, load
-from . import gas
-from .solve import run, run_many
+from .solve import BatchError, run, run_designs, run_many
 
-__version__ = "0.1.0"
-__all__ = ["Case", "GROUPS", "CycleResult", "InputError", "NotConvergedError", "RinglubeError",
-           "load", "run", "run_many", "__version__"]
+try:
+    __version__ = _dist_version("ringlube")
+except PackageNotFoundError:  # pragma: no cover - running from a source tree
+    __version__ = "0+unknown"
+
+__all__ = ["BatchError", "Case", "GROUPS", "CycleResult", "InputError", "NotConvergedError",
+           "RinglubeError", "gas", "load", "run", "run_designs", "run_many", "__version__"]

@@ -1,21 +1,36 @@
-"""A ringlube case: a namelist deck you can read, change, validate and write back."""
+"""A ringlube case: a namelist deck you can read, change, validate and hand to the kernel.
+
+A case reaches the kernel in memory, as deck text plus the folder its relative paths are
+resolved against; the kernel parses it once with the same reader as ``ringlube-solve``.
+A case read from a file keeps the file's text, so kernel messages name the real file and
+line; values changed in Python travel as overrides that replace the deck's (messages about
+them name ``<case NAME: changed in Python>``). A case built in Python resolves relative
+paths against the working directory.
+"""
 
 from __future__ import annotations
 
+import contextlib
 import os
-import tempfile
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterator
 
 import f90nml
 
-from .errors import InputError
+from .errors import InputError, error_for
 
-__all__ = ["Case", "GROUPS"]
+__all__ = ["Case", "GROUPS", "kernel_case"]
 
-#: Namelist groups of a deck (SPEC section 9).
-GROUPS = ("engine", "operating", "ring", "lubricant", "surface", "physics", "numerics", "output",
-          "calibration")
+
+def _groups() -> tuple[str, ...]:
+    from .tables import GROUPS as groups
+
+    return groups
+
+
+#: Namelist groups of a deck (from the kernel's input table; set at the end of the module).
+GROUPS: tuple[str, ...] = ()
+
 _PATH_VARS = {("operating", "pressure_file"), ("output", "file"), ("calibration", "file")}
 
 
@@ -23,11 +38,23 @@ class Case:
     """One operating point and ring design, held as a namelist.
 
     Values are addressed by group and variable, ``case["ring", "width"]``; anything not
-    set takes the kernel's documented default. Relative paths are resolved against the
-    deck's folder when the deck is read, so a case can be run from anywhere.
+    set takes the kernel's documented default (see :meth:`value`).
 
+    Parameters
+    ----------
+    groups : dict of dict, optional
+        ``{group: {name: value}}`` to start from.
+    name : str
+        Name used in messages and as the default label of results.
+    source : str or path-like, optional
+        The deck this case came from (for messages).
+
+    Examples
+    --------
     >>> case = Case.from_namelist("inputs/crf450r_4000rpm_full_cold.nml")
     >>> wider = case.with_ring(width=1.2e-3)
+    >>> wider["ring", "width"]
+    0.0012
     """
 
     def __init__(self, groups: dict[str, dict[str, Any]] | None = None, name: str = "case",
@@ -36,51 +63,141 @@ class Case:
         #: The deck this case was read from (named in error messages), if any.
         self.source = str(source) if source is not None else None
         self._nml = f90nml.Namelist()
+        self._text: str | None = None          # the deck file's text, if read from one
+        self._base: str | None = None          # folder of relative paths in _text
+        self._changed: dict[tuple[str, str], Any] = {}
         for group, values in (groups or {}).items():
             self.set(group, **values)
 
     # construction and I/O -------------------------------------------------------------
     @classmethod
     def from_namelist(cls, path: str | os.PathLike) -> "Case":
-        """Read a deck; relative paths in it become absolute (relative to its folder)."""
-        from . import _kernel
+        """Read a deck; the kernel checks it first (messages name file, line and variable).
 
+        Parameters
+        ----------
+        path : str or path-like
+            The deck file.
+
+        Returns
+        -------
+        Case
+            With relative paths made absolute (relative to the deck's folder).
+
+        Raises
+        ------
+        InputError
+            If the file is missing, unreadable or any value is bad.
+
+        Examples
+        --------
+        >>> Case.from_namelist("inputs/crf450r_4000rpm_full_cold.nml").name
+        'crf450r_4000rpm_full_cold'
+        """
         path = Path(path)
         if not path.is_file():
             raise InputError(f"{path}: file not found")
-        # the kernel's own reader first: its messages name file, line, group and variable,
-        # and it rejects values that f90nml would silently reinterpret
-        _, code, message = _kernel.rl_count_steps(str(path))
-        if code:
-            raise InputError(_text(message))
         try:
-            nml = f90nml.read(path)
+            text = path.read_bytes().decode("utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise InputError(f"{path}: cannot read the deck as UTF-8 text: {exc}") from exc
+        case = cls(name=path.stem, source=path)
+        case._text = text
+        case._base = str(path.resolve().parent)
+        with kernel_case(case, load_trace=False):
+            pass  # the kernel's reader first: it rejects what f90nml would reinterpret
+        try:
+            nml = f90nml.reads(text)
         except Exception as exc:  # f90nml raises several types for bad syntax
             raise InputError(f"{path}: cannot parse namelist: {exc}") from exc
-        case = cls(name=path.stem, source=path)
         for group, values in nml.items():
-            case.set(group, **dict(values))
+            case._set(group, dict(values), record=False)
         for group, var in _PATH_VARS:
             value = case.get(group, var)
             if value and not os.path.isabs(value):
-                case.set(group, **{var: str((path.parent / value).resolve())})
+                case._set(group, {var: str((path.parent / value).resolve())}, record=False)
         return case
 
     def to_namelist(self, path: str | os.PathLike | None = None) -> str:
-        """The deck as text; also written to ``path`` if given."""
-        text = str(self._nml) + "\n"
+        """The deck as text (relative paths absolute); also written to ``path`` if given.
+
+        Parameters
+        ----------
+        path : str or path-like, optional
+            File to write.
+
+        Returns
+        -------
+        str
+            Namelist text the kernel reads.
+
+        Examples
+        --------
+        >>> print(Case({"ring": {"width": 1e-3}}).to_namelist().strip())
+        &ring
+            width = 0.001
+        /
+        """
+        text = _serialise(self._nml)
         if path is not None:
-            Path(path).write_text(text)
+            Path(path).write_text(text, encoding="utf-8")
         return text
 
     # access ---------------------------------------------------------------------------
     def get(self, group: str, name: str, default: Any = None) -> Any:
-        """Value of ``&group name``, or ``default`` if the deck does not set it."""
+        """Value of ``&group name`` as set in the deck or in Python, else ``default``.
+
+        Examples
+        --------
+        >>> Case({"ring": {"width": 1e-3}}).get("ring", "tension", "unset")
+        'unset'
+        """
         group, name = group.lower(), name.lower()
         return self._nml.get(group, {}).get(name, default)
 
+    def value(self, group: str, name: str) -> Any:
+        """The effective value of ``&group name``: the deck's, its calibration file's or
+        the kernel's default, as the kernel reads it (paths resolved).
+
+        Raises
+        ------
+        InputError
+            For an unknown variable or a case the kernel rejects.
+
+        Examples
+        --------
+        >>> Case().value("ring", "tension_unit")
+        'N'
+        """
+        from . import _kernel
+        from .tables import INPUTS, _value
+
+        spec = INPUTS.get((group.lower(), name.lower()))
+        if spec is None:
+            raise InputError(f"&{group} {name}: unknown variable")
+        with kernel_case(self, load_trace=False) as (handle, _):
+            text, code, message = _kernel.rl_get(handle, spec.group.encode(), spec.name.encode())
+        if code:
+            raise error_for(code, _text(message))
+        return _value(spec.kind, _text(text))
+
     def set(self, group: str, **values: Any) -> "Case":
-        """Set variables of one group in place; returns the case."""
+        """Set variables of one group in place; returns the case.
+
+        Raises
+        ------
+        InputError
+            For a group the kernel does not know (unknown variables are reported by the
+            kernel when the case is validated or run).
+
+        Examples
+        --------
+        >>> Case().set("ring", width=1.2e-3)["ring", "width"]
+        0.0012
+        """
+        return self._set(group, values, record=True)
+
+    def _set(self, group: str, values: dict, record: bool) -> "Case":
         group = group.lower()
         if group not in GROUPS:
             raise InputError(f"unknown namelist group &{group} (known: {', '.join(GROUPS)})")
@@ -89,7 +206,11 @@ class Case:
         for name, value in values.items():
             if hasattr(value, "item"):  # numpy scalar -> Python scalar
                 value = value.item()
+            if isinstance(value, os.PathLike):
+                value = os.fspath(value)
             self._nml[group][name.lower()] = value
+            if record:
+                self._changed[group, name.lower()] = value
         return self
 
     def __getitem__(self, key: tuple[str, str]) -> Any:
@@ -99,7 +220,13 @@ class Case:
         self.set(key[0], **{key[1]: value})
 
     def to_dict(self) -> dict[str, dict[str, Any]]:
-        """Plain nested dict of the values set."""
+        """Plain nested dict of the values set.
+
+        Examples
+        --------
+        >>> Case({"ring": {"width": 1e-3}}).to_dict()
+        {'ring': {'width': 0.001}}
+        """
         return {g: dict(v) for g, v in self._nml.items()}
 
     def __eq__(self, other: object) -> bool:
@@ -113,6 +240,8 @@ class Case:
         """An independent copy (values are immutable scalars, so copying groups suffices)."""
         new = Case.__new__(Case)
         new.name, new.source = self.name, self.source
+        new._text, new._base = self._text, self._base
+        new._changed = dict(self._changed)
         new._nml = f90nml.Namelist()
         for group, values in self._nml.items():
             new._nml[group] = f90nml.Namelist(values)
@@ -123,24 +252,29 @@ class Case:
         return self.copy().set(group, **values)
 
     def with_ring(self, **values: Any) -> "Case":
+        """A copy with ``&ring`` variables changed."""
         return self.with_("ring", **values)
 
     def with_operating(self, **values: Any) -> "Case":
+        """A copy with ``&operating`` variables changed."""
         return self.with_("operating", **values)
 
     def with_numerics(self, **values: Any) -> "Case":
+        """A copy with ``&numerics`` variables changed."""
         return self.with_("numerics", **values)
 
     def with_physics(self, **values: Any) -> "Case":
+        """A copy with ``&physics`` variables changed."""
         return self.with_("physics", **values)
 
     def inline_calibration(self) -> "Case":
-        """A copy with the calibration file's values written into the deck itself (no
-        ``&calibration`` group), so that any calibrated variable can then be changed."""
+        """A copy with the calibration file's values written into the case itself (and no
+        calibration file), so that any calibrated variable can then be changed."""
         path = self.get("calibration", "file")
         c = self.copy()
-        if path is None:
+        if not path:
             return c
+        c.set("calibration", file="")
         c._nml.pop("calibration", None)
         for group, values in Case.from_namelist(path).to_dict().items():
             c.set(group, **values)
@@ -150,44 +284,90 @@ class Case:
     def validate(self) -> int:
         """Check the case with the kernel's own reader; returns the number of crank steps.
 
-        Raises :class:`InputError` naming the group and variable on a bad value. The gas
-        pressure file is checked to exist here; its rows are checked when the case runs.
+        Raises
+        ------
+        InputError
+            Naming the group and variable of a bad value. The gas pressure file is checked
+            to exist here; its rows are checked when the case runs.
+
+        Examples
+        --------
+        >>> Case().with_numerics(dpsi_deg=2.0).validate()
+        360
         """
-        from . import _kernel
+        with kernel_case(self, load_trace=False) as (_, nsteps):
+            return nsteps
 
-        with self.deck_file() as deck:
-            nsteps, code, message = _kernel.rl_count_steps(deck)
-            if code:
-                raise InputError(self.describe_message(message, deck))
-        return int(nsteps)
-
-    def describe_message(self, message: bytes | str, deck: str) -> str:
-        """A kernel message with the temporary deck's path replaced by the case's origin."""
-        text = _text(message)
-        origin = self.source or f"<case {self.name}>"
-        return text.replace(deck, origin)
-
-    def deck_file(self) -> "_DeckFile":
-        """Context manager: the deck written to a temporary file, for the kernel."""
-        return _DeckFile(self)
+    # what the kernel receives ---------------------------------------------------------
+    def kernel_inputs(self) -> tuple[str, str, str, str, str]:
+        """(deck text, name in messages, base folder, overrides text, overrides name)."""
+        label = f"<case {self.name}: changed in Python>"
+        if self._text is not None:
+            changed: dict[str, dict] = {}
+            for (g, n), v in self._changed.items():
+                changed.setdefault(g, {})[n] = v
+            overrides = _serialise(changed) if changed else ""
+            return self._text, str(self.source), self._base or "", overrides, label
+        return self.to_namelist(), f"<case {self.name}>", os.getcwd(), "", label
 
 
-class _DeckFile:
-    def __init__(self, case: Case):
-        self.case = case
-
-    def __enter__(self) -> str:
-        fd, self.path = tempfile.mkstemp(prefix=f"ringlube-{self.case.name}-", suffix=".nml")
-        self.text = self.case.to_namelist()
-        with os.fdopen(fd, "w") as fh:
-            fh.write(self.text)
-        return self.path
-
-    def __exit__(self, *exc: object) -> None:
-        os.unlink(self.path)
+def _format(value: Any) -> str:
+    if isinstance(value, bool):
+        return ".true." if value else ".false."
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        return repr(value) if value == value else "nan"
+    if isinstance(value, (list, tuple)):
+        return ", ".join(_format(v) for v in value)
+    s = str(value)
+    return "'" + s.replace("'", "''") + "'"
 
 
-def _text(message: bytes | str) -> str:
+def _serialise(groups) -> str:
+    out = []
+    for group, values in groups.items():
+        out.append(f"&{group}")
+        for name, value in values.items():
+            out.append(f"    {name} = {_format(value)}")
+        out.append("/")
+    return "\n".join(out) + "\n"
+
+
+def _text(message) -> str:
     if isinstance(message, bytes):
-        message = message.decode(errors="replace")
-    return message.strip()
+        message = message.decode("utf-8", errors="replace")
+    return str(message).rstrip("\0 ").strip()
+
+
+def _arg(s: str) -> bytes:
+    """A string argument for the f2py layer (UTF-8 bytes; f2py would refuse non-ASCII)."""
+    return s.encode("utf-8")
+
+
+@contextlib.contextmanager
+def kernel_case(case: Case, load_trace: bool = True) -> Iterator[tuple[int, int]]:
+    """Context manager: the case parsed by the kernel; yields (handle, crank steps).
+
+    Raises
+    ------
+    InputError
+        If the kernel rejects the case (its message names file, line, group, variable).
+    """
+    from . import _kernel
+
+    text, name, base, overrides, overrides_name = case.kernel_inputs()
+    if base and not base.endswith("/"):
+        base += "/"
+    handle, nsteps, code, message = _kernel.rl_open(
+        _arg(text), _arg(name), _arg(base), _arg(overrides), _arg(overrides_name),
+        1 if load_trace else 0)
+    if code:
+        raise error_for(code, _text(message))
+    try:
+        yield int(handle), int(nsteps)
+    finally:
+        _kernel.rl_close(handle)
+
+
+GROUPS = _groups()

@@ -28,12 +28,8 @@ __all__ = ["Setting", "Row", "REFERENCE", "PRESETS", "ladder", "measure", "conve
 #: The reference numerics (finest settings of the ladder).
 REFERENCE = {"nodes": 801, "dpsi_deg": 0.125, "pressure_tol": 1e-8, "load_tol": 1e-6,
              "h0_update": "safeguarded"}
-#: The presets of &numerics preset (kept in step with fortran/src/input.f90).
-PRESETS = {
-    "fast": {"nodes": 31, "dpsi_deg": 2.0, "pressure_tol": 1e-4, "load_tol": 3e-3},
-    "default": {"nodes": 51, "dpsi_deg": 1.0, "pressure_tol": 1e-5, "load_tol": 1e-3},
-    "accurate": {"nodes": 201, "dpsi_deg": 0.25, "pressure_tol": 1e-6, "load_tol": 1e-4},
-}
+#: The presets of &numerics preset (the kernel's table).
+from .tables import PRESETS  # noqa: E402
 
 
 @dataclasses.dataclass(frozen=True)

@@ -1,76 +1,80 @@
-"""Results of one cycle: numpy arrays plus the scalar results, in the SPEC HDF5 layout."""
+"""Results of one cycle, by name: the series and scalars of the kernel's result tables.
+
+Every name, unit and description comes from the kernel (:mod:`ringlube.tables`); a
+result is written to HDF5 by the kernel's own writer, so files from ``ringlube-solve``
+and from Python have one layout.
+"""
 
 from __future__ import annotations
 
-import dataclasses
 import os
 from pathlib import Path
 
-import h5py
 import numpy as np
 
-__all__ = ["CycleResult", "load", "SERIES", "FLAG_BITS"]
+from .errors import InputError, error_for
+from .tables import FLAG_BITS, INT_SERIES, SCALARS, SERIES
 
-#: Per-step datasets in /cycle: (dataset name, attribute name, units).
-SERIES = (
-    ("crank_angle_deg", "crank_angle_deg", "deg"),
-    ("sliding_speed_m_s", "sliding_speed", "m/s"),
-    ("h0_m", "h0", "m"),
-    ("lambda_min", "lambda_min", "1"),
-    ("gas_pressure_Pa", "gas_pressure", "Pa"),
-    ("applied_load_N", "applied_load", "N"),
-    ("hydrodynamic_load_N", "hydrodynamic_load", "N"),
-    ("asperity_load_N", "asperity_load", "N"),
-    ("viscous_friction_N", "viscous_friction", "N"),
-    ("boundary_friction_N", "boundary_friction", "N"),
-    ("friction_N", "friction", "N"),
-    ("power_loss_W", "power_loss", "W"),
-    ("load_residual", "load_residual", "1"),
-)
-#: Meaning of the bits of /cycle/flags.
-FLAG_BITS = {
-    1: "h0 at h0_floor",
-    2: "h0 at h0_ceiling",
-    4: "load outside load_tol",
-    8: "pressure-viscosity loop not converged",
-    16: "cavitation set not settled",
-    32: "film pressure above 1 GPa (Roelands clipped)",
-}
+__all__ = ["CycleResult", "load", "SERIES", "INT_SERIES", "SCALARS", "FLAG_BITS"]
 
 
-@dataclasses.dataclass
 class CycleResult:
-    """One reported engine cycle. Arrays have one value per crank step (SI units)."""
+    """One reported engine cycle: arrays over the crank steps and scalar results (SI).
 
-    crank_angle_deg: np.ndarray
-    sliding_speed: np.ndarray
-    h0: np.ndarray
-    lambda_min: np.ndarray
-    gas_pressure: np.ndarray
-    applied_load: np.ndarray
-    hydrodynamic_load: np.ndarray
-    asperity_load: np.ndarray
-    viscous_friction: np.ndarray
-    boundary_friction: np.ndarray
-    friction: np.ndarray
-    power_loss: np.ndarray
-    load_residual: np.ndarray
-    flags: np.ndarray
-    film_solves: np.ndarray
-    energy_loss: float          #: J per cycle
-    mixed_share: float          #: % of the cycle with h0/sigma < 4
-    ring_mass: float            #: g
-    min_film: float             #: m
-    max_friction: float         #: N
-    converged: bool
-    cycles_run: int
-    cycle_change: float
-    sigma: float                #: m, composite roughness
-    run_time: float             #: s, kernel time
-    deck: str = ""
-    label: str = ""
-    reynolds_solves: int = 0    #: Reynolds (Thomas) solves over the run
-    cycles_computed: float = 0.0  #: cycles' worth of crank steps solved, warm-up included
+    Every series and scalar of the kernel's tables is an attribute by its short name
+    (``result.h0``, ``result.friction``, ``result.energy_loss``, ...); units are in
+    :data:`ringlube.tables.SERIES` and :data:`ringlube.tables.SCALARS`.
+
+    Parameters
+    ----------
+    series : dict of str to ndarray
+        Real and integer series by short name.
+    scalars : dict of str to float
+        Scalars by short name, in their stored units (ring mass in g).
+    deck, deck_path, pressure_file : str
+        The deck's text as the kernel read it, where it came from, and the gas trace.
+    label : str
+        Legend label.
+
+    Examples
+    --------
+    >>> import ringlube
+    >>> r = ringlube.run(ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0))
+    >>> r.h0.shape, r.units("energy_loss")
+    ((180,), 'J')
+    """
+
+    def __init__(self, series: dict[str, np.ndarray], scalars: dict[str, float], *,
+                 deck: str = "", deck_path: str = "", pressure_file: str = "", label: str = ""):
+        self.series = dict(series)
+        self.scalars = dict(scalars)
+        self.deck = deck
+        self.deck_path = deck_path
+        self.pressure_file = pressure_file
+        self.label = label
+
+    def __getattr__(self, name: str):
+        d = self.__dict__
+        if name in d.get("series", {}):
+            return d["series"][name]
+        if name in d.get("scalars", {}):
+            value = d["scalars"][name]
+            spec = SCALARS[name]
+            if name in ("converged", "periodic"):
+                return bool(value)
+            return int(value) if spec.integer else float(value)
+        raise AttributeError(name)
+
+    def __dir__(self):
+        return sorted(set(super().__dir__()) | set(self.series) | set(self.scalars))
+
+    @staticmethod
+    def units(name: str) -> str:
+        """Unit of a series or scalar (short name)."""
+        for table in (SERIES, INT_SERIES, SCALARS):
+            if name in table:
+                return table[name].unit
+        raise KeyError(name)
 
     @property
     def film_ratio(self) -> np.ndarray:
@@ -78,75 +82,73 @@ class CycleResult:
         return self.h0 / self.sigma
 
     def summary(self) -> str:
+        """One line with units."""
         return (f"energy loss {self.energy_loss:.4f} J/cycle, mixed share {self.mixed_share:.2f} %, "
-                f"ring mass {self.ring_mass:.3f} g, min film {self.min_film * 1e6:.4f} um, "
+                f"ring mass {self.ring_mass:.3f} g, min film {self.min_film * 1e6:.4f} µm, "
                 f"peak friction {self.max_friction:.3f} N, cycles {self.cycles_run}, "
                 f"converged {'yes' if self.converged else 'no'}")
 
     def to_hdf5(self, path: str | os.PathLike) -> Path:
-        """Write the SPEC layout (atomically: ``path.part`` renamed when complete)."""
+        """Write the SPEC layout with the kernel's writer (atomically).
+
+        Raises
+        ------
+        RinglubeError
+            If the file cannot be written (the message names it).
+        """
+        from . import _kernel
+
         path = Path(path)
-        tmp = path.with_name(path.name + ".part")
-        try:
-            with h5py.File(tmp, "w") as f:
-                f.attrs["energy_loss_J"] = self.energy_loss
-                f.attrs["mixed_share_pct"] = self.mixed_share
-                f.attrs["ring_mass_g"] = self.ring_mass
-                f.attrs["min_film_m"] = self.min_film
-                f.attrs["max_friction_N"] = self.max_friction
-                f.attrs["converged"] = np.int32(self.converged)
-                f.attrs["cycles_run"] = np.int32(self.cycles_run)
-                f.attrs["cycle_change"] = self.cycle_change
-                f.attrs["sigma_m"] = self.sigma
-                f.attrs["run_time_s"] = self.run_time
-                f.attrs["reynolds_solves"] = np.int32(self.reynolds_solves)
-                f.attrs["cycles_computed"] = self.cycles_computed
-                f.attrs["deck"] = np.bytes_(self.deck.encode())
-                g = f.create_group("cycle")
-                for dset, attr, units in SERIES:
-                    d = g.create_dataset(dset, data=getattr(self, attr))
-                    d.attrs["units"] = np.bytes_(units.encode())
-                d = g.create_dataset("flags", data=self.flags.astype(np.int32))
-                d.attrs["units"] = np.bytes_(b"1")
-                d.attrs["description"] = np.bytes_(
-                    ", ".join(f"{k}: {v}" for k, v in FLAG_BITS.items()).encode())
-                d = g.create_dataset("film_solves", data=self.film_solves.astype(np.int32))
-                d.attrs["units"] = np.bytes_(b"1")
-            os.replace(tmp, path)
-        finally:
-            if tmp.exists():
-                tmp.unlink()
+        s = np.column_stack([np.asarray(self.series[k], float) for k in SERIES])
+        i = np.column_stack([np.asarray(self.series[k], np.int32) for k in INT_SERIES])
+        c = np.array([float(self.scalars[k]) for k in SCALARS])
+        code, message = _kernel.rl_write(os.fsencode(path), s, i, c, self.deck.encode("utf-8"),
+                                         self.deck_path.encode("utf-8"),
+                                         self.pressure_file.encode("utf-8"))
+        if code:
+            raise error_for(code, _text(message))
         return path
 
 
-def _attr_text(value) -> str:
-    if isinstance(value, bytes | np.bytes_):
-        return bytes(value).rstrip(b"\0").decode(errors="replace")
-    return str(value)
+def _text(value, strip: bool = True) -> str:
+    if isinstance(value, (bytes, np.bytes_)):
+        value = bytes(value).rstrip(b"\0").decode("utf-8", errors="replace")
+    return str(value).strip() if strip else str(value)
 
 
 def load(path: str | os.PathLike) -> CycleResult:
-    """Read a result written by ``ringlube-solve`` or :meth:`CycleResult.to_hdf5`."""
-    with h5py.File(path, "r") as f:
-        a = f.attrs
-        c = f["cycle"]
-        arrays = {attr: c[dset][()] for dset, attr, _ in SERIES}
-        return CycleResult(
-            **arrays,
-            flags=c["flags"][()],
-            film_solves=c["film_solves"][()] if "film_solves" in c else np.zeros(0, int),
-            energy_loss=float(a["energy_loss_J"]),
-            mixed_share=float(a["mixed_share_pct"]),
-            ring_mass=float(a["ring_mass_g"]),
-            min_film=float(a["min_film_m"]),
-            max_friction=float(a["max_friction_N"]),
-            converged=bool(a["converged"]),
-            cycles_run=int(a["cycles_run"]),
-            cycle_change=float(a.get("cycle_change", np.nan)),
-            sigma=float(a.get("sigma_m", np.nan)),
-            run_time=float(a.get("run_time_s", np.nan)),
-            deck=_attr_text(a.get("deck", b"")),
-            label=Path(path).stem,
-            reynolds_solves=int(a.get("reynolds_solves", 0)),
-            cycles_computed=float(a.get("cycles_computed", 0.0)),
-        )
+    """Read a result written by ``ringlube-solve`` or :meth:`CycleResult.to_hdf5`.
+
+    Raises
+    ------
+    InputError
+        If the file is missing, not HDF5, truncated or not a ringlube result.
+
+    Examples
+    --------
+    >>> import ringlube, tempfile, os
+    >>> r = ringlube.run(ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0))
+    >>> p = r.to_hdf5(os.path.join(tempfile.mkdtemp(), "r.h5"))
+    >>> ringlube.load(p).energy_loss == r.energy_loss
+    True
+    """
+    import h5py
+
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{path}: no such result file")
+    try:
+        with h5py.File(path, "r") as f:
+            a = f.attrs
+            c = f["cycle"]
+            series = {k: c[spec.stored][()] for k, spec in {**SERIES, **INT_SERIES}.items()
+                      if spec.stored in c}
+            missing = [spec.stored for spec in SERIES.values() if spec.stored not in c]
+            if missing:
+                raise KeyError(", ".join(missing))
+            scalars = {k: float(a[spec.stored]) for k, spec in SCALARS.items() if spec.stored in a}
+            return CycleResult(series, scalars, deck=_text(a.get("deck", b""), strip=False),
+                               deck_path=_text(a.get("deck_path", b"")),
+                               pressure_file=_text(a.get("pressure_file", b"")), label=path.stem)
+    except (OSError, KeyError, ValueError, TypeError) as exc:
+        raise InputError(f"{path}: not a readable ringlube result ({exc})") from None

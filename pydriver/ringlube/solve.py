@@ -1,4 +1,5 @@
-"""Running the kernel from Python: one case, or many in parallel processes."""
+"""Running the kernel from Python: one case, a batch of designs of one case, or many
+cases in parallel processes."""
 
 from __future__ import annotations
 
@@ -8,87 +9,221 @@ from typing import Iterable, Sequence
 
 import numpy as np
 
-from .case import Case
-from .errors import NotConvergedError, error_for
-from .result import SERIES, CycleResult
+from .case import Case, _text, kernel_case
+from .errors import NotConvergedError, RinglubeError, error_for
+from .result import CycleResult
+from .tables import INT_SERIES, SCALARS, SERIES
 
-__all__ = ["run", "run_many"]
+__all__ = ["run", "run_many", "run_designs", "BatchError"]
+
+
+class BatchError(RinglubeError):
+    """Some cases of :func:`run_many` failed.
+
+    Attributes
+    ----------
+    results : list
+        One entry per case: its :class:`CycleResult`, or None where it failed.
+    errors : dict of int to RinglubeError
+        The error of each failed case, by index.
+    """
+
+    def __init__(self, results: list, errors: dict[int, RinglubeError]):
+        self.results, self.errors = results, errors
+        first = min(errors)
+        super().__init__(f"{len(errors)} of {len(results)} cases failed (first: case {first}: "
+                         f"{errors[first]}); the other results are in .results")
+        self.code = max(e.code for e in errors.values())
 
 
 def run(case: Case | str | os.PathLike, *, strict: bool = False) -> CycleResult:
     """Run one engine cycle of ``case`` (a :class:`Case` or a deck path).
 
-    Gives the same numbers as ``ringlube-solve`` on the same deck. With ``strict=True``
-    a run that did not converge raises :class:`NotConvergedError`; otherwise check
-    ``result.converged``. Bad input raises :class:`InputError`.
+    Gives the same numbers as ``ringlube-solve`` on the same deck: the case is parsed by
+    the same reader, in memory, once.
+
+    Parameters
+    ----------
+    case : Case or path
+        The case, or a deck file.
+    strict : bool
+        Raise :class:`NotConvergedError` if the run did not converge (else check
+        ``result.converged``).
+
+    Returns
+    -------
+    CycleResult
+
+    Raises
+    ------
+    InputError
+        Bad input (the message names file, group and variable).
+    NotConvergedError
+        With ``strict=True`` only.
+
+    Examples
+    --------
+    >>> import ringlube
+    >>> r = ringlube.run(ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0))
+    >>> r.converged
+    True
     """
     from . import _kernel
 
     if not isinstance(case, Case):
         case = Case.from_namelist(case)
-    deck_file = case.deck_file()
-    with deck_file as deck:
-        nsteps, code, message = _kernel.rl_count_steps(deck)
+    with kernel_case(case) as (handle, nsteps):
+        series, iseries, scalars, code, message = _kernel.rl_run(
+            handle, nsteps, len(SERIES), len(INT_SERIES), len(SCALARS))
         if code:
-            raise error_for(code, case.describe_message(message, deck))
-        series, flags, iters, scalars, code, message = _kernel.rl_run_deck(deck, nsteps)
-        if code:
-            raise error_for(code, case.describe_message(message, deck))
-    arrays = {attr: np.ascontiguousarray(series[:, j]) for j, (_, attr, _) in enumerate(SERIES)}
-    result = CycleResult(
-        **arrays,
-        flags=np.asarray(flags),
-        film_solves=np.asarray(iters),
-        energy_loss=float(scalars[0]),
-        mixed_share=float(scalars[1]),
-        ring_mass=float(scalars[2]),
-        min_film=float(scalars[3]),
-        max_friction=float(scalars[4]),
-        converged=bool(scalars[5]),
-        cycles_run=int(scalars[6]),
-        cycle_change=float(scalars[7]),
-        sigma=float(scalars[8]),
-        run_time=float(scalars[9]),
-        deck=deck_file.text,
-        label=case.name,
-        reynolds_solves=int(scalars[12]),
-        cycles_computed=float(scalars[13]),
-    )
+            raise error_for(code, _text(message))
+        pressure_file, _, _ = _kernel.rl_get(handle, b"operating", b"pressure_file")
+        deck = _kernel.rl_deck_text(handle, _kernel.rl_deck_length(handle))
+    data = {k: np.ascontiguousarray(series[:, j]) for j, k in enumerate(SERIES)}
+    data.update({k: np.ascontiguousarray(iseries[:, j]) for j, k in enumerate(INT_SERIES)})
+    name = case.kernel_inputs()[1]
+    result = CycleResult(data, dict(zip(SCALARS, map(float, scalars))),
+                         deck=deck.astype("u1").tobytes().decode("utf-8", errors="replace"),
+                         deck_path=name, pressure_file=_text(pressure_file), label=case.name)
     if strict and not result.converged:
         raise NotConvergedError(f"{case.source or case.name}: the run did not converge "
                                 f"({result.cycles_run} cycles, change {result.cycle_change:.2e})")
     return result
 
 
-def _run_one(args: tuple[Case, bool]) -> CycleResult:
-    return run(args[0], strict=args[1])
+def run_designs(case: Case, variables: Sequence[str], x: np.ndarray,
+                outputs: Sequence[str] | None = None) -> tuple[np.ndarray, np.ndarray, list]:
+    """Run many designs of one case in one kernel call (the case parsed once).
+
+    Parameters
+    ----------
+    case : Case
+        The base case.
+    variables : sequence of str
+        Variables set per design: '&ring' names ('width') or 'group:name'.
+    x : ndarray, shape (n, len(variables))
+        One design per row (SI units, as in a deck).
+    outputs : sequence of str, optional
+        Scalar results to return (short names; default: all of :data:`SCALARS`).
+
+    Returns
+    -------
+    values : ndarray, shape (n, len(outputs))
+        NaN where a design failed.
+    converged : ndarray of bool, shape (n,)
+    errors : list of (str or None)
+        The error message of each failed design (bad value for the kernel), else None.
+
+    Examples
+    --------
+    >>> import numpy as np, ringlube
+    >>> base = ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0)
+    >>> v, ok, err = run_designs(base, ["width"], np.array([[1.0e-3], [-1.0]]), ["energy_loss"])
+    >>> bool(ok[0]), err[1] is not None
+    (True, True)
+    """
+    from . import _kernel
+
+    outputs = list(outputs or SCALARS)
+    unknown = [o for o in outputs if o not in SCALARS]
+    if unknown:
+        raise KeyError(f"unknown outputs {unknown} (known: {', '.join(SCALARS)})")
+    keys = [v if ":" in v else f"ring:{v}" for v in variables]
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    names = list(SCALARS)
+    cols = [names.index(o) for o in outputs]
+    values = np.full((len(x), len(outputs)), np.nan)
+    converged = np.zeros(len(x), bool)
+    errors: list = [None] * len(x)
+    if len(x) == 0:
+        return values, converged, errors
+    with kernel_case(case) as (handle, _):
+        out, codes = _kernel.rl_run_batch(handle, " ".join(keys).encode(), x, len(SCALARS))
+    for i, code in enumerate(codes):
+        if code:
+            try:   # the message: run the one design alone (rare, so not worth a buffer)
+                design = case.copy()
+                for k, v in zip(keys, x[i]):
+                    g, n = k.split(":")
+                    design.set(g, **{n: float(v)})
+                run(design)
+                errors[i] = f"design {i}: error code {int(code)}"
+            except RinglubeError as exc:
+                errors[i] = str(exc)
+            continue
+        values[i] = out[i, cols]
+        converged[i] = out[i, names.index("converged")] > 0.5
+    return values, converged, errors
+
+
+def _run_one(args: tuple[Case, bool]):
+    try:
+        return run(args[0], strict=args[1])
+    except RinglubeError as exc:
+        return exc
 
 
 def run_many(cases: Iterable[Case], workers: int | None = None, *, strict: bool = False,
-             progress: bool = True) -> list[CycleResult]:
+             progress: bool = True, on_error: str = "raise") -> list:
     """Run many cases in worker processes; results in input order.
 
-    ``workers`` defaults to the number of cores; ``workers=1`` runs serially in this
-    process. The kernel keeps no state between runs, so results equal serial runs.
+    Parameters
+    ----------
+    cases : iterable of Case
+    workers : int, optional
+        Processes (default: the number of cores); 1 runs serially in this process.
+    strict : bool
+        As in :func:`run`.
+    progress : bool
+        Show a progress bar.
+    on_error : {'raise', 'return'}
+        'raise': after every case has run, raise :class:`BatchError` naming the failed
+        cases and holding the good results; 'return': failed entries hold their error.
+
+    Returns
+    -------
+    list of CycleResult (or of errors, with ``on_error='return'``)
+
+    Raises
+    ------
+    BatchError
+        With ``on_error='raise'`` when any case failed.
+    ValueError
+        For ``workers < 1`` or an unknown ``on_error``.
+
+    Examples
+    --------
+    >>> import ringlube
+    >>> base = ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0)
+    >>> rs = run_many([base, base.with_ring(width=-1)], workers=1, progress=False,
+    ...               on_error="return")
+    >>> type(rs[1]).__name__
+    'InputError'
     """
     from tqdm.auto import tqdm
 
+    if on_error not in ("raise", "return"):
+        raise ValueError("on_error must be 'raise' or 'return'")
     cases: Sequence[Case] = list(cases)
-    workers = workers or os.cpu_count() or 1
+    workers = (os.cpu_count() or 1) if workers is None else int(workers)
+    if workers < 1:
+        raise ValueError(f"workers must be at least 1, got {workers}")
     bar = tqdm(total=len(cases), desc="ringlube runs", unit="run", disable=not progress)
+    out: list = []
     try:
         if workers == 1 or len(cases) <= 1:
-            out = []
             for c in cases:
-                out.append(run(c, strict=strict))
+                out.append(_run_one((c, strict)))
                 bar.update()
-            return out
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            out = []
-            chunk = max(1, min(16, len(cases) // (4 * workers)))
-            for r in pool.map(_run_one, [(c, strict) for c in cases], chunksize=chunk):
-                out.append(r)
-                bar.update()
-            return out
+        else:
+            with ProcessPoolExecutor(max_workers=workers) as pool:
+                chunk = max(1, min(16, len(cases) // (4 * workers)))
+                for r in pool.map(_run_one, [(c, strict) for c in cases], chunksize=chunk):
+                    out.append(r)
+                    bar.update()
     finally:
         bar.close()
+    errors = {i: r for i, r in enumerate(out) if isinstance(r, RinglubeError)}
+    if errors and on_error == "raise":
+        raise BatchError([None if i in errors else r for i, r in enumerate(out)], errors)
+    return out

@@ -43,20 +43,9 @@ TRENDS = [("tension", (8.0, 26.0), "energy loss rises with tension"),
           ("crown_height", (6e-6, 13e-6), "energy loss falls as crown height rises"),
           ("crown_offset", (-54e-6, 67e-6), "a negative offset gives lower energy loss than a positive one"),
           ("width", (0.54e-3, 1.34e-3), "energy loss has an interior optimum in width")]
-DEFAULTS = {("surface", "sigma_over_kappa"): 1e-3, ("surface", "tau0"): 2e6,
-            ("surface", "boundary_coefficient"): 0.17, ("operating", "crankcase_pressure"): 101325.0,
-            ("surface", "e_ring"): 203e9, ("surface", "nu_liner"): 0.3, ("ring", "radial_depth"): 3.5e-3,
-            ("ring", "density"): 7800.0, ("physics", "gt_functions"): "exact",
-            ("physics", "roelands"): True, ("physics", "squeeze"): True}
-
-
 def _value(case: Case, group: str, name: str, calibration: Case):
-    v = case.get(group, name)
-    if v is None:
-        v = calibration.get(group, name)
-    if v is None:
-        v = DEFAULTS[(group, name)]
-    return v
+    """The effective value (deck, calibration file or kernel default)."""
+    return case.value(group, name)
 
 
 def trend_sweeps(case: Case, points: int = 9) -> dict[str, tuple[np.ndarray, np.ndarray]]:

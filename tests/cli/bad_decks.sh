@@ -46,7 +46,7 @@ expect_error malformed_logical '&physics squeeze: malformed logical "yes"' "$bas
 &physics squeeze = yes /"
 expect_error malformed_integer '&numerics nodes: malformed integer "2.5"' "$base
 &numerics nodes = 2.5 /"
-expect_error negative_width '&ring width: must be positive' "$base
+expect_error negative_width '&ring width: must be in \[1.0E-5, 5.0E-2\] m, got -1.0E-3' "$base
 &ring width = -1e-3 /"
 expect_error bad_option "&physics outlet: must be 'reynolds' or 'ambient'" "$base
 &physics outlet = 'sommerfeld' /"

@@ -5,9 +5,10 @@
 program test_cycle
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type
-  use ringlube_case, only: case_type, composite_sigma, elastic_pressure
+  use ringlube_case, only: case_type, default_case, composite_sigma, elastic_pressure
   use ringlube_input, only: finish_case
-  use ringlube_cycle, only: result_type, solve_cycle
+  use ringlube_cycle, only: solve_cycle
+  use ringlube_results, only: result_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_check
   implicit none
@@ -45,6 +46,7 @@ contains
     type(result_type), intent(out) :: res
     type(case_type) :: c
     type(error_type), allocatable :: err
+    c = default_case()
     c%nodes = 101
     c%dpsi_deg = 1.0_dp
     c%load_tol = tol
@@ -66,8 +68,7 @@ contains
     character(len=*), intent(in) :: what
     type(case_type) :: c
     real(dp) :: load(res%nsteps), sigma, dt
-    c%pressure_file = ''
-    call c%set_string_defaults()
+    c = default_case()
     sigma = composite_sigma(c)
     load = (elastic_pressure(c) + res%gas_pressure) * c%width * 2 * pi * c%bore_radius
     call check(maxval(abs(load - res%applied_load) / load) < 1e-12_dp, &

@@ -46,7 +46,7 @@ def test_bad_deck_raises_named_error(tmp_path):
 
 
 def test_bad_value_from_python_raises_named_error(quick_case):
-    with pytest.raises(InputError, match=r"&ring width: must be positive"):
+    with pytest.raises(InputError, match=r"changed in Python>:\d+: &ring width: must be in \[1.0E-5, 5.0E-2\] m, got -1.0E-3"):
         ringlube.run(quick_case.with_ring(width=-1e-3))
     with pytest.raises(InputError, match=r"&physics outlet"):
         quick_case.with_physics(outlet="nowhere").validate()

@@ -1,0 +1,296 @@
+!> Cases held in memory for callers that cannot hold derived types (the f2py layer).
+!>
+!> A case is parsed once from deck text (`api_open`), kept in a small store under an
+!> integer handle, run any number of times (one design or a batch of designs), and closed
+!> (`api_close`). The store holds parsed inputs only, never run state: two runs of the
+!> same handle give identical results. The tables of inputs, presets and results are
+!> exported as tab-separated text (`api_table`).
+module ringlube_api
+  use ringlube_kinds, only: dp
+  use ringlube_error, only: error_type, fatal_error, rl_input_error
+  use ringlube_case, only: case_type, case_access, access_set, access_get, validate_case, &
+    real_text
+  use ringlube_inputs, only: inputs, n_inputs, find_input, presets, n_presets
+  use ringlube_input, only: read_deck_text
+  use ringlube_gas, only: check_pressure_trace
+  use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
+    n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, field_spec, result_scalar
+  use ringlube_cycle, only: solve_cycle
+  use ringlube_textio, only: itoa
+  use, intrinsic :: iso_fortran_env, only: int64
+  implicit none
+  private
+  public :: api_open, api_close, api_case_ok, api_run, api_get, api_set, api_set_trace, &
+    api_run_design, api_table, api_nsteps, api_deck_text
+
+  type(case_type), allocatable, save :: store(:)
+  logical, allocatable, save :: used(:)
+
+  character(len=1), parameter :: tab = achar(9), nl = achar(10)
+
+contains
+
+  !> Parse deck text into a new handle (see `read_deck_text` for the arguments).
+  subroutine api_open(text, name, base_dir, overrides, overrides_name, load_trace, handle, err)
+    character(len=*), intent(in) :: text, name, base_dir, overrides, overrides_name
+    logical, intent(in) :: load_trace
+    integer, intent(out) :: handle
+    type(error_type), allocatable, intent(out) :: err
+    type(case_type) :: c
+    handle = 0
+    call read_deck_text(text, name, base_dir, c, err, overrides, overrides_name, load_trace)
+    if (allocated(err)) return
+    handle = free_slot()
+    store(handle) = c
+    used(handle) = .true.
+  end subroutine api_open
+
+  !> Release a handle (an unknown handle is ignored).
+  subroutine api_close(handle)
+    integer, intent(in) :: handle
+    type(case_type) :: empty
+    if (.not. api_case_ok(handle)) return
+    store(handle) = empty
+    used(handle) = .false.
+  end subroutine api_close
+
+  !> Is `handle` an open case?
+  logical function api_case_ok(handle)
+    integer, intent(in) :: handle
+    api_case_ok = .false.
+    if (.not. allocated(used)) return
+    if (handle < 1 .or. handle > size(used)) return
+    api_case_ok = used(handle)
+  end function api_case_ok
+
+  !> Crank steps of the reported cycle.
+  integer function api_nsteps(handle)
+    integer, intent(in) :: handle
+    api_nsteps = nint(720.0_dp / store(handle)%dpsi_deg)
+  end function api_nsteps
+
+  !> The deck text of a case as the kernel read it ('' for an unknown handle).
+  function api_deck_text(handle) result(t)
+    integer, intent(in) :: handle
+    character(len=:), allocatable :: t
+    t = ''
+    if (api_case_ok(handle)) t = store(handle)%deck_text
+  end function api_deck_text
+
+  !> Run the case; `res%run_time` is the kernel time.
+  subroutine api_run(handle, res, err)
+    integer, intent(in) :: handle
+    type(result_type), intent(out) :: res
+    type(error_type), allocatable, intent(out) :: err
+    integer(int64) :: t0, t1, rate
+    if (.not. check_handle(handle, err)) return
+    call system_clock(t0, rate)
+    call solve_cycle(store(handle), res, err)
+    call system_clock(t1)
+    res%run_time = real(t1 - t0, dp) / real(rate, dp)
+  end subroutine api_run
+
+  !> Run one design: the case with `values(j)` (deck text) assigned to the variables
+  !> `keys(j)` ('group.name'); the stored case is not changed. `scalars` are the scalar
+  !> results in the order of `scalar_spec`.
+  subroutine api_run_design(handle, keys, values, scalars, err)
+    integer, intent(in) :: handle
+    character(len=*), intent(in) :: keys(:)
+    real(dp), intent(in) :: values(:)
+    real(dp), intent(out) :: scalars(n_scalars)
+    type(error_type), allocatable, intent(out) :: err
+    type(case_type) :: c
+    type(result_type) :: res
+    character(len=:), allocatable :: text, why
+    integer :: j, k, i
+    integer(int64) :: t0, t1, rate
+    scalars = 0.0_dp
+    if (.not. check_handle(handle, err)) return
+    c = store(handle)
+    do j = 1, size(keys)
+      k = key_index(keys(j))
+      if (k == 0) then
+        call fatal_error(err, c%deck_path // ': ' // trim(keys(j)) // ': unknown variable', &
+          rl_input_error)
+        return
+      end if
+      text = real_text(values(j))
+      call case_access(c, k, access_set, text, why)
+      if (allocated(why)) then
+        call fatal_error(err, c%deck_path // ': &' // trim(inputs(k)%group) // ' ' // &
+          trim(inputs(k)%name) // ': ' // why, rl_input_error)
+        return
+      end if
+    end do
+    call validate_case(c, err)
+    if (allocated(err)) return
+    call system_clock(t0, rate)
+    call solve_cycle(c, res, err)
+    call system_clock(t1)
+    if (allocated(err)) return
+    res%run_time = real(t1 - t0, dp) / real(rate, dp)
+    do i = 1, n_scalars
+      call result_scalar(res, i, scalars(i), .false.)
+    end do
+  end subroutine api_run_design
+
+  !> The effective value of `&group name` as deck text.
+  subroutine api_get(handle, group, name, text, err)
+    integer, intent(in) :: handle
+    character(len=*), intent(in) :: group, name
+    character(len=:), allocatable, intent(out) :: text
+    type(error_type), allocatable, intent(out) :: err
+    character(len=:), allocatable :: why
+    integer :: k
+    text = ''
+    if (.not. check_handle(handle, err)) return
+    k = find_input(group, name)
+    if (k == 0) then
+      call fatal_error(err, '&' // group // ' ' // name // ': unknown variable', rl_input_error)
+      return
+    end if
+    call case_access(store(handle), k, access_get, text, why)
+  end subroutine api_get
+
+  !> Set `&group name` from deck text (range-checked; relations checked with the case).
+  subroutine api_set(handle, group, name, text, err)
+    integer, intent(in) :: handle
+    character(len=*), intent(in) :: group, name, text
+    type(error_type), allocatable, intent(out) :: err
+    character(len=:), allocatable :: why, t
+    integer :: k
+    if (.not. check_handle(handle, err)) return
+    k = find_input(group, name)
+    if (k == 0) then
+      call fatal_error(err, store(handle)%deck_path // ': &' // group // ' ' // name // &
+        ': unknown variable', rl_input_error)
+      return
+    end if
+    t = text
+    call case_access(store(handle), k, access_set, t, why)
+    if (allocated(why)) then
+      call fatal_error(err, store(handle)%deck_path // ': &' // group // ' ' // name // ': ' &
+        // why, rl_input_error)
+      return
+    end if
+    call validate_case(store(handle), err)
+  end subroutine api_set
+
+  !> Replace the gas-pressure trace by arrays (deg, Pa abs; checked like a CSV file, then
+  !> multiplied by the case's pressure_scale).
+  subroutine api_set_trace(handle, psi, p, err)
+    integer, intent(in) :: handle
+    real(dp), intent(in) :: psi(:), p(:)
+    type(error_type), allocatable, intent(out) :: err
+    if (.not. check_handle(handle, err)) return
+    call check_pressure_trace(psi, p, err)
+    if (allocated(err)) then
+      err%message = store(handle)%deck_path // ': pressure trace: ' // err%message
+      return
+    end if
+    store(handle)%gas_psi = psi
+    store(handle)%gas_p = store(handle)%pressure_scale * p
+    store(handle)%pressure_file = '<array>'
+  end subroutine api_set_trace
+
+  !> A table as tab-separated text with a header line: 'inputs', 'presets', 'series',
+  !> 'int_series', 'scalars' or 'flags' ('' for an unknown name).
+  function api_table(which) result(t)
+    character(len=*), intent(in) :: which
+    character(len=:), allocatable :: t
+    integer :: i
+    t = ''
+    select case (which)
+    case ('inputs')
+      t = 'group' // tab // 'name' // tab // 'kind' // tab // 'default' // tab // 'lower' // tab &
+        // 'upper' // tab // 'unit' // tab // 'choices' // tab // 'description' // nl
+      do i = 1, n_inputs
+        t = t // trim(inputs(i)%group) // tab // trim(inputs(i)%name) // tab // &
+          kind_name(inputs(i)%kind) // tab // trim(inputs(i)%default) // tab // &
+          real_text(inputs(i)%lower) // tab // real_text(inputs(i)%upper) // tab // &
+          trim(inputs(i)%unit) // tab // trim(inputs(i)%choices) // tab // &
+          trim(inputs(i)%description) // nl
+      end do
+    case ('presets')
+      t = 'preset' // tab // 'name' // tab // 'value' // nl
+      do i = 1, n_presets
+        t = t // trim(presets(i)%preset) // tab // trim(presets(i)%name) // tab // &
+          trim(presets(i)%value) // nl
+      end do
+    case ('series')
+      t = fields(series_spec, n_series)
+    case ('int_series')
+      t = fields(int_series_spec, n_int_series)
+    case ('scalars')
+      t = fields(scalar_spec, n_scalars)
+    case ('flags')
+      t = 'bit' // tab // 'name' // tab // 'description' // nl
+      do i = 1, n_flags
+        t = t // itoa(flag_bits(i)%bit) // tab // trim(flag_bits(i)%name) // tab // &
+          trim(flag_bits(i)%description) // nl
+      end do
+    end select
+  end function api_table
+
+  function fields(spec, n) result(t)
+    type(field_spec), intent(in) :: spec(:)
+    integer, intent(in) :: n
+    character(len=:), allocatable :: t
+    integer :: i
+    t = 'short' // tab // 'stored' // tab // 'unit' // tab // 'integer' // tab // 'long_name' // nl
+    do i = 1, n
+      t = t // trim(spec(i)%short) // tab // trim(spec(i)%stored) // tab // trim(spec(i)%unit) &
+        // tab // merge('1', '0', spec(i)%integer_valued) // tab // trim(spec(i)%long_name) // nl
+    end do
+  end function fields
+
+  pure function kind_name(k) result(t)
+    integer, intent(in) :: k
+    character(len=:), allocatable :: t
+    select case (k)
+    case (1); t = 'real'
+    case (2); t = 'integer'
+    case (3); t = 'logical'
+    case (4); t = 'string'
+    case default; t = 'choice'
+    end select
+  end function kind_name
+
+  !> Table index of 'group.name' (or 'group:name'), 0 if none.
+  integer function key_index(key)
+    character(len=*), intent(in) :: key
+    integer :: k
+    k = scan(key, '.:')
+    key_index = 0
+    if (k < 2) return
+    key_index = find_input(key(1:k-1), trim(key(k+1:)))
+  end function key_index
+
+  logical function check_handle(handle, err)
+    integer, intent(in) :: handle
+    type(error_type), allocatable, intent(out) :: err
+    check_handle = api_case_ok(handle)
+    if (.not. check_handle) call fatal_error(err, 'no open case with handle ' // itoa(handle))
+  end function check_handle
+
+  integer function free_slot()
+    type(case_type), allocatable :: tmp(:)
+    logical, allocatable :: utmp(:)
+    integer :: n
+    if (.not. allocated(used)) then
+      allocate(store(4), used(4))
+      used = .false.
+    end if
+    do free_slot = 1, size(used)
+      if (.not. used(free_slot)) return
+    end do
+    n = size(used)
+    allocate(tmp(2 * n), utmp(2 * n))
+    tmp(1:n) = store
+    utmp = .false.
+    utmp(1:n) = used
+    call move_alloc(tmp, store)
+    call move_alloc(utmp, used)
+    free_slot = n + 1
+  end function free_slot
+end module ringlube_api

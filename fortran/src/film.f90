@@ -1,0 +1,204 @@
+!> The film at one crank step: grid and profile, the film solve for a trial h0 (pressure
+!> with the pressure-viscosity loop, hydrodynamic and asperity loads) and the friction
+!> (SPEC sections 3-6 and 8).
+module ringlube_film
+  use ringlube_kinds, only: dp, pi
+  use ringlube_case, only: case_type, composite_sigma, reduced_modulus, ring_profile
+  use ringlube_viscosity, only: roelands_law, roelands_law_at, roelands_eta
+  use ringlube_contact, only: asperity_contact
+  use ringlube_reynolds, only: reynolds_solve
+  use ringlube_results, only: flag_viscosity, flag_cavitation, flag_piezo
+  implicit none
+  private
+  public :: film_type, film_setup, film_evaluate, film_friction
+
+  !> Roelands is evaluated with the pressure clipped here [Pa]. Ring pressures are far
+  !> lower; only trial films far below the load-balance root reach it, where an unclipped
+  !> pressure-viscosity iteration runs away to overflow.
+  real(dp), parameter, public :: roelands_p_max = 1e9_dp
+
+  !> Workspace of the film at one crank step.
+  type :: film_type
+    integer :: n = 0
+    real(dp) :: dx = 0.0_dp, circ = 0.0_dp, sigma = 0.0_dp, e_reduced = 0.0_dp, eta_e = 0.0_dp
+    real(dp), allocatable :: x(:), s(:), smid(:), h(:), hmid(:), p(:), eta(:), kmid(:), etamid(:)
+    logical, allocatable :: active(:)
+    logical :: lead_left = .true.          !< leading edge is the chamber edge (x = -b/2)
+    logical :: trailing_cavitated = .false.  !< Reynolds outlet: trailing edge at p_cav
+    !> Roelands' law at the film temperature of the run
+    type(roelands_law) :: law
+    ! state of the last evaluation
+    real(dp) :: h0 = -1.0_dp, wh = 0.0_dp, wa = 0.0_dp, aa = 0.0_dp
+    integer :: flags = 0
+    integer :: evaluations = 0             !< film solves (load-balance trials)
+    integer :: reynolds_solves = 0         !< Reynolds solves (incl. pressure-viscosity loop)
+  end type film_type
+
+contains
+
+  !> Build the grid and the profile of a case.
+  pure subroutine film_setup(c, f)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(out) :: f
+    integer :: i, n
+    real(dp) :: hb
+    n = c%nodes
+    f%n = n
+    hb = 0.5_dp * c%width
+    f%dx = c%width / (n - 1)
+    f%circ = 2.0_dp * pi * c%bore_radius
+    f%sigma = composite_sigma(c)
+    f%e_reduced = reduced_modulus(c)
+    f%law = roelands_law_at(c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta)
+    f%eta_e = roelands_eta(f%law, 0.0_dp)
+    allocate(f%x(n), f%s(n), f%h(n), f%p(n), f%eta(n), f%active(n))
+    allocate(f%smid(n-1), f%hmid(n-1), f%kmid(n-1), f%etamid(n-1))
+    do i = 1, n
+      f%x(i) = -hb + (i - 1) * f%dx
+    end do
+    f%x(n) = hb
+    f%s = ring_profile(f%x, c%width, c%crown_height, c%crown_offset)
+    f%smid = ring_profile(0.5_dp * (f%x(1:n-1) + f%x(2:n)), c%width, c%crown_height, c%crown_offset)
+    f%p = c%crankcase_pressure
+    f%eta = f%eta_e
+    f%active = .false.
+  end subroutine film_setup
+
+  !> Solve the film for a trial h0: pressures (with the pressure-viscosity loop) and the
+  !> hydrodynamic and asperity loads. `sq` is 2 dh0/dt; `p_chamber`, `p_crankcase` the
+  !> edge pressures; `u` the sliding speed (its sign picks the inlet for the Reynolds outlet).
+  pure subroutine film_evaluate(c, f, h0, sq, u, p_chamber)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(inout) :: f
+    real(dp), intent(in) :: h0, sq, u, p_chamber
+    real(dp) :: pl, pr, diff, tot
+    real(dp) :: pold(f%n)
+    integer :: it, iters, info, n
+
+    n = f%n
+    f%h0 = h0
+    f%flags = 0
+    f%evaluations = f%evaluations + 1
+    f%h = h0 + f%s
+    f%hmid = h0 + f%smid
+    pl = p_chamber
+    pr = c%crankcase_pressure
+    f%trailing_cavitated = .false.
+    if (c%outlet == 'reynolds') then
+      f%trailing_cavitated = .true.
+      if (f%lead_left) then
+        pr = c%cavitation_pressure
+      else
+        pl = c%cavitation_pressure
+      end if
+    end if
+
+    ! The pressure-viscosity loop starts from the previous trial's pressure, where the fixed
+    ! point is a contraction and unique (ring pressures, far below 100 MPa). After a trial
+    ! above 100 MPa it starts from the isoviscous film (eta at p = 0) instead: from a
+    ! high-pressure state the iteration can land on a second, high-pressure branch and make
+    ! W(h0) jump, which the load balance cannot bracket.
+    if (maxval(f%p) > 1e8_dp) f%p = 0.0_dp
+    do it = 1, c%max_pressure_iterations
+      if (c%roelands) then
+        f%eta = roelands_eta(f%law, min(max(f%p, 0.0_dp), roelands_p_max))
+      else
+        f%eta = f%eta_e
+      end if
+      f%etamid = 0.5_dp * (f%eta(1:n-1) + f%eta(2:n))
+      f%kmid = f%hmid**3 / (6.0_dp * f%etamid)
+      pold = f%p
+      call reynolds_solve(f%dx, f%kmid, f%hmid, u, sq, pl, pr, c%cavitation_pressure, f%p, &
+        f%active, iters, info)
+      f%reynolds_solves = f%reynolds_solves + iters
+      if (info == 1) f%flags = ior(f%flags, flag_cavitation)
+      if (info == 2) then
+        ! singular system: cannot happen for h > 0; keep a finite state and flag it
+        f%p = max(pl, pr)
+        f%flags = ior(f%flags, flag_cavitation)
+        exit
+      end if
+      if (.not. c%roelands) exit
+      diff = sum(abs(f%p - pold))
+      tot = sum(abs(f%p))
+      if (diff <= c%pressure_tol * tot) exit
+      if (it == c%max_pressure_iterations) f%flags = ior(f%flags, flag_viscosity)
+    end do
+
+    if (c%roelands .and. maxval(f%p) > roelands_p_max) f%flags = ior(f%flags, flag_piezo)
+    f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
+    if (c%asperity_contact) then
+      call asperity_contact(f%h, h0, f%dx, c%width, f%circ, f%sigma, c%zeta_kappa_sigma, &
+        c%sigma_over_kappa, f%e_reduced, c%gt_functions == 'fit', c%contact_area == 'lumped', &
+        f%wa, f%aa)
+    else
+      f%wa = 0.0_dp
+      f%aa = 0.0_dp
+    end if
+  end subroutine film_evaluate
+
+  !> Viscous and boundary friction on the ring [N], positive towards the crankcase.
+  !>
+  !> Full-film cells: `tau = (h/2) dp/dx + eta U / h` at the cell midpoint. Cavitated cells
+  !> (both ends at p_cav): Couette shear scaled by the film fraction `h_c / h`, h_c the
+  !> gap at the upstream rupture node (the oil passes the ruptured zone as streamers of
+  !> total thickness h_c). Boundary: `tau0 A_a + s W_a`, opposing the motion.
+  pure subroutine film_friction(c, f, u, fv, fb)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(in) :: f
+    real(dp), intent(in) :: u
+    real(dp), intent(out) :: fv, fb
+    real(dp) :: tau, hc, theta
+    integer :: i, j, n, step, first
+    logical :: cav_l, cav_r
+
+    n = f%n
+    fv = 0.0_dp
+    if (f%lead_left) then
+      first = 1
+      step = 1
+    else
+      first = n - 1
+      step = -1
+    end if
+    hc = f%hmid(first)
+    do j = 0, n - 2
+      i = first + step * j
+      cav_l = cavitated(i)
+      cav_r = cavitated(i + 1)
+      if (cav_l .and. cav_r) then
+        theta = min(1.0_dp, hc / f%hmid(i))
+        tau = f%etamid(i) * u / f%hmid(i) * theta
+      else
+        tau = 0.5_dp * f%hmid(i) * (f%p(i+1) - f%p(i)) / f%dx + f%etamid(i) * u / f%hmid(i)
+        ! gap at the upstream end of this cell, the rupture point if the next cell is dry
+        if (step == 1) then
+          hc = f%h(i + 1)
+        else
+          hc = f%h(i)
+        end if
+      end if
+      fv = fv + tau * f%dx
+    end do
+    fv = -f%circ * fv
+    if (u > 0.0_dp) then
+      fb = -(c%tau0 * f%aa + c%boundary_coefficient * f%wa)
+    else if (u < 0.0_dp) then
+      fb = c%tau0 * f%aa + c%boundary_coefficient * f%wa
+    else
+      fb = 0.0_dp
+    end if
+
+  contains
+
+    pure logical function cavitated(k)
+      integer, intent(in) :: k
+      if (k == 1 .or. k == n) then
+        cavitated = f%trailing_cavitated .and. (f%lead_left .eqv. (k == n))
+      else
+        cavitated = f%active(k)
+      end if
+    end function cavitated
+  end subroutine film_friction
+
+end module ringlube_film

@@ -1,0 +1,263 @@
+!> The load balance at one crank step (SPEC section 7): h0 such that W_h + W_a = F within
+!> load_tol, by the study's damped rule or a safeguarded secant/Brent iteration on ln h0.
+module ringlube_load_balance
+  use ringlube_kinds, only: dp, pi
+  use ringlube_case, only: case_type
+  use ringlube_kinematics, only: sliding_speed, deg2rad
+  use ringlube_gas, only: gas_pressure
+  use ringlube_film, only: film_type, film_evaluate
+  use ringlube_results, only: flag_floor, flag_ceiling, flag_load
+  implicit none
+  private
+  public :: step_context, load_problem, balance_memory, balance, speed
+
+  !> Constants of a run needed at every step.
+  type :: step_context
+    real(dp) :: omega = 0.0_dp   !< crank speed, rad/s
+    real(dp) :: dt = 0.0_dp      !< time step, s
+    real(dp) :: p_e = 0.0_dp     !< elastic pressure of the ring, Pa
+  end type step_context
+
+  !> The load balance at one crank step.
+  type :: load_problem
+    real(dp) :: u = 0.0_dp, hp = 0.0_dp, dt = 0.0_dp, pg = 0.0_dp, load = 0.0_dp
+  end type load_problem
+
+  !> What the root finder remembers between trials and crank steps.
+  type :: balance_memory
+    !> the last two trials: y = ln h0 and the relative residual
+    real(dp) :: y_hist(2) = 0.0_dp, g_hist(2) = 0.0_dp
+    !> d residual / d ln h0 of the last step (< 0); 0: none yet
+    real(dp) :: slope = 0.0_dp
+  end type balance_memory
+
+contains
+
+  !> Sliding speed at crank angle psi [deg]; round-off speeds at the dead centres are 0.
+  pure real(dp) function speed(c, ctx, psi)
+    type(case_type), intent(in) :: c
+    type(step_context), intent(in) :: ctx
+    real(dp), intent(in) :: psi
+    speed = sliding_speed(deg2rad(psi), c%crank_radius, c%conrod_length, ctx%omega)
+    ! sin(pi) is 1e-16, not 0: treat round-off speeds at the dead centres as zero
+    if (abs(speed) < 1e-12_dp * c%crank_radius * ctx%omega) speed = 0.0_dp
+  end function speed
+
+  !> Find h0 at crank angle psi so that W_h + W_a = F (within load_tol); hp, hp2 are h0
+  !> at the two previous steps. The film `g` is left solved at the returned h0 (`mem`: the
+  !> root finder's memory, carried from step to step); `lp`
+  !> returns the step's sliding speed, gas pressure and applied load.
+  subroutine balance(c, ctx, g, mem, psi, hp, hp2, h0out, flags, resid, lp)
+    type(case_type), intent(in) :: c
+    type(step_context), intent(in) :: ctx
+    type(film_type), intent(inout) :: g
+    type(balance_memory), intent(inout) :: mem
+    real(dp), intent(in) :: psi, hp, hp2
+    real(dp), intent(out) :: h0out, resid
+    integer, intent(out) :: flags
+    type(load_problem), intent(out) :: lp
+    real(dp) :: u, guess
+    u = speed(c, ctx, psi)
+    if (u < 0.0_dp) g%lead_left = .true.
+    if (u > 0.0_dp) g%lead_left = .false.
+    lp%u = u
+    lp%hp = hp
+    lp%dt = ctx%dt
+    lp%pg = gas_pressure(c%gas_psi, c%gas_p, psi, c%crankcase_pressure)
+    lp%load = (ctx%p_e + lp%pg) * c%width * g%circ
+    ! log-linear extrapolation from the two previous steps, limited to a factor 1.2
+    guess = hp * min(1.2_dp, max(1.0_dp / 1.2_dp, hp / hp2))
+    guess = min(max(guess, c%h0_floor), c%h0_ceiling)
+    if (c%h0_update == 'damped') then
+      call damped(c, lp, g, mem, guess, h0out, flags, resid)
+    else
+      call safeguarded(c, lp, g, mem, guess, h0out, flags, resid)
+    end if
+  end subroutine balance
+
+  !> Relative load residual (W_h + W_a - F) / F at trial h0 (solves the film).
+  real(dp) function residual(c, lp, g, mem, h0)
+    type(case_type), intent(in) :: c
+    type(load_problem), intent(in) :: lp
+    type(film_type), intent(inout) :: g
+    type(balance_memory), intent(inout) :: mem
+    real(dp), intent(in) :: h0
+    real(dp) :: sq
+    sq = 0.0_dp
+    if (c%squeeze) sq = 2.0_dp * (h0 - lp%hp) / lp%dt
+    call film_evaluate(c, g, h0, sq, lp%u, lp%pg)
+    ! relative to the applied load; a load of zero (no tension, no gas, crankcase at
+    ! 0 Pa) is measured against 1 mN, so that the residual stays finite
+    residual = (g%wh + g%wa - lp%load) / max(lp%load, 1e-3_dp)
+    mem%y_hist(1) = mem%y_hist(2)
+    mem%g_hist(1) = mem%g_hist(2)
+    mem%y_hist(2) = log(h0)
+    mem%g_hist(2) = residual
+  end function residual
+
+  !> The source study's rule h0 <- (1 + beta_d chi) h0, chi = (W - F)/max(W, F).
+  subroutine damped(c, lp, g, mem, guess, h0out, flags, resid)
+    type(case_type), intent(in) :: c
+    type(load_problem), intent(in) :: lp
+    type(film_type), intent(inout) :: g
+    type(balance_memory), intent(inout) :: mem
+    real(dp), intent(in) :: guess
+    real(dp), intent(out) :: h0out, resid
+    integer, intent(out) :: flags
+    real(dp) :: h, w, chi
+    integer :: it
+    h = guess
+    flags = flag_load
+    do it = 1, c%max_load_iterations
+      resid = residual(c, lp, g, mem, h)
+      if (abs(resid) <= c%load_tol) then
+        flags = 0
+        exit
+      end if
+      w = g%wh + g%wa
+      chi = (w - lp%load) / max(w, lp%load)
+      if (h <= c%h0_floor .and. chi < 0.0_dp) then
+        flags = flag_floor
+        exit
+      end if
+      if (h >= c%h0_ceiling .and. chi > 0.0_dp) then
+        flags = flag_ceiling
+        exit
+      end if
+      if (it == c%max_load_iterations) exit
+      h = min(max((1.0_dp + c%damping * chi) * h, c%h0_floor), c%h0_ceiling)
+    end do
+    flags = ior(flags, g%flags)
+    h0out = h
+  end subroutine damped
+
+  !> Safeguarded secant (Brent's method) on y = ln h0 inside an expanding bracket.
+  subroutine safeguarded(c, lp, g, mem, guess, h0out, flags, resid)
+    type(case_type), intent(in) :: c
+    type(load_problem), intent(in) :: lp
+    type(film_type), intent(inout) :: g
+    type(balance_memory), intent(inout) :: mem
+    real(dp), intent(in) :: guess
+    real(dp), intent(out) :: h0out, resid
+    integer, intent(out) :: flags
+    real(dp) :: ya, yb, ga, gb, dy, ylo, yhi
+    integer :: it
+
+    flags = 0
+    ylo = log(c%h0_floor)
+    yhi = log(c%h0_ceiling)
+    ya = log(guess)
+    ga = residual(c, lp, g, mem, guess)
+    if (abs(ga) <= c%load_tol) then
+      call finish(guess, ga)
+      return
+    end if
+    ! bracket the root: the residual falls with h0 (W > F means the film can open). The
+    ! first trial is a Newton step with the slope remembered from the previous crank
+    ! step (usually within load_tol at once); then secant extrapolation, then expansion.
+    if (mem%slope < 0.0_dp) then
+      dy = -ga / mem%slope
+      dy = sign(min(max(abs(dy), 1e-6_dp), 0.5_dp), dy)
+    else
+      dy = sign(0.01_dp, ga)
+    end if
+    do it = 1, 200
+      yb = min(max(ya + dy, ylo), yhi)
+      gb = residual(c, lp, g, mem, exp(yb))
+      if (abs(gb) <= c%load_tol) then
+        call finish(exp(yb), gb)
+        return
+      end if
+      if (sign(1.0_dp, gb) /= sign(1.0_dp, ga)) exit
+      if (yb <= ylo .or. yb >= yhi) then
+        if (yb <= ylo) flags = flag_floor
+        if (yb >= yhi) flags = flag_ceiling
+        call finish(exp(yb), gb)
+        return
+      end if
+      if ((gb - ga) / (yb - ya) < 0.0_dp .and. abs(gb) < abs(ga)) then
+        ! secant extrapolation past the root (by 50 %), at least doubling the step
+        dy = sign(max(1.5_dp * abs(gb * (yb - ya) / (gb - ga)), 2.0_dp * abs(yb - ya)), dy)
+      else
+        dy = 3.0_dp * dy
+      end if
+      dy = sign(min(abs(dy), 2.0_dp), dy)
+      ya = yb
+      ga = gb
+    end do
+    call brent(ya, yb, ga, gb)
+
+  contains
+
+    subroutine finish(h, r)
+      real(dp), intent(in) :: h, r
+      if (g%h0 /= h) then
+        resid = residual(c, lp, g, mem, h)  ! leave the film solved at h
+      else
+        resid = r
+      end if
+      h0out = h
+      if (abs(resid) > c%load_tol .and. flags == 0) flags = flag_load
+      flags = ior(flags, g%flags)
+      ! remember the local slope for the next crank step's first trial
+      if (mem%y_hist(1) /= mem%y_hist(2)) then
+        if ((mem%g_hist(2) - mem%g_hist(1)) / (mem%y_hist(2) - mem%y_hist(1)) < 0.0_dp) &
+          mem%slope = (mem%g_hist(2) - mem%g_hist(1)) / (mem%y_hist(2) - mem%y_hist(1))
+      end if
+    end subroutine finish
+
+    !> Brent's method (inverse quadratic / secant steps, bisection safeguard).
+    subroutine brent(a0, b0, fa0, fb0)
+      real(dp), intent(in) :: a0, b0, fa0, fb0
+      real(dp) :: a, b, cc, fa, fb, fc, d, e, tol1, xm, p, q, r, s
+      integer :: iter
+      a = a0; b = b0; fa = fa0; fb = fb0
+      cc = a; fc = fa; d = b - a; e = d
+      do iter = 1, c%max_load_iterations
+        if (sign(1.0_dp, fb) == sign(1.0_dp, fc)) then
+          cc = a; fc = fa; d = b - a; e = d
+        end if
+        if (abs(fc) < abs(fb)) then
+          a = b; b = cc; cc = a
+          fa = fb; fb = fc; fc = fa
+        end if
+        tol1 = 2.0_dp * epsilon(1.0_dp) * abs(b) + 1e-15_dp
+        xm = 0.5_dp * (cc - b)
+        if (abs(fb) <= c%load_tol .or. abs(xm) <= tol1) exit
+        if (abs(e) >= tol1 .and. abs(fa) > abs(fb)) then
+          s = fb / fa
+          if (a == cc) then
+            p = 2.0_dp * xm * s
+            q = 1.0_dp - s
+          else
+            q = fa / fc
+            r = fb / fc
+            p = s * (2.0_dp * xm * q * (q - r) - (b - a) * (r - 1.0_dp))
+            q = (q - 1.0_dp) * (r - 1.0_dp) * (s - 1.0_dp)
+          end if
+          if (p > 0.0_dp) q = -q
+          p = abs(p)
+          if (2.0_dp * p < min(3.0_dp * xm * q - abs(tol1 * q), abs(e * q))) then
+            e = d
+            d = p / q
+          else
+            d = xm
+            e = d
+          end if
+        else
+          d = xm
+          e = d
+        end if
+        a = b
+        fa = fb
+        if (abs(d) > tol1) then
+          b = b + d
+        else
+          b = b + sign(tol1, xm)
+        end if
+        fb = residual(c, lp, g, mem, exp(b))
+      end do
+      call finish(exp(b), fb)
+    end subroutine brent
+  end subroutine safeguarded
+end module ringlube_load_balance

@@ -1,0 +1,255 @@
+!> Results of one run and the one table of their names, units and descriptions.
+!>
+!> The tables drive the HDF5 writer, the f2py export (results reach Python by name) and
+!> the docs. `short` is the name in Python and in studies, `stored` the HDF5 dataset or
+!> root attribute name (SPEC section 9).
+module ringlube_results
+  use ringlube_kinds, only: dp
+  implicit none
+  private
+  public :: result_type, field_spec, flag_spec, series_spec, n_series, int_series_spec, &
+    n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, series_ptr, int_series_ptr, &
+    result_scalar, allocate_result, flag_description
+
+  !> Per-step flag bits (dataset `/cycle/flags`).
+  integer, parameter, public :: flag_floor = 1        !< h0 held at h0_floor
+  integer, parameter, public :: flag_ceiling = 2      !< h0 held at h0_ceiling
+  integer, parameter, public :: flag_load = 4         !< load balance outside load_tol
+  integer, parameter, public :: flag_viscosity = 8    !< pressure-viscosity loop not converged
+  integer, parameter, public :: flag_cavitation = 16  !< cavitation active set not settled
+  integer, parameter, public :: flag_piezo = 32       !< film pressure above roelands_p_max
+
+  !> One result quantity.
+  type :: field_spec
+    character(len=24) :: short = ''
+    character(len=24) :: stored = ''
+    character(len=8) :: unit = ''
+    logical :: integer_valued = .false.
+    character(len=110) :: long_name = ''
+  end type field_spec
+
+  !> One flag bit.
+  type :: flag_spec
+    integer :: bit = 0
+    character(len=20) :: name = ''
+    character(len=60) :: description = ''
+  end type flag_spec
+
+  !> Real series over the reported cycle, one value per crank step (group /cycle).
+  type(field_spec), parameter :: series_spec(*) = [ &
+    field_spec('crank_angle_deg', 'crank_angle_deg', 'deg', .false., &
+      'crank angle, 0 = TDC at the start of intake, 360 = firing TDC'), &
+    field_spec('sliding_speed', 'sliding_speed_m_s', 'm/s', .false., &
+      'piston sliding speed, positive towards the crankcase'), &
+    field_spec('h0', 'h0_m', 'm', .false., 'film thickness at the crown minimum h0'), &
+    field_spec('lambda_min', 'lambda_min', '1', .false., &
+      'smallest film thickness over the face divided by the composite roughness sigma'), &
+    field_spec('gas_pressure', 'gas_pressure_Pa', 'Pa', .false., 'chamber gas pressure (absolute)'), &
+    field_spec('applied_load', 'applied_load_N', 'N', .false., &
+      'load pressing the ring on the liner, (p_e + p_gas) b 2 pi r0'), &
+    field_spec('hydrodynamic_load', 'hydrodynamic_load_N', 'N', .false., &
+      'load carried by the film pressure'), &
+    field_spec('asperity_load', 'asperity_load_N', 'N', .false., &
+      'load carried by asperity contact (Greenwood-Tripp)'), &
+    field_spec('viscous_friction', 'viscous_friction_N', 'N', .false., &
+      'viscous friction on the ring, positive towards the crankcase'), &
+    field_spec('boundary_friction', 'boundary_friction_N', 'N', .false., &
+      'boundary friction on the ring, positive towards the crankcase'), &
+    field_spec('friction', 'friction_N', 'N', .false., &
+      'total friction on the ring, positive towards the crankcase'), &
+    field_spec('power_loss', 'power_loss_W', 'W', .false., 'friction power loss |f U|'), &
+    field_spec('load_residual', 'load_residual', '1', .false., &
+      'load balance residual (W_h + W_a - F) / F') &
+  ]
+  !> Index of each real series in `series_spec` and in the f2py export.
+  integer, parameter, public :: s_crank_angle = 1, s_sliding_speed = 2, s_h0 = 3, &
+    s_lambda_min = 4, s_gas_pressure = 5, s_applied_load = 6, s_hydrodynamic_load = 7, &
+    s_asperity_load = 8, s_viscous_friction = 9, s_boundary_friction = 10, s_friction = 11, &
+    s_power_loss = 12, s_load_residual = 13
+
+  !> Integer series over the reported cycle.
+  type(field_spec), parameter :: int_series_spec(*) = [ &
+    field_spec('flags', 'flags', '1', .true., 'bit flags of the crank step (see description)'), &
+    field_spec('film_solves', 'film_solves', '1', .true., &
+      'film (Reynolds + contact) solves used by the load balance at this step') &
+  ]
+
+  !> Scalar results (root attributes).
+  type(field_spec), parameter :: scalar_spec(*) = [ &
+    field_spec('energy_loss', 'energy_loss_J', 'J', .false., 'friction energy lost per cycle'), &
+    field_spec('mixed_share', 'mixed_share_pct', '%', .false., &
+      'share of the cycle with h0/sigma < 4 (mixed/boundary lubrication)'), &
+    field_spec('ring_mass', 'ring_mass_g', 'g', .false., 'ring mass'), &
+    field_spec('min_film', 'min_film_m', 'm', .false., 'smallest film thickness over the cycle'), &
+    field_spec('max_friction', 'max_friction_N', 'N', .false., 'largest |friction| over the cycle'), &
+    field_spec('converged', 'converged', '1', .true., '1: periodic within cycle_tol, no flagged step'), &
+    field_spec('cycles_run', 'cycles_run', '1', .true., 'cycles run (the last is reported)'), &
+    field_spec('cycle_change', 'cycle_change', '1', .false., &
+      'relative change of h0 at psi = 0 over the last cycle'), &
+    field_spec('sigma', 'sigma_m', 'm', .false., 'composite roughness sqrt(Rq_liner^2 + Rq_ring^2)'), &
+    field_spec('run_time', 'run_time_s', 's', .false., 'kernel time of the run'), &
+    field_spec('total_film_solves', 'film_solves', '1', .true., 'film solves over the whole run'), &
+    field_spec('reynolds_solves', 'reynolds_solves', '1', .true., &
+      'Reynolds (tridiagonal) solves over the whole run'), &
+    field_spec('cycles_computed', 'cycles_computed', '1', .false., &
+      "cycles' worth of crank steps solved, warm-up included"), &
+    field_spec('periodic', 'periodic', '1', .true., '1: h0 periodic within cycle_tol') &
+  ]
+
+  !> Meaning of the bits of /cycle/flags.
+  type(flag_spec), parameter :: flag_bits(*) = [ &
+    flag_spec(flag_floor, 'h0_floor', 'h0 at h0_floor'), &
+    flag_spec(flag_ceiling, 'h0_ceiling', 'h0 at h0_ceiling'), &
+    flag_spec(flag_load, 'load', 'load outside load_tol'), &
+    flag_spec(flag_viscosity, 'viscosity', 'pressure-viscosity loop not converged'), &
+    flag_spec(flag_cavitation, 'cavitation', 'cavitation set not settled'), &
+    flag_spec(flag_piezo, 'piezoviscous_clip', 'film pressure above 1 GPa (Roelands clipped)') &
+  ]
+
+  integer, parameter :: n_series = size(series_spec), n_int_series = size(int_series_spec), &
+    n_scalars = size(scalar_spec), n_flags = size(flag_bits)
+
+  !> Results of one run: the reported (last) cycle and its summary.
+  type :: result_type
+    integer :: nsteps = 0
+    real(dp), allocatable :: crank_angle_deg(:), sliding_speed(:), h0(:), lambda_min(:), &
+      gas_pressure(:), applied_load(:), hydrodynamic_load(:), asperity_load(:), &
+      viscous_friction(:), boundary_friction(:), friction(:), power_loss(:), load_residual(:)
+    integer, allocatable :: flags(:), iterations(:)
+    real(dp) :: energy_loss = 0.0_dp       !< J per cycle
+    real(dp) :: mixed_share = 0.0_dp       !< % of the cycle with h0/sigma < 4
+    real(dp) :: ring_mass = 0.0_dp         !< kg
+    real(dp) :: min_film = 0.0_dp          !< m, min over the cycle of min_x h
+    real(dp) :: max_friction = 0.0_dp      !< N, max |f|
+    real(dp) :: cycle_change = 0.0_dp      !< |h0 end - h0 start| / h0 start of the last cycle
+    real(dp) :: sigma = 0.0_dp             !< m, composite roughness
+    real(dp) :: run_time = 0.0_dp          !< s, set by the caller that times the run
+    logical :: converged = .false.         !< periodic within cycle_tol and no flagged step
+    logical :: periodic = .false.          !< periodic within cycle_tol
+    integer :: cycles_run = 0
+    integer :: evaluations = 0             !< film solves over the whole run
+    integer :: reynolds_solves = 0         !< Reynolds solves over the whole run
+    !> cycles' worth of crank steps solved: cycles_run + warm-up + periodicity checks
+    real(dp) :: cycles_computed = 0.0_dp
+  end type result_type
+
+contains
+
+  !> Allocate every series for m crank steps (zeros).
+  subroutine allocate_result(res, m)
+    type(result_type), intent(inout), target :: res
+    integer, intent(in) :: m
+    real(dp), pointer :: p(:)
+    integer :: i
+    res%nsteps = m
+    allocate(res%crank_angle_deg(m), res%sliding_speed(m), res%h0(m), res%lambda_min(m), &
+      res%gas_pressure(m), res%applied_load(m), res%hydrodynamic_load(m), &
+      res%asperity_load(m), res%viscous_friction(m), res%boundary_friction(m), &
+      res%friction(m), res%power_loss(m), res%load_residual(m), res%flags(m), &
+      res%iterations(m))
+    do i = 1, n_series
+      p => series_ptr(res, i)
+      p = 0.0_dp
+    end do
+    res%flags = 0
+    res%iterations = 0
+  end subroutine allocate_result
+
+  !> The real series i of `series_spec`.
+  function series_ptr(res, i) result(p)
+    type(result_type), intent(in), target :: res
+    integer, intent(in) :: i
+    real(dp), pointer :: p(:)
+    select case (i)
+    case (s_crank_angle); p => res%crank_angle_deg
+    case (s_sliding_speed); p => res%sliding_speed
+    case (s_h0); p => res%h0
+    case (s_lambda_min); p => res%lambda_min
+    case (s_gas_pressure); p => res%gas_pressure
+    case (s_applied_load); p => res%applied_load
+    case (s_hydrodynamic_load); p => res%hydrodynamic_load
+    case (s_asperity_load); p => res%asperity_load
+    case (s_viscous_friction); p => res%viscous_friction
+    case (s_boundary_friction); p => res%boundary_friction
+    case (s_friction); p => res%friction
+    case (s_power_loss); p => res%power_loss
+    case (s_load_residual); p => res%load_residual
+    case default; p => null()
+    end select
+  end function series_ptr
+
+  !> The integer series i of `int_series_spec`.
+  function int_series_ptr(res, i) result(p)
+    type(result_type), intent(in), target :: res
+    integer, intent(in) :: i
+    integer, pointer :: p(:)
+    select case (i)
+    case (1); p => res%flags
+    case (2); p => res%iterations
+    case default; p => null()
+    end select
+  end function int_series_ptr
+
+  !> Get (`set = .false.`) or set scalar i of `scalar_spec` in its stored unit (mass in g).
+  subroutine result_scalar(res, i, v, set)
+    type(result_type), intent(inout) :: res
+    integer, intent(in) :: i
+    real(dp), intent(inout) :: v
+    logical, intent(in) :: set
+    select case (trim(scalar_spec(i)%short))
+    case ('energy_loss'); call r(res%energy_loss, 1.0_dp)
+    case ('mixed_share'); call r(res%mixed_share, 1.0_dp)
+    case ('ring_mass'); call r(res%ring_mass, 1e3_dp)
+    case ('min_film'); call r(res%min_film, 1.0_dp)
+    case ('max_friction'); call r(res%max_friction, 1.0_dp)
+    case ('converged'); call b(res%converged)
+    case ('cycles_run'); call n(res%cycles_run)
+    case ('cycle_change'); call r(res%cycle_change, 1.0_dp)
+    case ('sigma'); call r(res%sigma, 1.0_dp)
+    case ('run_time'); call r(res%run_time, 1.0_dp)
+    case ('total_film_solves'); call n(res%evaluations)
+    case ('reynolds_solves'); call n(res%reynolds_solves)
+    case ('cycles_computed'); call r(res%cycles_computed, 1.0_dp)
+    case ('periodic'); call b(res%periodic)
+    end select
+  contains
+    subroutine r(x, scale)
+      real(dp), intent(inout) :: x
+      real(dp), intent(in) :: scale
+      if (set) then
+        x = v / scale
+      else
+        v = x * scale
+      end if
+    end subroutine r
+    subroutine n(x)
+      integer, intent(inout) :: x
+      if (set) then
+        x = nint(v)
+      else
+        v = real(x, dp)
+      end if
+    end subroutine n
+    subroutine b(x)
+      logical, intent(inout) :: x
+      if (set) then
+        x = v > 0.5_dp
+      else
+        v = merge(1.0_dp, 0.0_dp, x)
+      end if
+    end subroutine b
+  end subroutine result_scalar
+
+  !> "1: h0 at h0_floor, 2: ..." (the `description` of /cycle/flags).
+  function flag_description() result(t)
+    character(len=:), allocatable :: t
+    character(len=12) :: buf
+    integer :: i
+    t = ''
+    do i = 1, n_flags
+      write(buf, '(i0)') flag_bits(i)%bit
+      if (i > 1) t = t // ', '
+      t = t // trim(buf) // ': ' // trim(flag_bits(i)%description)
+    end do
+  end function flag_description
+end module ringlube_results

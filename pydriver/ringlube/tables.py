@@ -1,0 +1,127 @@
+"""The kernel's tables, read from the compiled kernel: the one home of every input's
+default, range, unit and description, of the numerics presets, and of the names, units
+and descriptions of every result.
+
+Nothing here is written by hand: each table is the tab-separated text that the kernel
+exports (``fortran/src/inputs.f90`` and ``fortran/src/results.f90``).
+
+>>> from ringlube.tables import INPUTS, SCALARS
+>>> INPUTS["ring", "width"].unit
+'m'
+>>> SCALARS["energy_loss"].unit
+'J'
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from functools import lru_cache
+
+__all__ = ["InputSpec", "FieldSpec", "INPUTS", "PRESETS", "SERIES", "INT_SERIES", "SCALARS",
+           "FLAG_BITS", "GROUPS", "table_text"]
+
+
+@dataclasses.dataclass(frozen=True)
+class InputSpec:
+    """One input variable of the kernel's table.
+
+    Attributes
+    ----------
+    group, name : str
+        Namelist group and variable.
+    kind : str
+        'real', 'integer', 'logical', 'string' or 'choice'.
+    default : str
+        Default as deck text ('(preset)': set by the numerics preset 'default').
+    lower, upper : float
+        Plausible range of a number (inclusive).
+    unit : str
+        SI unit ('1' dimensionless; '(unit)' for the tension, see ``tension_unit``).
+    choices : tuple of str
+        Allowed values of a choice.
+    description : str
+        One line.
+    """
+
+    group: str
+    name: str
+    kind: str
+    default: str
+    lower: float
+    upper: float
+    unit: str
+    choices: tuple[str, ...]
+    description: str
+
+    @property
+    def default_value(self):
+        """The default as a Python value (None where a preset sets it)."""
+        if self.default == "(preset)":
+            return PRESETS["default"].get(self.name)
+        return _value(self.kind, self.default)
+
+
+@dataclasses.dataclass(frozen=True)
+class FieldSpec:
+    """One result quantity: ``short`` name (Python, studies), ``stored`` name (HDF5),
+    ``unit``, ``integer`` (integer-valued) and ``long_name``."""
+
+    short: str
+    stored: str
+    unit: str
+    integer: bool
+    long_name: str
+
+
+def table_text(which: str) -> str:
+    """The kernel's table ``which`` as tab-separated text (header line first)."""
+    from . import _kernel
+
+    text, n = _kernel.rl_table(which)
+    return bytes(text[:n]).decode() if isinstance(text, bytes) else str(text)[:n]
+
+
+def _rows(which: str) -> list[list[str]]:
+    lines = table_text(which).splitlines()
+    return [line.split("\t") for line in lines[1:] if line]
+
+
+def _value(kind: str, text: str):
+    if kind == "real":
+        return float(text.replace("d", "e").replace("D", "e"))
+    if kind == "integer":
+        return int(text)
+    if kind == "logical":
+        return text.strip(".").lower().startswith("t")
+    return text
+
+
+@lru_cache(maxsize=None)
+def _load():
+    inputs = {}
+    for g, n, kind, default, lo, hi, unit, choices, desc in _rows("inputs"):
+        inputs[g, n] = InputSpec(g, n, kind, default, float(lo), float(hi), unit,
+                                 tuple(c for c in choices.split("|") if c), desc)
+    presets: dict[str, dict] = {}
+    for preset, name, value in _rows("presets"):
+        kind = inputs["numerics", name].kind
+        presets.setdefault(preset, {})[name] = _value(kind, value)
+
+    def fields(which):
+        return {r[0]: FieldSpec(r[0], r[1], r[2], r[3] == "1", r[4]) for r in _rows(which)}
+
+    flags = {int(b): desc for b, _, desc in _rows("flags")}
+    return inputs, presets, fields("series"), fields("int_series"), fields("scalars"), flags
+
+
+INPUTS: dict[tuple[str, str], InputSpec]
+PRESETS: dict[str, dict]
+SERIES: dict[str, FieldSpec]
+INT_SERIES: dict[str, FieldSpec]
+SCALARS: dict[str, FieldSpec]
+FLAG_BITS: dict[int, str]
+INPUTS, PRESETS, SERIES, INT_SERIES, SCALARS, FLAG_BITS = _load()
+
+#: Namelist groups of a deck, in table order.
+GROUPS: tuple[str, ...] = tuple(dict.fromkeys(g for g, _ in INPUTS))
+
