@@ -54,7 +54,7 @@ def test_copy_examples_never_overwrites_unless_asked(tmp_path):
     copy_examples(tmp_path)
     edited = tmp_path / "crf450r_4000rpm_full_cold.nml"
     edited.write_text("&ring width = 1.2e-3 /\n")
-    with pytest.raises(FileExistsError, match="crf450r_4000rpm_full_cold.nml|already exists"):
+    with pytest.raises(FileExistsError, match="already exists"):
         copy_examples(tmp_path)
     assert edited.read_text() == "&ring width = 1.2e-3 /\n"
     copy_examples(tmp_path, overwrite=True)
