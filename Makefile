@@ -1,16 +1,39 @@
 # ringlube: the two commands of the README.
 #   make run   set up if needed, then run the main job on the shipped default inputs
 #   make test  set up if needed, then every test
+# Python lives in the project virtual environment $(VENV) (created from $(PYTHON)), so the
+# system interpreter is never modified (Debian's refuses `pip install`, PEP 668).
 SHELL := /bin/bash
 BUILD ?= build
 PYTHON ?= python3
+VENV ?= .venv
 APT_PACKAGES := gfortran cmake ninja-build libhdf5-dev hdf5-tools liblapack-dev libblas-dev
 DEFAULT_DECK := inputs/crf450r_4000rpm_full_cold.nml
+DEFAULT_STUDY := inputs/study_default.nml
 
-PY_STAMP := $(BUILD)/.python-installed
-PY_SOURCES := $(wildcard fortran/src/*.f90 fortran/f2py/*.f90 pydriver/ringlube/*.py) pyproject.toml CMakeLists.txt
+VPY := $(VENV)/bin/python
+PIP := $(VPY) -m pip --disable-pip-version-check
+PY_STAMP := $(VENV)/.ringlube-installed
+PY_SOURCES := $(wildcard fortran/src/*.f90 fortran/src/*.f90.in fortran/f2py/*.f90 pydriver/ringlube/*.py \
+                inputs/*.nml inputs/*.md inputs/pressure/*.csv) pyproject.toml CMakeLists.txt
 
-.PHONY: all setup system-deps build python run test bench clean
+# Prints [build-system] requires of pyproject.toml, one a line (tomllib from Python 3.11,
+# else the copy of tomli inside pip).
+define BUILD_REQUIRES
+try:
+    import tomllib
+except ImportError:
+    from pip._vendor import tomli as tomllib
+with open("pyproject.toml", "rb") as f:
+    print("\n".join(tomllib.load(f)["build-system"]["requires"]))
+endef
+export BUILD_REQUIRES
+
+# apt-get install, as root or through sudo.
+APT_INSTALL = if [ "$$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi; \
+  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq
+
+.PHONY: all setup system-deps build python run test bench clean distclean
 
 all: build
 
@@ -20,8 +43,7 @@ system-deps:
 	for p in $(APT_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
 	if [ -n "$$missing" ]; then \
 	  echo "installing system packages:$$missing"; \
-	  if [ "$$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi; \
-	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing >/dev/null; \
+	  $(APT_INSTALL) $$missing >/dev/null; \
 	fi
 
 $(BUILD)/build.ninja: CMakeLists.txt tests/fortran/tests.cmake | system-deps
@@ -30,31 +52,45 @@ $(BUILD)/build.ninja: CMakeLists.txt tests/fortran/tests.cmake | system-deps
 build: system-deps $(BUILD)/build.ninja
 	cmake --build $(BUILD)
 
-# The Python package (scikit-build-core builds the f2py extension through CMakeLists.txt).
-$(PY_STAMP): $(PY_SOURCES) | system-deps
-	$(PYTHON) -m pip install -q --disable-pip-version-check "scikit-build-core>=0.10" "numpy>=2.0" "f2py-cmake>=0.2" ninja pytest
-	$(PYTHON) -m pip install -q --disable-pip-version-check --no-build-isolation .
-	@mkdir -p $(BUILD) && touch $@
+# The project virtual environment (Debian ships venv/ensurepip as python3-venv).
+$(VPY):
+	@if ! $(PYTHON) -c 'import venv, ensurepip' >/dev/null 2>&1; then \
+	  echo "installing python3-venv (needed by $(PYTHON) -m venv)"; \
+	  $(APT_INSTALL) python3-venv >/dev/null; \
+	fi
+	rm -rf $(VENV)
+	$(PYTHON) -m venv $(VENV) || { rm -rf $(VENV); exit 1; }
+
+# The Python package and every dependency, into the venv: first the build requirements
+# (read from pyproject.toml), then the package with its `study` and `test` extras
+# (scikit-build-core builds the f2py extension through CMakeLists.txt).
+$(PY_STAMP): $(PY_SOURCES) $(VPY) | system-deps
+	$(VPY) -c "$$BUILD_REQUIRES" > $(VENV)/build-requirements.txt
+	$(PIP) install -q -r $(VENV)/build-requirements.txt
+	$(PIP) install -q --no-build-isolation ".[study,test]"
+	@touch $@
 
 python: $(PY_STAMP)
 
 setup: build python
 
-DEFAULT_STUDY := inputs/study_default.nml
-
 # The main job: the cold deck's summary, then the default design study (cold and hot).
 run: setup
 	mkdir -p out
 	$(BUILD)/ringlube-solve $(DEFAULT_DECK) -o out/crf450r_4000rpm_full_cold.h5
-	ringlube optimise $(DEFAULT_STUDY) --direct
+	$(VENV)/bin/ringlube optimise $(DEFAULT_STUDY) --direct
 
 test: setup
 	cd $(BUILD) && ctest --output-on-failure
-	$(PYTHON) -m pytest -q
+	$(VPY) -m pytest -q
 
 bench: setup
-	$(PYTHON) tests/bench/python_overhead.py
-	$(PYTHON) tests/bench/bench.py
+	$(VPY) tests/bench/python_overhead.py
+	$(VPY) tests/bench/bench.py
 
 clean:
 	rm -rf $(BUILD) out
+
+# Also the virtual environment (the next set-up downloads the Python packages again).
+distclean: clean
+	rm -rf $(VENV)

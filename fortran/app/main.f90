@@ -10,7 +10,8 @@ program ringlube_solve
   use ringlube_input, only: read_deck
   use ringlube_cycle, only: solve_cycle
   use ringlube_results, only: result_type
-  use ringlube_hdf5_output, only: write_result, ringlube_version
+  use ringlube_hdf5_output, only: write_result
+  use ringlube_version, only: package_version
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64
   implicit none
   type(case_type) :: c
@@ -33,7 +34,7 @@ program ringlube_solve
       call usage(output_unit)
       stop
     case ('--version')
-      write(output_unit, '(a)') 'ringlube-solve ' // ringlube_version
+      write(output_unit, '(a)') 'ringlube-solve ' // package_version
       stop
     case ('-q', '--quiet')
       quiet = .true.
@@ -69,7 +70,7 @@ program ringlube_solve
 
   if (.not. quiet) then
     nflagged = count(res%flags /= 0)
-    write(output_unit, '(a)') 'ringlube ' // ringlube_version // ': ' // deck
+    write(output_unit, '(a)') 'ringlube ' // package_version // ': ' // deck
     write(output_unit, '(a, f10.4, a)') '  energy loss per cycle   ', res%energy_loss, ' J'
     write(output_unit, '(a, f10.3, a)') '  mixed/boundary share    ', res%mixed_share, ' % of the cycle (h0/sigma < 4)'
     write(output_unit, '(a, f10.3, a)') '  ring mass               ', res%ring_mass * 1e3_dp, ' g'

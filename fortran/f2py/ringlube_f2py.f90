@@ -23,10 +23,10 @@ end subroutine rl_table
 
 !> The kernel's version.
 subroutine rl_version(text)
-  use ringlube_hdf5_output, only: ringlube_version
+  use ringlube_version, only: package_version
   implicit none
   character(len=32), intent(out) :: text
-  text = ringlube_version
+  text = package_version
 end subroutine rl_version
 
 !> Parse deck text (named `name` in messages, relative paths against `base_dir`) with the

@@ -9,6 +9,7 @@ module ringlube_hdf5_output
   use ringlube_case, only: case_type, composite_sigma
   use ringlube_results, only: result_type, result_scalar, scalar_spec, n_scalars, series_spec, &
     n_series, int_series_spec, n_int_series, series_ptr, int_series_ptr, flag_description
+  use ringlube_version, only: package_version
   use hdf5
   implicit none
   private
@@ -24,8 +25,6 @@ module ringlube_hdf5_output
       character(kind=c_char), intent(in) :: path(*)
     end function c_unlink
   end interface
-
-  character(len=*), parameter, public :: ringlube_version = '0.1.0'
 
 contains
 
@@ -74,7 +73,7 @@ contains
     call attr_str(fid, 'deck', c%deck_text)
     call attr_str(fid, 'deck_path', c%deck_path)
     call attr_str(fid, 'pressure_file', c%pressure_file)
-    call attr_str(fid, 'ringlube_version', ringlube_version)
+    call attr_str(fid, 'ringlube_version', package_version)
     if (herr /= 0) goto 900
 
     call h5gcreate_f(fid, 'cycle', gid, herr)

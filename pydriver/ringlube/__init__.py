@@ -8,18 +8,13 @@ The pipeline reads case -> run -> (sample -> fit -> optimise) -> plot:
 >>> result.energy_loss, result.mixed_share, result.ring_mass  # doctest: +SKIP
 """
 
-from importlib.metadata import PackageNotFoundError, version as _dist_version
-
 from . import gas
 from .case import GROUPS, Case
 from .errors import InputError, NotConvergedError, RinglubeError
 from .result import CycleResult, load
 from .solve import BatchError, run, run_designs, run_many
 
-try:
-    __version__ = _dist_version("ringlube")
-except PackageNotFoundError:  # pragma: no cover - running from a source tree
-    __version__ = "0+unknown"
+from ._version import __version__
 
 __all__ = ["BatchError", "Case", "GROUPS", "CycleResult", "InputError", "NotConvergedError",
            "RinglubeError", "gas", "load", "run", "run_designs", "run_many", "__version__"]
