@@ -7,7 +7,7 @@ module ringlube_case
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_inputs, only: inputs, n_inputs, find_input, input_key, presets, n_presets, &
-    preset_names, kind_choice
+    preset_names, kind_choice, kind_int
   use ringlube_textio, only: itoa
   use ringlube_namelist, only: lower
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -274,8 +274,13 @@ contains
     subroutine check_range(v)
       real(dp), intent(in) :: v
       if (.not. (v >= inputs(i)%lower .and. v <= inputs(i)%upper)) then
-        why = 'must be in [' // real_text(inputs(i)%lower) // ', ' // real_text(inputs(i)%upper) &
-          // ']' // unit_text() // ', got ' // real_text(v)
+        if (inputs(i)%kind == kind_int) then
+          why = 'must be in [' // itoa(nint(inputs(i)%lower)) // ', ' // &
+            itoa(nint(inputs(i)%upper)) // '], got ' // itoa(nint(v))
+        else
+          why = 'must be in [' // real_text(inputs(i)%lower) // ', ' // &
+            real_text(inputs(i)%upper) // ']' // unit_text() // ', got ' // real_text(v)
+        end if
       end if
     end subroutine check_range
 

@@ -111,7 +111,7 @@ contains
     real(dp), intent(in) :: lambda
     real(dp) :: l
     l = max(lambda, 0.0_dp)
-    if (l > gt_lambda_max) then
+    if (.not. (lambda <= gt_lambda_max)) then
       f2_exact = 0.0_dp
     else
       f2_exact = (1.0_dp + l * l) * 0.5_dp * erfc(l / sqrt(2.0_dp)) - l * phi(l)
@@ -123,11 +123,12 @@ contains
     real(dp), intent(in) :: lambda
     real(dp) :: l, s, t, h00, h10, h01, h11, y, i52, i72
     integer :: i
-    l = max(lambda, 0.0_dp)
-    if (l >= gt_lambda_max) then
+    ! a non-finite lambda never reaches the table index (NaN fails every comparison)
+    if (.not. (lambda < gt_lambda_max)) then
       f = 0.0_dp
       return
     end if
+    l = max(lambda, 0.0_dp)
     if (.not. table_ready) then
       call gt_integrals(l, i52, i72)
       f = phi(l) * i52

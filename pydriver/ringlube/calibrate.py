@@ -36,12 +36,14 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .case import Case
+from .errors import InputError
 from .solve import run
 
-__all__ = ["TARGETS", "BOUNDS", "NOMINAL", "DISCRETE", "Fit", "calibrate", "write_calibration"]
+__all__ = ["FITTED", "BOUNDS", "NOMINAL", "DISCRETE", "Fit", "calibrate", "write_calibration",
+           "cold_targets"]
 
-#: Cold targets (SPEC section 11, Table 2).
-TARGETS = {"energy_loss": 1.92, "mixed_share": 8.47}
+#: The two target quantities of the fit (read from the targets file).
+FITTED = ("energy_loss", "mixed_share")
 #: Declared bounds of the fitted inputs.
 BOUNDS = {"zeta_kappa_sigma": (0.02, 0.10), "pressure_scale": (0.8, 1.2)}
 NOMINAL = {"zeta_kappa_sigma": 0.04, "pressure_scale": 1.0}
@@ -51,8 +53,25 @@ DISCRETE = {("ring", "tension_unit"): ("N", "N/m"),
             ("physics", "outlet"): ("reynolds", "ambient")}
 
 
+def cold_targets(targets: str | os.PathLike | None = None, condition: str = "cold"):
+    """(deck, {quantity: target}) of the calibrated condition in a targets file."""
+    from .targets import DEFAULT_TARGETS, read_targets
+
+    path = Path(targets) if targets else DEFAULT_TARGETS
+    conds = read_targets(path)
+    if condition not in conds:
+        raise InputError(f"{path}: no condition '{condition}' (has: {', '.join(conds)})")
+    c = conds[condition]
+    missing = [q for q in FITTED if q not in c.values]
+    if missing:
+        raise InputError(f"{path}: condition '{condition}' lacks {', '.join(missing)}")
+    return c.deck, {q: c.values[q] for q in FITTED}
+
+
 @dataclasses.dataclass
 class Fit:
+    """One fit of the two continuous inputs for one combination of discrete options."""
+
     options: dict
     zeta_kappa_sigma: float
     pressure_scale: float
@@ -60,12 +79,14 @@ class Fit:
     mixed_share: float
     runs: int
     within_bounds: bool
+    targets: dict = dataclasses.field(default_factory=dict)
 
     @property
     def residual(self) -> float:
         """Root-sum-square of the relative misfits of the two targets."""
-        e = (self.energy_loss - TARGETS["energy_loss"]) / TARGETS["energy_loss"]
-        m = (self.mixed_share - TARGETS["mixed_share"]) / TARGETS["mixed_share"]
+        t = self.targets
+        e = (self.energy_loss - t["energy_loss"]) / t["energy_loss"]
+        m = (self.mixed_share - t["mixed_share"]) / t["mixed_share"]
         return math.hypot(e, m)
 
     @property
@@ -91,16 +112,12 @@ def apply(base: Case, options: dict, zks: float, scale: float) -> Case:
 
 
 def strip_calibrated(case: Case) -> Case:
-    """The case without the calibration file and without the calibrated variables."""
-    c = case.copy()
-    c._nml.pop("calibration", None)
-    for group, name in [("surface", "zeta_kappa_sigma"), ("operating", "pressure_scale"),
-                        *DISCRETE]:
-        c._nml.get(group, {}).pop(name, None)
-    return c
+    """The case without its calibration file (every fit sets the calibrated inputs and
+    the discrete options explicitly)."""
+    return case.with_("calibration", file="")
 
 
-def fit_options(base: Case, options: dict) -> Fit:
+def fit_options(base: Case, options: dict, targets: dict) -> Fit:
     """Nested fit of the two continuous inputs for one combination of options."""
     runs = 0
 
@@ -112,7 +129,7 @@ def fit_options(base: Case, options: dict) -> Fit:
     zlo, zhi = BOUNDS["zeta_kappa_sigma"]
 
     def zks_for(scale: float) -> tuple[float, object]:
-        f = lambda z: result(z, scale).energy_loss - TARGETS["energy_loss"]  # noqa: E731
+        f = lambda z: result(z, scale).energy_loss - targets["energy_loss"]  # noqa: E731
         flo, fhi = f(zlo), f(zhi)
         if flo > 0:
             return zlo, result(zlo, scale)
@@ -124,7 +141,7 @@ def fit_options(base: Case, options: dict) -> Fit:
     slo, shi = BOUNDS["pressure_scale"]
     z_lo, r_lo = zks_for(slo)
     z_hi, r_hi = zks_for(shi)
-    target = TARGETS["mixed_share"]
+    target = targets["mixed_share"]
     if r_lo.mixed_share >= target:
         z, r, s = z_lo, r_lo, slo
     elif r_hi.mixed_share <= target:
@@ -146,17 +163,31 @@ def fit_options(base: Case, options: dict) -> Fit:
                 b = m
         _, s, z, r = best
     within = (zlo < z < zhi) and (slo < s < shi)
-    return Fit(dict(options), float(z), float(s), r.energy_loss, r.mixed_share, runs, within)
+    return Fit(dict(options), float(z), float(s), r.energy_loss, r.mixed_share, runs, within,
+               dict(targets))
 
 
-def calibrate(deck: str | os.PathLike, progress: bool = True) -> tuple[Fit, list[Fit]]:
-    """Fit every combination of discrete options; returns (chosen fit, all fits)."""
+def calibrate(deck: str | os.PathLike | None = None, progress: bool = True,
+              targets: str | os.PathLike | None = None) -> tuple[Fit, list[Fit]]:
+    """Fit every combination of discrete options; returns (chosen fit, all fits).
+
+    Parameters
+    ----------
+    deck : path, optional
+        The deck of the calibrated condition (default: the targets file's 'cold' deck).
+    progress : bool
+        Show a progress bar.
+    targets : path, optional
+        Targets file (default: the shipped Table 2, ``inputs/targets_table2.csv``).
+    """
     from tqdm.auto import tqdm
 
-    base = strip_calibrated(Case.from_namelist(deck))
+    target_deck, tvals = cold_targets(targets)
+    base = strip_calibrated(Case.from_namelist(deck or target_deck))
     combos = [dict(zip(DISCRETE, values)) for values in itertools.product(*DISCRETE.values())]
-    fits = [fit_options(base, o) for o in tqdm(combos, desc="calibration", disable=not progress)]
-    quantum = 100.0 / 720.0 / TARGETS["mixed_share"]   # one 1-deg step, relative
+    fits = [fit_options(base, o, tvals) for o in tqdm(combos, desc="calibration",
+                                                         disable=not progress)]
+    quantum = 100.0 / 720.0 / tvals["mixed_share"]   # one 1-deg step, relative
     # the bounds are hard limits of each fit; a fit that ends on a bound is reported as such
     best_res = min(f.residual for f in fits)
     near = [f for f in fits if f.residual <= best_res + quantum]
@@ -174,7 +205,8 @@ def correlation(base: Case, fit: Fit, rel_step: float = 0.05) -> tuple[np.ndarra
             z = fit.zeta_kappa_sigma * (1 + sgn * rel_step * (name == "zeta_kappa_sigma"))
             s = fit.pressure_scale * (1 + sgn * rel_step * (name == "pressure_scale"))
             r = run(apply(base, fit.options, z, s))
-            vals.append((r.energy_loss / TARGETS["energy_loss"], r.mixed_share / TARGETS["mixed_share"]))
+            vals.append((r.energy_loss / fit.targets["energy_loss"],
+                         r.mixed_share / fit.targets["mixed_share"]))
         cols.append((np.array(vals[1]) - np.array(vals[0])) / (2 * rel_step))
     jac = np.column_stack(cols)
     cov = np.linalg.pinv(jac.T @ jac)
@@ -184,8 +216,13 @@ def correlation(base: Case, fit: Fit, rel_step: float = 0.05) -> tuple[np.ndarra
 
 def write_calibration(path: str | os.PathLike, fit: Fit, fits: list[Fit], jac: np.ndarray,
                       corr: float, deck: str) -> Path:
-    """The one calibration file every shipped deck includes (&calibration file = ...)."""
-    lines = ["! ringlube calibration: fitted to the COLD Table 2 case only (1.92 J, 8.47 %).",
+    """The one calibration file every shipped deck includes (&calibration file = ...).
+
+    It holds the two fitted uncertain inputs only; the chosen discrete options are
+    modelling choices, written in each deck (where a reader sees them) and listed here."""
+    t = fit.targets
+    lines = [f"! ringlube calibration: fitted to the COLD case only ({t['energy_loss']} J, "
+             f"{t['mixed_share']} %).",
              f"! Regenerate: ringlube calibrate {deck}",
              f"! Fit: energy {fit.energy_loss:.4f} J, mixed share {fit.mixed_share:.3f} % "
              f"(residual {fit.residual:.2e}); {sum(f.runs for f in fits)} runs.",
@@ -193,19 +230,17 @@ def write_calibration(path: str | os.PathLike, fit: Fit, fits: list[Fit], jac: n
              f"{BOUNDS['pressure_scale']}.",
              f"! Sensitivity d(target/target0)/d(ln input): energy [{jac[0, 0]:.3f}, {jac[0, 1]:.3f}], "
              f"mixed [{jac[1, 0]:.3f}, {jac[1, 1]:.3f}]; correlation of the fitted inputs {corr:+.3f}.",
+             "! The decks using this file must set the chosen options themselves: "
+             + ", ".join(f"&{g} {k} = '{v}'" for (g, k), v in fit.options.items()) + ".",
              "! Every combination of the discrete options (tension_unit, contact_area, outlet):"]
     for f in sorted(fits, key=lambda f: f.residual):
         opts = ", ".join(f"{k[1]}={v}" for k, v in f.options.items())
         lines.append(f"!   {opts}: zks {f.zeta_kappa_sigma:.4f}, scale {f.pressure_scale:.4f}, "
                      f"E {f.energy_loss:.4f} J, mixed {f.mixed_share:.3f} %, residual {f.residual:.2e}"
                      f"{'' if f.within_bounds else ' (at a bound)'}")
-    o = fit.options
     lines += [
         f"&surface   zeta_kappa_sigma = {fit.zeta_kappa_sigma!r} /",
         f"&operating pressure_scale = {fit.pressure_scale!r} /",
-        f"&ring      tension_unit = '{o[('ring', 'tension_unit')]}' /",
-        f"&physics   contact_area = '{o[('physics', 'contact_area')]}', "
-        f"outlet = '{o[('physics', 'outlet')]}' /",
         ""]
     path = Path(path)
     tmp = path.with_name(path.name + ".part")

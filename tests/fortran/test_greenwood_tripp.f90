@@ -4,6 +4,7 @@ program test_greenwood_tripp
   use ringlube_kinds, only: dp, pi
   use ringlube_greenwood_tripp, only: gt_init, f2_exact, f52_exact, f2_fit, f52_fit
   use ringlube_check
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf
   implicit none
   integer :: i
   real(dp) :: lam, q2, q52, e2, e52, worst2, worst52, fiterr52(0:6), fiterr2(0:6)
@@ -49,6 +50,10 @@ program test_greenwood_tripp
     call check(f52_fit(lam) >= 0.0_dp .and. f2_fit(lam) >= 0.0_dp, 'fits never negative')
   end do
   call check(f52_fit(4.0_dp) == 0.0_dp .and. f2_fit(4.5_dp) == 0.0_dp, 'fits zero above 4')
+  ! a non-finite lambda (from a non-finite film) must never index the table
+  call check(f52_exact(ieee_value(1.0_dp, ieee_quiet_nan)) == 0.0_dp, 'F5/2(NaN) = 0, no table index')
+  call check(f2_exact(ieee_value(1.0_dp, ieee_quiet_nan)) == 0.0_dp, 'F2(NaN) = 0')
+  call check(f52_exact(ieee_value(1.0_dp, ieee_positive_inf)) == 0.0_dp, 'F5/2(+Inf) = 0')
   call report('test_greenwood_tripp')
 
 contains
