@@ -125,3 +125,70 @@ INPUTS, PRESETS, SERIES, INT_SERIES, SCALARS, FLAG_BITS = _load()
 #: Namelist groups of a deck, in table order.
 GROUPS: tuple[str, ...] = tuple(dict.fromkeys(g for g, _ in INPUTS))
 
+
+
+def _num(x: float) -> str:
+    return f"{x:g}"
+
+
+def inputs_markdown() -> str:
+    """The input table of docs/model.md (generated from the kernel's table)."""
+    lines = ["| group | variable | default | range or choices | unit | meaning |",
+             "|---|---|---|---|---|---|"]
+    for (g, n), s in INPUTS.items():
+        if s.kind in ("real", "integer"):
+            rng = f"{_num(s.lower)} .. {_num(s.upper)}"
+        elif s.kind == "choice":
+            rng = " \\| ".join(f"'{c}'" for c in s.choices)
+        elif s.kind == "logical":
+            rng = ".true. \\| .false."
+        else:
+            rng = "text"
+        default = s.default
+        if default == "(preset)":
+            default = f"{PRESETS['default'][n]} (preset 'default')"
+        elif s.kind in ("string", "choice"):
+            default = f"'{default}'"
+        unit = {"1": "-", "(unit)": "see tension_unit", "": ""}.get(s.unit, s.unit)
+        lines.append(f"| `&{g}` | `{n}` | {default} | {rng} | {unit} | "
+                     f"{s.description.replace('|', '/')} |")
+    lines += ["", "Numerics presets (`&numerics preset`; values given explicitly override them):", "",
+              "| preset | " + " | ".join(next(iter(PRESETS.values()))) + " |",
+              "|---|" + "---|" * len(next(iter(PRESETS.values())))]
+    for name, values in PRESETS.items():
+        lines.append(f"| '{name}' | " + " | ".join(_num(v) if isinstance(v, float) else str(v)
+                                                for v in values.values()) + " |")
+    return "\n".join(lines)
+
+
+def results_markdown() -> str:
+    """The result table of docs/model.md (generated from the kernel's tables)."""
+    lines = ["| where | HDF5 name | Python name | unit | meaning |", "|---|---|---|---|---|"]
+    for s in SCALARS.values():
+        lines.append(f"| root attribute | `{s.stored}` | `{s.short}` | {s.unit} | {s.long_name} |")
+    for s in [*SERIES.values(), *INT_SERIES.values()]:
+        lines.append(f"| `/cycle` | `{s.stored}` | `{s.short}` | {s.unit} | {s.long_name} |")
+    lines += ["", "Bits of `/cycle/flags`: " + "; ".join(f"{b}: {d}" for b, d in FLAG_BITS.items())
+              + "."]
+    return "\n".join(lines)
+
+
+_MARK = "<!-- {} {} (generated from the kernel's tables: python -m ringlube.docgen) -->"
+
+
+def update_doc(path: str, write: bool = True) -> bool:
+    """Replace the generated sections of a Markdown file; returns True if it was current."""
+    from pathlib import Path
+
+    p = Path(path)
+    text = p.read_text(encoding="utf-8")
+    new = text
+    for name, make in (("inputs", inputs_markdown), ("results", results_markdown)):
+        begin, end = _MARK.format("BEGIN", name), _MARK.format("END", name)
+        if begin not in new or end not in new:
+            raise ValueError(f"{path}: no '{begin}' ... '{end}' section")
+        a, b = new.index(begin) + len(begin), new.index(end)
+        new = new[:a] + "\n" + make() + "\n" + new[b:]
+    if write and new != text:
+        p.write_text(new, encoding="utf-8")
+    return new == text

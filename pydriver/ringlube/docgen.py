@@ -1,0 +1,21 @@
+"""Regenerate the sections of the docs that are generated from the kernel's tables.
+
+    python -m ringlube.docgen [docs/model.md ...]
+"""
+
+from __future__ import annotations
+
+import sys
+
+from .tables import update_doc
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Rewrite each file's generated sections; prints whether each was current."""
+    for doc in (argv if argv is not None else sys.argv[1:]) or ["docs/model.md"]:
+        print(f"{doc}: {'current' if update_doc(doc) else 'regenerated'}")
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
