@@ -271,6 +271,19 @@ subroutine rl_write(path, nsteps, ns, ni, nc, series, iseries, scalars, deck_tex
   end if
 end subroutine rl_write
 
+!> Slider-crank kinematics (the kernel's): piston distance from TDC x [m] and sliding
+!> speed u [m/s] at crank angles psi_deg, for crank speed omega [rad/s].
+subroutine rl_kinematics(n, psi_deg, crank_radius, conrod_length, omega, x, u)
+  use, intrinsic :: iso_c_binding, only: c_int, c_double
+  use ringlube_kinematics, only: piston_position, sliding_speed, deg2rad
+  implicit none
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: psi_deg(n), crank_radius, conrod_length, omega
+  real(c_double), intent(out) :: x(n), u(n)
+  x = piston_position(deg2rad(psi_deg), crank_radius, conrod_length)
+  u = sliding_speed(deg2rad(psi_deg), crank_radius, conrod_length, omega)
+end subroutine rl_kinematics
+
 !> Greenwood-Tripp functions at the given lambdas ('exact' unless `fit` is nonzero).
 subroutine rl_greenwood_tripp(n, lam, f2, f52, fit)
   use, intrinsic :: iso_c_binding, only: c_int, c_double

@@ -49,11 +49,13 @@ class GasModel:
     peak_pressure: float = 60e5
 
     def volume(self, psi_deg: np.ndarray) -> np.ndarray:
-        psi = np.radians(psi_deg)
-        r, l = self.crank_radius, self.conrod_length
-        x = r * (1 - np.cos(psi)) + l - np.sqrt(l**2 - (r * np.sin(psi)) ** 2)
+        """Cylinder volume [m^3] at crank angles [deg] (the kernel's slider-crank)."""
+        from . import _kernel
+
+        psi = np.atleast_1d(np.asarray(psi_deg, dtype=float))
+        x, _ = _kernel.rl_kinematics(psi, self.crank_radius, self.conrod_length, 1.0)
         area = np.pi / 4 * self.bore**2
-        vd = area * 2 * r
+        vd = area * 2 * self.crank_radius
         vc = vd / (self.compression_ratio - 1)
         return vc + area * x
 
