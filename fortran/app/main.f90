@@ -1,21 +1,26 @@
 !> ringlube-solve: one engine cycle of the top compression ring from a namelist deck.
 !>
 !> Usage: ringlube-solve CASE.nml [-o OUT.h5] [-q]
-!> Exit status: 0 success, 1 runtime error (e.g. output not writable), 2 bad input,
-!> 3 run did not converge (the result is still written, with converged = 0).
+!> Exit status: 0 success, 1 runtime error (e.g. output not writable, disk full), 2 bad
+!> input (including an unsafe output: one of the run's inputs, a folder, a device, or a
+!> path in a folder that does not exist; checked before the run), 3 run did not converge
+!> (the result is still written, with converged = 0).
 program ringlube_solve
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, rl_input_error, rl_not_converged, rl_runtime_error
   use ringlube_case, only: case_type, composite_sigma
   use ringlube_input, only: read_deck
   use ringlube_cycle, only: result_type, solve_cycle
-  use ringlube_hdf5_output, only: write_result, ringlube_version
+  use ringlube_hdf5_output, only: write_result, check_output, ringlube_version
+  use ringlube_namelist, only: nml_item, scan_namelist
+  use ringlube_fsys, only: dir_name
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64
   implicit none
   type(case_type) :: c
   type(result_type) :: res
   type(error_type), allocatable :: err
-  character(len=:), allocatable :: deck, out
+  character(len=:), allocatable :: deck, out, calibration
+  character(len=4096), allocatable :: inputs(:)
   character(len=4096) :: arg
   integer :: i, nargs, nflagged
   integer(int64) :: t0, t1, rate
@@ -56,6 +61,12 @@ program ringlube_solve
   call read_deck(deck, c, err)
   if (allocated(err)) call die(err%message, err%code)
   if (.not. allocated(out)) out = c%output_file
+  ! refuse an unsafe output before spending time on the run
+  calibration = calibration_file(c%deck_text, deck)
+  inputs = [character(len=4096) :: deck, c%pressure_file, calibration]
+  call check_output(out, inputs, [character(len=24) :: 'the deck', 'the pressure file', &
+    'the calibration file'], err)
+  if (allocated(err)) call die(err%message, err%code)
 
   call system_clock(t0, rate)
   call solve_cycle(c, res, err)
@@ -63,7 +74,8 @@ program ringlube_solve
   if (allocated(err)) call die(err%message, err%code)
   runtime = real(t1 - t0, dp) / real(rate, dp)
 
-  call write_result(out, c, res, runtime, err)
+  call write_result(out, c, res, runtime, err, inputs, [character(len=24) :: 'the deck', &
+    'the pressure file', 'the calibration file'])
   if (allocated(err)) call die(err%message, err%code)
 
   if (.not. quiet) then
@@ -90,6 +102,28 @@ program ringlube_solve
   end if
 
 contains
+
+  !> The `&calibration file` named in the deck's text (resolved against the deck's folder
+  !> as the deck reader does), or '' if none.
+  function calibration_file(text, deck_path) result(path)
+    character(len=*), intent(in) :: text, deck_path
+    character(len=:), allocatable :: path
+    type(nml_item), allocatable :: items(:)
+    type(error_type), allocatable :: e
+    integer :: n, k
+    path = ''
+    call scan_namelist(text, deck_path, items, n, e)
+    if (allocated(e)) return
+    do k = 1, n
+      if (items(k)%group == 'calibration' .and. items(k)%name == 'file') then
+        path = items(k)%value
+        if (len(path) > 0) then
+          if (path(1:1) /= '/') path = dir_name(deck_path) // '/' // path
+        end if
+        return
+      end if
+    end do
+  end function calibration_file
 
   subroutine usage(unit)
     integer, intent(in) :: unit

@@ -1,0 +1,85 @@
+/* POSIX file-system helpers for the Fortran side (module ringlube_fsys in fsys.f90).
+ *
+ * Fortran has no portable stat(2), O_EXCL creation or errno text; these few functions
+ * give ringlube-solve what it needs to refuse unsafe outputs and to write results under
+ * a unique temporary name. Every function takes NUL-terminated paths.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <fcntl.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <time.h>
+#include <unistd.h>
+
+/* What `path` is, following symbolic links: 0 does not exist, 1 regular file,
+ * 2 folder, 3 something else (device, FIFO, socket), -1 cannot tell (errno kept). */
+int rl_file_kind(const char *path)
+{
+    struct stat st;
+    if (stat(path, &st) != 0) {
+        if (errno == ENOENT) return 0;
+        return -1;
+    }
+    if (S_ISREG(st.st_mode)) return 1;
+    if (S_ISDIR(st.st_mode)) return 2;
+    return 3;
+}
+
+/* 1 when both paths exist and name the same file (same device and inode, so hard
+ * links, symbolic links and different spellings all count), else 0. */
+int rl_same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (stat(a, &sa) != 0 || stat(b, &sb) != 0) return 0;
+    return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+/* A new, empty file named `base.<pid>.<random>.part` in base's folder, created with
+ * O_CREAT | O_EXCL (so no other process can own the same name) and the permissions a
+ * plain new file gets (0666 less the umask). Its name goes to `out` (capacity `outlen`,
+ * NUL-terminated). Returns 0, or the errno of the failure (ENAMETOOLONG if `out` is
+ * too small). */
+int rl_make_temp(const char *base, char *out, int outlen)
+{
+    static uint64_t counter = 0;
+    struct timespec ts;
+    uint64_t x;
+    int attempt, fd, n;
+
+    clock_gettime(CLOCK_REALTIME, &ts);
+    x = ((uint64_t)ts.tv_sec * 1000000007u) ^ (uint64_t)ts.tv_nsec ^ ((uint64_t)getpid() << 32);
+    for (attempt = 0; attempt < 100; attempt++) {
+        /* splitmix64 step: different names on every attempt and every call */
+        x += 0x9e3779b97f4a7c15u + (++counter);
+        uint64_t z = x;
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+        z ^= z >> 31;
+        n = snprintf(out, (size_t)outlen, "%s.%ld.%06llx.part", base, (long)getpid(),
+                     (unsigned long long)(z & 0xffffffu));
+        if (n < 0 || n >= outlen) return ENAMETOOLONG;
+        fd = open(out, O_WRONLY | O_CREAT | O_EXCL, 0666);
+        if (fd >= 0) {
+            close(fd);
+            return 0;
+        }
+        if (errno != EEXIST) return errno;
+    }
+    return EEXIST;
+}
+
+/* errno as set by the last failing system call (0 if none since rl_clear_errno). */
+int rl_errno(void) { return errno; }
+
+void rl_clear_errno(void) { errno = 0; }
+
+/* The text of an errno value, copied into `out` (capacity `outlen`, NUL-terminated). */
+void rl_strerror(int code, char *out, int outlen)
+{
+    if (outlen <= 0) return;
+    if (strerror_r(code, out, (size_t)outlen) != 0) snprintf(out, (size_t)outlen, "error %d", code);
+}
