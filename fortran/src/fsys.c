@@ -9,6 +9,7 @@
 #include <fcntl.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <signal.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/types.h>
@@ -72,6 +73,17 @@ int rl_make_temp(const char *base, char *out, int outlen)
     return EEXIST;
 }
 
+/* fsync(2) the file `path` (its data on the disk). Returns 0 or the errno. */
+int rl_sync_file(const char *path)
+{
+    int fd, code = 0;
+    fd = open(path, O_RDONLY);
+    if (fd < 0) return errno;
+    if (fsync(fd) != 0 && errno != EINVAL && errno != EROFS) code = errno;
+    if (close(fd) != 0 && code == 0) code = errno;
+    return code;
+}
+
 /* errno as set by the last failing system call (0 if none since rl_clear_errno). */
 int rl_errno(void) { return errno; }
 
@@ -82,4 +94,14 @@ void rl_strerror(int code, char *out, int outlen)
 {
     if (outlen <= 0) return;
     if (strerror_r(code, out, (size_t)outlen) != 0) snprintf(out, (size_t)outlen, "error %d", code);
+}
+
+/* Make a write beyond the file-size limit (ulimit -f) fail with EFBIG, reported as an
+ * error like a full disk, instead of killing the process with SIGXFSZ (which the
+ * gfortran runtime turns into a backtrace even when the shell ignores the signal). */
+void rl_ignore_sigxfsz(void)
+{
+#ifdef SIGXFSZ
+    signal(SIGXFSZ, SIG_IGN);
+#endif
 }

@@ -9,8 +9,12 @@
 !>   and inode, so other spellings and links count), anything that exists and is not a
 !>   regular file (a folder, a device such as /dev/null, a pipe), and a path whose folder
 !>   does not exist: all input errors (exit status 2).
-!> - Every HDF5 call is checked; on a failure (e.g. disk full) whatever is open is closed,
-!>   the temporary file is deleted and a runtime error (exit status 1) is returned.
+!> - Every HDF5 call is checked; on a failure whatever is open is closed, the temporary
+!>   file is deleted and a runtime error (exit status 1) is returned with the system's
+!>   message (e.g. "No space left on device", or "File too large" over `ulimit -f`). HDF5
+!>   1.10 crashes at exit (its atexit clean-up) after a file whose close failed, so the
+!>   library is told not to install that clean-up (h5dont_atexit): every object is closed
+!>   here, on success and on failure. The finished file is fsync'ed before the rename.
 !>
 !> Layout for xarray/netCDF readers: `/cycle/crank_angle_deg` is an HDF5 dimension scale
 !> attached to every other `/cycle` dataset (so it is their coordinate); every dataset has
@@ -25,7 +29,7 @@ module ringlube_hdf5_output
   use ringlube_case, only: case_type, composite_sigma
   use ringlube_cycle, only: result_type
   use ringlube_fsys, only: file_kind, same_file, make_temp_file, rename_file, remove_file, &
-    dir_name, last_errno, clear_errno, errno_text, fs_missing, fs_regular, fs_directory, &
+    dir_name, last_errno, clear_errno, errno_text, sync_file, fs_missing, fs_regular, fs_directory, &
     fs_other, fs_unknown
   use hdf5
   use h5ds, only: h5dsset_scale_f, h5dsattach_scale_f
@@ -38,6 +42,9 @@ module ringlube_hdf5_output
   ! kinds of open HDF5 objects, for closing them in reverse order after a failure
   integer, parameter :: k_file = 1, k_group = 2, k_dset = 3, k_space = 4, k_attr = 5, &
     k_type = 6, k_plist = 7
+
+  !> Whether h5open_f has been called (h5dont_atexit_f must come before it).
+  logical, save :: library_open = .false.
 
 contains
 
@@ -132,12 +139,14 @@ contains
         // ': ' // errno_text(code), rl_runtime_error)
       return
     end if
+    if (.not. library_open) call h5dont_atexit_f(herr)   ! only valid before h5open_f
     call h5open_f(herr)
     if (herr /= 0) then
       call remove_file(tmp)
       call fatal_error(err, 'HDF5 library could not be initialised', rl_runtime_error)
       return
     end if
+    library_open = .true.
     call h5eset_auto_f(0, herr)   ! errors are reported here, not printed by HDF5
 
     call clear_errno()
@@ -147,13 +156,12 @@ contains
     call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, herr)
     if (step(herr, 'file access properties', fapl, k_plist)) then
       call h5pset_libver_bounds_f(fapl, H5F_LIBVER_V18_F, H5F_LIBVER_LATEST_F, herr)
-      if (step(herr, 'file format version')) then
-        call h5fcreate_f(tmp, H5F_ACC_TRUNC_F, fid, herr, access_prp=fapl)
-        if (step(herr, 'file creation', fid, k_file)) then
-          call close_object(fapl, k_plist, herr)   ! not the top of the stack: close by hand
-          call forget(fapl)
-          call check(herr, 'file access properties')
-        end if
+      call check(herr, 'file format version')
+      if (ok) call h5fcreate_f(tmp, H5F_ACC_TRUNC_F, fid, herr, access_prp=fapl)
+      if (step(herr, 'file creation', fid, k_file)) then
+        call close_object(fapl, k_plist, herr)   ! not the top of the stack: close by hand
+        call forget(fapl)
+        call check(herr, 'file access properties')
       end if
     end if
 
@@ -218,21 +226,26 @@ contains
     call dset_int(gid, 'film_solves', res%iterations, '1', &
       'film (Reynolds + contact) solves used by the load balance at this step', &
       'film (Reynolds + contact) solves used by the load balance at this step')
-    ! close the scale, the group and the file (the top three of the stack); a failure to
-    ! close the file is a failure to write it (HDF5 flushes its metadata then)
+    ! close the scale, the group and the file (the file's metadata is written then)
     do while (ok .and. nopen > 0)
       call close_top(herr)
       call check(herr, 'closing the file')
     end do
-
     if (.not. ok) then
       do while (nopen > 0)
-        call close_top(herr)
+        call close_top(herr)   ! after a failure: close the rest, errors ignored
       end do
       call remove_file(tmp)
       failed = path // ': cannot write the result (HDF5 error at ' // failed // ')'
       if (fail_errno /= 0) failed = failed // ': ' // errno_text(fail_errno)
       call fatal_error(err, failed, rl_runtime_error)
+      return
+    end if
+    call sync_file(tmp, code)   ! on the disk before it takes the final name
+    if (code /= 0) then
+      call remove_file(tmp)
+      call fatal_error(err, path // ': cannot write the result: ' // errno_text(code), &
+        rl_runtime_error)
       return
     end if
     call rename_file(tmp, path, code)
