@@ -14,3 +14,6 @@ add_test(NAME bad_decks
 add_test(NAME solve_shipped_deck
   COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/../cli/solve_deck.sh $<TARGET_FILE:ringlube-solve>
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+add_test(NAME concurrent_output
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/../cli/concurrent_output.sh $<TARGET_FILE:ringlube-solve>
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
