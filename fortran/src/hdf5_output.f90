@@ -28,6 +28,7 @@ module ringlube_hdf5_output
   use ringlube_error, only: error_type, fatal_error, rl_runtime_error, rl_input_error
   use ringlube_case, only: case_type, composite_sigma
   use ringlube_cycle, only: result_type
+  use ringlube_textio, only: utf8_clean
   use ringlube_fsys, only: file_kind, same_file, make_temp_file, rename_file, remove_file, &
     dir_name, last_errno, clear_errno, errno_text, sync_file, fs_missing, fs_regular, fs_directory, &
     fs_other, fs_unknown
@@ -320,15 +321,18 @@ contains
       call attr_write(loc, name, H5T_NATIVE_INTEGER, c_loc(v))
     end subroutine attr_int
 
-    !> A scalar variable-length UTF-8 string attribute.
-    subroutine attr_str(loc, name, v)
+    !> A scalar variable-length UTF-8 string attribute (text that is not valid UTF-8 is
+    !> written with U+FFFD for each bad byte, see `utf8_clean`).
+    subroutine attr_str(loc, name, text)
       integer(hid_t), intent(in) :: loc
-      character(len=*), intent(in) :: name, v
+      character(len=*), intent(in) :: name, text
       character(kind=c_char), allocatable, target :: cbuf(:)
+      character(len=:), allocatable :: v
       type(c_ptr), target :: ptr(1)
       integer(hid_t) :: tid
       integer :: e, i
       if (.not. ok) return
+      v = utf8_clean(text)
       allocate(cbuf(len(v) + 1))
       do i = 1, len(v)
         cbuf(i) = v(i:i)
