@@ -13,7 +13,7 @@ program ringlube_solve
   use ringlube_cycle, only: result_type, solve_cycle
   use ringlube_hdf5_output, only: write_result, check_output, ringlube_version
   use ringlube_namelist, only: nml_item, scan_namelist
-  use ringlube_fsys, only: dir_name, ignore_file_size_signal
+  use ringlube_fsys, only: dir_name, ignore_file_size_signal, remove_temp_on_signal
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64
   implicit none
   type(case_type) :: c
@@ -30,6 +30,8 @@ program ringlube_solve
   ! over the file-size limit a write fails (exit 1, temporary file removed), as on a full
   ! disk, instead of the process being killed by SIGXFSZ
   call ignore_file_size_signal()
+  ! Ctrl-C or kill while the result is being written leaves no temporary file
+  call remove_temp_on_signal()
   quiet = .false.
   nargs = command_argument_count()
   i = 1

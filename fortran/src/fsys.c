@@ -39,6 +39,33 @@ int rl_same_file(const char *a, const char *b)
     return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
+/* The temporary file being written (empty when none), removed by the signal handler
+ * that rl_remove_temp_on_signal installs. */
+static char temp_path[4096];
+static volatile sig_atomic_t temp_set = 0;
+
+static void remove_temp_and_die(int sig)
+{
+    if (temp_set) unlink(temp_path);
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+/* On SIGINT, SIGTERM and SIGHUP, delete the temporary file being written (if any), then
+ * end as the signal would have. For programs only: a library must not take signals. */
+void rl_remove_temp_on_signal(void)
+{
+    signal(SIGINT, remove_temp_and_die);
+    signal(SIGTERM, remove_temp_and_die);
+    signal(SIGHUP, remove_temp_and_die);
+}
+
+/* Forget the temporary file `path` (it was renamed or removed). */
+void rl_forget_temp(const char *path)
+{
+    if (temp_set && strcmp(path, temp_path) == 0) temp_set = 0;
+}
+
 /* A new, empty file named `base.<pid>.<random>.part` in base's folder, created with
  * O_CREAT | O_EXCL (so no other process can own the same name) and the permissions a
  * plain new file gets (0666 less the umask). Its name goes to `out` (capacity `outlen`,
@@ -63,9 +90,12 @@ int rl_make_temp(const char *base, char *out, int outlen)
         n = snprintf(out, (size_t)outlen, "%s.%ld.%06llx.part", base, (long)getpid(),
                      (unsigned long long)(z & 0xffffffu));
         if (n < 0 || n >= outlen) return ENAMETOOLONG;
+        temp_set = 0;
+        if ((size_t)n < sizeof temp_path) memcpy(temp_path, out, (size_t)n + 1);
         fd = open(out, O_WRONLY | O_CREAT | O_EXCL, 0666);
         if (fd >= 0) {
             close(fd);
+            temp_set = (size_t)n < sizeof temp_path;
             return 0;
         }
         if (errno != EEXIST) return errno;

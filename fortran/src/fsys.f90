@@ -5,7 +5,8 @@ module ringlube_fsys
   implicit none
   private
   public :: file_kind, same_file, make_temp_file, rename_file, remove_file, dir_name, &
-    last_errno, clear_errno, errno_text, ignore_file_size_signal, sync_file
+    last_errno, clear_errno, errno_text, ignore_file_size_signal, sync_file, &
+    remove_temp_on_signal
 
   !> What `file_kind` returns.
   integer, parameter, public :: fs_missing = 0, fs_regular = 1, fs_directory = 2, &
@@ -40,6 +41,12 @@ module ringlube_fsys
       import :: c_int, c_char
       character(kind=c_char), intent(in) :: path(*)
     end function c_sync_file
+    subroutine remove_temp_on_signal() bind(c, name='rl_remove_temp_on_signal')
+    end subroutine remove_temp_on_signal
+    subroutine c_forget_temp(path) bind(c, name='rl_forget_temp')
+      import :: c_char
+      character(kind=c_char), intent(in) :: path(*)
+    end subroutine c_forget_temp
     subroutine ignore_file_size_signal() bind(c, name='rl_ignore_sigxfsz')
     end subroutine ignore_file_size_signal
     integer(c_int) function c_rename(old, new) bind(c, name='rename')
@@ -97,7 +104,11 @@ contains
     integer, intent(out) :: code
     call c_clear_errno()
     code = 0
-    if (c_rename(old // c_null_char, new // c_null_char) /= 0) code = max(int(c_errno()), 1)
+    if (c_rename(old // c_null_char, new // c_null_char) /= 0) then
+      code = max(int(c_errno()), 1)
+    else
+      call c_forget_temp(old // c_null_char)
+    end if
   end subroutine rename_file
 
   !> Delete a file if it exists (no error if it does not).
@@ -105,6 +116,7 @@ contains
     character(len=*), intent(in) :: path
     integer(c_int) :: rc
     rc = c_unlink(path // c_null_char)
+    call c_forget_temp(path // c_null_char)
   end subroutine remove_file
 
   !> Folder part of a path, without the final '/': '.' for a bare name, '/' for the root.

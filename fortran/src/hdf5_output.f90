@@ -140,7 +140,11 @@ contains
         // ': ' // errno_text(code), rl_runtime_error)
       return
     end if
-    if (.not. library_open) call h5dont_atexit_f(herr)   ! only valid before h5open_f
+    if (.not. library_open) then
+      ! only valid before the library is initialised: if some other code has done that
+      ! already, the guard is not available and its failure is not an error here
+      call h5dont_atexit_f(herr)
+    end if
     call h5open_f(herr)
     if (herr /= 0) then
       call remove_file(tmp)
@@ -149,6 +153,11 @@ contains
     end if
     library_open = .true.
     call h5eset_auto_f(0, herr)   ! errors are reported here, not printed by HDF5
+    if (herr /= 0) then
+      call remove_file(tmp)
+      call fatal_error(err, 'HDF5 error printing could not be switched off', rl_runtime_error)
+      return
+    end if
 
     call clear_errno()
     ok = .true.
