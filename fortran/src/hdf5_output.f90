@@ -168,7 +168,8 @@ contains
       call h5pset_libver_bounds_f(fapl, H5F_LIBVER_V18_F, H5F_LIBVER_LATEST_F, herr)
       call check(herr, 'file format version')
       if (ok) call h5fcreate_f(tmp, H5F_ACC_TRUNC_F, fid, herr, access_prp=fapl)
-      if (step(herr, 'file creation', fid, k_file)) then
+      call opened(herr, 'file creation', fid, k_file)
+      if (ok) then
         call close_object(fapl, k_plist, herr)   ! not the top of the stack: close by hand
         call forget(fapl)
         call check(herr, 'file access properties')
@@ -197,7 +198,7 @@ contains
 
     if (ok) then
       call h5gcreate_f(fid, 'cycle', gid, herr)
-      if (step(herr, 'group /cycle', gid, k_group)) gid = ids(nopen)
+      call opened(herr, 'group /cycle', gid, k_group)
     end if
     ! the crank angle is the dimension scale (coordinate) of every other /cycle dataset;
     ! it stays open until they are written
@@ -234,7 +235,7 @@ contains
       '8: pressure-viscosity loop not converged, 16: cavitation set not settled, ' // &
       '32: film pressure above 1 GPa (Roelands clipped)')
     call dset_int(gid, 'film_solves', res%iterations, '1', &
-      'film (Reynolds + contact) solves used by the load balance at this step', &
+      'film solves used by the load balance at this step', &
       'film (Reynolds + contact) solves used by the load balance at this step')
     ! close the scale, the group and the file (the file's metadata is written then)
     do while (ok .and. nopen > 0)
@@ -281,12 +282,25 @@ contains
         fail_errno = last_errno()
       end if
       call clear_errno()   ! so that errno at the next failure is that failure's
+      if (step .and. present(id) .and. nopen == size(ids)) then
+        ok = .false.          ! cannot happen with this layout (at most 9 open)
+        step = .false.
+        failed = what // ' (too many open objects)'
+      end if
       if (step .and. present(id)) then
         nopen = nopen + 1
         ids(nopen) = id
         kinds(nopen) = kind
       end if
     end function step
+
+    !> `step` for a call that opened object `id` of the given kind.
+    subroutine opened(e, what, id, kind)
+      integer, intent(in) :: e, kind
+      character(len=*), intent(in) :: what
+      integer(hid_t), intent(in) :: id
+      if (step(e, what, id, kind)) return
+    end subroutine opened
 
     !> `step` without an object to remember.
     subroutine check(e, what)

@@ -112,17 +112,21 @@ expect_refused out_folder_missing 'nothere/out.h5: output folder nothere does no
 expect_refused out_empty 'the output file name is empty' ''
 if [ -c /dev/null ]; then echo "ok   dev_null_still_a_device"; pass=$((pass+1)); else echo "FAIL /dev/null was replaced"; fail=$((fail+1)); fi
 
-# a write that fails (here the file-size limit; a full disk is the same error path):
-# exit 1, the system's message, no temporary file, an earlier result left untouched
-rm -f "$tmp"/out.h5*
-printf 'old result\n' > "$tmp/out.h5"
-(ulimit -f 20; "$solve" -q "$good") > "$tmp/stdout" 2> "$tmp/stderr"; rc=$?
-if [ $rc -eq 1 ] && grep -q 'out.h5: cannot write the result.*File too large' "$tmp/stderr" \
-   && [ "$(cat "$tmp/out.h5")" = "old result" ] && ! ls "$tmp"/out.h5.*.part > /dev/null 2>&1; then
-  echo "ok   file_size_limit: $(cat "$tmp/stderr")"; pass=$((pass+1))
-else
-  echo "FAIL file_size_limit: exit $rc"; cat "$tmp/stderr"; ls "$tmp"; fail=$((fail+1))
-fi
+# a write that fails (here the file-size limit; a full disk is the same error path), at
+# several points of the writing (a ~31 KiB result: limits in KiB, the last fails when the
+# file is closed): exit 1, the system's message, no temporary file, an earlier result
+# left untouched, no crash
+for lim in 1 8 16 24 31; do
+  rm -f "$tmp"/out.h5*
+  printf 'old result\n' > "$tmp/out.h5"
+  (ulimit -f $lim; "$solve" -q "$good") > "$tmp/stdout" 2> "$tmp/stderr"; rc=$?
+  if [ $rc -eq 1 ] && grep -q 'out.h5: cannot write the result.*File too large' "$tmp/stderr" \
+     && [ "$(cat "$tmp/out.h5")" = "old result" ] && ! ls "$tmp"/out.h5.*.part > /dev/null 2>&1; then
+    echo "ok   file_size_limit_${lim}k: $(cat "$tmp/stderr")"; pass=$((pass+1))
+  else
+    echo "FAIL file_size_limit_${lim}k: exit $rc"; cat "$tmp/stderr"; ls "$tmp"; fail=$((fail+1))
+  fi
+done
 rm -f "$tmp"/out.h5*
 
 # a run that cannot become periodic in one cycle: exit 3, file written with converged = 0
