@@ -21,6 +21,9 @@ program ringlube_solve
   type(error_type), allocatable :: err
   character(len=:), allocatable :: deck, out, calibration
   character(len=4096), allocatable :: inputs(:)
+  !> what each of `inputs` is, for messages
+  character(len=*), parameter :: input_labels(3) = [character(len=20) :: 'the deck', &
+    'the pressure file', 'the calibration file']
   character(len=4096) :: arg
   integer :: i, nargs, nflagged
   integer(int64) :: t0, t1, rate
@@ -69,8 +72,7 @@ program ringlube_solve
   ! refuse an unsafe output before spending time on the run
   calibration = calibration_file(c%deck_text, deck)
   inputs = [character(len=4096) :: deck, c%pressure_file, calibration]
-  call check_output(out, inputs, [character(len=24) :: 'the deck', 'the pressure file', &
-    'the calibration file'], err)
+  call check_output(out, inputs, input_labels, err)
   if (allocated(err)) call die(err%message, err%code)
 
   call system_clock(t0, rate)
@@ -79,8 +81,7 @@ program ringlube_solve
   if (allocated(err)) call die(err%message, err%code)
   runtime = real(t1 - t0, dp) / real(rate, dp)
 
-  call write_result(out, c, res, runtime, err, inputs, [character(len=24) :: 'the deck', &
-    'the pressure file', 'the calibration file'])
+  call write_result(out, c, res, runtime, err, inputs, input_labels)
   if (allocated(err)) call die(err%message, err%code)
 
   if (.not. quiet) then
@@ -134,7 +135,9 @@ contains
     integer, intent(in) :: unit
     write(unit, '(a)') 'usage: ringlube-solve CASE.nml [-o OUT.h5] [-q]'
     write(unit, '(a)') '  Computes one engine cycle of the top compression ring (see README.md).'
-    write(unit, '(a)') '  exit status: 0 ok, 1 runtime error, 2 bad input, 3 not converged'
+    write(unit, '(a)') '  exit status: 0 ok, 1 runtime error (e.g. disk full), 2 bad input (also an'
+    write(unit, '(a)') '  output that is an input, a folder, a device or in a missing folder),'
+    write(unit, '(a)') '  3 not converged (result written with converged = 0)'
   end subroutine usage
 
   subroutine die(msg, code)
