@@ -103,17 +103,6 @@ int rl_make_temp(const char *base, char *out, int outlen)
     return EEXIST;
 }
 
-/* fsync(2) the file `path` (its data on the disk). Returns 0 or the errno. */
-int rl_sync_file(const char *path)
-{
-    int fd, code = 0;
-    fd = open(path, O_RDONLY);
-    if (fd < 0) return errno;
-    if (fsync(fd) != 0 && errno != EINVAL && errno != EROFS) code = errno;
-    if (close(fd) != 0 && code == 0) code = errno;
-    return code;
-}
-
 /* errno as set by the last failing system call (0 if none since rl_clear_errno). */
 int rl_errno(void) { return errno; }
 

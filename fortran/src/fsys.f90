@@ -5,8 +5,7 @@ module ringlube_fsys
   implicit none
   private
   public :: file_kind, same_file, make_temp_file, rename_file, remove_file, dir_name, &
-    last_errno, clear_errno, errno_text, ignore_file_size_signal, sync_file, &
-    remove_temp_on_signal
+    last_errno, clear_errno, errno_text, ignore_file_size_signal, remove_temp_on_signal
 
   !> What `file_kind` returns.
   integer, parameter, public :: fs_missing = 0, fs_regular = 1, fs_directory = 2, &
@@ -37,10 +36,6 @@ module ringlube_fsys
       integer(c_int), value :: code, outlen
       character(kind=c_char), intent(out) :: out(*)
     end subroutine c_strerror
-    integer(c_int) function c_sync_file(path) bind(c, name='rl_sync_file')
-      import :: c_int, c_char
-      character(kind=c_char), intent(in) :: path(*)
-    end function c_sync_file
     subroutine remove_temp_on_signal() bind(c, name='rl_remove_temp_on_signal')
     end subroutine remove_temp_on_signal
     subroutine c_forget_temp(path) bind(c, name='rl_forget_temp')
@@ -90,13 +85,6 @@ contains
     end if
     tmp = buf(1:n)
   end subroutine make_temp_file
-
-  !> Flush the file `path` to the disk (fsync); `code` is 0 or the errno of the failure.
-  subroutine sync_file(path, code)
-    character(len=*), intent(in) :: path
-    integer, intent(out) :: code
-    code = int(c_sync_file(path // c_null_char))
-  end subroutine sync_file
 
   !> rename(2): atomically replace `new` by `old`; `code` is 0 or the errno.
   subroutine rename_file(old, new, code)

@@ -14,7 +14,10 @@
 !>   message (e.g. "No space left on device", or "File too large" over `ulimit -f`). HDF5
 !>   1.10 crashes at exit (its atexit clean-up) after a file whose close failed, so the
 !>   library is told not to install that clean-up (h5dont_atexit): every object is closed
-!>   here, on success and on failure. The finished file is fsync'ed before the rename.
+!>   here, on success and on failure. The finished file is not fsync'ed before the rename:
+!>   the rename protects against concurrent writers and interruption, not against a power
+!>   cut (an fsync would add a disk flush to every result, which sweeps writing thousands
+!>   of files would feel).
 !>
 !> Layout for xarray/netCDF readers: `/cycle/crank_angle_deg` is an HDF5 dimension scale
 !> attached to every other `/cycle` dataset (so it is their coordinate); every dataset has
@@ -30,7 +33,7 @@ module ringlube_hdf5_output
   use ringlube_cycle, only: result_type
   use ringlube_textio, only: utf8_clean
   use ringlube_fsys, only: file_kind, same_file, make_temp_file, rename_file, remove_file, &
-    dir_name, last_errno, clear_errno, errno_text, sync_file, fs_missing, fs_regular, fs_directory, &
+    dir_name, last_errno, clear_errno, errno_text, fs_missing, fs_regular, fs_directory, &
     fs_other, fs_unknown
   use hdf5
   use h5ds, only: h5dsset_scale_f, h5dsattach_scale_f
@@ -250,13 +253,6 @@ contains
       failed = path // ': cannot write the result (HDF5 error at ' // failed // ')'
       if (fail_errno /= 0) failed = failed // ': ' // errno_text(fail_errno)
       call fatal_error(err, failed, rl_runtime_error)
-      return
-    end if
-    call sync_file(tmp, code)   ! on the disk before it takes the final name
-    if (code /= 0) then
-      call remove_file(tmp)
-      call fatal_error(err, path // ': cannot write the result: ' // errno_text(code), &
-        rl_runtime_error)
       return
     end if
     call rename_file(tmp, path, code)
