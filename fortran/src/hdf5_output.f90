@@ -56,7 +56,9 @@ contains
   !> (same device and inode; `labels(i)` names input i in the message, e.g. "the deck"),
   !> an existing non-regular file (folder, device, pipe, socket), a path in a folder that
   !> does not exist, or an empty name. Blank entries of `inputs` are skipped. Errors are
-  !> input errors (exit status 2) and name the output and the reason.
+  !> input errors (exit status 2) and name the output and the reason. An existing regular
+  !> file is replaced; a symbolic link to one (not an input) is replaced by the result,
+  !> as `mv` would, and its target left alone.
   subroutine check_output(path, inputs, labels, err)
     character(len=*), intent(in) :: path
     character(len=*), intent(in) :: inputs(:), labels(:)
