@@ -1,8 +1,10 @@
 !> ringlube-solve: one engine cycle of the top compression ring from a namelist deck.
 !>
 !> Usage: ringlube-solve CASE.nml [-o OUT.h5] [-q]
-!> Exit status: 0 success, 1 runtime error (e.g. output not writable), 2 bad input,
-!> 3 run did not converge (the result is still written, with converged = 0).
+!> Exit status: 0 success, 1 runtime error (e.g. output not writable, disk full), 2 bad
+!> input (including an unsafe output: one of the run's inputs, a folder, a device, or a
+!> path in a folder that does not exist; checked before the run), 3 run did not converge
+!> (the result is still written, with converged = 0).
 program ringlube_solve
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, rl_input_error, rl_not_converged, rl_runtime_error
@@ -10,20 +12,30 @@ program ringlube_solve
   use ringlube_input, only: read_deck
   use ringlube_cycle, only: solve_cycle
   use ringlube_results, only: result_type
-  use ringlube_hdf5_output, only: write_result
+  use ringlube_hdf5_output, only: write_result, check_output
   use ringlube_version, only: package_version
+  use ringlube_fsys, only: ignore_file_size_signal, remove_temp_on_signal
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64
   implicit none
   type(case_type) :: c
   type(result_type) :: res
   type(error_type), allocatable :: err
   character(len=:), allocatable :: deck, out
+  character(len=4096), allocatable :: inputs(:)
+  !> what each of `inputs` is, for messages
+  character(len=*), parameter :: input_labels(3) = [character(len=20) :: 'the deck', &
+    'the pressure file', 'the calibration file']
   character(len=4096) :: arg
   integer :: i, nargs, nflagged
   integer(int64) :: t0, t1, rate
   real(dp) :: runtime
   logical :: quiet
 
+  ! over the file-size limit a write fails (exit 1, temporary file removed), as on a full
+  ! disk, instead of the process being killed by SIGXFSZ
+  call ignore_file_size_signal()
+  ! Ctrl-C or kill while the result is being written leaves no temporary file
+  call remove_temp_on_signal()
   quiet = .false.
   nargs = command_argument_count()
   i = 1
@@ -58,6 +70,10 @@ program ringlube_solve
   call read_deck(deck, c, err)
   if (allocated(err)) call die(err%message, err%code)
   if (.not. allocated(out)) out = c%output_file
+  ! refuse an unsafe output before spending time on the run
+  inputs = [character(len=4096) :: deck, c%pressure_file, c%calibration_file]
+  call check_output(out, inputs, input_labels, err)
+  if (allocated(err)) call die(err%message, err%code)
 
   call system_clock(t0, rate)
   call solve_cycle(c, res, err)
@@ -65,7 +81,7 @@ program ringlube_solve
   if (allocated(err)) call die(err%message, err%code)
   runtime = real(t1 - t0, dp) / real(rate, dp)
 
-  call write_result(out, c, res, runtime, err)
+  call write_result(out, c, res, runtime, err, inputs, input_labels)
   if (allocated(err)) call die(err%message, err%code)
 
   if (.not. quiet) then
@@ -97,7 +113,9 @@ contains
     integer, intent(in) :: unit
     write(unit, '(a)') 'usage: ringlube-solve CASE.nml [-o OUT.h5] [-q]'
     write(unit, '(a)') '  Computes one engine cycle of the top compression ring (see README.md).'
-    write(unit, '(a)') '  exit status: 0 ok, 1 runtime error, 2 bad input, 3 not converged'
+    write(unit, '(a)') '  exit status: 0 ok, 1 runtime error (e.g. disk full), 2 bad input (also an'
+    write(unit, '(a)') '  output that is an input, a folder, a device or in a missing folder),'
+    write(unit, '(a)') '  3 not converged (result written with converged = 0)'
   end subroutine usage
 
   subroutine die(msg, code)

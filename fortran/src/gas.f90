@@ -8,6 +8,9 @@ module ringlube_gas
   private
   public :: read_pressure_csv, gas_pressure, check_pressure_trace
 
+  ! what `to_real` made of a field
+  integer, parameter :: field_number = 0, field_nonfinite = 1, field_bad = 2
+
   interface
     real(c_double) function c_strtod(str, endptr) bind(c, name='strtod')
       import :: c_char, c_double, c_ptr
@@ -19,9 +22,13 @@ module ringlube_gas
 contains
 
   !> Read a two-column CSV (crank angle deg, absolute pressure Pa) with an optional
-  !> header line; blank lines and lines starting with '#' are skipped. Angles must
-  !> increase strictly and lie in [0, 720]; pressures must be positive. Numbers are
-  !> converted with C's strtod (correctly rounded, as gfortran's own reads).
+  !> header line; blank lines and lines starting with '#' are skipped. Only the first
+  !> row can be the header, and only if none of its fields could be a number: every
+  !> field a word (not starting with a digit, sign or point, and not nan/inf), so that a
+  !> first row such as `nan,1e5` is an error, not a skipped header. Angles must increase
+  !> strictly and lie in [0, 720]; pressures must be positive; nan, inf and numbers too
+  !> large for a double are named errors. Numbers are converted with C's strtod
+  !> (correctly rounded, as gfortran's own reads).
   subroutine read_pressure_csv(path, psi, p, err)
     character(len=*), intent(in) :: path
     real(dp), allocatable, intent(out) :: psi(:), p(:)
@@ -29,7 +36,7 @@ contains
     character(len=:), allocatable :: text, line
     real(dp), allocatable :: tpsi(:), tp(:)
     real(dp) :: a, b
-    integer :: sz, nline, nrow, pos, eol, icomma
+    integer :: sz, nline, nrow, pos, eol, icomma, fa, fb
     logical :: exists, seen_header, ok
 
     inquire(file=path, exist=exists)
@@ -60,16 +67,28 @@ contains
       nline = nline + 1
       if (len_trim(line) == 0) cycle
       if (line(1:1) == '#') cycle
+      if (nrow == 0 .and. .not. seen_header) then
+        seen_header = .true.   ! only the first row can be the header
+        if (is_header(line)) cycle
+      end if
       icomma = index(line, ',')
       ok = icomma > 1
       if (ok) ok = index(line(icomma+1:), ',') == 0
-      if (ok) call to_real(line(1:icomma-1), a, ok)
-      if (ok) call to_real(line(icomma+1:), b, ok)
-      if (.not. ok) then
-        if (nrow == 0 .and. .not. seen_header .and. scan(line(1:1), '0123456789+-.') == 0) then
-          seen_header = .true.  ! one optional header line before the first row
-          cycle
-        end if
+      fa = 2
+      fb = 2
+      if (ok) then
+        call to_real(line(1:icomma-1), a, fa)
+        call to_real(line(icomma+1:), b, fb)
+      end if
+      if (fa == field_nonfinite) then
+        call bad_row('crank angle is not a finite number')
+        return
+      end if
+      if (fb == field_nonfinite) then
+        call bad_row('pressure is not a finite number')
+        return
+      end if
+      if (fa /= field_number .or. fb /= field_number) then
         call bad_row('expected "crank angle deg, pressure Pa"')
         return
       end if
@@ -111,11 +130,56 @@ contains
     end subroutine bad_row
   end subroutine read_pressure_csv
 
-  !> A whole field (surrounding blanks allowed) as a real, by C's strtod.
-  subroutine to_real(field, v, ok)
+  !> Whether a CSV row is a header: every comma-separated field a non-empty word that
+  !> cannot be read as a number (first character not a digit, sign or point; not a
+  !> spelling of nan or inf).
+  logical function is_header(line)
+    character(len=*), intent(in) :: line
+    integer :: i0, i1
+    character(len=:), allocatable :: f
+    is_header = .false.
+    i0 = 1
+    do
+      i1 = index(line(i0:), ',')
+      if (i1 == 0) then
+        i1 = len(line) + 1
+      else
+        i1 = i0 + i1 - 1
+      end if
+      f = trim(adjustl(line(i0:i1-1)))
+      if (len(f) == 0) return
+      if (scan(f(1:1), '0123456789+-.') /= 0) return
+      if (nonfinite_word(f)) return
+      if (i1 > len(line)) exit
+      i0 = i1 + 1
+    end do
+    is_header = .true.
+  end function is_header
+
+  !> nan, inf or infinity (any case, optional sign, nan(...) included): what C's strtod
+  !> would read as a non-finite number.
+  pure logical function nonfinite_word(field)
+    character(len=*), intent(in) :: field
+    character(len=:), allocatable :: f
+    integer :: i
+    f = trim(adjustl(field))
+    do i = 1, len(f)
+      if (f(i:i) >= 'A' .and. f(i:i) <= 'Z') f(i:i) = achar(iachar(f(i:i)) + 32)
+    end do
+    if (len(f) > 0) then
+      if (f(1:1) == '+' .or. f(1:1) == '-') f = f(2:)
+    end if
+    nonfinite_word = f == 'nan' .or. f == 'inf' .or. f == 'infinity'
+    if (len(f) >= 4) nonfinite_word = nonfinite_word .or. f(1:4) == 'nan('
+  end function nonfinite_word
+
+  !> A whole field (surrounding blanks allowed) as a real, by C's strtod. `kind` is
+  !> `field_number` (a finite decimal number), `field_nonfinite` (nan, inf, or a number
+  !> beyond the range of a double) or `field_bad` (anything else).
+  subroutine to_real(field, v, kind)
     character(len=*), intent(in) :: field
     real(dp), intent(out) :: v
-    logical, intent(out) :: ok
+    integer, intent(out) :: kind
     character(kind=c_char, len=:), allocatable, target :: buf
     type(c_ptr) :: endp
     integer(c_size_t) :: consumed
@@ -123,10 +187,13 @@ contains
     character(len=:), allocatable :: f
     f = trim(adjustl(field))
     v = 0.0_dp
-    ok = len(f) > 0
-    if (.not. ok) return
-    ok = verify(f, '0123456789+-.eEdD') == 0   ! no 'nan', 'inf', hex or other words
-    if (.not. ok) return
+    kind = field_bad
+    if (len(f) == 0) return
+    if (nonfinite_word(f)) then
+      kind = field_nonfinite
+      return
+    end if
+    if (verify(f, '0123456789+-.eEdD') /= 0) return   ! no hex or other words
     ! Fortran-style exponents (1.0d5) as C ones
     do i = 1, len(f)
       if (f(i:i) == 'd' .or. f(i:i) == 'D') f(i:i) = 'e'
@@ -134,7 +201,12 @@ contains
     buf = f // c_null_char
     v = c_strtod(buf, endp)
     consumed = transfer(endp, consumed) - transfer(c_loc(buf), consumed)
-    ok = consumed == int(len(f), c_size_t)
+    if (consumed /= int(len(f), c_size_t)) return
+    if (abs(v) > huge(v)) then
+      kind = field_nonfinite   ! overflow: strtod gives +-HUGE_VAL (inf)
+    else
+      kind = field_number
+    end if
   end subroutine to_real
 
   !> Check a trace given as arrays: at least two points, crank angles strictly increasing

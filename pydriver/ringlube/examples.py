@@ -75,7 +75,7 @@ def copy_examples(dest: str | Path, overwrite: bool = False) -> list[Path]:
     >>> from ringlube.examples import copy_examples
     >>> with tempfile.TemporaryDirectory() as tmp:
     ...     copied = copy_examples(tmp)
-    ...     sorted(p.relative_to(tmp).as_posix() for p in copied if p.suffix == ".csv")
+    ...     sorted(p.relative_to(tmp).as_posix() for p in copied if p.parent.name == "pressure")
     ['pressure/crf450r_3000rpm_half.csv', 'pressure/crf450r_4000rpm_full.csv']
     """
     src = examples_dir()

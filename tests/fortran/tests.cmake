@@ -14,3 +14,12 @@ add_test(NAME bad_decks
 add_test(NAME solve_shipped_deck
   COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/../cli/solve_deck.sh $<TARGET_FILE:ringlube-solve>
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+add_test(NAME concurrent_output
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/../cli/concurrent_output.sh $<TARGET_FILE:ringlube-solve>
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+add_executable(test_hdf5_output ${CMAKE_CURRENT_LIST_DIR}/test_hdf5_output.f90)
+target_link_libraries(test_hdf5_output PRIVATE ringlube_check ringlube_io)
+add_test(NAME hdf5_output COMMAND test_hdf5_output WORKING_DIRECTORY ${CMAKE_BINARY_DIR})
+# SIGTERM while a temporary file exists: the program ends by the signal, the file is gone
+add_test(NAME temp_removed_on_signal
+  COMMAND bash -c "t=$(mktemp -d) && n=$($<TARGET_FILE:test_hdf5_output> signal $t/out.h5); rc=$?; echo \"exit $rc, temporary $n\"; [ $rc -eq 143 ] && [ -n \"$n\" ] && [ ! -e \"$n\" ] && [ -z \"$(ls -A $t)\" ] && rmdir $t")

@@ -1,0 +1,147 @@
+!> File-system questions Fortran cannot ask portably (stat, O_EXCL creation, errno text),
+!> answered by the small C file fsys.c.
+module ringlube_fsys
+  use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
+  implicit none
+  private
+  public :: file_kind, same_file, make_temp_file, rename_file, remove_file, dir_name, &
+    last_errno, clear_errno, errno_text, ignore_file_size_signal, remove_temp_on_signal
+
+  !> What `file_kind` returns.
+  integer, parameter, public :: fs_missing = 0, fs_regular = 1, fs_directory = 2, &
+    fs_other = 3, fs_unknown = -1
+
+  interface
+    integer(c_int) function c_file_kind(path) bind(c, name='rl_file_kind')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: path(*)
+    end function c_file_kind
+    integer(c_int) function c_same_file(a, b) bind(c, name='rl_same_file')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: a(*), b(*)
+    end function c_same_file
+    integer(c_int) function c_make_temp(base, out, outlen) bind(c, name='rl_make_temp')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: base(*)
+      character(kind=c_char), intent(out) :: out(*)
+      integer(c_int), value :: outlen
+    end function c_make_temp
+    integer(c_int) function c_errno() bind(c, name='rl_errno')
+      import :: c_int
+    end function c_errno
+    subroutine c_clear_errno() bind(c, name='rl_clear_errno')
+    end subroutine c_clear_errno
+    subroutine c_strerror(code, out, outlen) bind(c, name='rl_strerror')
+      import :: c_int, c_char
+      integer(c_int), value :: code, outlen
+      character(kind=c_char), intent(out) :: out(*)
+    end subroutine c_strerror
+    subroutine remove_temp_on_signal() bind(c, name='rl_remove_temp_on_signal')
+    end subroutine remove_temp_on_signal
+    subroutine c_forget_temp(path) bind(c, name='rl_forget_temp')
+      import :: c_char
+      character(kind=c_char), intent(in) :: path(*)
+    end subroutine c_forget_temp
+    subroutine ignore_file_size_signal() bind(c, name='rl_ignore_sigxfsz')
+    end subroutine ignore_file_size_signal
+    integer(c_int) function c_rename(old, new) bind(c, name='rename')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: old(*), new(*)
+    end function c_rename
+    integer(c_int) function c_unlink(path) bind(c, name='unlink')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: path(*)
+    end function c_unlink
+  end interface
+
+contains
+
+  !> What `path` names, following symbolic links: one of the `fs_*` values.
+  integer function file_kind(path)
+    character(len=*), intent(in) :: path
+    file_kind = int(c_file_kind(path // c_null_char))
+  end function file_kind
+
+  !> True when both paths exist and are the same file (same device and inode).
+  logical function same_file(a, b)
+    character(len=*), intent(in) :: a, b
+    same_file = c_same_file(a // c_null_char, b // c_null_char) == 1
+  end function same_file
+
+  !> Create a new empty file `base.<pid>.<random>.part` (exclusively: no other process
+  !> gets the same name) and return its name; `code` is 0 or the errno of the failure.
+  subroutine make_temp_file(base, tmp, code)
+    character(len=*), intent(in) :: base
+    character(len=:), allocatable, intent(out) :: tmp
+    integer, intent(out) :: code
+    character(kind=c_char, len=len(base) + 64) :: buf
+    integer :: n
+    code = int(c_make_temp(base // c_null_char, buf, int(len(buf), c_int)))
+    n = index(buf, c_null_char) - 1
+    if (code /= 0 .or. n < 0) then
+      tmp = ''
+      if (code == 0) code = -1
+      return
+    end if
+    tmp = buf(1:n)
+  end subroutine make_temp_file
+
+  !> rename(2): atomically replace `new` by `old`; `code` is 0 or the errno.
+  subroutine rename_file(old, new, code)
+    character(len=*), intent(in) :: old, new
+    integer, intent(out) :: code
+    call c_clear_errno()
+    code = 0
+    if (c_rename(old // c_null_char, new // c_null_char) /= 0) then
+      code = max(int(c_errno()), 1)
+    else
+      call c_forget_temp(old // c_null_char)
+    end if
+  end subroutine rename_file
+
+  !> Delete a file if it exists (no error if it does not).
+  subroutine remove_file(path)
+    character(len=*), intent(in) :: path
+    integer(c_int) :: rc
+    rc = c_unlink(path // c_null_char)
+    call c_forget_temp(path // c_null_char)
+  end subroutine remove_file
+
+  !> Folder part of a path, without the final '/': '.' for a bare name, '/' for the root.
+  pure function dir_name(path) result(d)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: d
+    integer :: i
+    i = index(path, '/', back=.true.)
+    if (i == 0) then
+      d = '.'
+    else if (i == 1) then
+      d = '/'
+    else
+      d = path(1:i-1)
+    end if
+  end function dir_name
+
+  !> errno of the last failing system call (0 if none since `clear_errno`).
+  integer function last_errno()
+    last_errno = int(c_errno())
+  end function last_errno
+
+  !> Set errno to 0.
+  subroutine clear_errno()
+    call c_clear_errno()
+  end subroutine clear_errno
+
+  !> The system's text for an errno value ("No space left on device").
+  function errno_text(code) result(s)
+    integer, intent(in) :: code
+    character(len=:), allocatable :: s
+    character(kind=c_char, len=256) :: buf
+    integer :: n
+    buf = c_null_char
+    call c_strerror(int(code, c_int), buf, int(len(buf), c_int))
+    n = index(buf, c_null_char) - 1
+    if (n < 0) n = len_trim(buf)
+    s = buf(1:n)
+  end function errno_text
+end module ringlube_fsys

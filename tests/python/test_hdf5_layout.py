@@ -1,0 +1,156 @@
+"""The HDF5 layout ringlube-solve writes (docs/model.md "Results", SPEC section 9), read with h5py
+(and with xarray/h5netcdf where installed): dimension scale, long_name, UTF-8 strings,
+a deck over 64 KiB kept whole (issue 12, items 5 and 24)."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+from conftest import INPUTS, ROOT
+
+MODEL_MD = (ROOT / "docs" / "model.md").read_text()
+SPEC = ROOT.parent / "shared" / "SPEC.md"
+
+#: root attributes and /cycle datasets of the documented layout (docs/model.md "Results",
+#: generated from the kernel's result table; the README points there)
+ROOT_ATTRS = re.findall(r"^\| root attribute \| `([^`]+)`", MODEL_MD, flags=re.M) + [
+    "deck", "deck_path", "pressure_file", "ringlube_version"]
+CYCLE_DSETS = re.findall(r"^\| `/cycle` \| `([^`]+)`", MODEL_MD, flags=re.M)
+STRING_ATTRS = ("deck", "deck_path", "pressure_file", "ringlube_version")
+
+
+def _deck(folder: Path, extra: str = "") -> Path:
+    """A quick copy of the shipped cold deck (coarse numerics) in `folder`."""
+    shutil.copytree(INPUTS / "pressure", folder / "pressure")
+    shutil.copy(INPUTS / "calibration.nml", folder / "calibration.nml")
+    text = (INPUTS / "crf450r_4000rpm_full_cold.nml").read_text()
+    text = re.sub(r"&numerics[^/]*/", "&numerics nodes = 31, dpsi_deg = 5 /", text)
+    deck = folder / "deck.nml"
+    deck.write_text(text + extra)
+    return deck
+
+
+@pytest.fixture(scope="module")
+def result(solver, tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("layout")
+    out = folder / "out.h5"
+    subprocess.run([solver, "-q", str(_deck(folder)), "-o", str(out)], check=True)
+    return out
+
+
+def test_docs_list_the_layout():
+    # guards the parsing below: the generated table is where the names come from
+    assert {"energy_loss_J", "deck", "ringlube_version"} <= set(ROOT_ATTRS)
+    assert {"crank_angle_deg", "h0_m", "flags", "film_solves"} <= set(CYCLE_DSETS)
+
+
+def test_spec_names_are_documented():
+    """Every root attribute and /cycle dataset SPEC section 9 names is in the layout."""
+    if not SPEC.exists():
+        pytest.skip("../shared/SPEC.md not beside the project")
+    section = SPEC.read_text().split("Results (HDF5", 1)[1].split("## 10.", 1)[0]
+    root_text, cycle_text = section.split("group `/cycle`", 1)
+    names = set(re.findall(r"`([a-z][a-z0-9_]*)`", root_text)) - {"units"}
+    assert set(names) <= set(ROOT_ATTRS), set(names) - set(ROOT_ATTRS)
+    names = re.findall(r"`([a-z][a-z0-9_]*)`", cycle_text)
+    assert set(names) <= set(CYCLE_DSETS), set(names) - set(CYCLE_DSETS)
+
+
+def test_documented_layout(result):
+    with h5py.File(result) as f:
+        assert set(ROOT_ATTRS) <= set(f.attrs)
+        assert set(CYCLE_DSETS) <= set(f["cycle"])
+        n = f["cycle/crank_angle_deg"].shape
+        for name in CYCLE_DSETS:
+            d = f["cycle"][name]
+            assert d.shape == n and d.ndim == 1, name
+            assert "units" in d.attrs, name
+        assert f.attrs["converged"] in (0, 1)
+
+
+def test_crank_angle_is_the_dimension_scale_of_every_dataset(result):
+    with h5py.File(result) as f:
+        c = f["cycle"]
+        scale = c["crank_angle_deg"]
+        assert h5py.h5ds.is_scale(scale.id)
+        for name, d in c.items():
+            if name == "crank_angle_deg":
+                continue
+            attached = list(d.dims[0].values())
+            assert len(attached) == 1 and attached[0] == scale, name
+
+
+def test_long_name_and_units_on_every_dataset(result):
+    with h5py.File(result) as f:
+        for name, d in f["cycle"].items():
+            for key in ("units", "long_name"):
+                value = d.attrs[key]
+                assert isinstance(value, str), (name, key, type(value))
+                assert value and "\n" not in value, (name, key)
+        assert f["cycle/h0_m"].attrs["units"] == "m"
+        assert f["cycle/crank_angle_deg"].attrs["units"] == "deg"
+        # the flags' bits are described where the data is
+        assert "32: film pressure above 1 GPa" in f["cycle/flags"].attrs["description"]
+
+
+def test_string_attributes_are_utf8_str(result):
+    with h5py.File(result) as f:
+        for key in STRING_ATTRS:
+            value = f.attrs[key]
+            assert isinstance(value, str), (key, type(value))
+            tid = f.attrs.get_id(key).get_type()
+            assert tid.is_variable_str() and tid.get_cset() == h5py.h5t.CSET_UTF8, key
+        assert f.attrs["deck_path"].endswith("deck.nml")
+        assert f.attrs["pressure_file"].endswith("crf450r_4000rpm_full.csv")
+        assert "&operating" in f.attrs["deck"]
+
+
+def test_deck_over_64_kib_is_kept_whole(solver, tmp_path):
+    comments = "".join(f"! comment {i:05d} {'.' * 60}\n" for i in range(1500))
+    deck = _deck(tmp_path, "! non-ASCII: 20 µm, ±5 %\n" + comments)
+    text = deck.read_text()
+    assert len(deck.read_bytes()) > 100 * 1024
+    out = tmp_path / "big.h5"
+    subprocess.run([solver, "-q", str(deck), "-o", str(out)], check=True)
+    with h5py.File(out) as f:
+        stored = f.attrs["deck"]
+    # the deck's own text comes first, then the calibration file it includes
+    assert stored.startswith(text)
+    assert (INPUTS / "calibration.nml").read_text().strip() in stored
+
+
+def test_text_that_is_not_utf8_is_still_readable(solver, tmp_path):
+    deck = _deck(tmp_path)
+    deck.write_bytes(b"! Stra\xdfe (Latin-1)\n" + deck.read_bytes())
+    out = tmp_path / "latin.h5"
+    subprocess.run([solver, "-q", str(deck), "-o", str(out)], check=True)
+    with h5py.File(out) as f:
+        stored = f.attrs["deck"]
+    assert stored.startswith("! Stra\ufffde (Latin-1)\n")
+    stored.encode("utf-8")  # no lone surrogates: printable and writable as UTF-8
+
+
+def test_xarray_opens_cycle_with_crank_angle_coordinate(result):
+    xr = pytest.importorskip("xarray")
+    pytest.importorskip("h5netcdf")
+    with h5py.File(result) as f:
+        angle = f["cycle/crank_angle_deg"][()]
+        h0 = f["cycle/h0_m"][()]
+    with xr.open_dataset(result, group="cycle", engine="h5netcdf") as ds:
+        assert list(ds.dims) == ["crank_angle_deg"]
+        assert "crank_angle_deg" in ds.coords
+        np.testing.assert_array_equal(ds["crank_angle_deg"].values, angle)
+        np.testing.assert_array_equal(ds["h0_m"].values, h0)
+        assert ds["h0_m"].dims == ("crank_angle_deg",)
+        assert ds["h0_m"].attrs["units"] == "m"
+        assert ds["h0_m"].attrs["long_name"]
+        for name in CYCLE_DSETS:
+            if name != "crank_angle_deg":
+                assert ds[name].dims == ("crank_angle_deg",), name
