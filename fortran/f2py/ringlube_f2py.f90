@@ -115,6 +115,33 @@ subroutine rl_deck_text(handle, n, buf)
   end do
 end subroutine rl_deck_text
 
+!> Points of the case's gas-pressure trace (0 without one).
+subroutine rl_trace_length(handle, n)
+  use, intrinsic :: iso_c_binding, only: c_int
+  use ringlube_api, only: api_trace
+  implicit none
+  integer(c_int), intent(in) :: handle
+  integer(c_int), intent(out) :: n
+  real(8), allocatable :: psi(:), p(:)
+  call api_trace(handle, psi, p)
+  n = size(psi)
+end subroutine rl_trace_length
+
+!> The case's gas-pressure trace as the kernel holds it (deg, Pa abs, times pressure_scale).
+subroutine rl_trace(handle, n, psi, p)
+  use, intrinsic :: iso_c_binding, only: c_int, c_double
+  use ringlube_api, only: api_trace
+  implicit none
+  integer(c_int), intent(in) :: handle, n
+  real(c_double), intent(out) :: psi(n), p(n)
+  real(8), allocatable :: a(:), b(:)
+  call api_trace(handle, a, b)
+  psi = 0
+  p = 0
+  psi(1:min(n, size(a))) = a(1:min(n, size(a)))
+  p(1:min(n, size(b))) = b(1:min(n, size(b)))
+end subroutine rl_trace
+
 !> Replace the case's gas-pressure trace (deg, Pa abs).
 subroutine rl_set_trace(handle, n, psi, p, code, message)
   use, intrinsic :: iso_c_binding, only: c_int, c_double

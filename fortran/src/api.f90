@@ -21,7 +21,7 @@ module ringlube_api
   implicit none
   private
   public :: api_open, api_close, api_case_ok, api_run, api_get, api_set, api_set_trace, &
-    api_run_design, api_table, api_nsteps, api_deck_text
+    api_run_design, api_table, api_nsteps, api_deck_text, api_trace
 
   type(case_type), allocatable, save :: store(:)
   logical, allocatable, save :: used(:)
@@ -76,6 +76,18 @@ contains
     t = ''
     if (api_case_ok(handle)) t = store(handle)%deck_text
   end function api_deck_text
+
+  !> The gas-pressure trace of a case (empty for an unknown handle or no trace).
+  subroutine api_trace(handle, psi, p)
+    integer, intent(in) :: handle
+    real(dp), allocatable, intent(out) :: psi(:), p(:)
+    if (api_case_ok(handle)) then
+      psi = store(handle)%gas_psi
+      p = store(handle)%gas_p
+    else
+      allocate(psi(0), p(0))
+    end if
+  end subroutine api_trace
 
   !> Run the case; `res%run_time` is the kernel time.
   subroutine api_run(handle, res, err)

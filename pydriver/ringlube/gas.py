@@ -135,22 +135,22 @@ def write_csv(path: str | Path, psi: np.ndarray, p: np.ndarray, header: str = ""
 
 
 def read_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
-    """Read a measured or synthetic trace (``deg,Pa``; '#' comments, optional header)."""
-    rows = []
-    with open(path) as fh:
-        for n, line in enumerate(fh, 1):
-            line = line.strip()
-            if not line or line.startswith("#"):
-                continue
-            try:
-                a, b = (float(v) for v in line.split(","))
-            except ValueError:
-                if not rows and not line[0].isdigit():
-                    continue  # header
-                raise ValueError(f"{path}: line {n}: expected 'deg,Pa': {line!r}") from None
-            rows.append((a, b))
-    arr = np.array(rows)
-    return arr[:, 0], arr[:, 1]
+    """Read a measured or synthetic trace (``deg,Pa``) with the kernel's own CSV reader.
+
+    Raises
+    ------
+    InputError
+        Naming the file and line of a bad row (the rules of the deck's pressure_file).
+    """
+    from . import _kernel
+    from .case import Case, kernel_case
+
+    case = Case(name=f"trace {Path(path).name}").set(
+        "operating", pressure_file=str(Path(path).resolve()), pressure_scale=1.0)
+    with kernel_case(case) as (handle, _):
+        n = _kernel.rl_trace_length(handle)
+        psi, p = _kernel.rl_trace(handle, n)
+    return psi, p
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -25,3 +25,13 @@ def test_volume_uses_slider_crank():
     vc = area * 2 * m.crank_radius / (m.compression_ratio - 1)
     assert m.volume(np.array([0.0]))[0] == pytest.approx(vc, rel=1e-12)
     assert m.volume(np.array([180.0]))[0] == pytest.approx(vc + area * 2 * m.crank_radius, rel=1e-12)
+
+
+def test_read_csv_is_the_kernels_reader(tmp_path):
+    """Python read a first row `nan,1e5` as a number; the kernel's rule (one home) refuses it."""
+    from ringlube import InputError
+
+    bad = tmp_path / "nan.csv"
+    bad.write_text("nan,1e5\n10,2e5\n720,1e5\n")
+    with pytest.raises(InputError, match=r"nan\.csv: line 1: crank angle is not a finite number"):
+        gas.read_csv(bad)
