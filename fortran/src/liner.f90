@@ -1,0 +1,137 @@
+!> The oil film on the liner (SPEC section 13): a film thickness per cell of a uniform grid
+!> over the liner position z (m, from the top ring's position at TDC, positive towards the
+!> crankcase), and the exchanges of oil volume with the ring as strips of liner.
+!>
+!> Oil is held as a thickness per cell, uniform within the cell. Every operation moves a
+!> volume per unit circumference (m^2) between a strip [za, zb] of liner and somewhere else,
+!> computed from the overlap of the strip with each cell, so the sums balance to round-off.
+module ringlube_liner
+  use ringlube_kinds, only: dp
+  implicit none
+  private
+  public :: liner_type, liner_init, strip_volume, strip_take, strip_put, strip_set, &
+    liner_volume, liner_positions
+
+  !> The liner film.
+  type :: liner_type
+    real(dp) :: z0 = 0.0_dp          !< m, left end of cell 1
+    real(dp) :: dz = 0.0_dp          !< m, cell length
+    integer :: nz = 0
+    real(dp), allocatable :: h(:)    !< m, film thickness of each cell
+  end type liner_type
+
+contains
+
+  !> A grid covering [zmin, zmax] with cells of about dz, every cell at film h_init.
+  pure subroutine liner_init(lin, zmin, zmax, dz, h_init)
+    type(liner_type), intent(out) :: lin
+    real(dp), intent(in) :: zmin, zmax, dz, h_init
+    lin%nz = max(1, ceiling((zmax - zmin) / dz))
+    lin%z0 = zmin
+    lin%dz = (zmax - zmin) / lin%nz
+    allocate(lin%h(lin%nz))
+    lin%h = h_init
+  end subroutine liner_init
+
+  !> Cell centres [m].
+  pure function liner_positions(lin) result(z)
+    type(liner_type), intent(in) :: lin
+    real(dp) :: z(lin%nz)
+    integer :: i
+    z = [(lin%z0 + (i - 0.5_dp) * lin%dz, i = 1, lin%nz)]
+  end function liner_positions
+
+  !> Oil on the whole liner [m^2 per unit circumference].
+  pure real(dp) function liner_volume(lin)
+    type(liner_type), intent(in) :: lin
+    liner_volume = sum(lin%h) * lin%dz
+  end function liner_volume
+
+  !> Overlap [m] of [za, zb] with cell i.
+  pure real(dp) function overlap(lin, i, za, zb)
+    type(liner_type), intent(in) :: lin
+    integer, intent(in) :: i
+    real(dp), intent(in) :: za, zb
+    real(dp) :: c0, c1
+    c0 = lin%z0 + (i - 1) * lin%dz
+    c1 = c0 + lin%dz
+    overlap = min(lin%dz, max(0.0_dp, min(zb, c1) - max(za, c0)))
+  end function overlap
+
+  !> Cells that [za, zb] can touch.
+  pure subroutine cell_range(lin, za, zb, i0, i1)
+    type(liner_type), intent(in) :: lin
+    real(dp), intent(in) :: za, zb
+    integer, intent(out) :: i0, i1
+    i0 = max(1, floor((min(za, zb) - lin%z0) / lin%dz) + 1)
+    i1 = min(lin%nz, floor((max(za, zb) - lin%z0) / lin%dz) + 1)
+  end subroutine cell_range
+
+  !> Oil on the strip between za and zb (either order) [m^2].
+  pure real(dp) function strip_volume(lin, za, zb) result(v)
+    type(liner_type), intent(in) :: lin
+    real(dp), intent(in) :: za, zb
+    integer :: i, i0, i1
+    v = 0.0_dp
+    call cell_range(lin, za, zb, i0, i1)
+    do i = i0, i1
+      v = v + lin%h(i) * overlap(lin, i, min(za, zb), max(za, zb))
+    end do
+  end function strip_volume
+
+  !> Remove all the oil on the strip; returns the volume removed [m^2].
+  pure subroutine strip_take(lin, za, zb, v)
+    type(liner_type), intent(inout) :: lin
+    real(dp), intent(in) :: za, zb
+    real(dp), intent(out) :: v
+    real(dp) :: o
+    integer :: i, i0, i1
+    v = 0.0_dp
+    call cell_range(lin, za, zb, i0, i1)
+    do i = i0, i1
+      o = overlap(lin, i, min(za, zb), max(za, zb))
+      if (o <= 0.0_dp) cycle
+      v = v + lin%h(i) * o
+      lin%h(i) = lin%h(i) * (1.0_dp - o / lin%dz)
+    end do
+  end subroutine strip_take
+
+  !> Spread volume v [m^2] evenly over the strip (over the nearest cell if it has no length
+  !> on the grid). Returns in `put` what was placed (v, unless the strip lies off the grid).
+  pure subroutine strip_put(lin, za, zb, v, put)
+    type(liner_type), intent(inout) :: lin
+    real(dp), intent(in) :: za, zb, v
+    real(dp), intent(out) :: put
+    real(dp) :: o, length
+    integer :: i, i0, i1
+    put = 0.0_dp
+    call cell_range(lin, za, zb, i0, i1)
+    length = 0.0_dp
+    do i = i0, i1
+      length = length + overlap(lin, i, min(za, zb), max(za, zb))
+    end do
+    if (length <= 0.0_dp) then
+      i = min(max(1, floor((0.5_dp * (za + zb) - lin%z0) / lin%dz) + 1), lin%nz)
+      lin%h(i) = lin%h(i) + v / lin%dz
+      put = v
+      return
+    end if
+    do i = i0, i1
+      o = overlap(lin, i, min(za, zb), max(za, zb))
+      if (o <= 0.0_dp) cycle
+      lin%h(i) = lin%h(i) + v * (o / length) / lin%dz
+      put = put + v * (o / length)
+    end do
+  end subroutine strip_put
+
+  !> Set the film on the strip to thickness hf; returns the volumes removed and added [m^2].
+  pure subroutine strip_set(lin, za, zb, hf, removed, added)
+    type(liner_type), intent(inout) :: lin
+    real(dp), intent(in) :: za, zb, hf
+    real(dp), intent(out) :: removed, added
+    real(dp) :: put
+    call strip_take(lin, za, zb, removed)
+    call strip_put(lin, za, zb, hf * abs(zb - za), put)
+    added = put
+  end subroutine strip_set
+end module ringlube_liner
