@@ -32,19 +32,20 @@ end subroutine rl_version
 !> Parse deck text (named `name` in messages, relative paths against `base_dir`) with the
 !> variables of `overrides` replacing the deck's. Returns a handle and the crank steps.
 subroutine rl_open(text, name, base_dir, overrides, overrides_name, load_trace, handle, &
-    nsteps, code, message)
+    nsteps, nliner, code, message)
   use, intrinsic :: iso_c_binding, only: c_int
   use ringlube_error, only: error_type
-  use ringlube_api, only: api_open, api_nsteps
+  use ringlube_api, only: api_open, api_nsteps, api_liner_cells
   implicit none
   character(len=*), intent(in) :: text, name, base_dir, overrides, overrides_name
   integer(c_int), intent(in) :: load_trace
-  integer(c_int), intent(out) :: handle, nsteps, code
+  integer(c_int), intent(out) :: handle, nsteps, nliner, code
   character(len=4096), intent(out) :: message
   type(error_type), allocatable :: err
   integer :: h
   handle = 0
   nsteps = 0
+  nliner = 0
   code = 0
   message = ''
   call api_open(text, name, base_dir, overrides, overrides_name, load_trace /= 0, h, err)
@@ -55,6 +56,7 @@ subroutine rl_open(text, name, base_dir, overrides, overrides_name, load_trace, 
   end if
   handle = h
   nsteps = api_nsteps(h)
+  nliner = api_liner_cells(h)
 end subroutine rl_open
 
 !> Release a handle.
@@ -163,8 +165,11 @@ subroutine rl_set_trace(handle, n, psi, p, code, message)
 end subroutine rl_set_trace
 
 !> Run the case. Columns of `series`, `iseries` and `scalars` follow the tables 'series',
-!> 'int_series' and 'scalars'.
-subroutine rl_run(handle, nsteps, ns, ni, nc, series, iseries, scalars, code, message)
+!> 'int_series' and 'scalars'; `produced` (0/1) says which optional results the run made
+!> (1: the mass-conserving film, 2: the starved inlet); `liner` (nliner, 2): position and
+!> oil film of the liner at the end of the reported cycle (starved inlet).
+subroutine rl_run(handle, nsteps, ns, ni, nc, nliner, series, iseries, scalars, produced, &
+    liner, code, message)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, rl_runtime_error
@@ -172,10 +177,12 @@ subroutine rl_run(handle, nsteps, ns, ni, nc, series, iseries, scalars, code, me
   use ringlube_results, only: result_type, n_series, n_int_series, n_scalars, series_ptr, &
     int_series_ptr, result_scalar
   implicit none
-  integer(c_int), intent(in) :: handle, nsteps, ns, ni, nc
+  integer(c_int), intent(in) :: handle, nsteps, ns, ni, nc, nliner
   real(c_double), intent(out) :: series(nsteps, ns)
   integer(c_int), intent(out) :: iseries(nsteps, ni)
   real(c_double), intent(out) :: scalars(nc)
+  integer(c_int), intent(out) :: produced(2)
+  real(c_double), intent(out) :: liner(nliner, 2)
   integer(c_int), intent(out) :: code
   character(len=4096), intent(out) :: message
   type(result_type), target :: r
@@ -185,6 +192,8 @@ subroutine rl_run(handle, nsteps, ns, ni, nc, series, iseries, scalars, code, me
   series = 0.0_c_double
   iseries = 0
   scalars = 0.0_c_double
+  produced = 0
+  liner = 0.0_c_double
   code = 0
   message = ''
   if (ns /= n_series .or. ni /= n_int_series .or. nc /= n_scalars) then
@@ -213,6 +222,14 @@ subroutine rl_run(handle, nsteps, ns, ni, nc, series, iseries, scalars, code, me
     call result_scalar(r, j, v, .false.)
     scalars(j) = v
   end do
+  produced = [merge(1, 0, r%has_jfo), merge(1, 0, r%has_starved)]
+  if (size(r%liner_z) == nliner) then
+    liner(:, 1) = r%liner_z
+    liner(:, 2) = r%liner_h
+  else if (r%has_starved) then
+    code = rl_runtime_error
+    message = 'rl_run: liner cells differ from rl_open''s'
+  end if
 end subroutine rl_run
 
 !> Run `nd` designs of one case: row i of `x` gives the values of the variables named in
@@ -249,8 +266,8 @@ subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes)
 end subroutine rl_run_batch
 
 !> Write a result given as arrays (columns as in rl_run) with the kernel's HDF5 writer.
-subroutine rl_write(path, nsteps, ns, ni, nc, series, iseries, scalars, deck_text, deck_path, &
-    pressure_file, code, message)
+subroutine rl_write(path, nsteps, ns, ni, nc, nliner, series, iseries, scalars, produced, liner, &
+    deck_text, deck_path, pressure_file, code, message)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type
@@ -260,9 +277,9 @@ subroutine rl_write(path, nsteps, ns, ni, nc, series, iseries, scalars, deck_tex
   use ringlube_hdf5_output, only: write_result
   implicit none
   character(len=*), intent(in) :: path, deck_text, deck_path, pressure_file
-  integer(c_int), intent(in) :: nsteps, ns, ni, nc
-  real(c_double), intent(in) :: series(nsteps, ns), scalars(nc)
-  integer(c_int), intent(in) :: iseries(nsteps, ni)
+  integer(c_int), intent(in) :: nsteps, ns, ni, nc, nliner
+  real(c_double), intent(in) :: series(nsteps, ns), scalars(nc), liner(nliner, 2)
+  integer(c_int), intent(in) :: iseries(nsteps, ni), produced(2)
   integer(c_int), intent(out) :: code
   character(len=4096), intent(out) :: message
   type(result_type), target :: r
@@ -287,6 +304,10 @@ subroutine rl_write(path, nsteps, ns, ni, nc, series, iseries, scalars, deck_tex
     v = scalars(j)
     call result_scalar(r, j, v, .true.)
   end do
+  r%has_jfo = produced(1) /= 0
+  r%has_starved = produced(2) /= 0
+  r%liner_z = liner(:, 1)
+  r%liner_h = liner(:, 2)
   c = default_case()
   c%deck_text = deck_text
   c%deck_path = deck_path

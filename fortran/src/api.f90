@@ -14,14 +14,15 @@ module ringlube_api
   use ringlube_input, only: read_deck_text
   use ringlube_gas, only: check_pressure_trace
   use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
-    n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, field_spec, result_scalar
+    n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, field_spec, result_scalar, &
+    liner_spec, n_liner
   use ringlube_cycle, only: solve_cycle
   use ringlube_textio, only: itoa
   use, intrinsic :: iso_fortran_env, only: int64
   implicit none
   private
   public :: api_open, api_close, api_case_ok, api_run, api_get, api_set, api_set_trace, &
-    api_run_design, api_table, api_nsteps, api_deck_text, api_trace
+    api_run_design, api_table, api_nsteps, api_deck_text, api_trace, api_liner_cells
 
   type(case_type), allocatable, save :: store(:)
   logical, allocatable, save :: used(:)
@@ -76,6 +77,12 @@ contains
     t = ''
     if (api_case_ok(handle)) t = store(handle)%deck_text
   end function api_deck_text
+
+  !> Cells of the liner film a run of the case reports (0 without a starved inlet).
+  integer function api_liner_cells(handle)
+    integer, intent(in) :: handle
+    api_liner_cells = 0
+  end function api_liner_cells
 
   !> The gas-pressure trace of a case (empty for an unknown handle or no trace).
   subroutine api_trace(handle, psi, p)
@@ -235,6 +242,8 @@ contains
       t = fields(int_series_spec, n_int_series)
     case ('scalars')
       t = fields(scalar_spec, n_scalars)
+    case ('liner')
+      t = fields(liner_spec, n_liner)
     case ('flags')
       t = 'bit' // tab // 'name' // tab // 'description' // nl
       do i = 1, n_flags
@@ -249,10 +258,12 @@ contains
     integer, intent(in) :: n
     character(len=:), allocatable :: t
     integer :: i
-    t = 'short' // tab // 'stored' // tab // 'unit' // tab // 'integer' // tab // 'long_name' // nl
+    t = 'short' // tab // 'stored' // tab // 'unit' // tab // 'integer' // tab // 'long_name' // &
+      tab // 'requires' // nl
     do i = 1, n
       t = t // trim(spec(i)%short) // tab // trim(spec(i)%stored) // tab // trim(spec(i)%unit) &
-        // tab // merge('1', '0', spec(i)%integer_valued) // tab // trim(spec(i)%long_name) // nl
+        // tab // merge('1', '0', spec(i)%integer_valued) // tab // trim(spec(i)%long_name) // &
+        tab // trim(spec(i)%requires) // nl
     end do
   end function fields
 

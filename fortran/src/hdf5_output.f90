@@ -31,7 +31,8 @@ module ringlube_hdf5_output
   use ringlube_error, only: error_type, fatal_error, rl_runtime_error, rl_input_error
   use ringlube_case, only: case_type
   use ringlube_results, only: result_type, result_scalar, scalar_spec, n_scalars, series_spec, &
-    n_series, int_series_spec, n_int_series, series_ptr, int_series_ptr, flag_description
+    n_series, int_series_spec, n_int_series, series_ptr, int_series_ptr, flag_description, &
+    liner_spec, produced
   use ringlube_version, only: package_version
   use ringlube_textio, only: utf8_clean
   use ringlube_fsys, only: file_kind, same_file, make_temp_file, rename_file, remove_file, &
@@ -126,7 +127,7 @@ contains
     integer :: i
     character(len=:), allocatable :: tmp, failed
     character(len=max(len(c%deck_path), len(c%pressure_file), 1)) :: own(2)
-    integer(hid_t) :: ids(16), fid, gid, fapl, scale_id
+    integer(hid_t) :: ids(16), fid, gid, fapl, scale_id, lid, liner_scale
     integer :: kinds(16), nopen, herr, code, fail_errno
     logical :: ok
 
@@ -188,6 +189,7 @@ contains
     r = res
     r%run_time = runtime_s
     do i = 1, n_scalars
+      if (.not. produced(r, scalar_spec(i)%requires)) cycle
       call result_scalar(r, i, v, .false.)
       if (scalar_spec(i)%integer_valued) then
         call attr_int(fid, trim(scalar_spec(i)%stored), nint(v))
@@ -207,6 +209,7 @@ contains
     ! the crank angle is the dimension scale (coordinate) of every other /cycle dataset;
     ! it stays open until they are written
     do i = 1, n_series
+      if (.not. produced(res, series_spec(i)%requires)) cycle
       if (i == 1) then
         call dset(gid, trim(series_spec(i)%stored), series_ptr(res, i), trim(series_spec(i)%unit), &
           trim(series_spec(i)%long_name), keep=scale_id)
@@ -225,6 +228,16 @@ contains
           trim(int_series_spec(i)%long_name))
       end if
     end do
+    ! the liner film at the end of the cycle (starved inlet): its position is the scale
+    if (res%has_starved .and. ok) then
+      call h5gcreate_f(fid, 'liner', lid, herr)
+      call opened(herr, 'group /liner', lid, k_group)
+      call dset(lid, trim(liner_spec(1)%stored), res%liner_z, trim(liner_spec(1)%unit), &
+        trim(liner_spec(1)%long_name), keep=liner_scale)
+      scale_id = liner_scale
+      call dset(lid, trim(liner_spec(2)%stored), res%liner_h, trim(liner_spec(2)%unit), &
+        trim(liner_spec(2)%long_name))
+    end if
     ! close the scale, the group and the file (the file's metadata is written then)
     do while (ok .and. nopen > 0)
       call close_top(herr)

@@ -9,7 +9,7 @@ module ringlube_results
   private
   public :: result_type, field_spec, flag_spec, series_spec, n_series, int_series_spec, &
     n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, series_ptr, int_series_ptr, &
-    result_scalar, allocate_result, flag_description
+    result_scalar, allocate_result, flag_description, liner_spec, n_liner, produced
 
   !> Per-step flag bits (dataset `/cycle/flags`).
   integer, parameter, public :: flag_floor = 1        !< h0 held at h0_floor
@@ -26,6 +26,8 @@ module ringlube_results
     character(len=8) :: unit = ''
     logical :: integer_valued = .false.
     character(len=110) :: long_name = ''
+    !> '' (always written), 'jfo' (mass-conserving film only) or 'starved' (starved inlet only)
+    character(len=8) :: requires = ''
   end type field_spec
 
   !> One flag bit.
@@ -59,13 +61,22 @@ module ringlube_results
       'total friction on the ring, positive towards the crankcase'), &
     field_spec('power_loss', 'power_loss_W', 'W', .false., 'friction power loss |f U|'), &
     field_spec('load_residual', 'load_residual', '1', .false., &
-      'load balance residual (W_h + W_a - F) / F') &
+      'load balance residual (W_h + W_a - F) / F'), &
+    field_spec('inlet_fill', 'inlet_fill', '1', .false., &
+      'fill theta of the oil entering at the leading edge (1: flooded)', 'jfo'), &
+    field_spec('wetted_width', 'wetted_width_m', 'm', .false., &
+      'length of full film across the face', 'jfo'), &
+    field_spec('oil_left', 'oil_left_m', 'm', .false., &
+      'oil film left on the liner at the trailing edge', 'jfo'), &
+    field_spec('oil_bank', 'oil_bank_m2', 'm^2', .false., &
+      'oil bank pushed ahead of the leading edge, per unit circumference', 'starved') &
   ]
   !> Index of each real series in `series_spec` and in the f2py export.
   integer, parameter, public :: s_crank_angle = 1, s_sliding_speed = 2, s_h0 = 3, &
     s_lambda_min = 4, s_gas_pressure = 5, s_applied_load = 6, s_hydrodynamic_load = 7, &
     s_asperity_load = 8, s_viscous_friction = 9, s_boundary_friction = 10, s_friction = 11, &
-    s_power_loss = 12, s_load_residual = 13
+    s_power_loss = 12, s_load_residual = 13, s_inlet_fill = 14, s_wetted_width = 15, &
+    s_oil_left = 16, s_oil_bank = 17
 
   !> Integer series over the reported cycle.
   type(field_spec), parameter :: int_series_spec(*) = [ &
@@ -93,7 +104,19 @@ module ringlube_results
       'Reynolds (tridiagonal) solves over the whole run'), &
     field_spec('cycles_computed', 'cycles_computed', '1', .false., &
       "cycles' worth of crank steps solved, warm-up included"), &
-    field_spec('periodic', 'periodic', '1', .true., '1: h0 periodic within cycle_tol') &
+    field_spec('periodic', 'periodic', '1', .true., '1: h0 periodic within cycle_tol'), &
+    field_spec('oil_to_chamber', 'oil_to_chamber_mm3', 'mm^3', .false., &
+      'oil transported towards the chamber per cycle, whole circumference', 'starved'), &
+    field_spec('oil_balance_error', 'oil_balance_error', '1', .false., &
+      'relative closure error of the oil balance over the reported cycle', 'starved') &
+  ]
+
+  !> The liner film at the end of the reported cycle (group /liner).
+  type(field_spec), parameter :: liner_spec(*) = [ &
+    field_spec('liner_position', 'position_m', 'm', .false., &
+      'liner position from the top ring at TDC, positive towards the crankcase', 'starved'), &
+    field_spec('liner_oil_film', 'oil_film_m', 'm', .false., &
+      'oil film thickness on the liner', 'starved') &
   ]
 
   !> Meaning of the bits of /cycle/flags.
@@ -107,15 +130,22 @@ module ringlube_results
   ]
 
   integer, parameter :: n_series = size(series_spec), n_int_series = size(int_series_spec), &
-    n_scalars = size(scalar_spec), n_flags = size(flag_bits)
+    n_scalars = size(scalar_spec), n_flags = size(flag_bits), n_liner = size(liner_spec)
 
   !> Results of one run: the reported (last) cycle and its summary.
   type :: result_type
     integer :: nsteps = 0
     real(dp), allocatable :: crank_angle_deg(:), sliding_speed(:), h0(:), lambda_min(:), &
       gas_pressure(:), applied_load(:), hydrodynamic_load(:), asperity_load(:), &
-      viscous_friction(:), boundary_friction(:), friction(:), power_loss(:), load_residual(:)
+      viscous_friction(:), boundary_friction(:), friction(:), power_loss(:), load_residual(:), &
+      inlet_fill(:), wetted_width(:), oil_left(:), oil_bank(:)
     integer, allocatable :: flags(:), iterations(:)
+    !> which optional results the run produced ('jfo', 'starved')
+    logical :: has_jfo = .false., has_starved = .false.
+    !> liner film at the end of the reported cycle
+    real(dp), allocatable :: liner_z(:), liner_h(:)
+    real(dp) :: oil_to_chamber = 0.0_dp     !< mm^3 per cycle, whole circumference
+    real(dp) :: oil_balance_error = 0.0_dp  !< relative
     real(dp) :: energy_loss = 0.0_dp       !< J per cycle
     real(dp) :: mixed_share = 0.0_dp       !< % of the cycle with h0/sigma < 4
     real(dp) :: ring_mass = 0.0_dp         !< kg
@@ -146,7 +176,9 @@ contains
       res%gas_pressure(m), res%applied_load(m), res%hydrodynamic_load(m), &
       res%asperity_load(m), res%viscous_friction(m), res%boundary_friction(m), &
       res%friction(m), res%power_loss(m), res%load_residual(m), res%flags(m), &
-      res%iterations(m))
+      res%iterations(m), res%inlet_fill(m), res%wetted_width(m), res%oil_left(m), &
+      res%oil_bank(m))
+    allocate(res%liner_z(0), res%liner_h(0))
     do i = 1, n_series
       p => series_ptr(res, i)
       p = 0.0_dp
@@ -154,6 +186,17 @@ contains
     res%flags = 0
     res%iterations = 0
   end subroutine allocate_result
+
+  !> Did the run produce a result that `requires` this model ('' always)?
+  pure logical function produced(res, requires)
+    type(result_type), intent(in) :: res
+    character(len=*), intent(in) :: requires
+    select case (trim(requires))
+    case ('jfo'); produced = res%has_jfo
+    case ('starved'); produced = res%has_starved
+    case default; produced = .true.
+    end select
+  end function produced
 
   !> The real series i of `series_spec`.
   function series_ptr(res, i) result(p)
@@ -174,6 +217,10 @@ contains
     case (s_friction); p => res%friction
     case (s_power_loss); p => res%power_loss
     case (s_load_residual); p => res%load_residual
+    case (s_inlet_fill); p => res%inlet_fill
+    case (s_wetted_width); p => res%wetted_width
+    case (s_oil_left); p => res%oil_left
+    case (s_oil_bank); p => res%oil_bank
     case default; p => null()
     end select
   end function series_ptr
@@ -211,6 +258,8 @@ contains
     case ('reynolds_solves'); call n(res%reynolds_solves)
     case ('cycles_computed'); call r(res%cycles_computed, 1.0_dp)
     case ('periodic'); call b(res%periodic)
+    case ('oil_to_chamber'); call r(res%oil_to_chamber, 1.0_dp)
+    case ('oil_balance_error'); call r(res%oil_balance_error, 1.0_dp)
     end select
   contains
     subroutine r(x, scale)

@@ -13,13 +13,13 @@ from __future__ import annotations
 import contextlib
 import os
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Iterator, NamedTuple
 
 import f90nml
 
 from .errors import InputError, error_for
 
-__all__ = ["Case", "GROUPS", "kernel_case"]
+__all__ = ["Case", "GROUPS", "KernelCase", "kernel_case"]
 
 
 def _groups() -> tuple[str, ...]:
@@ -175,7 +175,8 @@ class Case:
         spec = INPUTS.get((group.lower(), name.lower()))
         if spec is None:
             raise InputError(f"&{group} {name}: unknown variable")
-        with kernel_case(self, load_trace=False) as (handle, _):
+        with kernel_case(self, load_trace=False) as k:
+            handle = k.handle
             text, code, message = _kernel.rl_get(handle, spec.group.encode(), spec.name.encode())
         if code:
             raise error_for(code, _text(message))
@@ -295,8 +296,8 @@ class Case:
         >>> Case().with_numerics(dpsi_deg=2.0).validate()
         360
         """
-        with kernel_case(self, load_trace=False) as (_, nsteps):
-            return nsteps
+        with kernel_case(self, load_trace=False) as k:
+            return k.nsteps
 
     # what the kernel receives ---------------------------------------------------------
     def kernel_inputs(self) -> tuple[str, str, str, str, str]:
@@ -345,9 +346,17 @@ def _arg(s: str) -> bytes:
     return s.encode("utf-8")
 
 
+class KernelCase(NamedTuple):
+    """A case parsed by the kernel: its handle, crank steps and liner cells of a run."""
+
+    handle: int
+    nsteps: int
+    nliner: int
+
+
 @contextlib.contextmanager
-def kernel_case(case: Case, load_trace: bool = True) -> Iterator[tuple[int, int]]:
-    """Context manager: the case parsed by the kernel; yields (handle, crank steps).
+def kernel_case(case: Case, load_trace: bool = True) -> Iterator[KernelCase]:
+    """Context manager: the case parsed by the kernel (a :class:`KernelCase`).
 
     Raises
     ------
@@ -359,13 +368,13 @@ def kernel_case(case: Case, load_trace: bool = True) -> Iterator[tuple[int, int]
     text, name, base, overrides, overrides_name = case.kernel_inputs()
     if base and not base.endswith("/"):
         base += "/"
-    handle, nsteps, code, message = _kernel.rl_open(
+    handle, nsteps, nliner, code, message = _kernel.rl_open(
         _arg(text), _arg(name), _arg(base), _arg(overrides), _arg(overrides_name),
         1 if load_trace else 0)
     if code:
         raise error_for(code, _text(message))
     try:
-        yield int(handle), int(nsteps)
+        yield KernelCase(int(handle), int(nsteps), int(nliner))
     finally:
         _kernel.rl_close(handle)
 

@@ -147,9 +147,9 @@ def read_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
 
     case = Case(name=f"trace {Path(path).name}").set(
         "operating", pressure_file=str(Path(path).resolve()), pressure_scale=1.0)
-    with kernel_case(case) as (handle, _):
-        n = _kernel.rl_trace_length(handle)
-        psi, p = _kernel.rl_trace(handle, n)
+    with kernel_case(case) as k:
+        n = _kernel.rl_trace_length(k.handle)
+        psi, p = _kernel.rl_trace(k.handle, n)
     return psi, p
 
 

@@ -13,9 +13,9 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError, error_for
-from .tables import FLAG_BITS, INT_SERIES, SCALARS, SERIES
+from .tables import FLAG_BITS, INT_SERIES, LINER, SCALARS, SERIES
 
-__all__ = ["CycleResult", "load", "SERIES", "INT_SERIES", "SCALARS", "FLAG_BITS"]
+__all__ = ["CycleResult", "load", "SERIES", "INT_SERIES", "SCALARS", "FLAG_BITS", "LINER"]
 
 
 class CycleResult:
@@ -31,6 +31,9 @@ class CycleResult:
         Real and integer series by short name.
     scalars : dict of str to float
         Scalars by short name, in their stored units (ring mass in g).
+    liner : dict of str to ndarray, optional
+        The liner film at the end of the cycle (starved inlet only): 'liner_position' and
+        'liner_oil_film'.
     deck, deck_path, pressure_file : str
         The deck's text as the kernel read it, where it came from, and the gas trace.
     label : str
@@ -45,9 +48,11 @@ class CycleResult:
     """
 
     def __init__(self, series: dict[str, np.ndarray], scalars: dict[str, float], *,
-                 deck: str = "", deck_path: str = "", pressure_file: str = "", label: str = ""):
+                 liner: dict[str, np.ndarray] | None = None, deck: str = "",
+                 deck_path: str = "", pressure_file: str = "", label: str = ""):
         self.series = dict(series)
         self.scalars = dict(scalars)
+        self.liner = dict(liner or {})
         self.deck = deck
         self.deck_path = deck_path
         self.pressure_file = pressure_file
@@ -99,10 +104,15 @@ class CycleResult:
         from . import _kernel
 
         path = Path(path)
-        s = np.column_stack([np.asarray(self.series[k], float) for k in SERIES])
+        n = len(self.crank_angle_deg)
+        s = np.column_stack([np.asarray(self.series.get(k, np.zeros(n)), float) for k in SERIES])
         i = np.column_stack([np.asarray(self.series[k], np.int32) for k in INT_SERIES])
-        c = np.array([float(self.scalars[k]) for k in SCALARS])
-        code, message = _kernel.rl_write(os.fsencode(path), s, i, c, self.deck.encode("utf-8"),
+        c = np.array([float(self.scalars.get(k, 0.0)) for k in SCALARS])
+        produced = np.array([int("inlet_fill" in self.series), int(bool(self.liner))], np.int32)
+        lin = (np.column_stack([self.liner[k] for k in LINER]) if self.liner
+               else np.zeros((0, len(LINER))))
+        code, message = _kernel.rl_write(os.fsencode(path), s, i, c, produced, lin,
+                                         self.deck.encode("utf-8"),
                                          self.deck_path.encode("utf-8"),
                                          self.pressure_file.encode("utf-8"))
         if code:
@@ -143,11 +153,15 @@ def load(path: str | os.PathLike) -> CycleResult:
             c = f["cycle"]
             series = {k: c[spec.stored][()] for k, spec in {**SERIES, **INT_SERIES}.items()
                       if spec.stored in c}
-            missing = [spec.stored for spec in SERIES.values() if spec.stored not in c]
+            missing = [spec.stored for spec in SERIES.values()
+                       if not spec.requires and spec.stored not in c]
             if missing:
                 raise KeyError(", ".join(missing))
             scalars = {k: float(a[spec.stored]) for k, spec in SCALARS.items() if spec.stored in a}
-            return CycleResult(series, scalars, deck=_text(a.get("deck", b""), strip=False),
+            liner = ({k: f["liner"][spec.stored][()] for k, spec in LINER.items()}
+                     if "liner" in f else {})
+            return CycleResult(series, scalars, liner=liner,
+                               deck=_text(a.get("deck", b""), strip=False),
                                deck_path=_text(a.get("deck_path", b"")),
                                pressure_file=_text(a.get("pressure_file", b"")), label=path.stem)
     except (OSError, KeyError, ValueError, TypeError) as exc:

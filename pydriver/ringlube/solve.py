@@ -12,7 +12,7 @@ import numpy as np
 from .case import Case, _text, kernel_case
 from .errors import NotConvergedError, RinglubeError, error_for
 from .result import CycleResult
-from .tables import INT_SERIES, SCALARS, SERIES
+from .tables import INT_SERIES, LINER, SCALARS, SERIES
 
 __all__ = ["run", "run_many", "run_designs", "BatchError"]
 
@@ -72,17 +72,22 @@ def run(case: Case | str | os.PathLike, *, strict: bool = False) -> CycleResult:
 
     if not isinstance(case, Case):
         case = Case.from_namelist(case)
-    with kernel_case(case) as (handle, nsteps):
-        series, iseries, scalars, code, message = _kernel.rl_run(
-            handle, nsteps, len(SERIES), len(INT_SERIES), len(SCALARS))
+    with kernel_case(case) as k:
+        series, iseries, scalars, produced, liner, code, message = _kernel.rl_run(
+            k.handle, k.nsteps, len(SERIES), len(INT_SERIES), len(SCALARS), k.nliner)
         if code:
             raise error_for(code, _text(message))
-        pressure_file, _, _ = _kernel.rl_get(handle, b"operating", b"pressure_file")
-        deck = _kernel.rl_deck_text(handle, _kernel.rl_deck_length(handle))
-    data = {k: np.ascontiguousarray(series[:, j]) for j, k in enumerate(SERIES)}
+        pressure_file, _, _ = _kernel.rl_get(k.handle, b"operating", b"pressure_file")
+        deck = _kernel.rl_deck_text(k.handle, _kernel.rl_deck_length(k.handle))
+    made = {"": True, "jfo": bool(produced[0]), "starved": bool(produced[1])}
+    data = {k: np.ascontiguousarray(series[:, j]) for j, (k, s) in enumerate(SERIES.items())
+            if made[s.requires]}
     data.update({k: np.ascontiguousarray(iseries[:, j]) for j, k in enumerate(INT_SERIES)})
+    scal = {k: float(v) for (k, s), v in zip(SCALARS.items(), scalars) if made[s.requires]}
+    lin = ({k: np.ascontiguousarray(liner[:, j]) for j, k in enumerate(LINER)}
+           if made["starved"] else {})
     name = case.kernel_inputs()[1]
-    result = CycleResult(data, dict(zip(SCALARS, map(float, scalars))),
+    result = CycleResult(data, scal, liner=lin,
                          deck=deck.astype("u1").tobytes().decode("utf-8", errors="replace"),
                          deck_path=name, pressure_file=_text(pressure_file), label=case.name)
     if strict and not result.converged:
@@ -137,8 +142,8 @@ def run_designs(case: Case, variables: Sequence[str], x: np.ndarray,
     errors: list = [None] * len(x)
     if len(x) == 0:
         return values, converged, errors
-    with kernel_case(case) as (handle, _):
-        out, codes = _kernel.rl_run_batch(handle, " ".join(keys).encode(), x, len(SCALARS))
+    with kernel_case(case) as k:
+        out, codes = _kernel.rl_run_batch(k.handle, " ".join(keys).encode(), x, len(SCALARS))
     for i, code in enumerate(codes):
         if code:
             try:   # the message: run the one design alone (rare, so not worth a buffer)

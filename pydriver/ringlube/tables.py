@@ -18,7 +18,7 @@ import dataclasses
 from functools import lru_cache
 
 __all__ = ["InputSpec", "FieldSpec", "INPUTS", "PRESETS", "SERIES", "INT_SERIES", "SCALARS",
-           "FLAG_BITS", "GROUPS", "table_text"]
+           "FLAG_BITS", "LINER", "GROUPS", "table_text"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -64,13 +64,15 @@ class InputSpec:
 @dataclasses.dataclass(frozen=True)
 class FieldSpec:
     """One result quantity: ``short`` name (Python, studies), ``stored`` name (HDF5),
-    ``unit``, ``integer`` (integer-valued) and ``long_name``."""
+    ``unit``, ``integer`` (integer-valued), ``long_name`` and ``requires`` ('' always
+    produced, 'jfo' only by the mass-conserving film, 'starved' only with a starved inlet)."""
 
     short: str
     stored: str
     unit: str
     integer: bool
     long_name: str
+    requires: str = ""
 
 
 def table_text(which: str) -> str:
@@ -108,10 +110,12 @@ def _load():
         presets.setdefault(preset, {})[name] = _value(kind, value)
 
     def fields(which):
-        return {r[0]: FieldSpec(r[0], r[1], r[2], r[3] == "1", r[4]) for r in _rows(which)}
+        return {r[0]: FieldSpec(r[0], r[1], r[2], r[3] == "1", r[4], r[5] if len(r) > 5 else "")
+                for r in _rows(which)}
 
     flags = {int(b): desc for b, _, desc in _rows("flags")}
-    return inputs, presets, fields("series"), fields("int_series"), fields("scalars"), flags
+    return (inputs, presets, fields("series"), fields("int_series"), fields("scalars"), flags,
+            fields("liner"))
 
 
 INPUTS: dict[tuple[str, str], InputSpec]
@@ -120,7 +124,8 @@ SERIES: dict[str, FieldSpec]
 INT_SERIES: dict[str, FieldSpec]
 SCALARS: dict[str, FieldSpec]
 FLAG_BITS: dict[int, str]
-INPUTS, PRESETS, SERIES, INT_SERIES, SCALARS, FLAG_BITS = _load()
+LINER: dict[str, FieldSpec]
+INPUTS, PRESETS, SERIES, INT_SERIES, SCALARS, FLAG_BITS, LINER = _load()
 
 #: Namelist groups of a deck, in table order.
 GROUPS: tuple[str, ...] = tuple(dict.fromkeys(g for g, _ in INPUTS))
@@ -163,11 +168,19 @@ def inputs_markdown() -> str:
 
 def results_markdown() -> str:
     """The result table of docs/model.md (generated from the kernel's tables)."""
+    note = {"": "", "jfo": " (`cavitation = 'jfo'` only)", "starved": " (`inlet = 'starved'` only)"}
     lines = ["| where | HDF5 name | Python name | unit | meaning |", "|---|---|---|---|---|"]
+
+    def row(where: str, s: FieldSpec, python: str) -> None:
+        lines.append(f"| {where} | `{s.stored}` | `{python}` | {s.unit} | {s.long_name}"
+                     f"{note[s.requires]} |")
+
     for s in SCALARS.values():
-        lines.append(f"| root attribute | `{s.stored}` | `{s.short}` | {s.unit} | {s.long_name} |")
+        row("root attribute", s, s.short)
     for s in [*SERIES.values(), *INT_SERIES.values()]:
-        lines.append(f"| `/cycle` | `{s.stored}` | `{s.short}` | {s.unit} | {s.long_name} |")
+        row("`/cycle`", s, s.short)
+    for s in LINER.values():
+        row("`/liner`", s, f"liner['{s.short}']")
     lines += ["", "Bits of `/cycle/flags`: " + "; ".join(f"{b}: {d}" for b, d in FLAG_BITS.items())
               + "."]
     return "\n".join(lines)
