@@ -1,0 +1,2 @@
+program bench_jfo
+end program
