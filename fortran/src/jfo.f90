@@ -41,8 +41,11 @@ module ringlube_jfo
   integer, parameter :: JFO_BAD_INPUT = 5     !< inconsistent sizes, n < 3 or dx <= 0; p, theta untouched
 
   real(dp), parameter :: default_tol = 1e-11_dp
-  integer, parameter :: default_max_iter = 50
+  integer, parameter :: default_max_iter = 100
   integer, parameter :: default_max_outer = 200
+  !> Newton steps taken in full before the guard (Armijo backtracking, Gauss-Seidel) engages:
+  !> the merit ||R|| of a semismooth Newton step need not fall even when the step is right
+  integer, parameter :: free_steps = 8
 
 contains
 
@@ -59,7 +62,7 @@ contains
   !> q_left, q_right: oil flux (m^2/s, positive towards +x) through the first and last interior
   !> faces, so that `jfo_film_volume` after - before = dt (q_left - q_right) to the tolerance.
   !> tol: residual tolerance relative to the largest flux term of a node (default 1e-11);
-  !> max_iter: Newton iterations (default 50); guard = .false. switches the anti-cycling guard off
+  !> max_iter: Newton iterations (default 100); guard = .false. switches the anti-cycling guard off
   !> (tests); newton = .false. uses only projected Gauss-Seidel sweeps, max_iter of them (the
   !> fallback, for tests and the benchmark); sweeps (out): Gauss-Seidel sweeps spent.
   pure subroutine jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
@@ -145,13 +148,14 @@ contains
         dv(2:n-1) = vt(2:n-1)
         dv(1) = 0.0_dp
         dv(n) = 0.0_dp
-        ! full step; with the guard, halve it until ||R|| decreases (Armijo)
+        ! full step; with the guard and after free_steps iterations, halve it until ||R||
+        ! decreases (Armijo)
         t = 1.0_dp
         do nls = 0, 30
           vt = v + t * dv
           call residual(vt, rt, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
           ft = sumsq(rt)
-          if (.not. use_guard .or. ft <= (1.0_dp - 1e-4_dp * t) * f0) then
+          if (.not. use_guard .or. it < free_steps .or. ft <= (1.0_dp - 1e-4_dp * t) * f0) then
             accepted = .true.
             exit
           end if
@@ -464,9 +468,8 @@ contains
     end if
     th = theta
     where (.not. ieee_is_finite(th)) th = 1.0_dp
-    th(1) = theta_left
-    th(size(th)) = theta_right
-    call jfo_cavity_pressure(th, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pc, p)
+    ! first guess from the warm-start fill only (its pressures may belong to another pc)
+    call jfo_cavity_pressure(th, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pc)
     do k = 1, kmax
       outer = k
       call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &

@@ -389,7 +389,7 @@ contains
     real(dp), parameter :: tend = 0.75_dp, dts = 2e-6_dp
     real(dp), allocatable :: sig(:), x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), cold(:)
     real(dp) :: t, s, k1, k2, k3, k4, errv(4), errp(4), errs(4), dx, dt, vex, vnum, pex
-    real(dp) :: hh, hd, b0, sn, smin
+    real(dp) :: hh, hd, b0, sn, smin, perr, pref, pnorm, order
     integer :: nt, i, j, k, n, nsteps, it, info, itmax, itsum
     ! --- exact front: growth from t1 (Sigma_eq = 1/2) to t2 (Sigma_eq minimal), then the ODE
     t1 = bisect_t(0.25_dp + 1e-9_dp, 0.375_dp, 0.5_dp)
@@ -444,6 +444,7 @@ contains
       errv(k) = 0.0_dp
       errp(k) = 0.0_dp
       errs(k) = 0.0_dp
+      pnorm = 0.0_dp
       itmax = 0
       itsum = 0
       do j = 1, nsteps
@@ -469,6 +470,8 @@ contains
         sn = 0.5_dp * dx + dx * count(th(2:(n+1)/2) >= 1.0_dp)
         if (s < 0.5_dp) errs(k) = errs(k) + abs(sn - s) * dt
         b0 = -(pa + hd * s * s / (2 * hh**3)) / s
+        perr = 0.0_dp
+        pref = 0.0_dp
         do i = 1, n
           if (x(i) <= s) then
             pex = pa + hd / (2 * hh**3) * x(i)**2 + b0 * x(i)
@@ -478,17 +481,24 @@ contains
             pex = 0.0_dp
           end if
           if (s >= 0.5_dp) pex = pa + hd / (2 * hh**3) * x(i) * (x(i) - 1)
-          errp(k) = max(errp(k), abs(p(i) - pex))
+          perr = max(perr, abs(p(i) - pex))
+          pref = max(pref, abs(pex))
         end do
+        errp(k) = errp(k) + perr * dt
+        pnorm = pnorm + pref * dt
       end do
+      errp(k) = errp(k) / pnorm
       write(*, '(a, i4, a, es10.3, a, es10.3, a, es10.3, a, i0, a, f5.2)') '   N=', n, &
-        ' max|V-V_exact| ', errv(k), ' max|p-p_exact| ', errp(k), ' int|Sigma_err|dt ', &
+        ' max|V-V_exact| ', errv(k), ' int max|p-p_exact| dt (rel) ', errp(k), ' int|Sigma_err|dt ', &
         errs(k), '  Newton its max ', itmax, ' mean ', real(itsum, dp) / nsteps
       deallocate(h, hmid, kmid, p, th, pc, cold)
     end do
     call print_orders('squeeze oil volume', errv, 0.8_dp)
     call print_orders('squeeze pressure', errp, 0.7_dp)
-    call print_orders('squeeze front position', errs, 0.7_dp)
+    ! the numerical front is known to a cell only: check the order over the whole range
+    order = log(errs(1) / errs(4)) / log(8.0_dp)
+    write(*, '(a, f6.2)') '  squeeze front position (time-integrated): order from N=51 to 401 ', order
+    call check(order > 0.7_dp, 'squeeze front position converges at first order')
   end subroutine case_squeeze
 
   ! ------------------------------------------------------------------ 3/4. transient ring
@@ -651,7 +661,7 @@ contains
     real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), p0(:), t0(:)
     real(dp), allocatable :: pg(:), tg(:)
     real(dp) :: dx
-    integer :: it, info, sw, trial, nfail_plain, nfail_guard, i
+    integer :: it, info, sw, trial, nfail_plain, nfail_guard, i, nguarded, nflagged
     real(dp) :: u, pl, pr, tinl
     call grid(n, x, h, hmid, kmid, dx)
     allocate(p(n), th(n), pc(n), p0(n), t0(n), pg(n), tg(n))
@@ -673,6 +683,8 @@ contains
     ! cold starts far from the answer (random fills and pressures): plain Newton vs guarded
     nfail_plain = 0
     nfail_guard = 0
+    nguarded = 0
+    nflagged = 0
     do trial = 1, 200
       u = 20.0_dp * (rnd(trial, 1) - 0.5_dp)
       pl = 1e5_dp + 4e5_dp * rnd(trial, 2)
@@ -690,15 +702,25 @@ contains
       pg = p0
       tg = t0
       call jfo_solve(dx, h, hmid, kmid, u, 1e-5_dp, h, pl, pr, tinl, tinl, pc, pg, tg, it, info, &
-        max_iter=60)
+        max_iter=60, sweeps=sw)
       if (info /= JFO_OK) nfail_guard = nfail_guard + 1
+      if (sw > 0) nguarded = nguarded + 1
+      ! one iteration only: not converged, flagged, finite and within bounds
+      p = p0
+      th = t0
+      call jfo_solve(dx, h, hmid, kmid, u, 1e-5_dp, h, pl, pr, tinl, tinl, pc, p, th, it, info, &
+        max_iter=1)
+      if (info == JFO_NOT_CONVERGED .and. all(abs(p) < huge(1.0_dp)) .and. all(p(2:n-1) >= pc(2:n-1)) &
+        .and. all(th >= 0.0_dp .and. th <= 1.0_dp)) nflagged = nflagged + 1
       if (info == JFO_OK .and. all(abs(p) < huge(1.0_dp))) then
         if (maxval(abs(p - pg)) > 1e-6_dp * maxval(abs(pg))) nfail_plain = nfail_plain + 1
       end if
     end do
-    write(*, '(a, i0, a, i0, a)') '   200 random cold starts: plain Newton failed ', nfail_plain, &
-      ', guarded Newton failed ', nfail_guard, ' times'
+    write(*, '(a, i0, a, i0, a, i0, a)') '   200 random cold starts: plain Newton failed ', &
+      nfail_plain, ', guarded Newton failed ', nfail_guard, ' times (the guard engaged in ', &
+      nguarded, ')'
     call check(nfail_guard == 0, 'guard: every random cold start converges')
+    call check(nflagged == 200, 'a solve cut off after one iteration is flagged, finite, in bounds')
   end subroutine case_guard
 
   !> deterministic pseudo-random number in [0, 1)
