@@ -15,14 +15,17 @@
 !>
 !> Method: one unknown per interior node, the universal variable v (Payvar-Salant type),
 !> `p = pc + max(v, 0)`, `theta = 1 + min(v, 0)`, which satisfies complementarity by construction.
-!> The residual R(v) is piecewise linear; a semismooth Newton step uses its Jacobian on the
+!> The residual R(v) is piecewise smooth; a semismooth Newton step uses its Jacobian on the
 !> current piece, which is tridiagonal and a nonsingular M-matrix for the upwind scheme (every
 !> column has a positive diagonal, non-positive off-diagonals and a non-negative column sum, and
 !> the last column on the outflow side is strictly dominant: weakly chained diagonal dominance of
 !> the transpose), so one Thomas solve without pivoting per iteration is safe. Once the piece is
-!> right the step is exact, so a warm start needs 1-3 iterations. Guard against cycling: a step
-!> that does not decrease ||R|| is halved (Armijo backtracking); if that fails, projected
+!> right the step is exact, so a warm start needs 1-2 iterations. Guard against cycling: after
+!> free_steps full steps a step must decrease ||R|| (Armijo halving); if it cannot, projected
 !> Gauss-Seidel sweeps on v (a convergent M-function iteration) take over for a while.
+!> The pressure-driven content is upwind in pressure (theta_P), so a cavity at a gas pressure
+!> above its neighbour pushes out oil only in proportion to its fill: theta >= 0 by construction.
+!> Details and verification: docs/film_model.md.
 module ringlube_jfo
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_kinds, only: dp
@@ -35,12 +38,14 @@ module ringlube_jfo
   !> info codes of jfo_solve / jfo_solve_connected
   integer, parameter :: JFO_OK = 0            !< converged
   integer, parameter :: JFO_NOT_CONVERGED = 1 !< iteration cap reached; best state returned
-  integer, parameter :: JFO_SINGULAR = 2      !< zero pivot (e.g. steady, U = 0, cavity): best state returned
+  integer, parameter :: JFO_SINGULAR = 2      !< reserved: a zero pivot is sent to the Gauss-Seidel sweeps
   integer, parameter :: JFO_DRY = 3           !< converged, but a cavity node would need theta < 0: clipped to 0
   integer, parameter :: JFO_CONNECTIVITY = 4  !< cavity-pressure outer loop did not settle
   integer, parameter :: JFO_BAD_INPUT = 5     !< inconsistent sizes, n < 3 or dx <= 0; p, theta untouched
 
   real(dp), parameter :: default_tol = 1e-11_dp
+  !> residual (relative to the same scale) below which a converged state is left as it is
+  real(dp), parameter :: polish_tol = 1e-14_dp
   integer, parameter :: default_max_iter = 100
   integer, parameter :: default_max_outer = 200
   !> Newton steps taken in full before the guard (Armijo backtracking, Gauss-Seidel) engages:
@@ -180,6 +185,26 @@ contains
         vbest = v
       end if
     end do
+    if (use_newton .and. maxval(abs(r(2:n-1))) <= rtol * rscale &
+        .and. maxval(abs(r(2:n-1))) > polish_tol * rscale) then
+      ! within the tolerance but above round-off (a damped or Gauss-Seidel last step): one more
+      ! Newton step on this piece, kept if it helps, so that the oil balance closes to round-off
+      call residual(v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+      dv(2:n-1) = -r(2:n-1)
+      call thomas(jl(2:n-1), jd(2:n-1), ju(2:n-1), dv(2:n-1), vt(2:n-1), tinfo)
+      if (tinfo == 0) then
+        dv(2:n-1) = vt(2:n-1)
+        vt = v
+        vt(2:n-1) = v(2:n-1) + dv(2:n-1)
+        call residual(vt, rt, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+        if (sumsq(rt) < f0) then
+          v = vt
+          r = rt
+          iterations = iterations + 1
+        end if
+      end if
+      call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+    end if
     if (present(sweeps)) sweeps = nsweep
     if (maxval(abs(r(2:n-1))) > rtol * rscale) then
       info = JFO_NOT_CONVERGED
