@@ -83,7 +83,7 @@ contains
     logical, intent(in), optional :: guard, newton
     integer, intent(out), optional :: sweeps
     real(dp) :: v(size(h)), vt(size(h)), vbest(size(h)), dv(size(h)), r(size(h)), rt(size(h))
-    real(dp) :: ca(size(h)), kd(size(h)), fl(size(h)), pn(size(h)), tn(size(h))
+    real(dp) :: ca(size(h)), kd(size(h)), fl(size(h)), pn(size(h)), tn(size(h)), ps(size(h))
     real(dp) :: dfpl(size(h)), dfpr(size(h)), dftl(size(h)), dftr(size(h))
     real(dp) :: jl(size(h)), jd(size(h)), ju(size(h))
     real(dp) :: a, w, rtol, f0, ft, fbest, t, rscale, rmax
@@ -118,6 +118,13 @@ contains
     kd(1:n-1) = kmid / dx
     ca(n) = 0.0_dp
     kd(n) = 0.0_dp
+    ! pressure per unit v on the full side: the ratio of a node's fill and pressure diagonals,
+    ! so that both sides of the kink weigh alike and a node crossing it lands near its root
+    ps = 1.0_dp
+    do i = 2, n - 1
+      t = w * h(i) + abs(ca(i)) + abs(ca(i-1))
+      if (t > 0.0_dp .and. kd(i-1) + kd(i) > 0.0_dp) ps(i) = t / (kd(i-1) + kd(i))
+    end do
 
     ! warm start: v = p - pc on full nodes, theta - 1 on cavity nodes; anything not finite -> 0
     v = 0.0_dp
@@ -125,7 +132,7 @@ contains
       if (theta(i) < 1.0_dp) then
         v(i) = theta(i) - 1.0_dp
       else
-        v(i) = max(p(i) - pc(i), 0.0_dp)
+        v(i) = max(p(i) - pc(i), 0.0_dp) / ps(i)
       end if
       if (.not. ieee_is_finite(v(i))) v(i) = 0.0_dp
     end do
@@ -248,7 +255,7 @@ contains
       tn(1) = theta_left
       tn(n) = theta_right
       do j = 2, n - 1
-        pn(j) = pc(j) + max(x(j), 0.0_dp)
+        pn(j) = pc(j) + ps(j) * max(x(j), 0.0_dp)
         tn(j) = 1.0_dp + min(x(j), 0.0_dp)
       end do
       do j = 1, n - 1
@@ -284,13 +291,13 @@ contains
       if (.not. jac) return
       do j = 2, n - 1
         if (x(j) >= 0.0_dp) then
-          jd(j) = dfpl(j) - dfpr(j-1)
+          jd(j) = (dfpl(j) - dfpr(j-1)) * ps(j)
         else
           jd(j) = w * h(j) + dftl(j) - dftr(j-1)
         end if
         if (j < n - 1) then
           if (x(j+1) >= 0.0_dp) then
-            ju(j) = dfpr(j)
+            ju(j) = dfpr(j) * ps(j+1)
           else
             ju(j) = dftr(j)
           end if
@@ -299,7 +306,7 @@ contains
         end if
         if (j > 2) then
           if (x(j-1) >= 0.0_dp) then
-            jl(j) = -dfpl(j-1)
+            jl(j) = -dfpl(j-1) * ps(j-1)
           else
             jl(j) = -dftl(j-1)
           end if
@@ -327,13 +334,13 @@ contains
         nsweep = nsweep + 1
         do k = j0, j1, step
           j = k
-          pl = pc(j - 1) + max(x(j - 1), 0.0_dp)
+          pl = pc(j - 1) + ps(j - 1) * max(x(j - 1), 0.0_dp)
           tl = 1.0_dp + min(x(j - 1), 0.0_dp)
           if (j == 2) then
             pl = p_left
             tl = theta_left
           end if
-          pr = pc(j + 1) + max(x(j + 1), 0.0_dp)
+          pr = pc(j + 1) + ps(j + 1) * max(x(j + 1), 0.0_dp)
           tr = 1.0_dp + min(x(j + 1), 0.0_dp)
           if (j == n - 1) then
             pr = p_right
@@ -362,7 +369,7 @@ contains
                 - cl + kd(j-1) * (pj - pl) * merge(tl, 1.0_dp, pl > pj)
               if (rj >= 0.0_dp) exit
             end do
-            x(j) = pj - pc(j)
+            x(j) = (pj - pc(j)) / ps(j)
           else
             ! cavity: theta(j) from the balance at p(j) = pc(j)
             dth = w * h(j) + max(ca(j), 0.0_dp) - min(ca(j-1), 0.0_dp) - min(gr, 0.0_dp) &
