@@ -21,8 +21,9 @@
 !> the last column on the outflow side is strictly dominant: weakly chained diagonal dominance of
 !> the transpose), so one Thomas solve without pivoting per iteration is safe. Once the piece is
 !> right the step is exact, so a warm start needs 1-2 iterations. Guard against cycling: after
-!> free_steps full steps a step must decrease ||R|| (Armijo halving); if it cannot, projected
-!> Gauss-Seidel sweeps on v (a convergent M-function iteration) take over for a while.
+!> free_steps full steps a step must bring ||R||^2 below the largest of the last few accepted
+!> values (non-monotone Armijo, halving); if it cannot, projected Gauss-Seidel sweeps on v (a
+!> convergent M-function iteration; n sweeps, doubling at each further use) take over for a while.
 !> The pressure-driven content is upwind in pressure (theta_P), so a cavity at a gas pressure
 !> above its neighbour pushes out oil only in proportion to its fill: theta >= 0 by construction.
 !> Details and verification: docs/film_model.md.
@@ -46,11 +47,14 @@ module ringlube_jfo
   real(dp), parameter :: default_tol = 1e-11_dp
   !> residual (relative to the same scale) below which a converged state is left as it is
   real(dp), parameter :: polish_tol = 1e-14_dp
-  integer, parameter :: default_max_iter = 100
+  integer, parameter :: default_max_iter = 200
   integer, parameter :: default_max_outer = 200
   !> Newton steps taken in full before the guard (Armijo backtracking, Gauss-Seidel) engages:
   !> the merit ||R|| of a semismooth Newton step need not fall even when the step is right
   integer, parameter :: free_steps = 8
+  !> after that, a step is accepted if it decreases ||R||^2 below the largest of the last
+  !> `nonmonotone` accepted values (non-monotone Armijo rule, Grippo, Lampariello and Lucidi 1986)
+  integer, parameter :: nonmonotone = 5
 
 contains
 
@@ -67,7 +71,7 @@ contains
   !> q_left, q_right: oil flux (m^2/s, positive towards +x) through the first and last interior
   !> faces, so that `jfo_film_volume` after - before = dt (q_left - q_right) to the tolerance.
   !> tol: residual tolerance relative to the largest flux term of a node (default 1e-11);
-  !> max_iter: Newton iterations (default 100); guard = .false. switches the anti-cycling guard off
+  !> max_iter: Newton iterations (default 200); guard = .false. switches the anti-cycling guard off
   !> (tests); newton = .false. uses only projected Gauss-Seidel sweeps, max_iter of them (the
   !> fallback, for tests and the benchmark); sweeps (out): Gauss-Seidel sweeps spent.
   pure subroutine jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
@@ -86,8 +90,8 @@ contains
     real(dp) :: ca(size(h)), kd(size(h)), fl(size(h)), pn(size(h)), tn(size(h)), ps(size(h))
     real(dp) :: dfpl(size(h)), dfpr(size(h)), dftl(size(h)), dftr(size(h))
     real(dp) :: jl(size(h)), jd(size(h)), ju(size(h))
-    real(dp) :: a, w, rtol, f0, ft, fbest, t, rscale, rmax
-    integer :: n, i, it, itmax, tinfo, nls, nsweep, stall
+    real(dp) :: a, w, rtol, f0, ft, fbest, t, rscale, rmax, fhist(nonmonotone)
+    integer :: n, i, it, itmax, tinfo, nls, nsweep, stall, nfall
     logical :: use_guard, use_newton, accepted
 
     n = size(h)
@@ -141,7 +145,9 @@ contains
     f0 = sumsq(r)
     vbest = v
     fbest = f0
+    fhist = f0
     stall = 0
+    nfall = 0
     do it = 0, itmax
       rmax = maxval(abs(r(2:n-1)))
       if (rmax <= rtol * rscale .or. it == itmax) exit
@@ -167,7 +173,7 @@ contains
           vt = v + t * dv
           call residual(vt, rt, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
           ft = sumsq(rt)
-          if (.not. use_guard .or. it < free_steps .or. ft <= (1.0_dp - 1e-4_dp * t) * f0) then
+          if (.not. use_guard .or. it < free_steps .or. ft <= (1.0_dp - 1e-4_dp * t) * maxval(fhist)) then
             accepted = .true.
             exit
           end if
@@ -177,14 +183,18 @@ contains
           v = vt
           r = rt
           f0 = ft
+          fhist(mod(it, size(fhist)) + 1) = f0
           if (nls > 0) stall = stall + 1
         end if
       end if
       if (.not. accepted .or. stall >= 3) then
         ! zero pivot, no descent, or repeated damping: Gauss-Seidel sweeps, then Newton again
-        call gauss_seidel(v, n, nsweep)
+        ! (each fallback sweeps twice as long as the previous one)
+        call gauss_seidel(v, n * 2**min(nfall, 10), nsweep)
+        nfall = nfall + 1
         call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
         f0 = sumsq(r)
+        fhist = f0
         stall = 0
       end if
       if (f0 < fbest) then
