@@ -39,7 +39,7 @@ module ringlube_jfo
   !> info codes of jfo_solve / jfo_solve_connected
   integer, parameter :: JFO_OK = 0            !< converged
   integer, parameter :: JFO_NOT_CONVERGED = 1 !< iteration cap reached; best state returned
-  integer, parameter :: JFO_SINGULAR = 2      !< reserved: a zero pivot is sent to the Gauss-Seidel sweeps
+  integer, parameter :: JFO_SINGULAR = 2      !< zero pivot with guard = .false. (with the guard: sweeps)
   integer, parameter :: JFO_DRY = 3           !< converged, but a cavity node would need theta < 0: clipped to 0
   integer, parameter :: JFO_CONNECTIVITY = 4  !< cavity-pressure outer loop did not settle
   integer, parameter :: JFO_BAD_INPUT = 5     !< inconsistent sizes, n < 3 or dx <= 0; p, theta untouched
@@ -160,7 +160,18 @@ contains
       end if
       call residual(v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
       dv(2:n-1) = -r(2:n-1)
-      call thomas(jl(2:n-1), jd(2:n-1), ju(2:n-1), dv(2:n-1), vt(2:n-1), tinfo)
+      ! the M-matrix sign pattern holds by construction (upwinding); a violation (a degenerate
+      ! zero diagonal) is treated like a zero pivot
+      if (use_guard .and. (any(.not. jd(2:n-1) > 0.0_dp) .or. any(jl(2:n-1) > 0.0_dp) &
+          .or. any(ju(2:n-1) > 0.0_dp))) then
+        tinfo = -1
+      else
+        call thomas(jl(2:n-1), jd(2:n-1), ju(2:n-1), dv(2:n-1), vt(2:n-1), tinfo)
+      end if
+      if (tinfo /= 0 .and. .not. use_guard) then
+        info = JFO_SINGULAR
+        exit
+      end if
       accepted = .false.
       if (tinfo == 0) then
         dv(2:n-1) = vt(2:n-1)
@@ -202,7 +213,7 @@ contains
         vbest = v
       end if
     end do
-    if (use_newton .and. maxval(abs(r(2:n-1))) <= rtol * rscale &
+    if (use_newton .and. info == JFO_OK .and. maxval(abs(r(2:n-1))) <= rtol * rscale &
         .and. maxval(abs(r(2:n-1))) > polish_tol * rscale) then
       ! within the tolerance but above round-off (a damped or Gauss-Seidel last step): one more
       ! Newton step on this piece, kept if it helps, so that the oil balance closes to round-off
@@ -224,7 +235,7 @@ contains
     end if
     if (present(sweeps)) sweeps = nsweep
     if (maxval(abs(r(2:n-1))) > rtol * rscale) then
-      info = JFO_NOT_CONVERGED
+      if (info == JFO_OK) info = JFO_NOT_CONVERGED
       if (fbest < f0) then
         v = vbest
         call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
