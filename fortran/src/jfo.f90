@@ -7,11 +7,12 @@
 !>   flux q = -(U/2) theta h - k dp/dx   (positive towards the crankcase).
 !>
 !> Discretisation (docs/film_model.md): finite volumes around the interior nodes 2..n-1, face
-!> fluxes `F(f) = a theta(up(f)) hmid(f) - kmid(f) (p(f+1) - p(f))/dx` between nodes f and f+1,
-!> with a = -U/2 the Couette speed of the content and up(f) the upwind node (f when a > 0,
-!> f+1 when a < 0); backward Euler on the content theta h. In full film (theta = 1) this is the
-!> second-order scheme of ringlube_reynolds. The edges are Dirichlet in pressure; the content
-!> entering through the inflow edge is theta_left h or theta_right h.
+!> fluxes `F(f) = a theta(up(f)) hmid(f) - g(f) theta_P(f)`, `g(f) = kmid(f) (p(f+1) - p(f))/dx`,
+!> between nodes f and f+1, with a = -U/2 the Couette speed of the content, up(f) the upwind node
+!> (f when a > 0, f+1 when a < 0) and theta_P the fill of the node at the higher pressure;
+!> backward Euler on the content theta h. In full film (theta = 1) this is the second-order
+!> scheme of ringlube_reynolds. The edges are Dirichlet in pressure; what enters through an edge
+!> carries that edge's fill theta_left or theta_right.
 !>
 !> Method: one unknown per interior node, the universal variable v (Payvar-Salant type),
 !> `p = pc + max(v, 0)`, `theta = 1 + min(v, 0)`, which satisfies complementarity by construction.
@@ -39,10 +40,13 @@ module ringlube_jfo
   !> info codes of jfo_solve / jfo_solve_connected
   integer, parameter :: JFO_OK = 0            !< converged
   integer, parameter :: JFO_NOT_CONVERGED = 1 !< iteration cap reached; best state returned
-  integer, parameter :: JFO_SINGULAR = 2      !< zero pivot with guard = .false. (with the guard: sweeps)
-  integer, parameter :: JFO_DRY = 3           !< converged, but a cavity node would need theta < 0: clipped to 0
+  !> zero pivot with guard = .false. (with the guard, the Gauss-Seidel sweeps take over)
+  integer, parameter :: JFO_SINGULAR = 2
+  !> converged, but a cavity node would need theta < 0 (clipped to 0; not expected)
+  integer, parameter :: JFO_DRY = 3
   integer, parameter :: JFO_CONNECTIVITY = 4  !< cavity-pressure outer loop did not settle
-  integer, parameter :: JFO_BAD_INPUT = 5     !< inconsistent sizes, n < 3 or dx <= 0; p, theta untouched
+  !> inconsistent sizes, n < 3 or dx <= 0; p and theta untouched
+  integer, parameter :: JFO_BAD_INPUT = 5
 
   real(dp), parameter :: default_tol = 1e-11_dp
   !> residual (relative to the same scale) below which a converged state is left as it is
@@ -123,14 +127,14 @@ contains
     ca(n) = 0.0_dp
     kd(n) = 0.0_dp
     ! pressure per unit v on the full side: the ratio of a node's fill and pressure diagonals,
-    ! so that both sides of the kink weigh alike and a node crossing it lands near its root
+    ! so that both sides of the kink weigh alike
     ps = 1.0_dp
     do i = 2, n - 1
       t = w * h(i) + abs(ca(i)) + abs(ca(i-1))
       if (t > 0.0_dp .and. kd(i-1) + kd(i) > 0.0_dp) ps(i) = t / (kd(i-1) + kd(i))
     end do
 
-    ! warm start: v = p - pc on full nodes, theta - 1 on cavity nodes; anything not finite -> 0
+    ! warm start: v = (p - pc)/ps on full nodes, theta - 1 on cavity nodes; not finite -> 0
     v = 0.0_dp
     do i = 2, n - 1
       if (theta(i) < 1.0_dp) then
@@ -177,14 +181,15 @@ contains
         dv(2:n-1) = vt(2:n-1)
         dv(1) = 0.0_dp
         dv(n) = 0.0_dp
-        ! full step; with the guard and after free_steps iterations, halve it until ||R||
-        ! decreases (Armijo)
+        ! full step; with the guard and after free_steps iterations, halve it until ||R||^2
+        ! falls below the largest of the last accepted values (non-monotone Armijo)
         t = 1.0_dp
         do nls = 0, 30
           vt = v + t * dv
           call residual(vt, rt, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
           ft = sumsq(rt)
-          if (.not. use_guard .or. it < free_steps .or. ft <= (1.0_dp - 1e-4_dp * t) * maxval(fhist)) then
+          if (.not. use_guard .or. it < free_steps &
+              .or. ft <= (1.0_dp - 1e-4_dp * t) * maxval(fhist)) then
             accepted = .true.
             exit
           end if
@@ -386,7 +391,8 @@ contains
               dpr = kd(j) * merge(tr, 1.0_dp, pr > pj) + kd(j-1) * merge(tl, 1.0_dp, pl > pj)
               if (.not. dpr > 0.0_dp) exit
               pj = pj - rj / dpr
-              rj = w * (h(j) - content_old(j)) + cr - kd(j) * (pr - pj) * merge(tr, 1.0_dp, pr > pj) &
+              rj = w * (h(j) - content_old(j)) + cr &
+                - kd(j) * (pr - pj) * merge(tr, 1.0_dp, pr > pj) &
                 - cl + kd(j-1) * (pj - pl) * merge(tl, 1.0_dp, pl > pj)
               if (rj >= 0.0_dp) exit
             end do

@@ -621,9 +621,10 @@ contains
       itsum = itsum + it
       ok_bounds = ok_bounds .and. all(th >= 0.0_dp .and. th <= 1.0_dp) .and. all(p(2:n-1) >= pc(2:n-1))
     end do
-    write(*, '(a, f5.2, a, i0, a, f5.2, a, es10.3)') '6d. same transient, trailing gas + starved: outer solves per step mean ', &
-      real(outsum, dp) / nsteps, ', max ', outmax, '; Newton its per step ', real(itsum, dp) / nsteps, &
-      '; oil balance ', balmax / vstart
+    write(*, '(a, f5.2, a, i0, a, f5.2, a, es10.3)') &
+      '6d. same transient, trailing gas + starved: outer solves per step mean ', &
+      real(outsum, dp) / nsteps, ', max ', outmax, '; Newton its per step ', &
+      real(itsum, dp) / nsteps, '; oil balance ', balmax / vstart
     call check(balmax <= 1e-12_dp * vstart, 'connected transient: oil balance closes')
     call check(ok_bounds, 'connected transient: bounds')
     call check(real(outsum, dp) / nsteps < 1.5_dp, 'connected transient: warm starts need ~1 outer solve')
