@@ -2,11 +2,18 @@
 add_library(ringlube_check STATIC ${CMAKE_CURRENT_LIST_DIR}/check.f90)
 target_link_libraries(ringlube_check PUBLIC ringlube_kernel)
 
-foreach(t tridiag greenwood_tripp physics_basics reynolds cycle liner)
+foreach(t tridiag greenwood_tripp physics_basics reynolds cycle liner jfo)
   add_executable(test_${t} ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
   target_link_libraries(test_${t} PRIVATE ringlube_check ringlube_io ${LAPACK_LIBRARIES})
   add_test(NAME ${t} COMMAND test_${t} WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 endforeach()
+
+# the independent Elrod relaxation used by test_jfo and by the (not run) benchmark bench_jfo
+add_library(ringlube_jfo_reference STATIC ${CMAKE_CURRENT_LIST_DIR}/jfo_reference.f90)
+target_link_libraries(ringlube_jfo_reference PUBLIC ringlube_kernel)
+target_link_libraries(test_jfo PRIVATE ringlube_jfo_reference)
+add_executable(bench_jfo ${CMAKE_CURRENT_LIST_DIR}/../bench/bench_jfo.f90)
+target_link_libraries(bench_jfo PRIVATE ringlube_jfo_reference)
 
 add_test(NAME bad_decks
   COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/../cli/bad_decks.sh $<TARGET_FILE:ringlube-solve>

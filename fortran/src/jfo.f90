@@ -1,0 +1,544 @@
+!> Mass-conserving (JFO / Elrod-Adams) 1D film: p-theta complementarity (SPEC section 13).
+!>
+!> Ring frame, x from the chamber edge (node 1) to the crankcase edge (node n), liner at -U:
+!>
+!>   d/dx( k dp/dx ) = -(U/2) d(theta h)/dx + d(theta h)/dt,   k = h^3/(12 eta),
+!>   p >= pc,  0 <= theta <= 1,  (p - pc)(1 - theta) = 0,
+!>   flux q = -(U/2) theta h - k dp/dx   (positive towards the crankcase).
+!>
+!> Discretisation (docs/film_model.md): finite volumes around the interior nodes 2..n-1, face
+!> fluxes `F(f) = a theta(up(f)) hmid(f) - g(f) theta_P(f)`, `g(f) = kmid(f) (p(f+1) - p(f))/dx`,
+!> between nodes f and f+1, with a = -U/2 the Couette speed of the content, up(f) the upwind node
+!> (f when a > 0, f+1 when a < 0) and theta_P the fill of the node at the higher pressure;
+!> backward Euler on the content theta h. In full film (theta = 1) this is the second-order
+!> scheme of ringlube_reynolds. The edges are Dirichlet in pressure; what enters through an edge
+!> carries that edge's fill theta_left or theta_right.
+!>
+!> Method: one unknown per interior node, the universal variable v (Payvar-Salant type),
+!> `p = pc + max(v, 0)`, `theta = 1 + min(v, 0)`, which satisfies complementarity by construction.
+!> The residual R(v) is piecewise smooth; a semismooth Newton step uses its Jacobian on the
+!> current piece, which is tridiagonal and a nonsingular M-matrix for the upwind scheme (every
+!> column has a positive diagonal, non-positive off-diagonals and a non-negative column sum, and
+!> the last column on the outflow side is strictly dominant: weakly chained diagonal dominance of
+!> the transpose), so one Thomas solve without pivoting per iteration is safe. Once the piece is
+!> right the step is exact, so a warm start needs 1-2 iterations. Guard against cycling: after
+!> free_steps full steps a step must bring ||R||^2 below the largest of the last few accepted
+!> values (non-monotone Armijo, halving); if it cannot, projected Gauss-Seidel sweeps on v (a
+!> convergent M-function iteration; n sweeps, doubling at each further use) take over for a while.
+!> The pressure-driven content is upwind in pressure (theta_P), so a cavity at a gas pressure
+!> above its neighbour pushes out oil only in proportion to its fill: theta >= 0 by construction.
+!> Details and verification: docs/film_model.md.
+module ringlube_jfo
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use ringlube_kinds, only: dp
+  use ringlube_tridiag, only: thomas
+  implicit none
+  private
+  public :: jfo_solve, jfo_solve_connected, jfo_cavity_pressure, jfo_film_volume
+  public :: JFO_OK, JFO_NOT_CONVERGED, JFO_SINGULAR, JFO_DRY, JFO_CONNECTIVITY, JFO_BAD_INPUT
+
+  !> info codes of jfo_solve / jfo_solve_connected
+  integer, parameter :: JFO_OK = 0            !< converged
+  integer, parameter :: JFO_NOT_CONVERGED = 1 !< iteration cap reached; best state returned
+  !> zero pivot with guard = .false. (with the guard, the Gauss-Seidel sweeps take over)
+  integer, parameter :: JFO_SINGULAR = 2
+  !> converged, but a cavity node would need theta < 0 (clipped to 0; not expected)
+  integer, parameter :: JFO_DRY = 3
+  integer, parameter :: JFO_CONNECTIVITY = 4  !< cavity-pressure outer loop did not settle
+  !> inconsistent sizes, n < 3 or dx <= 0; p and theta untouched
+  integer, parameter :: JFO_BAD_INPUT = 5
+
+  real(dp), parameter :: default_tol = 1e-11_dp
+  !> residual (relative to the same scale) below which a converged state is left as it is
+  real(dp), parameter :: polish_tol = 1e-14_dp
+  integer, parameter :: default_max_iter = 200
+  integer, parameter :: default_max_outer = 200
+  !> Newton steps taken in full before the guard (Armijo backtracking, Gauss-Seidel) engages:
+  !> the merit ||R|| of a semismooth Newton step need not fall even when the step is right
+  integer, parameter :: free_steps = 8
+  !> after that, a step is accepted if it decreases ||R||^2 below the largest of the last
+  !> `nonmonotone` accepted values (non-monotone Armijo rule, Grippo, Lampariello and Lucidi 1986)
+  integer, parameter :: nonmonotone = 5
+
+contains
+
+  !> One time step (or a steady state) of the mass-conserving film.
+  !>
+  !> dx node spacing; h(n) gap at the nodes; hmid(n-1), kmid(n-1) = hmid^3/(12 eta) at the faces;
+  !> u sliding speed (content moves at -u/2); dt > 0 backward Euler step on the content, dt <= 0
+  !> a steady solve; content_old(n) theta h at the previous step (nodes 2..n-1 used);
+  !> p_left, p_right edge pressures; theta_left, theta_right the fill of whatever enters through
+  !> that edge (by Couette transport at the inflow edge, or pushed in by pressure at either edge:
+  !> 1 = oil, 0 = gas only); pc(n) cavity pressure per node (nodes 2..n-1 used).
+  !> p, theta (in/out): warm start in, solution out. Edge values out: p(1) = p_left,
+  !> p(n) = p_right, theta(1) = theta_left, theta(n) = theta_right.
+  !> q_left, q_right: oil flux (m^2/s, positive towards +x) through the first and last interior
+  !> faces, so that `jfo_film_volume` after - before = dt (q_left - q_right) to the tolerance.
+  !> tol: residual tolerance relative to the largest flux term of a node (default 1e-11);
+  !> max_iter: Newton iterations (default 200); guard = .false. switches the anti-cycling guard off
+  !> (tests); newton = .false. uses only projected Gauss-Seidel sweeps, max_iter of them (the
+  !> fallback, for tests and the benchmark); sweeps (out): Gauss-Seidel sweeps spent.
+  pure subroutine jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
+      theta_right, pc, p, theta, iterations, info, q_left, q_right, tol, max_iter, guard, newton, &
+      sweeps)
+    real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
+    real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, pc(:)
+    real(dp), intent(inout) :: p(:), theta(:)
+    integer, intent(out) :: iterations, info
+    real(dp), intent(out), optional :: q_left, q_right
+    real(dp), intent(in), optional :: tol
+    integer, intent(in), optional :: max_iter
+    logical, intent(in), optional :: guard, newton
+    integer, intent(out), optional :: sweeps
+    real(dp) :: v(size(h)), vt(size(h)), vbest(size(h)), dv(size(h)), r(size(h)), rt(size(h))
+    real(dp) :: ca(size(h)), kd(size(h)), fl(size(h)), pn(size(h)), tn(size(h)), ps(size(h))
+    real(dp) :: dfpl(size(h)), dfpr(size(h)), dftl(size(h)), dftr(size(h))
+    real(dp) :: jl(size(h)), jd(size(h)), ju(size(h))
+    real(dp) :: a, w, rtol, f0, ft, fbest, t, rscale, rmax, fhist(nonmonotone)
+    integer :: n, i, it, itmax, tinfo, nls, nsweep, stall, nfall
+    logical :: use_guard, use_newton, accepted
+
+    n = size(h)
+    iterations = 0
+    nsweep = 0
+    if (present(sweeps)) sweeps = 0
+    if (present(q_left)) q_left = 0.0_dp
+    if (present(q_right)) q_right = 0.0_dp
+    if (n < 3 .or. size(hmid) /= n - 1 .or. size(kmid) /= n - 1 .or. size(content_old) /= n &
+        .or. size(pc) /= n .or. size(p) /= n .or. size(theta) /= n .or. .not. (dx > 0.0_dp)) then
+      info = JFO_BAD_INPUT
+      return
+    end if
+    info = JFO_OK
+    rtol = default_tol
+    if (present(tol)) rtol = tol
+    itmax = default_max_iter
+    if (present(max_iter)) itmax = max_iter
+    use_guard = .true.
+    if (present(guard)) use_guard = guard
+    use_newton = .true.
+    if (present(newton)) use_newton = newton
+
+    a = -0.5_dp * u
+    w = 0.0_dp
+    if (dt > 0.0_dp) w = dx / dt
+    ca(1:n-1) = a * hmid
+    kd(1:n-1) = kmid / dx
+    ca(n) = 0.0_dp
+    kd(n) = 0.0_dp
+    ! pressure per unit v on the full side: the ratio of a node's fill and pressure diagonals,
+    ! so that both sides of the kink weigh alike
+    ps = 1.0_dp
+    do i = 2, n - 1
+      t = w * h(i) + abs(ca(i)) + abs(ca(i-1))
+      if (t > 0.0_dp .and. kd(i-1) + kd(i) > 0.0_dp) ps(i) = t / (kd(i-1) + kd(i))
+    end do
+
+    ! warm start: v = (p - pc)/ps on full nodes, theta - 1 on cavity nodes; not finite -> 0
+    v = 0.0_dp
+    do i = 2, n - 1
+      if (theta(i) < 1.0_dp) then
+        v(i) = theta(i) - 1.0_dp
+      else
+        v(i) = max(p(i) - pc(i), 0.0_dp) / ps(i)
+      end if
+      if (.not. ieee_is_finite(v(i))) v(i) = 0.0_dp
+    end do
+
+    call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+    f0 = sumsq(r)
+    vbest = v
+    fbest = f0
+    fhist = f0
+    stall = 0
+    nfall = 0
+    do it = 0, itmax
+      rmax = maxval(abs(r(2:n-1)))
+      if (rmax <= rtol * rscale .or. it == itmax) exit
+      iterations = it + 1
+      if (.not. use_newton) then
+        call gauss_seidel(v, 1, nsweep)
+        call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+        f0 = sumsq(r)
+        cycle
+      end if
+      call residual(v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+      dv(2:n-1) = -r(2:n-1)
+      ! the M-matrix sign pattern holds by construction (upwinding); a violation (a degenerate
+      ! zero diagonal) is treated like a zero pivot
+      if (use_guard .and. (any(.not. jd(2:n-1) > 0.0_dp) .or. any(jl(2:n-1) > 0.0_dp) &
+          .or. any(ju(2:n-1) > 0.0_dp))) then
+        tinfo = -1
+      else
+        call thomas(jl(2:n-1), jd(2:n-1), ju(2:n-1), dv(2:n-1), vt(2:n-1), tinfo)
+      end if
+      if (tinfo /= 0 .and. .not. use_guard) then
+        info = JFO_SINGULAR
+        exit
+      end if
+      accepted = .false.
+      if (tinfo == 0) then
+        dv(2:n-1) = vt(2:n-1)
+        dv(1) = 0.0_dp
+        dv(n) = 0.0_dp
+        ! full step; with the guard and after free_steps iterations, halve it until ||R||^2
+        ! falls below the largest of the last accepted values (non-monotone Armijo)
+        t = 1.0_dp
+        do nls = 0, 30
+          vt = v + t * dv
+          call residual(vt, rt, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+          ft = sumsq(rt)
+          if (.not. use_guard .or. it < free_steps &
+              .or. ft <= (1.0_dp - 1e-4_dp * t) * maxval(fhist)) then
+            accepted = .true.
+            exit
+          end if
+          t = 0.5_dp * t
+        end do
+        if (accepted) then
+          v = vt
+          r = rt
+          f0 = ft
+          fhist(mod(it, size(fhist)) + 1) = f0
+          if (nls > 0) stall = stall + 1
+        end if
+      end if
+      if (.not. accepted .or. stall >= 3) then
+        ! zero pivot, no descent, or repeated damping: Gauss-Seidel sweeps, then Newton again
+        ! (each fallback sweeps twice as long as the previous one)
+        call gauss_seidel(v, n * 2**min(nfall, 10), nsweep)
+        nfall = nfall + 1
+        call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+        f0 = sumsq(r)
+        fhist = f0
+        stall = 0
+      end if
+      if (f0 < fbest) then
+        fbest = f0
+        vbest = v
+      end if
+    end do
+    if (use_newton .and. info == JFO_OK .and. maxval(abs(r(2:n-1))) <= rtol * rscale &
+        .and. maxval(abs(r(2:n-1))) > polish_tol * rscale) then
+      ! within the tolerance but above round-off (a damped or Gauss-Seidel last step): one more
+      ! Newton step on this piece, kept if it helps, so that the oil balance closes to round-off
+      call residual(v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+      dv(2:n-1) = -r(2:n-1)
+      call thomas(jl(2:n-1), jd(2:n-1), ju(2:n-1), dv(2:n-1), vt(2:n-1), tinfo)
+      if (tinfo == 0) then
+        dv(2:n-1) = vt(2:n-1)
+        vt = v
+        vt(2:n-1) = v(2:n-1) + dv(2:n-1)
+        call residual(vt, rt, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+        if (sumsq(rt) < f0) then
+          v = vt
+          r = rt
+          iterations = iterations + 1
+        end if
+      end if
+      call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+    end if
+    if (present(sweeps)) sweeps = nsweep
+    if (maxval(abs(r(2:n-1))) > rtol * rscale) then
+      if (info == JFO_OK) info = JFO_NOT_CONVERGED
+      if (fbest < f0) then
+        v = vbest
+        call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+      end if
+    end if
+
+    ! outputs (pn, tn, fl hold the state of the last residual evaluation, which is v's)
+    p = pn
+    theta = tn
+    if (info == JFO_OK .and. minval(theta(2:n-1)) < -1e-12_dp) info = JFO_DRY
+    theta(2:n-1) = min(max(theta(2:n-1), 0.0_dp), 1.0_dp)
+    if (present(q_left)) q_left = fl(1)
+    if (present(q_right)) q_right = fl(n - 1)
+
+  contains
+
+    pure real(dp) function sumsq(x)
+      real(dp), intent(in) :: x(:)
+      sumsq = sum(x(2:n-1)**2)
+    end function sumsq
+
+    !> Node states pn, tn from x, face fluxes fl, the residual of the interior finite volumes
+    !> and the scale of its terms; with jac also the Jacobian rows jl, jd, ju on this piece.
+    !> Face f (nodes f, f+1): F = a theta_up hmid - g theta_P, g = kmid (p(f+1) - p(f))/dx, the
+    !> Couette content upwind by the sign of a, the pressure-driven content upwind by the sign of g
+    !> (full film: theta_P = 1; a cavity pushed out by a higher pressure carries oil fraction
+    !> theta, the rest is gas).
+    pure subroutine residual(x, res, scale, jac, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+      real(dp), intent(in) :: x(:)
+      real(dp), intent(out) :: res(:), scale
+      logical, intent(in) :: jac
+      real(dp), intent(inout) :: pn(:), tn(:), fl(:), dfpl(:), dfpr(:), dftl(:), dftr(:)
+      real(dp), intent(inout) :: jl(:), jd(:), ju(:)
+      real(dp) :: g, tp, s
+      integer :: j
+      pn(1) = p_left
+      pn(n) = p_right
+      tn(1) = theta_left
+      tn(n) = theta_right
+      do j = 2, n - 1
+        pn(j) = pc(j) + ps(j) * max(x(j), 0.0_dp)
+        tn(j) = 1.0_dp + min(x(j), 0.0_dp)
+      end do
+      do j = 1, n - 1
+        g = kd(j) * (pn(j+1) - pn(j))
+        dftl(j) = 0.0_dp
+        dftr(j) = 0.0_dp
+        if (g <= 0.0_dp) then
+          tp = tn(j)
+          dftl(j) = -g
+        else
+          tp = tn(j+1)
+          dftr(j) = -g
+        end if
+        if (a > 0.0_dp) then
+          fl(j) = ca(j) * tn(j) - g * tp
+          dftl(j) = dftl(j) + ca(j)
+        else
+          fl(j) = ca(j) * tn(j+1) - g * tp
+          dftr(j) = dftr(j) + ca(j)
+        end if
+        dfpl(j) = kd(j) * tp
+        dfpr(j) = -kd(j) * tp
+      end do
+      scale = tiny(1.0_dp)
+      res(1) = 0.0_dp
+      res(n) = 0.0_dp
+      do j = 2, n - 1
+        res(j) = w * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j-1)
+        s = w * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j-1)) &
+          + kd(j) * (abs(pn(j+1)) + abs(pn(j))) + kd(j-1) * (abs(pn(j)) + abs(pn(j-1)))
+        scale = max(scale, s)
+      end do
+      if (.not. jac) return
+      do j = 2, n - 1
+        if (x(j) >= 0.0_dp) then
+          jd(j) = (dfpl(j) - dfpr(j-1)) * ps(j)
+        else
+          jd(j) = w * h(j) + dftl(j) - dftr(j-1)
+        end if
+        if (j < n - 1) then
+          if (x(j+1) >= 0.0_dp) then
+            ju(j) = dfpr(j) * ps(j+1)
+          else
+            ju(j) = dftr(j)
+          end if
+        else
+          ju(j) = 0.0_dp
+        end if
+        if (j > 2) then
+          if (x(j-1) >= 0.0_dp) then
+            jl(j) = -dfpl(j-1) * ps(j-1)
+          else
+            jl(j) = -dftl(j-1)
+          end if
+        else
+          jl(j) = 0.0_dp
+        end if
+      end do
+    end subroutine residual
+
+    !> Projected Gauss-Seidel on v: each node solves its own equation (monotone in v(j)) with
+    !> the neighbours fixed and the upwind choices of the current state, sweeping downstream.
+    pure subroutine gauss_seidel(x, nsw, nsweep)
+      real(dp), intent(inout) :: x(:)
+      integer, intent(in) :: nsw
+      integer, intent(inout) :: nsweep
+      integer :: s, k, j, j0, j1, step
+      real(dp) :: r0, dpr, dth, gl, gr, tl, tr, pl, pr, cl, cr, pj, rj
+      integer :: q
+      if (a >= 0.0_dp) then
+        j0 = 2; j1 = n - 1; step = 1
+      else
+        j0 = n - 1; j1 = 2; step = -1
+      end if
+      do s = 1, nsw
+        nsweep = nsweep + 1
+        do k = j0, j1, step
+          j = k
+          pl = pc(j - 1) + ps(j - 1) * max(x(j - 1), 0.0_dp)
+          tl = 1.0_dp + min(x(j - 1), 0.0_dp)
+          if (j == 2) then
+            pl = p_left
+            tl = theta_left
+          end if
+          pr = pc(j + 1) + ps(j + 1) * max(x(j + 1), 0.0_dp)
+          tr = 1.0_dp + min(x(j + 1), 0.0_dp)
+          if (j == n - 1) then
+            pr = p_right
+            tr = theta_right
+          end if
+          ! fluxes with p(j) = pc(j), theta(j) = 1 (v = 0): F(j) - F(j-1)
+          gl = kd(j-1) * (pc(j) - pl)
+          gr = kd(j) * (pr - pc(j))
+          cl = ca(j-1) * tl
+          cr = ca(j) * tr
+          if (a > 0.0_dp) cr = ca(j)
+          if (a < 0.0_dp) cl = ca(j-1)
+          r0 = w * (h(j) - content_old(j)) + cr - gr * merge(1.0_dp, tr, gr <= 0.0_dp) &
+            - cl + gl * merge(tl, 1.0_dp, gl <= 0.0_dp)
+          if (r0 < 0.0_dp) then
+            ! full film, p(j) > pc(j): R(p) is piecewise linear, increasing and convex in p
+            ! (the pressure-driven content switches to theta = 1 once p(j) passes a neighbour),
+            ! so Newton from p = pc reaches its root without overshoot in at most 3 steps
+            pj = pc(j)
+            rj = r0
+            do q = 1, 4
+              dpr = kd(j) * merge(tr, 1.0_dp, pr > pj) + kd(j-1) * merge(tl, 1.0_dp, pl > pj)
+              if (.not. dpr > 0.0_dp) exit
+              pj = pj - rj / dpr
+              rj = w * (h(j) - content_old(j)) + cr &
+                - kd(j) * (pr - pj) * merge(tr, 1.0_dp, pr > pj) &
+                - cl + kd(j-1) * (pj - pl) * merge(tl, 1.0_dp, pl > pj)
+              if (rj >= 0.0_dp) exit
+            end do
+            x(j) = (pj - pc(j)) / ps(j)
+          else
+            ! cavity: theta(j) from the balance at p(j) = pc(j)
+            dth = w * h(j) + max(ca(j), 0.0_dp) - min(ca(j-1), 0.0_dp) - min(gr, 0.0_dp) &
+              + max(gl, 0.0_dp)
+            if (dth > 0.0_dp) then
+              x(j) = -r0 / dth
+            else
+              x(j) = 0.0_dp
+            end if
+          end if
+        end do
+      end do
+    end subroutine gauss_seidel
+  end subroutine jfo_solve
+
+  !> Oil volume per unit circumference held by the interior finite volumes (m^2): the quantity
+  !> whose change jfo_solve's edge fluxes balance.
+  pure real(dp) function jfo_film_volume(dx, h, theta) result(vol)
+    real(dp), intent(in) :: dx, h(:), theta(:)
+    integer :: n
+    n = size(h)
+    vol = dx * sum(theta(2:n-1) * h(2:n-1))
+  end function jfo_film_volume
+
+  !> Cavity pressure per node by the connectivity rule of SPEC section 13.
+  !>
+  !> Cavities are the runs of interior nodes with theta < 1. An edge is open to its gas when
+  !> it is the trailing edge and trailing_gas is set, or the leading edge and leading_gas is set
+  !> (leading: the crankcase edge, right, when u > 0, the chamber edge, left, when u < 0; when
+  !> u = 0 an edge is open if either flag is set). The zone open to an edge's gas is the run of
+  !> theta < 1 nodes next to that edge (the cavity reaching the trailing edge; the partly filled
+  !> inlet zone of a starved film); when p is given it also takes in the full nodes next to the
+  !> run, or next to an edge that admits gas (theta(1) or theta(n) < 1), whose pressure is below
+  !> that gas pressure: a meniscus is in pressure equilibrium with the gas behind it, so a film
+  !> below the gas pressure cannot touch the gas. The zone sits at max(p_gas, p_cav); a zone
+  !> spanning the face (partly filled across its width) at the higher of the two gas pressures;
+  !> every other node (full film, enclosed cavities) at p_cav.
+  pure subroutine jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, &
+      leading_gas, pc, p)
+    real(dp), intent(in) :: theta(:), u, p_left, p_right, p_cav
+    logical, intent(in) :: trailing_gas, leading_gas
+    real(dp), intent(out) :: pc(:)
+    real(dp), intent(in), optional :: p(:)
+    integer :: n, il, ir
+    logical :: open_left, open_right
+    real(dp) :: lev_l, lev_r
+
+    n = size(theta)
+    pc = p_cav
+    if (u > 0.0_dp) then
+      open_left = trailing_gas
+      open_right = leading_gas
+    else if (u < 0.0_dp) then
+      open_left = leading_gas
+      open_right = trailing_gas
+    else
+      open_left = trailing_gas .or. leading_gas
+      open_right = open_left
+    end if
+    lev_l = max(p_left, p_cav)
+    lev_r = max(p_right, p_cav)
+    ! il: last node of the zone open at the left edge (1: none); ir: first of the right one (n)
+    il = 1
+    if (open_left) then
+      if (theta(2) < 1.0_dp .or. (present(p) .and. theta(1) < 1.0_dp)) then
+        do while (il < n - 1)
+          if (.not. in_zone(il + 1, lev_l)) exit
+          il = il + 1
+        end do
+      end if
+    end if
+    ir = n
+    if (open_right) then
+      if (theta(n-1) < 1.0_dp .or. (present(p) .and. theta(n) < 1.0_dp)) then
+        do while (ir > 2)
+          if (.not. in_zone(ir - 1, lev_r)) exit
+          ir = ir - 1
+        end do
+      end if
+    end if
+    if (il >= ir - 1) then
+      ! the open zones meet: the face is partly filled across its width
+      pc(2:n-1) = max(lev_l, lev_r)
+    else
+      pc(2:il) = lev_l
+      pc(ir:n-1) = lev_r
+    end if
+
+  contains
+
+    pure logical function in_zone(i, level)
+      integer, intent(in) :: i
+      real(dp), intent(in) :: level
+      in_zone = theta(i) < 1.0_dp
+      if (present(p)) in_zone = in_zone .or. p(i) <= level
+    end function in_zone
+  end subroutine jfo_cavity_pressure
+
+  !> jfo_solve inside the outer loop of the connectivity rule: pc from the warm-start theta,
+  !> solve, recompute pc from the new theta, repeat until pc no longer changes.
+  !>
+  !> Arguments as jfo_solve, plus p_cav, trailing_gas, leading_gas (see jfo_cavity_pressure);
+  !> pc (out) the cavity pressures of the solution; outer (out) the number of solves;
+  !> iterations (out) the Newton iterations summed over them. info JFO_CONNECTIVITY if the
+  !> loop did not settle in max_outer solves (default 200; a warm start needs 1-2).
+  pure subroutine jfo_solve_connected(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
+      theta_left, theta_right, p_cav, trailing_gas, leading_gas, pc, p, theta, iterations, &
+      outer, info, q_left, q_right, tol, max_iter, max_outer)
+    real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
+    real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, p_cav
+    logical, intent(in) :: trailing_gas, leading_gas
+    real(dp), intent(out) :: pc(:)
+    real(dp), intent(inout) :: p(:), theta(:)
+    integer, intent(out) :: iterations, outer, info
+    real(dp), intent(out), optional :: q_left, q_right
+    real(dp), intent(in), optional :: tol
+    integer, intent(in), optional :: max_iter, max_outer
+    real(dp) :: pcn(size(pc)), th(size(theta))
+    integer :: k, kmax, it
+
+    kmax = default_max_outer
+    if (present(max_outer)) kmax = max_outer
+    iterations = 0
+    outer = 0
+    if (size(pc) /= size(h) .or. size(theta) /= size(h)) then
+      info = JFO_BAD_INPUT
+      return
+    end if
+    th = theta
+    where (.not. ieee_is_finite(th)) th = 1.0_dp
+    ! first guess from the warm-start fill only (its pressures may belong to another pc)
+    call jfo_cavity_pressure(th, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pc)
+    do k = 1, kmax
+      outer = k
+      call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
+        theta_right, pc, p, theta, it, info, q_left, q_right, tol, max_iter)
+      iterations = iterations + it
+      if (info /= JFO_OK .and. info /= JFO_DRY) return
+      call jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pcn, p)
+      if (all(pcn == pc)) return
+      pc = pcn
+    end do
+    info = JFO_CONNECTIVITY
+  end subroutine jfo_solve_connected
+end module ringlube_jfo

@@ -1,0 +1,107 @@
+!> Cost of the mass-conserving film solve (docs/film_model.md, "Why Newton"): microseconds
+!> and iterations per warm-started solve of ringlube_jfo's semismooth Newton against the
+!> Elrod / Ausas relaxation (tests/fortran/jfo_reference.f90, SOR factor 1.7, stopped when no
+!> value moves by more than 1e-10) and against the Swift-Stieber solve (ringlube_reynolds), on
+!> the same transient: the parabolic ring of the tests (b = 1 mm, crown 10 um, offset -38 um),
+!> U = 10 sin(2 pi t/T) m/s, h0 = 1 um (1 + 0.6 sin(6 pi t/T)), chamber edge 3 bar, crankcase
+!> edge 1 bar, cavitation at 0.5 bar, starved upstroke (theta_in = 0.6), 720 steps per period.
+!> Built by CMake (target bench_jfo), never run as a test:
+!>
+!>     cmake --build build --target bench_jfo && ./build/bench_jfo
+!>
+!> Each size runs three times (the machine may be shared); quote the fastest.
+program bench_jfo
+  use ringlube_kinds, only: dp, pi
+  use ringlube_jfo, only: jfo_solve
+  use ringlube_reynolds, only: reynolds_solve
+  use jfo_reference, only: elrod_solve
+  implicit none
+  integer, parameter :: sizes(2) = [51, 201]
+  integer :: k, rep
+
+  ! the machine may be shared: three repetitions, quote the fastest
+  write(*, '(a)') '  nodes  solver                      us/solve  iterations/solve (mean, max)'
+  do k = 1, size(sizes)
+    do rep = 1, 3
+      call run(sizes(k))
+    end do
+  end do
+
+contains
+
+  subroutine run(n)
+    integer, intent(in) :: n
+    real(dp), parameter :: b = 1e-3_dp, crown = 10e-6_dp, xs = -38e-6_dp, eta = 0.01_dp
+    real(dp), parameter :: kk = crown / (0.5_dp * b)**2
+    integer, parameter :: nsteps = 720, periods = 3
+    real(dp) :: x(n), h(n), hold(n), hmid(n-1), kmid(n-1), p(n), th(n), pc(n), cold(n)
+    real(dp) :: pr(n), tr(n), ps(n)
+    logical :: active(n)
+    real(dp) :: dx, dt, t, u, hm, tin, tn, te, ts
+    integer :: i, j, it, info, sw, itsum, itmax, swsum, swmax, ssum, smax, nsolve
+    integer(8) :: c0, c1, rate
+
+    dx = b / (n - 1)
+    x = [(-0.5_dp * b + (i - 1) * dx, i = 1, n)]
+    dt = 1e-5_dp
+    pc = 0.5e5_dp
+    p = 1e5_dp
+    th = 1.0_dp
+    pr = p
+    tr = th
+    active = .false.
+    tn = 0.0_dp
+    te = 0.0_dp
+    ts = 0.0_dp
+    itsum = 0
+    itmax = 0
+    swsum = 0
+    swmax = 0
+    ssum = 0
+    smax = 0
+    nsolve = 0
+    h = 1e-6_dp + kk * (x + xs)**2
+    do j = 1, periods * nsteps
+      t = j * dt
+      u = 10.0_dp * sin(2 * pi * j / nsteps)
+      hold = h
+      hm = 1e-6_dp * (1.0_dp + 0.6_dp * sin(6 * pi * j / nsteps))
+      h = hm + kk * (x + xs)**2
+      hmid = hm + kk * (0.5_dp * (x(1:n-1) + x(2:n)) + xs)**2
+      kmid = hmid**3 / (12 * eta)
+      tin = merge(0.6_dp, 1.0_dp, u < 0.0_dp)
+      cold = th * hold
+      call system_clock(c0, rate)
+      call jfo_solve(dx, h, hmid, kmid, u, dt, cold, 3e5_dp, 1e5_dp, tin, 1.0_dp, pc, p, th, it, info)
+      call system_clock(c1)
+      if (j <= nsteps) cycle   ! first period: settle the periodic state
+      tn = tn + real(c1 - c0, dp) / rate
+      itsum = itsum + it
+      itmax = max(itmax, it)
+      nsolve = nsolve + 1
+      cold = tr * hold
+      call system_clock(c0)
+      call elrod_solve(dx, h, hmid, kmid, u, dt, cold, 3e5_dp, 1e5_dp, tin, 1.0_dp, pc, pr, tr, sw, &
+        1e-10_dp, 1.7_dp, 10000000)
+      call system_clock(c1)
+      te = te + real(c1 - c0, dp) / rate
+      swsum = swsum + sw
+      swmax = max(swmax, sw)
+      call system_clock(c0)
+      call reynolds_solve(dx, 2 * kmid, hmid, u, 2 * (h(1) - hold(1)) / dt, 3e5_dp, 1e5_dp, &
+        0.5e5_dp, ps, active, it, info)
+      call system_clock(c1)
+      ts = ts + real(c1 - c0, dp) / rate
+      ssum = ssum + it
+      smax = max(smax, it)
+    end do
+    write(*, '(i7, 2x, a, f10.1, f10.2, i6)') n, 'jfo_solve (Newton)         ', 1e6_dp * tn / nsolve, &
+      real(itsum, dp) / nsolve, itmax
+    write(*, '(i7, 2x, a, f10.1, f10.2, i6)') n, 'Elrod/Ausas relaxation     ', 1e6_dp * te / nsolve, &
+      real(swsum, dp) / nsolve, swmax
+    write(*, '(i7, 2x, a, f10.1, f10.2, i6)') n, 'reynolds_solve (Swift-St.) ', 1e6_dp * ts / nsolve, &
+      real(ssum, dp) / nsolve, smax
+    write(*, '(i7, 2x, a, es10.2, a, es10.2)') n, 'max |p_jfo - p_elrod| / max p at the end ', &
+      maxval(abs(p - pr)) / maxval(p), ', max |theta diff| ', maxval(abs(th - tr))
+  end subroutine run
+end program bench_jfo
