@@ -1,0 +1,158 @@
+!> Oil supply of a starved ring (SPEC section 13): the liner film ahead of the leading
+!> edge, the bank pushed ahead of it, the film left behind the trailing edge, the supply
+!> film laid by the lower rings, and the oil carried past the top of the ring's travel.
+!>
+!> Positions z on the liner are measured from the top ring's position at TDC, positive
+!> towards the crankcase; a face node x lies at z = s + x, s the piston's distance from TDC.
+!> Every exchange is a volume per unit circumference (m^2) over the strip of liner an edge
+!> sweeps in a crank step, so the balance of liner, bank and gap closes to round-off; the
+!> rates of SPEC 13 (theta_in = min(1, 2 h_oil / h_le), h_oil = |q_te| / |U|) are the limits
+!> of these transfers for small steps.
+module ringlube_oil_supply
+  use ringlube_kinds, only: dp
+  use ringlube_liner, only: liner_type, liner_init, strip_volume, strip_take, strip_put, &
+    strip_set, liner_volume
+  implicit none
+  private
+  public :: supply_type, supply_setup, inlet_available, inlet_fill, supply_step, &
+    supply_reset_counters, supply_stored, supply_to_chamber
+
+  !> State and counters of the oil supply (volumes per unit circumference, m^2).
+  type :: supply_type
+    type(liner_type) :: liner
+    real(dp) :: half_width = 0.0_dp       !< m, b/2
+    real(dp) :: supply_film = 0.0_dp      !< m, film laid by the lower rings
+    real(dp) :: lower_limit = 0.0_dp      !< m, z from which the lower rings reach
+    real(dp) :: bank = 0.0_dp             !< oil pushed ahead of the leading edge
+    integer :: direction = 0              !< sign of the sliding speed of the last moving step
+    ! counters since the last reset
+    real(dp) :: supplied = 0.0_dp         !< laid by the lower rings
+    real(dp) :: taken_down = 0.0_dp       !< downstroke film taken down by the lower rings
+    real(dp) :: to_chamber = 0.0_dp       !< carried above the top of the ring's travel
+    real(dp) :: overdrawn = 0.0_dp        !< drawn through the inlet beyond the oil there
+  end type supply_type
+
+contains
+
+  !> The liner grid over the swept length plus a margin, every cell at the supply film.
+  pure subroutine supply_setup(sup, width, stroke, dx, supply_film, lower_ring_distance)
+    type(supply_type), intent(out) :: sup
+    real(dp), intent(in) :: width, stroke, dx, supply_film, lower_ring_distance
+    real(dp) :: dz
+    sup%half_width = 0.5_dp * width
+    sup%supply_film = supply_film
+    sup%lower_limit = -0.5_dp * width + lower_ring_distance
+    ! cells no longer than the face node spacing, at most 20,000 of them
+    dz = max(dx, (stroke + 2.0_dp * width) / 20000.0_dp)
+    call liner_init(sup%liner, -0.5_dp * width - 4.0_dp * dz, stroke + 0.5_dp * width + 4.0_dp * dz, &
+      dz, supply_film)
+  end subroutine supply_setup
+
+  !> The leading edge's position for piston position s and sliding direction dir.
+  pure real(dp) function leading_edge(sup, s, dir)
+    type(supply_type), intent(in) :: sup
+    real(dp), intent(in) :: s
+    integer, intent(in) :: dir
+    leading_edge = s + sign(sup%half_width, real(dir, dp))
+  end function leading_edge
+
+  !> Oil available to the inlet in a step from s_prev to s (bank plus the liner strip the
+  !> leading edge sweeps) [m^2].
+  pure real(dp) function inlet_available(sup, s_prev, s, dir) result(v)
+    type(supply_type), intent(in) :: sup
+    real(dp), intent(in) :: s_prev, s
+    integer, intent(in) :: dir
+    v = sup%bank
+    if (dir /= 0) v = v + strip_volume(sup%liner, leading_edge(sup, s_prev, dir), &
+      leading_edge(sup, s, dir))
+  end function inlet_available
+
+  !> Fill of the oil the leading edge admits: min(1, 2 V / (h_le |ds|)), V the oil
+  !> available over the step, h_le the gap at the leading face, |ds| the distance moved
+  !> (at a dead centre: 1 if there is any oil, else 0).
+  pure real(dp) function inlet_fill(available, h_le, ds) result(theta)
+    real(dp), intent(in) :: available, h_le, ds
+    if (abs(ds) * h_le > 0.0_dp) then
+      theta = min(1.0_dp, max(0.0_dp, 2.0_dp * available / (h_le * abs(ds))))
+    else if (available > 0.0_dp) then
+      theta = 1.0_dp
+    else
+      theta = 0.0_dp
+    end if
+  end function inlet_fill
+
+  !> The exchanges of one crank step from s_prev to s with sliding direction dir (sign of U;
+  !> 0 at a dead centre): `v_in` oil entered the gap through the leading edge (negative:
+  !> pushed out ahead), `v_out` oil left it through the trailing edge. At a reversal the
+  !> bank stays on the liner ahead of the old leading edge; at the start of an upstroke the
+  !> lower rings replace the downstroke film where they reach.
+  pure subroutine supply_step(sup, s_prev, s, dir, v_in, v_out)
+    type(supply_type), intent(inout) :: sup
+    real(dp), intent(in) :: s_prev, s, v_in, v_out
+    integer, intent(in) :: dir
+    real(dp) :: swept, put, zl, removed, added, edge
+    if (dir /= 0 .and. sup%direction /= 0 .and. dir /= sup%direction) then
+      ! reversal: the bank stays on the liner just beyond the old leading edge
+      edge = leading_edge(sup, s_prev, sup%direction)
+      call strip_put(sup%liner, edge, edge + sign(sup%liner%dz, real(sup%direction, dp)), &
+        sup%bank, put)
+      sup%overdrawn = sup%overdrawn + (sup%bank - put)   ! off the grid: cannot happen
+      sup%bank = 0.0_dp
+      if (dir < 0) then
+        ! start of an upstroke: where the lower rings reach (z >= lower_limit) they took the
+        ! downstroke film down and laid theirs (not under the face, which holds the gap)
+        zl = s_prev - sup%half_width
+        if (zl > sup%lower_limit) then
+          call strip_set(sup%liner, sup%lower_limit, zl, sup%supply_film, removed, added)
+          sup%taken_down = sup%taken_down + removed
+          sup%supplied = sup%supplied + added
+        end if
+        zl = max(sup%lower_limit, s_prev + sup%half_width)
+        call strip_set(sup%liner, zl, sup%liner%z0 + sup%liner%nz * sup%liner%dz, &
+          sup%supply_film, removed, added)
+        sup%taken_down = sup%taken_down + removed
+        sup%supplied = sup%supplied + added
+      end if
+    end if
+    if (dir /= 0) sup%direction = dir
+    if (sup%direction == 0) return
+    ! the leading edge's strip: its oil entered the gap or joined the bank
+    call strip_take(sup%liner, leading_edge(sup, s_prev, sup%direction), &
+      leading_edge(sup, s, sup%direction), swept)
+    sup%bank = sup%bank + swept - v_in
+    if (sup%bank < 0.0_dp) then
+      sup%overdrawn = sup%overdrawn - sup%bank
+      sup%bank = 0.0_dp
+    end if
+    ! the trailing edge's strip: the film that left the gap
+    if (v_out > 0.0_dp) then
+      call strip_put(sup%liner, leading_edge(sup, s_prev, -sup%direction), &
+        leading_edge(sup, s, -sup%direction), v_out, put)
+      sup%overdrawn = sup%overdrawn + (v_out - put)
+    end if
+  end subroutine supply_step
+
+  !> Oil carried above the top of the ring's travel (z < -b/2) leaves the liner towards the
+  !> chamber: counted and removed.
+  pure subroutine supply_to_chamber(sup)
+    type(supply_type), intent(inout) :: sup
+    real(dp) :: v
+    call strip_take(sup%liner, sup%liner%z0, -sup%half_width, v)
+    sup%to_chamber = sup%to_chamber + v
+  end subroutine supply_to_chamber
+
+  !> Oil held on the liner and in the bank [m^2].
+  pure real(dp) function supply_stored(sup)
+    type(supply_type), intent(in) :: sup
+    supply_stored = liner_volume(sup%liner) + sup%bank
+  end function supply_stored
+
+  !> Zero the counters (start of a cycle).
+  pure subroutine supply_reset_counters(sup)
+    type(supply_type), intent(inout) :: sup
+    sup%supplied = 0.0_dp
+    sup%taken_down = 0.0_dp
+    sup%to_chamber = 0.0_dp
+    sup%overdrawn = 0.0_dp
+  end subroutine supply_reset_counters
+end module ringlube_oil_supply
