@@ -214,13 +214,15 @@ def write_report(study: Study, out: str | os.PathLike,
          f"{s.samples} {s.sampler} samples per case, objectives (minimised): "
          f"{', '.join(f'{o} [{units[o]}]' for o in s.objectives)}; quadratic surfaces, "
          f"NSGA-II {s.population} x {s.generations} x {s.repeats} repeats, seed {s.seed}.", "",
-         "## Design variables", "",
-         "| variable | unit | lower | upper | reference |", "|---|---|---|---|---|"]
+         "## Design variables", ""]
+    has_ref = s.reference is not None
+    L += ["| variable | unit | lower | upper |" + (" reference |" if has_ref else ""),
+          "|---|---|---|---|" + ("---|" if has_ref else "")]
     for i, (v, u, lo, hi) in enumerate(zip(s.variables, s.units, s.lower, s.upper)):
         label, k = display(v, u, lo, hi)
         unit = label.partition(" [")[2][:-1] or "-"
-        ref = f"{s.reference[i] * k:.4g}" if s.reference is not None else "-"
-        L.append(f"| `{v}` | {unit} | {lo * k:.4g} | {hi * k:.4g} | {ref} |")
+        ref = f" {s.reference[i] * k:.4g} |" if has_ref else ""
+        L.append(f"| `{v}` | {unit} | {lo * k:.4g} | {hi * k:.4g} |{ref}")
     L += ["", "## Cases and true-model runs", "",
           "| case | base deck | weight | done | not converged | failed (invalid designs) | "
           "run time [s] |", "|---|---|---|---|---|---|---|"]
