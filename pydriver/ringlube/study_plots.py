@@ -30,7 +30,7 @@ __all__ = ["Axis", "FitPanel", "Mark", "TradeoffSeries", "fit_figure", "map_figu
 #: A field whose range is below this fraction of its magnitude is drawn as constant.
 CONSTANT_RTOL = 1e-6
 _MARKERS = {"chosen": dict(marker="X", s=60, color="k", edgecolor="w", linewidth=0.6),
-            "reference": dict(marker="*", s=170, color="gold", edgecolor="k", linewidth=0.8)}
+            "reference": dict(marker="*", s=190, color="gold", edgecolor="k", linewidth=0.8)}
 
 
 @dataclasses.dataclass
@@ -248,10 +248,12 @@ def map_figure(title: str, zlabel: str, surface: Callable[[np.ndarray], np.ndarr
         else:
             cs = ax.contourf(xa, xb, z, levels=levels, cmap="viridis")
             ax.set_title(f"range here {z.min():.4g} to {z.max():.4g}", fontsize=8)
-        for m, tag in zip(marks, tags):
-            ax.scatter(m.x[a] * axes_[a].scale, m.x[b] * axes_[b].scale, zorder=3,
-                       clip_on=False, **_MARKERS[m.style])
-            ax.annotate(tag, (m.x[a] * axes_[a].scale, m.x[b] * axes_[b].scale), fontsize=7,
+        xy = np.array([[m.x[a] * axes_[a].scale, m.x[b] * axes_[b].scale]
+                       for m in marks]).reshape(-1, 2)
+        for m, (px, py) in zip(marks, xy):
+            ax.scatter(px, py, zorder=3, clip_on=False, **_MARKERS[m.style])
+        for group in _coincident(xy):
+            ax.annotate(",".join(tags[i] for i in group), tuple(xy[group[0]]), fontsize=7,
                         xytext=(4, 3), textcoords="offset points", color="k",
                         bbox=dict(boxstyle="round,pad=0.1", fc="w", alpha=0.7, lw=0))
         ax.set_xlim(lo[a] * axes_[a].scale, hi[a] * axes_[a].scale)
@@ -271,6 +273,23 @@ def map_figure(title: str, zlabel: str, surface: Callable[[np.ndarray], np.ndarr
         fig.supxlabel("marked: " + ", ".join(f"{t} = {m.name}" for t, m in zip(tags, marks)),
                       fontsize=8)
     return fig
+
+
+def _coincident(xy: np.ndarray, rtol: float = 0.01) -> list[list[int]]:
+    """Groups of points closer than ``rtol`` of the points' span (drawn with one label)."""
+    if len(xy) == 0:
+        return []
+    span = np.ptp(xy, axis=0)
+    span = np.where(span > 0, span, np.maximum(np.abs(xy).max(axis=0), 1e-300))
+    groups: list[list[int]] = []
+    for i, p in enumerate(xy):
+        for g in groups:
+            if np.all(np.abs(p - xy[g[0]]) <= rtol * span):
+                g.append(i)
+                break
+        else:
+            groups.append([i])
+    return groups
 
 
 def _tags(marks: Sequence[Mark]) -> list[str]:
@@ -314,17 +333,17 @@ def tradeoff_figure(series: Sequence[TradeoffSeries], xlabel: str, ylabel: str) 
             pts = [p for p in sr.points if p[3] == style]
             if not pts:
                 continue
-            kw = dict(_MARKERS[style])
-            if style == "chosen":
-                kw["color"] = colour
-                kw["edgecolor"] = "k"
+            kw = dict(_MARKERS[style], color=colour, edgecolor="k")
             ax.scatter([p[1] for p in pts], [p[2] for p in pts], zorder=3,
                        label=f"{sr.label}: {style} design{'s' if len(pts) > 1 else ''} "
                              "(true model)", **kw)
-            for name, px, py, _ in pts:
-                ax.annotate(f"{name} ({sr.label})" if len(series) > 1 else name, (px, py),
-                            fontsize=7, xytext=(5, 4), textcoords="offset points",
-                            bbox=dict(boxstyle="round,pad=0.1", fc="w", alpha=0.7, lw=0))
+        names = [p[0] for p in sr.points]
+        xy = np.array([[p[1], p[2]] for p in sr.points]).reshape(-1, 2)
+        for group in _coincident(xy):
+            text = " = ".join(names[i] for i in group)
+            ax.annotate(f"{text} ({sr.label})" if len(series) > 1 else text, tuple(xy[group[0]]),
+                        fontsize=7, xytext=(5, 4), textcoords="offset points",
+                        bbox=dict(boxstyle="round,pad=0.1", fc="w", alpha=0.7, lw=0))
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.grid(alpha=0.3)
