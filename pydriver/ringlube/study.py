@@ -467,6 +467,9 @@ def check_designs(study: Study, ex: Executor) -> None:
     bases = dict(zip(s.labels, _bases(s)))
     chosen = choose_designs(study)
     ref = None if s.reference is None else np.array([s.reference])
+    if ref is None:
+        for c in study.cases.values():
+            c.reference = None
     jobs = []          # (label, key, names, xs)
     for label, (names, xs) in chosen.items():
         jobs.append((label, "chosen", names, xs))
@@ -652,7 +655,8 @@ def _pipeline(study: Study, *, scheduler, workers, serial, backend, with_direct,
             study.save()
         optimise(study, ex, progress=progress)
         study.stages.add("optimised")
-        if "checked" not in study.stages or any(c.chosen is None for c in study.cases.values()):
+        if ("checked" not in study.stages or any(c.chosen is None for c in study.cases.values())
+                or _reference_stale(study)):
             check_designs(study, ex)
             study.stages.add("checked")
             study.save()
@@ -662,6 +666,16 @@ def _pipeline(study: Study, *, scheduler, workers, serial, backend, with_direct,
             study.save()
     finally:
         ex.close()
+
+
+def _reference_stale(study: Study) -> bool:
+    """Is a stored reference check missing or for another reference than the deck's now?"""
+    ref = study.s.reference
+    for c in study.cases.values():
+        have = None if c.reference is None else np.asarray(c.reference.x)[0].tolist()
+        if have != (None if ref is None else list(ref)):
+            return True
+    return False
 
 
 # --- outputs -------------------------------------------------------------------------

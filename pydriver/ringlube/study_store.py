@@ -184,10 +184,10 @@ class Checked:
 
     Example
     -------
-    >>> c = Checked(["knee"], np.zeros((1, 1)), np.ones((1, 5)), np.ones((1, 5)) * 1.1,
+    >>> c = Checked(["knee"], np.zeros((1, 1)), np.ones((1, 5)), np.ones((1, 5)) * 1.5,
     ...             np.ones(1, bool), [""])
     >>> float(c.rel_error[0, 0])
-    0.1
+    0.5
     """
 
     names: list[str]

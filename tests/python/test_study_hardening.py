@@ -237,3 +237,40 @@ def test_shipped_study_decks_read(tmp_path):
         s = read_study(INPUTS / deck)
         assert s.reference == [1.004e-3, 9.31e-6, -38.3e-6, 8.0]
         assert s.units == ["m", "m", "m", "N/m"]     # the calibration file sets N/m
+
+
+def test_reference_added_on_resume_is_computed(tmp_path):
+    deck = study_deck(tmp_path, **TWO_VARS)
+    study = run_study(deck, tmp_path / "out", serial=True, progress=False, figures=False)
+    assert study.cases["cold"].reference is None
+    text = open(deck).read().replace("/\n", "  reference = 1.0e-3, 0.0\n/\n")
+    open(deck, "w").write(text)
+    study = run_study(deck, tmp_path / "out", serial=True, progress=False, figures=False)
+    assert study.runs_executed == 0
+    np.testing.assert_array_equal(study.cases["cold"].reference.x, [[1.0e-3, 0.0]])
+
+
+def test_old_layout_file_is_refused(tmp_path):
+    deck = study_deck(tmp_path, **TWO_VARS)
+    (tmp_path / "out").mkdir()
+    with h5py.File(tmp_path / "out" / "h.h5", "w") as f:     # layout 1: no format attribute
+        f.attrs["key"] = read_study(deck).key()
+        f["samples/x"] = np.zeros((24, 2))
+    with pytest.raises(InputError, match="not a ringlube study file"):
+        run_study(deck, tmp_path / "out", serial=True, progress=False, figures=False)
+
+
+@pytest.mark.parametrize("missing, what", [("dask", "--workers"), ("pymoo", "serial")])
+def test_missing_optional_package_says_how_to_install(tmp_path, monkeypatch, missing, what):
+    import sys
+
+    for name in list(sys.modules):
+        if name == missing or name.startswith(missing + "."):
+            monkeypatch.delitem(sys.modules, name)
+    monkeypatch.setitem(sys.modules, missing, None)          # import now fails
+    if missing == "dask":
+        monkeypatch.setitem(sys.modules, "dask.distributed", None)
+    deck = study_deck(tmp_path, **TWO_VARS)
+    kw = dict(workers=1) if what == "--workers" else dict(serial=True)
+    with pytest.raises(RinglubeError, match=r"pip install ringlube\[study\]"):
+        run_study(deck, tmp_path / "out", progress=False, figures=False, **kw)
