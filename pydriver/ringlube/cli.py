@@ -68,7 +68,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         case.get("output", "file") or Path(args.deck).with_suffix(".h5"))
     inputs = [Path(args.deck), *(Path(p) for p in (case.get("operating", "pressure_file"),
                                                    case.get("calibration", "file")) if p)]
-    _output_file("-o", out, inputs)
+    _output_file("-o" if args.output else f"{args.deck}: &output file", out, inputs)
     result = run(case)
     result.to_hdf5(out)
     if not args.quiet:

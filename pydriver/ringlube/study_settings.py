@@ -390,8 +390,8 @@ class _Checker:
 
     def plain_name(self, var: str, v: str, what: str) -> None:
         if not v or any(ch in v for ch in "/\\") or v.startswith(".") or v.strip() != v:
-            self.bad(var, f"'{v}' must be a plain name (no '/', '\\', leading '.' or spaces): "
-                          f"it names {what}")
+            self.bad(var, f"'{v}' must be a plain name (no '/', '\\', leading '.', leading or "
+                          f"trailing spaces): it names {what}")
 
 
 def read_study(path: str | os.PathLike) -> StudySettings:

@@ -1,4 +1,5 @@
-"""Design studies under user mistakes and interruptions (issue 12 items 1, 4, 14, 15, 16, 24, 25)."""
+"""Design studies under user mistakes and interruptions (issue 12 items 1, 4, 14, 15, 16,
+24, 25)."""
 
 from __future__ import annotations
 
@@ -88,7 +89,8 @@ def test_corrupt_study_file_is_an_input_error(tmp_path, garbage):
 
 # --- item 4: the study is keyed on the content of its inputs -----------------------------
 
-@pytest.mark.parametrize("edit", ["cold.nml", "calibration.nml", "pressure/crf450r_4000rpm_full.csv"])
+@pytest.mark.parametrize("edit", ["cold.nml", "calibration.nml",
+                                  "pressure/crf450r_4000rpm_full.csv"])
 def test_resume_after_an_edited_input_is_refused(tmp_path, edit):
     deck = own_inputs(tmp_path)
     study = study_deck(tmp_path, cases=(deck,), **TWO_VARS)
