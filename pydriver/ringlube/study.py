@@ -4,7 +4,7 @@ The pipeline of ``ringlube optimise``. Its pieces live in their own modules:
 :mod:`ringlube.study_settings` (the ``&study`` deck), :mod:`ringlube.study_store` (typed
 state and the HDF5 study file), :mod:`ringlube.executor` (serial, processes or Dask),
 :mod:`ringlube.surrogate` (quadratic surfaces), :mod:`ringlube.study_plots` (figures from
-plain arrays) and :mod:`ringlube.study_report` (summary, report.md, Pareto CSV).
+plain arrays) and :mod:`ringlube.study_report` (summary, report.md, Pareto CSV, figures).
 
 Every finished piece of work is checkpointed, so an interrupted study started again with
 the same command resumes and re-runs nothing that finished. A design the kernel rejects
@@ -23,12 +23,12 @@ import numpy as np
 from .case import Case
 from .errors import InputError, RinglubeError
 from .executor import Executor, require
-from .study_settings import OUTPUTS, StudySettings, display, output_units, read_study
+from .study_settings import OUTPUTS, StudySettings, read_study
 from .study_store import CaseState, Checked, Direct, Front, Runs, Study, Surface
 
 __all__ = ["StudySettings", "Study", "Executor", "read_study", "run_study", "sample",
            "run_samples", "fit_surfaces", "optimise", "choose_designs", "check_designs",
-           "scene_results", "direct", "surfaces_of", "write_outputs", "FAILED_PENALTY"]
+           "scene_results", "direct", "surfaces_of", "FAILED_PENALTY"]
 
 #: Objective value given to a design the kernel rejects during the direct NSGA-II (the GA
 #: needs a finite number; any valid design is far better).
@@ -628,6 +628,8 @@ def run_study(deck: str | os.PathLike, out: str | os.PathLike | None = None, *,
         _pipeline(study, scheduler=scheduler, workers=workers, serial=serial, backend=backend,
                   with_direct=with_direct, progress=progress, stop_after=stop_after,
                   connect_timeout=connect_timeout)
+        from .study_report import write_outputs
+
         write_outputs(study, out, figures=figures)
     finally:
         study.unlock()
@@ -676,110 +678,3 @@ def _reference_stale(study: Study) -> bool:
         if have != (None if ref is None else list(ref)):
             return True
     return False
-
-
-# --- outputs -------------------------------------------------------------------------
-
-def write_outputs(study: Study, out: str | os.PathLike, figures: bool = True) -> list[Path]:
-    """Write the report, the Pareto CSV files and (optionally) the figures.
-
-    Parameters
-    ----------
-    study : Study
-        A finished study.
-    out : path
-        Output folder.
-    figures : bool
-        Also the figures (PNG and PDF).
-
-    Returns
-    -------
-    list of Path
-        Files written.
-
-    Example
-    -------
-    >>> write_outputs(study, "out/s")                          # doctest: +SKIP
-    """
-    from .study_report import write_pareto_csv, write_report
-
-    out = Path(out)
-    files = []
-    if figures:
-        files += study_figures(study, out)
-    files += write_pareto_csv(study, out)
-    files.append(write_report(study, out, [f for f in files if f.suffix == ".png"]))
-    return files
-
-
-def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
-    """The study's figures, drawn from plain arrays (see :mod:`ringlube.study_plots`).
-
-    Parameters
-    ----------
-    study : Study
-    out : path
-
-    Returns
-    -------
-    list of Path
-
-    Example
-    -------
-    >>> study_figures(study, "out/s")                          # doctest: +SKIP
-    """
-    from . import study_plots as sp
-
-    s, out = study.s, Path(out)
-    units = output_units()
-    axes = [sp.Axis(*display(v, u, lo, hi), lo, hi)
-            for v, u, lo, hi in zip(s.variables, s.units, s.lower, s.upper)]
-    files = []
-    marks_all = {}
-    for label, c in study.cases.items():
-        if not c.surfaces:
-            continue
-        ok = c.runs.usable()
-        x = study.x[ok]
-        panels: list = []
-        for o in s.objectives:
-            sf = c.surfaces[o]
-            f, = surfaces_of(study, label, [o])
-            panels.append(sp.FitPanel(o, units[o], c.runs.outputs[ok, OUTPUTS.index(o)], f(x),
-                                      sf.r2, sf.r2_adj, sf.cv_rel))
-        files += sp.save(sp.fit_figure(label, panels, s.folds), out, f"fit_{label}")
-        marks = []
-        for key, style in (("chosen", "chosen"), ("reference", "reference")):
-            ch = getattr(c, key)
-            if ch is not None:
-                marks += [sp.Mark(n, xi, style) for n, xi in zip(ch.names, ch.x)]
-        marks_all[label] = marks
-        for o in s.objectives:
-            f, = surfaces_of(study, label, [o])
-            files += sp.save(sp.map_figure(f"{o} ({label})", f"{o} [{units[o]}]", f, axes,
-                                           marks),
-                             out, f"map_{label}_{o}")
-    series = []
-    ie, im = OUTPUTS.index("energy_loss"), OUTPUTS.index("mixed_share")
-    for label, c in study.cases.items():
-        if c.front is None:
-            continue
-        pred = _predict_all(study, label, c.front.x)
-        front = np.column_stack([pred[:, im], pred[:, ie]])
-        for j, o in enumerate(s.objectives):     # the GA's own values where it has them
-            if o == "mixed_share":
-                front[:, 0] = c.front.f[:, j]
-            if o == "energy_loss":
-                front[:, 1] = c.front.f[:, j]
-        points = []
-        for ch, style in ((c.chosen, "chosen"), (c.reference, "reference")):
-            if ch is not None:
-                points += [(n, ft[im], ft[ie], style) for n, ft in zip(ch.names, ch.f_true)
-                           if np.isfinite(ft[[im, ie]]).all()]
-        series.append(sp.TradeoffSeries(label, front, points))
-    if series:
-        files += sp.save(sp.tradeoff_figure(series, f"mixed share [{units['mixed_share']}]",
-                                            f"energy loss [{units['energy_loss']}/cycle]"),
-                         out, "tradeoff")
-    return files
-

@@ -1,4 +1,5 @@
-"""What a finished design study says: a text summary, ``report.md`` and Pareto CSV files.
+"""What a finished design study says: a text summary, ``report.md``, Pareto CSV files and
+the figures (drawn by :mod:`ringlube.study_plots` from plain arrays taken from the study).
 
 Every number carries its unit; designs are shown in the units of :func:`display`
 (lengths in mm or µm, tension in the base decks' ``&ring tension_unit``).
@@ -15,7 +16,8 @@ import numpy as np
 from .study_settings import OUTPUTS, display, output_units
 from .study_store import Checked, Study
 
-__all__ = ["summary", "write_report", "write_pareto_csv", "format_design"]
+__all__ = ["summary", "write_report", "write_pareto_csv", "format_design", "study_figures",
+           "write_outputs"]
 
 
 def format_design(study: Study, x) -> str:
@@ -287,3 +289,107 @@ def write_report(study: Study, out: str | os.PathLike,
     path = out / "report.md"
     path.write_text("\n".join(L) + "\n")
     return path
+
+
+def write_outputs(study: Study, out: str | os.PathLike, figures: bool = True) -> list[Path]:
+    """Write the report, the Pareto CSV files and (optionally) the figures.
+
+    Parameters
+    ----------
+    study : Study
+        A finished study.
+    out : path
+        Output folder.
+    figures : bool
+        Also the figures (PNG and PDF).
+
+    Returns
+    -------
+    list of Path
+        Files written.
+
+    Example
+    -------
+    >>> write_outputs(study, "out/s")                          # doctest: +SKIP
+    """
+    out = Path(out)
+    files = []
+    if figures:
+        files += study_figures(study, out)
+    files += write_pareto_csv(study, out)
+    files.append(write_report(study, out, [f for f in files if f.suffix == ".png"]))
+    return files
+
+
+def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
+    """The study's figures, drawn from plain arrays (see :mod:`ringlube.study_plots`).
+
+    Parameters
+    ----------
+    study : Study
+    out : path
+
+    Returns
+    -------
+    list of Path
+
+    Example
+    -------
+    >>> study_figures(study, "out/s")                          # doctest: +SKIP
+    """
+    from . import study_plots as sp
+    from .surrogate import QuadraticSurface
+
+    s, out = study.s, Path(out)
+    units = output_units()
+    axes = [sp.Axis(*display(v, u, lo, hi), lo, hi)
+            for v, u, lo, hi in zip(s.variables, s.units, s.lower, s.upper)]
+    files = []
+    marks_all = {}
+    for label, c in study.cases.items():
+        if not c.surfaces:
+            continue
+        ok = c.runs.usable()
+        x = study.x[ok]
+        panels: list = []
+        for o in s.objectives:
+            sf = c.surfaces[o]
+            f = QuadraticSurface(np.array(s.lower), np.array(s.upper), np.asarray(sf.coef))
+            panels.append(sp.FitPanel(o, units[o], c.runs.outputs[ok, OUTPUTS.index(o)], f(x),
+                                      sf.r2, sf.r2_adj, sf.cv_rel))
+        files += sp.save(sp.fit_figure(label, panels, s.folds), out, f"fit_{label}")
+        marks = []
+        for key, style in (("chosen", "chosen"), ("reference", "reference")):
+            ch = getattr(c, key)
+            if ch is not None:
+                marks += [sp.Mark(n, xi, style) for n, xi in zip(ch.names, ch.x)]
+        marks_all[label] = marks
+        for o in s.objectives:
+            f = QuadraticSurface(np.array(s.lower), np.array(s.upper),
+                                 np.asarray(c.surfaces[o].coef))
+            files += sp.save(sp.map_figure(f"{o} ({label})", f"{o} [{units[o]}]", f, axes,
+                                           marks),
+                             out, f"map_{label}_{o}")
+    series = []
+    ie, im = OUTPUTS.index("energy_loss"), OUTPUTS.index("mixed_share")
+    for label, c in study.cases.items():
+        if c.front is None:
+            continue
+        pred = _predict(study, label, c.front.x)
+        front = np.column_stack([pred[:, im], pred[:, ie]])
+        for j, o in enumerate(s.objectives):     # the GA's own values where it has them
+            if o == "mixed_share":
+                front[:, 0] = c.front.f[:, j]
+            if o == "energy_loss":
+                front[:, 1] = c.front.f[:, j]
+        points = []
+        for ch, style in ((c.chosen, "chosen"), (c.reference, "reference")):
+            if ch is not None:
+                points += [(n, ft[im], ft[ie], style) for n, ft in zip(ch.names, ch.f_true)
+                           if np.isfinite(ft[[im, ie]]).all()]
+        series.append(sp.TradeoffSeries(label, front, points))
+    if series:
+        files += sp.save(sp.tradeoff_figure(series, f"mixed share [{units['mixed_share']}]",
+                                            f"energy loss [{units['energy_loss']}/cycle]"),
+                         out, "tradeoff")
+    return files
