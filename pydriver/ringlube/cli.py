@@ -1,14 +1,62 @@
-"""The ``ringlube`` command."""
+"""The ``ringlube`` command.
+
+Every user mistake ends in one line on stderr, ``ringlube: error: ...`` naming the file,
+option or variable, and exit status 2 (bad input) or 1 (runtime error); a run that did not
+converge exits 3; Ctrl-C exits 130.
+"""
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
-from .errors import RinglubeError
+from .errors import InputError, RinglubeError
 
 __all__ = ["main"]
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (exit 2) and defaults shown in every help text."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("formatter_class", argparse.ArgumentDefaultsHelpFormatter)
+        super().__init__(*args, **kwargs)
+
+    def error(self, message: str):  # noqa: D401 - argparse API
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value}: must be at least 1")
+    return value
+
+
+def _output_file(option: str, out: Path, inputs: list[Path]) -> Path:
+    """Check a result file to be written: a new path or a regular file, not an input."""
+    if out.exists() and out.is_dir():
+        raise InputError(f"{option} {out}: is a folder; give a file name")
+    if out.exists() and not out.is_file():
+        raise InputError(f"{option} {out}: exists and is not a regular file")
+    parent = out.parent if str(out.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(f"{option} {out}: folder '{parent}' does not exist")
+    for p in inputs:
+        if p and out.exists() and Path(p).exists() and os.path.samefile(out, p):
+            raise InputError(f"{option} {out}: is an input of this run; choose another name")
+    return out
+
+
+def _output_folder(option: str, out: Path) -> Path:
+    if out.exists() and not out.is_dir():
+        raise InputError(f"{option} {out}: exists and is not a folder")
+    return out
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
@@ -16,23 +64,57 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from .solve import run
 
     case = Case.from_namelist(args.deck)
-    result = run(case)
     out = Path(args.output) if args.output else Path(
         case.get("output", "file") or Path(args.deck).with_suffix(".h5"))
+    inputs = [Path(args.deck), *(Path(p) for p in (case.get("operating", "pressure_file"),
+                                                   case.get("calibration", "file")) if p)]
+    _output_file("-o" if args.output else f"{args.deck}: &output file", out, inputs)
+    result = run(case)
     result.to_hdf5(out)
-    print(f"{args.deck}: {result.summary()}\nwritten {out}")
+    if not args.quiet:
+        print(f"{args.deck}: {result.summary()}\nwritten {out}")
     return 0 if result.converged else 3
+
+
+def _load(path: str):
+    """A result file, or one line saying what is wrong with it."""
+    import h5py
+
+    from .result import load
+
+    p = Path(path)
+    if not p.exists():
+        raise InputError(f"{p}: file not found")
+    if not p.is_file():
+        raise InputError(f"{p}: not a file")
+    if not h5py.is_hdf5(p):
+        raise InputError(f"{p}: not an HDF5 result file (a deck? run it first: "
+                         f"ringlube run {p})")
+    try:
+        return load(p)
+    except RinglubeError:
+        raise
+    except (OSError, KeyError, ValueError, TypeError) as exc:
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise InputError(f"{p}: not a readable ringlube result ({reason})") from None
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
     from .plot import plot_results
-    from .result import load
 
-    results = [load(p) for p in args.results]
-    if args.labels:
-        for r, label in zip(results, args.labels.split(",")):
-            r.label = label
-    for f in plot_results(results, args.output):
+    out = _output_folder("-o", Path(args.output))
+    labels = args.labels.split(",") if args.labels else []
+    for label in labels:
+        if not label or "/" in label or "\\" in label:
+            raise InputError(f"--labels: '{label}' must be a non-empty name without '/' "
+                             "(it names the figure files)")
+    results = [_load(p) for p in args.results]
+    for r, label in zip(results, labels):
+        r.label = label
+    for r in results:
+        if "/" in r.label or "\\" in r.label:
+            raise InputError(f"result label '{r.label}' contains '/'; give --labels")
+    for f in plot_results(results, out):
         print(f"written {f}")
     return 0
 
@@ -40,6 +122,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 def _cmd_gas(args: argparse.Namespace) -> int:
     from . import gas
 
+    _output_folder("--out", Path(args.out))
     gas.main(["--out", args.out, *args.names])
     return 0
 
@@ -47,6 +130,7 @@ def _cmd_gas(args: argparse.Namespace) -> int:
 def _cmd_convergence(args: argparse.Namespace) -> int:
     from .convergence import convergence_study, write_report
 
+    _output_folder("--out", Path(args.out))
     command = "ringlube convergence " + " ".join(
         [*args.decks, *(["--quick"] if args.quick else []), "--out", args.out])
     for deck in args.decks:
@@ -73,6 +157,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
 def _cmd_validate(args: argparse.Namespace) -> int:
     from .validate import validate
 
+    _output_folder("--out", Path(args.out))
     print(f"written {validate(args.root, args.out)}")
     return 0
 
@@ -86,64 +171,119 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
     def terminate(signum, frame):  # a batch system's SIGTERM: save finished runs, then stop
         raise KeyboardInterrupt(f"signal {signum}")
 
+    if args.out is not None:
+        _output_folder("--out", Path(args.out))
     signal.signal(signal.SIGTERM, terminate)
-
+    args.interrupt_note = "; finished work is saved (run the same command to resume)"
     study = run_study(args.study, args.out, scheduler=args.scheduler, workers=args.workers,
-                      serial=args.serial, with_direct=args.direct)
-    print(summary(study))
-    print(f"written {study.path} and figures in {study.path.parent}")
+                      serial=args.serial, with_direct=args.direct, progress=not args.quiet)
+    if not args.quiet:
+        print(summary(study))
+    print(f"written {study.path}, report.md, Pareto CSV and figures in {study.path.parent}")
     return 0
 
 
-def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="ringlube", description="Piston ring mixed-lubrication "
-                                 "solver and design optimiser.")
-    sub = ap.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("run", help="run one deck (same numbers as ringlube-solve)")
-    p.add_argument("deck")
-    p.add_argument("-o", "--output", help="result file (default: the deck's &output file)")
+def _parser() -> argparse.ArgumentParser:
+    from . import __version__
+
+    ap = _Parser(prog="ringlube", description="Piston ring mixed-lubrication solver and "
+                 "design optimiser.")
+    ap.add_argument("--version", action="version", version=f"ringlube {__version__}")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND",
+                            parser_class=_Parser)
+    p = sub.add_parser("run", help="run one deck (same numbers as ringlube-solve)",
+                       description="Run one deck and write its result (HDF5).")
+    p.add_argument("deck", help="the case deck (namelist)")
+    p.add_argument("-o", "--output", help="result file (default: the deck's &output file, "
+                   "else the deck's name with .h5)")
+    p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     p.set_defaults(func=_cmd_run)
-    p = sub.add_parser("plot", help="friction and film plots of one or more results")
-    p.add_argument("results", nargs="+")
+    p = sub.add_parser("plot", help="friction and film plots of one or more results",
+                       description="Friction and film plots (PNG and PDF) of result files.")
+    p.add_argument("results", nargs="+", help="result files (HDF5) to overlay")
     p.add_argument("-o", "--output", default=".", help="output folder")
-    p.add_argument("--labels", help="comma-separated legend labels")
+    p.add_argument("--labels", help="comma-separated legend labels (default: file names)")
     p.set_defaults(func=_cmd_plot)
-    p = sub.add_parser("gas", help="regenerate the synthetic gas-pressure traces")
-    p.add_argument("--out", default="inputs/pressure")
-    p.add_argument("names", nargs="*")
+    p = sub.add_parser("gas", help="regenerate the synthetic gas-pressure traces",
+                       description="Regenerate the synthetic gas-pressure traces (CSV).")
+    p.add_argument("--out", default="inputs/pressure", help="output folder")
+    p.add_argument("names", nargs="*", help="traces to write (default: all)")
     p.set_defaults(func=_cmd_gas)
-    p = sub.add_parser("convergence", help="speed against accuracy over numerical settings")
-    p.add_argument("decks", nargs="+")
-    p.add_argument("--out", default="out/convergence", help="output folder")
+    p = sub.add_parser("convergence", help="speed against accuracy over numerical settings",
+                       description="Speed against accuracy over numerical settings.")
+    p.add_argument("decks", nargs="+", help="case decks")
+    p.add_argument("--out", default="docs/convergence", help="output folder")
     p.add_argument("--quick", action="store_true", help="shorter ladders (no 801/1601 nodes)")
-    p.add_argument("--repeats", type=int, default=3, help="timing repeats per setting (best kept)")
+    p.add_argument("--repeats", type=_positive_int, default=3,
+                   help="timing repeats per setting (best kept)")
     p.set_defaults(func=_cmd_convergence)
-    p = sub.add_parser("calibrate", help="fit the uncertain inputs to the cold Table 2 case")
-    p.add_argument("deck", nargs="?", default="inputs/crf450r_4000rpm_full_cold.nml")
-    p.add_argument("--out", default="inputs/calibration.nml")
+    p = sub.add_parser("calibrate", help="fit the uncertain inputs to the cold Table 2 case",
+                       description="Fit the uncertain inputs to the cold Table 2 case.")
+    p.add_argument("deck", nargs="?", default="inputs/crf450r_4000rpm_full_cold.nml",
+                   help="the cold case deck")
+    p.add_argument("--out", default="inputs/calibration.nml", help="calibration file written")
     p.set_defaults(func=_cmd_calibrate)
-    p = sub.add_parser("validate", help="regenerate docs/validation.md against the study's Table 2")
+    p = sub.add_parser("validate", help="regenerate docs/validation.md against Table 2",
+                       description="Regenerate docs/validation.md against the study's Table 2.")
     p.add_argument("--root", default=".", help="project folder (with inputs/)")
     p.add_argument("--out", default="docs", help="output folder")
     p.set_defaults(func=_cmd_validate)
-    p = sub.add_parser("optimise", help="DOE, quadratic surfaces and NSGA-II from a &study deck")
-    p.add_argument("study")
-    p.add_argument("--out", help="output folder (default out/NAME); an existing study there is resumed")
-    p.add_argument("--scheduler", help="address of an existing Dask scheduler (default: LocalCluster)")
-    p.add_argument("--workers", type=int, help="LocalCluster workers (default: one per core)")
+    p = sub.add_parser("optimise", help="DOE, quadratic surfaces and NSGA-II from a &study deck",
+                       description="Design study from a &study deck: sample, run, fit, NSGA-II, "
+                                   "check; resumes an interrupted study in the same --out.")
+    p.add_argument("study", help="the study deck (&study)")
+    p.add_argument("--out", help="output folder (default: out/NAME, NAME from &study name); "
+                   "an unfinished study there is resumed")
+    p.add_argument("--scheduler", help="address of an existing Dask scheduler "
+                   "(default: a LocalCluster on this machine)")
+    p.add_argument("--workers", type=_positive_int,
+                   help="LocalCluster worker processes (default: one per core)")
     p.add_argument("--serial", action="store_true", help="no Dask: run everything in this process")
-    p.add_argument("--direct", action="store_true", help="also NSGA-II on the true model, and compare")
+    p.add_argument("--direct", action="store_true",
+                   help="also NSGA-II on the true model, compared with the surrogate front")
+    p.add_argument("-q", "--quiet", action="store_true",
+                   help="no progress bars or summary (the files are still written)")
     p.set_defaults(func=_cmd_optimise)
-    args = ap.parse_args(argv)
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the ``ringlube`` command.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        Exit status: 0 success, 1 runtime error, 2 bad input, 3 not converged, 130
+        interrupted.
+
+    Example
+    -------
+    >>> main(["--version"])                                  # doctest: +SKIP
+    ringlube 0.1.0
+    """
+    args = _parser().parse_args(argv)
     try:
         return args.func(args)
     except RinglubeError as exc:
-        print(f"ringlube: error: {exc}", file=sys.stderr)
+        print(f"ringlube: error: {_one_line(exc)}", file=sys.stderr)
         return exc.code
+    except OSError as exc:  # the file system said no (permissions, disk full, ...)
+        where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
+        print(f"ringlube: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
-        print("ringlube: interrupted; finished work is saved (run the same command to resume)",
-              file=sys.stderr)
+        print(f"ringlube: interrupted{getattr(args, 'interrupt_note', '')}", file=sys.stderr)
         return 130
+
+
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split("\n")).strip()
+    return text or type(exc).__name__
 
 
 if __name__ == "__main__":

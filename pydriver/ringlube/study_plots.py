@@ -1,11 +1,20 @@
-"""Figures of a design study: goodness of fit (study Fig 9), trade-off sets (Fig 10) and
-two-variable maps of each objective (Figs 4 and 7)."""
+"""Figures of a design study, drawn from plain arrays (no study object needed).
+
+- :func:`fit_figure`: surface against simulation per objective (study Fig 9);
+- :func:`tradeoff_figure`: energy loss against mixed share of every case's Pareto set, the
+  chosen designs and the reference design marked and named (Fig 10);
+- :func:`map_figure`: an objective over each pair of variables, the others at mid-range,
+  chosen and reference designs marked (Figs 4 and 7).
+
+:func:`ringlube.study.study_figures` turns a study into these inputs.
+"""
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
-import json
 from pathlib import Path
+from typing import Callable, Sequence
 
 import matplotlib
 
@@ -14,109 +23,331 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .plot import save_metadata  # noqa: E402
-from .study import (OBJECTIVES, STUDY_OPTIMUM, UNITS_LABEL, UNITS_SCALE, Study,  # noqa: E402
-                    _objective_matrix, surfaces_of)
 
-__all__ = ["study_figures"]
+__all__ = ["Axis", "FitPanel", "Mark", "TradeoffSeries", "fit_figure", "map_figure",
+           "tradeoff_figure", "save", "CONSTANT_RTOL"]
+
+#: A field whose range is below this fraction of its magnitude is drawn as constant.
+CONSTANT_RTOL = 1e-6
+_MARKERS = {"chosen": dict(marker="X", s=60, color="k", edgecolor="w", linewidth=0.6),
+            "reference": dict(marker="*", s=190, color="gold", edgecolor="k", linewidth=0.8)}
 
 
-def _save(fig, out: Path, stem: str) -> list[Path]:
+@dataclasses.dataclass
+class Axis:
+    """A design variable as drawn: label with unit, scale to the drawn unit, bounds (SI).
+
+    Example
+    -------
+    >>> Axis("width [mm]", 1e3, 0.5e-3, 1.3e-3).scale
+    1000.0
+    """
+
+    label: str
+    scale: float
+    lower: float
+    upper: float
+
+
+@dataclasses.dataclass
+class FitPanel:
+    """One objective's goodness of fit: simulated and predicted values, statistics.
+
+    Example
+    -------
+    >>> FitPanel("energy_loss", "J", np.ones(2), np.ones(2), 1.0, 1.0, 0.0).unit
+    'J'
+    """
+
+    name: str
+    unit: str
+    simulated: np.ndarray
+    predicted: np.ndarray
+    r2: float
+    r2_adj: float
+    cv_rel: float
+
+
+@dataclasses.dataclass
+class Mark:
+    """A named design to mark on maps (``style``: ``chosen`` or ``reference``).
+
+    Example
+    -------
+    >>> Mark("knee", np.zeros(4), "chosen").style
+    'chosen'
+    """
+
+    name: str
+    x: np.ndarray
+    style: str = "chosen"
+
+
+@dataclasses.dataclass
+class TradeoffSeries:
+    """One case on the trade-off plot.
+
+    Attributes
+    ----------
+    label : str
+    front : ndarray, shape (k, 2)
+        Mixed share and energy loss of its Pareto set.
+    points : list of (name, mixed share, energy loss, style)
+        Designs re-simulated with the true model.
+
+    Example
+    -------
+    >>> TradeoffSeries("cold", np.zeros((0, 2)), []).label
+    'cold'
+    """
+
+    label: str
+    front: np.ndarray
+    points: list = dataclasses.field(default_factory=list)
+
+
+def save(fig: plt.Figure, out: str | Path, stem: str) -> list[Path]:
+    """Write ``fig`` as ``OUT/STEM.png`` and ``.pdf`` (no timestamps) and close it.
+
+    Parameters
+    ----------
+    fig : Figure
+    out : path
+        Folder.
+    stem : str
+        File name without suffix.
+
+    Returns
+    -------
+    list of Path
+
+    Example
+    -------
+    >>> save(plt.figure(), "/tmp", "empty")                   # doctest: +SKIP
+    """
     files = []
     for fmt in ("png", "pdf"):
-        p = out / f"{stem}.{fmt}"
+        p = Path(out) / f"{stem}.{fmt}"
         fig.savefig(p, dpi=130, metadata=save_metadata(fmt))
         files.append(p)
     plt.close(fig)
     return files
 
 
-def fit_figure(study: Study, label: str) -> plt.Figure:
-    s = study.s
-    c = study.cases[label]
-    x, y = _objective_matrix(study, label)
-    surfs = surfaces_of(study, label)
-    fig, axes = plt.subplots(1, len(s.objectives), figsize=(4.2 * len(s.objectives), 4), layout="constrained")
-    for j, (ax, o) in enumerate(zip(np.atleast_1d(axes), s.objectives)):
-        pred = surfs[j](x)
-        ax.scatter(y[:, j], pred, s=4, alpha=0.5)
-        lo, hi = min(y[:, j].min(), pred.min()), max(y[:, j].max(), pred.max())
-        ax.plot([lo, hi], [lo, hi], "k-", lw=0.8)
-        sf = c["surface"][o]
-        ax.set_title(f"{o} ({label}): R$^2$ {sf['r2']:.4f}, adj {sf['r2_adj']:.4f}\n"
-                     f"{study.s.folds}-fold CV error {sf['cv_rel']:.2%}", fontsize=9)
-        ax.set_xlabel(f"simulated [{OBJECTIVES[o]}]")
-        ax.set_ylabel(f"quadratic surface [{OBJECTIVES[o]}]")
-    return fig
+def fit_figure(label: str, panels: Sequence[FitPanel], folds: int) -> plt.Figure:
+    """Quadratic surface against true model, one panel per objective (study Fig 9).
 
+    Parameters
+    ----------
+    label : str
+        Case label.
+    panels : sequence of FitPanel
+    folds : int
+        Folds of the cross-validation (for the titles).
 
-def tradeoff_figure(study: Study) -> plt.Figure:
-    s = study.s
-    if "ring_mass" not in s.objectives:
-        raise ValueError("trade-off plot needs ring_mass")
-    jm = s.objectives.index("ring_mass")
-    others = [j for j in range(len(s.objectives)) if j != jm]
-    fig, axes = plt.subplots(1, len(others), figsize=(5.5 * len(others), 4.4), layout="constrained")
-    for ax, j in zip(np.atleast_1d(axes), others):
-        for label in study.cases:
-            fr = study.cases[label].get("front")
-            if fr is None:
-                continue
-            f = np.asarray(fr["f"])
-            sc = ax.scatter(f[:, jm], f[:, j], s=6, alpha=0.6, label=f"{label}: Pareto set")
-            ch = study.cases[label].get("chosen")
-            if ch is not None:
-                ft = np.asarray(ch["f_true"])
-                ax.scatter(ft[:, jm], ft[:, j], marker="x", color=sc.get_facecolor()[0], s=40,
-                           label=f"{label}: chosen, re-simulated")
-            so = study.cases[label].get("study_optimum")
-            if so is not None:
-                ft = np.asarray(so["f_true"])
-                ax.scatter(ft[:, jm], ft[:, j], marker="*", s=140, edgecolor="k",
-                           color=sc.get_facecolor()[0], label=f"{label}: study's optimum ring")
-        ax.set_xlabel(f"ring mass [{OBJECTIVES['ring_mass']}]")
-        ax.set_ylabel(f"{s.objectives[j]} [{OBJECTIVES[s.objectives[j]]}]")
-        ax.legend(fontsize=7)
-    return fig
+    Returns
+    -------
+    Figure
 
-
-def map_figure(study: Study, label: str, j: int) -> plt.Figure:
-    s = study.s
-    d = len(s.variables)
-    pairs = list(itertools.combinations(range(d), 2))
-    ncol = 3
-    nrow = int(np.ceil(len(pairs) / ncol))
-    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.6 * nrow), layout="constrained",
+    Example
+    -------
+    >>> fig = fit_figure("cold", [FitPanel("e", "J", np.arange(3.0), np.arange(3.0), 1, 1, 0)],
+    ...                  5)
+    """
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4), layout="constrained",
                              squeeze=False)
-    surf = surfaces_of(study, label)[j]
-    lo, hi = np.array(s.lower), np.array(s.upper)
+    for ax, p in zip(axes.flat, panels):
+        ax.scatter(p.simulated, p.predicted, s=4, alpha=0.5)
+        lo = min(np.min(p.simulated), np.min(p.predicted))
+        hi = max(np.max(p.simulated), np.max(p.predicted))
+        ax.plot([lo, hi], [lo, hi], "k-", lw=0.8)
+        ax.set_title(f"{p.name} ({label}): R$^2$ {p.r2:.4f}, adj {p.r2_adj:.4f}\n"
+                     f"{folds}-fold CV error {p.cv_rel:.2%}", fontsize=9)
+        ax.set_xlabel(f"simulated {p.name} [{p.unit}]")
+        ax.set_ylabel(f"quadratic surface [{p.unit}]")
+    return fig
+
+
+def _constant(z: np.ndarray) -> bool:
+    return float(np.ptp(z)) <= CONSTANT_RTOL * max(float(np.max(np.abs(z))), 1e-300)
+
+
+def map_figure(title: str, zlabel: str, surface: Callable[[np.ndarray], np.ndarray],
+               axes_: Sequence[Axis], marks: Sequence[Mark] = ()) -> plt.Figure:
+    """An objective over every pair of variables (the others at mid-range).
+
+    One panel per pair, at most three a row (one square panel for two variables; a line
+    for one variable). A panel where the objective is constant to :data:`CONSTANT_RTOL`
+    is drawn in one colour and says so, instead of a colour scale of rounding noise.
+
+    Parameters
+    ----------
+    title : str
+        What is drawn (objective and case).
+    zlabel : str
+        Objective with unit, for the colour bar.
+    surface : callable
+        ``surface(x) -> values`` for designs ``x`` (rows, SI).
+    axes_ : sequence of Axis
+        The design variables.
+    marks : sequence of Mark
+        Designs to mark and name.
+
+    Returns
+    -------
+    Figure
+
+    Example
+    -------
+    >>> ax = [Axis("a", 1.0, 0.0, 1.0), Axis("b", 1.0, 0.0, 1.0)]
+    >>> fig = map_figure("t", "z", lambda x: x[:, 0] + x[:, 1], ax)
+    """
+    d = len(axes_)
+    lo = np.array([a.lower for a in axes_])
+    hi = np.array([a.upper for a in axes_])
     mid = 0.5 * (lo + hi)
-    for ax, (a, b) in zip(axes.flat, pairs):
+    if d == 1:
+        fig, ax = plt.subplots(figsize=(5.5, 4), layout="constrained")
+        g = np.linspace(lo[0], hi[0], 200)[:, None]
+        ax.plot(g[:, 0] * axes_[0].scale, surface(g), lw=1.4)
+        for m in marks:
+            ax.scatter(m.x[0] * axes_[0].scale, surface(np.atleast_2d(m.x))[0], zorder=3,
+                       **_MARKERS[m.style])
+            ax.annotate(m.name, (m.x[0] * axes_[0].scale, surface(np.atleast_2d(m.x))[0]),
+                        fontsize=7, xytext=(4, 4), textcoords="offset points")
+        ax.set_xlabel(axes_[0].label)
+        ax.set_ylabel(zlabel)
+        ax.set_title(f"{title}, quadratic surface", fontsize=10)
+        return fig
+    pairs = list(itertools.combinations(range(d), 2))
+    ncol = min(3, len(pairs))
+    nrow = int(np.ceil(len(pairs) / ncol))
+    fig, axs = plt.subplots(nrow, ncol, figsize=(4.4 * ncol + 1.2, 3.8 * nrow + 0.4),
+                            layout="constrained", squeeze=False)
+    grids = []
+    for a, b in pairs:
         ga, gb = np.meshgrid(np.linspace(lo[a], hi[a], 60), np.linspace(lo[b], hi[b], 60))
         x = np.tile(mid, (ga.size, 1))
         x[:, a] = ga.ravel()
         x[:, b] = gb.ravel()
-        z = surf(x).reshape(ga.shape)
-        sa, sb = UNITS_SCALE.get(s.variables[a], 1.0), UNITS_SCALE.get(s.variables[b], 1.0)
-        cs = ax.contourf(ga * sa, gb * sb, z, levels=20, cmap="viridis")
-        fig.colorbar(cs, ax=ax, label=f"{s.objectives[j]} [{OBJECTIVES[s.objectives[j]]}]")
-        ax.set_xlabel(UNITS_LABEL.get(s.variables[a], s.variables[a]))
-        ax.set_ylabel(UNITS_LABEL.get(s.variables[b], s.variables[b]))
-    for ax in list(axes.flat)[len(pairs):]:
+        grids.append((ga, gb, surface(x).reshape(ga.shape)))
+    # one colour scale for every panel: a pair along which the objective hardly changes
+    # looks uniform instead of showing its rounding noise on a scale of its own
+    zall = np.concatenate([z.ravel() for _, _, z in grids])
+    constant = _constant(zall)
+    levels = np.linspace(zall.min(), zall.max(), 21)
+    tags = _tags(marks)
+    cs = None
+    for ax, (a, b), (ga, gb, z) in zip(axs.flat, pairs, grids):
+        xa, xb = ga * axes_[a].scale, gb * axes_[b].scale
+        if constant:
+            ax.pcolormesh(xa, xb, np.zeros_like(z), cmap="Greys", vmin=0, vmax=4,
+                          shading="auto")
+            ax.text(0.5, 0.5, f"constant to {CONSTANT_RTOL:g}:\n{float(np.mean(z)):.6g}",
+                    transform=ax.transAxes, ha="center", va="center", fontsize=9)
+        else:
+            cs = ax.contourf(xa, xb, z, levels=levels, cmap="viridis")
+            ax.set_title(f"range here {z.min():.4g} to {z.max():.4g}", fontsize=8)
+        xy = np.array([[m.x[a] * axes_[a].scale, m.x[b] * axes_[b].scale]
+                       for m in marks]).reshape(-1, 2)
+        for m, (px, py) in zip(marks, xy):
+            ax.scatter(px, py, zorder=3, clip_on=False, **_MARKERS[m.style])
+        for group in _coincident(xy):
+            ax.annotate(",".join(tags[i] for i in group), tuple(xy[group[0]]), fontsize=7,
+                        xytext=(4, 3), textcoords="offset points", color="k",
+                        bbox=dict(boxstyle="round,pad=0.1", fc="w", alpha=0.7, lw=0))
+        ax.set_xlim(lo[a] * axes_[a].scale, hi[a] * axes_[a].scale)
+        ax.set_ylim(lo[b] * axes_[b].scale, hi[b] * axes_[b].scale)
+        ax.set_xlabel(axes_[a].label)
+        ax.set_ylabel(axes_[b].label)
+    for ax in list(axs.flat)[len(pairs):]:
         ax.axis("off")
-    fig.suptitle(f"{s.objectives[j]} ({label}), quadratic surface, other variables at mid-range",
-                 fontsize=10)
+    if cs is not None:
+        fig.colorbar(cs, ax=axs, label=zlabel, shrink=0.9)
+    others = "" if d == 2 else ", other variables at mid-range"
+    title = f"{title}, quadratic surface{others}"
+    if constant:
+        title += f": {zlabel} constant to {CONSTANT_RTOL:g}"
+    fig.suptitle(title, fontsize=10)
+    if marks:
+        fig.supxlabel("marked: " + ", ".join(f"{t} = {m.name}" for t, m in zip(tags, marks)),
+                      fontsize=8)
     return fig
 
 
-def study_figures(study: Study, out: Path) -> list[Path]:
-    out = Path(out)
-    files = []
-    for label in study.cases:
-        if "surface" not in study.cases[label]:
-            continue
-        files += _save(fit_figure(study, label), out, f"fit_{label}")
-        for j, o in enumerate(study.s.objectives):
-            files += _save(map_figure(study, label, j), out, f"map_{label}_{o}")
-    if "ring_mass" in study.s.objectives:
-        files += _save(tradeoff_figure(study), out, "tradeoff")
-    return files
+def _coincident(xy: np.ndarray, rtol: float = 0.01) -> list[list[int]]:
+    """Groups of points closer than ``rtol`` of the points' span (drawn with one label)."""
+    if len(xy) == 0:
+        return []
+    span = np.ptp(xy, axis=0)
+    span = np.where(span > 0, span, np.maximum(np.abs(xy).max(axis=0), 1e-300))
+    groups: list[list[int]] = []
+    for i, p in enumerate(xy):
+        for g in groups:
+            if np.all(np.abs(p - xy[g[0]]) <= rtol * span):
+                g.append(i)
+                break
+        else:
+            groups.append([i])
+    return groups
+
+
+def _tags(marks: Sequence[Mark]) -> list[str]:
+    """Short tags for marked designs: 1, 2, ... for chosen ones, R for the reference."""
+    out, k = [], 0
+    for m in marks:
+        if m.style == "reference":
+            out.append("R")
+        else:
+            k += 1
+            out.append(str(k))
+    return out
+
+
+def tradeoff_figure(series: Sequence[TradeoffSeries], xlabel: str, ylabel: str) -> plt.Figure:
+    """Energy loss against mixed share: every case's Pareto set, designs marked and named.
+
+    The legend sits outside the axes, so it never hides points.
+
+    Parameters
+    ----------
+    series : sequence of TradeoffSeries
+    xlabel, ylabel : str
+        Axis labels with units.
+
+    Returns
+    -------
+    Figure
+
+    Example
+    -------
+    >>> fig = tradeoff_figure([TradeoffSeries("cold", np.array([[8.0, 1.9]]),
+    ...                                       [("knee", 8.0, 1.9, "chosen")])], "x", "y")
+    """
+    fig, ax = plt.subplots(figsize=(8.5, 5), layout="constrained")
+    for sr in series:
+        sc = ax.scatter(sr.front[:, 0], sr.front[:, 1], s=7, alpha=0.55,
+                        label=f"{sr.label}: Pareto set (surrogate)")
+        colour = sc.get_facecolor()[0]
+        for style in ("chosen", "reference"):
+            pts = [p for p in sr.points if p[3] == style]
+            if not pts:
+                continue
+            kw = dict(_MARKERS[style], color=colour, edgecolor="k")
+            ax.scatter([p[1] for p in pts], [p[2] for p in pts], zorder=3,
+                       label=f"{sr.label}: {style} design{'s' if len(pts) > 1 else ''} "
+                             "(true model)", **kw)
+        names = [p[0] for p in sr.points]
+        xy = np.array([[p[1], p[2]] for p in sr.points]).reshape(-1, 2)
+        for group in _coincident(xy):
+            text = " = ".join(names[i] for i in group)
+            ax.annotate(f"{text} ({sr.label})" if len(series) > 1 else text, tuple(xy[group[0]]),
+                        fontsize=7, xytext=(5, 4), textcoords="offset points",
+                        bbox=dict(boxstyle="round,pad=0.1", fc="w", alpha=0.7, lw=0))
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
+    ax.set_title("trade-off: energy loss against share of the cycle in mixed lubrication",
+                 fontsize=10)
+    return fig

@@ -8,11 +8,48 @@ import itertools
 import numpy as np
 import scipy.linalg
 
-__all__ = ["QuadraticSurface", "quadratic_features", "fit_quadratic", "cross_validate"]
+__all__ = ["QuadraticSurface", "quadratic_features", "fit_quadratic", "cross_validate",
+           "term_names", "n_terms"]
+
+
+def n_terms(d: int) -> int:
+    """Number of terms of the full quadratic in ``d`` variables.
+
+    Parameters
+    ----------
+    d : int
+        Number of variables.
+
+    Returns
+    -------
+    int
+        ``1 + 2 d + d (d - 1) / 2``.
+
+    Example
+    -------
+    >>> n_terms(4)
+    15
+    """
+    return 1 + 2 * d + d * (d - 1) // 2
 
 
 def quadratic_features(z: np.ndarray) -> np.ndarray:
-    """Columns 1, z_i, z_i^2, z_i z_j (i < j) of the full second-order polynomial."""
+    """Columns 1, z_i, z_i^2, z_i z_j (i < j) of the full second-order polynomial.
+
+    Parameters
+    ----------
+    z : ndarray, shape (n, d)
+        Scaled variables.
+
+    Returns
+    -------
+    ndarray, shape (n, n_terms(d))
+
+    Example
+    -------
+    >>> quadratic_features(np.array([[2.0, 3.0]])).tolist()
+    [[1.0, 2.0, 3.0, 4.0, 9.0, 6.0]]
+    """
     z = np.atleast_2d(z)
     n, d = z.shape
     cols = [np.ones(n)]
@@ -23,6 +60,21 @@ def quadratic_features(z: np.ndarray) -> np.ndarray:
 
 
 def term_names(variables: list[str]) -> list[str]:
+    """Names of the columns of :func:`quadratic_features`.
+
+    Parameters
+    ----------
+    variables : list of str
+
+    Returns
+    -------
+    list of str
+
+    Example
+    -------
+    >>> term_names(["a", "b"])
+    ['1', 'a', 'b', 'a^2', 'b^2', 'a*b']
+    """
     d = len(variables)
     return (["1"] + list(variables) + [f"{v}^2" for v in variables]
             + [f"{variables[i]}*{variables[j]}" for i, j in itertools.combinations(range(d), 2)])
@@ -30,7 +82,21 @@ def term_names(variables: list[str]) -> list[str]:
 
 @dataclasses.dataclass
 class QuadraticSurface:
-    """y ~ c . features(z), z the variables scaled to [-1, 1] over [lower, upper]."""
+    """y ~ c . features(z), z the variables scaled to [-1, 1] over [lower, upper].
+
+    Parameters
+    ----------
+    lower, upper : ndarray
+        The box the variables are scaled over.
+    coef : ndarray
+        Coefficients of :func:`quadratic_features`.
+
+    Example
+    -------
+    >>> s = QuadraticSurface(np.zeros(1), np.ones(1), np.array([1.0, 2.0, 0.0]))
+    >>> s(np.array([[1.0]])).tolist()
+    [3.0]
+    """
 
     lower: np.ndarray
     upper: np.ndarray
@@ -41,14 +107,50 @@ class QuadraticSurface:
     cv_rel: float = np.nan
 
     def scale(self, x: np.ndarray) -> np.ndarray:
+        """Variables scaled to [-1, 1] over the box.
+
+        Parameters
+        ----------
+        x : ndarray, shape (n, d)
+
+        Returns
+        -------
+        ndarray
+
+        Example
+        -------
+        >>> QuadraticSurface(np.zeros(1), np.ones(1), np.zeros(3)).scale([0.5]).tolist()
+        [0.0]
+        """
         return 2 * (np.asarray(x) - self.lower) / (self.upper - self.lower) - 1
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
+        """The surface at designs ``x`` (rows)."""
         return quadratic_features(self.scale(x)) @ self.coef
 
 
 def fit_quadratic(x: np.ndarray, y: np.ndarray, lower, upper) -> QuadraticSurface:
-    """Least-squares fit through LAPACK (gelsd) with R^2 and adjusted R^2."""
+    """Least-squares fit through LAPACK (gelsd) with R^2 and adjusted R^2.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n, d)
+        Designs.
+    y : ndarray, shape (n,)
+        Values.
+    lower, upper : array_like
+        The box the variables are scaled over.
+
+    Returns
+    -------
+    QuadraticSurface
+
+    Example
+    -------
+    >>> x = np.linspace(0, 1, 5)[:, None]
+    >>> round(float(fit_quadratic(x, 3 * x[:, 0] ** 2, [0], [1])(np.array([[0.5]]))[0]), 12)
+    0.75
+    """
     lower, upper = np.asarray(lower, float), np.asarray(upper, float)
     surf = QuadraticSurface(lower, upper, np.zeros(0))
     a = quadratic_features(surf.scale(x))
@@ -65,7 +167,30 @@ def fit_quadratic(x: np.ndarray, y: np.ndarray, lower, upper) -> QuadraticSurfac
 
 def cross_validate(x: np.ndarray, y: np.ndarray, lower, upper, k: int = 5,
                    seed: int = 0) -> tuple[float, float]:
-    """k-fold cross-validated RMSE and RMSE relative to the mean |y|."""
+    """k-fold cross-validated RMSE and RMSE relative to the mean |y|.
+
+    Parameters
+    ----------
+    x, y : ndarray
+        Designs and values.
+    lower, upper : array_like
+        The box.
+    k : int
+        Folds.
+    seed : int
+        Seed of the fold split.
+
+    Returns
+    -------
+    rmse, relative : float
+        ``relative`` is 0 for an exact fit of all-zero data.
+
+    Example
+    -------
+    >>> x = np.linspace(0, 1, 12)[:, None]
+    >>> cross_validate(x, 1 + x[:, 0], [0], [1], k=3)[0] < 1e-12
+    True
+    """
     n = len(y)
     idx = np.random.default_rng(seed).permutation(n)
     folds = np.array_split(idx, k)
@@ -75,4 +200,5 @@ def cross_validate(x: np.ndarray, y: np.ndarray, lower, upper, k: int = 5,
         s = fit_quadratic(x[train], y[train], lower, upper)
         err[f] = s(x[f]) - y[f]
     rmse = float(np.sqrt(np.mean(err**2)))
-    return rmse, rmse / float(np.mean(np.abs(y)))
+    scale = float(np.mean(np.abs(y)))
+    return rmse, (rmse / scale if scale > 0 else (0.0 if rmse == 0 else np.inf))

@@ -61,7 +61,7 @@ def test_small_study_end_to_end(tmp_path):
         assert f["samples/x"].shape == (40, 4)
         for label in ("cold", "hot"):
             g = f[f"cases/{label}"]
-            assert g["done"][()].all()
+            assert g["runs/done"][()].all()
             for o in s.objectives:
                 assert f"surface/{o}/coef" in g and g[f"surface/{o}"].attrs["r2"] > 0.5
             assert g["front/f"].shape[1] == 3
@@ -69,21 +69,20 @@ def test_small_study_end_to_end(tmp_path):
         assert set(json.loads(f.attrs["stages"])) >= {"sampled", "ran", "fitted", "optimised",
                                                       "checked", "direct"}
     # the weighted scene: 3:1 mean of the two cases' objectives, with its own front
-    sc = study.cases["scene"]
-    np.testing.assert_allclose(sc["objectives"], 0.75 * study.cases["cold"]["objectives"]
-                               + 0.25 * study.cases["hot"]["objectives"], rtol=1e-14)
-    assert np.asarray(sc["front"]["f"]).shape[1] == 3
+    np.testing.assert_allclose(study.objectives("scene"), 0.75 * study.objectives("cold")
+                               + 0.25 * study.objectives("hot"), rtol=1e-14)
+    assert study.cases["scene"].front.f.shape[1] == 3
     # stored objectives are the true model's: re-run two samples and one chosen design
     base = Case.from_namelist(s.cases[0])
     for i in (0, 17):
         r = ringlube.run(base.with_ring(**dict(zip(s.variables, study.x[i]))))
-        np.testing.assert_array_equal(study.cases["cold"]["objectives"][i],
+        np.testing.assert_array_equal(study.objectives("cold")[i],
                                       [r.energy_loss, r.mixed_share, r.ring_mass])
-    ch = study.cases["cold"]["chosen"]
-    r = ringlube.run(base.with_ring(**dict(zip(s.variables, ch["x"][-1]))))
-    np.testing.assert_array_equal(ch["f_true"][-1], [r.energy_loss, r.mixed_share, r.ring_mass])
+    ch = study.cases["cold"].chosen
+    r = ringlube.run(base.with_ring(**dict(zip(s.variables, ch.x[-1]))))
+    np.testing.assert_array_equal(ch.f_true[-1, :3], [r.energy_loss, r.mixed_share, r.ring_mass])
     # the merged front is non-dominated
-    f = np.asarray(study.cases["cold"]["front"]["f"])
+    f = study.cases["cold"].front.f
     dominated = [(np.all(f <= fi, axis=1) & np.any(f < fi, axis=1)).any() for fi in f]
     assert not any(dominated)
     assert (tmp_path / "out" / "tradeoff.png").stat().st_size > 1000
@@ -96,7 +95,7 @@ def test_resume_reruns_nothing_that_finished(tmp_path):
     with pytest.raises(KeyboardInterrupt):
         run_study(deck, out, serial=True, progress=False, figures=False, stop_after=12)
     with h5py.File(out / "resume.h5") as f:
-        done_before = int(f["cases/cold/done"][()].sum())
+        done_before = int(f["cases/cold/runs/done"][()].sum())
     assert 12 <= done_before < 40
     study = run_study(deck, out, serial=True, progress=False, figures=False)
     assert study.runs_executed == 40 - done_before
@@ -104,7 +103,7 @@ def test_resume_reruns_nothing_that_finished(tmp_path):
     assert again.runs_executed == 0
     # and the results equal an uninterrupted study
     fresh = run_study(deck, tmp_path / "fresh", serial=True, progress=False, figures=False)
-    np.testing.assert_array_equal(again.cases["cold"]["objectives"], fresh.cases["cold"]["objectives"])
+    np.testing.assert_array_equal(again.objectives("cold"), fresh.objectives("cold"))
 
 
 @pytest.fixture()
@@ -172,15 +171,14 @@ def test_dask_cluster_matches_serial_and_survives_a_killed_worker(tmp_path, loop
     finally:
         ex.close()
     assert killed and workers[0].wait(timeout=10) == -signal.SIGKILL
-    c = on_cluster.cases["cold"]
-    assert c["done"].all()
-    np.testing.assert_array_equal(c["objectives"], serial.cases["cold"]["objectives"])
+    assert on_cluster.cases["cold"].runs.done.all()
+    np.testing.assert_array_equal(on_cluster.objectives("cold"), serial.objectives("cold"))
 
 
 def test_bad_study_deck_names_the_variable(tmp_path):
     from ringlube import InputError
 
-    with pytest.raises(InputError, match=r"&study name: must be a plain file name"):
+    with pytest.raises(InputError, match=r"&study name: .../escape. must be a plain name"):
         read_study(_with_name(tmp_path, "../escape"))
     with pytest.raises(InputError, match=r"&study samples: need at least 20"):
         read_study(write_study(tmp_path, name="few", samples=10))

@@ -1,0 +1,265 @@
+"""Where independent tasks run: in this process, in local processes, or on Dask.
+
+One convention for every parallel loop in ringlube: ``executor.map(fn, tasks, on_result)``
+calls ``fn(*task)`` for every task and ``on_result(i, value)`` in this process as each one
+finishes (in any order), so the caller can save progress as results arrive. An exception
+raised by a task or by ``on_result`` (Ctrl-C included) cancels what is still queued and is
+raised again.
+
+Backends:
+
+- ``serial``: a plain loop in this process (no extra dependency);
+- ``processes``: a :class:`concurrent.futures.ProcessPoolExecutor` with ``workers`` processes;
+- ``dask``: a Dask ``LocalCluster`` with ``workers`` single-threaded worker processes;
+- ``scheduler``: an existing Dask cluster, given by its scheduler address.
+
+Dask is imported only by the two Dask backends; without it they raise a one-line
+:class:`~ringlube.RinglubeError` that says ``pip install ringlube[study]``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+from typing import Any, Callable, Sequence
+
+from .errors import InputError, RinglubeError
+
+__all__ = ["Executor", "require", "CONNECT_TIMEOUT_S", "BACKENDS"]
+
+#: Seconds to wait for an existing Dask scheduler to answer before giving up.
+CONNECT_TIMEOUT_S = 10.0
+#: The backends an :class:`Executor` can use.
+BACKENDS = ("serial", "processes", "dask", "scheduler")
+#: Dask loggers silenced while a cluster starts, works and closes (their start-up notes,
+#: port warnings and the CancelledError of an interrupted map are noise for a user).
+_NOISY = ("distributed", "distributed.worker", "distributed.scheduler", "distributed.nanny",
+          "distributed.core", "distributed.comm", "distributed.client", "tornado", "asyncio",
+          "bokeh")
+
+
+def require(module: str, what: str) -> Any:
+    """Import an optional dependency or fail with a one-line install hint.
+
+    Parameters
+    ----------
+    module : str
+        Module to import, e.g. ``"dask.distributed"``.
+    what : str
+        What needs it, for the message (e.g. ``"a Dask cluster"``).
+
+    Returns
+    -------
+    module
+        The imported module.
+
+    Raises
+    ------
+    RinglubeError
+        If the module cannot be imported; the message says ``pip install ringlube[study]``.
+
+    Example
+    -------
+    >>> require("math", "a test").sqrt(4.0)
+    2.0
+    """
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError as exc:
+        raise RinglubeError(f"{what} needs the optional package '{module.split('.')[0]}' "
+                            f"({exc}); install it with: pip install ringlube[study]") from None
+
+
+def _workers(workers: int | None) -> int:
+    if workers is None:
+        return os.cpu_count() or 1
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise InputError(f"--workers {workers}: must be a whole number of at least 1")
+    return workers
+
+
+class Executor:
+    """Runs independent tasks serially, in local processes or on Dask.
+
+    Parameters
+    ----------
+    scheduler : str, optional
+        Address of an existing Dask scheduler (e.g. ``tcp://10.0.0.1:8786``); selects the
+        ``scheduler`` backend.
+    workers : int, optional
+        Worker processes for the ``processes`` and ``dask`` backends (default: one per core).
+    serial : bool
+        Run every task in this process (the ``serial`` backend).
+    backend : str, optional
+        One of :data:`BACKENDS`; by default ``scheduler`` if an address is given, else
+        ``serial`` if ``serial`` is true, else ``dask``.
+    connect_timeout : float, optional
+        Seconds to wait for ``scheduler`` (default :data:`CONNECT_TIMEOUT_S`).
+
+    Raises
+    ------
+    InputError
+        ``workers`` below 1 or an unknown backend.
+    RinglubeError
+        The scheduler cannot be reached within ``connect_timeout`` seconds, or Dask is not
+        installed.
+
+    Example
+    -------
+    >>> seen = {}
+    >>> with Executor(serial=True) as ex:
+    ...     ex.map(pow, [(2, 3), (3, 2)], seen.__setitem__)
+    >>> seen
+    {0: 8, 1: 9}
+    """
+
+    def __init__(self, scheduler: str | None = None, workers: int | None = None,
+                 serial: bool = False, *, backend: str | None = None,
+                 connect_timeout: float | None = None):
+        self.backend = backend or ("scheduler" if scheduler else "serial" if serial else "dask")
+        if self.backend not in BACKENDS:
+            raise InputError(f"unknown executor backend '{self.backend}' "
+                             f"(known: {', '.join(BACKENDS)})")
+        self.workers = _workers(workers)
+        self.scheduler = scheduler
+        self.client = None
+        self.cluster = None
+        self.pool = None
+        if self.backend == "processes":
+            from concurrent.futures import ProcessPoolExecutor
+
+            self.pool = ProcessPoolExecutor(max_workers=self.workers)
+        elif self.backend == "dask":
+            self._start_local_cluster()
+        elif self.backend == "scheduler":
+            if not scheduler:
+                raise InputError("the 'scheduler' backend needs a scheduler address")
+            self._connect(scheduler, CONNECT_TIMEOUT_S if connect_timeout is None
+                          else connect_timeout)
+
+    # --- Dask set-up -------------------------------------------------------------------
+    def _start_local_cluster(self) -> None:
+        dd = require("dask.distributed", "a Dask LocalCluster")
+        with _quiet():
+            self.cluster = dd.LocalCluster(n_workers=self.workers, threads_per_worker=1,
+                                           processes=True, dashboard_address=None,
+                                           silence_logs=logging.CRITICAL)
+            self.client = dd.Client(self.cluster)
+
+    def _connect(self, address: str, timeout: float) -> None:
+        dd = require("dask.distributed", "--scheduler")
+        try:
+            with _quiet():
+                self.client = dd.Client(address, timeout=timeout)
+        except (OSError, TimeoutError, ValueError, TypeError) as exc:
+            reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise RinglubeError(f"--scheduler {address}: cannot connect within {timeout:g} s "
+                                f"({reason})") from None
+
+    # --- the one convention ------------------------------------------------------------
+    def map(self, fn: Callable[..., Any], tasks: Sequence[tuple],
+            on_result: Callable[[int, Any], None]) -> None:
+        """Call ``fn(*task)`` for every task and ``on_result(i, value)`` as each finishes.
+
+        Parameters
+        ----------
+        fn : callable
+            A module-level function (it is pickled for the process and Dask backends).
+        tasks : sequence of tuple
+            Positional arguments of each call.
+        on_result : callable
+            Called in this process with the task's index and ``fn``'s return value, in
+            order of completion.
+
+        Raises
+        ------
+        Exception
+            Whatever a task or ``on_result`` raised; tasks not yet finished are cancelled.
+
+        Example
+        -------
+        >>> out = []
+        >>> Executor(serial=True).map(abs, [(-1,), (2,)], lambda i, v: out.append((i, v)))
+        >>> out
+        [(0, 1), (1, 2)]
+        """
+        if self.backend == "serial":
+            for i, task in enumerate(tasks):
+                on_result(i, fn(*task))
+        elif self.backend == "processes":
+            self._map_pool(fn, tasks, on_result)
+        else:
+            self._map_dask(fn, tasks, on_result)
+
+    def _map_pool(self, fn, tasks, on_result) -> None:
+        from concurrent.futures import FIRST_COMPLETED, wait
+
+        futures = {self.pool.submit(fn, *t): i for i, t in enumerate(tasks)}
+        pending = set(futures)
+        try:
+            while pending:
+                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for fut in done:
+                    on_result(futures[fut], fut.result())
+        except BaseException:
+            for fut in pending:
+                fut.cancel()
+            raise
+
+    def _map_dask(self, fn, tasks, on_result) -> None:
+        from dask.distributed import as_completed
+
+        futures = [self.client.submit(fn, *t, pure=False, retries=2) for t in tasks]
+        index = {f.key: i for i, f in enumerate(futures)}
+        with _quiet():      # a lost worker or a cancelled task is handled here, not logged
+            try:
+                for fut, value in as_completed(futures, with_results=True):
+                    on_result(index[fut.key], value)
+            except BaseException:
+                with contextlib.suppress(Exception):
+                    self.client.cancel(futures)
+                raise
+
+    # --- life cycle --------------------------------------------------------------------
+    def close(self) -> None:
+        """Release workers and connections (a given scheduler keeps running).
+
+        Example
+        -------
+        >>> Executor(serial=True).close()
+        """
+        with _quiet():
+            if self.pool is not None:
+                self.pool.shutdown(wait=True, cancel_futures=True)
+                self.pool = None
+            if self.client is not None:
+                with contextlib.suppress(Exception):
+                    self.client.close()
+                self.client = None
+            if self.cluster is not None:
+                with contextlib.suppress(Exception):
+                    self.cluster.close()
+                self.cluster = None
+
+    def __enter__(self) -> "Executor":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+@contextlib.contextmanager
+def _quiet():
+    """Silence Dask's and tornado's loggers (restored afterwards)."""
+    loggers = [logging.getLogger(name) for name in _NOISY]
+    levels = [lg.level for lg in loggers]
+    for lg in loggers:
+        lg.setLevel(logging.CRITICAL + 1)
+    try:
+        yield
+    finally:
+        for lg, level in zip(loggers, levels):
+            lg.setLevel(level)

@@ -1,0 +1,573 @@
+"""The settings of a design study: the ``&study`` deck, read and checked.
+
+:func:`read_study` reads a study deck into a :class:`StudySettings` and checks every value
+(each error names the file, ``&study`` and the variable), checks each design variable
+against every base deck with the kernel's own reader, and fingerprints the content of
+every input file (base decks, the calibration files they include, their pressure traces)
+so that a study is never resumed on changed inputs.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+from .case import Case
+from .errors import InputError
+
+__all__ = ["StudySettings", "read_study", "DESIGN_RANGES", "MAX_SAMPLES", "OUTPUTS",
+           "output_units", "variable_unit", "effective", "split_variable", "input_files",
+           "display"]
+
+#: Default bounds (SI) of the four ring design variables of the source study (SPEC 11/12),
+#: used only when the deck gives neither ``lower`` nor ``upper``. The tension range is in
+#: the unit set by ``&ring tension_unit`` of the base decks.
+DESIGN_RANGES = {"width": (0.54e-3, 1.34e-3), "crown_height": (6e-6, 13e-6),
+                 "crown_offset": (-54e-6, 67e-6), "tension": (8.0, 26.0)}
+#: Most samples a study may ask for. The study file holds every sample and is rewritten at
+#: each checkpoint, and a run takes about 40 ms on one core: 10**6 samples are about
+#: 11 hours of runs per case on 2 cores, already far more than a quadratic surface needs.
+MAX_SAMPLES = 1_000_000
+#: Largest seed (the GA repeats use ``seed + 1000 r``, which must stay below 2**32).
+MAX_SEED = 2**31 - 1
+#: Study variables given without a group belong to this group.
+DEFAULT_GROUP = "ring"
+_SAMPLERS = ("sobol", "lhs")
+_SURROGATES = ("quadratic",)
+_INT_KEYS = {"samples": 1, "population": 1, "generations": 1, "repeats": 1, "seed": 0,
+             "folds": 2, "direct_population": 1, "direct_generations": 1, "batch": 1}
+
+
+# --- facts owned by the kernel (one place each, to be redirected at merge) -----------
+
+def _output_units() -> dict[str, str]:
+    """Every scalar result a study can record, with its unit."""
+    # TODO(lead): return dict(ringlube.result.SCALARS) once the kernel's table is exported.
+    return {"energy_loss": "J", "mixed_share": "%", "ring_mass": "g", "max_friction": "N",
+            "min_film": "m"}
+
+
+def _effective(case: Case, group: str, name: str) -> Any:
+    """Value the kernel uses for ``&group name``: the deck's, its calibration file's, or the
+    kernel's default."""
+    # TODO(lead): return case.value(group, name) once Case.value exists.
+    value = case.get(group, name)
+    if value is None and case.get("calibration", "file"):
+        value = Case.from_namelist(case.get("calibration", "file")).get(group, name)
+    if value is None:
+        value = {("ring", "tension_unit"): "N"}.get((group, name))
+    return value
+
+
+def _input_unit(case: Case, group: str, name: str) -> str:
+    """Unit of the input ``&group name`` ("" when not known here)."""
+    # TODO(lead): take the unit from the kernel's input table.
+    if (group, name) == ("ring", "tension"):
+        return str(_effective(case, "ring", "tension_unit"))
+    return {("ring", "width"): "m", ("ring", "crown_height"): "m", ("ring", "crown_offset"): "m",
+            ("ring", "radial_depth"): "m", ("ring", "density"): "kg/m^3",
+            ("operating", "speed_rpm"): "rpm", ("operating", "liner_temperature"): "K",
+            ("operating", "crankcase_pressure"): "Pa", ("operating", "pressure_scale"): "1",
+            ("engine", "crank_radius"): "m", ("engine", "conrod_length"): "m",
+            ("engine", "bore_radius"): "m", ("surface", "rq_liner"): "m",
+            ("surface", "rq_ring"): "m", ("lubricant", "eta0"): "Pa s",
+            ("lubricant", "theta0"): "K"}.get((group, name), "")
+
+
+def _is_unknown_variable(message: str) -> bool:
+    """Does a kernel message say the variable does not exist?"""
+    # TODO(lead): ask the kernel's input table instead of reading its message.
+    return "unknown variable" in message
+
+
+def output_units() -> dict[str, str]:
+    """Scalar results a study records for every design, with their units.
+
+    Returns
+    -------
+    dict of str to str
+        Result name -> unit (SI, ``%`` for shares, ``g`` for the ring mass).
+
+    Example
+    -------
+    >>> output_units()["energy_loss"]
+    'J'
+    """
+    return dict(_output_units())
+
+
+#: Names of the scalar results a study records for every design (in this order).
+OUTPUTS = tuple(_output_units())
+
+
+def effective(case: Case, group: str, name: str) -> Any:
+    """The value the kernel uses for ``&group name`` of ``case``.
+
+    Parameters
+    ----------
+    case : Case
+        A case read from a deck.
+    group, name : str
+        Namelist group and variable.
+
+    Returns
+    -------
+    object
+        The deck's value, else its calibration file's, else the kernel's default (``None``
+        where not known).
+
+    Example
+    -------
+    >>> effective(Case({"ring": {"width": 1e-3}}), "ring", "width")
+    0.001
+    """
+    return _effective(case, group, name)
+
+
+def variable_unit(case: Case, variable: str) -> str:
+    """Unit of a study variable (``'tension'`` follows ``&ring tension_unit``).
+
+    Parameters
+    ----------
+    case : Case
+        A base case of the study.
+    variable : str
+        ``'name'`` (a ``&ring`` variable) or ``'group:name'``.
+
+    Returns
+    -------
+    str
+        The unit, or ``""`` if not known.
+
+    Example
+    -------
+    >>> variable_unit(Case({"ring": {"tension_unit": "N/m"}}), "tension")
+    'N/m'
+    """
+    return _input_unit(case, *split_variable(variable))
+
+
+def split_variable(variable: str) -> tuple[str, str]:
+    """``'group:name'`` or ``'name'`` (a ``&ring`` variable) as ``(group, name)``, lower case.
+
+    Parameters
+    ----------
+    variable : str
+        A study variable.
+
+    Returns
+    -------
+    tuple of str
+        Group and variable name.
+
+    Example
+    -------
+    >>> split_variable("operating:speed_rpm"), split_variable("Width")
+    (('operating', 'speed_rpm'), ('ring', 'width'))
+    """
+    group, _, name = str(variable).strip().lower().rpartition(":")
+    return (group.strip() or DEFAULT_GROUP), name.strip()
+
+
+def display(variable: str, unit: str, lower: float, upper: float) -> tuple[str, float]:
+    """How a variable is shown: label with unit, and the factor from SI to that unit.
+
+    Lengths in metres are shown in µm or mm, whichever suits the range.
+
+    Parameters
+    ----------
+    variable : str
+        Study variable.
+    unit : str
+        Its SI unit (:func:`variable_unit`).
+    lower, upper : float
+        Its range.
+
+    Returns
+    -------
+    label : str
+    scale : float
+
+    Example
+    -------
+    >>> display("crown_height", "m", 6e-6, 13e-6)
+    ('crown height [µm]', 1000000.0)
+    >>> display("tension", "N/m", 8, 26)
+    ('tension [N/m]', 1.0)
+    """
+    _, name = split_variable(variable)
+    label = name.replace("_", " ")
+    if unit == "m":
+        span = max(abs(lower), abs(upper))
+        if span < 1e-4:
+            return f"{label} [µm]", 1e6
+        if span < 1e-1:
+            return f"{label} [mm]", 1e3
+    return (f"{label} [{unit}]" if unit else label), 1.0
+
+
+def input_files(case: Case, deck: str | os.PathLike) -> list[Path]:
+    """The files a base deck reads: itself, its calibration file and its pressure trace.
+
+    Parameters
+    ----------
+    case : Case
+        The case read from ``deck``.
+    deck : path
+        The deck's path.
+
+    Returns
+    -------
+    list of Path
+        Absolute paths, without duplicates.
+
+    Example
+    -------
+    >>> [p.name for p in input_files(Case({}), "a.nml")]
+    ['a.nml']
+    """
+    files = [Path(deck).resolve()]
+    cal = case.get("calibration", "file")
+    if cal:
+        files.append(Path(cal).resolve())
+    trace = _effective(case, "operating", "pressure_file")
+    if trace:
+        files.append(Path(trace).resolve())
+    return list(dict.fromkeys(files))
+
+
+def _fingerprint(files: list[Path]) -> dict[str, str]:
+    out = {}
+    for p in files:
+        try:
+            out[str(p)] = hashlib.sha256(p.read_bytes()).hexdigest()
+        except OSError as exc:
+            raise InputError(f"{p}: cannot read ({exc.strerror or exc})") from None
+    return out
+
+
+@dataclasses.dataclass
+class StudySettings:
+    """Everything a ``&study`` deck says, checked (see :func:`read_study`).
+
+    Attributes
+    ----------
+    name : str
+        Study name; the study file is ``OUT/NAME.h5``.
+    cases, labels, weights : list
+        Base decks (absolute paths), their labels and their weights in a scene.
+    variables, lower, upper : list
+        Design variables (``'name'`` of ``&ring`` or ``'group:name'``) and their bounds (SI).
+    objectives : list of str
+        Results to minimise (names of :data:`OUTPUTS`).
+    reference : list of float or None
+        A reference design (one value per variable) compared in the report and figures.
+    inputs : dict of str to str
+        SHA-256 of every input file (:func:`input_files`), checked on resume.
+
+    Example
+    -------
+    >>> s = read_study("inputs/study_default.nml")          # doctest: +SKIP
+    >>> s.variables                                           # doctest: +SKIP
+    ['width', 'crown_height', 'crown_offset', 'tension']
+    """
+
+    name: str
+    cases: list[str]
+    labels: list[str]
+    weights: list[float]
+    variables: list[str]
+    lower: list[float]
+    upper: list[float]
+    objectives: list[str]
+    sampler: str = "sobol"
+    samples: int = 10001
+    surrogate: str = "quadratic"
+    population: int = 200
+    generations: int = 200
+    repeats: int = 20
+    seed: int = 1
+    scene: bool = False
+    folds: int = 5
+    direct_population: int = 40
+    direct_generations: int = 25
+    batch: int = 16
+    reference: list[float] | None = None
+    deck_text: str = ""
+    source: str = ""
+    inputs: dict[str, str] = dataclasses.field(default_factory=dict)
+    units: list[str] = dataclasses.field(default_factory=list)
+
+    @property
+    def groups_names(self) -> list[tuple[str, str]]:
+        """The variables as ``(group, name)`` pairs.
+
+        Returns
+        -------
+        list of tuple of str
+
+        Example
+        -------
+        >>> StudySettings("s", [], [], [], ["width", "operating:speed_rpm"], [], [],
+        ...               []).groups_names
+        [('ring', 'width'), ('operating', 'speed_rpm')]
+        """
+        return [split_variable(v) for v in self.variables]
+
+    def key(self) -> str:
+        """What must match for a study file to be resumed (not the GA or direct settings).
+
+        Returns
+        -------
+        str
+            JSON of the cases, labels, variables, bounds, objectives, sampler, samples, seed.
+
+        Example
+        -------
+        >>> StudySettings("s", ["a.nml"], ["a"], [1.0], ["width"], [0.0], [1.0],
+        ...               ["energy_loss"]).key()[:20]
+        '{"cases": ["a.nml"],'
+        """
+        d = dataclasses.asdict(self)
+        return json.dumps({k: d[k] for k in ("cases", "labels", "variables", "lower", "upper",
+                                              "objectives", "sampler", "samples", "seed")})
+
+    def to_json(self) -> str:
+        """The settings as JSON (stored in the study file).
+
+        Returns
+        -------
+        str
+
+        Example
+        -------
+        >>> '"name": "s"' in StudySettings("s", [], [], [], [], [], [], []).to_json()
+        True
+        """
+        return json.dumps(dataclasses.asdict(self))
+
+
+def _as_list(v) -> list:
+    return list(v) if isinstance(v, (list, tuple)) else [v]
+
+
+class _Checker:
+    def __init__(self, path: Path):
+        self.path = path
+
+    def bad(self, var: str, why: str):
+        raise InputError(f"{self.path}: &study {var}: {why}")
+
+    def integer(self, var: str, v: Any, lo: int, hi: int | None = None, why: str = "") -> int:
+        if isinstance(v, bool) or not isinstance(v, int):
+            self.bad(var, f"must be a whole number, got {v!r}")
+        if v < lo:
+            self.bad(var, f"must be at least {lo}, got {v}")
+        if hi is not None and v > hi:
+            self.bad(var, f"must be at most {hi:,}, got {v:,}" + (f" ({why})" if why else ""))
+        return v
+
+    def reals(self, var: str, values: list) -> list[float]:
+        out = []
+        for v in values:
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                self.bad(var, f"must be numbers, got {v!r}")
+            if not math.isfinite(v):
+                self.bad(var, f"must be finite numbers, got {v}")
+            out.append(float(v))
+        return out
+
+    def words(self, var: str, values: list) -> list[str]:
+        for v in values:
+            if not isinstance(v, str) or not v.strip():
+                self.bad(var, f"must be quoted names, got {v!r}")
+        return [v.strip() for v in values]
+
+    def plain_name(self, var: str, v: str, what: str) -> None:
+        if not v or any(ch in v for ch in "/\\") or v.startswith(".") or v.strip() != v:
+            self.bad(var, f"'{v}' must be a plain name (no '/', '\\', leading '.', leading or "
+                          f"trailing spaces): it names {what}")
+
+
+def read_study(path: str | os.PathLike) -> StudySettings:
+    """Read and check a ``&study`` deck.
+
+    Relative case paths are relative to the deck's folder. Each base deck is checked by
+    the kernel, each design variable is checked to exist in every base deck (and its
+    bounds to be accepted there), and the content of every input file is fingerprinted.
+
+    Parameters
+    ----------
+    path : path
+        The study deck.
+
+    Returns
+    -------
+    StudySettings
+
+    Raises
+    ------
+    InputError
+        Naming the file, ``&study`` and the variable (or the base deck and its variable).
+
+    Example
+    -------
+    >>> s = read_study("inputs/study_default.nml")     # doctest: +SKIP
+    >>> s.samples, s.labels                             # doctest: +SKIP
+    (1025, ['cold', 'hot'])
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{path}: file not found" if not path.exists()
+                         else f"{path}: not a file")
+    try:
+        import f90nml
+
+        nml = f90nml.read(path)
+    except Exception as exc:  # f90nml raises several types for bad syntax
+        raise InputError(f"{path}: cannot parse namelist: {str(exc).splitlines()[0]}") from None
+    if "study" not in nml:
+        raise InputError(f"{path}: no &study group")
+    s = dict(nml["study"])
+    chk = _Checker(path)
+    known = {f.name for f in dataclasses.fields(StudySettings)} - {"deck_text", "source",
+                                                                    "inputs", "units"}
+    for k in s:
+        if k not in known:
+            chk.bad(k, f"unknown variable (known: {', '.join(sorted(known))})")
+
+    if "cases" not in s:
+        chk.bad("cases", "required (one or more base decks)")
+    cases = [str((path.parent / c).resolve()) for c in chk.words("cases", _as_list(s["cases"]))]
+    labels = chk.words("labels", _as_list(s.get("labels", [Path(c).stem for c in cases])))
+    weights = chk.reals("weights", _as_list(s.get("weights", [1.0] * len(cases))))
+    variables = chk.words("variables", _as_list(s.get("variables", list(DESIGN_RANGES))))
+    objectives = chk.words("objectives", _as_list(s.get("objectives",
+                                                        ["energy_loss", "mixed_share",
+                                                         "ring_mass"])))
+    ints = {k: chk.integer(k, s[k], lo) for k, lo in _INT_KEYS.items() if k in s}
+    for k in ("sampler", "surrogate"):
+        if k in s:
+            chk.words(k, [s[k]])
+    if "scene" in s and not isinstance(s["scene"], bool):
+        chk.bad("scene", f"must be .true. or .false., got {s['scene']!r}")
+
+    name = s.get("name", path.stem)
+    if not isinstance(name, str):
+        chk.bad("name", f"must be a quoted name, got {name!r}")
+    chk.plain_name("name", name, "the study file")
+    for label in labels:
+        chk.plain_name("labels", label, "a group of the study file and its figures")
+    if len(labels) != len(cases) or len(set(labels)) != len(labels):
+        chk.bad("labels", f"one distinct label per case ({len(cases)} cases)")
+    if "scene" in labels:
+        chk.bad("labels", "'scene' is reserved for the weighted scene")
+    if len(weights) != len(cases) or any(w <= 0 for w in weights):
+        chk.bad("weights", f"one positive weight per case ({len(cases)} cases)")
+
+    pairs = []
+    for v in variables:
+        group, name_ = split_variable(v)
+        if not name_ or ":" in name_:
+            chk.bad("variables", f"'{v}' is not 'name' or 'group:name'")
+        pairs.append((group, name_))
+    if len(set(pairs)) != len(pairs):
+        chk.bad("variables", "a variable is given twice")
+    lower, upper = _bounds(chk, s, variables, pairs)
+    if any(lo >= hi for lo, hi in zip(lower, upper)):
+        chk.bad("upper", "each upper bound must exceed its lower bound")
+    reference = None
+    if "reference" in s:
+        reference = chk.reals("reference", _as_list(s["reference"]))
+        if len(reference) != len(variables):
+            chk.bad("reference", f"one value per variable ({len(variables)})")
+
+    units = output_units()
+    for o in objectives:
+        if o not in units:
+            chk.bad("objectives", f"unknown objective '{o}' (known: {', '.join(units)})")
+    if not objectives or len(set(objectives)) != len(objectives):
+        chk.bad("objectives", "one or more distinct objectives")
+    sampler = s.get("sampler", "sobol")
+    if sampler not in _SAMPLERS:
+        chk.bad("sampler", f"must be one of {', '.join(map(repr, _SAMPLERS))}, got {sampler!r}")
+    surrogate = s.get("surrogate", "quadratic")
+    if surrogate not in _SURROGATES:
+        chk.bad("surrogate", f"must be 'quadratic', got {surrogate!r}")
+    if "samples" in ints:
+        chk.integer("samples", ints["samples"], 1, MAX_SAMPLES,
+                    "the study file holds every sample; 10**6 runs are about 11 hours per case "
+                    "on 2 cores")
+    if "seed" in ints:
+        chk.integer("seed", ints["seed"], 0, MAX_SEED)
+
+    st = StudySettings(name=name, cases=cases, labels=labels, weights=weights,
+                       variables=variables, lower=lower, upper=upper, objectives=objectives,
+                       sampler=sampler, surrogate=surrogate, reference=reference,
+                       **({"scene": s["scene"]} if "scene" in s else {}), **ints,
+                       deck_text=path.read_text(errors="replace"), source=str(path))
+    nterms = 1 + 2 * len(variables) + len(variables) * (len(variables) - 1) // 2
+    if st.samples < nterms + st.folds:
+        chk.bad("samples", f"need at least {nterms + st.folds} for a quadratic in "
+                           f"{len(variables)} variables with {st.folds}-fold cross-validation")
+    st.inputs, st.units = _check_cases(chk, st, pairs)
+    return st
+
+
+def _bounds(chk: _Checker, s: dict, variables: list[str],
+            pairs: list[tuple[str, str]]) -> tuple[list[float], list[float]]:
+    given = [k for k in ("lower", "upper") if k in s]
+    if len(given) == 1:
+        chk.bad("lower" if "lower" not in s else "upper",
+                f"required when '{given[0]}' is given (one bound per variable)")
+    if given:
+        lower = chk.reals("lower", _as_list(s["lower"]))
+        upper = chk.reals("upper", _as_list(s["upper"]))
+        if not (len(lower) == len(upper) == len(variables)):
+            chk.bad("lower", f"one lower and one upper bound per variable ({len(variables)})")
+        return lower, upper
+    missing = [v for v, (g, n) in zip(variables, pairs)
+               if g != DEFAULT_GROUP or n not in DESIGN_RANGES]
+    if missing:
+        chk.bad("lower", f"required: default ranges exist only for the ring variables "
+                         f"{', '.join(DESIGN_RANGES)}, not for {', '.join(missing)}")
+    return ([DESIGN_RANGES[n][0] for _, n in pairs], [DESIGN_RANGES[n][1] for _, n in pairs])
+
+
+def _check_cases(chk: _Checker, st: StudySettings,
+                 pairs: list[tuple[str, str]]) -> tuple[dict[str, str], list[str]]:
+    """Kernel checks of every base deck, variable and bound; input fingerprints; units."""
+    files: list[Path] = []
+    units_seen: dict[str, dict[str, str]] = {}
+    for label, deck in zip(st.labels, st.cases):
+        case = Case.from_namelist(deck)         # the kernel checks the deck itself
+        files += input_files(case, deck)
+        for v, (group, name), lo, hi in zip(st.variables, pairs, st.lower, st.upper):
+            try:
+                case.with_(group, **{name: lo})
+            except InputError as exc:
+                chk.bad("variables", f"'{v}': {exc}")
+            for which, value in (("lower", lo), ("upper", hi)):
+                try:
+                    case.with_(group, **{name: value}).validate()
+                except InputError as exc:
+                    msg = str(exc)
+                    if _is_unknown_variable(msg):
+                        chk.bad("variables", f"'{v}' is not a variable of &{group} "
+                                             f"(base deck {deck})")
+                    chk.bad(which, f"{v} = {value:g} is rejected by base deck '{label}': "
+                                   f"{msg}")
+            units_seen.setdefault(v, {})[label] = _input_unit(case, group, name)
+    units = []
+    for v, per_case in units_seen.items():
+        if len(set(per_case.values())) > 1:
+            chk.bad("variables", f"'{v}' has different units in the base decks "
+                                 f"({', '.join(f'{k}: {u}' for k, u in per_case.items())}); "
+                                 "one value cannot mean both")
+        units.append(next(iter(per_case.values())))
+    return _fingerprint(list(dict.fromkeys(files))), units

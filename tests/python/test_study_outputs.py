@@ -1,0 +1,131 @@
+"""What a design study hands a person: figures, summary, report and Pareto CSV with units
+(issue 12 item 23)."""
+
+from __future__ import annotations
+
+import csv
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+from ringlube.case import Case
+from ringlube.study import run_study
+from ringlube.study_plots import Axis, Mark, TradeoffSeries, map_figure, tradeoff_figure
+from ringlube.study_report import summary
+from ringlube.study_settings import OUTPUTS, display, output_units, variable_unit
+
+from conftest import INPUTS
+
+COLD = INPUTS / "crf450r_4000rpm_full_cold.nml"
+HOT = INPUTS / "crf450r_4000rpm_full_hot.nml"
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    """Two cases, two variables, objectives without ring mass, a reference design."""
+    d = tmp_path_factory.mktemp("study")
+    deck = d / "o.nml"
+    deck.write_text(f"""&study
+  name = 'o', cases = '{COLD}', '{HOT}', labels = 'cold', 'hot'
+  variables = 'width', 'crown_offset', lower = 0.8e-3, -40e-6, upper = 1.2e-3, 40e-6
+  objectives = 'energy_loss', 'mixed_share'
+  samples = 24, seed = 3, population = 16, generations = 6, repeats = 2
+  reference = 1.004e-3, -38.3e-6
+/
+""")
+    return run_study(deck, d / "out", serial=True, progress=False), d / "out"
+
+
+def test_tradeoff_is_drawn_without_ring_mass_and_names_designs(study):
+    st, out = study
+    assert (out / "tradeoff.png").stat().st_size > 1000
+    assert (out / "report.md").is_file()
+
+
+def test_tradeoff_figure_plots_the_given_points():
+    front = np.array([[8.0, 2.0], [9.0, 1.8], [10.0, 1.7]])
+    fig = tradeoff_figure([TradeoffSeries("cold", front, [("knee", 9.1, 1.79, "chosen"),
+                                                          ("min a", 8.0, 2.0, "chosen"),
+                                                          ("min b", 8.0, 2.0, "chosen"),
+                                                          ("reference", 8.5, 1.9, "reference")])],
+                          "mixed share [%]", "energy loss [J/cycle]")
+    ax = fig.axes[0]
+    np.testing.assert_array_equal(ax.collections[0].get_offsets(), front)
+    texts = sorted(t.get_text() for t in ax.texts)
+    assert texts == ["knee", "min a = min b", "reference"]     # coincident designs share a label
+    fig.canvas.draw()
+    legend = ax.get_legend().get_window_extent()
+    assert legend.x0 >= ax.get_window_extent().x1                  # outside: hides no point
+    plt.close(fig)
+
+
+def test_two_variable_map_is_one_panel_with_marked_designs():
+    axes = [Axis("width [mm]", 1e3, 0.8e-3, 1.2e-3), Axis("crown offset [µm]", 1e6, -4e-5, 4e-5)]
+    marks = [Mark("knee", np.array([1e-3, 0.0])), Mark("reference", np.array([1e-3, 1e-5]),
+                                                       "reference")]
+    fig = map_figure("e (cold)", "e [J]", lambda x: x[:, 0] * 1e3 + x[:, 1] * 1e4, axes, marks)
+    panels = [a for a in fig.axes if a.get_label() != "<colorbar>"]
+    assert len(panels) == 1
+    ax = panels[0]
+    assert ax.get_xlabel() == "width [mm]" and ax.get_ylabel() == "crown offset [µm]"
+    offsets = np.vstack([c.get_offsets() for c in ax.collections
+                         if type(c).__name__ == "PathCollection"])
+    np.testing.assert_allclose(offsets, [[1.0, 0.0], [1.0, 10.0]])
+    plt.close(fig)
+
+
+def test_near_constant_field_says_so():
+    axes = [Axis("a", 1.0, 0.0, 1.0), Axis("b", 1.0, 0.0, 1.0), Axis("c", 1.0, 0.0, 1.0)]
+    fig = map_figure("m", "ring_mass [g]", lambda x: 7.45 + 1e-9 * x[:, 0], axes)
+    text = " ".join(t.get_text() for a in fig.axes for t in a.texts)
+    assert "constant to 1e-06" in text and "7.45" in text
+    assert not any(a.get_label() == "<colorbar>" for a in fig.axes)
+    plt.close(fig)
+    # a field that varies along one variable only: one colour scale shared by every panel
+    fig = map_figure("m", "ring_mass [g]", lambda x: 4 + 6 * x[:, 0] + 1e-4 * x[:, 1], axes)
+    assert sum(a.get_label() == "<colorbar>" for a in fig.axes) == 1
+    plt.close(fig)
+
+
+def test_tension_label_follows_the_decks_unit():
+    assert variable_unit(Case.from_namelist(COLD), "tension") == "N/m"   # calibration.nml
+    assert variable_unit(Case({"ring": {"tension": 10.0}}), "tension") == "N"   # kernel default
+    assert variable_unit(Case({"ring": {"tension_unit": "N/m"}}), "tension") == "N/m"
+    assert display("tension", "N", 8, 26) == ("tension [N]", 1.0)
+    assert display("width", "m", 0.54e-3, 1.34e-3) == ("width [mm]", 1e3)
+    assert display("crown_offset", "m", -54e-6, 67e-6) == ("crown offset [µm]", 1e6)
+
+
+def test_summary_lines_carry_units(study):
+    st, _ = study
+    text = summary(st)
+    units = output_units()
+    for line in text.splitlines():
+        if line.strip().startswith("surface"):
+            name = line.split()[1]
+            assert f" {units[name]} (" in line, line
+        if line.strip().startswith(("min ", "knee", "reference")):
+            assert "mm" in line and "µm" in line and " J" in line and " %" in line, line
+    assert text.splitlines()[2].endswith(" s")     # run time in seconds on the runs line
+
+
+def test_pareto_csv_has_units_and_the_front(study):
+    st, out = study
+    with open(out / "pareto_cold.csv") as fh:
+        rows = list(csv.reader(fh))
+    units = output_units()
+    assert rows[0] == ["width [m]", "crown_offset [m]"] + [f"{o} [{units[o]}] (surrogate)"
+                                                            for o in OUTPUTS]
+    values = np.array(rows[1:], float)
+    front = st.cases["cold"].front
+    np.testing.assert_array_equal(values[:, :2], front.x)
+    np.testing.assert_array_equal(values[:, 2:4], front.f)       # energy_loss, mixed_share
+
+
+def test_report_names_chosen_and_reference_designs(study):
+    _, out = study
+    text = (out / "report.md").read_text()
+    for piece in ("| knee |", "| reference |", "| min energy_loss |", "width [mm]",
+                  "crown offset [µm]", "energy_loss [J]", "![tradeoff](tradeoff.png)"):
+        assert piece in text, piece
