@@ -28,6 +28,8 @@ module ringlube_results
     character(len=110) :: long_name = ''
     !> '' (always written), 'jfo' (mass-conserving film only) or 'starved' (starved inlet only)
     character(len=8) :: requires = ''
+    !> a design quantity a study records for every design (and may optimise)
+    logical :: objective = .false.
   end type field_spec
 
   !> One flag bit.
@@ -87,12 +89,15 @@ module ringlube_results
 
   !> Scalar results (root attributes).
   type(field_spec), parameter :: scalar_spec(*) = [ &
-    field_spec('energy_loss', 'energy_loss_J', 'J', .false., 'friction energy lost per cycle'), &
+    field_spec('energy_loss', 'energy_loss_J', 'J', .false., 'friction energy lost per cycle', &
+      '', .true.), &
     field_spec('mixed_share', 'mixed_share_pct', '%', .false., &
-      'share of the cycle with h0/sigma < 4 (mixed/boundary lubrication)'), &
-    field_spec('ring_mass', 'ring_mass_g', 'g', .false., 'ring mass'), &
-    field_spec('min_film', 'min_film_m', 'm', .false., 'smallest film thickness over the cycle'), &
-    field_spec('max_friction', 'max_friction_N', 'N', .false., 'largest |friction| over the cycle'), &
+      'share of the cycle with h0/sigma < 4 (mixed/boundary lubrication)', '', .true.), &
+    field_spec('ring_mass', 'ring_mass_g', 'g', .false., 'ring mass', '', .true.), &
+    field_spec('min_film', 'min_film_m', 'm', .false., 'smallest film thickness over the cycle', &
+      '', .true.), &
+    field_spec('max_friction', 'max_friction_N', 'N', .false., 'largest |friction| over the cycle', &
+      '', .true.), &
     field_spec('converged', 'converged', '1', .true., '1: periodic within cycle_tol, no flagged step'), &
     field_spec('cycles_run', 'cycles_run', '1', .true., 'cycles run (the last is reported)'), &
     field_spec('cycle_change', 'cycle_change', '1', .false., &
@@ -106,7 +111,7 @@ module ringlube_results
       "cycles' worth of crank steps solved, warm-up included"), &
     field_spec('periodic', 'periodic', '1', .true., '1: h0 periodic within cycle_tol'), &
     field_spec('oil_to_chamber', 'oil_to_chamber_mm3', 'mm^3', .false., &
-      'oil transported towards the chamber per cycle, whole circumference', 'starved'), &
+      'oil transported towards the chamber per cycle, whole circumference', 'starved', .true.), &
     field_spec('oil_balance_error', 'oil_balance_error', '1', .false., &
       'relative closure error of the oil balance over the reported cycle', 'starved') &
   ]

@@ -65,24 +65,11 @@ def _run_designs(base_case: Case, variables: list[tuple[str, str]], x: np.ndarra
     >>> v, ok, err = _run_designs(case, [("ring", "width")], np.array([[1e-3]]),
     ...                           ["energy_loss"])                   # doctest: +SKIP
     """
-    # TODO(lead): replace the body with the kernel's batch call.
-    from .solve import run
+    from .solve import run_designs
 
-    x = np.atleast_2d(np.asarray(x, float))
-    values = np.full((len(x), len(outputs)), np.nan)
-    converged = np.zeros(len(x), bool)
-    errors = [""] * len(x)
-    for i, row in enumerate(x):
-        case = base_case.copy()
-        for (group, name), value in zip(variables, row):
-            case.set(group, **{name: float(value)})
-        try:
-            r = run(case)
-        except RinglubeError as exc:
-            errors[i] = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            continue
-        values[i] = [getattr(r, o) for o in outputs]
-        converged[i] = bool(r.converged)
+    values, converged, errs = run_designs(base_case, [f"{g}:{n}" for g, n in variables],
+                                          np.atleast_2d(np.asarray(x, float)), list(outputs))
+    errors = [(e.splitlines()[0] if e else "") if e is not None else "" for e in errs]
     return values, converged, errors
 
 

@@ -46,43 +46,37 @@ _INT_KEYS = {"samples": 1, "population": 1, "generations": 1, "repeats": 1, "see
 # --- facts owned by the kernel (one place each, to be redirected at merge) -----------
 
 def _output_units() -> dict[str, str]:
-    """Every scalar result a study can record, with its unit."""
-    # TODO(lead): return dict(ringlube.result.SCALARS) once the kernel's table is exported.
-    return {"energy_loss": "J", "mixed_share": "%", "ring_mass": "g", "max_friction": "N",
-            "min_film": "m"}
+    """Every design quantity a study records for every design, with its unit (the kernel's
+    result table: scalars marked as objectives that every film model produces)."""
+    from .tables import SCALARS
+
+    return {k: v.unit for k, v in SCALARS.items() if v.objective and not v.requires}
 
 
 def _effective(case: Case, group: str, name: str) -> Any:
     """Value the kernel uses for ``&group name``: the deck's, its calibration file's, or the
     kernel's default."""
-    # TODO(lead): return case.value(group, name) once Case.value exists.
-    value = case.get(group, name)
-    if value is None and case.get("calibration", "file"):
-        value = Case.from_namelist(case.get("calibration", "file")).get(group, name)
-    if value is None:
-        value = {("ring", "tension_unit"): "N"}.get((group, name))
-    return value
+    return case.value(group, name)
 
 
 def _input_unit(case: Case, group: str, name: str) -> str:
-    """Unit of the input ``&group name`` ("" when not known here)."""
-    # TODO(lead): take the unit from the kernel's input table.
-    if (group, name) == ("ring", "tension"):
+    """Unit of the input ``&group name`` (from the kernel's input table; the tension's is
+    the case's ``tension_unit``)."""
+    from .tables import INPUTS
+
+    spec = INPUTS.get((group, name))
+    if spec is None:
+        return ""
+    if spec.unit == "(unit)":
         return str(_effective(case, "ring", "tension_unit"))
-    return {("ring", "width"): "m", ("ring", "crown_height"): "m", ("ring", "crown_offset"): "m",
-            ("ring", "radial_depth"): "m", ("ring", "density"): "kg/m^3",
-            ("operating", "speed_rpm"): "rpm", ("operating", "liner_temperature"): "K",
-            ("operating", "crankcase_pressure"): "Pa", ("operating", "pressure_scale"): "1",
-            ("engine", "crank_radius"): "m", ("engine", "conrod_length"): "m",
-            ("engine", "bore_radius"): "m", ("surface", "rq_liner"): "m",
-            ("surface", "rq_ring"): "m", ("lubricant", "eta0"): "Pa s",
-            ("lubricant", "theta0"): "K"}.get((group, name), "")
+    return "" if spec.unit == "1" else spec.unit
 
 
-def _is_unknown_variable(message: str) -> bool:
-    """Does a kernel message say the variable does not exist?"""
-    # TODO(lead): ask the kernel's input table instead of reading its message.
-    return "unknown variable" in message
+def _is_unknown_variable(group: str, name: str) -> bool:
+    """Is ``&group name`` missing from the kernel's input table?"""
+    from .tables import INPUTS
+
+    return (group, name) not in INPUTS
 
 
 def output_units() -> dict[str, str]:
@@ -557,7 +551,7 @@ def _check_cases(chk: _Checker, st: StudySettings,
                     case.with_(group, **{name: value}).validate()
                 except InputError as exc:
                     msg = str(exc)
-                    if _is_unknown_variable(msg):
+                    if _is_unknown_variable(group, name):
                         chk.bad("variables", f"'{v}' is not a variable of &{group} "
                                              f"(base deck {deck})")
                     chk.bad(which, f"{v} = {value:g} is rejected by base deck '{label}': "

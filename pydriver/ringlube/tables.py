@@ -65,7 +65,8 @@ class InputSpec:
 class FieldSpec:
     """One result quantity: ``short`` name (Python, studies), ``stored`` name (HDF5),
     ``unit``, ``integer`` (integer-valued), ``long_name`` and ``requires`` ('' always
-    produced, 'jfo' only by the mass-conserving film, 'starved' only with a starved inlet)."""
+    produced, 'jfo' only by the mass-conserving film, 'starved' only with a starved inlet) and
+    ``objective`` (a design quantity a study records and may optimise)."""
 
     short: str
     stored: str
@@ -73,6 +74,7 @@ class FieldSpec:
     integer: bool
     long_name: str
     requires: str = ""
+    objective: bool = False
 
 
 def table_text(which: str) -> str:
@@ -110,7 +112,7 @@ def _load():
         presets.setdefault(preset, {})[name] = _value(kind, value)
 
     def fields(which):
-        return {r[0]: FieldSpec(r[0], r[1], r[2], r[3] == "1", r[4], r[5] if len(r) > 5 else "")
+        return {r[0]: FieldSpec(r[0], r[1], r[2], r[3] == "1", r[4], r[5], r[6] == "1")
                 for r in _rows(which)}
 
     flags = {int(b): desc for b, _, desc in _rows("flags")}
