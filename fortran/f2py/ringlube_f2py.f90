@@ -240,6 +240,7 @@ subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes)
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type
   use ringlube_api, only: api_run_design
+  use ringlube_error, only: rl_input_error
   use ringlube_results, only: n_scalars
   implicit none
   integer(c_int), intent(in) :: handle, nd, nv, nc
@@ -250,10 +251,15 @@ subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes)
   character(len=64) :: names(nv)
   type(error_type), allocatable :: err
   real(dp) :: s(n_scalars)
-  integer :: i
+  integer :: i, ios
   out = 0.0_c_double
   codes = 0
-  read(keys, *) names
+  names = ''
+  read(keys, *, iostat=ios) names
+  if (ios /= 0) then
+    codes = rl_input_error
+    return
+  end if
   do i = 1, nd
     call api_run_design(handle, names, x(i, :), s, err)
     if (allocated(err)) then
@@ -267,7 +273,7 @@ end subroutine rl_run_batch
 
 !> Write a result given as arrays (columns as in rl_run) with the kernel's HDF5 writer.
 subroutine rl_write(path, nsteps, ns, ni, nc, nliner, series, iseries, scalars, produced, liner, &
-    deck_text, deck_path, pressure_file, code, message)
+    deck_text, deck_path, pressure_file, calibration_file, code, message)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type
@@ -276,7 +282,7 @@ subroutine rl_write(path, nsteps, ns, ni, nc, nliner, series, iseries, scalars, 
     result_scalar, n_series, n_int_series, n_scalars
   use ringlube_hdf5_output, only: write_result
   implicit none
-  character(len=*), intent(in) :: path, deck_text, deck_path, pressure_file
+  character(len=*), intent(in) :: path, deck_text, deck_path, pressure_file, calibration_file
   integer(c_int), intent(in) :: nsteps, ns, ni, nc, nliner
   real(c_double), intent(in) :: series(nsteps, ns), scalars(nc), liner(nliner, 2)
   integer(c_int), intent(in) :: iseries(nsteps, ni), produced(2)
@@ -312,7 +318,7 @@ subroutine rl_write(path, nsteps, ns, ni, nc, nliner, series, iseries, scalars, 
   c%deck_text = deck_text
   c%deck_path = deck_path
   c%pressure_file = pressure_file
-  call write_result(path, c, r, r%run_time, err)
+  call write_result(path, c, r, r%run_time, err, [calibration_file], ['the calibration file'])
   if (allocated(err)) then
     code = err%code
     message = err%message

@@ -10,7 +10,7 @@ module ringlube_api
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, case_access, access_set, access_get, validate_case, &
     real_text
-  use ringlube_inputs, only: inputs, n_inputs, find_input, presets, n_presets
+  use ringlube_inputs, only: inputs, n_inputs, find_input, presets, n_presets, kind_int, kind_real
   use ringlube_input, only: read_deck_text
   use ringlube_gas, only: check_pressure_trace
   use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
@@ -133,8 +133,21 @@ contains
           rl_input_error)
         return
       end if
-      text = real_text(values(j))
-      call case_access(c, k, access_set, text, why)
+      if (inputs(k)%kind == kind_int) then
+        if (.not. (abs(values(j)) < 2e9_dp)) then
+          why = 'not an integer: ' // real_text(values(j))
+        else if (values(j) /= anint(values(j))) then
+          why = 'not an integer: ' // real_text(values(j))
+        else
+          text = itoa(nint(values(j)))
+          call case_access(c, k, access_set, text, why)
+        end if
+      else if (inputs(k)%kind == kind_real .and. trim(inputs(k)%name) /= 'pressure_file') then
+        text = real_text(values(j))
+        call case_access(c, k, access_set, text, why)
+      else
+        why = 'cannot be set per design (not a number)'
+      end if
       if (allocated(why)) then
         call fatal_error(err, c%deck_path // ': &' // trim(inputs(k)%group) // ' ' // &
           trim(inputs(k)%name) // ': ' // why, rl_input_error)
@@ -143,6 +156,9 @@ contains
     end do
     call validate_case(c, err)
     if (allocated(err)) return
+    ! the trace was scaled when the case was read: rescale it for a new pressure_scale
+    if (c%pressure_scale /= store(handle)%pressure_scale) &
+      c%gas_p = store(handle)%gas_p * (c%pressure_scale / store(handle)%pressure_scale)
     call system_clock(t0, rate)
     call solve_cycle(c, res, err)
     call system_clock(t1)

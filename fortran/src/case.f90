@@ -10,6 +10,7 @@ module ringlube_case
     preset_names, kind_choice, kind_int
   use ringlube_textio, only: itoa
   use ringlube_namelist, only: lower
+  use ringlube_viscosity, only: roelands_law_at, roelands_eta
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -189,7 +190,12 @@ contains
       case (access_set)
         call parse_real(text, tmp, ok)
         if (.not. ok) then
-          why = 'malformed number "' // text // '"'
+          select case (lower(text))
+          case ('nan', '+nan', '-nan', 'inf', '+inf', '-inf', 'infinity', '+infinity', '-infinity')
+            why = 'must be a finite number, got "' // text // '"'
+          case default
+            why = 'malformed number "' // text // '"'
+          end select
           return
         end if
         call check_range(tmp)
@@ -402,6 +408,7 @@ contains
     type(case_type), intent(inout) :: c
     type(error_type), allocatable, intent(out) :: err
     character(len=:), allocatable :: why, text
+    real(dp) :: eta
     integer :: i
 
     do i = 1, n_inputs
@@ -429,6 +436,13 @@ contains
     if (steps_per_cycle(c) > max_steps_per_cycle) then
       call bad('numerics', 'dpsi_deg', 'gives more than ' // itoa(max_steps_per_cycle) // &
         ' crank steps per cycle'); return
+    end if
+    eta = roelands_eta(roelands_law_at(c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta), &
+      0.0_dp)
+    if (.not. (eta >= 1e-5_dp .and. eta <= 100.0_dp)) then
+      call bad('lubricant', 'eta0', 'with theta0, beta and the liner temperature gives a ' // &
+        'viscosity of ' // real_text(eta) // ' Pa s at the liner temperature, outside the ' // &
+        'plausible 1e-5 .. 100 Pa s'); return
     end if
     if (c%h0_ceiling <= 10.0_dp * c%h0_floor) then
       call bad('numerics', 'h0_ceiling', 'must exceed 10 h0_floor'); return

@@ -8,6 +8,9 @@ module ringlube_gas
   private
   public :: read_pressure_csv, gas_pressure, check_pressure_trace
 
+  !> Largest plausible cylinder pressure [Pa] and smallest span of a trace [deg].
+  real(dp), parameter, public :: max_pressure = 1e8_dp, min_span_deg = 700.0_dp
+
   ! what `to_real` made of a field
   integer, parameter :: field_number = 0, field_nonfinite = 1, field_bad = 2
 
@@ -120,6 +123,8 @@ contains
     end if
     psi = tpsi(1:nrow)
     p = tp(1:nrow)
+    call check_pressure_trace(psi, p, err)
+    if (allocated(err)) err%message = trim(path) // ': ' // err%message
 
   contains
 
@@ -209,8 +214,10 @@ contains
     end if
   end subroutine to_real
 
-  !> Check a trace given as arrays: at least two points, crank angles strictly increasing
-  !> in [0, 720] deg, pressures positive and finite (absolute, Pa).
+  !> Check a trace (from a CSV file or given as arrays): at least two points, crank angles
+  !> strictly increasing in [0, 720] deg and spanning at least `min_span_deg` of the cycle
+  !> (the trace is periodic: a short trace would be stretched over the whole cycle without a
+  !> word), pressures positive, finite and at most `max_pressure` (absolute, Pa).
   subroutine check_pressure_trace(psi, p, err)
     real(dp), intent(in) :: psi(:), p(:)
     type(error_type), allocatable, intent(out) :: err
@@ -224,16 +231,26 @@ contains
         if (.not. (psi(i) >= 0.0_dp .and. psi(i) <= 720.0_dp)) then
           call fatal_error(err, 'point ' // itoa(i) // ': crank angle outside [0, 720] deg', &
             rl_input_error)
-        else if (.not. (p(i) > 0.0_dp .and. p(i) < huge(p))) then
-          call fatal_error(err, 'point ' // itoa(i) // ': pressure must be positive and finite', &
-            rl_input_error)
+        else if (.not. (p(i) > 0.0_dp .and. p(i) <= max_pressure)) then
+          call fatal_error(err, 'point ' // itoa(i) // ': pressure must be positive and at ' // &
+            'most 1e8 Pa (1000 bar, absolute)', rl_input_error)
         else if (i > 1) then
           if (.not. (psi(i) > psi(i-1))) call fatal_error(err, 'point ' // itoa(i) // &
             ': crank angles must increase strictly', rl_input_error)
         end if
         if (allocated(err)) return
       end do
+      if (psi(size(psi)) - psi(1) < min_span_deg) call fatal_error(err, 'the trace covers ' // &
+        'only crank angles ' // trim(deg_text(psi(1))) // ' to ' // trim(deg_text(psi(size(psi)))) &
+        // ' deg: it must span at least 700 of the 720 deg of the cycle', rl_input_error)
     end if
+  contains
+    function deg_text(v) result(t)
+      real(dp), intent(in) :: v
+      character(len=16) :: t
+      write(t, '(f8.1)') v
+      t = adjustl(t)
+    end function deg_text
   end subroutine check_pressure_trace
 
   !> Pressure [Pa] at crank angle psi_deg, linear and periodic over 720 deg. With no

@@ -116,6 +116,19 @@ contains
     c%output_file = resolve_path(c%output_file, base_dir)
     c%calibration_file = resolve_path(c%calibration_file, base_dir)
     call finish_case(c, err, load_trace)
+    if (allocated(err) .and. noitems > 0) err%message = err%message // &
+      ' (in the deck with the changes of ' // trim(oname()) // ')'
+
+  contains
+
+    function oname() result(t)
+      character(len=:), allocatable :: t
+      if (present(overrides_name)) then
+        t = overrides_name
+      else
+        t = name // ' (overrides)'
+      end if
+    end function oname
   end subroutine read_deck_text
 
   !> Add the items of the `&calibration file` (if the deck or the overrides name one) in

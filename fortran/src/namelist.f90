@@ -52,6 +52,10 @@ contains
     line = 1
     nitems = 0
     allocate(items(16))
+    ! a UTF-8 byte-order mark (some editors write one) is not part of the deck
+    if (n >= 3) then
+      if (text(1:3) == achar(239) // achar(187) // achar(191)) pos = 4
+    end if
 
     outer: do
       call skip_blank()
@@ -131,6 +135,14 @@ contains
             pos = pos + 1
             value = ''
             do
+              ! the run of characters up to the next quote or the end of the line, at once
+              ! (one character at a time costs quadratic time on long strings)
+              start = pos
+              do while (pos <= n)
+                if (text(pos:pos) == q .or. text(pos:pos) == new_line('a')) exit
+                pos = pos + 1
+              end do
+              if (pos > start) value = value // text(start:pos-1)
               if (pos > n) then
                 call fail('&' // group // ' ' // name // ': unterminated string')
                 return
@@ -139,19 +151,16 @@ contains
                 call fail('&' // group // ' ' // name // ': unterminated string')
                 return
               end if
-              if (text(pos:pos) == q) then
-                if (pos < n) then
-                  if (text(pos+1:pos+1) == q) then
-                    value = value // q
-                    pos = pos + 2
-                    cycle
-                  end if
+              ! a quote: doubled, it stands for itself; else it ends the string
+              if (pos < n) then
+                if (text(pos+1:pos+1) == q) then
+                  value = value // q
+                  pos = pos + 2
+                  cycle
                 end if
-                pos = pos + 1
-                exit
               end if
-              value = value // text(pos:pos)
               pos = pos + 1
+              exit
             end do
           end if
         end if

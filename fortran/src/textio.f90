@@ -2,6 +2,7 @@
 !> formatting, and making text valid UTF-8.
 module ringlube_textio
   use ringlube_error, only: error_type, fatal_error, rl_input_error
+  use ringlube_fsys, only: file_kind, fs_regular
   implicit none
   private
   public :: read_text_file, itoa, utf8_clean
@@ -19,6 +20,11 @@ contains
     inquire(file=path, exist=exists)
     if (.not. exists) then
       call fatal_error(err, trim(path) // ': file not found', rl_input_error)
+      return
+    end if
+    if (file_kind(path) /= fs_regular) then
+      call fatal_error(err, trim(path) // ': not a regular file (a folder or a device)', &
+        rl_input_error)
       return
     end if
     open(newunit=u, file=path, access='stream', form='unformatted', status='old', &

@@ -11,7 +11,9 @@ paths against the working directory.
 from __future__ import annotations
 
 import contextlib
+import numbers
 import os
+import re
 from pathlib import Path
 from typing import Any, Iterator, NamedTuple
 
@@ -32,6 +34,7 @@ def _groups() -> tuple[str, ...]:
 GROUPS: tuple[str, ...] = ()
 
 _PATH_VARS = {("operating", "pressure_file"), ("output", "file"), ("calibration", "file")}
+_NAME = re.compile(r"[a-z_][a-z0-9_]*")
 
 
 class Case:
@@ -95,12 +98,16 @@ class Case:
         'crf450r_4000rpm_full_cold'
         """
         path = Path(path)
-        if not path.is_file():
+        if not path.exists():
             raise InputError(f"{path}: file not found")
+        if not path.is_file():
+            raise InputError(f"{path}: not a regular file (a folder or a device), not a deck")
         try:
-            text = path.read_bytes().decode("utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            raise InputError(f"{path}: cannot read the deck as UTF-8 text: {exc}") from exc
+            # bytes that are not UTF-8 travel through unchanged (surrogateescape), as in
+            # ringlube-solve, which reads the deck as bytes
+            text = path.read_bytes().decode("utf-8", "surrogateescape")
+        except OSError as exc:
+            raise InputError(f"{path}: cannot read the deck: {exc.strerror}") from None
         case = cls(name=path.stem, source=path)
         case._text = text
         case._base = str(path.resolve().parent)
@@ -140,7 +147,10 @@ class Case:
         """
         text = _serialise(self._nml)
         if path is not None:
-            Path(path).write_text(text, encoding="utf-8")
+            try:
+                Path(path).write_text(text, encoding="utf-8", errors="surrogateescape")
+            except OSError as exc:
+                raise InputError(f"{path}: cannot write the deck: {exc.strerror}") from None
         return text
 
     # access ---------------------------------------------------------------------------
@@ -199,25 +209,36 @@ class Case:
         return self._set(group, values, record=True)
 
     def _set(self, group: str, values: dict, record: bool) -> "Case":
-        group = group.lower()
+        group = str(group).lower()
         if group not in GROUPS:
             raise InputError(f"unknown namelist group &{group} (known: {', '.join(GROUPS)})")
         if group not in self._nml:
             self._nml[group] = f90nml.Namelist()
         for name, value in values.items():
+            name = str(name).lower()
+            if not _NAME.fullmatch(name):
+                raise InputError(f"&{group} {name!r}: not a variable name")
             if hasattr(value, "item"):  # numpy scalar -> Python scalar
                 value = value.item()
             if isinstance(value, os.PathLike):
                 value = os.fspath(value)
-            self._nml[group][name.lower()] = value
+            if isinstance(value, numbers.Real) and not isinstance(value, (bool, int)):
+                value = float(value)          # Decimal, Fraction: numbers, not strings
+            if record and (group, name) in _PATH_VARS and isinstance(value, str) and value \
+                    and not os.path.isabs(value) and self._text is None:
+                # a relative path set in Python means the working directory of now
+                value = os.path.abspath(value)
+            self._nml[group][name] = value
             if record:
-                self._changed[group, name.lower()] = value
+                self._changed[group, name] = value
         return self
 
     def __getitem__(self, key: tuple[str, str]) -> Any:
         return self.get(*key)
 
     def __setitem__(self, key: tuple[str, str], value: Any) -> None:
+        if not (isinstance(key, tuple) and len(key) == 2):
+            raise KeyError(f"use case[group, name], not case[{key!r}]")
         self.set(key[0], **{key[1]: value})
 
     def to_dict(self) -> dict[str, dict[str, Any]]:
@@ -342,8 +363,9 @@ def _text(message) -> str:
 
 
 def _arg(s: str) -> bytes:
-    """A string argument for the f2py layer (UTF-8 bytes; f2py would refuse non-ASCII)."""
-    return s.encode("utf-8")
+    """A string argument for the f2py layer (UTF-8 bytes; f2py would refuse non-ASCII;
+    bytes of a path that are not UTF-8 go through unchanged)."""
+    return s.encode("utf-8", "surrogateescape")
 
 
 class KernelCase(NamedTuple):

@@ -123,6 +123,10 @@ def _cmd_gas(args: argparse.Namespace) -> int:
     from . import gas
 
     _output_folder("--out", Path(args.out))
+    unknown = [n for n in args.names if n not in gas.PRESETS]
+    if unknown:
+        raise InputError(f"gas: unknown trace {', '.join(unknown)} (known: "
+                         f"{', '.join(sorted(gas.PRESETS))})")
     gas.main(["--out", args.out, *args.names])
     return 0
 
@@ -144,12 +148,14 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     from .calibrate import calibrate, correlation, strip_calibrated, write_calibration
     from .case import Case
 
-    fit, fits = calibrate(args.deck)
+    fit, fits = calibrate(args.deck, targets=args.targets)
     base = strip_calibrated(Case.from_namelist(args.deck))
     jac, corr = correlation(base, fit)
     path = write_calibration(args.out, fit, fits, jac, corr, args.deck)
-    print(f"chosen: {fit.values()}\n  energy {fit.energy_loss:.4f} J (target 1.92), mixed "
-          f"{fit.mixed_share:.3f} % (target 8.47), correlation of fitted inputs {corr:+.3f}")
+    t = fit.targets
+    print(f"chosen: {fit.values()}\n  energy {fit.energy_loss:.4f} J (target "
+          f"{t['energy_loss']:g} J), mixed {fit.mixed_share:.3f} % (target {t['mixed_share']:g} %), "
+          f"correlation of fitted inputs {corr:+.3f}")
     print(f"written {path}")
     return 0
 
@@ -222,6 +228,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("deck", nargs="?", default="inputs/crf450r_4000rpm_full_cold.nml",
                    help="the cold case deck")
     p.add_argument("--out", default="inputs/calibration.nml", help="calibration file written")
+    p.add_argument("--targets", default=None,
+                   help="CSV of measured or published results (condition 'cold' is fitted; "
+                        "default: inputs/targets_table2.csv, Table 2 of the study)")
     p.set_defaults(func=_cmd_calibrate)
     p = sub.add_parser("validate", help="regenerate docs/validation.md against Table 2",
                        description="Regenerate docs/validation.md against the study's Table 2.")

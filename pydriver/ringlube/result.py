@@ -49,13 +49,16 @@ class CycleResult:
 
     def __init__(self, series: dict[str, np.ndarray], scalars: dict[str, float], *,
                  liner: dict[str, np.ndarray] | None = None, deck: str = "",
-                 deck_path: str = "", pressure_file: str = "", label: str = ""):
+                 deck_path: str = "", pressure_file: str = "", label: str = "",
+                 calibration_file: str = ""):
         self.series = dict(series)
         self.scalars = dict(scalars)
         self.liner = dict(liner or {})
         self.deck = deck
         self.deck_path = deck_path
         self.pressure_file = pressure_file
+        #: the calibration file the deck included (never overwritten by to_hdf5)
+        self.calibration_file = calibration_file
         self.label = label
 
     def __getattr__(self, name: str):
@@ -103,6 +106,8 @@ class CycleResult:
         """
         from . import _kernel
 
+        if not str(path) or "\0" in str(path):
+            raise InputError(f"{str(path)!r}: not a usable file name")
         path = Path(path)
         n = len(self.crank_angle_deg)
         s = np.column_stack([np.asarray(self.series.get(k, np.zeros(n)), float) for k in SERIES])
@@ -112,12 +117,16 @@ class CycleResult:
         lin = (np.column_stack([self.liner[k] for k in LINER]) if self.liner
                else np.zeros((0, len(LINER))))
         code, message = _kernel.rl_write(os.fsencode(path), s, i, c, produced, lin,
-                                         self.deck.encode("utf-8"),
-                                         self.deck_path.encode("utf-8"),
-                                         self.pressure_file.encode("utf-8"))
+                                         _b(self.deck),
+                                         _b(self.deck_path), _b(self.pressure_file),
+                                         _b(self.calibration_file))
         if code:
             raise error_for(code, _text(message))
         return path
+
+
+def _b(s: str) -> bytes:
+    return s.encode("utf-8", "surrogateescape")
 
 
 def _text(value, strip: bool = True) -> str:
@@ -145,8 +154,10 @@ def load(path: str | os.PathLike) -> CycleResult:
     import h5py
 
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise InputError(f"{path}: no such result file")
+    if not path.is_file():
+        raise InputError(f"{path}: not a regular file, not a result")
     try:
         with h5py.File(path, "r") as f:
             a = f.attrs
@@ -157,6 +168,10 @@ def load(path: str | os.PathLike) -> CycleResult:
                        if not spec.requires and spec.stored not in c]
             if missing:
                 raise KeyError(", ".join(missing))
+            n = len(series["crank_angle_deg"])
+            odd = [k for k, v in series.items() if np.shape(v) != (n,)]
+            if odd or "flags" not in series:
+                raise KeyError(f"series of other lengths or missing flags: {odd or ['flags']}")
             scalars = {k: float(a[spec.stored]) for k, spec in SCALARS.items() if spec.stored in a}
             liner = ({k: f["liner"][spec.stored][()] for k, spec in LINER.items()}
                      if "liner" in f else {})

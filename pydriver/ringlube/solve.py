@@ -71,6 +71,8 @@ def run(case: Case | str | os.PathLike, *, strict: bool = False) -> CycleResult:
     from . import _kernel
 
     if not isinstance(case, Case):
+        if not isinstance(case, (str, os.PathLike)):
+            raise TypeError(f"run: expected a Case or a deck path, got {type(case).__name__}")
         case = Case.from_namelist(case)
     with kernel_case(case) as k:
         series, iseries, scalars, produced, liner, code, message = _kernel.rl_run(
@@ -78,6 +80,7 @@ def run(case: Case | str | os.PathLike, *, strict: bool = False) -> CycleResult:
         if code:
             raise error_for(code, _text(message))
         pressure_file, _, _ = _kernel.rl_get(k.handle, b"operating", b"pressure_file")
+        calibration_file, _, _ = _kernel.rl_get(k.handle, b"calibration", b"file")
         deck = _kernel.rl_deck_text(k.handle, _kernel.rl_deck_length(k.handle))
     made = {"": True, "jfo": bool(produced[0]), "starved": bool(produced[1])}
     data = {k: np.ascontiguousarray(series[:, j]) for j, (k, s) in enumerate(SERIES.items())
@@ -89,7 +92,8 @@ def run(case: Case | str | os.PathLike, *, strict: bool = False) -> CycleResult:
     name = case.kernel_inputs()[1]
     result = CycleResult(data, scal, liner=lin,
                          deck=deck.astype("u1").tobytes().decode("utf-8", errors="replace"),
-                         deck_path=name, pressure_file=_text(pressure_file), label=case.name)
+                         deck_path=name, pressure_file=_text(pressure_file), label=case.name,
+                         calibration_file=_text(calibration_file))
     if strict and not result.converged:
         raise NotConvergedError(f"{case.source or case.name}: the run did not converge "
                                 f"({result.cycles_run} cycles, change {result.cycle_change:.2e})")
@@ -128,13 +132,34 @@ def run_designs(case: Case, variables: Sequence[str], x: np.ndarray,
     (True, True)
     """
     from . import _kernel
+    from .errors import InputError
+    from .tables import INPUTS
 
-    outputs = list(outputs or SCALARS)
+    outputs = list(SCALARS if outputs is None else outputs)
     unknown = [o for o in outputs if o not in SCALARS]
     if unknown:
-        raise KeyError(f"unknown outputs {unknown} (known: {', '.join(SCALARS)})")
-    keys = [v if ":" in v else f"ring:{v}" for v in variables]
-    x = np.atleast_2d(np.asarray(x, dtype=float))
+        raise InputError(f"unknown outputs {unknown} (known: {', '.join(SCALARS)})")
+    keys = []
+    for v in variables:
+        group, _, name = str(v).rpartition(":")
+        spec = INPUTS.get((group or "ring", name))
+        if spec is None or ":" in group:
+            raise InputError(f"run_designs: '{v}' is not an input variable ('name' of &ring, "
+                             "or 'group:name')")
+        if spec.kind not in ("real", "integer") or (spec.group, spec.name) == (
+                "operating", "pressure_file"):
+            raise InputError(f"run_designs: &{spec.group} {spec.name} is not a number: "
+                             "change it on the case instead")
+        keys.append(f"{spec.group}:{spec.name}")
+    try:
+        x = np.asarray(x, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"run_designs: designs must be numbers: {exc}") from None
+    if x.size == 0:
+        x = x.reshape(0, len(keys))
+    if x.ndim != 2 or x.shape[1] != len(keys) or not keys:
+        raise InputError(f"run_designs: x must have one row per design and one column per "
+                         f"variable ({len(keys)}), got shape {x.shape}")
     names = list(SCALARS)
     cols = [names.index(o) for o in outputs]
     values = np.full((len(x), len(outputs)), np.nan)
@@ -166,6 +191,8 @@ def _run_one(args: tuple[Case, bool]):
         return run(args[0], strict=args[1])
     except RinglubeError as exc:
         return exc
+    except (TypeError, ValueError, OSError) as exc:   # not a case: an error of that entry
+        return RinglubeError(f"{type(exc).__name__}: {exc}")
 
 
 def run_many(cases: Iterable[Case], workers: int | None = None, *, strict: bool = False,

@@ -77,19 +77,22 @@ def test_non_ascii_paths_and_names(tmp_path):
 
 def test_relative_pressure_file_of_a_python_case_resolves_against_cwd(tmp_path, monkeypatch):
     """It used to resolve against the temporary deck's folder, and silently used a file
-    found there."""
+    found there. A relative path set in Python means the working directory when it is set."""
     trace = INPUT_DIR / "pressure" / "crf450r_4000rpm_full.csv"
     (tmp_path / "p.csv").write_bytes(trace.read_bytes())
     monkeypatch.chdir(tmp_path)
     case = Case(name="rel").with_numerics(**FAST).with_operating(pressure_file="p.csv")
+    assert case["operating", "pressure_file"] == os.path.join(str(tmp_path), "p.csv")
     r = ringlube.run(case)
     assert r.pressure_file == os.path.join(str(tmp_path), "p.csv")
     assert r.gas_pressure.max() > 10e5
     other = tmp_path / "elsewhere"
     other.mkdir()
     monkeypatch.chdir(other)
+    assert ringlube.run(case).energy_loss == r.energy_loss      # still the file set above
+    late = Case(name="rel").with_numerics(**FAST).with_operating(pressure_file="p.csv")
     with pytest.raises(InputError, match=r"&operating pressure_file: .*elsewhere/p\.csv"):
-        ringlube.run(case)
+        ringlube.run(late)
 
 
 def test_error_locations_name_the_real_file_and_line(tmp_path):
