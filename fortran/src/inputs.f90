@@ -117,6 +117,8 @@ module ringlube_inputs
       'pressure-viscosity loop tolerance sum|dp| / sum|p|'), &
     input_spec('numerics', 'load_tol', kind_real, '(preset)', 1e-14_dp, 0.5_dp, '1', '', &
       'load balance tolerance |W_h + W_a - F| / F'), &
+    input_spec('numerics', 'time_scheme', kind_choice, 'bdf2', 0.0_dp, 0.0_dp, '', 'bdf2|euler', &
+      "squeeze term dh0/dt: BDF2 (second order) or backward Euler (the study's, first order)"), &
     input_spec('numerics', 'h0_update', kind_choice, 'safeguarded', 0.0_dp, 0.0_dp, '', &
       'safeguarded|damped', "h0 update: safeguarded secant/Brent, or the study's damped rule"), &
     input_spec('numerics', 'damping', kind_real, '0.005', 1e-6_dp, 0.999_dp, '1', '', &

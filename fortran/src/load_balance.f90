@@ -1,5 +1,14 @@
 !> The load balance at one crank step (SPEC section 7): h0 such that W_h + W_a = F within
 !> load_tol, by the study's damped rule or a safeguarded secant/Brent iteration on ln h0.
+!>
+!> The squeeze term 2 dh0/dt is discretised in time by backward Euler (first order) or
+!> BDF2 (second order, `&numerics time_scheme`); both are implicit in h0, so the film is
+!> solved at the new h0 only. BDF2 needs the two previous steps: it starts with one
+!> Euler step, and falls back to Euler after a step whose h0 is not a solution of the
+!> balance (held at h0_floor or h0_ceiling), where the history is not smooth.
+!>
+!> The film model enters only through `film_evaluate` (loads at a trial h0) in
+!> `residual`: a second film model plugs in there.
 module ringlube_load_balance
   use ringlube_kinds, only: dp, pi
   use ringlube_case, only: case_type
@@ -9,7 +18,7 @@ module ringlube_load_balance
   use ringlube_results, only: flag_floor, flag_ceiling, flag_load
   implicit none
   private
-  public :: step_context, load_problem, balance_memory, balance, speed
+  public :: step_context, load_problem, balance_memory, balance, speed, start_history
 
   !> Constants of a run needed at every step.
   type :: step_context
@@ -18,9 +27,12 @@ module ringlube_load_balance
     real(dp) :: p_e = 0.0_dp     !< elastic pressure of the ring, Pa
   end type step_context
 
-  !> The load balance at one crank step.
+  !> The load balance at one crank step. The squeeze velocity at trial h0 is
+  !> dh0/dt = (sq_a h0 - sq_b) / dt (Euler: sq_a = 1, sq_b = h0 of the previous step;
+  !> BDF2: sq_a = 3/2, sq_b = 2 h_(k-1) - h_(k-2)/2).
   type :: load_problem
-    real(dp) :: u = 0.0_dp, hp = 0.0_dp, dt = 0.0_dp, pg = 0.0_dp, load = 0.0_dp
+    real(dp) :: u = 0.0_dp, dt = 0.0_dp, pg = 0.0_dp, load = 0.0_dp
+    real(dp) :: sq_a = 1.0_dp, sq_b = 0.0_dp
   end type load_problem
 
   !> What the root finder remembers between trials and crank steps.
@@ -29,6 +41,10 @@ module ringlube_load_balance
     real(dp) :: y_hist(2) = 0.0_dp, g_hist(2) = 0.0_dp
     !> d residual / d ln h0 of the last step (< 0); 0: none yet
     real(dp) :: slope = 0.0_dp
+    !> h0 of the last three crank steps, most recent first, and how many of them form a
+    !> smooth history (0-3; set to 1 by `start_history` and after a held step)
+    real(dp) :: h(3) = 0.0_dp
+    integer :: nh = 0
   end type balance_memory
 
 contains
@@ -43,16 +59,24 @@ contains
     if (abs(speed) < 1e-12_dp * c%crank_radius * ctx%omega) speed = 0.0_dp
   end function speed
 
-  !> Find h0 at crank angle psi so that W_h + W_a = F (within load_tol); hp, hp2 are h0
-  !> at the two previous steps. The film `g` is left solved at the returned h0 (`mem`: the
-  !> root finder's memory, carried from step to step); `lp`
-  !> returns the step's sliding speed, gas pressure and applied load.
-  subroutine balance(c, ctx, g, mem, psi, hp, hp2, h0out, flags, resid, lp)
+  !> Start the h0 history of a run at h0 (the state before the first step).
+  pure subroutine start_history(mem, h0)
+    type(balance_memory), intent(inout) :: mem
+    real(dp), intent(in) :: h0
+    mem%h = h0
+    mem%nh = 1
+  end subroutine start_history
+
+  !> Find h0 at crank angle psi so that W_h + W_a = F (within load_tol), from the h0
+  !> history in `mem` (the root finder's memory, carried from step to step; the new h0 is
+  !> pushed onto it). The film `g` is left solved at the returned h0; `lp` returns the
+  !> step's sliding speed, gas pressure and applied load.
+  subroutine balance(c, ctx, g, mem, psi, h0out, flags, resid, lp)
     type(case_type), intent(in) :: c
     type(step_context), intent(in) :: ctx
     type(film_type), intent(inout) :: g
     type(balance_memory), intent(inout) :: mem
-    real(dp), intent(in) :: psi, hp, hp2
+    real(dp), intent(in) :: psi
     real(dp), intent(out) :: h0out, resid
     integer, intent(out) :: flags
     type(load_problem), intent(out) :: lp
@@ -61,19 +85,49 @@ contains
     if (u < 0.0_dp) g%lead_left = .true.
     if (u > 0.0_dp) g%lead_left = .false.
     lp%u = u
-    lp%hp = hp
     lp%dt = ctx%dt
     lp%pg = gas_pressure(c%gas_psi, c%gas_p, psi, c%crankcase_pressure)
     lp%load = (ctx%p_e + lp%pg) * c%width * g%circ
-    ! log-linear extrapolation from the two previous steps, limited to a factor 1.2
-    guess = hp * min(1.2_dp, max(1.0_dp / 1.2_dp, hp / hp2))
+    if (c%time_scheme == 'bdf2' .and. mem%nh >= 2) then
+      lp%sq_a = 1.5_dp
+      lp%sq_b = 2.0_dp * mem%h(1) - 0.5_dp * mem%h(2)
+    else
+      lp%sq_a = 1.0_dp
+      lp%sq_b = mem%h(1)
+    end if
+    guess = predictor(mem)
     guess = min(max(guess, c%h0_floor), c%h0_ceiling)
     if (c%h0_update == 'damped') then
       call damped(c, lp, g, mem, guess, h0out, flags, resid)
     else
       call safeguarded(c, lp, g, mem, guess, h0out, flags, resid)
     end if
+    mem%h(3) = mem%h(2)
+    mem%h(2) = mem%h(1)
+    mem%h(1) = h0out
+    mem%nh = min(mem%nh + 1, 3)
+    if (iand(flags, flag_floor + flag_ceiling) /= 0) mem%nh = 1
   end subroutine balance
+
+  !> First trial h0 of a step: extrapolation of ln h0 from the previous steps (quadratic
+  !> from three, linear from two), limited to a factor 1.2 from the last step.
+  pure real(dp) function predictor(mem) result(guess)
+    type(balance_memory), intent(in) :: mem
+    real(dp) :: y1, y2, y3, y
+    y1 = log(mem%h(1))
+    select case (mem%nh)
+    case (3)
+      y2 = log(mem%h(2))
+      y3 = log(mem%h(3))
+      y = 3.0_dp * y1 - 3.0_dp * y2 + y3
+    case (2)
+      y2 = log(mem%h(2))
+      y = 2.0_dp * y1 - y2
+    case default
+      y = y1
+    end select
+    guess = exp(min(max(y, y1 - log(1.2_dp)), y1 + log(1.2_dp)))
+  end function predictor
 
   !> Relative load residual (W_h + W_a - F) / F at trial h0 (solves the film).
   real(dp) function residual(c, lp, g, mem, h0)
@@ -84,8 +138,8 @@ contains
     real(dp), intent(in) :: h0
     real(dp) :: sq
     sq = 0.0_dp
-    if (c%squeeze) sq = 2.0_dp * (h0 - lp%hp) / lp%dt
-    call film_evaluate(c, g, h0, sq, lp%u, lp%pg)
+    if (c%squeeze) sq = 2.0_dp * (lp%sq_a * h0 - lp%sq_b) / lp%dt
+    call film_evaluate(c, g, h0, sq, lp%u, lp%pg, c%load_tol * max(lp%load, 1e-3_dp))
     ! relative to the applied load; a load of zero (no tension, no gas, crankcase at
     ! 0 Pa) is measured against 1 mN, so that the residual stays finite
     residual = (g%wh + g%wa - lp%load) / max(lp%load, 1e-3_dp)
