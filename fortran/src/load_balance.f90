@@ -3,9 +3,12 @@
 !>
 !> The squeeze term 2 dh0/dt is discretised in time by backward Euler (first order) or
 !> BDF2 (second order, `&numerics time_scheme`); both are implicit in h0, so the film is
-!> solved at the new h0 only. BDF2 needs the two previous steps: it starts with one
-!> Euler step, and falls back to Euler after a step whose h0 is not a solution of the
-!> balance (held at h0_floor or h0_ceiling), where the history is not smooth.
+!> solved at the new h0 only. BDF2 needs two previous steps on a smooth stretch of h0(t):
+!> it takes one Euler step at the start, after a step whose h0 is not a solution of the
+!> balance (held at h0_floor or h0_ceiling), and at a reversal of the sliding speed
+!> (the step after a dead centre, or where u changes sign): there the outlet moves to
+!> the other edge, dh0/dt jumps, and the BDF2 difference across the kink would make a
+!> first-order error.
 !>
 !> The film model enters only through `film_evaluate` (loads at a trial h0) in
 !> `residual`: a second film model plugs in there.
@@ -45,6 +48,8 @@ module ringlube_load_balance
     !> smooth history (0-3; set to 1 by `start_history` and after a held step)
     real(dp) :: h(3) = 0.0_dp
     integer :: nh = 0
+    !> sliding speed of the last step (0 at the start)
+    real(dp) :: u = 0.0_dp
   end type balance_memory
 
 contains
@@ -65,6 +70,7 @@ contains
     real(dp), intent(in) :: h0
     mem%h = h0
     mem%nh = 1
+    mem%u = 0.0_dp
   end subroutine start_history
 
   !> Find h0 at crank angle psi so that W_h + W_a = F (within load_tol), from the h0
@@ -88,7 +94,10 @@ contains
     lp%dt = ctx%dt
     lp%pg = gas_pressure(c%gas_psi, c%gas_p, psi, c%crankcase_pressure)
     lp%load = (ctx%p_e + lp%pg) * c%width * g%circ
-    if (c%time_scheme == 'bdf2' .and. mem%nh >= 2) then
+    ! BDF2 on a smooth stretch: two previous steps, and the sign of u (the inlet edge)
+    ! as at the last step
+    if (c%time_scheme == 'bdf2' .and. mem%nh >= 2 .and. &
+      sign_of(u) == sign_of(mem%u)) then
       lp%sq_a = 1.5_dp
       lp%sq_b = 2.0_dp * mem%h(1) - 0.5_dp * mem%h(2)
     else
@@ -107,7 +116,16 @@ contains
     mem%h(1) = h0out
     mem%nh = min(mem%nh + 1, 3)
     if (iand(flags, flag_floor + flag_ceiling) /= 0) mem%nh = 1
+    mem%u = u
   end subroutine balance
+
+  !> -1, 0 or 1.
+  pure integer function sign_of(x)
+    real(dp), intent(in) :: x
+    sign_of = 0
+    if (x > 0.0_dp) sign_of = 1
+    if (x < 0.0_dp) sign_of = -1
+  end function sign_of
 
   !> First trial h0 of a step: extrapolation of ln h0 from the previous steps (quadratic
   !> from three, linear from two), limited to a factor 1.2 from the last step.
