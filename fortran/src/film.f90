@@ -6,7 +6,7 @@ module ringlube_film
   use ringlube_case, only: case_type, composite_sigma, reduced_modulus, ring_profile
   use ringlube_viscosity, only: roelands_law, roelands_law_at, roelands_eta
   use ringlube_contact, only: asperity_contact
-  use ringlube_reynolds, only: reynolds_solve
+  use ringlube_reynolds, only: reynolds_solve, reynolds_work, reynolds_work_init
   use ringlube_results, only: flag_viscosity, flag_cavitation, flag_piezo
   implicit none
   private
@@ -23,6 +23,9 @@ module ringlube_film
     real(dp) :: dx = 0.0_dp, circ = 0.0_dp, sigma = 0.0_dp, e_reduced = 0.0_dp, eta_e = 0.0_dp
     real(dp), allocatable :: x(:), s(:), smid(:), h(:), hmid(:), p(:), eta(:), kmid(:), etamid(:)
     logical, allocatable :: active(:)
+    !> scratch of the Reynolds solver, and the pressure and viscosity of the last iteration
+    type(reynolds_work) :: work
+    real(dp), allocatable :: pold(:), eta_new(:)
     logical :: lead_left = .true.          !< leading edge is the chamber edge (x = -b/2)
     logical :: trailing_cavitated = .false.  !< Reynolds outlet: trailing edge at p_cav
     !> Roelands' law at the film temperature of the run
@@ -52,7 +55,8 @@ contains
     f%law = roelands_law_at(c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta)
     f%eta_e = roelands_eta(f%law, 0.0_dp)
     allocate(f%x(n), f%s(n), f%h(n), f%p(n), f%eta(n), f%active(n))
-    allocate(f%smid(n-1), f%hmid(n-1), f%kmid(n-1), f%etamid(n-1))
+    allocate(f%smid(n-1), f%hmid(n-1), f%kmid(n-1), f%etamid(n-1), f%pold(n), f%eta_new(n))
+    call reynolds_work_init(f%work, n)
     do i = 1, n
       f%x(i) = -hb + (i - 1) * f%dx
     end do
@@ -88,8 +92,7 @@ contains
     type(film_type), intent(inout) :: f
     real(dp), intent(in) :: h0, sq, u, p_chamber, w_tol
     real(dp) :: pl, pr, diff, tot, dvisc
-    real(dp) :: pold(f%n), eta_new(f%n)
-    integer :: it, iters, info, n
+    integer :: it, iters, info, n, i
 
     n = f%n
     f%h0 = h0
@@ -122,9 +125,9 @@ contains
     do it = 1, c%max_pressure_iterations
       f%etamid = 0.5_dp * (f%eta(1:n-1) + f%eta(2:n))
       f%kmid = f%hmid**3 / (6.0_dp * f%etamid)
-      pold = f%p
+      f%pold = f%p
       call reynolds_solve(f%dx, f%kmid, f%hmid, u, sq, pl, pr, c%cavitation_pressure, f%p, &
-        f%active, iters, info)
+        f%active, iters, info, f%work)
       f%reynolds_solves = f%reynolds_solves + iters
       if (info == 1) f%flags = ior(f%flags, flag_cavitation)
       if (info == 2) then
@@ -135,14 +138,20 @@ contains
         exit
       end if
       if (.not. c%roelands) exit
-      ! the viscosity of the new pressure (once per node and iteration), kept for the next
+      ! the viscosity of the new pressure (once per node and iteration; only where the
+      ! pressure changed, e.g. not in a cavitated zone held at p_cav), kept for the next
       ! iteration or the next trial
-      eta_new = roelands_eta(f%law, min(max(f%p, 0.0_dp), roelands_p_max))
-      dvisc = maxval(abs(eta_new - f%eta) / f%eta)
-      f%eta = eta_new
+      dvisc = 0.0_dp
+      do i = 1, n
+        if (f%p(i) /= f%pold(i)) then
+          f%eta_new(i) = roelands_eta(f%law, min(max(f%p(i), 0.0_dp), roelands_p_max))
+          dvisc = max(dvisc, abs(f%eta_new(i) - f%eta(i)) / f%eta(i))
+          f%eta(i) = f%eta_new(i)
+        end if
+      end do
       f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
       if (dvisc * abs(f%wh) <= 0.1_dp * w_tol) exit
-      diff = sum(abs(f%p - pold))
+      diff = sum(abs(f%p - f%pold))
       tot = sum(abs(f%p))
       if (diff <= c%pressure_tol * tot) exit
       if (it == c%max_pressure_iterations) f%flags = ior(f%flags, flag_viscosity)
