@@ -137,7 +137,7 @@ module ringlube_inputs
       'upper bound on h0 (a step held there is flagged; above 10 h0_floor)'), &
     input_spec('numerics', 'h0_initial', kind_real, '0', 0.0_dp, 0.1_dp, 'm', '', &
       'h0 before the first step; 0: 4 sigma'), &
-    input_spec('numerics', 'warmup_deg', kind_real, '360', 0.0_dp, 720.0_dp, 'deg', '', &
+    input_spec('numerics', 'warmup_deg', kind_real, '90', 0.0_dp, 720.0_dp, 'deg', '', &
       'crank angle solved (not reported) before the first cycle'), &
     input_spec('output', 'file', kind_string, 'result.h5', 0.0_dp, 0.0_dp, '', '', &
       'result file (relative to the deck folder); -o overrides it'), &

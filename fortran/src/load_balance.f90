@@ -42,8 +42,10 @@ module ringlube_load_balance
   type :: balance_memory
     !> the last two trials: y = ln h0 and the relative residual
     real(dp) :: y_hist(2) = 0.0_dp, g_hist(2) = 0.0_dp
-    !> d residual / d ln h0 of the last step (< 0); 0: none yet
+    !> d residual / d ln h0 of the last step with two trials (< 0); 0: none yet
     real(dp) :: slope = 0.0_dp
+    !> trials made at the current step
+    integer :: trials = 0
     !> h0 of the last three crank steps, most recent first, and how many of them form a
     !> smooth history (0-3; set to 1 by `start_history` and after a held step)
     real(dp) :: h(3) = 0.0_dp
@@ -105,6 +107,7 @@ contains
       lp%sq_b = mem%h(1)
     end if
     guess = predictor(mem)
+    mem%trials = 0
     guess = min(max(guess, c%h0_floor), c%h0_ceiling)
     if (c%h0_update == 'damped') then
       call damped(c, lp, g, mem, guess, h0out, flags, resid)
@@ -128,24 +131,30 @@ contains
   end function sign_of
 
   !> First trial h0 of a step: extrapolation of ln h0 from the previous steps (quadratic
-  !> from three, linear from two), limited to a factor 1.2 from the last step.
+  !> from three, linear from two), limited to a factor 1.2 from the last step. (A
+  !> correction for the part of the new applied load the same extrapolation of ln F does
+  !> not foresee was tried and needed more film solves.)
   pure real(dp) function predictor(mem) result(guess)
     type(balance_memory), intent(in) :: mem
-    real(dp) :: y1, y2, y3, y
+    real(dp) :: y1, y
     y1 = log(mem%h(1))
-    select case (mem%nh)
-    case (3)
-      y2 = log(mem%h(2))
-      y3 = log(mem%h(3))
-      y = 3.0_dp * y1 - 3.0_dp * y2 + y3
-    case (2)
-      y2 = log(mem%h(2))
-      y = 2.0_dp * y1 - y2
-    case default
-      y = y1
-    end select
+    y = extrapolate(log(mem%h), mem%nh)
     guess = exp(min(max(y, y1 - log(1.2_dp)), y1 + log(1.2_dp)))
   end function predictor
+
+  !> The next value of a series from its last nh values (most recent first).
+  pure real(dp) function extrapolate(v, nh)
+    real(dp), intent(in) :: v(3)
+    integer, intent(in) :: nh
+    select case (nh)
+    case (3)
+      extrapolate = 3.0_dp * v(1) - 3.0_dp * v(2) + v(3)
+    case (2)
+      extrapolate = 2.0_dp * v(1) - v(2)
+    case default
+      extrapolate = v(1)
+    end select
+  end function extrapolate
 
   !> Relative load residual (W_h + W_a - F) / F at trial h0 (solves the film).
   real(dp) function residual(c, lp, g, mem, h0)
@@ -165,6 +174,7 @@ contains
     mem%g_hist(1) = mem%g_hist(2)
     mem%y_hist(2) = log(h0)
     mem%g_hist(2) = residual
+    mem%trials = mem%trials + 1
   end function residual
 
   !> The source study's rule h0 <- (1 + beta_d chi) h0, chi = (W - F)/max(W, F).
@@ -248,8 +258,8 @@ contains
         return
       end if
       if ((gb - ga) / (yb - ya) < 0.0_dp .and. abs(gb) < abs(ga)) then
-        ! secant extrapolation past the root (by 50 %), at least doubling the step
-        dy = sign(max(1.5_dp * abs(gb * (yb - ya) / (gb - ga)), 2.0_dp * abs(yb - ya)), dy)
+        ! secant step, aimed 2 % past the root so that a miss brackets it
+        dy = sign(1.02_dp * abs(gb * (yb - ya) / (gb - ga)), dy)
       else
         dy = 3.0_dp * dy
       end if
@@ -271,8 +281,9 @@ contains
       h0out = h
       if (abs(resid) > c%load_tol .and. flags == 0) flags = flag_load
       flags = ior(flags, g%flags)
-      ! remember the local slope for the next crank step's first trial
-      if (mem%y_hist(1) /= mem%y_hist(2)) then
+      ! remember the local slope for the next crank step's first trial (from two trials
+      ! of this step: trials of two steps differ in time as well as in h0)
+      if (mem%trials >= 2 .and. mem%y_hist(1) /= mem%y_hist(2)) then
         if ((mem%g_hist(2) - mem%g_hist(1)) / (mem%y_hist(2) - mem%y_hist(1)) < 0.0_dp) &
           mem%slope = (mem%g_hist(2) - mem%g_hist(1)) / (mem%y_hist(2) - mem%y_hist(1))
       end if

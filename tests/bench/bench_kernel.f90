@@ -95,6 +95,9 @@ contains
       ' energy=', res%energy_loss, ' mixed=', res%mixed_share, ' film_solves=', res%evaluations, &
       ' reynolds_solves=', res%reynolds_solves, ' cycles_computed=', res%cycles_computed, &
       ' steps=', res%nsteps, ' converged=', merge(1, 0, res%converged)
+    write(output_unit, '(a, 4(1x, i0))') 'steps of the reported cycle with 1, 2, 3, >= 4 film solves:', &
+      count(res%iterations == 1), count(res%iterations == 2), count(res%iterations == 3), &
+      count(res%iterations >= 4)
   end subroutine whole_run
 
   subroutine micro(n)
