@@ -157,7 +157,7 @@ module ringlube_inputs
   type(preset_item), parameter :: presets(*) = [ &
     preset_item('fast', 'nodes', '31'), preset_item('fast', 'dpsi_deg', '2.0'), &
     preset_item('fast', 'pressure_tol', '1e-4'), preset_item('fast', 'load_tol', '3e-3'), &
-    preset_item('default', 'nodes', '51'), preset_item('default', 'dpsi_deg', '1.0'), &
+    preset_item('default', 'nodes', '51'), preset_item('default', 'dpsi_deg', '2.0'), &
     preset_item('default', 'pressure_tol', '1e-5'), preset_item('default', 'load_tol', '1e-3'), &
     preset_item('accurate', 'nodes', '201'), preset_item('accurate', 'dpsi_deg', '0.25'), &
     preset_item('accurate', 'pressure_tol', '1e-6'), preset_item('accurate', 'load_tol', '1e-4') &
