@@ -33,6 +33,8 @@ ABLATIONS = {
         ("fortran/src/load_balance.f90",
          "        dy = sign(1.02_dp * abs(gb * (yb - ya) / (gb - ga)), dy)\n",
          "        dy = sign(max(1.5_dp * abs(gb * (yb - ya) / (gb - ga)), 2.0_dp * abs(yb - ya)), dy)\n")],
+    "Reynolds scratch allocated at every solve (as the automatic arrays before)": [
+        ("fortran/src/film.f90", "        f%active, iters, info, f%work)\n", "        f%active, iters, info)\n")],
     "Roelands at every node (also where the pressure did not change)": [
         ("fortran/src/film.f90", "        if (f%p(i) /= f%pold(i)) then\n", "        if (.true.) then\n")],
     "-O2 instead of -O3": [],
