@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import os
 import time
+import warnings
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
@@ -51,7 +52,9 @@ def batch(args: tuple[str, np.ndarray]) -> tuple[np.ndarray, float, int]:
 def sample(n: int, seed: int = 2) -> np.ndarray:
     lo = np.array([v[0] for v in VARS.values()])
     hi = np.array([v[1] for v in VARS.values()])
-    return qmc.scale(qmc.Sobol(d=4, seed=seed).random(n), lo, hi)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        return qmc.scale(qmc.Sobol(d=4, seed=seed).random(n), lo, hi)
 
 
 def run(x: np.ndarray, workers: int, size: int, preset: str):
@@ -75,9 +78,10 @@ def main() -> None:
     ap.add_argument("--batch", type=int, default=200, help="designs per run_designs call")
     ap.add_argument("--preset", default="default")
     args = ap.parse_args()
-    print(f"machine: {os.cpu_count()} cores; preset '{args.preset}'; batches of {args.batch}")
+    print(f"machine: {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f} before the "
+          f"runs; preset '{args.preset}'; batches of {args.batch}")
 
-    x = sample(args.runs)
+    x = sample(args.runs)  # (n need not be a power of 2: the balance warning is silenced)
     wall1, v1, _ = run(x[:args.serial], 1, args.batch, args.preset)
     rate1 = args.serial / wall1
     print(f"1 worker: {args.serial} runs in {wall1:.2f} s wall, {rate1:.1f} runs/s "
@@ -91,6 +95,7 @@ def main() -> None:
     print(f"not converged: {int(np.sum(v[:, 2] < 0.5))}, failed: {int(np.sum(np.isnan(v[:, 0])))}; "
           f"energy {np.nanmin(v[:, 0]):.3f}-{np.nanmax(v[:, 0]):.3f} J, mixed share "
           f"{np.nanmin(v[:, 1]):.2f}-{np.nanmax(v[:, 1]):.2f} %")
+    print(f"load average after the runs: {os.getloadavg()[0]:.1f} (other sessions share the machine)")
     for pid, r in rss.items():
         print(f"worker {pid}: RSS after its {len(r)} batches: first {r[0]:.1f} MB, "
               f"largest {max(r):.1f} MB, last {r[-1]:.1f} MB "
