@@ -6,7 +6,7 @@
 !> solved at the new h0 only. BDF2 needs two previous steps on a smooth stretch of h0(t):
 !> it takes one Euler step at the start, after a step whose h0 is not a solution of the
 !> balance (held at h0_floor or h0_ceiling), and at a reversal of the sliding speed
-!> (the step after a dead centre, or where u changes sign): there the outlet moves to
+!> (the steps at and after a dead centre, or where u changes sign): there the outlet moves to
 !> the other edge, dh0/dt jumps, and the BDF2 difference across the kink would make a
 !> first-order error.
 !>
