@@ -14,7 +14,7 @@
 !> conditions p = p_cav, dp/dx = 0.
 module ringlube_reynolds
   use ringlube_kinds, only: dp
-  use ringlube_tridiag, only: thomas
+  use ringlube_tridiag, only: thomas_fixed
   implicit none
   private
   public :: reynolds_solve, reynolds_work, reynolds_work_init
@@ -22,7 +22,7 @@ module ringlube_reynolds
   !> Scratch arrays of reynolds_solve (kept by the caller between solves, so that a
   !> solve allocates nothing).
   type :: reynolds_work
-    real(dp), allocatable :: a0(:), b0(:), c0(:), r(:), a(:), b(:), c(:), d(:), cp(:)
+    real(dp), allocatable :: a0(:), b0(:), c0(:), r(:), cp(:)
   end type reynolds_work
 
 contains
@@ -31,7 +31,7 @@ contains
   pure subroutine reynolds_work_init(w, n)
     type(reynolds_work), intent(out) :: w
     integer, intent(in) :: n
-    allocate(w%a0(n), w%b0(n), w%c0(n), w%r(n), w%a(n), w%b(n), w%c(n), w%d(n), w%cp(n))
+    allocate(w%a0(n), w%b0(n), w%c0(n), w%r(n), w%cp(n))
   end subroutine reynolds_work_init
 
   !> Solve for the nodal pressures p(1:n).
@@ -69,8 +69,7 @@ contains
 
       n = size(p)
       info = 0
-      associate (a0 => w%a0, b0 => w%b0, c0 => w%c0, r => w%r, a => w%a, b => w%b, &
-          c => w%c, d => w%d)
+      associate (a0 => w%a0, b0 => w%b0, c0 => w%c0, r => w%r)
       a0(1) = 0.0_dp; b0(1) = 1.0_dp; c0(1) = 0.0_dp; r(1) = p_left
       a0(n) = 0.0_dp; b0(n) = 1.0_dp; c0(n) = 0.0_dp; r(n) = p_right
       do i = 2, n - 1
@@ -85,20 +84,8 @@ contains
 
       do it = 1, n + 1
         iterations = it
-        do i = 1, n
-          if (active(i)) then
-            a(i) = 0.0_dp
-            b(i) = 1.0_dp
-            c(i) = 0.0_dp
-            d(i) = p_cav
-          else
-            a(i) = a0(i)
-            b(i) = b0(i)
-            c(i) = c0(i)
-            d(i) = r(i)
-          end if
-        end do
-        call thomas(a(1:n), b(1:n), c(1:n), d(1:n), p, tinfo, w%cp)
+        ! the cavitated nodes are held at p_cav
+        call thomas_fixed(a0(1:n), b0(1:n), c0(1:n), r(1:n), active, p_cav, p, tinfo, w%cp)
         if (tinfo /= 0) then
           info = 2
           return

@@ -2,7 +2,7 @@
 add_library(ringlube_check STATIC ${CMAKE_CURRENT_LIST_DIR}/check.f90)
 target_link_libraries(ringlube_check PUBLIC ringlube_kernel)
 
-foreach(t tridiag greenwood_tripp physics_basics reynolds cycle time_order mixed_share film_viscosity)
+foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle time_order mixed_share film_viscosity)
   add_executable(test_${t} ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
   target_link_libraries(test_${t} PRIVATE ringlube_check ringlube_io ${LAPACK_LIBRARIES})
   add_test(NAME ${t} COMMAND test_${t} WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
