@@ -1,6 +1,13 @@
 !> The film at one crank step: grid and profile, the film solve for a trial h0 (pressure
 !> with the pressure-viscosity loop, hydrodynamic and asperity loads) and the friction
 !> (SPEC sections 3-6 and 8).
+!>
+!> What the load balance (ringlube_load_balance) uses of a film model, and all a second
+!> model has to provide: `film_evaluate` at a trial h0 (given 2 dh0/dt, the sliding speed,
+!> the chamber pressure and the load tolerance in N), leaving `wh`, `wa`, `aa`, `flags`,
+!> `h0` and the counters `evaluations` and `reynolds_solves` set; `film_friction` at the
+!> accepted h0; `lead_left` set by the caller from the sign of u. Everything else in
+!> film_type is this model's own state (warm starts of the next trial and step).
 module ringlube_film
   use ringlube_kinds, only: dp, pi
   use ringlube_case, only: case_type, composite_sigma, reduced_modulus, ring_profile
