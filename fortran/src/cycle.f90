@@ -8,11 +8,12 @@ module ringlube_cycle
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_results, only: result_type, allocate_result
   use ringlube_film, only: film_type, film_setup, film_friction
-  use ringlube_load_balance, only: step_context, load_problem, balance_memory, balance
+  use ringlube_load_balance, only: step_context, load_problem, balance_memory, balance, &
+    start_history
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
-  public :: solve_cycle
+  public :: solve_cycle, mixed_share
 
 contains
 
@@ -25,7 +26,7 @@ contains
     type(balance_memory) :: mem, gmem
     type(step_context) :: ctx
     integer :: m, k, icycle, flags
-    real(dp) :: sigma, h0_prev, h0_prev2, h0_start, h0, h0_end, resid
+    real(dp) :: sigma, h0_init, h0_start, h0, h0_end, resid
     type(load_problem) :: lp
     integer :: extra_evaluations, extra_solves
 
@@ -42,32 +43,28 @@ contains
     res%sigma = sigma
     res%ring_mass = ring_mass(c)
 
-    h0_prev = 4.0_dp * sigma
-    if (c%h0_initial > 0.0_dp) h0_prev = c%h0_initial
-    h0_prev = min(max(h0_prev, c%h0_floor), c%h0_ceiling)
-    h0_prev2 = h0_prev
-    h0_start = h0_prev
+    h0_init = 4.0_dp * sigma
+    if (c%h0_initial > 0.0_dp) h0_init = c%h0_initial
+    h0_init = min(max(h0_init, c%h0_floor), c%h0_ceiling)
+    call start_history(mem, h0_init)
+    h0_start = h0_init
     extra_evaluations = 0
     extra_solves = 0
     ! warm-up: the last warmup_deg of a cycle before the first reported one, so that the
     ! squeeze-film memory of the initial guess has decayed by psi = 0
     do k = steps_per_cycle(c) - nint(c%warmup_deg / c%dpsi_deg) + 1, m
-      call balance(c, ctx, f, mem, (k - 1) * c%dpsi_deg, h0_prev, h0_prev2, h0, flags, resid, lp)
-      h0_prev2 = h0_prev
-      h0_prev = h0
+      call balance(c, ctx, f, mem, (k - 1) * c%dpsi_deg, h0, flags, resid, lp)
     end do
     do icycle = 1, c%max_cycles
       res%cycles_run = icycle
       do k = 1, m
-        call step(k, h0_prev, h0_prev2, h0)
+        call step(k, h0)
         if (k == 1) h0_start = h0
-        h0_prev2 = h0_prev
-        h0_prev = h0
       end do
       ! psi = 720 deg is psi = 0 of the next cycle: solve it on a copy of the film
       g = f
       gmem = mem
-      call balance(c, ctx, g, gmem, 0.0_dp, h0_prev, h0_prev2, h0_end, flags, resid, lp)
+      call balance(c, ctx, g, gmem, 0.0_dp, h0_end, flags, resid, lp)
       extra_evaluations = extra_evaluations + g%evaluations - f%evaluations
       extra_solves = extra_solves + g%reynolds_solves - f%reynolds_solves
       res%cycle_change = abs(h0_end - h0_start) / h0_start
@@ -78,7 +75,7 @@ contains
     end do
 
     res%energy_loss = sum(res%power_loss) * ctx%dt
-    res%mixed_share = 100.0_dp * count(res%h0 / sigma < 4.0_dp) / real(m, dp)
+    res%mixed_share = mixed_share(res%h0 / sigma)
     res%min_film = minval(res%lambda_min) * sigma
     res%max_friction = maxval(abs(res%friction))
     res%evaluations = f%evaluations + extra_evaluations
@@ -104,16 +101,15 @@ contains
     end function angle_text
 
     !> Solve crank step k (psi = (k-1) dpsi) and store it.
-    subroutine step(k, hp, hp2, h0out)
+    subroutine step(k, h0out)
       integer, intent(in) :: k
-      real(dp), intent(in) :: hp, hp2
       real(dp), intent(out) :: h0out
       real(dp) :: psi, fv, fb, resid
       type(load_problem) :: lp
       integer :: flags, nev
       psi = (k - 1) * c%dpsi_deg
       nev = f%evaluations
-      call balance(c, ctx, f, mem, psi, hp, hp2, h0out, flags, resid, lp)
+      call balance(c, ctx, f, mem, psi, h0out, flags, resid, lp)
       call film_friction(c, f, lp%u, fv, fb)
       res%crank_angle_deg(k) = psi
       res%sliding_speed(k) = lp%u
@@ -132,5 +128,27 @@ contains
       res%iterations(k) = f%evaluations - nev
     end subroutine step
   end subroutine solve_cycle
+
+  !> Percentage of the cycle with lambda = h0/sigma < 4 (SPEC section 8), lambda linear
+  !> between crank steps (periodic): a crossing of 4 inside a step counts the part of
+  !> the step below it, so the share varies continuously with the inputs instead of in
+  !> whole steps.
+  pure real(dp) function mixed_share(lam)
+    real(dp), intent(in) :: lam(:)
+    real(dp) :: a, b, below
+    integer :: kk, nn
+    nn = size(lam)
+    below = 0.0_dp
+    do kk = 1, nn
+      a = lam(kk)
+      b = lam(mod(kk, nn) + 1)
+      if (a < 4.0_dp .and. b < 4.0_dp) then
+        below = below + 1.0_dp
+      else if (a < 4.0_dp .neqv. b < 4.0_dp) then
+        below = below + (4.0_dp - min(a, b)) / abs(b - a)
+      end if
+    end do
+    mixed_share = 100.0_dp * below / real(nn, dp)
+  end function mixed_share
 
 end module ringlube_cycle

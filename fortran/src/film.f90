@@ -1,12 +1,19 @@
 !> The film at one crank step: grid and profile, the film solve for a trial h0 (pressure
 !> with the pressure-viscosity loop, hydrodynamic and asperity loads) and the friction
 !> (SPEC sections 3-6 and 8).
+!>
+!> What the load balance (ringlube_load_balance) uses of a film model, and all a second
+!> model has to provide: `film_evaluate` at a trial h0 (given 2 dh0/dt, the sliding speed,
+!> the chamber pressure and the load tolerance in N), leaving `wh`, `wa`, `aa`, `flags`,
+!> `h0` and the counters `evaluations` and `reynolds_solves` set; `film_friction` at the
+!> accepted h0; `lead_left` set by the caller from the sign of u. Everything else in
+!> film_type is this model's own state (warm starts of the next trial and step).
 module ringlube_film
   use ringlube_kinds, only: dp, pi
   use ringlube_case, only: case_type, composite_sigma, reduced_modulus, ring_profile
   use ringlube_viscosity, only: roelands_law, roelands_law_at, roelands_eta
   use ringlube_contact, only: asperity_contact
-  use ringlube_reynolds, only: reynolds_solve
+  use ringlube_reynolds, only: reynolds_solve, reynolds_work, reynolds_work_init
   use ringlube_results, only: flag_viscosity, flag_cavitation, flag_piezo
   implicit none
   private
@@ -23,6 +30,9 @@ module ringlube_film
     real(dp) :: dx = 0.0_dp, circ = 0.0_dp, sigma = 0.0_dp, e_reduced = 0.0_dp, eta_e = 0.0_dp
     real(dp), allocatable :: x(:), s(:), smid(:), h(:), hmid(:), p(:), eta(:), kmid(:), etamid(:)
     logical, allocatable :: active(:)
+    !> scratch of the Reynolds solver, and the pressure and viscosity of the last iteration
+    type(reynolds_work) :: work
+    real(dp), allocatable :: pold(:), eta_new(:)
     logical :: lead_left = .true.          !< leading edge is the chamber edge (x = -b/2)
     logical :: trailing_cavitated = .false.  !< Reynolds outlet: trailing edge at p_cav
     !> Roelands' law at the film temperature of the run
@@ -52,7 +62,8 @@ contains
     f%law = roelands_law_at(c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta)
     f%eta_e = roelands_eta(f%law, 0.0_dp)
     allocate(f%x(n), f%s(n), f%h(n), f%p(n), f%eta(n), f%active(n))
-    allocate(f%smid(n-1), f%hmid(n-1), f%kmid(n-1), f%etamid(n-1))
+    allocate(f%smid(n-1), f%hmid(n-1), f%kmid(n-1), f%etamid(n-1), f%pold(n), f%eta_new(n))
+    call reynolds_work_init(f%work, n)
     do i = 1, n
       f%x(i) = -hb + (i - 1) * f%dx
     end do
@@ -61,19 +72,34 @@ contains
     f%smid = ring_profile(0.5_dp * (f%x(1:n-1) + f%x(2:n)), c%width, c%crown_height, c%crown_offset)
     f%p = c%crankcase_pressure
     f%eta = f%eta_e
+    ! the viscosity of the pressure held (see film_evaluate)
+    if (c%roelands) f%eta = roelands_eta(f%law, c%crankcase_pressure)
     f%active = .false.
   end subroutine film_setup
 
   !> Solve the film for a trial h0: pressures (with the pressure-viscosity loop) and the
   !> hydrodynamic and asperity loads. `sq` is 2 dh0/dt; `p_chamber`, `p_crankcase` the
-  !> edge pressures; `u` the sliding speed (its sign picks the inlet for the Reynolds outlet).
-  pure subroutine film_evaluate(c, f, h0, sq, u, p_chamber)
+  !> edge pressures; `u` the sliding speed (its sign picks the inlet for the Reynolds outlet);
+  !> `w_tol` [N] the load tolerance of the caller (the load balance accepts a load within
+  !> w_tol of the applied load).
+  !>
+  !> The pressure-viscosity loop (Roelands) alternates a Reynolds solve with the viscosity
+  !> of the pressure just solved. `f%eta` always holds the viscosity of the pressure in
+  !> `f%p` of the previous solve (warm start). It stops when either
+  !> - the viscosity update moves the load by less than a tenth of w_tol: the largest
+  !>   relative change of eta over the nodes times W_h bounds the change of W_h the next
+  !>   solve would make (the pressure above the edge values scales with eta), and the loop
+  !>   contracts (alpha p << 1 at ring pressures), so the load then carries a viscosity
+  !>   error below about w_tol/10; or
+  !> - the pressure update is below `pressure_tol`: sum|p_new - p_old| <= pressure_tol
+  !>   sum|p_new| (its meaning before the load criterion was added).
+  !> Usually the first criterion ends the loop after one Reynolds solve.
+  pure subroutine film_evaluate(c, f, h0, sq, u, p_chamber, w_tol)
     type(case_type), intent(in) :: c
     type(film_type), intent(inout) :: f
-    real(dp), intent(in) :: h0, sq, u, p_chamber
-    real(dp) :: pl, pr, diff, tot
-    real(dp) :: pold(f%n)
-    integer :: it, iters, info, n
+    real(dp), intent(in) :: h0, sq, u, p_chamber, w_tol
+    real(dp) :: pl, pr, diff, tot, dvisc
+    integer :: it, iters, info, n, i
 
     n = f%n
     f%h0 = h0
@@ -98,28 +124,41 @@ contains
     ! above 100 MPa it starts from the isoviscous film (eta at p = 0) instead: from a
     ! high-pressure state the iteration can land on a second, high-pressure branch and make
     ! W(h0) jump, which the load balance cannot bracket.
-    if (maxval(f%p) > 1e8_dp) f%p = 0.0_dp
+    if (maxval(f%p) > 1e8_dp) then
+      f%p = 0.0_dp
+      f%eta = f%eta_e
+    end if
+    if (.not. c%roelands) f%eta = f%eta_e
     do it = 1, c%max_pressure_iterations
-      if (c%roelands) then
-        f%eta = roelands_eta(f%law, min(max(f%p, 0.0_dp), roelands_p_max))
-      else
-        f%eta = f%eta_e
-      end if
       f%etamid = 0.5_dp * (f%eta(1:n-1) + f%eta(2:n))
       f%kmid = f%hmid**3 / (6.0_dp * f%etamid)
-      pold = f%p
+      f%pold = f%p
       call reynolds_solve(f%dx, f%kmid, f%hmid, u, sq, pl, pr, c%cavitation_pressure, f%p, &
-        f%active, iters, info)
+        f%active, iters, info, f%work)
       f%reynolds_solves = f%reynolds_solves + iters
       if (info == 1) f%flags = ior(f%flags, flag_cavitation)
       if (info == 2) then
         ! singular system: cannot happen for h > 0; keep a finite state and flag it
         f%p = max(pl, pr)
         f%flags = ior(f%flags, flag_cavitation)
+        if (c%roelands) f%eta = roelands_eta(f%law, min(max(f%p, 0.0_dp), roelands_p_max))
         exit
       end if
       if (.not. c%roelands) exit
-      diff = sum(abs(f%p - pold))
+      ! the viscosity of the new pressure (once per node and iteration; only where the
+      ! pressure changed, e.g. not in a cavitated zone held at p_cav), kept for the next
+      ! iteration or the next trial
+      dvisc = 0.0_dp
+      do i = 1, n
+        if (f%p(i) /= f%pold(i)) then
+          f%eta_new(i) = roelands_eta(f%law, min(max(f%p(i), 0.0_dp), roelands_p_max))
+          dvisc = max(dvisc, abs(f%eta_new(i) - f%eta(i)) / f%eta(i))
+          f%eta(i) = f%eta_new(i)
+        end if
+      end do
+      f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
+      if (dvisc * abs(f%wh) <= 0.1_dp * w_tol) exit
+      diff = sum(abs(f%p - f%pold))
       tot = sum(abs(f%p))
       if (diff <= c%pressure_tol * tot) exit
       if (it == c%max_pressure_iterations) f%flags = ior(f%flags, flag_viscosity)

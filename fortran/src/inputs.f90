@@ -117,6 +117,8 @@ module ringlube_inputs
       'pressure-viscosity loop tolerance sum|dp| / sum|p|'), &
     input_spec('numerics', 'load_tol', kind_real, '(preset)', 1e-14_dp, 0.5_dp, '1', '', &
       'load balance tolerance |W_h + W_a - F| / F'), &
+    input_spec('numerics', 'time_scheme', kind_choice, 'bdf2', 0.0_dp, 0.0_dp, '', 'bdf2|euler', &
+      "squeeze term dh0/dt: BDF2 (second order) or backward Euler (the study's, first order)"), &
     input_spec('numerics', 'h0_update', kind_choice, 'safeguarded', 0.0_dp, 0.0_dp, '', &
       'safeguarded|damped', "h0 update: safeguarded secant/Brent, or the study's damped rule"), &
     input_spec('numerics', 'damping', kind_real, '0.005', 1e-6_dp, 0.999_dp, '1', '', &
@@ -135,7 +137,7 @@ module ringlube_inputs
       'upper bound on h0 (a step held there is flagged; above 10 h0_floor)'), &
     input_spec('numerics', 'h0_initial', kind_real, '0', 0.0_dp, 0.1_dp, 'm', '', &
       'h0 before the first step; 0: 4 sigma'), &
-    input_spec('numerics', 'warmup_deg', kind_real, '360', 0.0_dp, 720.0_dp, 'deg', '', &
+    input_spec('numerics', 'warmup_deg', kind_real, '90', 0.0_dp, 720.0_dp, 'deg', '', &
       'crank angle solved (not reported) before the first cycle'), &
     input_spec('output', 'file', kind_string, 'result.h5', 0.0_dp, 0.0_dp, '', '', &
       'result file (relative to the deck folder); -o overrides it'), &
@@ -155,7 +157,7 @@ module ringlube_inputs
   type(preset_item), parameter :: presets(*) = [ &
     preset_item('fast', 'nodes', '31'), preset_item('fast', 'dpsi_deg', '2.0'), &
     preset_item('fast', 'pressure_tol', '1e-4'), preset_item('fast', 'load_tol', '3e-3'), &
-    preset_item('default', 'nodes', '51'), preset_item('default', 'dpsi_deg', '1.0'), &
+    preset_item('default', 'nodes', '51'), preset_item('default', 'dpsi_deg', '2.0'), &
     preset_item('default', 'pressure_tol', '1e-5'), preset_item('default', 'load_tol', '1e-3'), &
     preset_item('accurate', 'nodes', '201'), preset_item('accurate', 'dpsi_deg', '0.25'), &
     preset_item('accurate', 'pressure_tol', '1e-6'), preset_item('accurate', 'load_tol', '1e-4') &

@@ -1,5 +1,17 @@
 !> The load balance at one crank step (SPEC section 7): h0 such that W_h + W_a = F within
 !> load_tol, by the study's damped rule or a safeguarded secant/Brent iteration on ln h0.
+!>
+!> The squeeze term 2 dh0/dt is discretised in time by backward Euler (first order) or
+!> BDF2 (second order, `&numerics time_scheme`); both are implicit in h0, so the film is
+!> solved at the new h0 only. BDF2 needs two previous steps on a smooth stretch of h0(t):
+!> it takes one Euler step at the start, after a step whose h0 is not a solution of the
+!> balance (held at h0_floor or h0_ceiling), and at a reversal of the sliding speed
+!> (the steps at and after a dead centre, or where u changes sign): there the outlet moves to
+!> the other edge, dh0/dt jumps, and the BDF2 difference across the kink would make a
+!> first-order error.
+!>
+!> The film model enters only through `film_evaluate` (loads at a trial h0) in
+!> `residual`: a second film model plugs in there.
 module ringlube_load_balance
   use ringlube_kinds, only: dp, pi
   use ringlube_case, only: case_type
@@ -9,7 +21,7 @@ module ringlube_load_balance
   use ringlube_results, only: flag_floor, flag_ceiling, flag_load
   implicit none
   private
-  public :: step_context, load_problem, balance_memory, balance, speed
+  public :: step_context, load_problem, balance_memory, balance, speed, start_history
 
   !> Constants of a run needed at every step.
   type :: step_context
@@ -18,17 +30,28 @@ module ringlube_load_balance
     real(dp) :: p_e = 0.0_dp     !< elastic pressure of the ring, Pa
   end type step_context
 
-  !> The load balance at one crank step.
+  !> The load balance at one crank step. The squeeze velocity at trial h0 is
+  !> dh0/dt = (sq_a h0 - sq_b) / dt (Euler: sq_a = 1, sq_b = h0 of the previous step;
+  !> BDF2: sq_a = 3/2, sq_b = 2 h_(k-1) - h_(k-2)/2).
   type :: load_problem
-    real(dp) :: u = 0.0_dp, hp = 0.0_dp, dt = 0.0_dp, pg = 0.0_dp, load = 0.0_dp
+    real(dp) :: u = 0.0_dp, dt = 0.0_dp, pg = 0.0_dp, load = 0.0_dp
+    real(dp) :: sq_a = 1.0_dp, sq_b = 0.0_dp
   end type load_problem
 
   !> What the root finder remembers between trials and crank steps.
   type :: balance_memory
     !> the last two trials: y = ln h0 and the relative residual
     real(dp) :: y_hist(2) = 0.0_dp, g_hist(2) = 0.0_dp
-    !> d residual / d ln h0 of the last step (< 0); 0: none yet
+    !> d residual / d ln h0 of the last step with two trials (< 0); 0: none yet
     real(dp) :: slope = 0.0_dp
+    !> trials made at the current step
+    integer :: trials = 0
+    !> h0 of the last three crank steps, most recent first, and how many of them form a
+    !> smooth history (0-3; set to 1 by `start_history` and after a held step)
+    real(dp) :: h(3) = 0.0_dp
+    integer :: nh = 0
+    !> sliding speed of the last step (0 at the start)
+    real(dp) :: u = 0.0_dp
   end type balance_memory
 
 contains
@@ -43,16 +66,25 @@ contains
     if (abs(speed) < 1e-12_dp * c%crank_radius * ctx%omega) speed = 0.0_dp
   end function speed
 
-  !> Find h0 at crank angle psi so that W_h + W_a = F (within load_tol); hp, hp2 are h0
-  !> at the two previous steps. The film `g` is left solved at the returned h0 (`mem`: the
-  !> root finder's memory, carried from step to step); `lp`
-  !> returns the step's sliding speed, gas pressure and applied load.
-  subroutine balance(c, ctx, g, mem, psi, hp, hp2, h0out, flags, resid, lp)
+  !> Start the h0 history of a run at h0 (the state before the first step).
+  pure subroutine start_history(mem, h0)
+    type(balance_memory), intent(inout) :: mem
+    real(dp), intent(in) :: h0
+    mem%h = h0
+    mem%nh = 1
+    mem%u = 0.0_dp
+  end subroutine start_history
+
+  !> Find h0 at crank angle psi so that W_h + W_a = F (within load_tol), from the h0
+  !> history in `mem` (the root finder's memory, carried from step to step; the new h0 is
+  !> pushed onto it). The film `g` is left solved at the returned h0; `lp` returns the
+  !> step's sliding speed, gas pressure and applied load.
+  subroutine balance(c, ctx, g, mem, psi, h0out, flags, resid, lp)
     type(case_type), intent(in) :: c
     type(step_context), intent(in) :: ctx
     type(film_type), intent(inout) :: g
     type(balance_memory), intent(inout) :: mem
-    real(dp), intent(in) :: psi, hp, hp2
+    real(dp), intent(in) :: psi
     real(dp), intent(out) :: h0out, resid
     integer, intent(out) :: flags
     type(load_problem), intent(out) :: lp
@@ -61,19 +93,68 @@ contains
     if (u < 0.0_dp) g%lead_left = .true.
     if (u > 0.0_dp) g%lead_left = .false.
     lp%u = u
-    lp%hp = hp
     lp%dt = ctx%dt
     lp%pg = gas_pressure(c%gas_psi, c%gas_p, psi, c%crankcase_pressure)
     lp%load = (ctx%p_e + lp%pg) * c%width * g%circ
-    ! log-linear extrapolation from the two previous steps, limited to a factor 1.2
-    guess = hp * min(1.2_dp, max(1.0_dp / 1.2_dp, hp / hp2))
+    ! BDF2 on a smooth stretch: two previous steps, and the sign of u (the inlet edge)
+    ! as at the last step
+    if (c%time_scheme == 'bdf2' .and. mem%nh >= 2 .and. &
+      sign_of(u) == sign_of(mem%u)) then
+      lp%sq_a = 1.5_dp
+      lp%sq_b = 2.0_dp * mem%h(1) - 0.5_dp * mem%h(2)
+    else
+      lp%sq_a = 1.0_dp
+      lp%sq_b = mem%h(1)
+    end if
+    guess = predictor(mem)
+    mem%trials = 0
     guess = min(max(guess, c%h0_floor), c%h0_ceiling)
     if (c%h0_update == 'damped') then
       call damped(c, lp, g, mem, guess, h0out, flags, resid)
     else
       call safeguarded(c, lp, g, mem, guess, h0out, flags, resid)
     end if
+    mem%h(3) = mem%h(2)
+    mem%h(2) = mem%h(1)
+    mem%h(1) = h0out
+    mem%nh = min(mem%nh + 1, 3)
+    if (iand(flags, flag_floor + flag_ceiling) /= 0) mem%nh = 1
+    mem%u = u
   end subroutine balance
+
+  !> -1, 0 or 1.
+  pure integer function sign_of(x)
+    real(dp), intent(in) :: x
+    sign_of = 0
+    if (x > 0.0_dp) sign_of = 1
+    if (x < 0.0_dp) sign_of = -1
+  end function sign_of
+
+  !> First trial h0 of a step: extrapolation of ln h0 from the previous steps (quadratic
+  !> from three, linear from two), limited to a factor 1.2 from the last step. (A
+  !> correction for the part of the new applied load the same extrapolation of ln F does
+  !> not foresee was tried and needed more film solves.)
+  pure real(dp) function predictor(mem) result(guess)
+    type(balance_memory), intent(in) :: mem
+    real(dp) :: y1, y
+    y1 = log(mem%h(1))
+    y = extrapolate(log(mem%h), mem%nh)
+    guess = exp(min(max(y, y1 - log(1.2_dp)), y1 + log(1.2_dp)))
+  end function predictor
+
+  !> The next value of a series from its last nh values (most recent first).
+  pure real(dp) function extrapolate(v, nh)
+    real(dp), intent(in) :: v(3)
+    integer, intent(in) :: nh
+    select case (nh)
+    case (3)
+      extrapolate = 3.0_dp * v(1) - 3.0_dp * v(2) + v(3)
+    case (2)
+      extrapolate = 2.0_dp * v(1) - v(2)
+    case default
+      extrapolate = v(1)
+    end select
+  end function extrapolate
 
   !> Relative load residual (W_h + W_a - F) / F at trial h0 (solves the film).
   real(dp) function residual(c, lp, g, mem, h0)
@@ -84,8 +165,8 @@ contains
     real(dp), intent(in) :: h0
     real(dp) :: sq
     sq = 0.0_dp
-    if (c%squeeze) sq = 2.0_dp * (h0 - lp%hp) / lp%dt
-    call film_evaluate(c, g, h0, sq, lp%u, lp%pg)
+    if (c%squeeze) sq = 2.0_dp * (lp%sq_a * h0 - lp%sq_b) / lp%dt
+    call film_evaluate(c, g, h0, sq, lp%u, lp%pg, c%load_tol * max(lp%load, 1e-3_dp))
     ! relative to the applied load; a load of zero (no tension, no gas, crankcase at
     ! 0 Pa) is measured against 1 mN, so that the residual stays finite
     residual = (g%wh + g%wa - lp%load) / max(lp%load, 1e-3_dp)
@@ -93,6 +174,7 @@ contains
     mem%g_hist(1) = mem%g_hist(2)
     mem%y_hist(2) = log(h0)
     mem%g_hist(2) = residual
+    mem%trials = mem%trials + 1
   end function residual
 
   !> The source study's rule h0 <- (1 + beta_d chi) h0, chi = (W - F)/max(W, F).
@@ -176,8 +258,8 @@ contains
         return
       end if
       if ((gb - ga) / (yb - ya) < 0.0_dp .and. abs(gb) < abs(ga)) then
-        ! secant extrapolation past the root (by 50 %), at least doubling the step
-        dy = sign(max(1.5_dp * abs(gb * (yb - ya) / (gb - ga)), 2.0_dp * abs(yb - ya)), dy)
+        ! secant step, aimed 2 % past the root so that a miss brackets it
+        dy = sign(1.02_dp * abs(gb * (yb - ya) / (gb - ga)), dy)
       else
         dy = 3.0_dp * dy
       end if
@@ -199,8 +281,9 @@ contains
       h0out = h
       if (abs(resid) > c%load_tol .and. flags == 0) flags = flag_load
       flags = ior(flags, g%flags)
-      ! remember the local slope for the next crank step's first trial
-      if (mem%y_hist(1) /= mem%y_hist(2)) then
+      ! remember the local slope for the next crank step's first trial (from two trials
+      ! of this step: trials of two steps differ in time as well as in h0)
+      if (mem%trials >= 2 .and. mem%y_hist(1) /= mem%y_hist(2)) then
         if ((mem%g_hist(2) - mem%g_hist(1)) / (mem%y_hist(2) - mem%y_hist(1)) < 0.0_dp) &
           mem%slope = (mem%g_hist(2) - mem%g_hist(1)) / (mem%y_hist(2) - mem%y_hist(1))
       end if

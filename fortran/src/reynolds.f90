@@ -14,75 +14,99 @@
 !> conditions p = p_cav, dp/dx = 0.
 module ringlube_reynolds
   use ringlube_kinds, only: dp
-  use ringlube_tridiag, only: thomas
+  use ringlube_tridiag, only: thomas_fixed
   implicit none
   private
-  public :: reynolds_solve
+  public :: reynolds_solve, reynolds_work, reynolds_work_init
+
+  !> Scratch arrays of reynolds_solve (kept by the caller between solves, so that a
+  !> solve allocates nothing).
+  type :: reynolds_work
+    real(dp), allocatable :: a0(:), b0(:), c0(:), r(:), cp(:)
+  end type reynolds_work
 
 contains
+
+  !> Scratch arrays for n nodes.
+  pure subroutine reynolds_work_init(w, n)
+    type(reynolds_work), intent(out) :: w
+    integer, intent(in) :: n
+    allocate(w%a0(n), w%b0(n), w%c0(n), w%r(n), w%cp(n))
+  end subroutine reynolds_work_init
 
   !> Solve for the nodal pressures p(1:n).
   !>
   !> `kmid(i)` and `hmid(i)` are K and h between nodes i and i+1; `sq = 2 dh0/dt`;
   !> `p_left`, `p_right` the Dirichlet values at x = -b/2 and x = +b/2. `active` (in/out)
   !> is the cavitated set, used as the warm start. `info`: 0 converged, 1 active-set loop
-  !> did not settle, 2 singular system.
+  !> did not settle, 2 singular system. `work`: optional scratch (reynolds_work_init(n)).
   pure subroutine reynolds_solve(dx, kmid, hmid, u, sq, p_left, p_right, p_cav, p, active, &
-      iterations, info)
+      iterations, info, work)
     real(dp), intent(in) :: dx, kmid(:), hmid(:), u, sq, p_left, p_right, p_cav
     real(dp), intent(out) :: p(:)
     logical, intent(inout) :: active(:)
     integer, intent(out) :: iterations, info
-    real(dp) :: a0(size(p)), b0(size(p)), c0(size(p)), r(size(p))
-    real(dp) :: a(size(p)), b(size(p)), c(size(p)), d(size(p))
-    real(dp) :: mu, scale, pscale
-    integer :: i, n, it, tinfo
-    logical :: changed
+    type(reynolds_work), intent(inout), optional :: work
+    type(reynolds_work) :: local
+    if (present(work)) then
+      call solve(dx, kmid, hmid, u, sq, p_left, p_right, p_cav, p, active, iterations, info, work)
+    else
+      call reynolds_work_init(local, size(p))
+      call solve(dx, kmid, hmid, u, sq, p_left, p_right, p_cav, p, active, iterations, info, local)
+    end if
+  end subroutine reynolds_solve
 
-    n = size(p)
-    info = 0
-    a0(1) = 0.0_dp; b0(1) = 1.0_dp; c0(1) = 0.0_dp; r(1) = p_left
-    a0(n) = 0.0_dp; b0(n) = 1.0_dp; c0(n) = 0.0_dp; r(n) = p_right
-    do i = 2, n - 1
-      a0(i) = -kmid(i-1)
-      c0(i) = -kmid(i)
-      b0(i) = kmid(i-1) + kmid(i)
-      r(i) = dx * (u * (hmid(i) - hmid(i-1)) - sq * dx)
-    end do
-    active(1) = .false.
-    active(n) = .false.
-    pscale = max(abs(p_left), abs(p_right), abs(p_cav), 1.0_dp)
+  pure subroutine solve(dx, kmid, hmid, u, sq, p_left, p_right, p_cav, p, active, &
+      iterations, info, w)
+      real(dp), intent(in) :: dx, kmid(:), hmid(:), u, sq, p_left, p_right, p_cav
+      real(dp), intent(out) :: p(:)
+      logical, intent(inout) :: active(:)
+      integer, intent(out) :: iterations, info
+      type(reynolds_work), intent(inout) :: w
+      real(dp) :: mu, scale, pscale
+      integer :: i, n, it, tinfo
+      logical :: changed
 
-    do it = 1, n + 1
-      iterations = it
-      a = a0; b = b0; c = c0; d = r
-      where (active)
-        a = 0.0_dp
-        b = 1.0_dp
-        c = 0.0_dp
-        d = p_cav
-      end where
-      call thomas(a, b, c, d, p, tinfo)
-      if (tinfo /= 0) then
-        info = 2
-        return
-      end if
-      changed = .false.
+      n = size(p)
+      info = 0
+      associate (a0 => w%a0, b0 => w%b0, c0 => w%c0, r => w%r)
+      a0(1) = 0.0_dp; b0(1) = 1.0_dp; c0(1) = 0.0_dp; r(1) = p_left
+      a0(n) = 0.0_dp; b0(n) = 1.0_dp; c0(n) = 0.0_dp; r(n) = p_right
       do i = 2, n - 1
-        if (active(i)) then
-          mu = a0(i) * p(i-1) + b0(i) * p(i) + c0(i) * p(i+1) - r(i)
-          scale = abs(a0(i) * p(i-1)) + abs(b0(i) * p(i)) + abs(c0(i) * p(i+1)) + abs(r(i))
-          if (mu < -1e-12_dp * scale) then
-            active(i) = .false.
+        a0(i) = -kmid(i-1)
+        c0(i) = -kmid(i)
+        b0(i) = kmid(i-1) + kmid(i)
+        r(i) = dx * (u * (hmid(i) - hmid(i-1)) - sq * dx)
+      end do
+      active(1) = .false.
+      active(n) = .false.
+      pscale = max(abs(p_left), abs(p_right), abs(p_cav), 1.0_dp)
+
+      do it = 1, n + 1
+        iterations = it
+        ! the cavitated nodes are held at p_cav
+        call thomas_fixed(a0(1:n), b0(1:n), c0(1:n), r(1:n), active, p_cav, p, tinfo, w%cp)
+        if (tinfo /= 0) then
+          info = 2
+          return
+        end if
+        changed = .false.
+        do i = 2, n - 1
+          if (active(i)) then
+            mu = a0(i) * p(i-1) + b0(i) * p(i) + c0(i) * p(i+1) - r(i)
+            scale = abs(a0(i) * p(i-1)) + abs(b0(i) * p(i)) + abs(c0(i) * p(i+1)) + abs(r(i))
+            if (mu < -1e-12_dp * scale) then
+              active(i) = .false.
+              changed = .true.
+            end if
+          else if (p(i) < p_cav - 1e-12_dp * pscale) then
+            active(i) = .true.
             changed = .true.
           end if
-        else if (p(i) < p_cav - 1e-12_dp * pscale) then
-          active(i) = .true.
-          changed = .true.
-        end if
+        end do
+        if (.not. changed) return
       end do
-      if (.not. changed) return
-    end do
-    info = 1
-  end subroutine reynolds_solve
+      info = 1
+      end associate
+  end subroutine solve
 end module ringlube_reynolds

@@ -4,30 +4,29 @@
   shipped decks;
 * the damped / safeguarded time ratio at equal accuracy (same load_tol, errors against
   the 'accurate' preset shown beside);
-* runs per second through run_many on 1 worker and on all cores, and the parallel
-  efficiency;
-* the wall time of a 10,001-run sweep (Sobol sample of the study's four design variables
-  on the cold deck, preset 'default', all cores).
+* the roofline pieces (bench_kernel --micro: one Thomas solve, one Roelands evaluation of
+  every node, one film solve) against the cost per film solve of a whole run;
+* the speed/accuracy front of the numerics (front.py), each lever alone (levers.py);
+* a 10,001-run DOE through ringlube.run_designs batches on all cores (doe.py), for the
+  presets 'default' and 'fast'.
 
-    python3 tests/bench/bench.py [--sweep N]
+    python3 tests/bench/bench.py [--sweep N] [--only-sweep]
 """
 
 from __future__ import annotations
 
 import argparse
 import os
-import time
+import subprocess
+import sys
 from pathlib import Path
-
-import numpy as np
 
 import ringlube
 from ringlube import Case
 
-ROOT = Path(__file__).resolve().parents[2]
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parents[1]
 DECKS = sorted((ROOT / "inputs").glob("crf450r_*.nml"))
-VARS = {"width": (0.54e-3, 1.34e-3), "crown_height": (6e-6, 13e-6),
-        "crown_offset": (-54e-6, 67e-6), "tension": (8.0, 26.0)}
 
 
 def preset_case(deck: Path, preset: str) -> Case:
@@ -50,29 +49,40 @@ def main() -> None:
     args = ap.parse_args()
     cores = os.cpu_count() or 1
     cold = DECKS[[d.stem for d in DECKS].index("crf450r_4000rpm_full_cold")]
-    from scipy.stats import qmc
-
-    lo = np.array([v[0] for v in VARS.values()])
-    hi = np.array([v[1] for v in VARS.values()])
-
-    def cases(base: Case, n: int, seed: int = 0) -> list[Case]:
-        x = qmc.scale(qmc.Sobol(d=4, seed=seed).random(n), lo, hi)
-        return [base.with_ring(**dict(zip(VARS, row))) for row in x]
 
     if not args.only_sweep:
-        tables(cold, cases, cores)
+        tables(cold)
+        roofline(cold)
+        for script in ("front.py", "levers.py"):
+            print(f"\n== {script}", flush=True)
+            subprocess.run([sys.executable, str(HERE / script)], check=True)
     for preset in args.sweep_presets.split(","):
-        print(f"\n== sweep of {args.sweep} runs on {cores} cores (preset '{preset}')")
-        sweep = cases(preset_case(cold, preset), args.sweep, seed=2)
-        t = time.perf_counter()
-        res = ringlube.run_many(sweep, workers=cores, progress=True)
-        wall = time.perf_counter() - t
-        print(f"{args.sweep} runs: {wall:.1f} s wall ({args.sweep / wall:.1f} runs/s); "
-              f"{sum(not r.converged for r in res)} not converged")
+        print(f"\n== DOE of {args.sweep} runs on {cores} cores (preset '{preset}', doe.py)", flush=True)
+        subprocess.run([sys.executable, str(HERE / "doe.py"), "--runs", str(args.sweep),
+                        "--preset", preset], check=True)
 
 
-def tables(cold: Path, cases, cores: int) -> None:
+def roofline(cold: Path) -> None:
+    """Cost per film solve in a whole 'default' run against its pieces alone."""
+    exe = ROOT / "build" / "bench_kernel"
+    print("\n== roofline (bench_kernel, CPU time)", flush=True)
+    micro = subprocess.run([str(exe), "--micro", "51"], check=True, capture_output=True,
+                           text=True, cwd=ROOT).stdout.strip()
+    print(micro)
+    run = subprocess.run([str(exe), str(cold), "", "20"], check=True, capture_output=True,
+                         text=True, cwd=ROOT).stdout.strip()
+    print(run)
+    r = {k: float(v) for k, v in (kv.split("=") for kv in run.splitlines()[0].replace("= ", "=").split())}
+    m = {k: float(v) for k, v in (kv.split("=") for kv in micro.split()[:5])}
+    per_solve = r["ms_per_run"] * 1e6 / r["film_solves"]
+    steps = r["cycles_computed"] * r["steps"]
+    print(f"whole run: {per_solve:.0f} ns per film solve ({r['reynolds_solves'] / r['film_solves']:.2f} "
+          f"Thomas solves each); floor of one Thomas solve + one Roelands pass: "
+          f"{m['thomas_ns'] + m['roelands_all_nodes_ns']:.0f} ns; film solves per step "
+          f"{r['film_solves'] / steps:.2f} (floor 1)")
 
+
+def tables(cold: Path) -> None:
     print("== ms per cycle by preset (kernel time / cycles computed incl. warm-up; "
           "error vs 'accurate')")
     print(f"{'deck':34s} {'preset':9s} {'ms/run':>8s} {'ms/cycle':>9s} {'energy J':>9s} "
@@ -96,18 +106,6 @@ def tables(cold: Path, cases, cores: int) -> None:
               f"energy {r.energy_loss:.5f} J  err vs accurate "
               f"{abs(r.energy_loss - ref.energy_loss) / ref.energy_loss:.2e}")
     print(f"damped / safeguarded time ratio: {rows['damped'].run_time / rows['safeguarded'].run_time:.1f}")
-
-    print("\n== runs per second through run_many (cold deck variants, preset 'default')")
-    sample = cases(preset_case(cold, "default"), 200, seed=1)
-    t = time.perf_counter()
-    ringlube.run_many(sample, workers=1, progress=False)
-    t1 = time.perf_counter() - t
-    t = time.perf_counter()
-    ringlube.run_many(sample, workers=cores, progress=False)
-    tn = time.perf_counter() - t
-    print(f"1 worker: {len(sample) / t1:.1f} runs/s; {cores} workers: {len(sample) / tn:.1f} runs/s; "
-          f"parallel efficiency {t1 / tn / cores:.0%}")
-
 
 
 if __name__ == "__main__":

@@ -82,8 +82,11 @@ contains
       what // ': P = |f U|')
     dt = 1.0_dp * pi / 180.0_dp / (c%speed_rpm * 2 * pi / 60.0_dp)  ! run() uses 1 deg steps
     call check_close(res%energy_loss, sum(res%power_loss) * dt, 1e-12_dp, what // ': E = sum P dt')
-    call check_close(res%mixed_share, 100.0_dp * count(res%h0 < 4 * sigma) / res%nsteps, &
-      1e-12_dp, what // ': mixed share from h0 < 4 sigma')
+    ! the share interpolates lambda between steps: it differs from the count of steps
+    ! with h0 < 4 sigma by less than one step per crossing of 4 sigma
+    call check(abs(res%mixed_share - 100.0_dp * count(res%h0 < 4 * sigma) / res%nsteps) &
+      <= 100.0_dp * count((res%h0 < 4 * sigma) .neqv. (cshift(res%h0, 1) < 4 * sigma)) &
+      / res%nsteps, what // ': mixed share from h0 < 4 sigma, within a step per crossing')
     ! the crown minimum lies inside the face: min h is h0 up to the node spacing
     call check(all(res%lambda_min >= res%h0 / sigma * (1 - 1e-12_dp)) .and. &
       all(res%lambda_min <= (res%h0 + c%crown_height * (c%width / 100 / c%width)**2) / sigma), &

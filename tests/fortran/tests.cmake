@@ -2,7 +2,8 @@
 add_library(ringlube_check STATIC ${CMAKE_CURRENT_LIST_DIR}/check.f90)
 target_link_libraries(ringlube_check PUBLIC ringlube_kernel)
 
-foreach(t tridiag greenwood_tripp physics_basics reynolds cycle liner jfo)
+foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner jfo time_order
+    mixed_share film_viscosity)
   add_executable(test_${t} ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
   target_link_libraries(test_${t} PRIVATE ringlube_check ringlube_io ${LAPACK_LIBRARIES})
   add_test(NAME ${t} COMMAND test_${t} WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
@@ -30,3 +31,7 @@ add_test(NAME hdf5_output COMMAND test_hdf5_output WORKING_DIRECTORY ${CMAKE_BIN
 # SIGTERM while a temporary file exists: the program ends by the signal, the file is gone
 add_test(NAME temp_removed_on_signal
   COMMAND bash -c "t=$(mktemp -d) && n=$($<TARGET_FILE:test_hdf5_output> signal $t/out.h5); rc=$?; echo \"exit $rc, temporary $n\"; [ $rc -eq 143 ] && [ -n \"$n\" ] && [ ! -e \"$n\" ] && [ -z \"$(ls -A $t)\" ] && rmdir $t")
+
+# Kernel benchmark (make bench; not a test): whole runs and the roofline pieces.
+add_executable(bench_kernel ${CMAKE_CURRENT_LIST_DIR}/../bench/bench_kernel.f90)
+target_link_libraries(bench_kernel PRIVATE ringlube_kernel)

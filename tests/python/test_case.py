@@ -17,7 +17,7 @@ def test_round_trip(deck, tmp_path):
     case.to_namelist(out)
     again = Case.from_namelist(out)
     assert again == case
-    assert again.validate() == case.validate() == 720  # preset default: 1 deg steps
+    assert again.validate() == case.validate() == 360  # preset default: 2 deg steps
 
 
 def test_get_set_and_variants():

@@ -1,0 +1,166 @@
+!> Kernel benchmark (not a test; built with the ctest programs, run by `make bench`).
+!>
+!>   bench_kernel DECK [OVERRIDES [REPEATS]]
+!>
+!> Runs DECK (with OVERRIDES, deck text such as "&numerics preset='fast' /") REPEATS
+!> times (default 5) and prints one line of key=value pairs: the best kernel time per run
+!> and per computed cycle (CPU time of the process), the energy loss, mixed share, film solves and Reynolds
+!> (Thomas) solves per run, and the number of crank steps computed.
+!>
+!>   bench_kernel --micro [NODES]
+!>
+!> The roofline pieces alone at NODES (default 51): one Thomas solve, one Roelands
+!> evaluation of every node, and one film solve of the cold deck at a mid-stroke crank
+!> step, each timed over many repetitions (best of 5 batches), in ns.
+program bench_kernel
+  use ringlube_kinds, only: dp, pi
+  use ringlube_error, only: error_type
+  use ringlube_case, only: case_type, elastic_pressure
+  use ringlube_input, only: read_deck_text, dirname
+  use ringlube_cycle, only: solve_cycle
+  use ringlube_results, only: result_type
+  use ringlube_tridiag, only: thomas
+  use ringlube_viscosity, only: roelands_eta
+  use ringlube_film, only: film_type, film_setup, film_evaluate
+  use ringlube_greenwood_tripp, only: gt_init
+  use ringlube_textio, only: read_text_file, itoa
+  use, intrinsic :: iso_fortran_env, only: output_unit
+  implicit none
+  character(len=4096) :: arg
+  character(len=:), allocatable :: deck, overrides
+  integer :: repeats, nodes
+
+  call get_command_argument(1, arg)
+  if (trim(arg) == '--micro') then
+    nodes = 51
+    if (command_argument_count() >= 2) then
+      call get_command_argument(2, arg)
+      read(arg, *) nodes
+    end if
+    call micro(nodes)
+    stop
+  end if
+  deck = trim(arg)
+  overrides = ''
+  repeats = 5
+  if (command_argument_count() >= 2) then
+    call get_command_argument(2, arg)
+    overrides = trim(arg)
+  end if
+  if (command_argument_count() >= 3) then
+    call get_command_argument(3, arg)
+    read(arg, *) repeats
+  end if
+  call whole_run(deck, overrides, repeats)
+
+contains
+
+  !> Process CPU time [s] (the machine is shared: CPU time is steadier than wall time).
+  real(dp) function now()
+    call cpu_time(now)
+  end function now
+
+  subroutine load(path, ovr, c)
+    character(len=*), intent(in) :: path, ovr
+    type(case_type), intent(out) :: c
+    type(error_type), allocatable :: err
+    character(len=:), allocatable :: text
+    call read_text_file(path, text, err)
+    if (allocated(err)) error stop 'cannot read the deck'
+    call read_deck_text(text, path, dirname(path), c, err, ovr, 'overrides')
+    if (allocated(err)) then
+      write(output_unit, '(a)') err%message
+      error stop 1
+    end if
+  end subroutine load
+
+  subroutine whole_run(path, ovr, nrep)
+    character(len=*), intent(in) :: path, ovr
+    integer, intent(in) :: nrep
+    type(case_type) :: c
+    type(result_type) :: res
+    type(error_type), allocatable :: err
+    real(dp) :: t0, best
+    integer :: i
+    call load(path, ovr, c)
+    best = huge(1.0_dp)
+    do i = 1, nrep
+      t0 = now()
+      call solve_cycle(c, res, err)
+      best = min(best, now() - t0)
+      if (allocated(err)) error stop 'run failed'
+    end do
+    write(output_unit, '(a, f0.3, a, f0.3, a, es14.7, a, f0.3, a, i0, a, i0, a, f0.3, a, i0, a, i0)') &
+      'ms_per_run=', best * 1e3_dp, ' ms_per_cycle=', best * 1e3_dp / res%cycles_computed, &
+      ' energy=', res%energy_loss, ' mixed=', res%mixed_share, ' film_solves=', res%evaluations, &
+      ' reynolds_solves=', res%reynolds_solves, ' cycles_computed=', res%cycles_computed, &
+      ' steps=', res%nsteps, ' converged=', merge(1, 0, res%converged)
+    write(output_unit, '(a, 4(1x, i0))') 'steps of the reported cycle with 1, 2, 3, >= 4 film solves:', &
+      count(res%iterations == 1), count(res%iterations == 2), count(res%iterations == 3), &
+      count(res%iterations >= 4)
+  end subroutine whole_run
+
+  subroutine micro(n)
+    integer, intent(in) :: n
+    type(case_type) :: c
+    type(film_type) :: f
+    real(dp) :: a(n), b(n), cc(n), d(n), x(n), p(n), eta(n), t0, tt, tv, tf, sink
+    integer :: i, k, rep, info, nrep
+    call load('inputs/crf450r_4000rpm_full_cold.nml', &
+      '&numerics nodes = ' // itoa(n) // ' /', c)
+    call gt_init()
+    call film_setup(c, f)
+    ! a Reynolds-like M-matrix system
+    do i = 1, n
+      a(i) = -1.0_dp - 0.1_dp * sin(real(i, dp))
+      cc(i) = -1.0_dp - 0.1_dp * cos(real(i, dp))
+      b(i) = -(a(i) + cc(i)) + 1e-3_dp
+      d(i) = 1.0_dp
+    end do
+    nrep = 200000
+    sink = 0.0_dp
+    tt = huge(1.0_dp)
+    do rep = 1, 5
+      t0 = now()
+      do k = 1, nrep
+        d(1) = 1.0_dp + 1e-9_dp * k
+        call thomas(a, b, cc, d, x, info)
+        sink = sink + x(n / 2)
+      end do
+      tt = min(tt, (now() - t0) / nrep)
+    end do
+    ! Roelands at every node, ring-like pressures 0.1-6 MPa
+    do i = 1, n
+      p(i) = 1e5_dp + 6e6_dp * sin(pi * (i - 1) / (n - 1))**2
+    end do
+    tv = huge(1.0_dp)
+    do rep = 1, 5
+      t0 = now()
+      do k = 1, nrep
+        p(1) = 1e5_dp + k
+        eta = roelands_eta(f%law, p)
+        sink = sink + eta(n / 2)
+      end do
+      tv = min(tv, (now() - t0) / nrep)
+    end do
+    ! film solves at mid-stroke (u = -10 m/s, 2 bar in the chamber), warm-started as in
+    ! the load balance: trials alternate between h0 = 3 sigma and 1 % above it
+    f%evaluations = 0
+    f%reynolds_solves = 0
+    tf = huge(1.0_dp)
+    nrep = 20000
+    do rep = 1, 5
+      t0 = now()
+      do k = 1, nrep
+        call film_evaluate(c, f, 3.0_dp * f%sigma * (1.0_dp + 0.01_dp * mod(k, 2)), 0.0_dp, &
+          -10.0_dp, 2e5_dp, c%load_tol * (elastic_pressure(c) + 2e5_dp) * c%width * f%circ)
+        sink = sink + f%wh
+      end do
+      tf = min(tf, (now() - t0) / nrep)
+    end do
+    write(output_unit, '(a, i0, a, f0.1, a, f0.1, a, f0.1, a, f0.2, a, i0, a, es9.2)') &
+      'nodes=', n, ' thomas_ns=', tt * 1e9_dp, ' roelands_all_nodes_ns=', tv * 1e9_dp, &
+      ' film_solve_ns=', tf * 1e9_dp, ' reynolds_per_film_solve=', &
+      real(f%reynolds_solves, dp) / f%evaluations, ' evaluations=', f%evaluations, ' sink=', sink
+  end subroutine micro
+end program bench_kernel
