@@ -16,7 +16,7 @@ module ringlube_api
   use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
     n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, field_spec, result_scalar, &
     liner_spec, n_liner
-  use ringlube_cycle, only: solve_cycle
+  use ringlube_cycle, only: solve_cycle, liner_cells
   use ringlube_textio, only: itoa
   use, intrinsic :: iso_fortran_env, only: int64
   implicit none
@@ -82,6 +82,7 @@ contains
   integer function api_liner_cells(handle)
     integer, intent(in) :: handle
     api_liner_cells = 0
+    if (api_case_ok(handle)) api_liner_cells = liner_cells(store(handle))
   end function api_liner_cells
 
   !> The gas-pressure trace of a case (empty for an unknown handle or no trace).

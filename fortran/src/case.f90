@@ -35,16 +35,17 @@ module ringlube_case
     ! &ring
     real(dp) :: width = 0.0_dp, crown_height = 0.0_dp, crown_offset = 0.0_dp, tension = 0.0_dp
     character(len=:), allocatable :: tension_unit
-    real(dp) :: radial_depth = 0.0_dp, density = 0.0_dp
+    real(dp) :: radial_depth = 0.0_dp, density = 0.0_dp, lower_ring_distance = 0.0_dp
     ! &lubricant
-    real(dp) :: eta0 = 0.0_dp, theta0 = 0.0_dp, beta = 0.0_dp, alpha = 0.0_dp
+    real(dp) :: eta0 = 0.0_dp, theta0 = 0.0_dp, beta = 0.0_dp, alpha = 0.0_dp, supply_film = 0.0_dp
     ! &surface
     real(dp) :: rq_liner = 0.0_dp, rq_ring = 0.0_dp, zeta_kappa_sigma = 0.0_dp, &
       sigma_over_kappa = 0.0_dp, tau0 = 0.0_dp, boundary_coefficient = 0.0_dp, e_ring = 0.0_dp, &
       nu_ring = 0.0_dp, e_liner = 0.0_dp, nu_liner = 0.0_dp
     ! &physics
     logical :: roelands = .false., squeeze = .false., asperity_contact = .false.
-    character(len=:), allocatable :: gt_functions, contact_area, outlet
+    character(len=:), allocatable :: gt_functions, contact_area, outlet, cavitation, &
+      cavity_pressure, inlet
     ! &numerics
     character(len=:), allocatable :: preset
     integer :: nodes = 0
@@ -139,10 +140,12 @@ contains
     case ('ring.tension_unit'); call s(c%tension_unit)
     case ('ring.radial_depth'); call r(c%radial_depth)
     case ('ring.density'); call r(c%density)
+    case ('ring.lower_ring_distance'); call r(c%lower_ring_distance)
     case ('lubricant.eta0'); call r(c%eta0)
     case ('lubricant.theta0'); call r(c%theta0)
     case ('lubricant.beta'); call r(c%beta)
     case ('lubricant.alpha'); call r(c%alpha)
+    case ('lubricant.supply_film'); call r(c%supply_film)
     case ('surface.rq_liner'); call r(c%rq_liner)
     case ('surface.rq_ring'); call r(c%rq_ring)
     case ('surface.zeta_kappa_sigma'); call r(c%zeta_kappa_sigma)
@@ -159,6 +162,9 @@ contains
     case ('physics.gt_functions'); call s(c%gt_functions)
     case ('physics.contact_area'); call s(c%contact_area)
     case ('physics.outlet'); call s(c%outlet)
+    case ('physics.cavitation'); call s(c%cavitation)
+    case ('physics.cavity_pressure'); call s(c%cavity_pressure)
+    case ('physics.inlet'); call s(c%inlet)
     case ('numerics.preset'); call s(c%preset)
     case ('numerics.nodes'); call n(c%nodes)
     case ('numerics.dpsi_deg'); call r(c%dpsi_deg)
@@ -444,6 +450,10 @@ contains
       call bad('lubricant', 'eta0', 'with theta0, beta and the liner temperature gives a ' // &
         'viscosity of ' // real_text(eta) // ' Pa s at the liner temperature, outside the ' // &
         'plausible 1e-5 .. 100 Pa s'); return
+    end if
+    if (c%inlet == 'starved' .and. c%cavitation /= 'jfo') then
+      call bad('physics', 'inlet', "'starved' needs the mass-conserving film, cavitation = 'jfo'")
+      return
     end if
     if (c%h0_ceiling <= 10.0_dp * c%h0_floor) then
       call bad('numerics', 'h0_ceiling', 'must exceed 10 h0_floor'); return

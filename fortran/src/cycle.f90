@@ -4,16 +4,19 @@ module ringlube_cycle
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, elastic_pressure, ring_mass, steps_per_cycle
-  use ringlube_kinematics, only: deg2rad
+  use ringlube_kinematics, only: deg2rad, piston_position
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_results, only: result_type, allocate_result
+  use ringlube_oil_supply, only: supply_type, supply_setup, inlet_available, supply_step, &
+    supply_reset_counters, supply_stored, supply_to_chamber
+  use ringlube_liner, only: liner_positions
   use ringlube_film, only: film_type, film_setup, film_friction
   use ringlube_load_balance, only: step_context, load_problem, balance_memory, balance, &
     start_history
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
-  public :: solve_cycle, mixed_share
+  public :: solve_cycle, mixed_share, liner_cells
 
 contains
 
@@ -25,8 +28,11 @@ contains
     type(film_type) :: f, g
     type(balance_memory) :: mem, gmem
     type(step_context) :: ctx
+    type(supply_type) :: sup
     integer :: m, k, icycle, flags
-    real(dp) :: sigma, h0_init, h0_start, h0, h0_end, resid
+    real(dp) :: sigma, h0_init, h0_start, h0, h0_end, resid, s_prev, vin, vout
+    real(dp) :: stored0, energy_prev, change_map, change_energy
+    real(dp), allocatable :: map_prev(:)
     type(load_problem) :: lp
     integer :: extra_evaluations, extra_solves
 
@@ -50,13 +56,26 @@ contains
     h0_start = h0_init
     extra_evaluations = 0
     extra_solves = 0
+    f%dt = ctx%dt
+    ! the mass-conserving film starts full; the starved inlet from the supply film everywhere
+    f%content_old = h0_init + f%s
+    if (f%starved) call supply_setup(sup, c%width, 2.0_dp * c%crank_radius, f%dx, &
+      c%supply_film, c%lower_ring_distance)
     ! warm-up: the last warmup_deg of a cycle before the first reported one, so that the
     ! squeeze-film memory of the initial guess has decayed by psi = 0
-    do k = steps_per_cycle(c) - nint(c%warmup_deg / c%dpsi_deg) + 1, m
-      call balance(c, ctx, f, mem, (k - 1) * c%dpsi_deg, h0, flags, resid, lp)
+    k = steps_per_cycle(c) - nint(c%warmup_deg / c%dpsi_deg) + 1
+    s_prev = position((k - 2) * c%dpsi_deg)
+    do k = k, m
+      call advance((k - 1) * c%dpsi_deg, h0, flags, resid, lp, vin, vout)
     end do
+    energy_prev = -1.0_dp
     do icycle = 1, c%max_cycles
       res%cycles_run = icycle
+      if (f%starved) then
+        call supply_reset_counters(sup)
+        stored0 = supply_stored(sup) + gap_volume()
+        map_prev = sup%liner%h
+      end if
       do k = 1, m
         call step(k, h0)
         if (k == 1) h0_start = h0
@@ -64,15 +83,34 @@ contains
       ! psi = 720 deg is psi = 0 of the next cycle: solve it on a copy of the film
       g = f
       gmem = mem
+      call prepare(g, 0.0_dp)
       call balance(c, ctx, g, gmem, 0.0_dp, h0_end, flags, resid, lp)
       extra_evaluations = extra_evaluations + g%evaluations - f%evaluations
       extra_solves = extra_solves + g%reynolds_solves - f%reynolds_solves
       res%cycle_change = abs(h0_end - h0_start) / h0_start
-      if (res%cycle_change <= c%cycle_tol) then
+      if (f%starved) then
+        ! periodic when the liner film and the energy repeat (h0 at psi = 0 carries a slowly
+        ! decaying mode of the film collected again at the end of the next downstroke)
+        change_map = sum(abs(sup%liner%h - map_prev)) / max(sum(abs(sup%liner%h)), tiny(1.0_dp))
+        change_energy = abs(sum(res%power_loss) * ctx%dt - energy_prev) &
+          / max(sum(res%power_loss) * ctx%dt, tiny(1.0_dp))
+        energy_prev = sum(res%power_loss) * ctx%dt
+        call oil_balance()
+        if (change_map <= c%cycle_tol .and. change_energy <= c%cycle_tol) then
+          res%periodic = .true.
+          exit
+        end if
+      else if (res%cycle_change <= c%cycle_tol) then
         res%periodic = .true.
         exit
       end if
     end do
+    res%has_jfo = f%jfo
+    res%has_starved = f%starved
+    if (f%starved) then
+      res%liner_z = liner_positions(sup%liner)
+      res%liner_h = sup%liner%h
+    end if
 
     res%energy_loss = sum(res%power_loss) * ctx%dt
     res%mixed_share = mixed_share(res%h0 / sigma)
@@ -94,6 +132,79 @@ contains
 
   contains
 
+    !> Piston position [m] at crank angle psi [deg].
+    real(dp) function position(psi)
+      real(dp), intent(in) :: psi
+      position = piston_position(deg2rad(psi), c%crank_radius, c%conrod_length)
+    end function position
+
+    !> Oil in the gap (the interior volumes of the film) [m^2].
+    real(dp) function gap_volume()
+      gap_volume = f%dx * sum(f%content_old(2:f%n-1))
+    end function gap_volume
+
+    !> Set what the starved inlet of film `ff` can draw on in the step to psi.
+    subroutine prepare(ff, psi)
+      type(film_type), intent(inout) :: ff
+      real(dp), intent(in) :: psi
+      real(dp) :: s
+      integer :: dir
+      if (.not. ff%starved) return
+      s = position(psi)
+      dir = 0
+      if (s > s_prev) dir = 1
+      if (s < s_prev) dir = -1
+      if (dir == 0) dir = sup%direction
+      ff%ds = s - s_prev
+      ff%available = inlet_available(sup, s_prev, s, dir)
+    end subroutine prepare
+
+    !> Solve the step to psi and carry the film content and the oil supply forward.
+    subroutine advance(psi, h0out, flags_out, resid_out, lp_out, v_in, v_out)
+      real(dp), intent(in) :: psi
+      real(dp), intent(out) :: h0out, resid_out, v_in, v_out
+      integer, intent(out) :: flags_out
+      type(load_problem), intent(out) :: lp_out
+      real(dp) :: s
+      integer :: dir
+      call prepare(f, psi)
+      call balance(c, ctx, f, mem, psi, h0out, flags_out, resid_out, lp_out)
+      v_in = 0.0_dp
+      v_out = 0.0_dp
+      if (.not. f%jfo) return
+      f%content_old = f%theta * f%h
+      ! oil through the leading and trailing faces over the step
+      if (f%lead_left) then
+        v_in = f%q_left * ctx%dt
+        v_out = f%q_right * ctx%dt
+      else
+        v_in = -f%q_right * ctx%dt
+        v_out = -f%q_left * ctx%dt
+      end if
+      s = position(psi)
+      if (f%starved) then
+        dir = 0
+        if (s > s_prev) dir = 1
+        if (s < s_prev) dir = -1
+        call supply_step(sup, s_prev, s, dir, v_in, v_out)
+        call supply_to_chamber(sup)
+      end if
+      s_prev = s
+    end subroutine advance
+
+    !> Relative closure of the oil balance over the cycle just run: oil in (the supply film
+    !> laid) = oil out (to the chamber, taken down by the lower rings) + change of stored oil
+    !> (liner, bank, gap). Oil drawn beyond what was there shows up as an error.
+    subroutine oil_balance()
+      real(dp) :: stored1, scale
+      stored1 = supply_stored(sup) + gap_volume()
+      scale = max(sup%supplied, sup%taken_down + sup%to_chamber, abs(stored1 - stored0), &
+        1e-3_dp * stored0, tiny(1.0_dp))
+      res%oil_balance_error = abs((stored1 - stored0) - (sup%supplied - sup%to_chamber - &
+        sup%taken_down)) / scale
+      res%oil_to_chamber = sup%to_chamber * f%circ * 1e9_dp
+    end subroutine oil_balance
+
     function angle_text(kk) result(t)
       integer, intent(in) :: kk
       character(len=16) :: t
@@ -104,12 +215,12 @@ contains
     subroutine step(k, h0out)
       integer, intent(in) :: k
       real(dp), intent(out) :: h0out
-      real(dp) :: psi, fv, fb, resid
+      real(dp) :: psi, fv, fb, resid, vin, vout
       type(load_problem) :: lp
       integer :: flags, nev
       psi = (k - 1) * c%dpsi_deg
       nev = f%evaluations
-      call balance(c, ctx, f, mem, psi, h0out, flags, resid, lp)
+      call advance(psi, h0out, flags, resid, lp, vin, vout)
       call film_friction(c, f, lp%u, fv, fb)
       res%crank_angle_deg(k) = psi
       res%sliding_speed(k) = lp%u
@@ -126,6 +237,15 @@ contains
       res%load_residual(k) = resid
       res%flags(k) = flags
       res%iterations(k) = f%evaluations - nev
+      if (f%jfo) then
+        res%inlet_fill(k) = f%theta_in
+        res%wetted_width(k) = f%dx * count(f%theta >= 1.0_dp - 1e-9_dp)
+        res%oil_left(k) = 0.0_dp
+        if (abs(f%ds) > 0.0_dp) res%oil_left(k) = max(vout, 0.0_dp) / abs(f%ds)
+        if (.not. f%starved .and. abs(lp%u) > 0.0_dp) &
+          res%oil_left(k) = max(vout, 0.0_dp) / (abs(lp%u) * ctx%dt)
+      end if
+      if (f%starved) res%oil_bank(k) = sup%bank
     end subroutine step
   end subroutine solve_cycle
 
@@ -151,4 +271,14 @@ contains
     mixed_share = 100.0_dp * below / real(nn, dp)
   end function mixed_share
 
+  !> Cells of the liner film a run of case c reports (0 without a starved inlet).
+  integer function liner_cells(c)
+    type(case_type), intent(in) :: c
+    type(supply_type) :: sup
+    liner_cells = 0
+    if (c%inlet /= 'starved') return
+    call supply_setup(sup, c%width, 2.0_dp * c%crank_radius, c%width / (c%nodes - 1), &
+      c%supply_film, c%lower_ring_distance)
+    liner_cells = sup%liner%nz
+  end function liner_cells
 end module ringlube_cycle

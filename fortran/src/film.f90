@@ -14,7 +14,9 @@ module ringlube_film
   use ringlube_viscosity, only: roelands_law, roelands_law_at, roelands_eta
   use ringlube_contact, only: asperity_contact
   use ringlube_reynolds, only: reynolds_solve, reynolds_work, reynolds_work_init
-  use ringlube_results, only: flag_viscosity, flag_cavitation, flag_piezo
+  use ringlube_results, only: flag_viscosity, flag_cavitation, flag_piezo, flag_overdraw
+  use ringlube_jfo, only: jfo_solve, jfo_solve_connected, JFO_OK
+  use ringlube_oil_supply, only: inlet_fill
   implicit none
   private
   public :: film_type, film_setup, film_evaluate, film_friction
@@ -42,6 +44,15 @@ module ringlube_film
     integer :: flags = 0
     integer :: evaluations = 0             !< film solves (load-balance trials)
     integer :: reynolds_solves = 0         !< Reynolds solves (incl. pressure-viscosity loop)
+    ! the mass-conserving (JFO) film: fill, its content at the last accepted step, the
+    ! cavity pressures, and the oil fluxes through the first and last interior faces
+    logical :: jfo = .false.
+    real(dp), allocatable :: theta(:), content_old(:), pc(:)
+    real(dp) :: q_left = 0.0_dp, q_right = 0.0_dp, dt = 0.0_dp
+    !> starved inlet: oil available to the leading edge over the step [m^2] and the distance
+    !> the ring moves in it [m] (set by the caller); the fill the inlet admitted
+    logical :: starved = .false.
+    real(dp) :: available = 0.0_dp, ds = 0.0_dp, theta_in = 1.0_dp
   end type film_type
 
 contains
@@ -75,6 +86,12 @@ contains
     ! the viscosity of the pressure held (see film_evaluate)
     if (c%roelands) f%eta = roelands_eta(f%law, c%crankcase_pressure)
     f%active = .false.
+    f%jfo = c%cavitation == 'jfo'
+    f%starved = c%inlet == 'starved'
+    allocate(f%theta(n), f%content_old(n), f%pc(n))
+    f%theta = 1.0_dp
+    f%pc = c%cavitation_pressure
+    f%content_old = f%s   ! a full film at h0 = 0: the caller sets it at the first h0
   end subroutine film_setup
 
   !> Solve the film for a trial h0: pressures (with the pressure-viscosity loop) and the
@@ -107,6 +124,10 @@ contains
     f%evaluations = f%evaluations + 1
     f%h = h0 + f%s
     f%hmid = h0 + f%smid
+    if (f%jfo) then
+      call jfo_evaluate(c, f, u, p_chamber, w_tol)
+      return
+    end if
     pl = p_chamber
     pr = c%crankcase_pressure
     f%trailing_cavitated = .false.
@@ -176,6 +197,110 @@ contains
     end if
   end subroutine film_evaluate
 
+  !> The mass-conserving film at the trial h0 in f%h (SPEC 13): the JFO solve of
+  !> ringlube_jfo inside the same pressure-viscosity loop as the Swift-Stieber film. Both
+  !> edges are held at their gas pressures; the content theta h of the last accepted step
+  !> gives the time term (backward Euler on the content, whatever the time_scheme of the
+  !> squeeze term of the Swift-Stieber film). The leading edge admits oil of fill 1
+  !> (flooded) or, starved, the fill the available oil gives (`inlet_fill`); oil pushed in
+  !> by pressure beyond the oil available is prevented by lowering that fill (a few
+  !> passes); the trailing edge admits gas only. 'trailing_gas' puts a cavity reaching the
+  !> trailing edge at that edge's gas pressure; a starved inlet's partly filled zone is at
+  !> the leading edge's gas pressure (the connectivity rule of ringlube_jfo).
+  pure subroutine jfo_evaluate(c, f, u, p_chamber, w_tol)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(inout) :: f
+    real(dp), intent(in) :: u, p_chamber, w_tol
+    real(dp) :: pl, pr, tl, tr, dvisc, diff, tot, v_in, h_le, p_save(f%n), th_save(f%n)
+    integer :: it, iters, outer, info, n, i, pass
+    logical :: trailing_gas
+
+    n = f%n
+    pl = p_chamber
+    pr = c%crankcase_pressure
+    trailing_gas = c%cavity_pressure == 'trailing_gas'
+    if (f%lead_left) then
+      h_le = f%hmid(1)
+    else
+      h_le = f%hmid(n-1)
+    end if
+    f%theta_in = 1.0_dp
+    if (f%starved) f%theta_in = inlet_fill(f%available, h_le, f%ds)
+    if (maxval(f%p) > 1e8_dp) then
+      f%p = 0.0_dp
+      f%eta = f%eta_e
+    end if
+    if (.not. c%roelands) f%eta = f%eta_e
+    p_save = f%p
+    th_save = f%theta
+    do pass = 1, 4
+      if (f%lead_left) then
+        tl = f%theta_in
+        tr = 0.0_dp
+      else
+        tl = 0.0_dp
+        tr = f%theta_in
+      end if
+      do it = 1, c%max_pressure_iterations
+        f%etamid = 0.5_dp * (f%eta(1:n-1) + f%eta(2:n))
+        f%kmid = f%hmid**3 / (12.0_dp * f%etamid)
+        f%pold = f%p
+        if (f%starved .or. trailing_gas) then
+          call jfo_solve_connected(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, &
+            tl, tr, c%cavitation_pressure, trailing_gas, f%starved, f%pc, f%p, f%theta, iters, &
+            outer, info, f%q_left, f%q_right)
+        else
+          f%pc = c%cavitation_pressure
+          call jfo_solve(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, tl, tr, &
+            f%pc, f%p, f%theta, iters, info, f%q_left, f%q_right)
+        end if
+        f%reynolds_solves = f%reynolds_solves + iters
+        if (info /= JFO_OK) f%flags = ior(f%flags, flag_cavitation)
+        if (.not. c%roelands) exit
+        dvisc = 0.0_dp
+        do i = 1, n
+          if (f%p(i) /= f%pold(i)) then
+            f%eta_new(i) = roelands_eta(f%law, min(max(f%p(i), 0.0_dp), roelands_p_max))
+            dvisc = max(dvisc, abs(f%eta_new(i) - f%eta(i)) / f%eta(i))
+            f%eta(i) = f%eta_new(i)
+          end if
+        end do
+        f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
+        if (dvisc * abs(f%wh) <= 0.1_dp * w_tol) exit
+        diff = sum(abs(f%p - f%pold))
+        tot = sum(abs(f%p))
+        if (diff <= c%pressure_tol * tot) exit
+        if (it == c%max_pressure_iterations) f%flags = ior(f%flags, flag_viscosity)
+      end do
+      if (.not. f%starved) exit
+      ! oil entering through the leading edge over the step must be oil that is there
+      if (f%lead_left) then
+        v_in = f%q_left * f%dt
+      else
+        v_in = -f%q_right * f%dt
+      end if
+      if (v_in <= f%available * (1.0_dp + 1e-9_dp) + 1e-30_dp .or. f%theta_in <= 0.0_dp) exit
+      if (pass == 4) then
+        f%flags = ior(f%flags, flag_overdraw)
+        exit
+      end if
+      f%theta_in = f%theta_in * max(0.0_dp, f%available) / v_in
+      f%p = p_save
+      f%theta = th_save
+    end do
+
+    if (c%roelands .and. maxval(f%p) > roelands_p_max) f%flags = ior(f%flags, flag_piezo)
+    f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
+    if (c%asperity_contact) then
+      call asperity_contact(f%h, f%h0, f%dx, c%width, f%circ, f%sigma, c%zeta_kappa_sigma, &
+        c%sigma_over_kappa, f%e_reduced, c%gt_functions == 'fit', c%contact_area == 'lumped', &
+        f%wa, f%aa)
+    else
+      f%wa = 0.0_dp
+      f%aa = 0.0_dp
+    end if
+  end subroutine jfo_evaluate
+
   !> Viscous and boundary friction on the ring [N], positive towards the crankcase.
   !>
   !> Full-film cells: `tau = (h/2) dp/dx + eta U / h` at the cell midpoint. Cavitated cells
@@ -193,6 +318,18 @@ contains
 
     n = f%n
     fv = 0.0_dp
+    if (f%jfo) then
+      ! mass-conserving film: Poiseuille shear from the pressure gradient (zero in a cavity,
+      ! held at its cavity pressure) and Couette shear scaled by the fill of the cell
+      do i = 1, n - 1
+        tau = 0.5_dp * f%hmid(i) * (f%p(i+1) - f%p(i)) / f%dx + &
+          0.5_dp * (f%theta(i) + f%theta(i+1)) * f%etamid(i) * u / f%hmid(i)
+        fv = fv + tau * f%dx
+      end do
+      fv = -f%circ * fv
+      fb = boundary()
+      return
+    end if
     if (f%lead_left) then
       first = 1
       step = 1
@@ -220,15 +357,20 @@ contains
       fv = fv + tau * f%dx
     end do
     fv = -f%circ * fv
-    if (u > 0.0_dp) then
-      fb = -(c%tau0 * f%aa + c%boundary_coefficient * f%wa)
-    else if (u < 0.0_dp) then
-      fb = c%tau0 * f%aa + c%boundary_coefficient * f%wa
-    else
-      fb = 0.0_dp
-    end if
+    fb = boundary()
 
   contains
+
+    !> Boundary friction tau0 A_a + s W_a, opposing the motion (0 at a dead centre).
+    pure real(dp) function boundary()
+      if (u > 0.0_dp) then
+        boundary = -(c%tau0 * f%aa + c%boundary_coefficient * f%wa)
+      else if (u < 0.0_dp) then
+        boundary = c%tau0 * f%aa + c%boundary_coefficient * f%wa
+      else
+        boundary = 0.0_dp
+      end if
+    end function boundary
 
     pure logical function cavitated(k)
       integer, intent(in) :: k

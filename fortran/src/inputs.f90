@@ -67,6 +67,8 @@ module ringlube_inputs
       'radial depth a of the ring section (below bore_radius)'), &
     input_spec('ring', 'density', kind_real, '7800', 100.0_dp, 30000.0_dp, 'kg/m^3', '', &
       'ring material density'), &
+    input_spec('ring', 'lower_ring_distance', kind_real, '0', 0.0_dp, 0.2_dp, 'm', '', &
+      'distance to the lower rings: they lay supply_film where z >= -b/2 + this (starved inlet)'), &
     input_spec('lubricant', 'eta0', kind_real, '0.05', 6.4e-5_dp, 100.0_dp, 'Pa s', '', &
       'viscosity at theta0 (above the Roelands reference 6.3e-5 Pa s)'), &
     input_spec('lubricant', 'theta0', kind_real, '313.15', 200.0_dp, 700.0_dp, 'K', '', &
@@ -75,6 +77,8 @@ module ringlube_inputs
       'viscosity-temperature coefficient'), &
     input_spec('lubricant', 'alpha', kind_real, '1e-8', 0.0_dp, 1e-6_dp, '1/Pa', '', &
       'pressure-viscosity coefficient'), &
+    input_spec('lubricant', 'supply_film', kind_real, '5e-6', 0.0_dp, 1e-3_dp, 'm', '', &
+      'oil film the lower rings leave on the liner for the top ring (starved inlet)'), &
     input_spec('surface', 'rq_liner', kind_real, '0.378e-6', 1e-9_dp, 1e-4_dp, 'm', '', &
       'liner roughness Rq'), &
     input_spec('surface', 'rq_ring', kind_real, '0.238e-6', 1e-9_dp, 1e-4_dp, 'm', '', &
@@ -107,6 +111,12 @@ module ringlube_inputs
       'asperity contact with the local lambda(x), or lambda = h0/sigma over the whole face'), &
     input_spec('physics', 'outlet', kind_choice, 'reynolds', 0.0_dp, 0.0_dp, '', 'reynolds|ambient', &
       'trailing edge: Swift-Stieber (Reynolds) exit, or held at its gas pressure'), &
+    input_spec('physics', 'cavitation', kind_choice, 'swift_stieber', 0.0_dp, 0.0_dp, '', &
+      'swift_stieber|jfo', "film model: Swift-Stieber (the source study) or mass-conserving JFO"), &
+    input_spec('physics', 'cavity_pressure', kind_choice, 'vapour', 0.0_dp, 0.0_dp, '', &
+      'vapour|trailing_gas', 'cavities at cavitation_pressure, or one reaching the trailing edge at its gas'), &
+    input_spec('physics', 'inlet', kind_choice, 'flooded', 0.0_dp, 0.0_dp, '', 'flooded|starved', &
+      "leading edge fully flooded, or fed by the liner oil film (needs cavitation = 'jfo')"), &
     input_spec('numerics', 'preset', kind_choice, 'default', 0.0_dp, 0.0_dp, '', &
       'fast|default|accurate', 'numerics preset (nodes, crank step, tolerances); explicit values override'), &
     input_spec('numerics', 'nodes', kind_int, '(preset)', 5.0_dp, 20001.0_dp, '1', '', &

@@ -62,7 +62,9 @@ contains
     type(supply_type), intent(in) :: sup
     real(dp), intent(in) :: s_prev, s
     integer, intent(in) :: dir
+    ! at a reversal the bank stays behind on the liner: it is not ahead of the new inlet
     v = sup%bank
+    if (dir /= 0 .and. sup%direction /= 0 .and. dir /= sup%direction) v = 0.0_dp
     if (dir /= 0) v = v + strip_volume(sup%liner, leading_edge(sup, s_prev, dir), &
       leading_edge(sup, s, dir))
   end function inlet_available

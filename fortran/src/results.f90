@@ -18,6 +18,7 @@ module ringlube_results
   integer, parameter, public :: flag_viscosity = 8    !< pressure-viscosity loop not converged
   integer, parameter, public :: flag_cavitation = 16  !< cavitation active set not settled
   integer, parameter, public :: flag_piezo = 32       !< film pressure above roelands_p_max
+  integer, parameter, public :: flag_overdraw = 64    !< inlet drew more oil than was there
 
   !> One result quantity.
   type :: field_spec
@@ -131,7 +132,8 @@ module ringlube_results
     flag_spec(flag_load, 'load', 'load outside load_tol'), &
     flag_spec(flag_viscosity, 'viscosity', 'pressure-viscosity loop not converged'), &
     flag_spec(flag_cavitation, 'cavitation', 'cavitation set not settled'), &
-    flag_spec(flag_piezo, 'piezoviscous_clip', 'film pressure above 1 GPa (Roelands clipped)') &
+    flag_spec(flag_piezo, 'piezoviscous_clip', 'film pressure above 1 GPa (Roelands clipped)'), &
+    flag_spec(flag_overdraw, 'inlet_overdraw', 'starved inlet drew more oil than the liner held') &
   ]
 
   integer, parameter :: n_series = size(series_spec), n_int_series = size(int_series_spec), &

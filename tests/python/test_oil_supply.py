@@ -1,0 +1,113 @@
+"""The mass-conserving film and the starved inlet in the cycle (issue 9, SPEC 13): the oil
+balance closes, starvation never breaks a run, the optional results are written and read
+back by name, and the extremes of the stability matrix hold with the new film models."""
+
+from __future__ import annotations
+
+import itertools
+
+import h5py
+import numpy as np
+import pytest
+
+import ringlube
+from ringlube import Case
+
+from conftest import COLD
+
+FAST = {"preset": "fast"}
+
+
+@pytest.fixture(scope="module")
+def cold() -> Case:
+    return Case.from_namelist(COLD)
+
+
+@pytest.mark.parametrize("cavity", ["vapour", "trailing_gas"])
+def test_oil_balance_closes_over_the_cycle(cold, cavity):
+    """Oil in (supply film laid) = oil out (to the chamber, taken down) + change of the oil
+    stored on the liner, in the bank and in the gap: to round-off, not to a tolerance."""
+    r = ringlube.run(cold.with_physics(cavitation="jfo", inlet="starved", cavity_pressure=cavity))
+    assert r.oil_balance_error <= 1e-10, r.oil_balance_error
+    assert r.oil_to_chamber > 0 and np.isfinite(r.oil_to_chamber)
+    assert (r.inlet_fill >= 0).all() and (r.inlet_fill <= 1).all()
+    assert (r.wetted_width >= 0).all() and (r.wetted_width <= cold["ring", "width"] + 1e-12).all()
+    assert (r.oil_bank >= 0).all() and (r.oil_left >= 0).all()
+    assert r.liner["liner_oil_film"].min() >= 0
+    assert not (r.flags & 64).any(), "the inlet drew more oil than there was"
+
+
+def test_supply_film_to_zero_never_breaks_the_run(cold):
+    """Less oil supplied: less oil carried to the chamber, a thinner film over the upstrokes,
+    and never a NaN (flags instead)."""
+    starved = cold.with_physics(cavitation="jfo", inlet="starved").with_numerics(**FAST)
+    results = ringlube.run_many([starved.with_("lubricant", supply_film=f)
+                                 for f in (20e-6, 5e-6, 2e-6, 0.5e-6, 0.0)], workers=2,
+                                progress=False)
+    for r in results:
+        for name in ("h0", "friction", "power_loss", "inlet_fill", "oil_bank"):
+            assert np.isfinite(getattr(r, name)).all(), name
+        assert np.isfinite(r.energy_loss) and r.energy_loss > 0
+    oil = [r.oil_to_chamber for r in results]
+    assert all(a > b for a, b in zip(oil, oil[1:-1])), oil
+    assert results[-1].oil_to_chamber == pytest.approx(0.0, abs=1e-12)
+    up = results[0].sliding_speed < 0      # upstrokes: the supply film is what the ring meets
+    fills = [r.inlet_fill[up].mean() for r in results]
+    assert all(a >= b for a, b in zip(fills, fills[1:])), fills
+
+
+def test_optional_results_round_trip_and_layout(cold, tmp_path, solver):
+    import subprocess
+
+    case = cold.with_physics(cavitation="jfo", inlet="starved").with_numerics(**FAST)
+    r = ringlube.run(case)
+    assert {"inlet_fill", "wetted_width", "oil_left", "oil_bank"} <= set(r.series)
+    assert {"oil_to_chamber", "oil_balance_error"} <= set(r.scalars)
+    back = ringlube.load(r.to_hdf5(tmp_path / "s.h5"))
+    for k in r.series:
+        np.testing.assert_array_equal(getattr(back, k), getattr(r, k))
+    for k in r.liner:
+        np.testing.assert_array_equal(back.liner[k], r.liner[k])
+    with h5py.File(tmp_path / "s.h5") as f:
+        assert f.attrs["oil_to_chamber_mm3"] == r.oil_to_chamber
+        assert f["liner/oil_film_m"].shape == f["liner/position_m"].shape
+        assert f["liner/oil_film_m"].attrs["units"] == "m"
+    # Swift-Stieber runs write none of them
+    ss = ringlube.run(cold.with_numerics(**FAST))
+    assert "inlet_fill" not in ss.series and not ss.liner and "oil_to_chamber" not in ss.scalars
+    # the standalone program writes the same file
+    deck = tmp_path / "s.nml"
+    case.to_namelist(deck)
+    subprocess.run([solver, "-q", str(deck), "-o", str(tmp_path / "cli.h5")], check=False)
+    cli = ringlube.load(tmp_path / "cli.h5")
+    np.testing.assert_array_equal(cli.oil_bank, r.oil_bank)
+    assert cli.oil_to_chamber == r.oil_to_chamber
+
+
+def test_starved_needs_the_mass_conserving_film(cold):
+    with pytest.raises(ringlube.InputError, match=r"&physics inlet: 'starved' needs"):
+        cold.with_physics(inlet="starved").validate()
+
+
+CORNERS = {"width": (0.54e-3, 1.34e-3), "crown_height": (6e-6, 13e-6),
+           "crown_offset": (-54e-6, 67e-6), "tension": (8.0, 26.0)}
+
+
+@pytest.mark.parametrize("physics", [{"cavitation": "jfo"},
+                                     {"cavitation": "jfo", "inlet": "starved"},
+                                     {"cavitation": "jfo", "cavity_pressure": "trailing_gas"}],
+                         ids=["jfo", "jfo_starved", "jfo_trailing_gas"])
+def test_design_corners_with_the_new_film_models(cold, physics):
+    """The 16 design corners at two speeds and two liner temperatures: finite results,
+    h0 > 0, the load balanced at every unflagged step, flags where it is not."""
+    base = cold.with_physics(**physics).with_numerics(**FAST)
+    cases = [base.with_ring(**dict(zip(CORNERS, v[:4]))).with_operating(speed_rpm=v[4],
+                                                                           liner_temperature=v[5])
+             for v in itertools.product(*CORNERS.values(), (1000, 8000), (348.0, 423.0))]
+    for r in ringlube.run_many(cases, workers=2, progress=False):
+        assert np.isfinite(r.h0).all() and (r.h0 > 0).all()
+        assert np.isfinite(r.friction).all() and np.isfinite(r.energy_loss)
+        unflagged = r.flags == 0
+        assert (np.abs(r.load_residual[unflagged]) <= 3e-3 * (1 + 1e-9)).all()
+        if (~unflagged).any():
+            assert not r.converged
