@@ -451,6 +451,10 @@ contains
         'viscosity of ' // real_text(eta) // ' Pa s at the liner temperature, outside the ' // &
         'plausible 1e-5 .. 100 Pa s'); return
     end if
+    if (c%cavity_pressure == 'trailing_gas' .and. c%cavitation /= 'jfo') then
+      call bad('physics', 'cavity_pressure', "'trailing_gas' is implemented for " // &
+        "cavitation = 'jfo' only"); return
+    end if
     if (c%inlet == 'starved' .and. c%cavitation /= 'jfo') then
       call bad('physics', 'inlet', "'starved' needs the mass-conserving film, cavitation = 'jfo'")
       return

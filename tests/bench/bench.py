@@ -53,7 +53,7 @@ def main() -> None:
     if not args.only_sweep:
         tables(cold)
         roofline(cold)
-        for script in ("front.py", "levers.py"):
+        for script in ("front.py", "levers.py", "film_models.py"):
             print(f"\n== {script}", flush=True)
             subprocess.run([sys.executable, str(HERE / script)], check=True)
     for preset in args.sweep_presets.split(","):
