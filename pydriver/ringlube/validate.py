@@ -173,7 +173,8 @@ def validate(root: str | os.PathLike = ".", out: str | os.PathLike = "docs") -> 
                "pressure_scale": calibration.get("operating", "pressure_scale")}
     same = all(abs(shipped[k] - getattr(fit, k)) <= 1e-9 * max(1.0, abs(shipped[k])) for k in shipped)
     md += ["## Calibration (cold only)", "",
-           "Two targets (cold energy 1.92 J, cold mixed share 8.47 %) determine two continuous inputs; "
+           f"Two targets (cold energy {fit.targets['energy_loss']:g} J, cold mixed share "
+           f"{fit.targets['mixed_share']:g} %) determine two continuous inputs; "
            "the discrete options the study leaves open are enumerated (see `pydriver/ringlube/calibrate.py`).", "",
            "| input | bounds | fitted |", "|---|---|---|",
            f"| `&surface zeta_kappa_sigma` | {BOUNDS['zeta_kappa_sigma']} | {fit.zeta_kappa_sigma:.4g}"

@@ -24,11 +24,11 @@ import numpy as np
 from scipy.stats import qmc
 
 import ringlube
+from ringlube.study_settings import DESIGN_RANGES
 
 ROOT = Path(__file__).resolve().parents[2]
 COLD = ROOT / "inputs" / "crf450r_4000rpm_full_cold.nml"
-VARS = {"width": (0.54e-3, 1.34e-3), "crown_height": (6e-6, 13e-6),
-        "crown_offset": (-54e-6, 67e-6), "tension": (8.0, 26.0)}
+VARS = DESIGN_RANGES   # the study's design box
 OUTPUTS = ["energy_loss", "mixed_share", "converged", "run_time"]
 
 

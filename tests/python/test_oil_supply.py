@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import ringlube
+from ringlube.study_settings import DESIGN_RANGES
 from ringlube import Case
 
 from conftest import COLD
@@ -89,8 +90,7 @@ def test_starved_needs_the_mass_conserving_film(cold):
         cold.with_physics(inlet="starved").validate()
 
 
-CORNERS = {"width": (0.54e-3, 1.34e-3), "crown_height": (6e-6, 13e-6),
-           "crown_offset": (-54e-6, 67e-6), "tension": (8.0, 26.0)}
+CORNERS = DESIGN_RANGES   # the study's design box (one home: ringlube.study_settings)
 
 
 @pytest.mark.parametrize("physics", [{"cavitation": "jfo"},

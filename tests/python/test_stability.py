@@ -14,14 +14,14 @@ import numpy as np
 import pytest
 
 import ringlube
+from ringlube.study_settings import DESIGN_RANGES
 from ringlube import Case
 
 from conftest import COLD, INPUTS
 
 SPEEDS = (500, 3000, 8000, 14000)
 TEMPERATURES = (253.0, 348.0, 391.0, 423.0)
-CORNERS = {"width": (0.54e-3, 1.34e-3), "crown_height": (6e-6, 13e-6),
-           "crown_offset": (-54e-6, 67e-6), "tension": (8.0, 26.0)}
+CORNERS = DESIGN_RANGES   # the study's design box (one home: ringlube.study_settings)
 
 
 def _base() -> Case:
