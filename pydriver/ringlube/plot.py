@@ -14,7 +14,8 @@ import numpy as np  # noqa: E402
 
 from .result import CycleResult  # noqa: E402
 
-__all__ = ["friction_figure", "film_figure", "gas_figure", "plot_results", "save_metadata"]
+__all__ = ["friction_figure", "film_figure", "gas_figure", "liner_figure", "plot_results",
+           "save_metadata", "supply_figure"]
 
 # no creation date in the files, so that regenerated figures differ only when their data do
 _METADATA = {"png": {"Software": None}, "pdf": {"CreationDate": None, "Producer": None}}
@@ -79,14 +80,53 @@ def film_figure(results: Sequence[CycleResult]) -> plt.Figure:
     return fig
 
 
+def supply_figure(results: Sequence[CycleResult]) -> plt.Figure:
+    """Inlet fill and wetted width over the cycle (mass-conserving film, SPEC 13)."""
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True, layout="constrained")
+    for i, r in enumerate(results):
+        if "inlet_fill" not in r.series:
+            continue
+        ax1.plot(r.crank_angle_deg, r.inlet_fill, lw=1.2, label=_label(r, i))
+        ax2.plot(r.crank_angle_deg, r.wetted_width * 1e3, lw=1.2, label=_label(r, i))
+    ax1.set_ylabel("inlet fill theta_in [-]")
+    ax1.set_ylim(-0.05, 1.05)
+    ax2.set_ylabel("wetted (full-film) width [mm]")
+    ax2.set_ylim(bottom=0)
+    _crank_axis(ax2)
+    ax1.legend(fontsize=8, loc="lower right")
+    return fig
+
+
+def liner_figure(results: Sequence[CycleResult]) -> plt.Figure:
+    """The oil film on the liner along the stroke at the end of the cycle (starved inlet)."""
+    fig, ax = plt.subplots(figsize=(8, 4.2), layout="constrained")
+    for i, r in enumerate(results):
+        if not r.liner:
+            continue
+        ax.plot(r.liner["liner_position"] * 1e3, r.liner["liner_oil_film"] * 1e6, lw=1.2,
+                label=f"{_label(r, i)} ({r.oil_to_chamber:.3g} mm$^3$ per cycle to the chamber)")
+    ax.set_xlabel("liner position from the top ring at TDC [mm] (towards the crankcase)")
+    ax.set_ylabel(r"oil film on the liner [$\mu$m]")
+    ax.set_ylim(bottom=0)
+    ax.legend(fontsize=8, loc="upper right")
+    return fig
+
+
 def plot_results(results: Sequence[CycleResult], outdir: str | os.PathLike,
                  formats: Sequence[str] = ("png", "pdf"), stem: str = "") -> list[Path]:
-    """Write the friction and film figures for one or several (overlaid) results."""
+    """Write the friction and film figures for one or several (overlaid) results, and for
+    results of the mass-conserving film the inlet fill and wetted width, and with a starved
+    inlet the liner oil film."""
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     stem = stem or ("_vs_".join(r.label for r in results if r.label) or "result")
     files = []
-    for kind, make in (("friction", friction_figure), ("film", film_figure)):
+    kinds = [("friction", friction_figure), ("film", film_figure)]
+    if any("inlet_fill" in r.series for r in results):
+        kinds.append(("supply", supply_figure))
+    if any(r.liner for r in results):
+        kinds.append(("liner", liner_figure))
+    for kind, make in kinds:
         fig = make(results)
         for fmt in formats:
             path = outdir / f"{stem}_{kind}.{fmt}"

@@ -111,3 +111,15 @@ def test_design_corners_with_the_new_film_models(cold, physics):
         assert (np.abs(r.load_residual[unflagged]) <= 3e-3 * (1 + 1e-9)).all()
         if (~unflagged).any():
             assert not r.converged
+
+
+def test_liner_and_supply_figures(cold, tmp_path):
+    from ringlube.plot import liner_figure, plot_results, supply_figure
+
+    r = ringlube.run(cold.with_physics(cavitation="jfo", inlet="starved").with_numerics(**FAST))
+    files = plot_results([r], tmp_path, formats=("png",))
+    assert {f.stem.rsplit("_", 1)[1] for f in files} == {"friction", "film", "supply", "liner"}
+    fig = liner_figure([r])
+    np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), r.liner["liner_oil_film"] * 1e6)
+    fig = supply_figure([r])
+    np.testing.assert_array_equal(fig.axes[0].lines[0].get_ydata(), r.inlet_fill)
