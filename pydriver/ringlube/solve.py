@@ -4,7 +4,6 @@ cases in parallel processes."""
 from __future__ import annotations
 
 import os
-from concurrent.futures import ProcessPoolExecutor
 from typing import Iterable, Sequence
 
 import numpy as np
@@ -36,7 +35,8 @@ class BatchError(RinglubeError):
         self.code = max(e.code for e in errors.values())
 
 
-def run(case: Case | str | os.PathLike, *, strict: bool = False) -> CycleResult:
+def run(case: Case | str | os.PathLike, *, strict: bool = False,
+        trace: tuple[np.ndarray, np.ndarray] | None = None) -> CycleResult:
     """Run one engine cycle of ``case`` (a :class:`Case` or a deck path).
 
     Gives the same numbers as ``ringlube-solve`` on the same deck: the case is parsed by
@@ -49,6 +49,9 @@ def run(case: Case | str | os.PathLike, *, strict: bool = False) -> CycleResult:
     strict : bool
         Raise :class:`NotConvergedError` if the run did not converge (else check
         ``result.converged``).
+    trace : (ndarray, ndarray), optional
+        Crank angle [deg] and absolute gas pressure [Pa] used instead of the case's
+        pressure file (checked like the file; times the case's ``pressure_scale``).
 
     Returns
     -------
@@ -74,7 +77,12 @@ def run(case: Case | str | os.PathLike, *, strict: bool = False) -> CycleResult:
         if not isinstance(case, (str, os.PathLike)):
             raise TypeError(f"run: expected a Case or a deck path, got {type(case).__name__}")
         case = Case.from_namelist(case)
-    with kernel_case(case) as k:
+    with kernel_case(case, load_trace=trace is None) as k:
+        if trace is not None:
+            psi, p = (np.ascontiguousarray(a, dtype=float) for a in trace)
+            code, message = _kernel.rl_set_trace(k.handle, psi, p)
+            if code:
+                raise error_for(code, _text(message))
         series, iseries, scalars, produced, liner, code, message = _kernel.rl_run(
             k.handle, k.nsteps, len(SERIES), len(INT_SERIES), len(SCALARS), k.nliner)
         if code:
@@ -240,20 +248,21 @@ def run_many(cases: Iterable[Case], workers: int | None = None, *, strict: bool 
     workers = (os.cpu_count() or 1) if workers is None else int(workers)
     if workers < 1:
         raise ValueError(f"workers must be at least 1, got {workers}")
+    from .executor import Executor
+
     bar = tqdm(total=len(cases), desc="ringlube runs", unit="run", disable=not progress)
-    out: list = []
+    out: list = [None] * len(cases)
+
+    def done(i: int, value) -> None:
+        out[i] = value
+        bar.update()
+
+    ex = Executor(workers=workers, backend="serial" if workers == 1 or len(cases) <= 1
+                  else "processes")
     try:
-        if workers == 1 or len(cases) <= 1:
-            for c in cases:
-                out.append(_run_one((c, strict)))
-                bar.update()
-        else:
-            with ProcessPoolExecutor(max_workers=workers) as pool:
-                chunk = max(1, min(16, len(cases) // (4 * workers)))
-                for r in pool.map(_run_one, [(c, strict) for c in cases], chunksize=chunk):
-                    out.append(r)
-                    bar.update()
+        ex.map(_run_one, [((c, strict),) for c in cases], done)
     finally:
+        ex.close()
         bar.close()
     errors = {i: r for i, r in enumerate(out) if isinstance(r, RinglubeError)}
     if errors and on_error == "raise":

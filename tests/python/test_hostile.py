@@ -142,3 +142,14 @@ def test_tension_unit_is_visible_in_the_shipped_decks():
         assert case.get("ring", "tension_unit") in ("N", "N/m"), deck.name
     calibration = Case.from_namelist(INPUT_DIR / "calibration.nml").to_dict()
     assert set(calibration) <= {"surface", "operating"}
+
+
+def test_trace_passed_as_arrays_equals_the_file(base):
+    """The pressure trace can reach the kernel as arrays (no file), checked like a file."""
+    case = Case.from_namelist(COLD).with_numerics(**FAST)
+    psi, p = ringlube.gas.read_csv(INPUT_DIR / "pressure" / "crf450r_4000rpm_full.csv")
+    a, b = ringlube.run(case), ringlube.run(case, trace=(psi, p))
+    np.testing.assert_array_equal(a.h0, b.h0)
+    assert b.pressure_file == "<array>"
+    with pytest.raises(InputError, match=r"pressure trace: .*must span at least 700"):
+        ringlube.run(case, trace=(psi[:50], p[:50]))
