@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import matplotlib
 
@@ -24,6 +24,7 @@ def save_metadata(fmt: str) -> dict:
     """savefig metadata without timestamps for the given format."""
     return _METADATA.get(fmt, {})
 
+
 _STROKES = (("intake", 90), ("compression", 270), ("expansion", 450), ("exhaust", 630))
 _CENTRES = ((0, "TDC"), (180, "BDC"), (360, "TDC\nfiring"), (540, "BDC"), (720, "TDC"))
 
@@ -36,8 +37,16 @@ def _crank_axis(ax: plt.Axes) -> None:
     for c, _ in _CENTRES[1:-1]:
         ax.axvline(c, color="0.8", lw=0.8, zorder=0)
     for name, mid in _STROKES:
-        ax.text(mid, 1.01, name, transform=ax.get_xaxis_transform(), ha="center", va="bottom",
-                fontsize=8, color="0.35")
+        ax.text(
+            mid,
+            1.01,
+            name,
+            transform=ax.get_xaxis_transform(),
+            ha="center",
+            va="bottom",
+            fontsize=8,
+            color="0.35",
+        )
 
 
 def _label(r: CycleResult, i: int) -> str:
@@ -48,12 +57,28 @@ def friction_figure(results: Sequence[CycleResult]) -> plt.Figure:
     """Friction over the cycle with its viscous and boundary parts (study Figs 3, 5, 11b)."""
     fig, ax = plt.subplots(figsize=(8, 4.2), layout="constrained")
     for i, r in enumerate(results):
-        line, = ax.plot(r.crank_angle_deg, r.friction, lw=1.4,
-                        label=f"{_label(r, i)}: total ({r.energy_loss:.3f} J/cycle)")
-        ax.plot(r.crank_angle_deg, r.viscous_friction, lw=0.9, ls="--", color=line.get_color(),
-                label=f"{_label(r, i)}: viscous")
-        ax.plot(r.crank_angle_deg, r.boundary_friction, lw=0.9, ls=":", color=line.get_color(),
-                label=f"{_label(r, i)}: boundary")
+        (line,) = ax.plot(
+            r.crank_angle_deg,
+            r.friction,
+            lw=1.4,
+            label=f"{_label(r, i)}: total ({r.energy_loss:.3f} J/cycle)",
+        )
+        ax.plot(
+            r.crank_angle_deg,
+            r.viscous_friction,
+            lw=0.9,
+            ls="--",
+            color=line.get_color(),
+            label=f"{_label(r, i)}: viscous",
+        )
+        ax.plot(
+            r.crank_angle_deg,
+            r.boundary_friction,
+            lw=0.9,
+            ls=":",
+            color=line.get_color(),
+            label=f"{_label(r, i)}: boundary",
+        )
     ax.axhline(0, color="k", lw=0.6)
     ax.set_ylabel("friction on the ring [N]")
     _crank_axis(ax)
@@ -65,13 +90,23 @@ def film_figure(results: Sequence[CycleResult]) -> plt.Figure:
     """Minimum film thickness over the cycle with the lambda = 4 threshold (Figs 6, 8, 11a)."""
     fig, ax = plt.subplots(figsize=(8, 4.2), layout="constrained")
     for i, r in enumerate(results):
-        ax.plot(r.crank_angle_deg, r.lambda_min * r.sigma * 1e6, lw=1.4,
-                label=f"{_label(r, i)} (mixed {r.mixed_share:.1f} % of the cycle)")
+        ax.plot(
+            r.crank_angle_deg,
+            r.lambda_min * r.sigma * 1e6,
+            lw=1.4,
+            label=f"{_label(r, i)} (mixed {r.mixed_share:.1f} % of the cycle)",
+        )
     sigmas = sorted({r.sigma for r in results})
     for s in sigmas:
         ax.axhline(4 * s * 1e6, color="tab:red", lw=1, ls="--")
-        ax.text(5, 4 * s * 1e6, f" $\\lambda$ = 4 ({4 * s * 1e6:.2f} $\\mu$m): mixed/boundary below",
-                color="tab:red", fontsize=8, va="bottom")
+        ax.text(
+            5,
+            4 * s * 1e6,
+            f" $\\lambda$ = 4 ({4 * s * 1e6:.2f} $\\mu$m): mixed/boundary below",
+            color="tab:red",
+            fontsize=8,
+            va="bottom",
+        )
     ax.set_ylabel(r"minimum film thickness [$\mu$m]")
     ax.set_ylim(bottom=0)
     _crank_axis(ax)
@@ -79,8 +114,12 @@ def film_figure(results: Sequence[CycleResult]) -> plt.Figure:
     return fig
 
 
-def plot_results(results: Sequence[CycleResult], outdir: str | os.PathLike,
-                 formats: Sequence[str] = ("png", "pdf"), stem: str = "") -> list[Path]:
+def plot_results(
+    results: Sequence[CycleResult],
+    outdir: str | os.PathLike,
+    formats: Sequence[str] = ("png", "pdf"),
+    stem: str = "",
+) -> list[Path]:
     """Write the friction and film figures for one or several (overlaid) results."""
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
