@@ -1,6 +1,7 @@
 # ringlube: the two commands of the README.
 #   make run   set up if needed, then run the main job on the shipped default inputs
-#   make test  set up if needed, then every test
+#   make test  set up if needed, then `make lint`, then every test
+#   make lint  the Python linter and both formatters in check mode (make format applies them)
 # Python lives in the project virtual environment $(VENV) (created from $(PYTHON)), so the
 # system interpreter is never modified (Debian's refuses `pip install`, PEP 668).
 SHELL := /bin/bash
@@ -10,6 +11,10 @@ VENV ?= .venv
 APT_PACKAGES := gfortran cmake ninja-build libhdf5-dev hdf5-tools liblapack-dev libblas-dev
 DEFAULT_DECK := inputs/crf450r_4000rpm_full_cold.nml
 DEFAULT_STUDY := inputs/study_default.nml
+# Fortran checked by fprettify (settings: .fprettify.rc). Not yet the files the lead is
+# rewriting in the JFO integration; lead: format them after it and empty this list.
+FORTRAN_FORMATTED := $(wildcard fortran/src/*.f90 fortran/app/*.f90 fortran/f2py/*.f90 \
+                       tests/fortran/*.f90 tests/bench/*.f90)
 
 VPY := $(VENV)/bin/python
 PIP := $(VPY) -m pip --disable-pip-version-check
@@ -33,7 +38,7 @@ export BUILD_REQUIRES
 APT_INSTALL = if [ "$$(id -u)" = 0 ]; then SUDO=""; else SUDO="sudo"; fi; \
   $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq
 
-.PHONY: all setup system-deps build python run test bench clean distclean
+.PHONY: all setup system-deps build python run lint format test bench clean distclean
 
 all: build
 
@@ -80,7 +85,22 @@ run: setup
 	$(BUILD)/ringlube-solve $(DEFAULT_DECK) -o out/crf450r_4000rpm_full_cold.h5
 	$(VENV)/bin/ringlube optimise $(DEFAULT_STUDY) --direct
 
-test: setup
+# ruff and fprettify come with the `test` extra (pinned there: a formatter's output
+# changes between versions). ruff's settings, and the Python files it does not format yet,
+# are in pyproject.toml.
+lint: python
+	$(VENV)/bin/ruff check pydriver tests
+	$(VENV)/bin/ruff format --check pydriver tests
+	@diff=$$($(VENV)/bin/fprettify --diff $(FORTRAN_FORMATTED)) || exit 1; \
+	if [ -n "$$diff" ]; then echo "$$diff"; echo "Fortran not formatted (make format)"; exit 1; fi
+	@echo "fprettify: $(words $(FORTRAN_FORMATTED)) Fortran files formatted"
+
+format: python
+	$(VENV)/bin/ruff check --fix pydriver tests
+	$(VENV)/bin/ruff format pydriver tests
+	$(VENV)/bin/fprettify $(FORTRAN_FORMATTED)
+
+test: setup lint
 	cd $(BUILD) && ctest --output-on-failure
 	$(VPY) -m pytest -q
 

@@ -23,8 +23,9 @@ program ringlube_solve
   character(len=:), allocatable :: deck, out
   character(len=4096), allocatable :: inputs(:)
   !> what each of `inputs` is, for messages
-  character(len=*), parameter :: input_labels(3) = [character(len=20) :: 'the deck', &
-    'the pressure file', 'the calibration file']
+  character(len=*), parameter :: input_labels(3) = [character(len=20) :: &
+                                                    'the deck', 'the pressure file', &
+                                                    'the calibration file']
   character(len=4096) :: arg
   integer :: i, nargs, nflagged
   integer(int64) :: t0, t1, rate
@@ -46,7 +47,7 @@ program ringlube_solve
       call usage(output_unit)
       stop
     case ('--version')
-      write(output_unit, '(a)') 'ringlube-solve ' // package_version
+      write (output_unit, '(a)') 'ringlube-solve '//package_version
       stop
     case ('-q', '--quiet')
       quiet = .true.
@@ -56,7 +57,7 @@ program ringlube_solve
       call get_command_argument(i, arg)
       out = trim(arg)
     case default
-      if (arg(1:1) == '-') call die('unknown option ' // trim(arg), rl_input_error)
+      if (arg(1:1) == '-') call die('unknown option '//trim(arg), rl_input_error)
       if (allocated(deck)) call die('only one deck can be given', rl_input_error)
       deck = trim(arg)
     end select
@@ -64,7 +65,7 @@ program ringlube_solve
   end do
   if (.not. allocated(deck)) then
     call usage(error_unit)
-    stop rl_input_error, quiet=.true.
+    stop rl_input_error, quiet = .true.
   end if
 
   call read_deck(deck, c, err)
@@ -86,49 +87,52 @@ program ringlube_solve
 
   if (.not. quiet) then
     nflagged = count(res%flags /= 0)
-    write(output_unit, '(a)') 'ringlube ' // package_version // ': ' // deck
-    write(output_unit, '(a, f10.4, a)') '  energy loss per cycle   ', res%energy_loss, ' J'
-    write(output_unit, '(a, f10.3, a)') '  mixed/boundary share    ', res%mixed_share, ' % of the cycle (h0/sigma < 4)'
-    write(output_unit, '(a, f10.3, a)') '  ring mass               ', res%ring_mass * 1e3_dp, ' g'
-    write(output_unit, '(a, f10.4, a)') '  minimum film            ', res%min_film * 1e6_dp, ' um'
-    write(output_unit, '(a, f10.3, a)') '  peak friction           ', res%max_friction, ' N'
-    write(output_unit, '(a, i10, a, es9.2, a)') '  cycles run              ', res%cycles_run, &
+    write (output_unit, '(a)') 'ringlube '//package_version//': '//deck
+    write (output_unit, '(a, f10.4, a)') '  energy loss per cycle   ', res%energy_loss, ' J'
+    write (output_unit, '(a, f10.3, a)') '  mixed/boundary share    ', res%mixed_share, &
+      ' % of the cycle (h0/sigma < 4)'
+    write (output_unit, '(a, f10.3, a)') '  ring mass               ', res%ring_mass * 1e3_dp, ' g'
+    write (output_unit, '(a, f10.4, a)') '  minimum film            ', res%min_film * 1e6_dp, ' um'
+    write (output_unit, '(a, f10.3, a)') '  peak friction           ', res%max_friction, ' N'
+    write (output_unit, '(a, i10, a, es9.2, a)') '  cycles run              ', res%cycles_run, &
       '   (last cycle change in h0: ', res%cycle_change, ')'
-    write(output_unit, '(a, i10, a)') '  flagged crank steps     ', nflagged, ' (see /cycle/flags)'
-    write(output_unit, '(a, a)') '  converged               ', merge('       yes', '        no', res%converged)
-    write(output_unit, '(a, f10.3, a, f8.1, a, f5.2, a)') '  run time                ', runtime, &
+    write (output_unit, '(a, i10, a)') '  flagged crank steps     ', nflagged, ' (see /cycle/flags)'
+    write (output_unit, '(a, a)') '  converged               ', &
+      merge('       yes', '        no', res%converged)
+    write (output_unit, '(a, f10.3, a, f8.1, a, f5.2, a)') '  run time                ', runtime, &
       ' s (', 1e3_dp * runtime / res%cycles_computed, ' ms per cycle; ', res%cycles_computed, &
       ' cycles incl. warm-up)'
-    write(output_unit, '(a, a)') '  written                 ', out
+    write (output_unit, '(a, a)') '  written                 ', out
   end if
   if (.not. res%converged) then
-    write(error_unit, '(a)') 'ringlube-solve: warning: the run did not converge; ' // &
+    write (error_unit, '(a)') 'ringlube-solve: warning: the run did not converge; '// &
       'result written with converged = 0'
-    stop rl_not_converged, quiet=.true.
+    stop rl_not_converged, quiet = .true.
   end if
 
 contains
 
   subroutine usage(unit)
     integer, intent(in) :: unit
-    write(unit, '(a)') 'usage: ringlube-solve CASE.nml [-o OUT.h5] [-q]'
-    write(unit, '(a)') '  Computes one engine cycle of the top compression ring (see README.md).'
-    write(unit, '(a)') '  exit status: 0 ok, 1 runtime error (e.g. disk full), 2 bad input (also an'
-    write(unit, '(a)') '  output that is an input, a folder, a device or in a missing folder),'
-    write(unit, '(a)') '  3 not converged (result written with converged = 0)'
+    write (unit, '(a)') 'usage: ringlube-solve CASE.nml [-o OUT.h5] [-q]'
+    write (unit, '(a)') '  Computes one engine cycle of the top compression ring (see README.md).'
+    write (unit, '(a)') '  exit status: 0 ok, 1 runtime error (e.g. disk full), 2 bad input'
+    write (unit, '(a)') '  (also an output that is an input, a folder, a device or in a missing'
+    write (unit, '(a)') '  folder),'
+    write (unit, '(a)') '  3 not converged (result written with converged = 0)'
   end subroutine usage
 
   subroutine die(msg, code)
     character(len=*), intent(in) :: msg
     integer, intent(in) :: code
-    write(error_unit, '(a)') 'ringlube-solve: error: ' // msg
+    write (error_unit, '(a)') 'ringlube-solve: error: '//msg
     select case (code)
     case (rl_input_error)
-      stop rl_input_error, quiet=.true.
+      stop rl_input_error, quiet = .true.
     case (rl_not_converged)
-      stop rl_not_converged, quiet=.true.
+      stop rl_not_converged, quiet = .true.
     case default
-      stop rl_runtime_error, quiet=.true.
+      stop rl_runtime_error, quiet = .true.
     end select
   end subroutine die
 end program ringlube_solve

@@ -32,7 +32,7 @@ end subroutine rl_version
 !> Parse deck text (named `name` in messages, relative paths against `base_dir`) with the
 !> variables of `overrides` replacing the deck's. Returns a handle and the crank steps.
 subroutine rl_open(text, name, base_dir, overrides, overrides_name, load_trace, handle, &
-    nsteps, nliner, code, message)
+                   nsteps, nliner, code, message)
   use, intrinsic :: iso_c_binding, only: c_int
   use ringlube_error, only: error_type
   use ringlube_api, only: api_open, api_nsteps, api_liner_cells
@@ -169,13 +169,13 @@ end subroutine rl_set_trace
 !> (1: the mass-conserving film, 2: the starved inlet); `liner` (nliner, 2): position and
 !> oil film of the liner at the end of the reported cycle (starved inlet).
 subroutine rl_run(handle, nsteps, ns, ni, nc, nliner, series, iseries, scalars, produced, &
-    liner, code, message)
+                  liner, code, message)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, rl_runtime_error
   use ringlube_api, only: api_run
   use ringlube_results, only: result_type, n_series, n_int_series, n_scalars, series_ptr, &
-    int_series_ptr, result_scalar
+                              int_series_ptr, result_scalar
   implicit none
   integer(c_int), intent(in) :: handle, nsteps, ns, ni, nc, nliner
   real(c_double), intent(out) :: series(nsteps, ns)
@@ -255,7 +255,7 @@ subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes)
   out = 0.0_c_double
   codes = 0
   names = ''
-  read(keys, *, iostat=ios) names
+  read (keys, *, iostat=ios) names
   if (ios /= 0) then
     codes = rl_input_error
     return
@@ -264,7 +264,7 @@ subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes)
     call api_run_design(handle, names, x(i, :), s, err)
     if (allocated(err)) then
       codes(i) = err%code
-      deallocate(err)
+      deallocate (err)
       cycle
     end if
     out(i, :) = s(1:nc)
@@ -273,13 +273,13 @@ end subroutine rl_run_batch
 
 !> Write a result given as arrays (columns as in rl_run) with the kernel's HDF5 writer.
 subroutine rl_write(path, nsteps, ns, ni, nc, nliner, series, iseries, scalars, produced, liner, &
-    deck_text, deck_path, pressure_file, calibration_file, code, message)
+                    deck_text, deck_path, pressure_file, calibration_file, code, message)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type
   use ringlube_case, only: case_type, default_case
   use ringlube_results, only: result_type, allocate_result, series_ptr, int_series_ptr, &
-    result_scalar, n_series, n_int_series, n_scalars
+                              result_scalar, n_series, n_int_series, n_scalars
   use ringlube_hdf5_output, only: write_result
   implicit none
   character(len=*), intent(in) :: path, deck_text, deck_path, pressure_file, calibration_file

@@ -9,20 +9,20 @@ module ringlube_api
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, case_access, access_set, access_get, validate_case, &
-    real_text
+                           real_text
   use ringlube_inputs, only: inputs, n_inputs, find_input, presets, n_presets, kind_int, kind_real
   use ringlube_input, only: read_deck_text
   use ringlube_gas, only: check_pressure_trace
   use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
-    n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, field_spec, result_scalar, &
-    liner_spec, n_liner
+              n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, field_spec, result_scalar, &
+                              liner_spec, n_liner
   use ringlube_cycle, only: solve_cycle, liner_cells
   use ringlube_textio, only: itoa
   use, intrinsic :: iso_fortran_env, only: int64
   implicit none
   private
   public :: api_open, api_close, api_case_ok, api_run, api_get, api_set, api_set_trace, &
-    api_run_design, api_table, api_nsteps, api_deck_text, api_trace, api_liner_cells
+            api_run_design, api_table, api_nsteps, api_deck_text, api_trace, api_liner_cells
 
   type(case_type), allocatable, save :: store(:)
   logical, allocatable, save :: used(:)
@@ -93,7 +93,7 @@ contains
       psi = store(handle)%gas_psi
       p = store(handle)%gas_p
     else
-      allocate(psi(0), p(0))
+      allocate (psi(0), p(0))
     end if
   end subroutine api_trace
 
@@ -130,15 +130,15 @@ contains
     do j = 1, size(keys)
       k = key_index(keys(j))
       if (k == 0) then
-        call fatal_error(err, c%deck_path // ': ' // trim(keys(j)) // ': unknown variable', &
-          rl_input_error)
+        call fatal_error(err, c%deck_path//': '//trim(keys(j))//': unknown variable', &
+                         rl_input_error)
         return
       end if
       if (inputs(k)%kind == kind_int) then
         if (.not. (abs(values(j)) < 2e9_dp)) then
-          why = 'not an integer: ' // real_text(values(j))
+          why = 'not an integer: '//real_text(values(j))
         else if (values(j) /= anint(values(j))) then
-          why = 'not an integer: ' // real_text(values(j))
+          why = 'not an integer: '//real_text(values(j))
         else
           text = itoa(nint(values(j)))
           call case_access(c, k, access_set, text, why)
@@ -150,8 +150,8 @@ contains
         why = 'cannot be set per design (not a number)'
       end if
       if (allocated(why)) then
-        call fatal_error(err, c%deck_path // ': &' // trim(inputs(k)%group) // ' ' // &
-          trim(inputs(k)%name) // ': ' // why, rl_input_error)
+        call fatal_error(err, c%deck_path//': &'//trim(inputs(k)%group)//' '// &
+                         trim(inputs(k)%name)//': '//why, rl_input_error)
         return
       end if
     end do
@@ -182,7 +182,7 @@ contains
     if (.not. check_handle(handle, err)) return
     k = find_input(group, name)
     if (k == 0) then
-      call fatal_error(err, '&' // group // ' ' // name // ': unknown variable', rl_input_error)
+      call fatal_error(err, '&'//group//' '//name//': unknown variable', rl_input_error)
       return
     end if
     call case_access(store(handle), k, access_get, text, why)
@@ -198,15 +198,15 @@ contains
     if (.not. check_handle(handle, err)) return
     k = find_input(group, name)
     if (k == 0) then
-      call fatal_error(err, store(handle)%deck_path // ': &' // group // ' ' // name // &
-        ': unknown variable', rl_input_error)
+      call fatal_error(err, store(handle)%deck_path//': &'//group//' '//name// &
+                       ': unknown variable', rl_input_error)
       return
     end if
     t = text
     call case_access(store(handle), k, access_set, t, why)
     if (allocated(why)) then
-      call fatal_error(err, store(handle)%deck_path // ': &' // group // ' ' // name // ': ' &
-        // why, rl_input_error)
+      call fatal_error(err, store(handle)%deck_path//': &'//group//' '//name//': ' &
+                       //why, rl_input_error)
       return
     end if
     call validate_case(store(handle), err)
@@ -221,7 +221,7 @@ contains
     if (.not. check_handle(handle, err)) return
     call check_pressure_trace(psi, p, err)
     if (allocated(err)) then
-      err%message = store(handle)%deck_path // ': pressure trace: ' // err%message
+      err%message = store(handle)%deck_path//': pressure trace: '//err%message
       return
     end if
     store(handle)%gas_psi = psi
@@ -238,20 +238,20 @@ contains
     t = ''
     select case (which)
     case ('inputs')
-      t = 'group' // tab // 'name' // tab // 'kind' // tab // 'default' // tab // 'lower' // tab &
-        // 'upper' // tab // 'unit' // tab // 'choices' // tab // 'description' // nl
+      t = 'group'//tab//'name'//tab//'kind'//tab//'default'//tab//'lower'//tab &
+          //'upper'//tab//'unit'//tab//'choices'//tab//'description'//nl
       do i = 1, n_inputs
-        t = t // trim(inputs(i)%group) // tab // trim(inputs(i)%name) // tab // &
-          kind_name(inputs(i)%kind) // tab // trim(inputs(i)%default) // tab // &
-          real_text(inputs(i)%lower) // tab // real_text(inputs(i)%upper) // tab // &
-          trim(inputs(i)%unit) // tab // trim(inputs(i)%choices) // tab // &
-          trim(inputs(i)%description) // nl
+        t = t//trim(inputs(i)%group)//tab//trim(inputs(i)%name)//tab// &
+            kind_name(inputs(i)%kind)//tab//trim(inputs(i)%default)//tab// &
+            real_text(inputs(i)%lower)//tab//real_text(inputs(i)%upper)//tab// &
+            trim(inputs(i)%unit)//tab//trim(inputs(i)%choices)//tab// &
+            trim(inputs(i)%description)//nl
       end do
     case ('presets')
-      t = 'preset' // tab // 'name' // tab // 'value' // nl
+      t = 'preset'//tab//'name'//tab//'value'//nl
       do i = 1, n_presets
-        t = t // trim(presets(i)%preset) // tab // trim(presets(i)%name) // tab // &
-          trim(presets(i)%value) // nl
+        t = t//trim(presets(i)%preset)//tab//trim(presets(i)%name)//tab// &
+            trim(presets(i)%value)//nl
       end do
     case ('series')
       t = fields(series_spec, n_series)
@@ -262,10 +262,10 @@ contains
     case ('liner')
       t = fields(liner_spec, n_liner)
     case ('flags')
-      t = 'bit' // tab // 'name' // tab // 'description' // nl
+      t = 'bit'//tab//'name'//tab//'description'//nl
       do i = 1, n_flags
-        t = t // itoa(flag_bits(i)%bit) // tab // trim(flag_bits(i)%name) // tab // &
-          trim(flag_bits(i)%description) // nl
+        t = t//itoa(flag_bits(i)%bit)//tab//trim(flag_bits(i)%name)//tab// &
+            trim(flag_bits(i)%description)//nl
       end do
     end select
   end function api_table
@@ -275,12 +275,12 @@ contains
     integer, intent(in) :: n
     character(len=:), allocatable :: t
     integer :: i
-    t = 'short' // tab // 'stored' // tab // 'unit' // tab // 'integer' // tab // 'long_name' // &
-      tab // 'requires' // tab // 'objective' // nl
+    t = 'short'//tab//'stored'//tab//'unit'//tab//'integer'//tab//'long_name'// &
+        tab//'requires'//tab//'objective'//nl
     do i = 1, n
-      t = t // trim(spec(i)%short) // tab // trim(spec(i)%stored) // tab // trim(spec(i)%unit) &
-        // tab // merge('1', '0', spec(i)%integer_valued) // tab // trim(spec(i)%long_name) // &
-        tab // trim(spec(i)%requires) // tab // merge('1', '0', spec(i)%objective) // nl
+      t = t//trim(spec(i)%short)//tab//trim(spec(i)%stored)//tab//trim(spec(i)%unit) &
+          //tab//merge('1', '0', spec(i)%integer_valued)//tab//trim(spec(i)%long_name)// &
+          tab//trim(spec(i)%requires)//tab//merge('1', '0', spec(i)%objective)//nl
     end do
   end function fields
 
@@ -303,14 +303,14 @@ contains
     k = scan(key, '.:')
     key_index = 0
     if (k < 2) return
-    key_index = find_input(key(1:k-1), trim(key(k+1:)))
+    key_index = find_input(key(1:k - 1), trim(key(k + 1:)))
   end function key_index
 
   logical function check_handle(handle, err)
     integer, intent(in) :: handle
     type(error_type), allocatable, intent(out) :: err
     check_handle = api_case_ok(handle)
-    if (.not. check_handle) call fatal_error(err, 'no open case with handle ' // itoa(handle))
+    if (.not. check_handle) call fatal_error(err, 'no open case with handle '//itoa(handle))
   end function check_handle
 
   integer function free_slot()
@@ -318,14 +318,14 @@ contains
     logical, allocatable :: utmp(:)
     integer :: n
     if (.not. allocated(used)) then
-      allocate(store(4), used(4))
+      allocate (store(4), used(4))
       used = .false.
     end if
     do free_slot = 1, size(used)
       if (.not. used(free_slot)) return
     end do
     n = size(used)
-    allocate(tmp(2 * n), utmp(2 * n))
+    allocate (tmp(2 * n), utmp(2 * n))
     tmp(1:n) = store
     utmp = .false.
     utmp(1:n) = used

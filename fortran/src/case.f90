@@ -7,7 +7,7 @@ module ringlube_case
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_inputs, only: inputs, n_inputs, find_input, input_key, presets, n_presets, &
-    preset_names, kind_choice, kind_int
+                             preset_names, kind_choice, kind_int
   use ringlube_textio, only: itoa
   use ringlube_namelist, only: lower
   use ringlube_viscosity, only: roelands_law_at, roelands_eta
@@ -15,8 +15,8 @@ module ringlube_case
   implicit none
   private
   public :: case_type, default_case, apply_preset, case_access, validate_case, parse_real, &
-    real_text, choice_list, composite_sigma, reduced_modulus, elastic_pressure, ring_profile, &
-    ring_mass, steps_per_cycle
+         real_text, choice_list, composite_sigma, reduced_modulus, elastic_pressure, ring_profile, &
+            ring_mass, steps_per_cycle
 
   !> Most crank steps per cycle (0.01 deg): bounds the memory of a run.
   integer, parameter, public :: max_steps_per_cycle = 72000
@@ -28,7 +28,7 @@ module ringlube_case
     real(dp) :: crank_radius = 0.0_dp, conrod_length = 0.0_dp, bore_radius = 0.0_dp
     ! &operating
     real(dp) :: speed_rpm = 0.0_dp, liner_temperature = 0.0_dp, crankcase_pressure = 0.0_dp, &
-      cavitation_pressure = 0.0_dp, pressure_scale = 0.0_dp
+                cavitation_pressure = 0.0_dp, pressure_scale = 0.0_dp
     !> Gas-pressure CSV as resolved against the deck folder; empty: chamber at
     !> crankcase pressure all cycle (no compression, no combustion).
     character(len=:), allocatable :: pressure_file
@@ -40,12 +40,12 @@ module ringlube_case
     real(dp) :: eta0 = 0.0_dp, theta0 = 0.0_dp, beta = 0.0_dp, alpha = 0.0_dp, supply_film = 0.0_dp
     ! &surface
     real(dp) :: rq_liner = 0.0_dp, rq_ring = 0.0_dp, zeta_kappa_sigma = 0.0_dp, &
-      sigma_over_kappa = 0.0_dp, tau0 = 0.0_dp, boundary_coefficient = 0.0_dp, e_ring = 0.0_dp, &
-      nu_ring = 0.0_dp, e_liner = 0.0_dp, nu_liner = 0.0_dp
+         sigma_over_kappa = 0.0_dp, tau0 = 0.0_dp, boundary_coefficient = 0.0_dp, e_ring = 0.0_dp, &
+                nu_ring = 0.0_dp, e_liner = 0.0_dp, nu_liner = 0.0_dp
     ! &physics
     logical :: roelands = .false., squeeze = .false., asperity_contact = .false.
     character(len=:), allocatable :: gt_functions, contact_area, outlet, cavitation, &
-      cavity_pressure, inlet
+                                     cavity_pressure, inlet
     ! &numerics
     character(len=:), allocatable :: preset
     integer :: nodes = 0
@@ -80,13 +80,13 @@ contains
       if (inputs(i)%default == '(preset)') cycle
       text = trim(inputs(i)%default)
       call case_access(c, i, access_set, text, why)
-      if (allocated(why)) error stop 'ringlube_inputs: bad default of ' // input_key(i)
+      if (allocated(why)) error stop 'ringlube_inputs: bad default of '//input_key(i)
     end do
     call apply_preset(c, 'default', why)
     if (allocated(why)) error stop 'ringlube_inputs: bad preset default'
     c%deck_path = '<memory>'
     c%deck_text = ''
-    allocate(c%gas_psi(0), c%gas_p(0))
+    allocate (c%gas_psi(0), c%gas_p(0))
   end function default_case
 
   !> Set the numerics of a named preset; `why` is allocated if the name is unknown.
@@ -105,7 +105,7 @@ contains
       if (allocated(why)) return
     end do
     if (found == 0) then
-      why = "unknown preset '" // name // "' (use " // choice_list(preset_names()) // ')'
+      why = "unknown preset '"//name//"' (use "//choice_list(preset_names())//')'
       return
     end if
     c%preset = name
@@ -184,7 +184,7 @@ contains
     case ('output.file'); call s(c%output_file)
     case ('calibration.file'); call s(c%calibration_file)
     case default
-      why = 'no storage for ' // input_key(i) // ' (ringlube_case: case_access)'
+      why = 'no storage for '//input_key(i)//' (ringlube_case: case_access)'
     end select
 
   contains
@@ -199,9 +199,9 @@ contains
         if (.not. ok) then
           select case (lower(text))
           case ('nan', '+nan', '-nan', 'inf', '+inf', '-inf', 'infinity', '+infinity', '-infinity')
-            why = 'must be a finite number, got "' // text // '"'
+            why = 'must be a finite number, got "'//text//'"'
           case default
-            why = 'malformed number "' // text // '"'
+            why = 'malformed number "'//text//'"'
           end select
           return
         end if
@@ -220,12 +220,12 @@ contains
       select case (mode)
       case (access_set)
         if (len(text) == 0 .or. verify(text, '0123456789+-') /= 0) then
-          why = 'malformed integer "' // text // '"'
+          why = 'malformed integer "'//text//'"'
           return
         end if
-        read(text, *, iostat=ios) tmp
+        read (text, *, iostat=ios) tmp
         if (ios /= 0) then
-          why = 'malformed integer "' // text // '"'
+          why = 'malformed integer "'//text//'"'
           return
         end if
         call check_range(real(tmp, dp))
@@ -247,7 +247,7 @@ contains
         case ('.false.', '.f.', 'f', 'false')
           v = .false.
         case default
-          why = 'malformed logical "' // text // '" (use .true. or .false.)'
+          why = 'malformed logical "'//text//'" (use .true. or .false.)'
         end select
       case (access_get)
         if (v) then
@@ -278,9 +278,9 @@ contains
     subroutine check_choice(v)
       character(len=*), intent(in) :: v
       if (inputs(i)%kind /= kind_choice) return
-      if (index('|' // trim(inputs(i)%choices) // '|', '|' // v // '|') == 0 .or. len(v) == 0 &
-        .or. index(v, '|') > 0) then
-        why = 'must be ' // choice_list(inputs(i)%choices) // ", got '" // v // "'"
+      if (index('|'//trim(inputs(i)%choices)//'|', '|'//v//'|') == 0 .or. len(v) == 0 &
+          .or. index(v, '|') > 0) then
+        why = 'must be '//choice_list(inputs(i)%choices)//", got '"//v//"'"
       end if
     end subroutine check_choice
 
@@ -288,11 +288,11 @@ contains
       real(dp), intent(in) :: v
       if (.not. (v >= inputs(i)%lower .and. v <= inputs(i)%upper)) then
         if (inputs(i)%kind == kind_int) then
-          why = 'must be in [' // itoa(nint(inputs(i)%lower)) // ', ' // &
-            itoa(nint(inputs(i)%upper)) // '], got ' // itoa(nint(v))
+          why = 'must be in ['//itoa(nint(inputs(i)%lower))//', '// &
+                itoa(nint(inputs(i)%upper))//'], got '//itoa(nint(v))
         else
-          why = 'must be in [' // real_text(inputs(i)%lower) // ', ' // &
-            real_text(inputs(i)%upper) // ']' // unit_text() // ', got ' // real_text(v)
+          why = 'must be in ['//real_text(inputs(i)%lower)//', '// &
+                real_text(inputs(i)%upper)//']'//unit_text()//', got '//real_text(v)
         end if
       end if
     end subroutine check_range
@@ -303,9 +303,9 @@ contains
       case ('', '1')
         u = ''
       case ('(unit)')
-        u = ' ' // c%tension_unit
+        u = ' '//c%tension_unit
       case default
-        u = ' ' // trim(inputs(i)%unit)
+        u = ' '//trim(inputs(i)%unit)
       end select
     end function unit_text
   end subroutine case_access
@@ -321,7 +321,7 @@ contains
     if (.not. ok) return
     ok = verify(text, '0123456789+-.eEdD') == 0 .and. scan(text, '0123456789') > 0
     if (.not. ok) return
-    read(text, *, iostat=ios) v
+    read (text, *, iostat=ios) v
     ok = ios == 0
     if (ok) ok = ieee_is_finite(v)
   end subroutine parse_real
@@ -334,13 +334,13 @@ contains
     real(dp) :: back
     integer :: d, ios
     if (.not. ieee_is_finite(v)) then
-      write(buf, *) v
+      write (buf, *) v
       t = trim(adjustl(buf))
       return
     end if
     do d = 1, 17   ! (es0.0 would print every digit)
-      write(buf, '(es0.' // itoa(d) // ')') v
-      read(buf, *, iostat=ios) back
+      write (buf, '(es0.'//itoa(d)//')') v
+      read (buf, *, iostat=ios) back
       if (ios == 0 .and. back == v) exit
     end do
     t = trim(adjustl(buf))
@@ -356,12 +356,12 @@ contains
     do
       k = index(rest, '|')
       if (k == 0) exit
-      if (len(t) > 0) t = t // ', '
-      t = t // "'" // rest(1:k-1) // "'"
-      rest = rest(k+1:)
+      if (len(t) > 0) t = t//', '
+      t = t//"'"//rest(1:k - 1)//"'"
+      rest = rest(k + 1:)
     end do
-    if (len(t) > 0) t = t // ' or '
-    t = t // "'" // rest // "'"
+    if (len(t) > 0) t = t//' or '
+    t = t//"'"//rest//"'"
   end function choice_list
 
   !> Composite roughness sigma = sqrt(Rq_liner^2 + Rq_ring^2) [m].
@@ -374,7 +374,7 @@ contains
   pure real(dp) function reduced_modulus(c)
     type(case_type), intent(in) :: c
     reduced_modulus = 2.0_dp / ((1.0_dp - c%nu_ring**2) / c%e_ring &
-      + (1.0_dp - c%nu_liner**2) / c%e_liner)
+                                + (1.0_dp - c%nu_liner**2) / c%e_liner)
   end function reduced_modulus
 
   !> Elastic pressure of the ring on the liner p_e [Pa] (SPEC section 7).
@@ -400,7 +400,7 @@ contains
     hb = 0.5_dp * c%width
     area_s = c%crown_height / hb**2 * ((hb + c%crown_offset)**3 - (c%crown_offset - hb)**3) / 3.0_dp
     ring_mass = c%density * 2.0_dp * pi * (c%bore_radius - 0.5_dp * c%radial_depth) &
-      * (c%radial_depth * c%width - area_s)
+                * (c%radial_depth * c%width - area_s)
   end function ring_mass
 
   !> Number of crank steps in one 720 deg cycle.
@@ -441,19 +441,19 @@ contains
       call bad('numerics', 'dpsi_deg', 'must divide 720 deg into a whole number of steps'); return
     end if
     if (steps_per_cycle(c) > max_steps_per_cycle) then
-      call bad('numerics', 'dpsi_deg', 'gives more than ' // itoa(max_steps_per_cycle) // &
-        ' crank steps per cycle'); return
+      call bad('numerics', 'dpsi_deg', 'gives more than '//itoa(max_steps_per_cycle)// &
+               ' crank steps per cycle'); return
     end if
     eta = roelands_eta(roelands_law_at(c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta), &
-      0.0_dp)
+                       0.0_dp)
     if (.not. (eta >= 1e-5_dp .and. eta <= 100.0_dp)) then
-      call bad('lubricant', 'eta0', 'with theta0, beta and the liner temperature gives a ' // &
-        'viscosity of ' // real_text(eta) // ' Pa s at the liner temperature, outside the ' // &
-        'plausible 1e-5 .. 100 Pa s'); return
+      call bad('lubricant', 'eta0', 'with theta0, beta and the liner temperature gives a '// &
+               'viscosity of '//real_text(eta)//' Pa s at the liner temperature, outside the '// &
+               'plausible 1e-5 .. 100 Pa s'); return
     end if
     if (c%cavity_pressure == 'trailing_gas' .and. c%cavitation /= 'jfo') then
-      call bad('physics', 'cavity_pressure', "'trailing_gas' is implemented for " // &
-        "cavitation = 'jfo' only"); return
+      call bad('physics', 'cavity_pressure', "'trailing_gas' is implemented for "// &
+               "cavitation = 'jfo' only"); return
     end if
     if (c%inlet == 'starved' .and. c%cavitation /= 'jfo') then
       call bad('physics', 'inlet', "'starved' needs the mass-conserving film, cavitation = 'jfo'")
@@ -470,8 +470,8 @@ contains
 
     subroutine bad(group, name, reason)
       character(len=*), intent(in) :: group, name, reason
-      call fatal_error(err, c%deck_path // ': &' // group // ' ' // name // ': ' // reason, &
-        rl_input_error)
+      call fatal_error(err, c%deck_path//': &'//group//' '//name//': '//reason, &
+                       rl_input_error)
     end subroutine bad
   end subroutine validate_case
 end module ringlube_case

@@ -22,7 +22,7 @@ contains
   !> whole face b * circ. `fit` selects the power-law fits. Nodes with lambda beyond the
   !> functions' range (F_n = 0) are skipped.
   pure subroutine asperity_contact(h, h0, dx, width, circ, sigma, zks, sok, e_reduced, &
-      use_fit, lumped, wa, aa)
+                                   use_fit, lumped, wa, aa)
     real(dp), intent(in) :: h(:), h0, dx, width, circ, sigma, zks, sok, e_reduced
     logical, intent(in) :: use_fit, lumped
     real(dp), intent(out) :: wa, aa

@@ -8,11 +8,11 @@ module ringlube_cycle
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_results, only: result_type, allocate_result
   use ringlube_oil_supply, only: supply_type, supply_setup, inlet_available, supply_step, &
-    supply_reset_counters, supply_stored, supply_to_chamber
+                                 supply_reset_counters, supply_stored, supply_to_chamber
   use ringlube_liner, only: liner_positions
   use ringlube_film, only: film_type, film_setup, film_friction
   use ringlube_load_balance, only: step_context, load_problem, balance_memory, balance, &
-    start_history
+                                   start_history
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -60,7 +60,7 @@ contains
     ! the mass-conserving film starts full; the starved inlet from the supply film everywhere
     f%content_old = h0_init + f%s
     if (f%starved) call supply_setup(sup, c%width, 2.0_dp * c%crank_radius, f%dx, &
-      c%supply_film, c%lower_ring_distance)
+                                     c%supply_film, c%lower_ring_distance)
     ! warm-up: the last warmup_deg of a cycle before the first reported one, so that the
     ! squeeze-film memory of the initial guess has decayed by psi = 0
     k = steps_per_cycle(c) - nint(c%warmup_deg / c%dpsi_deg) + 1
@@ -93,7 +93,7 @@ contains
         ! decaying mode of the film collected again at the end of the next downstroke)
         change_map = sum(abs(sup%liner%h - map_prev)) / max(sum(abs(sup%liner%h)), tiny(1.0_dp))
         change_energy = abs(sum(res%power_loss) * ctx%dt - energy_prev) &
-          / max(sum(res%power_loss) * ctx%dt, tiny(1.0_dp))
+                        / max(sum(res%power_loss) * ctx%dt, tiny(1.0_dp))
         energy_prev = sum(res%power_loss) * ctx%dt
         call oil_balance()
         if (change_map <= c%cycle_tol .and. change_energy <= c%cycle_tol) then
@@ -121,13 +121,13 @@ contains
     res%cycles_computed = res%cycles_run + (c%warmup_deg + c%dpsi_deg * res%cycles_run) / 720.0_dp
     res%converged = res%periodic .and. all(res%flags == 0)
     if (.not. (all(ieee_is_finite(res%friction)) .and. all(ieee_is_finite(res%h0)) .and. &
-      all(ieee_is_finite(res%power_loss)) .and. ieee_is_finite(res%energy_loss))) then
+               all(ieee_is_finite(res%power_loss)) .and. ieee_is_finite(res%energy_loss))) then
       ! every input lies in its plausible range, so a non-finite film comes from a
       ! combination of inputs the model cannot describe: report it as an input problem
       k = findloc(ieee_is_finite(res%friction) .and. ieee_is_finite(res%h0), .false., dim=1)
-      call fatal_error(err, c%deck_path // ': these inputs give a non-finite film solution' // &
-        ' (first at crank angle ' // trim(adjustl(angle_text(max(k, 1)))) // ' deg): check the' // &
-        ' operating point, ring and surface values together', rl_input_error)
+      call fatal_error(err, c%deck_path//': these inputs give a non-finite film solution'// &
+             ' (first at crank angle '//trim(adjustl(angle_text(max(k, 1))))//' deg): check the'// &
+                       ' operating point, ring and surface values together', rl_input_error)
     end if
 
   contains
@@ -140,7 +140,7 @@ contains
 
     !> Oil in the gap (the interior volumes of the film) [m^2].
     real(dp) function gap_volume()
-      gap_volume = f%dx * sum(f%content_old(2:f%n-1))
+      gap_volume = f%dx * sum(f%content_old(2:f%n - 1))
     end function gap_volume
 
     !> Set what the starved inlet of film `ff` can draw on in the step to psi.
@@ -199,16 +199,16 @@ contains
       real(dp) :: stored1, scale
       stored1 = supply_stored(sup) + gap_volume()
       scale = max(sup%supplied, sup%taken_down + sup%to_chamber, abs(stored1 - stored0), &
-        1e-3_dp * stored0, tiny(1.0_dp))
+                  1e-3_dp * stored0, tiny(1.0_dp))
       res%oil_balance_error = abs((stored1 - stored0) - (sup%supplied - sup%to_chamber - &
-        sup%taken_down)) / scale
+                                                         sup%taken_down)) / scale
       res%oil_to_chamber = sup%to_chamber * f%circ * 1e9_dp
     end subroutine oil_balance
 
     function angle_text(kk) result(t)
       integer, intent(in) :: kk
       character(len=16) :: t
-      write(t, '(f10.2)') (kk - 1) * c%dpsi_deg
+      write (t, '(f10.2)') (kk - 1) * c%dpsi_deg
     end function angle_text
 
     !> Solve crank step k (psi = (k-1) dpsi) and store it.
@@ -278,7 +278,7 @@ contains
     liner_cells = 0
     if (c%inlet /= 'starved') return
     call supply_setup(sup, c%width, 2.0_dp * c%crank_radius, c%width / (c%nodes - 1), &
-      c%supply_film, c%lower_ring_distance)
+                      c%supply_film, c%lower_ring_distance)
     liner_cells = sup%liner%nz
   end function liner_cells
 end module ringlube_cycle

@@ -29,7 +29,7 @@ contains
     type(error_type), allocatable, intent(out) :: err
     character(len=*), intent(in) :: message
     integer, intent(in), optional :: code
-    allocate(err)
+    allocate (err)
     err%message = message
     if (present(code)) err%code = code
   end subroutine fatal_error

@@ -72,15 +72,15 @@ contains
     f%e_reduced = reduced_modulus(c)
     f%law = roelands_law_at(c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta)
     f%eta_e = roelands_eta(f%law, 0.0_dp)
-    allocate(f%x(n), f%s(n), f%h(n), f%p(n), f%eta(n), f%active(n))
-    allocate(f%smid(n-1), f%hmid(n-1), f%kmid(n-1), f%etamid(n-1), f%pold(n), f%eta_new(n))
+    allocate (f%x(n), f%s(n), f%h(n), f%p(n), f%eta(n), f%active(n))
+    allocate (f%smid(n - 1), f%hmid(n - 1), f%kmid(n - 1), f%etamid(n - 1), f%pold(n), f%eta_new(n))
     call reynolds_work_init(f%work, n)
     do i = 1, n
       f%x(i) = -hb + (i - 1) * f%dx
     end do
     f%x(n) = hb
     f%s = ring_profile(f%x, c%width, c%crown_height, c%crown_offset)
-    f%smid = ring_profile(0.5_dp * (f%x(1:n-1) + f%x(2:n)), c%width, c%crown_height, c%crown_offset)
+  f%smid = ring_profile(0.5_dp * (f%x(1:n - 1) + f%x(2:n)), c%width, c%crown_height, c%crown_offset)
     f%p = c%crankcase_pressure
     f%eta = f%eta_e
     ! the viscosity of the pressure held (see film_evaluate)
@@ -88,7 +88,7 @@ contains
     f%active = .false.
     f%jfo = c%cavitation == 'jfo'
     f%starved = c%inlet == 'starved'
-    allocate(f%theta(n), f%content_old(n), f%pc(n))
+    allocate (f%theta(n), f%content_old(n), f%pc(n))
     f%theta = 1.0_dp
     f%pc = c%cavitation_pressure
     f%content_old = f%s   ! a full film at h0 = 0: the caller sets it at the first h0
@@ -151,11 +151,11 @@ contains
     end if
     if (.not. c%roelands) f%eta = f%eta_e
     do it = 1, c%max_pressure_iterations
-      f%etamid = 0.5_dp * (f%eta(1:n-1) + f%eta(2:n))
+      f%etamid = 0.5_dp * (f%eta(1:n - 1) + f%eta(2:n))
       f%kmid = f%hmid**3 / (6.0_dp * f%etamid)
       f%pold = f%p
       call reynolds_solve(f%dx, f%kmid, f%hmid, u, sq, pl, pr, c%cavitation_pressure, f%p, &
-        f%active, iters, info, f%work)
+                          f%active, iters, info, f%work)
       f%reynolds_solves = f%reynolds_solves + iters
       if (info == 1) f%flags = ior(f%flags, flag_cavitation)
       if (info == 2) then
@@ -189,8 +189,8 @@ contains
     f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
     if (c%asperity_contact) then
       call asperity_contact(f%h, h0, f%dx, c%width, f%circ, f%sigma, c%zeta_kappa_sigma, &
-        c%sigma_over_kappa, f%e_reduced, c%gt_functions == 'fit', c%contact_area == 'lumped', &
-        f%wa, f%aa)
+             c%sigma_over_kappa, f%e_reduced, c%gt_functions == 'fit', c%contact_area == 'lumped', &
+                            f%wa, f%aa)
     else
       f%wa = 0.0_dp
       f%aa = 0.0_dp
@@ -222,7 +222,7 @@ contains
     if (f%lead_left) then
       h_le = f%hmid(1)
     else
-      h_le = f%hmid(n-1)
+      h_le = f%hmid(n - 1)
     end if
     f%theta_in = 1.0_dp
     if (f%starved) f%theta_in = inlet_fill(f%available, h_le, f%ds)
@@ -242,17 +242,17 @@ contains
         tr = f%theta_in
       end if
       do it = 1, c%max_pressure_iterations
-        f%etamid = 0.5_dp * (f%eta(1:n-1) + f%eta(2:n))
+        f%etamid = 0.5_dp * (f%eta(1:n - 1) + f%eta(2:n))
         f%kmid = f%hmid**3 / (12.0_dp * f%etamid)
         f%pold = f%p
         if (f%starved .or. trailing_gas) then
           call jfo_solve_connected(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, &
-            tl, tr, c%cavitation_pressure, trailing_gas, f%starved, f%pc, f%p, f%theta, iters, &
-            outer, info, f%q_left, f%q_right)
+                tl, tr, c%cavitation_pressure, trailing_gas, f%starved, f%pc, f%p, f%theta, iters, &
+                                   outer, info, f%q_left, f%q_right)
         else
           f%pc = c%cavitation_pressure
           call jfo_solve(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, tl, tr, &
-            f%pc, f%p, f%theta, iters, info, f%q_left, f%q_right)
+                         f%pc, f%p, f%theta, iters, info, f%q_left, f%q_right)
         end if
         f%reynolds_solves = f%reynolds_solves + iters
         if (info /= JFO_OK) f%flags = ior(f%flags, flag_cavitation)
@@ -293,8 +293,8 @@ contains
     f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
     if (c%asperity_contact) then
       call asperity_contact(f%h, f%h0, f%dx, c%width, f%circ, f%sigma, c%zeta_kappa_sigma, &
-        c%sigma_over_kappa, f%e_reduced, c%gt_functions == 'fit', c%contact_area == 'lumped', &
-        f%wa, f%aa)
+             c%sigma_over_kappa, f%e_reduced, c%gt_functions == 'fit', c%contact_area == 'lumped', &
+                            f%wa, f%aa)
     else
       f%wa = 0.0_dp
       f%aa = 0.0_dp
@@ -322,8 +322,8 @@ contains
       ! mass-conserving film: Poiseuille shear from the pressure gradient (zero in a cavity,
       ! held at its cavity pressure) and Couette shear scaled by the fill of the cell
       do i = 1, n - 1
-        tau = 0.5_dp * f%hmid(i) * (f%p(i+1) - f%p(i)) / f%dx + &
-          0.5_dp * (f%theta(i) + f%theta(i+1)) * f%etamid(i) * u / f%hmid(i)
+        tau = 0.5_dp * f%hmid(i) * (f%p(i + 1) - f%p(i)) / f%dx + &
+              0.5_dp * (f%theta(i) + f%theta(i + 1)) * f%etamid(i) * u / f%hmid(i)
         fv = fv + tau * f%dx
       end do
       fv = -f%circ * fv
@@ -346,7 +346,7 @@ contains
         theta = min(1.0_dp, hc / f%hmid(i))
         tau = f%etamid(i) * u / f%hmid(i) * theta
       else
-        tau = 0.5_dp * f%hmid(i) * (f%p(i+1) - f%p(i)) / f%dx + f%etamid(i) * u / f%hmid(i)
+        tau = 0.5_dp * f%hmid(i) * (f%p(i + 1) - f%p(i)) / f%dx + f%etamid(i) * u / f%hmid(i)
         ! gap at the upstream end of this cell, the rupture point if the next cell is dry
         if (step == 1) then
           hc = f%h(i + 1)

@@ -5,11 +5,11 @@ module ringlube_fsys
   implicit none
   private
   public :: file_kind, same_file, make_temp_file, rename_file, remove_file, dir_name, &
-    last_errno, clear_errno, errno_text, ignore_file_size_signal, remove_temp_on_signal
+            last_errno, clear_errno, errno_text, ignore_file_size_signal, remove_temp_on_signal
 
   !> What `file_kind` returns.
   integer, parameter, public :: fs_missing = 0, fs_regular = 1, fs_directory = 2, &
-    fs_other = 3, fs_unknown = -1
+                                fs_other = 3, fs_unknown = -1
 
   interface
     integer(c_int) function c_file_kind(path) bind(c, name='rl_file_kind')
@@ -59,13 +59,13 @@ contains
   !> What `path` names, following symbolic links: one of the `fs_*` values.
   integer function file_kind(path)
     character(len=*), intent(in) :: path
-    file_kind = int(c_file_kind(path // c_null_char))
+    file_kind = int(c_file_kind(path//c_null_char))
   end function file_kind
 
   !> True when both paths exist and are the same file (same device and inode).
   logical function same_file(a, b)
     character(len=*), intent(in) :: a, b
-    same_file = c_same_file(a // c_null_char, b // c_null_char) == 1
+    same_file = c_same_file(a//c_null_char, b//c_null_char) == 1
   end function same_file
 
   !> Create a new empty file `base.<pid>.<random>.part` (exclusively: no other process
@@ -76,7 +76,7 @@ contains
     integer, intent(out) :: code
     character(kind=c_char, len=len(base) + 64) :: buf
     integer :: n
-    code = int(c_make_temp(base // c_null_char, buf, int(len(buf), c_int)))
+    code = int(c_make_temp(base//c_null_char, buf, int(len(buf), c_int)))
     n = index(buf, c_null_char) - 1
     if (code /= 0 .or. n < 0) then
       tmp = ''
@@ -92,10 +92,10 @@ contains
     integer, intent(out) :: code
     call c_clear_errno()
     code = 0
-    if (c_rename(old // c_null_char, new // c_null_char) /= 0) then
+    if (c_rename(old//c_null_char, new//c_null_char) /= 0) then
       code = max(int(c_errno()), 1)
     else
-      call c_forget_temp(old // c_null_char)
+      call c_forget_temp(old//c_null_char)
     end if
   end subroutine rename_file
 
@@ -103,8 +103,8 @@ contains
   subroutine remove_file(path)
     character(len=*), intent(in) :: path
     integer(c_int) :: rc
-    rc = c_unlink(path // c_null_char)
-    call c_forget_temp(path // c_null_char)
+    rc = c_unlink(path//c_null_char)
+    call c_forget_temp(path//c_null_char)
   end subroutine remove_file
 
   !> Folder part of a path, without the final '/': '.' for a bare name, '/' for the root.
@@ -118,7 +118,7 @@ contains
     else if (i == 1) then
       d = '/'
     else
-      d = path(1:i-1)
+      d = path(1:i - 1)
     end if
   end function dir_name
 

@@ -42,15 +42,15 @@ contains
     integer :: sz, nline, nrow, pos, eol, icomma, fa, fb
     logical :: exists, seen_header, ok
 
-    inquire(file=path, exist=exists)
+    inquire (file=path, exist=exists)
     if (.not. exists) then
-      call fatal_error(err, trim(path) // ': pressure file not found', rl_input_error)
+      call fatal_error(err, trim(path)//': pressure file not found', rl_input_error)
       return
     end if
     call read_text_file(path, text, err)
     if (allocated(err)) return
     sz = len(text)
-    allocate(tpsi(max(16, sz / 8)), tp(max(16, sz / 8)))
+    allocate (tpsi(max(16, sz / 8)), tp(max(16, sz / 8)))
     nline = 0
     nrow = 0
     seen_header = .false.
@@ -62,9 +62,9 @@ contains
       else
         eol = pos + eol - 1
       end if
-      line = trim(adjustl(text(pos:eol-1)))
+      line = trim(adjustl(text(pos:eol - 1)))
       if (len(line) > 0) then
-        if (line(len(line):len(line)) == achar(13)) line = line(1:len(line)-1)
+        if (line(len(line):len(line)) == achar(13)) line = line(1:len(line) - 1)
       end if
       pos = eol + 1
       nline = nline + 1
@@ -76,12 +76,12 @@ contains
       end if
       icomma = index(line, ',')
       ok = icomma > 1
-      if (ok) ok = index(line(icomma+1:), ',') == 0
+      if (ok) ok = index(line(icomma + 1:), ',') == 0
       fa = 2
       fb = 2
       if (ok) then
-        call to_real(line(1:icomma-1), a, fa)
-        call to_real(line(icomma+1:), b, fb)
+        call to_real(line(1:icomma - 1), a, fa)
+        call to_real(line(icomma + 1:), b, fb)
       end if
       if (fa == field_nonfinite) then
         call bad_row('crank angle is not a finite number')
@@ -118,20 +118,20 @@ contains
       tp(nrow) = b
     end do
     if (nrow < 2) then
-      call fatal_error(err, trim(path) // ': pressure file needs at least two rows', rl_input_error)
+      call fatal_error(err, trim(path)//': pressure file needs at least two rows', rl_input_error)
       return
     end if
     psi = tpsi(1:nrow)
     p = tp(1:nrow)
     call check_pressure_trace(psi, p, err)
-    if (allocated(err)) err%message = trim(path) // ': ' // err%message
+    if (allocated(err)) err%message = trim(path)//': '//err%message
 
   contains
 
     subroutine bad_row(why)
       character(len=*), intent(in) :: why
-      call fatal_error(err, trim(path) // ': line ' // itoa(nline) // ': ' // why // ': "' &
-        // trim(line) // '"', rl_input_error)
+      call fatal_error(err, trim(path)//': line '//itoa(nline)//': '//why//': "' &
+                       //trim(line)//'"', rl_input_error)
     end subroutine bad_row
   end subroutine read_pressure_csv
 
@@ -151,7 +151,7 @@ contains
       else
         i1 = i0 + i1 - 1
       end if
-      f = trim(adjustl(line(i0:i1-1)))
+      f = trim(adjustl(line(i0:i1 - 1)))
       if (len(f) == 0) return
       if (scan(f(1:1), '0123456789+-.') /= 0) return
       if (nonfinite_word(f)) return
@@ -203,7 +203,7 @@ contains
     do i = 1, len(f)
       if (f(i:i) == 'd' .or. f(i:i) == 'D') f(i:i) = 'e'
     end do
-    buf = f // c_null_char
+    buf = f//c_null_char
     v = c_strtod(buf, endp)
     consumed = transfer(endp, consumed) - transfer(c_loc(buf), consumed)
     if (consumed /= int(len(f), c_size_t)) return
@@ -229,26 +229,30 @@ contains
     else
       do i = 1, size(psi)
         if (.not. (psi(i) >= 0.0_dp .and. psi(i) <= 720.0_dp)) then
-          call fatal_error(err, 'point ' // itoa(i) // ': crank angle outside [0, 720] deg', &
-            rl_input_error)
+          call fatal_error(err, 'point '//itoa(i)//': crank angle outside [0, 720] deg', &
+                           rl_input_error)
         else if (.not. (p(i) > 0.0_dp .and. p(i) <= max_pressure)) then
-          call fatal_error(err, 'point ' // itoa(i) // ': pressure must be positive and at ' // &
-            'most 1e8 Pa (1000 bar, absolute)', rl_input_error)
+          call fatal_error(err, 'point '//itoa(i)//': pressure must be positive and at '// &
+                           'most 1e8 Pa (1000 bar, absolute)', rl_input_error)
         else if (i > 1) then
-          if (.not. (psi(i) > psi(i-1))) call fatal_error(err, 'point ' // itoa(i) // &
-            ': crank angles must increase strictly', rl_input_error)
+          if (.not. (psi(i) > psi(i - 1))) then
+            call fatal_error(err, 'point '//itoa(i)//': crank angles must increase strictly', &
+                             rl_input_error)
+          end if
         end if
         if (allocated(err)) return
       end do
-      if (psi(size(psi)) - psi(1) < min_span_deg) call fatal_error(err, 'the trace covers ' // &
-        'only crank angles ' // trim(deg_text(psi(1))) // ' to ' // trim(deg_text(psi(size(psi)))) &
-        // ' deg: it must span at least 700 of the 720 deg of the cycle', rl_input_error)
+      if (psi(size(psi)) - psi(1) < min_span_deg) then
+        call fatal_error(err, 'the trace covers only crank angles '//trim(deg_text(psi(1)))// &
+                         ' to '//trim(deg_text(psi(size(psi))))//' deg: it must span at least '// &
+                         '700 of the 720 deg of the cycle', rl_input_error)
+      end if
     end if
   contains
     function deg_text(v) result(t)
       real(dp), intent(in) :: v
       character(len=16) :: t
-      write(t, '(f8.1)') v
+      write (t, '(f8.1)') v
       t = adjustl(t)
     end function deg_text
   end subroutine check_pressure_trace

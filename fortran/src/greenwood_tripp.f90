@@ -141,7 +141,7 @@ contains
     h10 = t * (1.0_dp - t)**2
     h01 = t * t * (3.0_dp - 2.0_dp * t)
     h11 = t * t * (t - 1.0_dp)
-    y = h00 * logi(i) + h10 * dlam * dlogi(i) + h01 * logi(i+1) + h11 * dlam * dlogi(i+1)
+    y = h00 * logi(i) + h10 * dlam * dlogi(i) + h01 * logi(i + 1) + h11 * dlam * dlogi(i + 1)
     f = phi(l) * exp(y)
   end function f52_exact
 

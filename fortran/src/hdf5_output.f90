@@ -31,13 +31,13 @@ module ringlube_hdf5_output
   use ringlube_error, only: error_type, fatal_error, rl_runtime_error, rl_input_error
   use ringlube_case, only: case_type
   use ringlube_results, only: result_type, result_scalar, scalar_spec, n_scalars, series_spec, &
-    n_series, int_series_spec, n_int_series, series_ptr, int_series_ptr, flag_description, &
-    liner_spec, produced
+                              n_series, int_series_spec, n_int_series, series_ptr, int_series_ptr, &
+                              flag_description, liner_spec, produced
   use ringlube_version, only: package_version
   use ringlube_textio, only: utf8_clean
   use ringlube_fsys, only: file_kind, same_file, make_temp_file, rename_file, remove_file, &
-    dir_name, last_errno, clear_errno, errno_text, fs_missing, fs_regular, fs_directory, &
-    fs_other, fs_unknown
+                           dir_name, last_errno, clear_errno, errno_text, fs_missing, fs_regular, &
+                           fs_directory, fs_other, fs_unknown
   use hdf5
   use h5ds, only: h5dsset_scale_f, h5dsattach_scale_f
   implicit none
@@ -46,7 +46,7 @@ module ringlube_hdf5_output
 
   ! kinds of open HDF5 objects, for closing them in reverse order after a failure
   integer, parameter :: k_file = 1, k_group = 2, k_dset = 3, k_space = 4, k_attr = 5, &
-    k_type = 6, k_plist = 7
+                        k_type = 6, k_plist = 7
 
   !> Whether h5open_f has been called (h5dont_atexit_f must come before it).
   logical, save :: library_open = .false.
@@ -72,7 +72,7 @@ contains
       return
     end if
     if (path(len(path):len(path)) == '/') then
-      call fatal_error(err, path // ': output names a folder, not a file', rl_input_error)
+      call fatal_error(err, path//': output names a folder, not a file', rl_input_error)
       return
     end if
     call clear_errno()
@@ -84,31 +84,31 @@ contains
       select case (file_kind(d))
       case (fs_directory)
       case (fs_missing)
-        call fatal_error(err, path // ': output folder ' // d // ' does not exist', &
-          rl_input_error)
+        call fatal_error(err, path//': output folder '//d//' does not exist', &
+                         rl_input_error)
       case (fs_unknown)
-        call fatal_error(err, path // ': output folder ' // d // ' cannot be used: ' // &
-          errno_text(last_errno()), rl_input_error)
+        call fatal_error(err, path//': output folder '//d//' cannot be used: '// &
+                         errno_text(last_errno()), rl_input_error)
       case default
-        call fatal_error(err, path // ': ' // d // ' is not a folder', rl_input_error)
+        call fatal_error(err, path//': '//d//' is not a folder', rl_input_error)
       end select
     case (fs_regular)
       do i = 1, size(inputs)
         if (len_trim(inputs(i)) == 0) cycle
         if (same_file(path, trim(inputs(i)))) then
-          call fatal_error(err, path // ': output is ' // trim(labels(min(i, size(labels)))) &
-            // ' ' // trim(inputs(i)) // ' of this run; refusing to overwrite an input', &
-            rl_input_error)
+          call fatal_error(err, path//': output is '//trim(labels(min(i, size(labels)))) &
+                           //' '//trim(inputs(i))//' of this run; refusing to overwrite an input', &
+                           rl_input_error)
           return
         end if
       end do
     case (fs_directory)
-      call fatal_error(err, path // ': output is a folder, not a file', rl_input_error)
+      call fatal_error(err, path//': output is a folder, not a file', rl_input_error)
     case (fs_other)
-      call fatal_error(err, path // ': output exists and is not a regular file ' // &
-        '(a device, pipe or socket); refusing to replace it', rl_input_error)
+      call fatal_error(err, path//': output exists and is not a regular file '// &
+                       '(a device, pipe or socket); refusing to replace it', rl_input_error)
     case default
-      call fatal_error(err, path // ': cannot use as output: ' // errno_text(e), rl_input_error)
+      call fatal_error(err, path//': cannot use as output: '//errno_text(e), rl_input_error)
     end select
   end subroutine check_output
 
@@ -145,8 +145,8 @@ contains
 
     call make_temp_file(path, tmp, code)
     if (code /= 0) then
-      call fatal_error(err, path // ': cannot create a temporary file in ' // dir_name(path) &
-        // ': ' // errno_text(code), rl_runtime_error)
+      call fatal_error(err, path//': cannot create a temporary file in '//dir_name(path) &
+                       //': '//errno_text(code), rl_runtime_error)
       return
     end if
     if (.not. library_open) then
@@ -212,20 +212,21 @@ contains
       if (.not. produced(res, series_spec(i)%requires)) cycle
       if (i == 1) then
         call dset(gid, trim(series_spec(i)%stored), series_ptr(res, i), trim(series_spec(i)%unit), &
-          trim(series_spec(i)%long_name), keep=scale_id)
+                  trim(series_spec(i)%long_name), keep=scale_id)
       else
         call dset(gid, trim(series_spec(i)%stored), series_ptr(res, i), trim(series_spec(i)%unit), &
-          trim(series_spec(i)%long_name))
+                  trim(series_spec(i)%long_name))
       end if
     end do
     do i = 1, n_int_series
       if (trim(int_series_spec(i)%short) == 'flags') then
         call dset_int(gid, trim(int_series_spec(i)%stored), int_series_ptr(res, i), &
-          trim(int_series_spec(i)%unit), trim(int_series_spec(i)%long_name), flag_description())
+                      trim(int_series_spec(i)%unit), trim(int_series_spec(i)%long_name), &
+                      flag_description())
       else
         call dset_int(gid, trim(int_series_spec(i)%stored), int_series_ptr(res, i), &
-          trim(int_series_spec(i)%unit), trim(int_series_spec(i)%long_name), &
-          trim(int_series_spec(i)%long_name))
+                      trim(int_series_spec(i)%unit), trim(int_series_spec(i)%long_name), &
+                      trim(int_series_spec(i)%long_name))
       end if
     end do
     ! the liner film at the end of the cycle (starved inlet): its position is the scale
@@ -233,10 +234,10 @@ contains
       call h5gcreate_f(fid, 'liner', lid, herr)
       call opened(herr, 'group /liner', lid, k_group)
       call dset(lid, trim(liner_spec(1)%stored), res%liner_z, trim(liner_spec(1)%unit), &
-        trim(liner_spec(1)%long_name), keep=liner_scale)
+                trim(liner_spec(1)%long_name), keep=liner_scale)
       scale_id = liner_scale
       call dset(lid, trim(liner_spec(2)%stored), res%liner_h, trim(liner_spec(2)%unit), &
-        trim(liner_spec(2)%long_name))
+                trim(liner_spec(2)%long_name))
     end if
     ! close the scale, the group and the file (the file's metadata is written then)
     do while (ok .and. nopen > 0)
@@ -248,16 +249,16 @@ contains
         call close_top(herr)   ! after a failure: close the rest, errors ignored
       end do
       call remove_file(tmp)
-      failed = path // ': cannot write the result (HDF5 error at ' // failed // ')'
-      if (fail_errno /= 0) failed = failed // ': ' // errno_text(fail_errno)
+      failed = path//': cannot write the result (HDF5 error at '//failed//')'
+      if (fail_errno /= 0) failed = failed//': '//errno_text(fail_errno)
       call fatal_error(err, failed, rl_runtime_error)
       return
     end if
     call rename_file(tmp, path, code)
     if (code /= 0) then
       call remove_file(tmp)
-      call fatal_error(err, path // ': cannot move the finished result into place: ' // &
-        errno_text(code), rl_runtime_error)
+      call fatal_error(err, path//': cannot move the finished result into place: '// &
+                       errno_text(code), rl_runtime_error)
     end if
 
   contains
@@ -279,7 +280,7 @@ contains
       if (step .and. present(id) .and. nopen == size(ids)) then
         ok = .false.          ! cannot happen with this layout (at most 9 open)
         step = .false.
-        failed = what // ' (too many open objects)'
+        failed = what//' (too many open objects)'
       end if
       if (step .and. present(id)) then
         nopen = nopen + 1
@@ -316,8 +317,8 @@ contains
       integer :: i
       do i = nopen, 1, -1
         if (ids(i) == id) then
-          ids(i:nopen-1) = ids(i+1:nopen)
-          kinds(i:nopen-1) = kinds(i+1:nopen)
+          ids(i:nopen - 1) = ids(i + 1:nopen)
+          kinds(i:nopen - 1) = kinds(i + 1:nopen)
           nopen = nopen - 1
           return
         end if
@@ -350,20 +351,20 @@ contains
       integer :: e, i
       if (.not. ok) return
       v = utf8_clean(text)
-      allocate(cbuf(len(v) + 1))
+      allocate (cbuf(len(v) + 1))
       do i = 1, len(v)
         cbuf(i) = v(i:i)
       end do
       cbuf(len(v) + 1) = c_null_char
       ptr(1) = c_loc(cbuf)
       call h5tcopy_f(H5T_STRING, tid, e)
-      if (.not. step(e, 'string type of attribute ' // name, tid, k_type)) return
+      if (.not. step(e, 'string type of attribute '//name, tid, k_type)) return
       call h5tset_cset_f(tid, H5T_CSET_UTF8_F, e)
-      if (.not. step(e, 'string type of attribute ' // name)) return
+      if (.not. step(e, 'string type of attribute '//name)) return
       call attr_write(loc, name, tid, c_loc(ptr))
       if (.not. ok) return
       call close_top(e)
-      if (.not. step(e, 'string type of attribute ' // name)) return
+      if (.not. step(e, 'string type of attribute '//name)) return
     end subroutine attr_str
 
     !> A scalar attribute of type `tid` holding the value at `buf`.
@@ -375,15 +376,15 @@ contains
       integer :: e
       if (.not. ok) return
       call h5screate_f(H5S_SCALAR_F, sid, e)
-      if (.not. step(e, 'attribute ' // name, sid, k_space)) return
+      if (.not. step(e, 'attribute '//name, sid, k_space)) return
       call h5acreate_f(loc, name, tid, sid, aid, e)
-      if (.not. step(e, 'attribute ' // name, aid, k_attr)) return
+      if (.not. step(e, 'attribute '//name, aid, k_attr)) return
       call h5awrite_f(aid, tid, buf, e)
-      if (.not. step(e, 'attribute ' // name)) return
+      if (.not. step(e, 'attribute '//name)) return
       call close_top(e)   ! attribute
-      if (.not. step(e, 'attribute ' // name)) return
+      if (.not. step(e, 'attribute '//name)) return
       call close_top(e)   ! its dataspace
-      if (.not. step(e, 'attribute ' // name)) return
+      if (.not. step(e, 'attribute '//name)) return
     end subroutine attr_write
 
     !> A 1-D dataset of doubles with `units` and `long_name`. With `keep`, the dataset
@@ -395,7 +396,7 @@ contains
       real(dp), intent(in), target, contiguous :: v(:)
       integer(hid_t), intent(out), optional :: keep
       call dset_write(loc, name, H5T_NATIVE_DOUBLE, size(v), c_loc(v), units, long_name, &
-        keep=keep)
+                      keep=keep)
     end subroutine dset
 
     subroutine dset_int(loc, name, v, units, long_name, description)
@@ -403,7 +404,7 @@ contains
       character(len=*), intent(in) :: name, units, long_name, description
       integer, intent(in), target, contiguous :: v(:)
       call dset_write(loc, name, H5T_NATIVE_INTEGER, size(v), c_loc(v), units, long_name, &
-        description=description)
+                      description=description)
     end subroutine dset_int
 
     subroutine dset_write(loc, name, tid, n, buf, units, long_name, description, keep)
@@ -419,30 +420,30 @@ contains
       if (.not. ok) return
       dims(1) = n
       call h5screate_simple_f(1, dims, sid, e)
-      if (.not. step(e, 'dataset /cycle/' // name, sid, k_space)) return
+      if (.not. step(e, 'dataset /cycle/'//name, sid, k_space)) return
       call h5dcreate_f(loc, name, tid, sid, did, e)
-      if (.not. step(e, 'dataset /cycle/' // name, did, k_dset)) return
+      if (.not. step(e, 'dataset /cycle/'//name, did, k_dset)) return
       call h5dwrite_f(did, tid, buf, e)
-      if (.not. step(e, 'dataset /cycle/' // name)) return
+      if (.not. step(e, 'dataset /cycle/'//name)) return
       call attr_str(did, 'units', units)
       call attr_str(did, 'long_name', long_name)
       if (present(description)) call attr_str(did, 'description', description)
       if (.not. ok) return
       if (present(keep)) then
         call h5dsset_scale_f(did, e, name)
-        if (.not. step(e, 'dimension scale /cycle/' // name)) return
+        if (.not. step(e, 'dimension scale /cycle/'//name)) return
         keep = did
         ! close the dataspace under the dataset; the dataset stays open as the scale
         call close_object(sid, k_space, e)
         call forget(sid)
-        if (.not. step(e, 'dataset /cycle/' // name)) return
+        if (.not. step(e, 'dataset /cycle/'//name)) return
       else
         call h5dsattach_scale_f(did, scale_id, 1, e)
-        if (.not. step(e, 'dimension scale of /cycle/' // name)) return
+        if (.not. step(e, 'dimension scale of /cycle/'//name)) return
         call close_top(e)   ! dataset
-        if (.not. step(e, 'dataset /cycle/' // name)) return
+        if (.not. step(e, 'dataset /cycle/'//name)) return
         call close_top(e)   ! its dataspace
-        if (.not. step(e, 'dataset /cycle/' // name)) return
+        if (.not. step(e, 'dataset /cycle/'//name)) return
       end if
     end subroutine dset_write
   end subroutine write_result

@@ -13,7 +13,7 @@ module ringlube_input
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, default_case, apply_preset, case_access, access_set, &
-    validate_case
+                           validate_case
   use ringlube_inputs, only: inputs, n_inputs, find_input, kind_string, kind_choice
   use ringlube_namelist, only: nml_item, scan_namelist
   use ringlube_textio, only: read_text_file, itoa
@@ -48,9 +48,9 @@ contains
     else if (len(base_dir) == 0) then
       r = path
     else if (base_dir(len(base_dir):len(base_dir)) == '/') then
-      r = base_dir // path
+      r = base_dir//path
     else
-      r = base_dir // '/' // path
+      r = base_dir//'/'//path
     end if
   end function resolve_path
 
@@ -96,11 +96,11 @@ contains
         if (present(overrides_name)) then
           call scan_namelist(overrides, overrides_name, oitems, noitems, err)
         else
-          call scan_namelist(overrides, name // ' (overrides)', oitems, noitems, err)
+          call scan_namelist(overrides, name//' (overrides)', oitems, noitems, err)
         end if
         if (allocated(err)) return
-        c%deck_text = c%deck_text // new_line('a') // '! --- changed in Python ---' // &
-          new_line('a') // overrides
+        c%deck_text = c%deck_text//new_line('a')//'! --- changed in Python ---'// &
+                      new_line('a')//overrides
       end if
     end if
     call include_calibration(c, items, nitems, oitems, noitems, base_dir, err)
@@ -116,8 +116,9 @@ contains
     c%output_file = resolve_path(c%output_file, base_dir)
     c%calibration_file = resolve_path(c%calibration_file, base_dir)
     call finish_case(c, err, load_trace)
-    if (allocated(err) .and. noitems > 0) err%message = err%message // &
-      ' (in the deck with the changes of ' // trim(oname()) // ')'
+    if (allocated(err) .and. noitems > 0) then
+      err%message = err%message//' (in the deck with the changes of '//trim(oname())//')'
+    end if
 
   contains
 
@@ -126,7 +127,7 @@ contains
       if (present(overrides_name)) then
         t = overrides_name
       else
-        t = name // ' (overrides)'
+        t = name//' (overrides)'
       end if
     end function oname
   end subroutine read_deck_text
@@ -157,31 +158,31 @@ contains
     if (len(cpath) == 0) return
     call read_text_file(cpath, ctext, err)
     if (allocated(err)) then
-      err%message = c%deck_path // ': &calibration file: ' // err%message
+      err%message = c%deck_path//': &calibration file: '//err%message
       return
     end if
     call scan_namelist(ctext, cpath, citems, ncitems, err)
     if (allocated(err)) return
     do k = 1, ncitems
       if (citems(k)%group == 'calibration' .or. citems(k)%group == 'output' .or. &
-        citems(k)%group == 'numerics') then
-        call item_error(citems(k), '&' // citems(k)%group // &
-          ' cannot be set in a calibration file', err, with_name=.false.)
+          citems(k)%group == 'numerics') then
+        call item_error(citems(k), '&'//citems(k)%group// &
+                        ' cannot be set in a calibration file', err, with_name=.false.)
         return
       end if
       do j = 1, nitems
         if (items(j)%group == citems(k)%group .and. items(j)%name == citems(k)%name) then
-          call item_error(items(j), 'also set by the calibration file ' // cpath // &
-            ' (set it in one place only)', err)
+          call item_error(items(j), 'also set by the calibration file '//cpath// &
+                          ' (set it in one place only)', err)
           return
         end if
       end do
     end do
-    c%deck_text = c%deck_text // new_line('a') // '! --- calibration file ' // cpath // &
-      ' ---' // new_line('a') // ctext
-    allocate(all(nitems + ncitems))
+    c%deck_text = c%deck_text//new_line('a')//'! --- calibration file '//cpath// &
+                  ' ---'//new_line('a')//ctext
+    allocate (all(nitems + ncitems))
     all(1:ncitems) = citems(1:ncitems)
-    all(ncitems+1:) = items(1:nitems)
+    all(ncitems + 1:) = items(1:nitems)
     call move_alloc(all, items)
     nitems = nitems + ncitems
   end subroutine include_calibration
@@ -195,7 +196,7 @@ contains
     do i = 1, nitems
       do j = 1, i - 1
         if (items(j)%group == items(i)%group .and. items(j)%name == items(i)%name) then
-          call item_error(items(i), 'given twice (also on line ' // itoa(items(j)%line) // ')', err)
+          call item_error(items(i), 'given twice (also on line '//itoa(items(j)%line)//')', err)
           return
         end if
       end do
@@ -212,7 +213,7 @@ contains
     integer :: i, j, m
     logical :: replaced
     if (noitems == 0) return
-    allocate(kept(nitems + noitems))
+    allocate (kept(nitems + noitems))
     m = 0
     do i = 1, nitems
       replaced = .false.
@@ -224,7 +225,7 @@ contains
       m = m + 1
       kept(m) = items(i)
     end do
-    kept(m+1:m+noitems) = oitems(1:noitems)
+    kept(m + 1:m + noitems) = oitems(1:noitems)
     call move_alloc(kept, items)
     nitems = m + noitems
   end subroutine apply_overrides
@@ -257,18 +258,18 @@ contains
         if (find_group(items(i)%group)) then
           call item_error(items(i), 'unknown variable', err)
         else
-          call fatal_error(err, items(i)%file // ':' // itoa(items(i)%line) // &
-            ': unknown namelist group &' // items(i)%group // ' (known: ' // group_list() // ')', &
-            rl_input_error)
+          call fatal_error(err, items(i)%file//':'//itoa(items(i)%line)// &
+                           ': unknown namelist group &'//items(i)%group// &
+                           ' (known: '//group_list()//')', rl_input_error)
         end if
         return
       end if
       if (items(i)%group == 'numerics' .and. items(i)%name == 'preset') cycle
       if (items(i)%quoted .neqv. any(inputs(k)%kind == [kind_string, kind_choice])) then
         if (items(i)%quoted) then
-          why = 'expected a number or logical, got the string "' // items(i)%value // '"'
+          why = 'expected a number or logical, got the string "'//items(i)%value//'"'
         else
-          why = "expected a quoted string, e.g. '" // items(i)%value // "'"
+          why = "expected a quoted string, e.g. '"//items(i)%value//"'"
         end if
         call item_error(items(i), why, err)
         return
@@ -298,7 +299,7 @@ contains
     integer :: i
     t = trim(inputs(1)%group)
     do i = 2, n_inputs
-      if (inputs(i)%group /= inputs(i-1)%group) t = t // ', ' // trim(inputs(i)%group)
+      if (inputs(i)%group /= inputs(i - 1)%group) t = t//', '//trim(inputs(i)%group)
     end do
   end function group_list
 
@@ -312,10 +313,10 @@ contains
     named = .true.
     if (present(with_name)) named = with_name
     if (named) then
-      call fatal_error(err, it%file // ':' // itoa(it%line) // ': &' // it%group // ' ' // &
-        it%name // ': ' // why, rl_input_error)
+      call fatal_error(err, it%file//':'//itoa(it%line)//': &'//it%group//' '// &
+                       it%name//': '//why, rl_input_error)
     else
-      call fatal_error(err, it%file // ':' // itoa(it%line) // ': ' // why, rl_input_error)
+      call fatal_error(err, it%file//':'//itoa(it%line)//': '//why, rl_input_error)
     end if
   end subroutine item_error
 
@@ -331,22 +332,24 @@ contains
     if (allocated(err)) return
     load = .true.
     if (present(load_trace)) load = load_trace
-    if (allocated(c%gas_psi)) deallocate(c%gas_psi)
-    if (allocated(c%gas_p)) deallocate(c%gas_p)
+    if (allocated(c%gas_psi)) deallocate (c%gas_psi)
+    if (allocated(c%gas_p)) deallocate (c%gas_p)
     if (len(c%pressure_file) == 0) then
-      allocate(c%gas_psi(0), c%gas_p(0))
+      allocate (c%gas_psi(0), c%gas_p(0))
       return
     end if
     if (.not. load) then
-      inquire(file=c%pressure_file, exist=exists)
-      if (.not. exists) call fatal_error(err, c%deck_path // ': &operating pressure_file: ' // &
-        c%pressure_file // ': pressure file not found', rl_input_error)
-      allocate(c%gas_psi(0), c%gas_p(0))
+      inquire (file=c%pressure_file, exist=exists)
+      if (.not. exists) then
+        call fatal_error(err, c%deck_path//': &operating pressure_file: '// &
+                         c%pressure_file//': pressure file not found', rl_input_error)
+      end if
+      allocate (c%gas_psi(0), c%gas_p(0))
       return
     end if
     call read_pressure_csv(c%pressure_file, c%gas_psi, c%gas_p, err)
     if (allocated(err)) then
-      err%message = c%deck_path // ': &operating pressure_file: ' // err%message
+      err%message = c%deck_path//': &operating pressure_file: '//err%message
       return
     end if
     c%gas_p = c%pressure_scale * c%gas_p

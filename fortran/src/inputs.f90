@@ -10,11 +10,11 @@ module ringlube_inputs
   implicit none
   private
   public :: input_spec, inputs, n_inputs, find_input, preset_item, presets, n_presets, &
-    preset_names, input_key
+            preset_names, input_key
 
   !> Kinds of variables.
   integer, parameter, public :: kind_real = 1, kind_int = 2, kind_logical = 3, &
-    kind_string = 4, kind_choice = 5
+                                kind_string = 4, kind_choice = 5
 
   !> One input variable.
   type :: input_spec
@@ -34,6 +34,7 @@ module ringlube_inputs
   end type input_spec
 
   !> Every input variable, in deck order (groups as in SPEC section 9).
+  !&< (a table laid out by hand: not reformatted)
   type(input_spec), parameter :: inputs(*) = [ &
     input_spec('engine', 'crank_radius', kind_real, '31.5e-3', 1e-3_dp, 1.0_dp, 'm', '', &
       'crank radius r'), &
@@ -107,9 +108,9 @@ module ringlube_inputs
       'Greenwood-Tripp asperity load and boundary friction'), &
     input_spec('physics', 'gt_functions', kind_choice, 'exact', 0.0_dp, 0.0_dp, '', 'exact|fit', &
       'F_2 and F_5/2: exact (tabulated integral) or power-law fits'), &
-    input_spec('physics', 'contact_area', kind_choice, 'local', 0.0_dp, 0.0_dp, '', 'local|lumped', &
+   input_spec('physics', 'contact_area', kind_choice, 'local', 0.0_dp, 0.0_dp, '', 'local|lumped', &
       'asperity contact with the local lambda(x), or lambda = h0/sigma over the whole face'), &
-    input_spec('physics', 'outlet', kind_choice, 'reynolds', 0.0_dp, 0.0_dp, '', 'reynolds|ambient', &
+  input_spec('physics', 'outlet', kind_choice, 'reynolds', 0.0_dp, 0.0_dp, '', 'reynolds|ambient', &
       'trailing edge: Swift-Stieber (Reynolds) exit, or held at its gas pressure'), &
     input_spec('physics', 'cavitation', kind_choice, 'swift_stieber', 0.0_dp, 0.0_dp, '', &
       'swift_stieber|jfo', "film model: Swift-Stieber (the source study) or mass-conserving JFO"), &
@@ -173,6 +174,8 @@ module ringlube_inputs
     preset_item('accurate', 'pressure_tol', '1e-6'), preset_item('accurate', 'load_tol', '1e-4') &
   ]
 
+  !&>
+
   !> Number of table rows and of preset items.
   integer, parameter :: n_inputs = size(inputs), n_presets = size(presets)
 
@@ -201,6 +204,6 @@ contains
   pure function input_key(i) result(key)
     integer, intent(in) :: i
     character(len=:), allocatable :: key
-    key = trim(inputs(i)%group) // '.' // trim(inputs(i)%name)
+    key = trim(inputs(i)%group)//'.'//trim(inputs(i)%name)
   end function input_key
 end module ringlube_inputs

@@ -79,8 +79,8 @@ contains
   !> (tests); newton = .false. uses only projected Gauss-Seidel sweeps, max_iter of them (the
   !> fallback, for tests and the benchmark); sweeps (out): Gauss-Seidel sweeps spent.
   pure subroutine jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
-      theta_right, pc, p, theta, iterations, info, q_left, q_right, tol, max_iter, guard, newton, &
-      sweeps)
+                            theta_right, pc, p, theta, iterations, info, q_left, q_right, tol, &
+                            max_iter, guard, newton, sweeps)
     real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
     real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, pc(:)
     real(dp), intent(inout) :: p(:), theta(:)
@@ -122,16 +122,16 @@ contains
     a = -0.5_dp * u
     w = 0.0_dp
     if (dt > 0.0_dp) w = dx / dt
-    ca(1:n-1) = a * hmid
-    kd(1:n-1) = kmid / dx
+    ca(1:n - 1) = a * hmid
+    kd(1:n - 1) = kmid / dx
     ca(n) = 0.0_dp
     kd(n) = 0.0_dp
     ! pressure per unit v on the full side: the ratio of a node's fill and pressure diagonals,
     ! so that both sides of the kink weigh alike
     ps = 1.0_dp
     do i = 2, n - 1
-      t = w * h(i) + abs(ca(i)) + abs(ca(i-1))
-      if (t > 0.0_dp .and. kd(i-1) + kd(i) > 0.0_dp) ps(i) = t / (kd(i-1) + kd(i))
+      t = w * h(i) + abs(ca(i)) + abs(ca(i - 1))
+      if (t > 0.0_dp .and. kd(i - 1) + kd(i) > 0.0_dp) ps(i) = t / (kd(i - 1) + kd(i))
     end do
 
     ! warm start: v = (p - pc)/ps on full nodes, theta - 1 on cavity nodes; not finite -> 0
@@ -153,7 +153,7 @@ contains
     stall = 0
     nfall = 0
     do it = 0, itmax
-      rmax = maxval(abs(r(2:n-1)))
+      rmax = maxval(abs(r(2:n - 1)))
       if (rmax <= rtol * rscale .or. it == itmax) exit
       iterations = it + 1
       if (.not. use_newton) then
@@ -163,14 +163,14 @@ contains
         cycle
       end if
       call residual(v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-      dv(2:n-1) = -r(2:n-1)
+      dv(2:n - 1) = -r(2:n - 1)
       ! the M-matrix sign pattern holds by construction (upwinding); a violation (a degenerate
       ! zero diagonal) is treated like a zero pivot
-      if (use_guard .and. (any(.not. jd(2:n-1) > 0.0_dp) .or. any(jl(2:n-1) > 0.0_dp) &
-          .or. any(ju(2:n-1) > 0.0_dp))) then
+      if (use_guard .and. (any(.not. jd(2:n - 1) > 0.0_dp) .or. any(jl(2:n - 1) > 0.0_dp) &
+                           .or. any(ju(2:n - 1) > 0.0_dp))) then
         tinfo = -1
       else
-        call thomas(jl(2:n-1), jd(2:n-1), ju(2:n-1), dv(2:n-1), vt(2:n-1), tinfo)
+        call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo)
       end if
       if (tinfo /= 0 .and. .not. use_guard) then
         info = JFO_SINGULAR
@@ -178,7 +178,7 @@ contains
       end if
       accepted = .false.
       if (tinfo == 0) then
-        dv(2:n-1) = vt(2:n-1)
+        dv(2:n - 1) = vt(2:n - 1)
         dv(1) = 0.0_dp
         dv(n) = 0.0_dp
         ! full step; with the guard and after free_steps iterations, halve it until ||R||^2
@@ -218,17 +218,17 @@ contains
         vbest = v
       end if
     end do
-    if (use_newton .and. info == JFO_OK .and. maxval(abs(r(2:n-1))) <= rtol * rscale &
-        .and. maxval(abs(r(2:n-1))) > polish_tol * rscale) then
+    if (use_newton .and. info == JFO_OK .and. maxval(abs(r(2:n - 1))) <= rtol * rscale &
+        .and. maxval(abs(r(2:n - 1))) > polish_tol * rscale) then
       ! within the tolerance but above round-off (a damped or Gauss-Seidel last step): one more
       ! Newton step on this piece, kept if it helps, so that the oil balance closes to round-off
       call residual(v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-      dv(2:n-1) = -r(2:n-1)
-      call thomas(jl(2:n-1), jd(2:n-1), ju(2:n-1), dv(2:n-1), vt(2:n-1), tinfo)
+      dv(2:n - 1) = -r(2:n - 1)
+      call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo)
       if (tinfo == 0) then
-        dv(2:n-1) = vt(2:n-1)
+        dv(2:n - 1) = vt(2:n - 1)
         vt = v
-        vt(2:n-1) = v(2:n-1) + dv(2:n-1)
+        vt(2:n - 1) = v(2:n - 1) + dv(2:n - 1)
         call residual(vt, rt, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
         if (sumsq(rt) < f0) then
           v = vt
@@ -239,7 +239,7 @@ contains
       call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
     end if
     if (present(sweeps)) sweeps = nsweep
-    if (maxval(abs(r(2:n-1))) > rtol * rscale) then
+    if (maxval(abs(r(2:n - 1))) > rtol * rscale) then
       if (info == JFO_OK) info = JFO_NOT_CONVERGED
       if (fbest < f0) then
         v = vbest
@@ -250,8 +250,8 @@ contains
     ! outputs (pn, tn, fl hold the state of the last residual evaluation, which is v's)
     p = pn
     theta = tn
-    if (info == JFO_OK .and. minval(theta(2:n-1)) < -1e-12_dp) info = JFO_DRY
-    theta(2:n-1) = min(max(theta(2:n-1), 0.0_dp), 1.0_dp)
+    if (info == JFO_OK .and. minval(theta(2:n - 1)) < -1e-12_dp) info = JFO_DRY
+    theta(2:n - 1) = min(max(theta(2:n - 1), 0.0_dp), 1.0_dp)
     if (present(q_left)) q_left = fl(1)
     if (present(q_right)) q_right = fl(n - 1)
 
@@ -259,7 +259,7 @@ contains
 
     pure real(dp) function sumsq(x)
       real(dp), intent(in) :: x(:)
-      sumsq = sum(x(2:n-1)**2)
+      sumsq = sum(x(2:n - 1)**2)
     end function sumsq
 
     !> Node states pn, tn from x, face fluxes fl, the residual of the interior finite volumes
@@ -285,21 +285,21 @@ contains
         tn(j) = 1.0_dp + min(x(j), 0.0_dp)
       end do
       do j = 1, n - 1
-        g = kd(j) * (pn(j+1) - pn(j))
+        g = kd(j) * (pn(j + 1) - pn(j))
         dftl(j) = 0.0_dp
         dftr(j) = 0.0_dp
         if (g <= 0.0_dp) then
           tp = tn(j)
           dftl(j) = -g
         else
-          tp = tn(j+1)
+          tp = tn(j + 1)
           dftr(j) = -g
         end if
         if (a > 0.0_dp) then
           fl(j) = ca(j) * tn(j) - g * tp
           dftl(j) = dftl(j) + ca(j)
         else
-          fl(j) = ca(j) * tn(j+1) - g * tp
+          fl(j) = ca(j) * tn(j + 1) - g * tp
           dftr(j) = dftr(j) + ca(j)
         end if
         dfpl(j) = kd(j) * tp
@@ -309,21 +309,21 @@ contains
       res(1) = 0.0_dp
       res(n) = 0.0_dp
       do j = 2, n - 1
-        res(j) = w * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j-1)
-        s = w * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j-1)) &
-          + kd(j) * (abs(pn(j+1)) + abs(pn(j))) + kd(j-1) * (abs(pn(j)) + abs(pn(j-1)))
+        res(j) = w * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
+        s = w * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
+            + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
         scale = max(scale, s)
       end do
       if (.not. jac) return
       do j = 2, n - 1
         if (x(j) >= 0.0_dp) then
-          jd(j) = (dfpl(j) - dfpr(j-1)) * ps(j)
+          jd(j) = (dfpl(j) - dfpr(j - 1)) * ps(j)
         else
-          jd(j) = w * h(j) + dftl(j) - dftr(j-1)
+          jd(j) = w * h(j) + dftl(j) - dftr(j - 1)
         end if
         if (j < n - 1) then
-          if (x(j+1) >= 0.0_dp) then
-            ju(j) = dfpr(j) * ps(j+1)
+          if (x(j + 1) >= 0.0_dp) then
+            ju(j) = dfpr(j) * ps(j + 1)
           else
             ju(j) = dftr(j)
           end if
@@ -331,10 +331,10 @@ contains
           ju(j) = 0.0_dp
         end if
         if (j > 2) then
-          if (x(j-1) >= 0.0_dp) then
-            jl(j) = -dfpl(j-1) * ps(j-1)
+          if (x(j - 1) >= 0.0_dp) then
+            jl(j) = -dfpl(j - 1) * ps(j - 1)
           else
-            jl(j) = -dftl(j-1)
+            jl(j) = -dftl(j - 1)
           end if
         else
           jl(j) = 0.0_dp
@@ -373,14 +373,14 @@ contains
             tr = theta_right
           end if
           ! fluxes with p(j) = pc(j), theta(j) = 1 (v = 0): F(j) - F(j-1)
-          gl = kd(j-1) * (pc(j) - pl)
+          gl = kd(j - 1) * (pc(j) - pl)
           gr = kd(j) * (pr - pc(j))
-          cl = ca(j-1) * tl
+          cl = ca(j - 1) * tl
           cr = ca(j) * tr
           if (a > 0.0_dp) cr = ca(j)
-          if (a < 0.0_dp) cl = ca(j-1)
+          if (a < 0.0_dp) cl = ca(j - 1)
           r0 = w * (h(j) - content_old(j)) + cr - gr * merge(1.0_dp, tr, gr <= 0.0_dp) &
-            - cl + gl * merge(tl, 1.0_dp, gl <= 0.0_dp)
+               - cl + gl * merge(tl, 1.0_dp, gl <= 0.0_dp)
           if (r0 < 0.0_dp) then
             ! full film, p(j) > pc(j): R(p) is piecewise linear, increasing and convex in p
             ! (the pressure-driven content switches to theta = 1 once p(j) passes a neighbour),
@@ -388,19 +388,19 @@ contains
             pj = pc(j)
             rj = r0
             do q = 1, 4
-              dpr = kd(j) * merge(tr, 1.0_dp, pr > pj) + kd(j-1) * merge(tl, 1.0_dp, pl > pj)
+              dpr = kd(j) * merge(tr, 1.0_dp, pr > pj) + kd(j - 1) * merge(tl, 1.0_dp, pl > pj)
               if (.not. dpr > 0.0_dp) exit
               pj = pj - rj / dpr
               rj = w * (h(j) - content_old(j)) + cr &
-                - kd(j) * (pr - pj) * merge(tr, 1.0_dp, pr > pj) &
-                - cl + kd(j-1) * (pj - pl) * merge(tl, 1.0_dp, pl > pj)
+                   - kd(j) * (pr - pj) * merge(tr, 1.0_dp, pr > pj) &
+                   - cl + kd(j - 1) * (pj - pl) * merge(tl, 1.0_dp, pl > pj)
               if (rj >= 0.0_dp) exit
             end do
             x(j) = (pj - pc(j)) / ps(j)
           else
             ! cavity: theta(j) from the balance at p(j) = pc(j)
-            dth = w * h(j) + max(ca(j), 0.0_dp) - min(ca(j-1), 0.0_dp) - min(gr, 0.0_dp) &
-              + max(gl, 0.0_dp)
+            dth = w * h(j) + max(ca(j), 0.0_dp) - min(ca(j - 1), 0.0_dp) - min(gr, 0.0_dp) &
+                  + max(gl, 0.0_dp)
             if (dth > 0.0_dp) then
               x(j) = -r0 / dth
             else
@@ -418,7 +418,7 @@ contains
     real(dp), intent(in) :: dx, h(:), theta(:)
     integer :: n
     n = size(h)
-    vol = dx * sum(theta(2:n-1) * h(2:n-1))
+    vol = dx * sum(theta(2:n - 1) * h(2:n - 1))
   end function jfo_film_volume
 
   !> Cavity pressure per node by the connectivity rule of SPEC section 13.
@@ -435,7 +435,7 @@ contains
   !> spanning the face (partly filled across its width) at the higher of the two gas pressures;
   !> every other node (full film, enclosed cavities) at p_cav.
   pure subroutine jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, &
-      leading_gas, pc, p)
+                                      leading_gas, pc, p)
     real(dp), intent(in) :: theta(:), u, p_left, p_right, p_cav
     logical, intent(in) :: trailing_gas, leading_gas
     real(dp), intent(out) :: pc(:)
@@ -470,7 +470,7 @@ contains
     end if
     ir = n
     if (open_right) then
-      if (theta(n-1) < 1.0_dp .or. (present(p) .and. theta(n) < 1.0_dp)) then
+      if (theta(n - 1) < 1.0_dp .or. (present(p) .and. theta(n) < 1.0_dp)) then
         do while (ir > 2)
           if (.not. in_zone(ir - 1, lev_r)) exit
           ir = ir - 1
@@ -479,10 +479,10 @@ contains
     end if
     if (il >= ir - 1) then
       ! the open zones meet: the face is partly filled across its width
-      pc(2:n-1) = max(lev_l, lev_r)
+      pc(2:n - 1) = max(lev_l, lev_r)
     else
       pc(2:il) = lev_l
-      pc(ir:n-1) = lev_r
+      pc(ir:n - 1) = lev_r
     end if
 
   contains
@@ -503,8 +503,9 @@ contains
   !> iterations (out) the Newton iterations summed over them. info JFO_CONNECTIVITY if the
   !> loop did not settle in max_outer solves (default 200; a warm start needs 1-2).
   pure subroutine jfo_solve_connected(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
-      theta_left, theta_right, p_cav, trailing_gas, leading_gas, pc, p, theta, iterations, &
-      outer, info, q_left, q_right, tol, max_iter, max_outer)
+                                      theta_left, theta_right, p_cav, trailing_gas, leading_gas, &
+                                      pc, p, theta, iterations, outer, info, q_left, q_right, tol, &
+                                      max_iter, max_outer)
     real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
     real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, p_cav
     logical, intent(in) :: trailing_gas, leading_gas
@@ -532,7 +533,7 @@ contains
     do k = 1, kmax
       outer = k
       call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
-        theta_right, pc, p, theta, it, info, q_left, q_right, tol, max_iter)
+                     theta_right, pc, p, theta, it, info, q_left, q_right, tol, max_iter)
       iterations = iterations + it
       if (info /= JFO_OK .and. info /= JFO_DRY) return
       call jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pcn, p)

@@ -29,6 +29,6 @@ contains
     real(dp) :: s
     s = sin(psi)
     sliding_speed = crank_radius * omega * s &
-      * (1.0_dp + cos(psi) / sqrt((conrod_length / crank_radius)**2 - s**2))
+                    * (1.0_dp + cos(psi) / sqrt((conrod_length / crank_radius)**2 - s**2))
   end function sliding_speed
 end module ringlube_kinematics

@@ -10,7 +10,7 @@ module ringlube_liner
   implicit none
   private
   public :: liner_type, liner_init, strip_volume, strip_take, strip_put, strip_set, &
-    liner_volume, liner_positions
+            liner_volume, liner_positions
 
   !> The liner film.
   type :: liner_type
@@ -29,7 +29,7 @@ contains
     lin%nz = max(1, ceiling((zmax - zmin) / dz))
     lin%z0 = zmin
     lin%dz = (zmax - zmin) / lin%nz
-    allocate(lin%h(lin%nz))
+    allocate (lin%h(lin%nz))
     lin%h = h_init
   end subroutine liner_init
 
@@ -38,7 +38,7 @@ contains
     type(liner_type), intent(in) :: lin
     real(dp) :: z(lin%nz)
     integer :: i
-    z = [(lin%z0 + (i - 0.5_dp) * lin%dz, i = 1, lin%nz)]
+    z = [(lin%z0 + (i - 0.5_dp) * lin%dz, i=1, lin%nz)]
   end function liner_positions
 
   !> Oil on the whole liner [m^2 per unit circumference].

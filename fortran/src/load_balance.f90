@@ -99,7 +99,7 @@ contains
     ! BDF2 on a smooth stretch: two previous steps, and the sign of u (the inlet edge)
     ! as at the last step
     if (c%time_scheme == 'bdf2' .and. mem%nh >= 2 .and. &
-      sign_of(u) == sign_of(mem%u)) then
+        sign_of(u) == sign_of(mem%u)) then
       lp%sq_a = 1.5_dp
       lp%sq_b = 2.0_dp * mem%h(1) - 0.5_dp * mem%h(2)
     else

@@ -51,10 +51,10 @@ contains
     pos = 1
     line = 1
     nitems = 0
-    allocate(items(16))
+    allocate (items(16))
     ! a UTF-8 byte-order mark (some editors write one) is not part of the deck
     if (n >= 3) then
-      if (text(1:3) == achar(239) // achar(187) // achar(191)) pos = 4
+      if (text(1:3) == achar(239)//achar(187)//achar(191)) pos = 4
     end if
 
     outer: do
@@ -63,7 +63,7 @@ contains
       if (text(pos:pos) /= '&') then
         ! text outside a group (other than comments) is an error: it is usually a
         ! variable whose group line was lost
-        call fail('text outside a namelist group: "' // snippet() // '"')
+        call fail('text outside a namelist group: "'//snippet()//'"')
         return
       end if
       pos = pos + 1
@@ -72,7 +72,7 @@ contains
         if (.not. is_ident(text(pos:pos))) exit
         pos = pos + 1
       end do
-      group = lower(text(start:pos-1))
+      group = lower(text(start:pos - 1))
       gline = line
       if (len(group) == 0) then
         call fail('"&" not followed by a group name')
@@ -86,8 +86,8 @@ contains
       do
         call skip_blank()
         if (pos > n) then
-          call fail('&' // group // ' (opened on line ' // itoa(gline) // &
-            ') is not closed with "/"')
+          call fail('&'//group//' (opened on line '//itoa(gline)// &
+                    ') is not closed with "/"')
           return
         end if
         if (text(pos:pos) == '/') then
@@ -96,17 +96,17 @@ contains
         end if
         if (text(pos:pos) == '&') then
           if (pos + 3 <= n) then
-            if (lower(text(pos:pos+3)) == '&end') then
+            if (lower(text(pos:pos + 3)) == '&end') then
               pos = pos + 4
               cycle outer
             end if
           end if
-          call fail('&' // group // ' (opened on line ' // itoa(gline) // &
-            ') is not closed with "/" before the next group')
+          call fail('&'//group//' (opened on line '//itoa(gline)// &
+                    ') is not closed with "/" before the next group')
           return
         end if
         if (.not. is_ident(text(pos:pos))) then
-          call fail('&' // group // ': expected a variable name, found "' // snippet() // '"')
+          call fail('&'//group//': expected a variable name, found "'//snippet()//'"')
           return
         end if
         start = pos
@@ -114,15 +114,15 @@ contains
           if (.not. is_ident(text(pos:pos))) exit
           pos = pos + 1
         end do
-        name = lower(text(start:pos-1))
+        name = lower(text(start:pos - 1))
         call skip_space()
         if (pos > n) then
-          call fail('&' // group // ' ' // name // ': expected "=" after the name')
+          call fail('&'//group//' '//name//': expected "=" after the name')
           return
         end if
         if (text(pos:pos) /= '=') then
-          call fail('&' // group // ' ' // name // ': expected "=" after the name, found "' &
-            // snippet() // '"')
+          call fail('&'//group//' '//name//': expected "=" after the name, found "' &
+                    //snippet()//'"')
           return
         end if
         pos = pos + 1
@@ -142,19 +142,19 @@ contains
                 if (text(pos:pos) == q .or. text(pos:pos) == new_line('a')) exit
                 pos = pos + 1
               end do
-              if (pos > start) value = value // text(start:pos-1)
+              if (pos > start) value = value//text(start:pos - 1)
               if (pos > n) then
-                call fail('&' // group // ' ' // name // ': unterminated string')
+                call fail('&'//group//' '//name//': unterminated string')
                 return
               end if
               if (text(pos:pos) == new_line('a')) then
-                call fail('&' // group // ' ' // name // ': unterminated string')
+                call fail('&'//group//' '//name//': unterminated string')
                 return
               end if
               ! a quote: doubled, it stands for itself; else it ends the string
               if (pos < n) then
-                if (text(pos+1:pos+1) == q) then
-                  value = value // q
+                if (text(pos + 1:pos + 1) == q) then
+                  value = value//q
                   pos = pos + 2
                   cycle
                 end if
@@ -170,9 +170,9 @@ contains
             if (is_sep(text(pos:pos))) exit
             pos = pos + 1
           end do
-          value = text(start:pos-1)
+          value = text(start:pos - 1)
           if (len(value) == 0) then
-            call fail('&' // group // ' ' // name // ': missing value')
+            call fail('&'//group//' '//name//': missing value')
             return
           end if
         end if
@@ -192,19 +192,19 @@ contains
             end do
             call skip_space()
             if (pos > n) then
-              call fail('&' // group // ' ' // name // ': malformed value "' // value // ' ' &
-                // token(start) // '" (one value per variable)')
+              call fail('&'//group//' '//name//': malformed value "'//value//' ' &
+                        //token(start)//'" (one value per variable)')
               return
             end if
             if (text(pos:pos) /= '=') then
-              call fail('&' // group // ' ' // name // ': malformed value "' // value // ' ' &
-                // token(start) // '" (one value per variable)')
+              call fail('&'//group//' '//name//': malformed value "'//value//' ' &
+                        //token(start)//'" (one value per variable)')
               return
             end if
             pos = start
           else if (text(pos:pos) /= '/' .and. text(pos:pos) /= '&') then
-            call fail('&' // group // ' ' // name // ': malformed value "' // value // &
-              snippet() // '"')
+            call fail('&'//group//' '//name//': malformed value "'//value// &
+                      snippet()//'"')
             return
           end if
         end if
@@ -216,20 +216,20 @@ contains
     pure logical function is_ident(ch)
       character(len=1), intent(in) :: ch
       is_ident = (ch >= 'a' .and. ch <= 'z') .or. (ch >= 'A' .and. ch <= 'Z') &
-        .or. (ch >= '0' .and. ch <= '9') .or. ch == '_'
+                 .or. (ch >= '0' .and. ch <= '9') .or. ch == '_'
     end function is_ident
 
     pure logical function is_sep(ch)
       character(len=1), intent(in) :: ch
       is_sep = ch == ' ' .or. ch == ',' .or. ch == '/' .or. ch == '!' .or. ch == achar(9) &
-        .or. ch == new_line('a') .or. ch == achar(13)
+               .or. ch == new_line('a') .or. ch == achar(13)
     end function is_sep
 
     !> Skip spaces and tabs (not newlines).
     subroutine skip_space()
       do while (pos <= n)
         if (text(pos:pos) /= ' ' .and. text(pos:pos) /= achar(9) .and. &
-          text(pos:pos) /= achar(13)) exit
+            text(pos:pos) /= achar(13)) exit
         pos = pos + 1
       end do
     end subroutine skip_space
@@ -246,7 +246,7 @@ contains
           end do
           cycle
         else if (text(pos:pos) /= ' ' .and. text(pos:pos) /= achar(9) .and. &
-          text(pos:pos) /= achar(13)) then
+                 text(pos:pos) /= achar(13)) then
           exit
         end if
         pos = pos + 1
@@ -263,7 +263,7 @@ contains
         if (is_sep(text(e:e))) exit
         e = e + 1
       end do
-      s = text(i:e-1)
+      s = text(i:e - 1)
     end function token
 
     function snippet() result(s)
@@ -274,7 +274,7 @@ contains
         if (text(e:e) == new_line('a')) exit
         e = e + 1
       end do
-      s = text(pos:e-1)
+      s = text(pos:e - 1)
     end function snippet
 
     subroutine add(g, nm, v, qt)
@@ -282,7 +282,7 @@ contains
       logical, intent(in) :: qt
       type(nml_item), allocatable :: tmp(:)
       if (nitems == size(items)) then
-        allocate(tmp(2 * nitems))
+        allocate (tmp(2 * nitems))
         tmp(1:nitems) = items
         call move_alloc(tmp, items)
       end if
@@ -297,7 +297,7 @@ contains
 
     subroutine fail(msg)
       character(len=*), intent(in) :: msg
-      call fatal_error(err, path // ':' // itoa(line) // ': ' // msg, rl_input_error)
+      call fatal_error(err, path//':'//itoa(line)//': '//msg, rl_input_error)
     end subroutine fail
   end subroutine scan_namelist
 end module ringlube_namelist

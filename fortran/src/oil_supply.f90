@@ -11,11 +11,11 @@
 module ringlube_oil_supply
   use ringlube_kinds, only: dp
   use ringlube_liner, only: liner_type, liner_init, strip_volume, strip_take, strip_put, &
-    strip_set, liner_volume
+                            strip_set, liner_volume
   implicit none
   private
   public :: supply_type, supply_setup, inlet_available, inlet_fill, supply_step, &
-    supply_reset_counters, supply_stored, supply_to_chamber
+            supply_reset_counters, supply_stored, supply_to_chamber
 
   !> State and counters of the oil supply (volumes per unit circumference, m^2).
   type :: supply_type
@@ -44,8 +44,8 @@ contains
     sup%lower_limit = -0.5_dp * width + lower_ring_distance
     ! cells no longer than the face node spacing, at most 20,000 of them
     dz = max(dx, (stroke + 2.0_dp * width) / 20000.0_dp)
-    call liner_init(sup%liner, -0.5_dp * width - 4.0_dp * dz, stroke + 0.5_dp * width + 4.0_dp * dz, &
-      dz, supply_film)
+  call liner_init(sup%liner, -0.5_dp * width - 4.0_dp * dz, stroke + 0.5_dp * width + 4.0_dp * dz, &
+                    dz, supply_film)
   end subroutine supply_setup
 
   !> The leading edge's position for piston position s and sliding direction dir.
@@ -66,7 +66,7 @@ contains
     v = sup%bank
     if (dir /= 0 .and. sup%direction /= 0 .and. dir /= sup%direction) v = 0.0_dp
     if (dir /= 0) v = v + strip_volume(sup%liner, leading_edge(sup, s_prev, dir), &
-      leading_edge(sup, s, dir))
+                                       leading_edge(sup, s, dir))
   end function inlet_available
 
   !> Fill of the oil the leading edge admits: min(1, 2 V / (h_le |ds|)), V the oil
@@ -97,7 +97,7 @@ contains
       ! reversal: the bank stays on the liner just beyond the old leading edge
       edge = leading_edge(sup, s_prev, sup%direction)
       call strip_put(sup%liner, edge, edge + sign(sup%liner%dz, real(sup%direction, dp)), &
-        sup%bank, put)
+                     sup%bank, put)
       sup%overdrawn = sup%overdrawn + (sup%bank - put)   ! off the grid: cannot happen
       sup%bank = 0.0_dp
       if (dir < 0) then
@@ -111,7 +111,7 @@ contains
         end if
         zl = max(sup%lower_limit, s_prev + sup%half_width)
         call strip_set(sup%liner, zl, sup%liner%z0 + sup%liner%nz * sup%liner%dz, &
-          sup%supply_film, removed, added)
+                       sup%supply_film, removed, added)
         sup%taken_down = sup%taken_down + removed
         sup%supplied = sup%supplied + added
       end if
@@ -120,7 +120,7 @@ contains
     if (sup%direction == 0) return
     ! the leading edge's strip: its oil entered the gap or joined the bank
     call strip_take(sup%liner, leading_edge(sup, s_prev, sup%direction), &
-      leading_edge(sup, s, sup%direction), swept)
+                    leading_edge(sup, s, sup%direction), swept)
     sup%bank = sup%bank + swept - v_in
     if (sup%bank < 0.0_dp) then
       sup%overdrawn = sup%overdrawn - sup%bank
@@ -129,7 +129,7 @@ contains
     ! the trailing edge's strip: the film that left the gap
     if (v_out > 0.0_dp) then
       call strip_put(sup%liner, leading_edge(sup, s_prev, -sup%direction), &
-        leading_edge(sup, s, -sup%direction), v_out, put)
+                     leading_edge(sup, s, -sup%direction), v_out, put)
       sup%overdrawn = sup%overdrawn + (v_out - put)
     end if
   end subroutine supply_step

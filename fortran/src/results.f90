@@ -8,8 +8,8 @@ module ringlube_results
   implicit none
   private
   public :: result_type, field_spec, flag_spec, series_spec, n_series, int_series_spec, &
-    n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, series_ptr, int_series_ptr, &
-    result_scalar, allocate_result, flag_description, liner_spec, n_liner, produced
+            n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, series_ptr, int_series_ptr, &
+            result_scalar, allocate_result, flag_description, liner_spec, n_liner, produced
 
   !> Per-step flag bits (dataset `/cycle/flags`).
   integer, parameter, public :: flag_floor = 1        !< h0 held at h0_floor
@@ -40,6 +40,7 @@ module ringlube_results
     character(len=60) :: description = ''
   end type flag_spec
 
+  !&< (tables laid out by hand: not reformatted)
   !> Real series over the reported cycle, one value per crank step (group /cycle).
   type(field_spec), parameter :: series_spec(*) = [ &
     field_spec('crank_angle_deg', 'crank_angle_deg', 'deg', .false., &
@@ -49,7 +50,7 @@ module ringlube_results
     field_spec('h0', 'h0_m', 'm', .false., 'film thickness at the crown minimum h0'), &
     field_spec('lambda_min', 'lambda_min', '1', .false., &
       'smallest film thickness over the face divided by the composite roughness sigma'), &
-    field_spec('gas_pressure', 'gas_pressure_Pa', 'Pa', .false., 'chamber gas pressure (absolute)'), &
+  field_spec('gas_pressure', 'gas_pressure_Pa', 'Pa', .false., 'chamber gas pressure (absolute)'), &
     field_spec('applied_load', 'applied_load_N', 'N', .false., &
       'load pressing the ring on the liner, (p_e + p_gas) b 2 pi r0'), &
     field_spec('hydrodynamic_load', 'hydrodynamic_load_N', 'N', .false., &
@@ -97,13 +98,13 @@ module ringlube_results
     field_spec('ring_mass', 'ring_mass_g', 'g', .false., 'ring mass', '', .true.), &
     field_spec('min_film', 'min_film_m', 'm', .false., 'smallest film thickness over the cycle', &
       '', .true.), &
-    field_spec('max_friction', 'max_friction_N', 'N', .false., 'largest |friction| over the cycle', &
+   field_spec('max_friction', 'max_friction_N', 'N', .false., 'largest |friction| over the cycle', &
       '', .true.), &
     field_spec('converged', 'converged', '1', .true., '1: periodic within cycle_tol, no flagged step'), &
     field_spec('cycles_run', 'cycles_run', '1', .true., 'cycles run (the last is reported)'), &
     field_spec('cycle_change', 'cycle_change', '1', .false., &
       'relative change of h0 at psi = 0 over the last cycle'), &
-    field_spec('sigma', 'sigma_m', 'm', .false., 'composite roughness sqrt(Rq_liner^2 + Rq_ring^2)'), &
+ field_spec('sigma', 'sigma_m', 'm', .false., 'composite roughness sqrt(Rq_liner^2 + Rq_ring^2)'), &
     field_spec('run_time', 'run_time_s', 's', .false., 'kernel time of the run'), &
     field_spec('total_film_solves', 'film_solves', '1', .true., 'film solves over the whole run'), &
     field_spec('reynolds_solves', 'reynolds_solves', '1', .true., &
@@ -136,16 +137,18 @@ module ringlube_results
     flag_spec(flag_overdraw, 'inlet_overdraw', 'starved inlet drew more oil than the liner held') &
   ]
 
+  !&>
+
   integer, parameter :: n_series = size(series_spec), n_int_series = size(int_series_spec), &
-    n_scalars = size(scalar_spec), n_flags = size(flag_bits), n_liner = size(liner_spec)
+                n_scalars = size(scalar_spec), n_flags = size(flag_bits), n_liner = size(liner_spec)
 
   !> Results of one run: the reported (last) cycle and its summary.
   type :: result_type
     integer :: nsteps = 0
     real(dp), allocatable :: crank_angle_deg(:), sliding_speed(:), h0(:), lambda_min(:), &
-      gas_pressure(:), applied_load(:), hydrodynamic_load(:), asperity_load(:), &
-      viscous_friction(:), boundary_friction(:), friction(:), power_loss(:), load_residual(:), &
-      inlet_fill(:), wetted_width(:), oil_left(:), oil_bank(:)
+                         gas_pressure(:), applied_load(:), hydrodynamic_load(:), asperity_load(:), &
+          viscous_friction(:), boundary_friction(:), friction(:), power_loss(:), load_residual(:), &
+                             inlet_fill(:), wetted_width(:), oil_left(:), oil_bank(:)
     integer, allocatable :: flags(:), iterations(:)
     !> which optional results the run produced ('jfo', 'starved')
     logical :: has_jfo = .false., has_starved = .false.
@@ -179,13 +182,13 @@ contains
     real(dp), pointer :: p(:)
     integer :: i
     res%nsteps = m
-    allocate(res%crank_angle_deg(m), res%sliding_speed(m), res%h0(m), res%lambda_min(m), &
-      res%gas_pressure(m), res%applied_load(m), res%hydrodynamic_load(m), &
-      res%asperity_load(m), res%viscous_friction(m), res%boundary_friction(m), &
-      res%friction(m), res%power_loss(m), res%load_residual(m), res%flags(m), &
-      res%iterations(m), res%inlet_fill(m), res%wetted_width(m), res%oil_left(m), &
-      res%oil_bank(m))
-    allocate(res%liner_z(0), res%liner_h(0))
+    allocate (res%crank_angle_deg(m), res%sliding_speed(m), res%h0(m), res%lambda_min(m), &
+              res%gas_pressure(m), res%applied_load(m), res%hydrodynamic_load(m), &
+              res%asperity_load(m), res%viscous_friction(m), res%boundary_friction(m), &
+              res%friction(m), res%power_loss(m), res%load_residual(m), res%flags(m), &
+              res%iterations(m), res%inlet_fill(m), res%wetted_width(m), res%oil_left(m), &
+              res%oil_bank(m))
+    allocate (res%liner_z(0), res%liner_h(0))
     do i = 1, n_series
       p => series_ptr(res, i)
       p = 0.0_dp
@@ -303,9 +306,9 @@ contains
     integer :: i
     t = ''
     do i = 1, n_flags
-      write(buf, '(i0)') flag_bits(i)%bit
-      if (i > 1) t = t // ', '
-      t = t // trim(buf) // ': ' // trim(flag_bits(i)%description)
+      write (buf, '(i0)') flag_bits(i)%bit
+      if (i > 1) t = t//', '
+      t = t//trim(buf)//': '//trim(flag_bits(i)%description)
     end do
   end function flag_description
 end module ringlube_results

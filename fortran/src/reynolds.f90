@@ -31,7 +31,7 @@ contains
   pure subroutine reynolds_work_init(w, n)
     type(reynolds_work), intent(out) :: w
     integer, intent(in) :: n
-    allocate(w%a0(n), w%b0(n), w%c0(n), w%r(n), w%cp(n))
+    allocate (w%a0(n), w%b0(n), w%c0(n), w%r(n), w%cp(n))
   end subroutine reynolds_work_init
 
   !> Solve for the nodal pressures p(1:n).
@@ -41,7 +41,7 @@ contains
   !> is the cavitated set, used as the warm start. `info`: 0 converged, 1 active-set loop
   !> did not settle, 2 singular system. `work`: optional scratch (reynolds_work_init(n)).
   pure subroutine reynolds_solve(dx, kmid, hmid, u, sq, p_left, p_right, p_cav, p, active, &
-      iterations, info, work)
+                                 iterations, info, work)
     real(dp), intent(in) :: dx, kmid(:), hmid(:), u, sq, p_left, p_right, p_cav
     real(dp), intent(out) :: p(:)
     logical, intent(inout) :: active(:)
@@ -57,26 +57,26 @@ contains
   end subroutine reynolds_solve
 
   pure subroutine solve(dx, kmid, hmid, u, sq, p_left, p_right, p_cav, p, active, &
-      iterations, info, w)
-      real(dp), intent(in) :: dx, kmid(:), hmid(:), u, sq, p_left, p_right, p_cav
-      real(dp), intent(out) :: p(:)
-      logical, intent(inout) :: active(:)
-      integer, intent(out) :: iterations, info
-      type(reynolds_work), intent(inout) :: w
-      real(dp) :: mu, scale, pscale
-      integer :: i, n, it, tinfo
-      logical :: changed
+                        iterations, info, w)
+    real(dp), intent(in) :: dx, kmid(:), hmid(:), u, sq, p_left, p_right, p_cav
+    real(dp), intent(out) :: p(:)
+    logical, intent(inout) :: active(:)
+    integer, intent(out) :: iterations, info
+    type(reynolds_work), intent(inout) :: w
+    real(dp) :: mu, scale, pscale
+    integer :: i, n, it, tinfo
+    logical :: changed
 
-      n = size(p)
-      info = 0
-      associate (a0 => w%a0, b0 => w%b0, c0 => w%c0, r => w%r)
+    n = size(p)
+    info = 0
+    associate (a0 => w%a0, b0 => w%b0, c0 => w%c0, r => w%r)
       a0(1) = 0.0_dp; b0(1) = 1.0_dp; c0(1) = 0.0_dp; r(1) = p_left
       a0(n) = 0.0_dp; b0(n) = 1.0_dp; c0(n) = 0.0_dp; r(n) = p_right
       do i = 2, n - 1
-        a0(i) = -kmid(i-1)
+        a0(i) = -kmid(i - 1)
         c0(i) = -kmid(i)
-        b0(i) = kmid(i-1) + kmid(i)
-        r(i) = dx * (u * (hmid(i) - hmid(i-1)) - sq * dx)
+        b0(i) = kmid(i - 1) + kmid(i)
+        r(i) = dx * (u * (hmid(i) - hmid(i - 1)) - sq * dx)
       end do
       active(1) = .false.
       active(n) = .false.
@@ -93,8 +93,8 @@ contains
         changed = .false.
         do i = 2, n - 1
           if (active(i)) then
-            mu = a0(i) * p(i-1) + b0(i) * p(i) + c0(i) * p(i+1) - r(i)
-            scale = abs(a0(i) * p(i-1)) + abs(b0(i) * p(i)) + abs(c0(i) * p(i+1)) + abs(r(i))
+            mu = a0(i) * p(i - 1) + b0(i) * p(i) + c0(i) * p(i + 1) - r(i)
+            scale = abs(a0(i) * p(i - 1)) + abs(b0(i) * p(i)) + abs(c0(i) * p(i + 1)) + abs(r(i))
             if (mu < -1e-12_dp * scale) then
               active(i) = .false.
               changed = .true.
@@ -107,6 +107,6 @@ contains
         if (.not. changed) return
       end do
       info = 1
-      end associate
+    end associate
   end subroutine solve
 end module ringlube_reynolds

@@ -17,28 +17,28 @@ contains
     integer :: u, ios, sz
     character(len=256) :: msg
     logical :: exists
-    inquire(file=path, exist=exists)
+    inquire (file=path, exist=exists)
     if (.not. exists) then
-      call fatal_error(err, trim(path) // ': file not found', rl_input_error)
+      call fatal_error(err, trim(path)//': file not found', rl_input_error)
       return
     end if
     if (file_kind(path) /= fs_regular) then
-      call fatal_error(err, trim(path) // ': not a regular file (a folder or a device)', &
-        rl_input_error)
+      call fatal_error(err, trim(path)//': not a regular file (a folder or a device)', &
+                       rl_input_error)
       return
     end if
-    open(newunit=u, file=path, access='stream', form='unformatted', status='old', &
-      action='read', iostat=ios, iomsg=msg)
+    open (newunit=u, file=path, access='stream', form='unformatted', status='old', &
+          action='read', iostat=ios, iomsg=msg)
     if (ios /= 0) then
-      call fatal_error(err, trim(path) // ': cannot open: ' // trim(msg), rl_input_error)
+      call fatal_error(err, trim(path)//': cannot open: '//trim(msg), rl_input_error)
       return
     end if
-    inquire(unit=u, size=sz)
-    allocate(character(len=max(sz, 0)) :: text)
-    if (sz > 0) read(u, iostat=ios, iomsg=msg) text
-    close(u)
+    inquire (unit=u, size=sz)
+    allocate (character(len=max(sz, 0)) :: text)
+    if (sz > 0) read (u, iostat=ios, iomsg=msg) text
+    close (u)
     if (ios /= 0) then
-      call fatal_error(err, trim(path) // ': cannot read: ' // trim(msg), rl_input_error)
+      call fatal_error(err, trim(path)//': cannot read: '//trim(msg), rl_input_error)
     end if
   end subroutine read_text_file
 
@@ -50,7 +50,7 @@ contains
   pure function utf8_clean(s) result(t)
     character(len=*), intent(in) :: s
     character(len=:), allocatable :: t
-    character(len=3), parameter :: fffd = char(239) // char(191) // char(189)
+    character(len=3), parameter :: fffd = char(239)//char(191)//char(189)
     integer :: i, n, b, need, lo, hi, k
     logical :: good
     if (is_clean(s)) then
@@ -65,17 +65,17 @@ contains
       call lead(b, need, lo, hi)
       good = need >= 0 .and. b /= 0 .and. i + need <= n
       if (good .and. need > 0) then
-        good = iachar(s(i+1:i+1)) >= lo .and. iachar(s(i+1:i+1)) <= hi
+        good = iachar(s(i + 1:i + 1)) >= lo .and. iachar(s(i + 1:i + 1)) <= hi
         do k = 2, need
           if (.not. good) exit
-          good = iachar(s(i+k:i+k)) >= 128 .and. iachar(s(i+k:i+k)) <= 191
+          good = iachar(s(i + k:i + k)) >= 128 .and. iachar(s(i + k:i + k)) <= 191
         end do
       end if
       if (good) then
-        t = t // s(i:i+need)
+        t = t//s(i:i + need)
         i = i + need + 1
       else
-        t = t // fffd
+        t = t//fffd
         i = i + 1
       end if
     end do
@@ -132,7 +132,7 @@ contains
     integer, intent(in) :: i
     character(len=:), allocatable :: s
     character(len=16) :: buf
-    write(buf, '(i0)') i
+    write (buf, '(i0)') i
     s = trim(buf)
   end function itoa
 end module ringlube_textio

@@ -23,7 +23,7 @@ contains
     if (present(work)) then
       call sweep(a, b, c, d, x, info, work)
     else
-      allocate(cp(size(b)))
+      allocate (cp(size(b)))
       call sweep(a, b, c, d, x, info, cp)
     end if
   end subroutine thomas
@@ -46,7 +46,7 @@ contains
     cp(1) = c(1) * m
     x(1) = d(1) * m
     do i = 2, n
-      m = b(i) - a(i) * cp(i-1)
+      m = b(i) - a(i) * cp(i - 1)
       if (m == 0.0_dp) then
         info = i
         x = 0.0_dp
@@ -54,10 +54,10 @@ contains
       end if
       m = 1.0_dp / m
       cp(i) = c(i) * m
-      x(i) = (d(i) - a(i) * x(i-1)) * m
+      x(i) = (d(i) - a(i) * x(i - 1)) * m
     end do
     do i = n - 1, 1, -1
-      x(i) = x(i) - cp(i) * x(i+1)
+      x(i) = x(i) - cp(i) * x(i + 1)
     end do
   end subroutine sweep
 
@@ -94,7 +94,7 @@ contains
         x(i) = value
         cycle
       end if
-      m = b(i) - a(i) * work(i-1)
+      m = b(i) - a(i) * work(i - 1)
       if (m == 0.0_dp) then
         info = i
         x = 0.0_dp
@@ -102,10 +102,10 @@ contains
       end if
       m = 1.0_dp / m
       work(i) = c(i) * m
-      x(i) = (d(i) - a(i) * x(i-1)) * m
+      x(i) = (d(i) - a(i) * x(i - 1)) * m
     end do
     do i = n - 1, 1, -1
-      x(i) = x(i) - work(i) * x(i+1)
+      x(i) = x(i) - work(i) * x(i + 1)
     end do
   end subroutine thomas_fixed
 end module ringlube_tridiag

@@ -35,7 +35,7 @@ contains
     type(roelands_law), intent(in) :: law
     real(dp), intent(in) :: p
     roelands_eta = law%eta0 * exp(law%lnc * (-1.0_dp + law%rtheta &
-      * exp(law%z0 * log(1.0_dp + 5.1e-9_dp * p))))
+                                             * exp(law%z0 * log(1.0_dp + 5.1e-9_dp * p))))
   end function roelands_eta
 
   !> Viscosity [Pa s] at absolute pressure p [Pa] and film temperature theta [K]. Gauge

@@ -9,12 +9,24 @@ The pipeline reads case -> run -> (sample -> fit -> optimise) -> plot:
 """
 
 from . import gas
+from ._version import __version__
 from .case import GROUPS, Case
 from .errors import InputError, NotConvergedError, RinglubeError
 from .result import CycleResult, load
 from .solve import BatchError, run, run_designs, run_many
 
-from ._version import __version__
-
-__all__ = ["BatchError", "Case", "GROUPS", "CycleResult", "InputError", "NotConvergedError",
-           "RinglubeError", "gas", "load", "run", "run_designs", "run_many", "__version__"]
+__all__ = [
+    "BatchError",
+    "Case",
+    "GROUPS",
+    "CycleResult",
+    "InputError",
+    "NotConvergedError",
+    "RinglubeError",
+    "gas",
+    "load",
+    "run",
+    "run_designs",
+    "run_many",
+    "__version__",
+]

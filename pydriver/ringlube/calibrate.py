@@ -39,8 +39,7 @@ from .case import Case
 from .errors import InputError
 from .solve import run
 
-__all__ = ["FITTED", "BOUNDS", "NOMINAL", "DISCRETE", "Fit", "calibrate", "write_calibration",
-           "cold_targets"]
+__all__ = ["FITTED", "BOUNDS", "NOMINAL", "DISCRETE", "Fit", "calibrate", "write_calibration", "cold_targets"]
 
 #: The two target quantities of the fit (read from the targets file).
 FITTED = ("energy_loss", "mixed_share")
@@ -48,9 +47,11 @@ FITTED = ("energy_loss", "mixed_share")
 BOUNDS = {"zeta_kappa_sigma": (0.02, 0.10), "pressure_scale": (0.8, 1.2)}
 NOMINAL = {"zeta_kappa_sigma": 0.04, "pressure_scale": 1.0}
 #: Discrete options: (group, variable) -> choices.
-DISCRETE = {("ring", "tension_unit"): ("N", "N/m"),
-            ("physics", "contact_area"): ("local", "lumped"),
-            ("physics", "outlet"): ("reynolds", "ambient")}
+DISCRETE = {
+    ("ring", "tension_unit"): ("N", "N/m"),
+    ("physics", "contact_area"): ("local", "lumped"),
+    ("physics", "outlet"): ("reynolds", "ambient"),
+}
 
 
 def cold_targets(targets: str | os.PathLike | None = None, condition: str = "cold"):
@@ -91,8 +92,10 @@ class Fit:
 
     @property
     def distance_from_nominal(self) -> float:
-        return math.hypot(math.log(self.zeta_kappa_sigma / NOMINAL["zeta_kappa_sigma"]),
-                          math.log(self.pressure_scale / NOMINAL["pressure_scale"]))
+        return math.hypot(
+            math.log(self.zeta_kappa_sigma / NOMINAL["zeta_kappa_sigma"]),
+            math.log(self.pressure_scale / NOMINAL["pressure_scale"]),
+        )
 
     def case(self, base: Case) -> Case:
         return apply(base, self.options, self.zeta_kappa_sigma, self.pressure_scale)
@@ -104,8 +107,7 @@ class Fit:
 
 
 def apply(base: Case, options: dict, zks: float, scale: float) -> Case:
-    c = base.with_("surface", zeta_kappa_sigma=float(zks)).with_("operating",
-                                                                 pressure_scale=float(scale))
+    c = base.with_("surface", zeta_kappa_sigma=float(zks)).with_("operating", pressure_scale=float(scale))
     for (group, name), value in options.items():
         c = c.with_(group, **{name: value})
     return c
@@ -149,8 +151,13 @@ def fit_options(base: Case, options: dict, targets: dict) -> Fit:
     else:
         # bisection on the mixed share; keep the bracket point closest to the target
         a, b = slo, shi
-        best = min(((abs(r_lo.mixed_share - target), slo, z_lo, r_lo),
-                    (abs(r_hi.mixed_share - target), shi, z_hi, r_hi)), key=lambda t: t[0])
+        best = min(
+            (
+                (abs(r_lo.mixed_share - target), slo, z_lo, r_lo),
+                (abs(r_hi.mixed_share - target), shi, z_hi, r_hi),
+            ),
+            key=lambda t: t[0],
+        )
         for _ in range(12):
             m = 0.5 * (a + b)
             zm, rm = zks_for(m)
@@ -163,12 +170,12 @@ def fit_options(base: Case, options: dict, targets: dict) -> Fit:
                 b = m
         _, s, z, r = best
     within = (zlo < z < zhi) and (slo < s < shi)
-    return Fit(dict(options), float(z), float(s), r.energy_loss, r.mixed_share, runs, within,
-               dict(targets))
+    return Fit(dict(options), float(z), float(s), r.energy_loss, r.mixed_share, runs, within, dict(targets))
 
 
-def calibrate(deck: str | os.PathLike | None = None, progress: bool = True,
-              targets: str | os.PathLike | None = None) -> tuple[Fit, list[Fit]]:
+def calibrate(
+    deck: str | os.PathLike | None = None, progress: bool = True, targets: str | os.PathLike | None = None
+) -> tuple[Fit, list[Fit]]:
     """Fit every combination of discrete options; returns (chosen fit, all fits).
 
     Parameters
@@ -185,9 +192,8 @@ def calibrate(deck: str | os.PathLike | None = None, progress: bool = True,
     target_deck, tvals = cold_targets(targets)
     base = strip_calibrated(Case.from_namelist(deck or target_deck))
     combos = [dict(zip(DISCRETE, values)) for values in itertools.product(*DISCRETE.values())]
-    fits = [fit_options(base, o, tvals) for o in tqdm(combos, desc="calibration",
-                                                         disable=not progress)]
-    quantum = 100.0 / 720.0 / tvals["mixed_share"]   # one 1-deg step, relative
+    fits = [fit_options(base, o, tvals) for o in tqdm(combos, desc="calibration", disable=not progress)]
+    quantum = 100.0 / 720.0 / tvals["mixed_share"]  # one 1-deg step, relative
     # the bounds are hard limits of each fit; a fit that ends on a bound is reported as such
     best_res = min(f.residual for f in fits)
     near = [f for f in fits if f.residual <= best_res + quantum]
@@ -205,8 +211,9 @@ def correlation(base: Case, fit: Fit, rel_step: float = 0.05) -> tuple[np.ndarra
             z = fit.zeta_kappa_sigma * (1 + sgn * rel_step * (name == "zeta_kappa_sigma"))
             s = fit.pressure_scale * (1 + sgn * rel_step * (name == "pressure_scale"))
             r = run(apply(base, fit.options, z, s))
-            vals.append((r.energy_loss / fit.targets["energy_loss"],
-                         r.mixed_share / fit.targets["mixed_share"]))
+            vals.append(
+                (r.energy_loss / fit.targets["energy_loss"], r.mixed_share / fit.targets["mixed_share"])
+            )
         cols.append((np.array(vals[1]) - np.array(vals[0])) / (2 * rel_step))
     jac = np.column_stack(cols)
     cov = np.linalg.pinv(jac.T @ jac)
@@ -214,34 +221,40 @@ def correlation(base: Case, fit: Fit, rel_step: float = 0.05) -> tuple[np.ndarra
     return jac, corr
 
 
-def write_calibration(path: str | os.PathLike, fit: Fit, fits: list[Fit], jac: np.ndarray,
-                      corr: float, deck: str) -> Path:
+def write_calibration(
+    path: str | os.PathLike, fit: Fit, fits: list[Fit], jac: np.ndarray, corr: float, deck: str
+) -> Path:
     """The one calibration file every shipped deck includes (&calibration file = ...).
 
     It holds the two fitted uncertain inputs only; the chosen discrete options are
     modelling choices, written in each deck (where a reader sees them) and listed here."""
     t = fit.targets
-    lines = [f"! ringlube calibration: fitted to the COLD case only ({t['energy_loss']} J, "
-             f"{t['mixed_share']} %).",
-             f"! Regenerate: ringlube calibrate {deck}",
-             f"! Fit: energy {fit.energy_loss:.4f} J, mixed share {fit.mixed_share:.3f} % "
-             f"(residual {fit.residual:.2e}); {sum(f.runs for f in fits)} runs.",
-             f"! Bounds: zeta_kappa_sigma {BOUNDS['zeta_kappa_sigma']}, pressure_scale "
-             f"{BOUNDS['pressure_scale']}.",
-             f"! Sensitivity d(target/target0)/d(ln input): energy [{jac[0, 0]:.3f}, {jac[0, 1]:.3f}], "
-             f"mixed [{jac[1, 0]:.3f}, {jac[1, 1]:.3f}]; correlation of the fitted inputs {corr:+.3f}.",
-             "! The decks using this file must set the chosen options themselves: "
-             + ", ".join(f"&{g} {k} = '{v}'" for (g, k), v in fit.options.items()) + ".",
-             "! Every combination of the discrete options (tension_unit, contact_area, outlet):"]
+    lines = [
+        f"! ringlube calibration: fitted to the COLD case only ({t['energy_loss']} J, {t['mixed_share']} %).",
+        f"! Regenerate: ringlube calibrate {deck}",
+        f"! Fit: energy {fit.energy_loss:.4f} J, mixed share {fit.mixed_share:.3f} % "
+        f"(residual {fit.residual:.2e}); {sum(f.runs for f in fits)} runs.",
+        f"! Bounds: zeta_kappa_sigma {BOUNDS['zeta_kappa_sigma']}, pressure_scale "
+        f"{BOUNDS['pressure_scale']}.",
+        f"! Sensitivity d(target/target0)/d(ln input): energy [{jac[0, 0]:.3f}, {jac[0, 1]:.3f}], "
+        f"mixed [{jac[1, 0]:.3f}, {jac[1, 1]:.3f}]; correlation of the fitted inputs {corr:+.3f}.",
+        "! The decks using this file must set the chosen options themselves: "
+        + ", ".join(f"&{g} {k} = '{v}'" for (g, k), v in fit.options.items())
+        + ".",
+        "! Every combination of the discrete options (tension_unit, contact_area, outlet):",
+    ]
     for f in sorted(fits, key=lambda f: f.residual):
         opts = ", ".join(f"{k[1]}={v}" for k, v in f.options.items())
-        lines.append(f"!   {opts}: zks {f.zeta_kappa_sigma:.4f}, scale {f.pressure_scale:.4f}, "
-                     f"E {f.energy_loss:.4f} J, mixed {f.mixed_share:.3f} %, residual {f.residual:.2e}"
-                     f"{'' if f.within_bounds else ' (at a bound)'}")
+        lines.append(
+            f"!   {opts}: zks {f.zeta_kappa_sigma:.4f}, scale {f.pressure_scale:.4f}, "
+            f"E {f.energy_loss:.4f} J, mixed {f.mixed_share:.3f} %, residual {f.residual:.2e}"
+            f"{'' if f.within_bounds else ' (at a bound)'}"
+        )
     lines += [
         f"&surface   zeta_kappa_sigma = {fit.zeta_kappa_sigma!r} /",
         f"&operating pressure_scale = {fit.pressure_scale!r} /",
-        ""]
+        "",
+    ]
     path = Path(path)
     tmp = path.with_name(path.name + ".part")
     tmp.write_text("\n".join(lines))

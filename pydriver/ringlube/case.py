@@ -14,8 +14,9 @@ import contextlib
 import numbers
 import os
 import re
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Any, Iterator, NamedTuple
+from typing import Any, NamedTuple
 
 import f90nml
 
@@ -60,21 +61,25 @@ class Case:
     0.0012
     """
 
-    def __init__(self, groups: dict[str, dict[str, Any]] | None = None, name: str = "case",
-                 source: str | os.PathLike | None = None):
+    def __init__(
+        self,
+        groups: dict[str, dict[str, Any]] | None = None,
+        name: str = "case",
+        source: str | os.PathLike | None = None,
+    ):
         self.name = name
         #: The deck this case was read from (named in error messages), if any.
         self.source = str(source) if source is not None else None
         self._nml = f90nml.Namelist()
-        self._text: str | None = None          # the deck file's text, if read from one
-        self._base: str | None = None          # folder of relative paths in _text
+        self._text: str | None = None  # the deck file's text, if read from one
+        self._base: str | None = None  # folder of relative paths in _text
         self._changed: dict[tuple[str, str], Any] = {}
         for group, values in (groups or {}).items():
             self.set(group, **values)
 
     # construction and I/O -------------------------------------------------------------
     @classmethod
-    def from_namelist(cls, path: str | os.PathLike) -> "Case":
+    def from_namelist(cls, path: str | os.PathLike) -> Case:
         """Read a deck; the kernel checks it first (messages name file, line and variable).
 
         Parameters
@@ -192,7 +197,7 @@ class Case:
             raise error_for(code, _text(message))
         return _value(spec.kind, _text(text))
 
-    def set(self, group: str, **values: Any) -> "Case":
+    def set(self, group: str, **values: Any) -> Case:
         """Set variables of one group in place; returns the case.
 
         Raises
@@ -208,7 +213,7 @@ class Case:
         """
         return self._set(group, values, record=True)
 
-    def _set(self, group: str, values: dict, record: bool) -> "Case":
+    def _set(self, group: str, values: dict, record: bool) -> Case:
         group = str(group).lower()
         if group not in GROUPS:
             raise InputError(f"unknown namelist group &{group} (known: {', '.join(GROUPS)})")
@@ -223,9 +228,15 @@ class Case:
             if isinstance(value, os.PathLike):
                 value = os.fspath(value)
             if isinstance(value, numbers.Real) and not isinstance(value, (bool, int)):
-                value = float(value)          # Decimal, Fraction: numbers, not strings
-            if record and (group, name) in _PATH_VARS and isinstance(value, str) and value \
-                    and not os.path.isabs(value) and self._text is None:
+                value = float(value)  # Decimal, Fraction: numbers, not strings
+            if (
+                record
+                and (group, name) in _PATH_VARS
+                and isinstance(value, str)
+                and value
+                and not os.path.isabs(value)
+                and self._text is None
+            ):
                 # a relative path set in Python means the working directory of now
                 value = os.path.abspath(value)
             self._nml[group][name] = value
@@ -258,7 +269,7 @@ class Case:
         return f"Case({self.name!r}, {self.to_dict()!r})"
 
     # variants -------------------------------------------------------------------------
-    def copy(self) -> "Case":
+    def copy(self) -> Case:
         """An independent copy (values are immutable scalars, so copying groups suffices)."""
         new = Case.__new__(Case)
         new.name, new.source = self.name, self.source
@@ -269,27 +280,27 @@ class Case:
             new._nml[group] = f90nml.Namelist(values)
         return new
 
-    def with_(self, group: str, **values: Any) -> "Case":
+    def with_(self, group: str, **values: Any) -> Case:
         """A copy with variables of ``group`` changed."""
         return self.copy().set(group, **values)
 
-    def with_ring(self, **values: Any) -> "Case":
+    def with_ring(self, **values: Any) -> Case:
         """A copy with ``&ring`` variables changed."""
         return self.with_("ring", **values)
 
-    def with_operating(self, **values: Any) -> "Case":
+    def with_operating(self, **values: Any) -> Case:
         """A copy with ``&operating`` variables changed."""
         return self.with_("operating", **values)
 
-    def with_numerics(self, **values: Any) -> "Case":
+    def with_numerics(self, **values: Any) -> Case:
         """A copy with ``&numerics`` variables changed."""
         return self.with_("numerics", **values)
 
-    def with_physics(self, **values: Any) -> "Case":
+    def with_physics(self, **values: Any) -> Case:
         """A copy with ``&physics`` variables changed."""
         return self.with_("physics", **values)
 
-    def inline_calibration(self) -> "Case":
+    def inline_calibration(self) -> Case:
         """A copy with the calibration file's values written into the case itself (and no
         calibration file), so that any calibrated variable can then be changed."""
         path = self.get("calibration", "file")
@@ -391,8 +402,8 @@ def kernel_case(case: Case, load_trace: bool = True) -> Iterator[KernelCase]:
     if base and not base.endswith("/"):
         base += "/"
     handle, nsteps, nliner, code, message = _kernel.rl_open(
-        _arg(text), _arg(name), _arg(base), _arg(overrides), _arg(overrides_name),
-        1 if load_trace else 0)
+        _arg(text), _arg(name), _arg(base), _arg(overrides), _arg(overrides_name), 1 if load_trace else 0
+    )
     if code:
         raise error_for(code, _text(message))
     try:

@@ -64,10 +64,15 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from .solve import run
 
     case = Case.from_namelist(args.deck)
-    out = Path(args.output) if args.output else Path(
-        case.get("output", "file") or Path(args.deck).with_suffix(".h5"))
-    inputs = [Path(args.deck), *(Path(p) for p in (case.get("operating", "pressure_file"),
-                                                   case.get("calibration", "file")) if p)]
+    out = (
+        Path(args.output)
+        if args.output
+        else Path(case.get("output", "file") or Path(args.deck).with_suffix(".h5"))
+    )
+    inputs = [
+        Path(args.deck),
+        *(Path(p) for p in (case.get("operating", "pressure_file"), case.get("calibration", "file")) if p),
+    ]
     _output_file("-o" if args.output else f"{args.deck}: &output file", out, inputs)
     result = run(case)
     result.to_hdf5(out)
@@ -88,8 +93,7 @@ def _load(path: str):
     if not p.is_file():
         raise InputError(f"{p}: not a file")
     if not h5py.is_hdf5(p):
-        raise InputError(f"{p}: not an HDF5 result file (a deck? run it first: "
-                         f"ringlube run {p})")
+        raise InputError(f"{p}: not an HDF5 result file (a deck? run it first: ringlube run {p})")
     try:
         return load(p)
     except RinglubeError:
@@ -106,8 +110,9 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     labels = args.labels.split(",") if args.labels else []
     for label in labels:
         if not label or "/" in label or "\\" in label:
-            raise InputError(f"--labels: '{label}' must be a non-empty name without '/' "
-                             "(it names the figure files)")
+            raise InputError(
+                f"--labels: '{label}' must be a non-empty name without '/' (it names the figure files)"
+            )
     results = [_load(p) for p in args.results]
     for r, label in zip(results, labels):
         r.label = label
@@ -125,8 +130,7 @@ def _cmd_gas(args: argparse.Namespace) -> int:
     _output_folder("--out", Path(args.out))
     unknown = [n for n in args.names if n not in gas.PRESETS]
     if unknown:
-        raise InputError(f"gas: unknown trace {', '.join(unknown)} (known: "
-                         f"{', '.join(sorted(gas.PRESETS))})")
+        raise InputError(f"gas: unknown trace {', '.join(unknown)} (known: {', '.join(sorted(gas.PRESETS))})")
     gas.main(["--out", args.out, *args.names])
     return 0
 
@@ -136,7 +140,8 @@ def _cmd_convergence(args: argparse.Namespace) -> int:
 
     _output_folder("--out", Path(args.out))
     command = "ringlube convergence " + " ".join(
-        [*args.decks, *(["--quick"] if args.quick else []), "--out", args.out])
+        [*args.decks, *(["--quick"] if args.quick else []), "--out", args.out]
+    )
     for deck in args.decks:
         reference, rows = convergence_study(deck, quick=args.quick, repeats=args.repeats)
         for f in write_report(deck, reference, rows, args.out, command):
@@ -153,9 +158,11 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     jac, corr = correlation(base, fit)
     path = write_calibration(args.out, fit, fits, jac, corr, args.deck)
     t = fit.targets
-    print(f"chosen: {fit.values()}\n  energy {fit.energy_loss:.4f} J (target "
-          f"{t['energy_loss']:g} J), mixed {fit.mixed_share:.3f} % (target {t['mixed_share']:g} %), "
-          f"correlation of fitted inputs {corr:+.3f}")
+    print(
+        f"chosen: {fit.values()}\n  energy {fit.energy_loss:.4f} J (target "
+        f"{t['energy_loss']:g} J), mixed {fit.mixed_share:.3f} % (target {t['mixed_share']:g} %), "
+        f"correlation of fitted inputs {corr:+.3f}"
+    )
     print(f"written {path}")
     return 0
 
@@ -181,8 +188,15 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
         _output_folder("--out", Path(args.out))
     signal.signal(signal.SIGTERM, terminate)
     args.interrupt_note = "; finished work is saved (run the same command to resume)"
-    study = run_study(args.study, args.out, scheduler=args.scheduler, workers=args.workers,
-                      serial=args.serial, with_direct=args.direct, progress=not args.quiet)
+    study = run_study(
+        args.study,
+        args.out,
+        scheduler=args.scheduler,
+        workers=args.workers,
+        serial=args.serial,
+        with_direct=args.direct,
+        progress=not args.quiet,
+    )
     if not args.quiet:
         print(summary(study))
     print(f"written {study.path}, report.md, Pareto CSV and figures in {study.path.parent}")
@@ -192,66 +206,97 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
 def _parser() -> argparse.ArgumentParser:
     from . import __version__
 
-    ap = _Parser(prog="ringlube", description="Piston ring mixed-lubrication solver and "
-                 "design optimiser.")
+    ap = _Parser(prog="ringlube", description="Piston ring mixed-lubrication solver and design optimiser.")
     ap.add_argument("--version", action="version", version=f"ringlube {__version__}")
-    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND",
-                            parser_class=_Parser)
-    p = sub.add_parser("run", help="run one deck (same numbers as ringlube-solve)",
-                       description="Run one deck and write its result (HDF5).")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=_Parser)
+    p = sub.add_parser(
+        "run",
+        help="run one deck (same numbers as ringlube-solve)",
+        description="Run one deck and write its result (HDF5).",
+    )
     p.add_argument("deck", help="the case deck (namelist)")
-    p.add_argument("-o", "--output", help="result file (default: the deck's &output file, "
-                   "else the deck's name with .h5)")
+    p.add_argument(
+        "-o", "--output", help="result file (default: the deck's &output file, else the deck's name with .h5)"
+    )
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     p.set_defaults(func=_cmd_run)
-    p = sub.add_parser("plot", help="friction and film plots of one or more results",
-                       description="Friction and film plots (PNG and PDF) of result files.")
+    p = sub.add_parser(
+        "plot",
+        help="friction and film plots of one or more results",
+        description="Friction and film plots (PNG and PDF) of result files.",
+    )
     p.add_argument("results", nargs="+", help="result files (HDF5) to overlay")
     p.add_argument("-o", "--output", default=".", help="output folder")
     p.add_argument("--labels", help="comma-separated legend labels (default: file names)")
     p.set_defaults(func=_cmd_plot)
-    p = sub.add_parser("gas", help="regenerate the synthetic gas-pressure traces",
-                       description="Regenerate the synthetic gas-pressure traces (CSV).")
+    p = sub.add_parser(
+        "gas",
+        help="regenerate the synthetic gas-pressure traces",
+        description="Regenerate the synthetic gas-pressure traces (CSV).",
+    )
     p.add_argument("--out", default="inputs/pressure", help="output folder")
     p.add_argument("names", nargs="*", help="traces to write (default: all)")
     p.set_defaults(func=_cmd_gas)
-    p = sub.add_parser("convergence", help="speed against accuracy over numerical settings",
-                       description="Speed against accuracy over numerical settings.")
+    p = sub.add_parser(
+        "convergence",
+        help="speed against accuracy over numerical settings",
+        description="Speed against accuracy over numerical settings.",
+    )
     p.add_argument("decks", nargs="+", help="case decks")
     p.add_argument("--out", default="docs/convergence", help="output folder")
     p.add_argument("--quick", action="store_true", help="shorter ladders (no 801/1601 nodes)")
-    p.add_argument("--repeats", type=_positive_int, default=3,
-                   help="timing repeats per setting (best kept)")
+    p.add_argument("--repeats", type=_positive_int, default=3, help="timing repeats per setting (best kept)")
     p.set_defaults(func=_cmd_convergence)
-    p = sub.add_parser("calibrate", help="fit the uncertain inputs to the cold Table 2 case",
-                       description="Fit the uncertain inputs to the cold Table 2 case.")
-    p.add_argument("deck", nargs="?", default="inputs/crf450r_4000rpm_full_cold.nml",
-                   help="the cold case deck")
+    p = sub.add_parser(
+        "calibrate",
+        help="fit the uncertain inputs to the cold Table 2 case",
+        description="Fit the uncertain inputs to the cold Table 2 case.",
+    )
+    p.add_argument(
+        "deck", nargs="?", default="inputs/crf450r_4000rpm_full_cold.nml", help="the cold case deck"
+    )
     p.add_argument("--out", default="inputs/calibration.nml", help="calibration file written")
-    p.add_argument("--targets", default=None,
-                   help="CSV of measured or published results (condition 'cold' is fitted; "
-                        "default: inputs/targets_table2.csv, Table 2 of the study)")
+    p.add_argument(
+        "--targets",
+        default=None,
+        help="CSV of measured or published results (condition 'cold' is fitted; "
+        "default: inputs/targets_table2.csv, Table 2 of the study)",
+    )
     p.set_defaults(func=_cmd_calibrate)
-    p = sub.add_parser("validate", help="regenerate docs/validation.md against Table 2",
-                       description="Regenerate docs/validation.md against the study's Table 2.")
+    p = sub.add_parser(
+        "validate",
+        help="regenerate docs/validation.md against Table 2",
+        description="Regenerate docs/validation.md against the study's Table 2.",
+    )
     p.add_argument("--root", default=".", help="project folder (with inputs/)")
     p.add_argument("--out", default="docs", help="output folder")
     p.set_defaults(func=_cmd_validate)
-    p = sub.add_parser("optimise", help="DOE, quadratic surfaces and NSGA-II from a &study deck",
-                       description="Design study from a &study deck: sample, run, fit, NSGA-II, "
-                                   "check; resumes an interrupted study in the same --out.")
+    p = sub.add_parser(
+        "optimise",
+        help="DOE, quadratic surfaces and NSGA-II from a &study deck",
+        description="Design study from a &study deck: sample, run, fit, NSGA-II, "
+        "check; resumes an interrupted study in the same --out.",
+    )
     p.add_argument("study", help="the study deck (&study)")
-    p.add_argument("--out", help="output folder (default: out/NAME, NAME from &study name); "
-                   "an unfinished study there is resumed")
-    p.add_argument("--scheduler", help="address of an existing Dask scheduler "
-                   "(default: a LocalCluster on this machine)")
-    p.add_argument("--workers", type=_positive_int,
-                   help="LocalCluster worker processes (default: one per core)")
+    p.add_argument(
+        "--out",
+        help="output folder (default: out/NAME, NAME from &study name); an unfinished study there is resumed",
+    )
+    p.add_argument(
+        "--scheduler", help="address of an existing Dask scheduler (default: a LocalCluster on this machine)"
+    )
+    p.add_argument(
+        "--workers", type=_positive_int, help="LocalCluster worker processes (default: one per core)"
+    )
     p.add_argument("--serial", action="store_true", help="no Dask: run everything in this process")
-    p.add_argument("--direct", action="store_true",
-                   help="also NSGA-II on the true model, compared with the surrogate front")
-    p.add_argument("-q", "--quiet", action="store_true",
-                   help="no progress bars or summary (the files are still written)")
+    p.add_argument(
+        "--direct",
+        action="store_true",
+        help="also NSGA-II on the true model, compared with the surrogate front",
+    )
+    p.add_argument(
+        "-q", "--quiet", action="store_true", help="no progress bars or summary (the files are still written)"
+    )
     p.set_defaults(func=_cmd_optimise)
     return ap
 

@@ -15,8 +15,8 @@ from __future__ import annotations
 import csv
 import dataclasses
 import os
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import numpy as np
 
@@ -26,8 +26,13 @@ from .solve import run
 __all__ = ["Setting", "Row", "REFERENCE", "PRESETS", "ladder", "measure", "convergence_study"]
 
 #: The reference numerics (finest settings of the ladder).
-REFERENCE = {"nodes": 801, "dpsi_deg": 0.125, "pressure_tol": 1e-8, "load_tol": 1e-6,
-             "h0_update": "safeguarded"}
+REFERENCE = {
+    "nodes": 801,
+    "dpsi_deg": 0.125,
+    "pressure_tol": 1e-8,
+    "load_tol": 1e-6,
+    "h0_update": "safeguarded",
+}
 #: The presets of &numerics preset (the kernel's table).
 from .tables import PRESETS  # noqa: E402
 
@@ -45,14 +50,14 @@ class Setting:
 @dataclasses.dataclass
 class Row:
     setting: Setting
-    time_ms: float            # kernel time per run (best of the repeats)
-    ms_per_cycle: float       # per cycle of crank steps computed (warm-up included)
+    time_ms: float  # kernel time per run (best of the repeats)
+    ms_per_cycle: float  # per cycle of crank steps computed (warm-up included)
     energy: float
     mixed: float
     min_film: float
-    err_energy: float         # relative
-    err_mixed: float          # percentage points
-    err_min_film: float       # relative
+    err_energy: float  # relative
+    err_mixed: float  # percentage points
+    err_min_film: float  # relative
     converged: bool
     film_solves: int
 
@@ -71,8 +76,9 @@ def ladder(quick: bool = False) -> list[Setting]:
     for t in (1e-2, 3e-3, 1e-3, 1e-4, 1e-5):
         out.append(Setting("load_tol", f"load_tol = {t:g}", {"load_tol": t}))
     for upd in ("safeguarded", "damped"):
-        out.append(Setting("h0 update", f"h0_update = '{upd}' (load_tol 1e-3)",
-                           {"h0_update": upd, "load_tol": 1e-3}))
+        out.append(
+            Setting("h0 update", f"h0_update = '{upd}' (load_tol 1e-3)", {"h0_update": upd, "load_tol": 1e-3})
+        )
     out.append(Setting("physics", "gt_functions = 'fit'", {}, {"gt_functions": "fit"}))
     out.append(Setting("physics", "roelands = .false.", {}, {"roelands": False}))
     out.append(Setting("physics", "squeeze = .false.", {}, {"squeeze": False}))
@@ -81,8 +87,14 @@ def ladder(quick: bool = False) -> list[Setting]:
     out.append(Setting("physics", "outlet = 'ambient'", {}, {"outlet": "ambient"}))
     for name, p in PRESETS.items():
         out.append(Setting("preset", f"preset = '{name}'", dict(p)))
-        out.append(Setting("preset+fit", f"preset = '{name}', gt 'fit', no Roelands", dict(p),
-                           {"gt_functions": "fit", "roelands": False}))
+        out.append(
+            Setting(
+                "preset+fit",
+                f"preset = '{name}', gt 'fit', no Roelands",
+                dict(p),
+                {"gt_functions": "fit", "roelands": False},
+            )
+        )
     return out
 
 
@@ -103,8 +115,9 @@ def measure(case: Case, repeats: int = 3):
     return best
 
 
-def convergence_study(deck: str | os.PathLike, quick: bool = False, repeats: int = 3,
-                      progress: bool = True) -> tuple[dict, list[Row]]:
+def convergence_study(
+    deck: str | os.PathLike, quick: bool = False, repeats: int = 3, progress: bool = True
+) -> tuple[dict, list[Row]]:
     """Run the ladder on a deck; returns (reference summary, rows)."""
     from tqdm.auto import tqdm
 
@@ -112,40 +125,58 @@ def convergence_study(deck: str | os.PathLike, quick: bool = False, repeats: int
     base._nml.get("numerics", {}).pop("preset", None)
     ref_case = base.with_("numerics", **REFERENCE)
     ref = run(ref_case)
+
     # Richardson: the observed order from three levels (reference, 1/2 and 1/4 of its
     # resolution) in N and in the crank step, then the extrapolated error of the reference
     def richardson(levels):
-        e0, e1, e2 = (r.energy_loss for r in levels)     # finest first
+        e0, e1, e2 = (r.energy_loss for r in levels)  # finest first
         d1, d2 = e1 - e0, e2 - e1
         p = float(np.log2(abs(d2 / d1))) if d1 != 0 and d2 != 0 else float("nan")
         err = d1 / (2**p - 1) if np.isfinite(p) and p > 0 else float("nan")
         return p, err
 
     n0 = REFERENCE["nodes"]
-    p_n, rich_n = richardson([ref, run(ref_case.with_numerics(nodes=(n0 - 1) // 2 + 1)),
-                              run(ref_case.with_numerics(nodes=(n0 - 1) // 4 + 1))])
+    p_n, rich_n = richardson(
+        [
+            ref,
+            run(ref_case.with_numerics(nodes=(n0 - 1) // 2 + 1)),
+            run(ref_case.with_numerics(nodes=(n0 - 1) // 4 + 1)),
+        ]
+    )
     d0 = REFERENCE["dpsi_deg"]
-    p_t, rich_t = richardson([ref, run(ref_case.with_numerics(dpsi_deg=2 * d0)),
-                              run(ref_case.with_numerics(dpsi_deg=4 * d0))])
+    p_t, rich_t = richardson(
+        [ref, run(ref_case.with_numerics(dpsi_deg=2 * d0)), run(ref_case.with_numerics(dpsi_deg=4 * d0))]
+    )
     reference = {
-        "energy": ref.energy_loss, "mixed": ref.mixed_share, "min_film": ref.min_film,
-        "time_ms": ref.run_time * 1e3, "order_n": p_n, "order_t": p_t,
+        "energy": ref.energy_loss,
+        "mixed": ref.mixed_share,
+        "min_film": ref.min_film,
+        "time_ms": ref.run_time * 1e3,
+        "order_n": p_n,
+        "order_t": p_t,
         "richardson_energy": ref.energy_loss - rich_n - rich_t,
-        "est_err_n": abs(rich_n) / ref.energy_loss, "est_err_t": abs(rich_t) / ref.energy_loss,
+        "est_err_n": abs(rich_n) / ref.energy_loss,
+        "est_err_t": abs(rich_t) / ref.energy_loss,
     }
     rows: list[Row] = []
     for s in tqdm(ladder(quick), desc="convergence ladder", disable=not progress):
         case = _case_for(base, s)
         r = measure(case, repeats)
-        rows.append(Row(
-            setting=s, time_ms=r.run_time * 1e3,
-            ms_per_cycle=r.run_time * 1e3 / max(r.cycles_computed, 1e-9),
-            energy=r.energy_loss, mixed=r.mixed_share, min_film=r.min_film,
-            err_energy=abs(r.energy_loss - ref.energy_loss) / ref.energy_loss,
-            err_mixed=abs(r.mixed_share - ref.mixed_share),
-            err_min_film=abs(r.min_film - ref.min_film) / ref.min_film,
-            converged=r.converged, film_solves=int(r.film_solves.sum()),
-        ))
+        rows.append(
+            Row(
+                setting=s,
+                time_ms=r.run_time * 1e3,
+                ms_per_cycle=r.run_time * 1e3 / max(r.cycles_computed, 1e-9),
+                energy=r.energy_loss,
+                mixed=r.mixed_share,
+                min_film=r.min_film,
+                err_energy=abs(r.energy_loss - ref.energy_loss) / ref.energy_loss,
+                err_mixed=abs(r.mixed_share - ref.mixed_share),
+                err_min_film=abs(r.min_film - ref.min_film) / ref.min_film,
+                converged=r.converged,
+                film_solves=int(r.film_solves.sum()),
+            )
+        )
     return reference, rows
 
 
@@ -158,8 +189,9 @@ def pareto(rows: Sequence[Row]) -> list[Row]:
     return front
 
 
-def write_report(deck: str, reference: dict, rows: Sequence[Row], outdir: str | os.PathLike,
-                 command: str) -> list[Path]:
+def write_report(
+    deck: str, reference: dict, rows: Sequence[Row], outdir: str | os.PathLike, command: str
+) -> list[Path]:
     """Markdown table, CSV and error-vs-time plot."""
     import matplotlib
 
@@ -170,46 +202,82 @@ def write_report(deck: str, reference: dict, rows: Sequence[Row], outdir: str | 
     outdir.mkdir(parents=True, exist_ok=True)
     stem = Path(deck).stem
     front = {id(r) for r in pareto(rows)}
-    md = [f"### `{stem}`", "",
-          f"Command: `{command}`", "",
-          f"Reference (nodes {REFERENCE['nodes']}, dpsi {REFERENCE['dpsi_deg']} deg, pressure_tol "
-          f"{REFERENCE['pressure_tol']:g}, load_tol {REFERENCE['load_tol']:g}): energy "
-          f"{reference['energy']:.5f} J, mixed share {reference['mixed']:.3f} %, min film "
-          f"{reference['min_film'] * 1e6:.4f} um, {reference['time_ms']:.0f} ms. Observed order of the "
-          f"energy from three levels: {reference['order_n']:.2f} in N, {reference['order_t']:.2f} in the "
-          f"crank step; Richardson estimate of the reference's own energy error: "
-          f"{reference['est_err_n']:.1e} (N), {reference['est_err_t']:.1e} (crank step).", "",
-          "| kind | setting | ms/run | ms/cycle | film solves | energy J | err energy | err mixed (pts) "
-          "| err min film | converged | front |",
-          "|---|---|---|---|---|---|---|---|---|---|---|"]
+    md = [
+        f"### `{stem}`",
+        "",
+        f"Command: `{command}`",
+        "",
+        f"Reference (nodes {REFERENCE['nodes']}, dpsi {REFERENCE['dpsi_deg']} deg, pressure_tol "
+        f"{REFERENCE['pressure_tol']:g}, load_tol {REFERENCE['load_tol']:g}): energy "
+        f"{reference['energy']:.5f} J, mixed share {reference['mixed']:.3f} %, min film "
+        f"{reference['min_film'] * 1e6:.4f} um, {reference['time_ms']:.0f} ms. Observed order of the "
+        f"energy from three levels: {reference['order_n']:.2f} in N, {reference['order_t']:.2f} in the "
+        f"crank step; Richardson estimate of the reference's own energy error: "
+        f"{reference['est_err_n']:.1e} (N), {reference['est_err_t']:.1e} (crank step).",
+        "",
+        "| kind | setting | ms/run | ms/cycle | film solves | energy J | err energy | err mixed (pts) "
+        "| err min film | converged | front |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
     for r in rows:
-        md.append(f"| {r.setting.kind} | {r.setting.label} | {r.time_ms:.1f} | {r.ms_per_cycle:.1f} | "
-                  f"{r.film_solves} | {r.energy:.5f} | {r.err_energy:.2e} | {r.err_mixed:.3f} | "
-                  f"{r.err_min_film:.2e} | {'yes' if r.converged else 'NO'} | "
-                  f"{'*' if id(r) in front else ''} |")
+        md.append(
+            f"| {r.setting.kind} | {r.setting.label} | {r.time_ms:.1f} | {r.ms_per_cycle:.1f} | "
+            f"{r.film_solves} | {r.energy:.5f} | {r.err_energy:.2e} | {r.err_mixed:.3f} | "
+            f"{r.err_min_film:.2e} | {'yes' if r.converged else 'NO'} | "
+            f"{'*' if id(r) in front else ''} |"
+        )
     md_path = outdir / f"convergence_{stem}.md"
     md_path.write_text("\n".join(md) + "\n")
     csv_path = outdir / f"convergence_{stem}.csv"
     with open(csv_path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["kind", "setting", "ms_per_run", "ms_per_cycle", "film_solves", "energy_J",
-                     "err_energy", "err_mixed_pts", "err_min_film", "converged"])
+        w.writerow(
+            [
+                "kind",
+                "setting",
+                "ms_per_run",
+                "ms_per_cycle",
+                "film_solves",
+                "energy_J",
+                "err_energy",
+                "err_mixed_pts",
+                "err_min_film",
+                "converged",
+            ]
+        )
         for r in rows:
-            w.writerow([r.setting.kind, r.setting.label, f"{r.time_ms:.3f}", f"{r.ms_per_cycle:.3f}",
-                        r.film_solves, r.energy, r.err_energy, r.err_mixed, r.err_min_film,
-                        int(r.converged)])
+            w.writerow(
+                [
+                    r.setting.kind,
+                    r.setting.label,
+                    f"{r.time_ms:.3f}",
+                    f"{r.ms_per_cycle:.3f}",
+                    r.film_solves,
+                    r.energy,
+                    r.err_energy,
+                    r.err_mixed,
+                    r.err_min_film,
+                    int(r.converged),
+                ]
+            )
     fig, ax = plt.subplots(figsize=(7.5, 5), layout="constrained")
     kinds = sorted({r.setting.kind for r in rows})
     for k in kinds:
         sel = [r for r in rows if r.setting.kind == k]
         ax.scatter([r.time_ms for r in sel], [max(r.err_energy, 1e-9) for r in sel], label=k, s=22)
     fr = pareto(rows)
-    ax.plot([r.time_ms for r in fr], [max(r.err_energy, 1e-9) for r in fr], "k--", lw=0.8,
-            label="Pareto front")
+    ax.plot(
+        [r.time_ms for r in fr], [max(r.err_energy, 1e-9) for r in fr], "k--", lw=0.8, label="Pareto front"
+    )
     for r in rows:
         if r.setting.kind == "preset":
-            ax.annotate(r.setting.label.split("'")[1], (r.time_ms, max(r.err_energy, 1e-9)),
-                        fontsize=8, xytext=(4, 4), textcoords="offset points")
+            ax.annotate(
+                r.setting.label.split("'")[1],
+                (r.time_ms, max(r.err_energy, 1e-9)),
+                fontsize=8,
+                xytext=(4, 4),
+                textcoords="offset points",
+            )
     ax.axhline(5e-3, color="tab:red", lw=0.8, ls=":")
     ax.set_xscale("log")
     ax.set_yscale("log")

@@ -1,6 +1,6 @@
 """Regenerate the sections of the docs that are generated from the kernel's tables.
 
-    python -m ringlube.docgen [docs/model.md ...]
+python -m ringlube.docgen [docs/model.md ...]
 """
 
 from __future__ import annotations

@@ -42,7 +42,8 @@ def examples_dir() -> Path:
             return folder
     raise FileNotFoundError(
         f"ringlube example inputs not found (looked in {_INSTALLED} and {_SOURCE_TREE}); "
-        "reinstall the package")
+        "reinstall the package"
+    )
 
 
 def copy_examples(dest: str | Path, overwrite: bool = False) -> list[Path]:
@@ -87,7 +88,8 @@ def copy_examples(dest: str | Path, overwrite: bool = False) -> list[Path]:
         if clashes:
             raise FileExistsError(
                 f"{clashes[0]} already exists ({len(clashes)} example file(s) would be "
-                "overwritten); choose another folder or pass overwrite=True")
+                "overwritten); choose another folder or pass overwrite=True"
+            )
     for source, target in zip(files, targets):
         target.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(source, target)

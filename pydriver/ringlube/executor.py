@@ -22,7 +22,8 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
-from typing import Any, Callable, Sequence
+from collections.abc import Callable, Sequence
+from typing import Any
 
 from .errors import InputError, RinglubeError
 
@@ -34,9 +35,18 @@ CONNECT_TIMEOUT_S = 10.0
 BACKENDS = ("serial", "processes", "dask", "scheduler")
 #: Dask loggers silenced while a cluster starts, works and closes (their start-up notes,
 #: port warnings and the CancelledError of an interrupted map are noise for a user).
-_NOISY = ("distributed", "distributed.worker", "distributed.scheduler", "distributed.nanny",
-          "distributed.core", "distributed.comm", "distributed.client", "tornado", "asyncio",
-          "bokeh")
+_NOISY = (
+    "distributed",
+    "distributed.worker",
+    "distributed.scheduler",
+    "distributed.nanny",
+    "distributed.core",
+    "distributed.comm",
+    "distributed.client",
+    "tornado",
+    "asyncio",
+    "bokeh",
+)
 
 
 def require(module: str, what: str) -> Any:
@@ -69,8 +79,10 @@ def require(module: str, what: str) -> Any:
     try:
         return importlib.import_module(module)
     except ImportError as exc:
-        raise RinglubeError(f"{what} needs the optional package '{module.split('.')[0]}' "
-                            f"({exc}); install it with: pip install ringlube[study]") from None
+        raise RinglubeError(
+            f"{what} needs the optional package '{module.split('.')[0]}' "
+            f"({exc}); install it with: pip install ringlube[study]"
+        ) from None
 
 
 def _workers(workers: int | None) -> int:
@@ -116,13 +128,18 @@ class Executor:
     {0: 8, 1: 9}
     """
 
-    def __init__(self, scheduler: str | None = None, workers: int | None = None,
-                 serial: bool = False, *, backend: str | None = None,
-                 connect_timeout: float | None = None):
+    def __init__(
+        self,
+        scheduler: str | None = None,
+        workers: int | None = None,
+        serial: bool = False,
+        *,
+        backend: str | None = None,
+        connect_timeout: float | None = None,
+    ):
         self.backend = backend or ("scheduler" if scheduler else "serial" if serial else "dask")
         if self.backend not in BACKENDS:
-            raise InputError(f"unknown executor backend '{self.backend}' "
-                             f"(known: {', '.join(BACKENDS)})")
+            raise InputError(f"unknown executor backend '{self.backend}' (known: {', '.join(BACKENDS)})")
         self.workers = _workers(workers)
         self.scheduler = scheduler
         self.client = None
@@ -137,16 +154,19 @@ class Executor:
         elif self.backend == "scheduler":
             if not scheduler:
                 raise InputError("the 'scheduler' backend needs a scheduler address")
-            self._connect(scheduler, CONNECT_TIMEOUT_S if connect_timeout is None
-                          else connect_timeout)
+            self._connect(scheduler, CONNECT_TIMEOUT_S if connect_timeout is None else connect_timeout)
 
     # --- Dask set-up -------------------------------------------------------------------
     def _start_local_cluster(self) -> None:
         dd = require("dask.distributed", "a Dask LocalCluster")
         with _quiet():
-            self.cluster = dd.LocalCluster(n_workers=self.workers, threads_per_worker=1,
-                                           processes=True, dashboard_address=None,
-                                           silence_logs=logging.CRITICAL)
+            self.cluster = dd.LocalCluster(
+                n_workers=self.workers,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                silence_logs=logging.CRITICAL,
+            )
             self.client = dd.Client(self.cluster)
 
     def _connect(self, address: str, timeout: float) -> None:
@@ -156,12 +176,14 @@ class Executor:
                 self.client = dd.Client(address, timeout=timeout)
         except (OSError, TimeoutError, ValueError, TypeError) as exc:
             reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            raise RinglubeError(f"--scheduler {address}: cannot connect within {timeout:g} s "
-                                f"({reason})") from None
+            raise RinglubeError(
+                f"--scheduler {address}: cannot connect within {timeout:g} s ({reason})"
+            ) from None
 
     # --- the one convention ------------------------------------------------------------
-    def map(self, fn: Callable[..., Any], tasks: Sequence[tuple],
-            on_result: Callable[[int, Any], None]) -> None:
+    def map(
+        self, fn: Callable[..., Any], tasks: Sequence[tuple], on_result: Callable[[int, Any], None]
+    ) -> None:
         """Call ``fn(*task)`` for every task and ``on_result(i, value)`` as each finishes.
 
         Parameters
@@ -214,7 +236,7 @@ class Executor:
 
         futures = [self.client.submit(fn, *t, pure=False, retries=2) for t in tasks]
         index = {f.key: i for i, f in enumerate(futures)}
-        with _quiet():      # a lost worker or a cancelled task is handled here, not logged
+        with _quiet():  # a lost worker or a cancelled task is handled here, not logged
             try:
                 for fut, value in as_completed(futures, with_results=True):
                     on_result(index[fut.key], value)
@@ -244,7 +266,7 @@ class Executor:
                     self.cluster.close()
                 self.cluster = None
 
-    def __enter__(self) -> "Executor":
+    def __enter__(self) -> Executor:
         return self
 
     def __exit__(self, *exc: object) -> None:

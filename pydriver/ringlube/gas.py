@@ -39,11 +39,11 @@ class GasModel:
     manifold_pressure: float = 1.0e5
     exhaust_pressure: float = 1.1e5
     gamma: float = 1.32
-    ivc: float = 200.0        # intake valve closing
-    evo: float = 490.0        # exhaust valve opening
-    blowdown: float = 50.0    # deg over which the cylinder empties to exhaust pressure
-    soc: float = 345.0        # start of combustion
-    duration: float = 55.0    # combustion duration
+    ivc: float = 200.0  # intake valve closing
+    evo: float = 490.0  # exhaust valve opening
+    blowdown: float = 50.0  # deg over which the cylinder empties to exhaust pressure
+    soc: float = 345.0  # start of combustion
+    duration: float = 55.0  # combustion duration
     wiebe_a: float = 5.0
     wiebe_m: float = 2.0
     peak_pressure: float = 60e5
@@ -146,7 +146,8 @@ def read_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     from .case import Case, kernel_case
 
     case = Case(name=f"trace {Path(path).name}").set(
-        "operating", pressure_file=str(Path(path).resolve()), pressure_scale=1.0)
+        "operating", pressure_file=str(Path(path).resolve()), pressure_scale=1.0
+    )
     with kernel_case(case) as k:
         n = _kernel.rl_trace_length(k.handle)
         psi, p = _kernel.rl_trace(k.handle, n)
@@ -162,8 +163,12 @@ def main(argv: list[str] | None = None) -> None:
         m = PRESETS[name]
         psi, p = trace(m)
         params = ", ".join(f"{k}={v}" for k, v in dataclasses.asdict(m).items())
-        write_csv(Path(args.out) / f"{name}.csv", psi, p,
-                  header=f"ringlube synthetic single-zone trace '{name}'\n{params}")
+        write_csv(
+            Path(args.out) / f"{name}.csv",
+            psi,
+            p,
+            header=f"ringlube synthetic single-zone trace '{name}'\n{params}",
+        )
         i = int(np.argmax(p))
         print(f"{name}: peak {p[i] / 1e5:.1f} bar at {psi[i]:.1f} deg")
 

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import matplotlib
 
@@ -14,8 +14,15 @@ import numpy as np  # noqa: E402
 
 from .result import CycleResult  # noqa: E402
 
-__all__ = ["friction_figure", "film_figure", "gas_figure", "liner_figure", "plot_results",
-           "save_metadata", "supply_figure"]
+__all__ = [
+    "friction_figure",
+    "film_figure",
+    "gas_figure",
+    "liner_figure",
+    "plot_results",
+    "save_metadata",
+    "supply_figure",
+]
 
 # no creation date in the files, so that regenerated figures differ only when their data do
 _METADATA = {"png": {"Software": None}, "pdf": {"CreationDate": None, "Producer": None}}
@@ -24,6 +31,7 @@ _METADATA = {"png": {"Software": None}, "pdf": {"CreationDate": None, "Producer"
 def save_metadata(fmt: str) -> dict:
     """savefig metadata without timestamps for the given format."""
     return _METADATA.get(fmt, {})
+
 
 _STROKES = (("intake", 90), ("compression", 270), ("expansion", 450), ("exhaust", 630))
 _CENTRES = ((0, "TDC"), (180, "BDC"), (360, "TDC\nfiring"), (540, "BDC"), (720, "TDC"))
@@ -37,8 +45,16 @@ def _crank_axis(ax: plt.Axes) -> None:
     for c, _ in _CENTRES[1:-1]:
         ax.axvline(c, color="0.8", lw=0.8, zorder=0)
     for name, mid in _STROKES:
-        ax.text(mid, 1.01, name, transform=ax.get_xaxis_transform(), ha="center", va="bottom",
-                fontsize=8, color="0.35")
+        ax.text(
+            mid,
+            1.01,
+            name,
+            transform=ax.get_xaxis_transform(),
+            ha="center",
+            va="bottom",
+            fontsize=8,
+            color="0.35",
+        )
 
 
 def _label(r: CycleResult, i: int) -> str:
@@ -49,12 +65,28 @@ def friction_figure(results: Sequence[CycleResult]) -> plt.Figure:
     """Friction over the cycle with its viscous and boundary parts (study Figs 3, 5, 11b)."""
     fig, ax = plt.subplots(figsize=(8, 4.2), layout="constrained")
     for i, r in enumerate(results):
-        line, = ax.plot(r.crank_angle_deg, r.friction, lw=1.4,
-                        label=f"{_label(r, i)}: total ({r.energy_loss:.3f} J/cycle)")
-        ax.plot(r.crank_angle_deg, r.viscous_friction, lw=0.9, ls="--", color=line.get_color(),
-                label=f"{_label(r, i)}: viscous")
-        ax.plot(r.crank_angle_deg, r.boundary_friction, lw=0.9, ls=":", color=line.get_color(),
-                label=f"{_label(r, i)}: boundary")
+        (line,) = ax.plot(
+            r.crank_angle_deg,
+            r.friction,
+            lw=1.4,
+            label=f"{_label(r, i)}: total ({r.energy_loss:.3f} J/cycle)",
+        )
+        ax.plot(
+            r.crank_angle_deg,
+            r.viscous_friction,
+            lw=0.9,
+            ls="--",
+            color=line.get_color(),
+            label=f"{_label(r, i)}: viscous",
+        )
+        ax.plot(
+            r.crank_angle_deg,
+            r.boundary_friction,
+            lw=0.9,
+            ls=":",
+            color=line.get_color(),
+            label=f"{_label(r, i)}: boundary",
+        )
     ax.axhline(0, color="k", lw=0.6)
     ax.set_ylabel("friction on the ring [N]")
     _crank_axis(ax)
@@ -66,13 +98,23 @@ def film_figure(results: Sequence[CycleResult]) -> plt.Figure:
     """Minimum film thickness over the cycle with the lambda = 4 threshold (Figs 6, 8, 11a)."""
     fig, ax = plt.subplots(figsize=(8, 4.2), layout="constrained")
     for i, r in enumerate(results):
-        ax.plot(r.crank_angle_deg, r.lambda_min * r.sigma * 1e6, lw=1.4,
-                label=f"{_label(r, i)} (mixed {r.mixed_share:.1f} % of the cycle)")
+        ax.plot(
+            r.crank_angle_deg,
+            r.lambda_min * r.sigma * 1e6,
+            lw=1.4,
+            label=f"{_label(r, i)} (mixed {r.mixed_share:.1f} % of the cycle)",
+        )
     sigmas = sorted({r.sigma for r in results})
     for s in sigmas:
         ax.axhline(4 * s * 1e6, color="tab:red", lw=1, ls="--")
-        ax.text(5, 4 * s * 1e6, f" $\\lambda$ = 4 ({4 * s * 1e6:.2f} $\\mu$m): mixed/boundary below",
-                color="tab:red", fontsize=8, va="bottom")
+        ax.text(
+            5,
+            4 * s * 1e6,
+            f" $\\lambda$ = 4 ({4 * s * 1e6:.2f} $\\mu$m): mixed/boundary below",
+            color="tab:red",
+            fontsize=8,
+            va="bottom",
+        )
     ax.set_ylabel(r"minimum film thickness [$\mu$m]")
     ax.set_ylim(bottom=0)
     _crank_axis(ax)
@@ -103,8 +145,12 @@ def liner_figure(results: Sequence[CycleResult]) -> plt.Figure:
     for i, r in enumerate(results):
         if not r.liner:
             continue
-        ax.plot(r.liner["liner_position"] * 1e3, r.liner["liner_oil_film"] * 1e6, lw=1.2,
-                label=f"{_label(r, i)} ({r.oil_to_chamber:.3g} mm$^3$ per cycle to the chamber)")
+        ax.plot(
+            r.liner["liner_position"] * 1e3,
+            r.liner["liner_oil_film"] * 1e6,
+            lw=1.2,
+            label=f"{_label(r, i)} ({r.oil_to_chamber:.3g} mm$^3$ per cycle to the chamber)",
+        )
     ax.set_xlabel("liner position from the top ring at TDC [mm] (towards the crankcase)")
     ax.set_ylabel(r"oil film on the liner [$\mu$m]")
     ax.set_ylim(bottom=0)
@@ -112,8 +158,12 @@ def liner_figure(results: Sequence[CycleResult]) -> plt.Figure:
     return fig
 
 
-def plot_results(results: Sequence[CycleResult], outdir: str | os.PathLike,
-                 formats: Sequence[str] = ("png", "pdf"), stem: str = "") -> list[Path]:
+def plot_results(
+    results: Sequence[CycleResult],
+    outdir: str | os.PathLike,
+    formats: Sequence[str] = ("png", "pdf"),
+    stem: str = "",
+) -> list[Path]:
     """Write the friction and film figures for one or several (overlaid) results, and for
     results of the mass-conserving film the inlet fill and wetted width, and with a starved
     inlet the liner oil film."""

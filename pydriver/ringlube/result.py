@@ -47,10 +47,18 @@ class CycleResult:
     ((180,), 'J')
     """
 
-    def __init__(self, series: dict[str, np.ndarray], scalars: dict[str, float], *,
-                 liner: dict[str, np.ndarray] | None = None, deck: str = "",
-                 deck_path: str = "", pressure_file: str = "", label: str = "",
-                 calibration_file: str = ""):
+    def __init__(
+        self,
+        series: dict[str, np.ndarray],
+        scalars: dict[str, float],
+        *,
+        liner: dict[str, np.ndarray] | None = None,
+        deck: str = "",
+        deck_path: str = "",
+        pressure_file: str = "",
+        label: str = "",
+        calibration_file: str = "",
+    ):
         self.series = dict(series)
         self.scalars = dict(scalars)
         self.liner = dict(liner or {})
@@ -91,10 +99,12 @@ class CycleResult:
 
     def summary(self) -> str:
         """One line with units."""
-        return (f"energy loss {self.energy_loss:.4f} J/cycle, mixed share {self.mixed_share:.2f} %, "
-                f"ring mass {self.ring_mass:.3f} g, min film {self.min_film * 1e6:.4f} µm, "
-                f"peak friction {self.max_friction:.3f} N, cycles {self.cycles_run}, "
-                f"converged {'yes' if self.converged else 'no'}")
+        return (
+            f"energy loss {self.energy_loss:.4f} J/cycle, mixed share {self.mixed_share:.2f} %, "
+            f"ring mass {self.ring_mass:.3f} g, min film {self.min_film * 1e6:.4f} µm, "
+            f"peak friction {self.max_friction:.3f} N, cycles {self.cycles_run}, "
+            f"converged {'yes' if self.converged else 'no'}"
+        )
 
     def to_hdf5(self, path: str | os.PathLike) -> Path:
         """Write the SPEC layout with the kernel's writer (atomically).
@@ -114,12 +124,19 @@ class CycleResult:
         i = np.column_stack([np.asarray(self.series[k], np.int32) for k in INT_SERIES])
         c = np.array([float(self.scalars.get(k, 0.0)) for k in SCALARS])
         produced = np.array([int("inlet_fill" in self.series), int(bool(self.liner))], np.int32)
-        lin = (np.column_stack([self.liner[k] for k in LINER]) if self.liner
-               else np.zeros((0, len(LINER))))
-        code, message = _kernel.rl_write(os.fsencode(path), s, i, c, produced, lin,
-                                         _b(self.deck),
-                                         _b(self.deck_path), _b(self.pressure_file),
-                                         _b(self.calibration_file))
+        lin = np.column_stack([self.liner[k] for k in LINER]) if self.liner else np.zeros((0, len(LINER)))
+        code, message = _kernel.rl_write(
+            os.fsencode(path),
+            s,
+            i,
+            c,
+            produced,
+            lin,
+            _b(self.deck),
+            _b(self.deck_path),
+            _b(self.pressure_file),
+            _b(self.calibration_file),
+        )
         if code:
             raise error_for(code, _text(message))
         return path
@@ -162,10 +179,10 @@ def load(path: str | os.PathLike) -> CycleResult:
         with h5py.File(path, "r") as f:
             a = f.attrs
             c = f["cycle"]
-            series = {k: c[spec.stored][()] for k, spec in {**SERIES, **INT_SERIES}.items()
-                      if spec.stored in c}
-            missing = [spec.stored for spec in SERIES.values()
-                       if not spec.requires and spec.stored not in c]
+            series = {
+                k: c[spec.stored][()] for k, spec in {**SERIES, **INT_SERIES}.items() if spec.stored in c
+            }
+            missing = [spec.stored for spec in SERIES.values() if not spec.requires and spec.stored not in c]
             if missing:
                 raise KeyError(", ".join(missing))
             n = len(series["crank_angle_deg"])
@@ -173,11 +190,15 @@ def load(path: str | os.PathLike) -> CycleResult:
             if odd or "flags" not in series:
                 raise KeyError(f"series of other lengths or missing flags: {odd or ['flags']}")
             scalars = {k: float(a[spec.stored]) for k, spec in SCALARS.items() if spec.stored in a}
-            liner = ({k: f["liner"][spec.stored][()] for k, spec in LINER.items()}
-                     if "liner" in f else {})
-            return CycleResult(series, scalars, liner=liner,
-                               deck=_text(a.get("deck", b""), strip=False),
-                               deck_path=_text(a.get("deck_path", b"")),
-                               pressure_file=_text(a.get("pressure_file", b"")), label=path.stem)
+            liner = {k: f["liner"][spec.stored][()] for k, spec in LINER.items()} if "liner" in f else {}
+            return CycleResult(
+                series,
+                scalars,
+                liner=liner,
+                deck=_text(a.get("deck", b""), strip=False),
+                deck_path=_text(a.get("deck_path", b"")),
+                pressure_file=_text(a.get("pressure_file", b"")),
+                label=path.stem,
+            )
     except (OSError, KeyError, ValueError, TypeError) as exc:
         raise InputError(f"{path}: not a readable ringlube result ({exc})") from None

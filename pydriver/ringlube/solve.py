@@ -4,7 +4,7 @@ cases in parallel processes."""
 from __future__ import annotations
 
 import os
-from typing import Iterable, Sequence
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 
@@ -30,13 +30,19 @@ class BatchError(RinglubeError):
     def __init__(self, results: list, errors: dict[int, RinglubeError]):
         self.results, self.errors = results, errors
         first = min(errors)
-        super().__init__(f"{len(errors)} of {len(results)} cases failed (first: case {first}: "
-                         f"{errors[first]}); the other results are in .results")
+        super().__init__(
+            f"{len(errors)} of {len(results)} cases failed (first: case {first}: "
+            f"{errors[first]}); the other results are in .results"
+        )
         self.code = max(e.code for e in errors.values())
 
 
-def run(case: Case | str | os.PathLike, *, strict: bool = False,
-        trace: tuple[np.ndarray, np.ndarray] | None = None) -> CycleResult:
+def run(
+    case: Case | str | os.PathLike,
+    *,
+    strict: bool = False,
+    trace: tuple[np.ndarray, np.ndarray] | None = None,
+) -> CycleResult:
     """Run one engine cycle of ``case`` (a :class:`Case` or a deck path).
 
     Gives the same numbers as ``ringlube-solve`` on the same deck: the case is parsed by
@@ -84,32 +90,42 @@ def run(case: Case | str | os.PathLike, *, strict: bool = False,
             if code:
                 raise error_for(code, _text(message))
         series, iseries, scalars, produced, liner, code, message = _kernel.rl_run(
-            k.handle, k.nsteps, len(SERIES), len(INT_SERIES), len(SCALARS), k.nliner)
+            k.handle, k.nsteps, len(SERIES), len(INT_SERIES), len(SCALARS), k.nliner
+        )
         if code:
             raise error_for(code, _text(message))
         pressure_file, _, _ = _kernel.rl_get(k.handle, b"operating", b"pressure_file")
         calibration_file, _, _ = _kernel.rl_get(k.handle, b"calibration", b"file")
         deck = _kernel.rl_deck_text(k.handle, _kernel.rl_deck_length(k.handle))
     made = {"": True, "jfo": bool(produced[0]), "starved": bool(produced[1])}
-    data = {k: np.ascontiguousarray(series[:, j]) for j, (k, s) in enumerate(SERIES.items())
-            if made[s.requires]}
+    data = {
+        k: np.ascontiguousarray(series[:, j]) for j, (k, s) in enumerate(SERIES.items()) if made[s.requires]
+    }
     data.update({k: np.ascontiguousarray(iseries[:, j]) for j, k in enumerate(INT_SERIES)})
     scal = {k: float(v) for (k, s), v in zip(SCALARS.items(), scalars) if made[s.requires]}
-    lin = ({k: np.ascontiguousarray(liner[:, j]) for j, k in enumerate(LINER)}
-           if made["starved"] else {})
+    lin = {k: np.ascontiguousarray(liner[:, j]) for j, k in enumerate(LINER)} if made["starved"] else {}
     name = case.kernel_inputs()[1]
-    result = CycleResult(data, scal, liner=lin,
-                         deck=deck.astype("u1").tobytes().decode("utf-8", errors="replace"),
-                         deck_path=name, pressure_file=_text(pressure_file), label=case.name,
-                         calibration_file=_text(calibration_file))
+    result = CycleResult(
+        data,
+        scal,
+        liner=lin,
+        deck=deck.astype("u1").tobytes().decode("utf-8", errors="replace"),
+        deck_path=name,
+        pressure_file=_text(pressure_file),
+        label=case.name,
+        calibration_file=_text(calibration_file),
+    )
     if strict and not result.converged:
-        raise NotConvergedError(f"{case.source or case.name}: the run did not converge "
-                                f"({result.cycles_run} cycles, change {result.cycle_change:.2e})")
+        raise NotConvergedError(
+            f"{case.source or case.name}: the run did not converge "
+            f"({result.cycles_run} cycles, change {result.cycle_change:.2e})"
+        )
     return result
 
 
-def run_designs(case: Case, variables: Sequence[str], x: np.ndarray,
-                outputs: Sequence[str] | None = None) -> tuple[np.ndarray, np.ndarray, list]:
+def run_designs(
+    case: Case, variables: Sequence[str], x: np.ndarray, outputs: Sequence[str] | None = None
+) -> tuple[np.ndarray, np.ndarray, list]:
     """Run many designs of one case in one kernel call (the case parsed once).
 
     Parameters
@@ -152,12 +168,13 @@ def run_designs(case: Case, variables: Sequence[str], x: np.ndarray,
         group, _, name = str(v).rpartition(":")
         spec = INPUTS.get((group or "ring", name))
         if spec is None or ":" in group:
-            raise InputError(f"run_designs: '{v}' is not an input variable ('name' of &ring, "
-                             "or 'group:name')")
-        if spec.kind not in ("real", "integer") or (spec.group, spec.name) == (
-                "operating", "pressure_file"):
-            raise InputError(f"run_designs: &{spec.group} {spec.name} is not a number: "
-                             "change it on the case instead")
+            raise InputError(
+                f"run_designs: '{v}' is not an input variable ('name' of &ring, or 'group:name')"
+            )
+        if spec.kind not in ("real", "integer") or (spec.group, spec.name) == ("operating", "pressure_file"):
+            raise InputError(
+                f"run_designs: &{spec.group} {spec.name} is not a number: change it on the case instead"
+            )
         keys.append(f"{spec.group}:{spec.name}")
     try:
         x = np.asarray(x, dtype=float)
@@ -166,8 +183,10 @@ def run_designs(case: Case, variables: Sequence[str], x: np.ndarray,
     if x.size == 0:
         x = x.reshape(0, len(keys))
     if x.ndim != 2 or x.shape[1] != len(keys) or not keys:
-        raise InputError(f"run_designs: x must have one row per design and one column per "
-                         f"variable ({len(keys)}), got shape {x.shape}")
+        raise InputError(
+            f"run_designs: x must have one row per design and one column per "
+            f"variable ({len(keys)}), got shape {x.shape}"
+        )
     names = list(SCALARS)
     cols = [names.index(o) for o in outputs]
     values = np.full((len(x), len(outputs)), np.nan)
@@ -179,7 +198,7 @@ def run_designs(case: Case, variables: Sequence[str], x: np.ndarray,
         out, codes = _kernel.rl_run_batch(k.handle, " ".join(keys).encode(), x, len(SCALARS))
     for i, code in enumerate(codes):
         if code:
-            try:   # the message: run the one design alone (rare, so not worth a buffer)
+            try:  # the message: run the one design alone (rare, so not worth a buffer)
                 design = case.copy()
                 for k, v in zip(keys, x[i]):
                     g, n = k.split(":")
@@ -199,12 +218,18 @@ def _run_one(args: tuple[Case, bool]):
         return run(args[0], strict=args[1])
     except RinglubeError as exc:
         return exc
-    except (TypeError, ValueError, OSError) as exc:   # not a case: an error of that entry
+    except (TypeError, ValueError, OSError) as exc:  # not a case: an error of that entry
         return RinglubeError(f"{type(exc).__name__}: {exc}")
 
 
-def run_many(cases: Iterable[Case], workers: int | None = None, *, strict: bool = False,
-             progress: bool = True, on_error: str = "raise") -> list:
+def run_many(
+    cases: Iterable[Case],
+    workers: int | None = None,
+    *,
+    strict: bool = False,
+    progress: bool = True,
+    on_error: str = "raise",
+) -> list:
     """Run many cases in worker processes; results in input order.
 
     Parameters
@@ -257,8 +282,7 @@ def run_many(cases: Iterable[Case], workers: int | None = None, *, strict: bool 
         out[i] = value
         bar.update()
 
-    ex = Executor(workers=workers, backend="serial" if workers == 1 or len(cases) <= 1
-                  else "processes")
+    ex = Executor(workers=workers, backend="serial" if workers == 1 or len(cases) <= 1 else "processes")
     try:
         ex.map(_run_one, [((c, strict),) for c in cases], done)
     finally:

@@ -26,9 +26,23 @@ from .executor import Executor, require
 from .study_settings import OUTPUTS, StudySettings, read_study
 from .study_store import CaseState, Checked, Direct, Front, Runs, Study, Surface
 
-__all__ = ["StudySettings", "Study", "Executor", "read_study", "run_study", "sample",
-           "run_samples", "fit_surfaces", "optimise", "choose_designs", "check_designs",
-           "scene_results", "direct", "surfaces_of", "FAILED_PENALTY"]
+__all__ = [
+    "StudySettings",
+    "Study",
+    "Executor",
+    "read_study",
+    "run_study",
+    "sample",
+    "run_samples",
+    "fit_surfaces",
+    "optimise",
+    "choose_designs",
+    "check_designs",
+    "scene_results",
+    "direct",
+    "surfaces_of",
+    "FAILED_PENALTY",
+]
 
 #: Objective value given to a design the kernel rejects during the direct NSGA-II (the GA
 #: needs a finite number; any valid design is far better).
@@ -37,8 +51,10 @@ FAILED_PENALTY = 1e10
 
 # --- running designs -----------------------------------------------------------------
 
-def _run_designs(base_case: Case, variables: list[tuple[str, str]], x: np.ndarray,
-                 outputs: list[str]) -> tuple[np.ndarray, np.ndarray, list[str]]:
+
+def _run_designs(
+    base_case: Case, variables: list[tuple[str, str]], x: np.ndarray, outputs: list[str]
+) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """Run designs ``x`` (rows) of ``base_case``: the one batch call of every study.
 
     Parameters
@@ -67,8 +83,9 @@ def _run_designs(base_case: Case, variables: list[tuple[str, str]], x: np.ndarra
     """
     from .solve import run_designs
 
-    values, converged, errs = run_designs(base_case, [f"{g}:{n}" for g, n in variables],
-                                          np.atleast_2d(np.asarray(x, float)), list(outputs))
+    values, converged, errs = run_designs(
+        base_case, [f"{g}:{n}" for g, n in variables], np.atleast_2d(np.asarray(x, float)), list(outputs)
+    )
     errors = [(e.splitlines()[0] if e else "") if e is not None else "" for e in errs]
     return values, converged, errors
 
@@ -107,8 +124,7 @@ def _bases(s: StudySettings) -> list[Case]:
     return [Case.from_namelist(deck) for deck in s.cases]
 
 
-def run_samples(study: Study, ex: Executor, progress: bool = True,
-                stop_after: int | None = None) -> None:
+def run_samples(study: Study, ex: Executor, progress: bool = True, stop_after: int | None = None) -> None:
     """Run every sample on every case; finished runs are kept across interruptions.
 
     Parameters
@@ -187,13 +203,19 @@ def scene_results(study: Study) -> None:
     s = study.s
     w = np.array(s.weights) / sum(s.weights)
     runs = [study.cases[label].runs for label in s.labels]
-    out = Runs(sum(wi * r.outputs for wi, r in zip(w, runs)),
-               np.all([r.done for r in runs], axis=0), np.all([r.converged for r in runs], axis=0),
-               np.any([r.failed for r in runs], axis=0),
-               ["; ".join(e for e in errs if e) for errs in zip(*(r.errors for r in runs))])
+    out = Runs(
+        sum(wi * r.outputs for wi, r in zip(w, runs)),
+        np.all([r.done for r in runs], axis=0),
+        np.all([r.converged for r in runs], axis=0),
+        np.any([r.failed for r in runs], axis=0),
+        ["; ".join(e for e in errs if e) for errs in zip(*(r.errors for r in runs))],
+    )
     old = study.cases.get("scene")
-    study.cases["scene"] = CaseState(out) if old is None else CaseState(
-        out, old.surfaces, old.repeats, old.front, old.chosen, old.reference, old.direct)
+    study.cases["scene"] = (
+        CaseState(out)
+        if old is None
+        else CaseState(out, old.surfaces, old.repeats, old.front, old.chosen, old.reference, old.direct)
+    )
 
 
 def fit_surfaces(study: Study) -> None:
@@ -220,9 +242,11 @@ def fit_surfaces(study: Study) -> None:
     for label, c in study.cases.items():
         ok = c.runs.usable()
         if ok.sum() < n_terms(len(s.variables)) + s.folds:
-            raise RinglubeError(f"case '{label}': only {int(ok.sum())} of {s.samples} samples "
-                                "ran, converged and did not fail: too few for a quadratic "
-                                "surface (see the errors in the study file)")
+            raise RinglubeError(
+                f"case '{label}': only {int(ok.sum())} of {s.samples} samples "
+                "ran, converged and did not fail: too few for a quadratic "
+                "surface (see the errors in the study file)"
+            )
         x = study.x[ok]
         for j, o in enumerate(OUTPUTS):
             y = c.runs.outputs[ok, j]
@@ -255,16 +279,19 @@ def surfaces_of(study: Study, label: str, names: list[str] | None = None) -> lis
 
     s = study.s
     c = study.cases[label]
-    return [QuadraticSurface(np.array(s.lower), np.array(s.upper), np.asarray(c.surfaces[o].coef))
-            for o in (names or s.objectives)]
+    return [
+        QuadraticSurface(np.array(s.lower), np.array(s.upper), np.asarray(c.surfaces[o].coef))
+        for o in (names or s.objectives)
+    ]
 
 
 def _predict_all(study: Study, label: str, x: np.ndarray) -> np.ndarray:
     return np.column_stack([f(x) for f in surfaces_of(study, label, list(OUTPUTS))])
 
 
-def ga_repeat(coefs: list[np.ndarray], lower, upper, population: int, generations: int,
-              seed: int) -> tuple[np.ndarray, np.ndarray]:
+def ga_repeat(
+    coefs: list[np.ndarray], lower, upper, population: int, generations: int, seed: int
+) -> tuple[np.ndarray, np.ndarray]:
     """One NSGA-II run (pymoo) on quadratic surfaces.
 
     Parameters
@@ -302,8 +329,7 @@ def ga_repeat(coefs: list[np.ndarray], lower, upper, population: int, generation
         def _evaluate(self, x, out, *args, **kwargs):
             out["F"] = np.column_stack([f(x) for f in surfs])
 
-    res = minimize(Surrogate(), NSGA2(pop_size=population), ("n_gen", generations), seed=seed,
-                   verbose=False)
+    res = minimize(Surrogate(), NSGA2(pop_size=population), ("n_gen", generations), seed=seed, verbose=False)
     return np.atleast_2d(res.X), np.atleast_2d(res.F)
 
 
@@ -377,8 +403,7 @@ def optimise(study: Study, ex: Executor, progress: bool = True) -> None:
         coefs = [np.asarray(c.surfaces[o].coef) for o in s.objectives]
         for r in range(s.repeats):
             if r not in c.repeats:
-                tasks.append((coefs, s.lower, s.upper, s.population, s.generations,
-                              s.seed + 1000 * r))
+                tasks.append((coefs, s.lower, s.upper, s.population, s.generations, s.seed + 1000 * r))
                 where.append((label, r))
     bar = tqdm(total=len(tasks), desc="NSGA-II repeats", disable=not progress or not tasks)
 
@@ -402,8 +427,9 @@ def optimise(study: Study, ex: Executor, progress: bool = True) -> None:
         lo, ref = ff.min(0), ff.max(0) + 0.1 * (ff.max(0) - ff.min(0) + 1e-12)
         hv_all = hypervolume(ff, ref, lo)
         hv_reps = np.array([hypervolume(f, ref, lo) for _, f in reps])
-        c.front = Front(fx, ff, hv_all, hv_reps, float(hv_reps.mean() / hv_all),
-                        float(hv_reps.min() / hv_all), ref, lo)
+        c.front = Front(
+            fx, ff, hv_all, hv_reps, float(hv_reps.mean() / hv_all), float(hv_reps.min() / hv_all), ref, lo
+        )
 
 
 def choose_designs(study: Study) -> dict[str, tuple[list[str], np.ndarray]]:
@@ -457,14 +483,14 @@ def check_designs(study: Study, ex: Executor) -> None:
     if ref is None:
         for c in study.cases.values():
             c.reference = None
-    jobs = []          # (label, key, names, xs)
+    jobs = []  # (label, key, names, xs)
     for label, (names, xs) in chosen.items():
         jobs.append((label, "chosen", names, xs))
         if ref is not None:
             jobs.append((label, "reference", ["reference"], ref))
     tasks, where = [], []
     for j, (label, _, _, xs) in enumerate(jobs):
-        for base_label in ([label] if label in bases else s.labels):
+        for base_label in [label] if label in bases else s.labels:
             tasks.append((bases[base_label], s.groups_names, xs, list(OUTPUTS)))
             where.append((j, base_label))
     results: dict[tuple[int, str], tuple] = {}
@@ -477,12 +503,22 @@ def check_designs(study: Study, ex: Executor) -> None:
         else:
             values = sum(w[bl] * r[0] for bl, r in parts)
             conv = np.all([r[1] for _, r in parts], axis=0)
-            errors = ["; ".join(f"{bl}: {e}" for bl, e in zip((b for b, _ in parts), errs) if e)
-                      for errs in zip(*(r[2] for _, r in parts))]
-        setattr(study.cases[label], key,
-                Checked(list(names), np.asarray(xs), np.asarray(values),
-                        _predict_all(study, label, np.asarray(xs)), np.asarray(conv, bool),
-                        list(errors)))
+            errors = [
+                "; ".join(f"{bl}: {e}" for bl, e in zip((b for b, _ in parts), errs) if e)
+                for errs in zip(*(r[2] for _, r in parts))
+            ]
+        setattr(
+            study.cases[label],
+            key,
+            Checked(
+                list(names),
+                np.asarray(xs),
+                np.asarray(values),
+                _predict_all(study, label, np.asarray(xs)),
+                np.asarray(conv, bool),
+                list(errors),
+            ),
+        )
 
 
 def direct(study: Study, ex: Executor, progress: bool = True) -> None:
@@ -509,37 +545,51 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
     from tqdm.auto import tqdm
 
     s = study.s
+
+    class TrueModel(Problem):
+        """The kernel itself as the pymoo problem, for one case (its base deck)."""
+
+        def __init__(self, base, bar):
+            super().__init__(
+                n_var=len(s.variables), n_obj=len(s.objectives), xl=np.array(s.lower), xu=np.array(s.upper)
+            )
+            self.base, self.bar = base, bar
+            self.evaluated, self.failed = [], []
+
+        def _evaluate(self, x, out, *args, **kwargs):
+            chunks = np.array_split(np.arange(len(x)), max(1, len(x) // s.batch))
+            f = np.empty((len(x), len(s.objectives)))
+
+            def put(i, res):
+                values, _, errors = res
+                bad = np.array([bool(e) for e in errors])
+                values = np.where(bad[:, None], FAILED_PENALTY, values)
+                f[chunks[i]] = values
+                self.failed.append(int(bad.sum()))
+                self.bar.update(len(chunks[i]))
+
+            ex.map(_run_designs, [(self.base, s.groups_names, x[c], list(s.objectives)) for c in chunks], put)
+            self.evaluated.append(len(x))
+            out["F"] = f
+
     for label, base in zip(s.labels, _bases(s)):
         if study.cases[label].direct is not None:
             continue
-        bar = tqdm(total=s.direct_population * s.direct_generations, unit="run",
-                   desc=f"direct NSGA-II ({label})", disable=not progress)
-        evaluated, failed = [], []
-
-        class TrueModel(Problem):
-            def __init__(self):
-                super().__init__(n_var=len(s.variables), n_obj=len(s.objectives),
-                                 xl=np.array(s.lower), xu=np.array(s.upper))
-
-            def _evaluate(self, x, out, *args, **kwargs):
-                chunks = np.array_split(np.arange(len(x)), max(1, len(x) // s.batch))
-                f = np.empty((len(x), len(s.objectives)))
-
-                def put(i, res):
-                    values, _, errors = res
-                    bad = np.array([bool(e) for e in errors])
-                    values = np.where(bad[:, None], FAILED_PENALTY, values)
-                    f[chunks[i]] = values
-                    failed.append(int(bad.sum()))
-                    bar.update(len(chunks[i]))
-                ex.map(_run_designs,
-                       [(base, s.groups_names, x[c], list(s.objectives)) for c in chunks], put)
-                evaluated.append(len(x))
-                out["F"] = f
-
+        bar = tqdm(
+            total=s.direct_population * s.direct_generations,
+            unit="run",
+            desc=f"direct NSGA-II ({label})",
+            disable=not progress,
+        )
+        problem = TrueModel(base, bar)
         t0 = time.perf_counter()
-        res = minimize(TrueModel(), NSGA2(pop_size=s.direct_population),
-                       ("n_gen", s.direct_generations), seed=s.seed, verbose=False)
+        res = minimize(
+            problem,
+            NSGA2(pop_size=s.direct_population),
+            ("n_gen", s.direct_generations),
+            seed=s.seed,
+            verbose=False,
+        )
         bar.close()
         wall = time.perf_counter() - t0
         fd = np.atleast_2d(res.F)
@@ -548,13 +598,21 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
         lo, ref = both.min(0), both.max(0) + 0.1 * (both.max(0) - both.min(0) + 1e-12)
         scale = ref - lo
         study.cases[label].direct = Direct(
-            np.atleast_2d(res.X), fd, int(sum(evaluated)), wall, hypervolume(fd, ref, lo),
-            hypervolume(fs, ref, lo), float(IGD(fd / scale)(fs / scale)),
-            float(IGD(fs / scale)(fd / scale)), int(sum(failed)))
+            np.atleast_2d(res.X),
+            fd,
+            int(sum(problem.evaluated)),
+            wall,
+            hypervolume(fd, ref, lo),
+            hypervolume(fs, ref, lo),
+            float(IGD(fd / scale)(fs / scale)),
+            float(IGD(fs / scale)(fd / scale)),
+            int(sum(problem.failed)),
+        )
         study.save()
 
 
 # --- the whole study -----------------------------------------------------------------
+
 
 def _out_folder(out: str | os.PathLike | None, s: StudySettings) -> Path:
     out = Path(out) if out is not None else Path("out") / s.name
@@ -567,11 +625,20 @@ def _out_folder(out: str | os.PathLike | None, s: StudySettings) -> Path:
     return out
 
 
-def run_study(deck: str | os.PathLike, out: str | os.PathLike | None = None, *,
-              scheduler: str | None = None, workers: int | None = None, serial: bool = False,
-              backend: str | None = None, with_direct: bool = False, figures: bool = True,
-              progress: bool = True, stop_after: int | None = None,
-              connect_timeout: float | None = None) -> Study:
+def run_study(
+    deck: str | os.PathLike,
+    out: str | os.PathLike | None = None,
+    *,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    serial: bool = False,
+    backend: str | None = None,
+    with_direct: bool = False,
+    figures: bool = True,
+    progress: bool = True,
+    stop_after: int | None = None,
+    connect_timeout: float | None = None,
+) -> Study:
     """The whole pipeline; resumes from the study file in ``out`` if there is one.
 
     Parameters
@@ -612,9 +679,17 @@ def run_study(deck: str | os.PathLike, out: str | os.PathLike | None = None, *,
     path = out / f"{s.name}.h5"
     study = Study.open(s, path, lock=True)
     try:
-        _pipeline(study, scheduler=scheduler, workers=workers, serial=serial, backend=backend,
-                  with_direct=with_direct, progress=progress, stop_after=stop_after,
-                  connect_timeout=connect_timeout)
+        _pipeline(
+            study,
+            scheduler=scheduler,
+            workers=workers,
+            serial=serial,
+            backend=backend,
+            with_direct=with_direct,
+            progress=progress,
+            stop_after=stop_after,
+            connect_timeout=connect_timeout,
+        )
         from .study_report import write_outputs
 
         write_outputs(study, out, figures=figures)
@@ -623,16 +698,18 @@ def run_study(deck: str | os.PathLike, out: str | os.PathLike | None = None, *,
     return study
 
 
-def _pipeline(study: Study, *, scheduler, workers, serial, backend, with_direct, progress,
-              stop_after, connect_timeout) -> None:
+def _pipeline(
+    study: Study, *, scheduler, workers, serial, backend, with_direct, progress, stop_after, connect_timeout
+) -> None:
     s = study.s
     if study.x is None:
         study.x = sample(s)
         study.stages.add("sampled")
         study.save()
-    require("pymoo", "ringlube optimise")      # before any run, not hours later
-    ex = Executor(scheduler=scheduler, workers=workers, serial=serial, backend=backend,
-                  connect_timeout=connect_timeout)
+    require("pymoo", "ringlube optimise")  # before any run, not hours later
+    ex = Executor(
+        scheduler=scheduler, workers=workers, serial=serial, backend=backend, connect_timeout=connect_timeout
+    )
     try:
         run_samples(study, ex, progress=progress, stop_after=stop_after)
         study.stages.add("ran")
@@ -644,8 +721,11 @@ def _pipeline(study: Study, *, scheduler, workers, serial, backend, with_direct,
             study.save()
         optimise(study, ex, progress=progress)
         study.stages.add("optimised")
-        if ("checked" not in study.stages or any(c.chosen is None for c in study.cases.values())
-                or _reference_stale(study)):
+        if (
+            "checked" not in study.stages
+            or any(c.chosen is None for c in study.cases.values())
+            or _reference_stale(study)
+        ):
             check_designs(study, ex)
             study.stages.add("checked")
             study.save()

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Callable, Sequence
 
 import matplotlib
 
@@ -24,13 +24,24 @@ import numpy as np  # noqa: E402
 
 from .plot import save_metadata  # noqa: E402
 
-__all__ = ["Axis", "FitPanel", "Mark", "TradeoffSeries", "fit_figure", "map_figure",
-           "tradeoff_figure", "save", "CONSTANT_RTOL"]
+__all__ = [
+    "Axis",
+    "FitPanel",
+    "Mark",
+    "TradeoffSeries",
+    "fit_figure",
+    "map_figure",
+    "tradeoff_figure",
+    "save",
+    "CONSTANT_RTOL",
+]
 
 #: A field whose range is below this fraction of its magnitude is drawn as constant.
 CONSTANT_RTOL = 1e-6
-_MARKERS = {"chosen": dict(marker="X", s=60, color="k", edgecolor="w", linewidth=0.6),
-            "reference": dict(marker="*", s=190, color="gold", edgecolor="k", linewidth=0.8)}
+_MARKERS = {
+    "chosen": dict(marker="X", s=60, color="k", edgecolor="w", linewidth=0.6),
+    "reference": dict(marker="*", s=190, color="gold", edgecolor="k", linewidth=0.8),
+}
 
 
 @dataclasses.dataclass
@@ -154,15 +165,18 @@ def fit_figure(label: str, panels: Sequence[FitPanel], folds: int) -> plt.Figure
     >>> fig = fit_figure("cold", [FitPanel("e", "J", np.arange(3.0), np.arange(3.0), 1, 1, 0)],
     ...                  5)
     """
-    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4), layout="constrained",
-                             squeeze=False)
+    fig, axes = plt.subplots(
+        1, len(panels), figsize=(4.2 * len(panels), 4), layout="constrained", squeeze=False
+    )
     for ax, p in zip(axes.flat, panels):
         ax.scatter(p.simulated, p.predicted, s=4, alpha=0.5)
         lo = min(np.min(p.simulated), np.min(p.predicted))
         hi = max(np.max(p.simulated), np.max(p.predicted))
         ax.plot([lo, hi], [lo, hi], "k-", lw=0.8)
-        ax.set_title(f"{p.name} ({label}): R$^2$ {p.r2:.4f}, adj {p.r2_adj:.4f}\n"
-                     f"{folds}-fold CV error {p.cv_rel:.2%}", fontsize=9)
+        ax.set_title(
+            f"{p.name} ({label}): R$^2$ {p.r2:.4f}, adj {p.r2_adj:.4f}\n{folds}-fold CV error {p.cv_rel:.2%}",
+            fontsize=9,
+        )
         ax.set_xlabel(f"simulated {p.name} [{p.unit}]")
         ax.set_ylabel(f"quadratic surface [{p.unit}]")
     return fig
@@ -172,8 +186,13 @@ def _constant(z: np.ndarray) -> bool:
     return float(np.ptp(z)) <= CONSTANT_RTOL * max(float(np.max(np.abs(z))), 1e-300)
 
 
-def map_figure(title: str, zlabel: str, surface: Callable[[np.ndarray], np.ndarray],
-               axes_: Sequence[Axis], marks: Sequence[Mark] = ()) -> plt.Figure:
+def map_figure(
+    title: str,
+    zlabel: str,
+    surface: Callable[[np.ndarray], np.ndarray],
+    axes_: Sequence[Axis],
+    marks: Sequence[Mark] = (),
+) -> plt.Figure:
     """An objective over every pair of variables (the others at mid-range).
 
     One panel per pair, at most three a row (one square panel for two variables; a line
@@ -211,10 +230,14 @@ def map_figure(title: str, zlabel: str, surface: Callable[[np.ndarray], np.ndarr
         g = np.linspace(lo[0], hi[0], 200)[:, None]
         ax.plot(g[:, 0] * axes_[0].scale, surface(g), lw=1.4)
         for m in marks:
-            ax.scatter(m.x[0] * axes_[0].scale, surface(np.atleast_2d(m.x))[0], zorder=3,
-                       **_MARKERS[m.style])
-            ax.annotate(m.name, (m.x[0] * axes_[0].scale, surface(np.atleast_2d(m.x))[0]),
-                        fontsize=7, xytext=(4, 4), textcoords="offset points")
+            ax.scatter(m.x[0] * axes_[0].scale, surface(np.atleast_2d(m.x))[0], zorder=3, **_MARKERS[m.style])
+            ax.annotate(
+                m.name,
+                (m.x[0] * axes_[0].scale, surface(np.atleast_2d(m.x))[0]),
+                fontsize=7,
+                xytext=(4, 4),
+                textcoords="offset points",
+            )
         ax.set_xlabel(axes_[0].label)
         ax.set_ylabel(zlabel)
         ax.set_title(f"{title}, quadratic surface", fontsize=10)
@@ -222,8 +245,9 @@ def map_figure(title: str, zlabel: str, surface: Callable[[np.ndarray], np.ndarr
     pairs = list(itertools.combinations(range(d), 2))
     ncol = min(3, len(pairs))
     nrow = int(np.ceil(len(pairs) / ncol))
-    fig, axs = plt.subplots(nrow, ncol, figsize=(4.4 * ncol + 1.2, 3.8 * nrow + 0.4),
-                            layout="constrained", squeeze=False)
+    fig, axs = plt.subplots(
+        nrow, ncol, figsize=(4.4 * ncol + 1.2, 3.8 * nrow + 0.4), layout="constrained", squeeze=False
+    )
     grids = []
     for a, b in pairs:
         ga, gb = np.meshgrid(np.linspace(lo[a], hi[a], 60), np.linspace(lo[b], hi[b], 60))
@@ -241,26 +265,37 @@ def map_figure(title: str, zlabel: str, surface: Callable[[np.ndarray], np.ndarr
     for ax, (a, b), (ga, gb, z) in zip(axs.flat, pairs, grids):
         xa, xb = ga * axes_[a].scale, gb * axes_[b].scale
         if constant:
-            ax.pcolormesh(xa, xb, np.zeros_like(z), cmap="Greys", vmin=0, vmax=4,
-                          shading="auto")
-            ax.text(0.5, 0.5, f"constant to {CONSTANT_RTOL:g}:\n{float(np.mean(z)):.6g}",
-                    transform=ax.transAxes, ha="center", va="center", fontsize=9)
+            ax.pcolormesh(xa, xb, np.zeros_like(z), cmap="Greys", vmin=0, vmax=4, shading="auto")
+            ax.text(
+                0.5,
+                0.5,
+                f"constant to {CONSTANT_RTOL:g}:\n{float(np.mean(z)):.6g}",
+                transform=ax.transAxes,
+                ha="center",
+                va="center",
+                fontsize=9,
+            )
         else:
             cs = ax.contourf(xa, xb, z, levels=levels, cmap="viridis")
             ax.set_title(f"range here {z.min():.4g} to {z.max():.4g}", fontsize=8)
-        xy = np.array([[m.x[a] * axes_[a].scale, m.x[b] * axes_[b].scale]
-                       for m in marks]).reshape(-1, 2)
+        xy = np.array([[m.x[a] * axes_[a].scale, m.x[b] * axes_[b].scale] for m in marks]).reshape(-1, 2)
         for m, (px, py) in zip(marks, xy):
             ax.scatter(px, py, zorder=3, clip_on=False, **_MARKERS[m.style])
         for group in _coincident(xy):
-            ax.annotate(",".join(tags[i] for i in group), tuple(xy[group[0]]), fontsize=7,
-                        xytext=(4, 3), textcoords="offset points", color="k",
-                        bbox=dict(boxstyle="round,pad=0.1", fc="w", alpha=0.7, lw=0))
+            ax.annotate(
+                ",".join(tags[i] for i in group),
+                tuple(xy[group[0]]),
+                fontsize=7,
+                xytext=(4, 3),
+                textcoords="offset points",
+                color="k",
+                bbox=dict(boxstyle="round,pad=0.1", fc="w", alpha=0.7, lw=0),
+            )
         ax.set_xlim(lo[a] * axes_[a].scale, hi[a] * axes_[a].scale)
         ax.set_ylim(lo[b] * axes_[b].scale, hi[b] * axes_[b].scale)
         ax.set_xlabel(axes_[a].label)
         ax.set_ylabel(axes_[b].label)
-    for ax in list(axs.flat)[len(pairs):]:
+    for ax in list(axs.flat)[len(pairs) :]:
         ax.axis("off")
     if cs is not None:
         fig.colorbar(cs, ax=axs, label=zlabel, shrink=0.9)
@@ -270,8 +305,7 @@ def map_figure(title: str, zlabel: str, surface: Callable[[np.ndarray], np.ndarr
         title += f": {zlabel} constant to {CONSTANT_RTOL:g}"
     fig.suptitle(title, fontsize=10)
     if marks:
-        fig.supxlabel("marked: " + ", ".join(f"{t} = {m.name}" for t, m in zip(tags, marks)),
-                      fontsize=8)
+        fig.supxlabel("marked: " + ", ".join(f"{t} = {m.name}" for t, m in zip(tags, marks)), fontsize=8)
     return fig
 
 
@@ -326,28 +360,37 @@ def tradeoff_figure(series: Sequence[TradeoffSeries], xlabel: str, ylabel: str) 
     """
     fig, ax = plt.subplots(figsize=(8.5, 5), layout="constrained")
     for sr in series:
-        sc = ax.scatter(sr.front[:, 0], sr.front[:, 1], s=7, alpha=0.55,
-                        label=f"{sr.label}: Pareto set (surrogate)")
+        sc = ax.scatter(
+            sr.front[:, 0], sr.front[:, 1], s=7, alpha=0.55, label=f"{sr.label}: Pareto set (surrogate)"
+        )
         colour = sc.get_facecolor()[0]
         for style in ("chosen", "reference"):
             pts = [p for p in sr.points if p[3] == style]
             if not pts:
                 continue
             kw = dict(_MARKERS[style], color=colour, edgecolor="k")
-            ax.scatter([p[1] for p in pts], [p[2] for p in pts], zorder=3,
-                       label=f"{sr.label}: {style} design{'s' if len(pts) > 1 else ''} "
-                             "(true model)", **kw)
+            ax.scatter(
+                [p[1] for p in pts],
+                [p[2] for p in pts],
+                zorder=3,
+                label=f"{sr.label}: {style} design{'s' if len(pts) > 1 else ''} (true model)",
+                **kw,
+            )
         names = [p[0] for p in sr.points]
         xy = np.array([[p[1], p[2]] for p in sr.points]).reshape(-1, 2)
         for group in _coincident(xy):
             text = " = ".join(names[i] for i in group)
-            ax.annotate(f"{text} ({sr.label})" if len(series) > 1 else text, tuple(xy[group[0]]),
-                        fontsize=7, xytext=(5, 4), textcoords="offset points",
-                        bbox=dict(boxstyle="round,pad=0.1", fc="w", alpha=0.7, lw=0))
+            ax.annotate(
+                f"{text} ({sr.label})" if len(series) > 1 else text,
+                tuple(xy[group[0]]),
+                fontsize=7,
+                xytext=(5, 4),
+                textcoords="offset points",
+                bbox=dict(boxstyle="round,pad=0.1", fc="w", alpha=0.7, lw=0),
+            )
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
-    ax.set_title("trade-off: energy loss against share of the cycle in mixed lubrication",
-                 fontsize=10)
+    ax.set_title("trade-off: energy loss against share of the cycle in mixed lubrication", fontsize=10)
     return fig

@@ -16,8 +16,7 @@ import numpy as np
 from .study_settings import OUTPUTS, display, output_units
 from .study_store import Checked, Study
 
-__all__ = ["summary", "write_report", "write_pareto_csv", "format_design", "study_figures",
-           "write_outputs"]
+__all__ = ["summary", "write_report", "write_pareto_csv", "format_design", "study_figures", "write_outputs"]
 
 
 def format_design(study: Study, x) -> str:
@@ -55,9 +54,11 @@ def _values(names, values) -> str:
 def _failed_line(c) -> str:
     r = c.runs
     n_failed = int(r.failed.sum())
-    line = (f"  true-model runs: {int(r.done.sum())} done, "
-            f"{int((r.done & ~r.converged & ~r.failed).sum())} not converged, "
-            f"{n_failed} failed (invalid designs); {r.wall_s:.1f} s")
+    line = (
+        f"  true-model runs: {int(r.done.sum())} done, "
+        f"{int((r.done & ~r.converged & ~r.failed).sum())} not converged, "
+        f"{n_failed} failed (invalid designs); {r.wall_s:.1f} s"
+    )
     if n_failed:
         i = int(np.flatnonzero(r.failed)[0])
         line += f"\n  first failed: sample {i}: {r.errors[i]}"
@@ -81,22 +82,28 @@ def summary(study: Study) -> str:
     """
     s = study.s
     units = output_units()
-    lines = [f"study '{s.name}': {s.samples} samples ({s.sampler}) x {len(s.labels)} cases; "
-             f"true-model runs executed now: {study.runs_executed}"]
+    lines = [
+        f"study '{s.name}': {s.samples} samples ({s.sampler}) x {len(s.labels)} cases; "
+        f"true-model runs executed now: {study.runs_executed}"
+    ]
     for label, c in study.cases.items():
         lines.append(f"[{label}]")
         lines.append(_failed_line(c))
         for o in s.objectives:
             sf = c.surfaces.get(o)
             if sf:
-                lines.append(f"  surface {o:12s} R2 {sf.r2:.4f}  adj {sf.r2_adj:.4f}  "
-                             f"{s.folds}-fold CV rmse {sf.cv_rmse:.4g} {units[o]} "
-                             f"({sf.cv_rel:.2%})")
+                lines.append(
+                    f"  surface {o:12s} R2 {sf.r2:.4f}  adj {sf.r2_adj:.4f}  "
+                    f"{s.folds}-fold CV rmse {sf.cv_rmse:.4g} {units[o]} "
+                    f"({sf.cv_rel:.2%})"
+                )
         fr = c.front
         if fr is not None:
-            lines.append(f"  Pareto set: {len(fr.f)} designs from {s.repeats} NSGA-II repeats; "
-                         f"hypervolume of a single repeat / merged: mean {fr.hv_ratio_mean:.3f}, "
-                         f"min {fr.hv_ratio_min:.3f}")
+            lines.append(
+                f"  Pareto set: {len(fr.f)} designs from {s.repeats} NSGA-II repeats; "
+                f"hypervolume of a single repeat / merged: mean {fr.hv_ratio_mean:.3f}, "
+                f"min {fr.hv_ratio_min:.3f}"
+            )
         for ch in (c.chosen, c.reference):
             if ch is None:
                 continue
@@ -105,17 +112,22 @@ def summary(study: Study) -> str:
                 if e:
                     lines.append(f"  {n:18s} {format_design(study, x)} -> failed: {e}")
                     continue
-                lines.append(f"  {n:18s} {format_design(study, x)} -> "
-                             + _values(s.objectives, ft[cols])
-                             + "  (surrogate error "
-                             + ", ".join(f"{err[j]:+.1%}" for j in cols) + ")")
+                lines.append(
+                    f"  {n:18s} {format_design(study, x)} -> "
+                    + _values(s.objectives, ft[cols])
+                    + "  (surrogate error "
+                    + ", ".join(f"{err[j]:+.1%}" for j in cols)
+                    + ")"
+                )
         d = c.direct
         if d is not None:
-            lines.append(f"  direct NSGA-II: {d.runs} true-model runs ({d.failed} failed) in "
-                         f"{d.wall_s:.1f} s; hypervolume direct {d.hv_direct:.3f} vs surrogate "
-                         f"front {d.hv_surrogate:.3f} (normalised, common reference); IGD "
-                         f"surrogate->direct {d.igd_surrogate_to_direct:.3f}, direct->surrogate "
-                         f"{d.igd_direct_to_surrogate:.3f} (normalised objectives)")
+            lines.append(
+                f"  direct NSGA-II: {d.runs} true-model runs ({d.failed} failed) in "
+                f"{d.wall_s:.1f} s; hypervolume direct {d.hv_direct:.3f} vs surrogate "
+                f"front {d.hv_surrogate:.3f} (normalised, common reference); IGD "
+                f"surrogate->direct {d.igd_surrogate_to_direct:.3f}, direct->surrogate "
+                f"{d.igd_direct_to_surrogate:.3f} (normalised objectives)"
+            )
     return "\n".join(lines)
 
 
@@ -123,9 +135,12 @@ def _predict(study: Study, label: str, x: np.ndarray) -> np.ndarray:
     from .surrogate import QuadraticSurface
 
     s, c = study.s, study.cases[label]
-    return np.column_stack([QuadraticSurface(np.array(s.lower), np.array(s.upper),
-                                             np.asarray(c.surfaces[o].coef))(x)
-                            for o in OUTPUTS])
+    return np.column_stack(
+        [
+            QuadraticSurface(np.array(s.lower), np.array(s.upper), np.asarray(c.surfaces[o].coef))(x)
+            for o in OUTPUTS
+        ]
+    )
 
 
 def write_pareto_csv(study: Study, out: str | os.PathLike) -> list[Path]:
@@ -153,13 +168,15 @@ def write_pareto_csv(study: Study, out: str | os.PathLike) -> list[Path]:
         if c.front is None:
             continue
         pred = _predict(study, label, c.front.x)
-        for j, o in enumerate(s.objectives):      # the GA's own values of its objectives
+        for j, o in enumerate(s.objectives):  # the GA's own values of its objectives
             pred[:, OUTPUTS.index(o)] = c.front.f[:, j]
         path = Path(out) / f"pareto_{label}.csv"
         with open(path, "w", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow([f"{v} [{u}]" if u else v for v, u in zip(s.variables, s.units)]
-                       + [f"{o} [{units[o]}] (surrogate)" for o in OUTPUTS])
+            w.writerow(
+                [f"{v} [{u}]" if u else v for v, u in zip(s.variables, s.units)]
+                + [f"{o} [{units[o]}] (surrogate)" for o in OUTPUTS]
+            )
             for x, y in zip(c.front.x, pred):
                 w.writerow([repr(float(v)) for v in (*x, *y)])
         files.append(path)
@@ -168,28 +185,33 @@ def write_pareto_csv(study: Study, out: str | os.PathLike) -> list[Path]:
 
 def _design_table(study: Study, ch: Checked) -> list[str]:
     s, units = study.s, output_units()
-    heads = [display(v, u, lo, hi)[0] for v, u, lo, hi in zip(s.variables, s.units, s.lower,
-                                                                s.upper)]
-    scales = [display(v, u, lo, hi)[1] for v, u, lo, hi in zip(s.variables, s.units, s.lower,
-                                                                 s.upper)]
-    rows = ["| design | " + " | ".join(heads) + " | "
-            + " | ".join(f"{o} [{units[o]}]" for o in OUTPUTS) + " | surrogate error |",
-            "|" + "---|" * (2 + len(heads) + len(OUTPUTS))]
+    heads = [display(v, u, lo, hi)[0] for v, u, lo, hi in zip(s.variables, s.units, s.lower, s.upper)]
+    scales = [display(v, u, lo, hi)[1] for v, u, lo, hi in zip(s.variables, s.units, s.lower, s.upper)]
+    rows = [
+        "| design | "
+        + " | ".join(heads)
+        + " | "
+        + " | ".join(f"{o} [{units[o]}]" for o in OUTPUTS)
+        + " | surrogate error |",
+        "|" + "---|" * (2 + len(heads) + len(OUTPUTS)),
+    ]
     cols = [OUTPUTS.index(o) for o in s.objectives]
     for n, x, ft, err, e in zip(ch.names, ch.x, ch.f_true, ch.rel_error, ch.errors):
         xs = " | ".join(f"{xi * k:.4g}" for xi, k in zip(x, scales))
         if e:
-            rows.append(f"| {n} | {xs} | " + " | ".join("failed" for _ in OUTPUTS)
-                        + f" | {e} |")
+            rows.append(f"| {n} | {xs} | " + " | ".join("failed" for _ in OUTPUTS) + f" | {e} |")
             continue
-        rows.append(f"| {n} | {xs} | " + " | ".join(f"{v:.4g}" for v in ft) + " | "
-                    + ", ".join(f"{s.objectives[k]} {err[j]:+.1%}" for k, j in enumerate(cols))
-                    + " |")
+        rows.append(
+            f"| {n} | {xs} | "
+            + " | ".join(f"{v:.4g}" for v in ft)
+            + " | "
+            + ", ".join(f"{s.objectives[k]} {err[j]:+.1%}" for k, j in enumerate(cols))
+            + " |"
+        )
     return rows
 
 
-def write_report(study: Study, out: str | os.PathLike,
-                 figures: list[Path] | None = None) -> Path:
+def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | None = None) -> Path:
     """Write ``OUT/report.md``: settings, runs, fits, Pareto sets, chosen designs, figures.
 
     Parameters
@@ -211,58 +233,90 @@ def write_report(study: Study, out: str | os.PathLike,
 
     s, units = study.s, output_units()
     out = Path(out)
-    L = [f"# Design study `{s.name}`", "",
-         f"Study deck `{s.source}`; study file `{study.path.name}`; ringlube {__version__}. "
-         f"{s.samples} {s.sampler} samples per case, objectives (minimised): "
-         f"{', '.join(f'{o} [{units[o]}]' for o in s.objectives)}; quadratic surfaces, "
-         f"NSGA-II {s.population} x {s.generations} x {s.repeats} repeats, seed {s.seed}.", "",
-         "## Design variables", ""]
+    L = [
+        f"# Design study `{s.name}`",
+        "",
+        f"Study deck `{s.source}`; study file `{study.path.name}`; ringlube {__version__}. "
+        f"{s.samples} {s.sampler} samples per case, objectives (minimised): "
+        f"{', '.join(f'{o} [{units[o]}]' for o in s.objectives)}; quadratic surfaces, "
+        f"NSGA-II {s.population} x {s.generations} x {s.repeats} repeats, seed {s.seed}.",
+        "",
+        "## Design variables",
+        "",
+    ]
     has_ref = s.reference is not None
-    L += ["| variable | unit | lower | upper |" + (" reference |" if has_ref else ""),
-          "|---|---|---|---|" + ("---|" if has_ref else "")]
+    L += [
+        "| variable | unit | lower | upper |" + (" reference |" if has_ref else ""),
+        "|---|---|---|---|" + ("---|" if has_ref else ""),
+    ]
     for i, (v, u, lo, hi) in enumerate(zip(s.variables, s.units, s.lower, s.upper)):
         label, k = display(v, u, lo, hi)
         unit = label.partition(" [")[2][:-1] or "-"
         ref = f" {s.reference[i] * k:.4g} |" if has_ref else ""
         L.append(f"| `{v}` | {unit} | {lo * k:.4g} | {hi * k:.4g} |{ref}")
-    L += ["", "## Cases and true-model runs", "",
-          "| case | base deck | weight | done | not converged | failed (invalid designs) | "
-          "run time [s] |", "|---|---|---|---|---|---|---|"]
+    L += [
+        "",
+        "## Cases and true-model runs",
+        "",
+        "| case | base deck | weight | done | not converged | failed (invalid designs) | run time [s] |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for label, c in study.cases.items():
         r = c.runs
-        deck = (f"`{s.cases[s.labels.index(label)]}`" if label in s.labels
-                else "weighted mean of the cases")
+        deck = f"`{s.cases[s.labels.index(label)]}`" if label in s.labels else "weighted mean of the cases"
         weight = s.weights[s.labels.index(label)] if label in s.labels else "-"
-        L.append(f"| {label} | {deck} | {weight} | {int(r.done.sum())} | "
-                 f"{int((r.done & ~r.converged & ~r.failed).sum())} | {int(r.failed.sum())} | "
-                 f"{r.wall_s:.1f} |")
+        L.append(
+            f"| {label} | {deck} | {weight} | {int(r.done.sum())} | "
+            f"{int((r.done & ~r.converged & ~r.failed).sum())} | {int(r.failed.sum())} | "
+            f"{r.wall_s:.1f} |"
+        )
     for label, c in study.cases.items():
         bad = np.flatnonzero(c.runs.failed)
         if len(bad) and label in s.labels:
-            L += ["", f"Failed designs of `{label}` (first {min(5, len(bad))} of {len(bad)}; "
-                      "all in the study file, `cases/{label}/runs/errors`):", ""]
+            L += [
+                "",
+                f"Failed designs of `{label}` (first {min(5, len(bad))} of {len(bad)}; "
+                "all in the study file, `cases/{label}/runs/errors`):",
+                "",
+            ]
             L += [f"- sample {i}: {c.runs.errors[i]}" for i in bad[:5]]
-    L += ["", "## Surfaces", "",
-          "| case | result | R² | adjusted R² | CV RMSE | CV RMSE / mean |",
-          "|---|---|---|---|---|---|"]
+    L += [
+        "",
+        "## Surfaces",
+        "",
+        "| case | result | R² | adjusted R² | CV RMSE | CV RMSE / mean |",
+        "|---|---|---|---|---|---|",
+    ]
     for label, c in study.cases.items():
         for o in s.objectives:
             sf = c.surfaces.get(o)
             if sf:
-                L.append(f"| {label} | {o} | {sf.r2:.4f} | {sf.r2_adj:.4f} | "
-                         f"{sf.cv_rmse:.4g} {units[o]} | {sf.cv_rel:.2%} |")
-    L += ["", "## Pareto sets", "",
-          "| case | designs | hypervolume of a repeat / merged (mean, min) | CSV |",
-          "|---|---|---|---|"]
+                L.append(
+                    f"| {label} | {o} | {sf.r2:.4f} | {sf.r2_adj:.4f} | "
+                    f"{sf.cv_rmse:.4g} {units[o]} | {sf.cv_rel:.2%} |"
+                )
+    L += [
+        "",
+        "## Pareto sets",
+        "",
+        "| case | designs | hypervolume of a repeat / merged (mean, min) | CSV |",
+        "|---|---|---|---|",
+    ]
     for label, c in study.cases.items():
         if c.front is not None:
-            L.append(f"| {label} | {len(c.front.f)} | {c.front.hv_ratio_mean:.3f}, "
-                     f"{c.front.hv_ratio_min:.3f} | [pareto_{label}.csv](pareto_{label}.csv) |")
-    L += ["", "## Chosen designs, re-simulated with the true model", "",
-          "The extremes of each objective on the merged Pareto set and its knee (nearest the "
-          "ideal point in normalised objectives)"
-          + (", and the reference design of the study deck" if s.reference is not None else "")
-          + ". Results from the true model; surrogate error = (surface - true) / |true|."]
+            L.append(
+                f"| {label} | {len(c.front.f)} | {c.front.hv_ratio_mean:.3f}, "
+                f"{c.front.hv_ratio_min:.3f} | [pareto_{label}.csv](pareto_{label}.csv) |"
+            )
+    L += [
+        "",
+        "## Chosen designs, re-simulated with the true model",
+        "",
+        "The extremes of each objective on the merged Pareto set and its knee (nearest the "
+        "ideal point in normalised objectives)"
+        + (", and the reference design of the study deck" if s.reference is not None else "")
+        + ". Results from the true model; surrogate error = (surface - true) / |true|.",
+    ]
     for label, c in study.cases.items():
         if c.chosen is None:
             continue
@@ -272,17 +326,27 @@ def write_report(study: Study, out: str | os.PathLike,
             L += _design_table(study, c.reference)[2:]
             inside = all(lo <= v <= hi for v, lo, hi in zip(s.reference, s.lower, s.upper))
             if not inside:
-                L += ["", "The reference design lies outside the design box: its surrogate "
-                          "values are extrapolated."]
+                L += [
+                    "",
+                    "The reference design lies outside the design box: its surrogate "
+                    "values are extrapolated.",
+                ]
     direct = [(label, c.direct) for label, c in study.cases.items() if c.direct is not None]
     if direct:
-        L += ["", "## NSGA-II on the true model (--direct)", "",
-              "| case | runs | failed | wall time [s] | hypervolume direct / surrogate | "
-              "IGD surrogate->direct, direct->surrogate |", "|---|---|---|---|---|---|"]
+        L += [
+            "",
+            "## NSGA-II on the true model (--direct)",
+            "",
+            "| case | runs | failed | wall time [s] | hypervolume direct / surrogate | "
+            "IGD surrogate->direct, direct->surrogate |",
+            "|---|---|---|---|---|---|",
+        ]
         for label, d in direct:
-            L.append(f"| {label} | {d.runs} | {d.failed} | {d.wall_s:.1f} | "
-                     f"{d.hv_direct:.3f} / {d.hv_surrogate:.3f} | "
-                     f"{d.igd_surrogate_to_direct:.3f}, {d.igd_direct_to_surrogate:.3f} |")
+            L.append(
+                f"| {label} | {d.runs} | {d.failed} | {d.wall_s:.1f} | "
+                f"{d.hv_direct:.3f} / {d.hv_surrogate:.3f} | "
+                f"{d.igd_surrogate_to_direct:.3f}, {d.igd_direct_to_surrogate:.3f} |"
+            )
     if figures:
         L += ["", "## Figures", ""]
         L += [f"![{f.stem}]({f.name})" for f in figures]
@@ -342,8 +406,10 @@ def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
 
     s, out = study.s, Path(out)
     units = output_units()
-    axes = [sp.Axis(*display(v, u, lo, hi), lo, hi)
-            for v, u, lo, hi in zip(s.variables, s.units, s.lower, s.upper)]
+    axes = [
+        sp.Axis(*display(v, u, lo, hi), lo, hi)
+        for v, u, lo, hi in zip(s.variables, s.units, s.lower, s.upper)
+    ]
     files = []
     marks_all = {}
     for label, c in study.cases.items():
@@ -355,8 +421,11 @@ def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
         for o in s.objectives:
             sf = c.surfaces[o]
             f = QuadraticSurface(np.array(s.lower), np.array(s.upper), np.asarray(sf.coef))
-            panels.append(sp.FitPanel(o, units[o], c.runs.outputs[ok, OUTPUTS.index(o)], f(x),
-                                      sf.r2, sf.r2_adj, sf.cv_rel))
+            panels.append(
+                sp.FitPanel(
+                    o, units[o], c.runs.outputs[ok, OUTPUTS.index(o)], f(x), sf.r2, sf.r2_adj, sf.cv_rel
+                )
+            )
         files += sp.save(sp.fit_figure(label, panels, s.folds), out, f"fit_{label}")
         marks = []
         for key, style in (("chosen", "chosen"), ("reference", "reference")):
@@ -365,11 +434,10 @@ def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
                 marks += [sp.Mark(n, xi, style) for n, xi in zip(ch.names, ch.x)]
         marks_all[label] = marks
         for o in s.objectives:
-            f = QuadraticSurface(np.array(s.lower), np.array(s.upper),
-                                 np.asarray(c.surfaces[o].coef))
-            files += sp.save(sp.map_figure(f"{o} ({label})", f"{o} [{units[o]}]", f, axes,
-                                           marks),
-                             out, f"map_{label}_{o}")
+            f = QuadraticSurface(np.array(s.lower), np.array(s.upper), np.asarray(c.surfaces[o].coef))
+            files += sp.save(
+                sp.map_figure(f"{o} ({label})", f"{o} [{units[o]}]", f, axes, marks), out, f"map_{label}_{o}"
+            )
     series = []
     ie, im = OUTPUTS.index("energy_loss"), OUTPUTS.index("mixed_share")
     for label, c in study.cases.items():
@@ -377,7 +445,7 @@ def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
             continue
         pred = _predict(study, label, c.front.x)
         front = np.column_stack([pred[:, im], pred[:, ie]])
-        for j, o in enumerate(s.objectives):     # the GA's own values where it has them
+        for j, o in enumerate(s.objectives):  # the GA's own values where it has them
             if o == "mixed_share":
                 front[:, 0] = c.front.f[:, j]
             if o == "energy_loss":
@@ -385,11 +453,18 @@ def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
         points = []
         for ch, style in ((c.chosen, "chosen"), (c.reference, "reference")):
             if ch is not None:
-                points += [(n, ft[im], ft[ie], style) for n, ft in zip(ch.names, ch.f_true)
-                           if np.isfinite(ft[[im, ie]]).all()]
+                points += [
+                    (n, ft[im], ft[ie], style)
+                    for n, ft in zip(ch.names, ch.f_true)
+                    if np.isfinite(ft[[im, ie]]).all()
+                ]
         series.append(sp.TradeoffSeries(label, front, points))
     if series:
-        files += sp.save(sp.tradeoff_figure(series, f"mixed share [{units['mixed_share']}]",
-                                            f"energy loss [{units['energy_loss']}/cycle]"),
-                         out, "tradeoff")
+        files += sp.save(
+            sp.tradeoff_figure(
+                series, f"mixed share [{units['mixed_share']}]", f"energy loss [{units['energy_loss']}/cycle]"
+            ),
+            out,
+            "tradeoff",
+        )
     return files

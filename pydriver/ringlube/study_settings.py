@@ -20,15 +20,29 @@ from typing import Any
 from .case import Case
 from .errors import InputError
 
-__all__ = ["StudySettings", "read_study", "DESIGN_RANGES", "MAX_SAMPLES", "OUTPUTS",
-           "output_units", "variable_unit", "effective", "split_variable", "input_files",
-           "display"]
+__all__ = [
+    "StudySettings",
+    "read_study",
+    "DESIGN_RANGES",
+    "MAX_SAMPLES",
+    "OUTPUTS",
+    "output_units",
+    "variable_unit",
+    "effective",
+    "split_variable",
+    "input_files",
+    "display",
+]
 
 #: Default bounds (SI) of the four ring design variables of the source study (SPEC 11/12),
 #: used only when the deck gives neither ``lower`` nor ``upper``. The tension range is in
 #: the unit set by ``&ring tension_unit`` of the base decks.
-DESIGN_RANGES = {"width": (0.54e-3, 1.34e-3), "crown_height": (6e-6, 13e-6),
-                 "crown_offset": (-54e-6, 67e-6), "tension": (8.0, 26.0)}
+DESIGN_RANGES = {
+    "width": (0.54e-3, 1.34e-3),
+    "crown_height": (6e-6, 13e-6),
+    "crown_offset": (-54e-6, 67e-6),
+    "tension": (8.0, 26.0),
+}
 #: Most samples a study may ask for. The study file holds every sample and is rewritten at
 #: each checkpoint, and a run takes about 40 ms on one core: 10**6 samples are about
 #: 11 hours of runs per case on 2 cores, already far more than a quadratic surface needs.
@@ -39,11 +53,21 @@ MAX_SEED = 2**31 - 1
 DEFAULT_GROUP = "ring"
 _SAMPLERS = ("sobol", "lhs")
 _SURROGATES = ("quadratic",)
-_INT_KEYS = {"samples": 1, "population": 1, "generations": 1, "repeats": 1, "seed": 0,
-             "folds": 2, "direct_population": 1, "direct_generations": 1, "batch": 1}
+_INT_KEYS = {
+    "samples": 1,
+    "population": 1,
+    "generations": 1,
+    "repeats": 1,
+    "seed": 0,
+    "folds": 2,
+    "direct_population": 1,
+    "direct_generations": 1,
+    "batch": 1,
+}
 
 
 # --- facts owned by the kernel (one place each, to be redirected at merge) -----------
+
 
 def _output_units() -> dict[str, str]:
     """Every design quantity a study records for every design, with its unit (the kernel's
@@ -328,8 +352,22 @@ class StudySettings:
         '{"cases": ["a.nml"],'
         """
         d = dataclasses.asdict(self)
-        return json.dumps({k: d[k] for k in ("cases", "labels", "variables", "lower", "upper",
-                                              "objectives", "sampler", "samples", "seed")})
+        return json.dumps(
+            {
+                k: d[k]
+                for k in (
+                    "cases",
+                    "labels",
+                    "variables",
+                    "lower",
+                    "upper",
+                    "objectives",
+                    "sampler",
+                    "samples",
+                    "seed",
+                )
+            }
+        )
 
     def to_json(self) -> str:
         """The settings as JSON (stored in the study file).
@@ -384,8 +422,11 @@ class _Checker:
 
     def plain_name(self, var: str, v: str, what: str) -> None:
         if not v or any(ch in v for ch in "/\\") or v.startswith(".") or v.strip() != v:
-            self.bad(var, f"'{v}' must be a plain name (no '/', '\\', leading '.', leading or "
-                          f"trailing spaces): it names {what}")
+            self.bad(
+                var,
+                f"'{v}' must be a plain name (no '/', '\\', leading '.', leading or "
+                f"trailing spaces): it names {what}",
+            )
 
 
 def read_study(path: str | os.PathLike) -> StudySettings:
@@ -417,8 +458,7 @@ def read_study(path: str | os.PathLike) -> StudySettings:
     """
     path = Path(path)
     if not path.is_file():
-        raise InputError(f"{path}: file not found" if not path.exists()
-                         else f"{path}: not a file")
+        raise InputError(f"{path}: file not found" if not path.exists() else f"{path}: not a file")
     try:
         import f90nml
 
@@ -429,8 +469,7 @@ def read_study(path: str | os.PathLike) -> StudySettings:
         raise InputError(f"{path}: no &study group")
     s = dict(nml["study"])
     chk = _Checker(path)
-    known = {f.name for f in dataclasses.fields(StudySettings)} - {"deck_text", "source",
-                                                                    "inputs", "units"}
+    known = {f.name for f in dataclasses.fields(StudySettings)} - {"deck_text", "source", "inputs", "units"}
     for k in s:
         if k not in known:
             chk.bad(k, f"unknown variable (known: {', '.join(sorted(known))})")
@@ -441,9 +480,9 @@ def read_study(path: str | os.PathLike) -> StudySettings:
     labels = chk.words("labels", _as_list(s.get("labels", [Path(c).stem for c in cases])))
     weights = chk.reals("weights", _as_list(s.get("weights", [1.0] * len(cases))))
     variables = chk.words("variables", _as_list(s.get("variables", list(DESIGN_RANGES))))
-    objectives = chk.words("objectives", _as_list(s.get("objectives",
-                                                        ["energy_loss", "mixed_share",
-                                                         "ring_mass"])))
+    objectives = chk.words(
+        "objectives", _as_list(s.get("objectives", ["energy_loss", "mixed_share", "ring_mass"]))
+    )
     ints = {k: chk.integer(k, s[k], lo) for k, lo in _INT_KEYS.items() if k in s}
     for k in ("sampler", "surrogate"):
         if k in s:
@@ -494,52 +533,77 @@ def read_study(path: str | os.PathLike) -> StudySettings:
     if surrogate not in _SURROGATES:
         chk.bad("surrogate", f"must be 'quadratic', got {surrogate!r}")
     if "samples" in ints:
-        chk.integer("samples", ints["samples"], 1, MAX_SAMPLES,
-                    "the study file holds every sample; 10**6 runs are about 11 hours per case "
-                    "on 2 cores")
+        chk.integer(
+            "samples",
+            ints["samples"],
+            1,
+            MAX_SAMPLES,
+            "the study file holds every sample; 10**6 runs are about 11 hours per case on 2 cores",
+        )
     if "seed" in ints:
         chk.integer("seed", ints["seed"], 0, MAX_SEED)
 
-    st = StudySettings(name=name, cases=cases, labels=labels, weights=weights,
-                       variables=variables, lower=lower, upper=upper, objectives=objectives,
-                       sampler=sampler, surrogate=surrogate, reference=reference,
-                       **({"scene": s["scene"]} if "scene" in s else {}), **ints,
-                       deck_text=path.read_text(errors="replace"), source=str(path))
+    st = StudySettings(
+        name=name,
+        cases=cases,
+        labels=labels,
+        weights=weights,
+        variables=variables,
+        lower=lower,
+        upper=upper,
+        objectives=objectives,
+        sampler=sampler,
+        surrogate=surrogate,
+        reference=reference,
+        **({"scene": s["scene"]} if "scene" in s else {}),
+        **ints,
+        deck_text=path.read_text(errors="replace"),
+        source=str(path),
+    )
     nterms = 1 + 2 * len(variables) + len(variables) * (len(variables) - 1) // 2
     if st.samples < nterms + st.folds:
-        chk.bad("samples", f"need at least {nterms + st.folds} for a quadratic in "
-                           f"{len(variables)} variables with {st.folds}-fold cross-validation")
+        chk.bad(
+            "samples",
+            f"need at least {nterms + st.folds} for a quadratic in "
+            f"{len(variables)} variables with {st.folds}-fold cross-validation",
+        )
     st.inputs, st.units = _check_cases(chk, st, pairs)
     return st
 
 
-def _bounds(chk: _Checker, s: dict, variables: list[str],
-            pairs: list[tuple[str, str]]) -> tuple[list[float], list[float]]:
+def _bounds(
+    chk: _Checker, s: dict, variables: list[str], pairs: list[tuple[str, str]]
+) -> tuple[list[float], list[float]]:
     given = [k for k in ("lower", "upper") if k in s]
     if len(given) == 1:
-        chk.bad("lower" if "lower" not in s else "upper",
-                f"required when '{given[0]}' is given (one bound per variable)")
+        chk.bad(
+            "lower" if "lower" not in s else "upper",
+            f"required when '{given[0]}' is given (one bound per variable)",
+        )
     if given:
         lower = chk.reals("lower", _as_list(s["lower"]))
         upper = chk.reals("upper", _as_list(s["upper"]))
         if not (len(lower) == len(upper) == len(variables)):
             chk.bad("lower", f"one lower and one upper bound per variable ({len(variables)})")
         return lower, upper
-    missing = [v for v, (g, n) in zip(variables, pairs)
-               if g != DEFAULT_GROUP or n not in DESIGN_RANGES]
+    missing = [v for v, (g, n) in zip(variables, pairs) if g != DEFAULT_GROUP or n not in DESIGN_RANGES]
     if missing:
-        chk.bad("lower", f"required: default ranges exist only for the ring variables "
-                         f"{', '.join(DESIGN_RANGES)}, not for {', '.join(missing)}")
+        chk.bad(
+            "lower",
+            f"required: default ranges exist only for the ring variables "
+            f"{', '.join(DESIGN_RANGES)}, not for {', '.join(missing)}",
+        )
     return ([DESIGN_RANGES[n][0] for _, n in pairs], [DESIGN_RANGES[n][1] for _, n in pairs])
 
 
-def _check_cases(chk: _Checker, st: StudySettings,
-                 pairs: list[tuple[str, str]]) -> tuple[dict[str, str], list[str]]:
+def _check_cases(
+    chk: _Checker, st: StudySettings, pairs: list[tuple[str, str]]
+) -> tuple[dict[str, str], list[str]]:
     """Kernel checks of every base deck, variable and bound; input fingerprints; units."""
     files: list[Path] = []
     units_seen: dict[str, dict[str, str]] = {}
     for label, deck in zip(st.labels, st.cases):
-        case = Case.from_namelist(deck)         # the kernel checks the deck itself
+        case = Case.from_namelist(deck)  # the kernel checks the deck itself
         files += input_files(case, deck)
         for v, (group, name), lo, hi in zip(st.variables, pairs, st.lower, st.upper):
             try:
@@ -552,16 +616,17 @@ def _check_cases(chk: _Checker, st: StudySettings,
                 except InputError as exc:
                     msg = str(exc)
                     if _is_unknown_variable(group, name):
-                        chk.bad("variables", f"'{v}' is not a variable of &{group} "
-                                             f"(base deck {deck})")
-                    chk.bad(which, f"{v} = {value:g} is rejected by base deck '{label}': "
-                                   f"{msg}")
+                        chk.bad("variables", f"'{v}' is not a variable of &{group} (base deck {deck})")
+                    chk.bad(which, f"{v} = {value:g} is rejected by base deck '{label}': {msg}")
             units_seen.setdefault(v, {})[label] = _input_unit(case, group, name)
     units = []
     for v, per_case in units_seen.items():
         if len(set(per_case.values())) > 1:
-            chk.bad("variables", f"'{v}' has different units in the base decks "
-                                 f"({', '.join(f'{k}: {u}' for k, u in per_case.items())}); "
-                                 "one value cannot mean both")
+            chk.bad(
+                "variables",
+                f"'{v}' has different units in the base decks "
+                f"({', '.join(f'{k}: {u}' for k, u in per_case.items())}); "
+                "one value cannot mean both",
+            )
         units.append(next(iter(per_case.values())))
     return _fingerprint(list(dict.fromkeys(files))), units

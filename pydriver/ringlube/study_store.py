@@ -30,8 +30,7 @@ import numpy as np
 from .errors import InputError, RinglubeError
 from .study_settings import OUTPUTS, StudySettings, output_units
 
-__all__ = ["Study", "CaseState", "Runs", "Surface", "Front", "Checked", "Direct",
-           "FORMAT", "FORMAT_VERSION"]
+__all__ = ["Study", "CaseState", "Runs", "Surface", "Front", "Checked", "Direct", "FORMAT", "FORMAT_VERSION"]
 
 #: ``format`` attribute of a study file.
 FORMAT = "ringlube-study"
@@ -71,7 +70,7 @@ class Runs:
     wall_s: float = 0.0
 
     @classmethod
-    def empty(cls, n: int) -> "Runs":
+    def empty(cls, n: int) -> Runs:
         """Runs of ``n`` samples, none done.
 
         Parameters
@@ -88,8 +87,13 @@ class Runs:
         >>> Runs.empty(2).outputs.shape[0]
         2
         """
-        return cls(np.full((n, len(OUTPUTS)), np.nan), np.zeros(n, bool), np.zeros(n, bool),
-                   np.zeros(n, bool), [""] * n)
+        return cls(
+            np.full((n, len(OUTPUTS)), np.nan),
+            np.zeros(n, bool),
+            np.zeros(n, bool),
+            np.zeros(n, bool),
+            [""] * n,
+        )
 
     def usable(self) -> np.ndarray:
         """Samples that ran, converged and did not fail (those the surfaces are fitted to).
@@ -358,8 +362,10 @@ class Study:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
             os.close(fd)
-            raise RinglubeError(f"{self.path}: another ringlube optimise is working on this "
-                                "study; wait for it to finish or use another --out") from None
+            raise RinglubeError(
+                f"{self.path}: another ringlube optimise is working on this "
+                "study; wait for it to finish or use another --out"
+            ) from None
         self._lock_fd = fd
 
     def unlock(self) -> None:
@@ -379,8 +385,7 @@ class Study:
 
     # --- reading -----------------------------------------------------------------------
     @classmethod
-    def open(cls, settings: StudySettings, path: str | os.PathLike,
-             lock: bool = False) -> "Study":
+    def open(cls, settings: StudySettings, path: str | os.PathLike, lock: bool = False) -> Study:
         """The study in ``path`` if there is one (checked to match ``settings``), else new.
 
         Parameters
@@ -423,8 +428,7 @@ class Study:
         if not path.exists():
             return
         if not path.is_file() or not h5py.is_hdf5(path):
-            raise InputError(f"{path}: exists but is not a study file (HDF5); remove it or "
-                             "use another --out")
+            raise InputError(f"{path}: exists but is not a study file (HDF5); remove it or use another --out")
         try:
             with h5py.File(path, "r") as f:
                 st._read(f)
@@ -432,29 +436,36 @@ class Study:
             raise
         except (OSError, KeyError, ValueError, TypeError, IndexError) as exc:
             reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            raise InputError(f"{path}: not a readable study file ({reason}); remove it or "
-                             "use another --out") from None
+            raise InputError(
+                f"{path}: not a readable study file ({reason}); remove it or use another --out"
+            ) from None
 
     def _read(self, f: h5py.File) -> None:
         path, s = self.path, self.s
         if _text(f.attrs.get("format", "")) != FORMAT:
-            raise InputError(f"{path}: not a ringlube study file (no format attribute, or "
-                             "written by an older ringlube); remove it or use another --out")
+            raise InputError(
+                f"{path}: not a ringlube study file (no format attribute, or "
+                "written by an older ringlube); remove it or use another --out"
+            )
         version = int(f.attrs.get("format_version", 0))
         if version != FORMAT_VERSION:
-            raise InputError(f"{path}: study file layout {version}, this ringlube reads "
-                             f"{FORMAT_VERSION}; use another --out")
+            raise InputError(
+                f"{path}: study file layout {version}, this ringlube reads "
+                f"{FORMAT_VERSION}; use another --out"
+            )
         if _text(f.attrs["key"]) != s.key():
-            raise InputError(f"{path}: exists and belongs to a study with other samples, cases, "
-                             "variables or objectives; use another --out folder")
+            raise InputError(
+                f"{path}: exists and belongs to a study with other samples, cases, "
+                "variables or objectives; use another --out folder"
+            )
         started = json.loads(_text(f.attrs["inputs"]))
-        changed = [p for p in sorted(set(started) | set(s.inputs))
-                   if started.get(p) != s.inputs.get(p)]
+        changed = [p for p in sorted(set(started) | set(s.inputs)) if started.get(p) != s.inputs.get(p)]
         if changed:
             raise InputError(
                 f"{path}: the study was started on other contents of {', '.join(changed)} "
                 "(edited since); resuming would mix two models in one surface fit. "
-                "Use another --out (or remove the file to start afresh)")
+                "Use another --out (or remove the file to start afresh)"
+            )
         self.stages = set(json.loads(_text(f.attrs["stages"])))
         if "samples/x" in f:
             self.x = f["samples/x"][()]
@@ -486,8 +497,7 @@ class Study:
         if not force and now - self._last_save < 2.0:
             return
         self._last_save = now
-        fd, tmp = tempfile.mkstemp(dir=self.path.parent, prefix=self.path.name + ".",
-                                   suffix=".part")
+        fd, tmp = tempfile.mkstemp(dir=self.path.parent, prefix=self.path.name + ".", suffix=".part")
         os.close(fd)
         try:
             with h5py.File(tmp, "w") as f:
@@ -523,8 +533,9 @@ def _text(value: Any) -> str:
     return str(value)
 
 
-def _put(parent: h5py.Group, name: str, data: Any, columns: list[str] | None = None,
-         units: list[str] | None = None) -> h5py.Dataset:
+def _put(
+    parent: h5py.Group, name: str, data: Any, columns: list[str] | None = None, units: list[str] | None = None
+) -> h5py.Dataset:
     d = parent.create_dataset(name, data=np.asarray(data))
     if columns is not None:
         d.attrs.create("columns", np.array(columns, dtype=object), dtype=_STR)
@@ -595,31 +606,56 @@ def _write_case(g: h5py.Group, c: CaseState, s: StudySettings) -> None:
 def _read_case(g: h5py.Group, s: StudySettings) -> CaseState:
     r = g["runs"]
     n = s.samples
-    runs = Runs(r["outputs"][()], r["done"][()].astype(bool), r["converged"][()].astype(bool),
-                r["failed"][()].astype(bool), _strings(r["errors"]), float(r.attrs["wall_s"]))
+    runs = Runs(
+        r["outputs"][()],
+        r["done"][()].astype(bool),
+        r["converged"][()].astype(bool),
+        r["failed"][()].astype(bool),
+        _strings(r["errors"]),
+        float(r.attrs["wall_s"]),
+    )
     if runs.outputs.shape != (n, len(OUTPUTS)) or runs.done.shape != (n,):
         raise ValueError(f"{g.name}/runs has the wrong shape")
     c = CaseState(runs)
     for o, sg in g.get("surface", {}).items():
-        c.surfaces[o] = Surface(sg["coef"][()], *(float(sg.attrs[k]) for k in
-                                                  ("r2", "r2_adj", "cv_rmse", "cv_rel")),
-                                int(sg.attrs["n"]))
+        c.surfaces[o] = Surface(
+            sg["coef"][()],
+            *(float(sg.attrs[k]) for k in ("r2", "r2_adj", "cv_rmse", "cv_rel")),
+            int(sg.attrs["n"]),
+        )
     for name, rg in g.get("repeats", {}).items():
         c.repeats[int(name[1:])] = (rg["x"][()], rg["f"][()])
     if "front" in g:
         fg = g["front"]
-        c.front = Front(fg["x"][()], fg["f"][()], float(fg.attrs["hv"]), fg["hv_repeats"][()],
-                        float(fg.attrs["hv_ratio_mean"]), float(fg.attrs["hv_ratio_min"]),
-                        fg["ref"][()], fg["lo"][()])
+        c.front = Front(
+            fg["x"][()],
+            fg["f"][()],
+            float(fg.attrs["hv"]),
+            fg["hv_repeats"][()],
+            float(fg.attrs["hv_ratio_mean"]),
+            float(fg.attrs["hv_ratio_min"]),
+            fg["ref"][()],
+            fg["lo"][()],
+        )
     for key in ("chosen", "reference"):
         if key in g:
             cg = g[key]
-            setattr(c, key, Checked(_strings(cg["names"]), cg["x"][()], cg["f_true"][()],
-                                    cg["f_surrogate"][()], cg["converged"][()].astype(bool),
-                                    _strings(cg["errors"])))
+            setattr(
+                c,
+                key,
+                Checked(
+                    _strings(cg["names"]),
+                    cg["x"][()],
+                    cg["f_true"][()],
+                    cg["f_surrogate"][()],
+                    cg["converged"][()].astype(bool),
+                    _strings(cg["errors"]),
+                ),
+            )
     if "direct" in g:
         dg = g["direct"]
-        kw = {fld.name: dg.attrs[fld.name] for fld in dataclasses.fields(Direct)
-              if fld.name not in ("x", "f")}
+        kw = {
+            fld.name: dg.attrs[fld.name] for fld in dataclasses.fields(Direct) if fld.name not in ("x", "f")
+        }
         c.direct = Direct(dg["x"][()], dg["f"][()], **kw)
     return c

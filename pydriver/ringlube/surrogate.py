@@ -8,8 +8,14 @@ import itertools
 import numpy as np
 import scipy.linalg
 
-__all__ = ["QuadraticSurface", "quadratic_features", "fit_quadratic", "cross_validate",
-           "term_names", "n_terms"]
+__all__ = [
+    "QuadraticSurface",
+    "quadratic_features",
+    "fit_quadratic",
+    "cross_validate",
+    "term_names",
+    "n_terms",
+]
 
 
 def n_terms(d: int) -> int:
@@ -76,8 +82,12 @@ def term_names(variables: list[str]) -> list[str]:
     ['1', 'a', 'b', 'a^2', 'b^2', 'a*b']
     """
     d = len(variables)
-    return (["1"] + list(variables) + [f"{v}^2" for v in variables]
-            + [f"{variables[i]}*{variables[j]}" for i, j in itertools.combinations(range(d), 2)])
+    return (
+        ["1"]
+        + list(variables)
+        + [f"{v}^2" for v in variables]
+        + [f"{variables[i]}*{variables[j]}" for i, j in itertools.combinations(range(d), 2)]
+    )
 
 
 @dataclasses.dataclass
@@ -165,8 +175,9 @@ def fit_quadratic(x: np.ndarray, y: np.ndarray, lower, upper) -> QuadraticSurfac
     return surf
 
 
-def cross_validate(x: np.ndarray, y: np.ndarray, lower, upper, k: int = 5,
-                   seed: int = 0) -> tuple[float, float]:
+def cross_validate(
+    x: np.ndarray, y: np.ndarray, lower, upper, k: int = 5, seed: int = 0
+) -> tuple[float, float]:
     """k-fold cross-validated RMSE and RMSE relative to the mean |y|.
 
     Parameters

@@ -15,10 +15,21 @@ exports (``fortran/src/inputs.f90`` and ``fortran/src/results.f90``).
 from __future__ import annotations
 
 import dataclasses
-from functools import lru_cache
+from functools import cache
 
-__all__ = ["InputSpec", "FieldSpec", "INPUTS", "PRESETS", "SERIES", "INT_SERIES", "SCALARS",
-           "FLAG_BITS", "LINER", "GROUPS", "table_text"]
+__all__ = [
+    "InputSpec",
+    "FieldSpec",
+    "INPUTS",
+    "PRESETS",
+    "SERIES",
+    "INT_SERIES",
+    "SCALARS",
+    "FLAG_BITS",
+    "LINER",
+    "GROUPS",
+    "table_text",
+]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -100,24 +111,31 @@ def _value(kind: str, text: str):
     return text
 
 
-@lru_cache(maxsize=None)
+@cache
 def _load():
     inputs = {}
     for g, n, kind, default, lo, hi, unit, choices, desc in _rows("inputs"):
-        inputs[g, n] = InputSpec(g, n, kind, default, float(lo), float(hi), unit,
-                                 tuple(c for c in choices.split("|") if c), desc)
+        inputs[g, n] = InputSpec(
+            g, n, kind, default, float(lo), float(hi), unit, tuple(c for c in choices.split("|") if c), desc
+        )
     presets: dict[str, dict] = {}
     for preset, name, value in _rows("presets"):
         kind = inputs["numerics", name].kind
         presets.setdefault(preset, {})[name] = _value(kind, value)
 
     def fields(which):
-        return {r[0]: FieldSpec(r[0], r[1], r[2], r[3] == "1", r[4], r[5], r[6] == "1")
-                for r in _rows(which)}
+        return {r[0]: FieldSpec(r[0], r[1], r[2], r[3] == "1", r[4], r[5], r[6] == "1") for r in _rows(which)}
 
     flags = {int(b): desc for b, _, desc in _rows("flags")}
-    return (inputs, presets, fields("series"), fields("int_series"), fields("scalars"), flags,
-            fields("liner"))
+    return (
+        inputs,
+        presets,
+        fields("series"),
+        fields("int_series"),
+        fields("scalars"),
+        flags,
+        fields("liner"),
+    )
 
 
 INPUTS: dict[tuple[str, str], InputSpec]
@@ -133,15 +151,16 @@ INPUTS, PRESETS, SERIES, INT_SERIES, SCALARS, FLAG_BITS, LINER = _load()
 GROUPS: tuple[str, ...] = tuple(dict.fromkeys(g for g, _ in INPUTS))
 
 
-
 def _num(x: float) -> str:
     return f"{x:g}"
 
 
 def inputs_markdown() -> str:
     """The input table of docs/model.md (generated from the kernel's table)."""
-    lines = ["| group | variable | default | range or choices | unit | meaning |",
-             "|---|---|---|---|---|---|"]
+    lines = [
+        "| group | variable | default | range or choices | unit | meaning |",
+        "|---|---|---|---|---|---|",
+    ]
     for (g, n), s in INPUTS.items():
         if s.kind in ("real", "integer"):
             rng = f"{_num(s.lower)} .. {_num(s.upper)}"
@@ -157,14 +176,20 @@ def inputs_markdown() -> str:
         elif s.kind in ("string", "choice"):
             default = f"'{default}'"
         unit = {"1": "-", "(unit)": "see tension_unit", "": ""}.get(s.unit, s.unit)
-        lines.append(f"| `&{g}` | `{n}` | {default} | {rng} | {unit} | "
-                     f"{s.description.replace('|', '/')} |")
-    lines += ["", "Numerics presets (`&numerics preset`; values given explicitly override them):", "",
-              "| preset | " + " | ".join(next(iter(PRESETS.values()))) + " |",
-              "|---|" + "---|" * len(next(iter(PRESETS.values())))]
+        lines.append(f"| `&{g}` | `{n}` | {default} | {rng} | {unit} | {s.description.replace('|', '/')} |")
+    lines += [
+        "",
+        "Numerics presets (`&numerics preset`; values given explicitly override them):",
+        "",
+        "| preset | " + " | ".join(next(iter(PRESETS.values()))) + " |",
+        "|---|" + "---|" * len(next(iter(PRESETS.values()))),
+    ]
     for name, values in PRESETS.items():
-        lines.append(f"| '{name}' | " + " | ".join(_num(v) if isinstance(v, float) else str(v)
-                                                for v in values.values()) + " |")
+        lines.append(
+            f"| '{name}' | "
+            + " | ".join(_num(v) if isinstance(v, float) else str(v) for v in values.values())
+            + " |"
+        )
     return "\n".join(lines)
 
 
@@ -174,8 +199,7 @@ def results_markdown() -> str:
     lines = ["| where | HDF5 name | Python name | unit | meaning |", "|---|---|---|---|---|"]
 
     def row(where: str, s: FieldSpec, python: str) -> None:
-        lines.append(f"| {where} | `{s.stored}` | `{python}` | {s.unit} | {s.long_name}"
-                     f"{note[s.requires]} |")
+        lines.append(f"| {where} | `{s.stored}` | `{python}` | {s.unit} | {s.long_name}{note[s.requires]} |")
 
     for s in SCALARS.values():
         row("root attribute", s, s.short)
@@ -183,8 +207,7 @@ def results_markdown() -> str:
         row("`/cycle`", s, s.short)
     for s in LINER.values():
         row("`/liner`", s, f"liner['{s.short}']")
-    lines += ["", "Bits of `/cycle/flags`: " + "; ".join(f"{b}: {d}" for b, d in FLAG_BITS.items())
-              + "."]
+    lines += ["", "Bits of `/cycle/flags`: " + "; ".join(f"{b}: {d}" for b, d in FLAG_BITS.items()) + "."]
     return "\n".join(lines)
 
 

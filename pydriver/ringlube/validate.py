@@ -24,6 +24,7 @@ from .study_settings import DESIGN_RANGES
 
 __all__ = ["PUBLISHED", "ASSUMED", "OPTIONS", "TRENDS", "validate"]
 
+
 def published(targets: str | os.PathLike | None = None) -> dict[str, dict[str, float]]:
     """{condition: {quantity: value}} of a targets file (default: Table 2 of the study)."""
     from .targets import DEFAULT_TARGETS, read_targets
@@ -34,30 +35,46 @@ def published(targets: str | os.PathLike | None = None) -> dict[str, dict[str, f
 #: Table 2 of the study, 4000 r/min full load, optimum ring (inputs/targets_table2.csv).
 PUBLISHED = published()
 #: Assumed inputs varied +/-10 % one at a time: (group, variable).
-ASSUMED = [("surface", "zeta_kappa_sigma"), ("surface", "sigma_over_kappa"), ("surface", "tau0"),
-           ("surface", "boundary_coefficient"), ("operating", "pressure_scale"),
-           ("operating", "crankcase_pressure"), ("surface", "e_ring"), ("surface", "nu_liner"),
-           ("ring", "radial_depth"), ("ring", "density")]
+ASSUMED = [
+    ("surface", "zeta_kappa_sigma"),
+    ("surface", "sigma_over_kappa"),
+    ("surface", "tau0"),
+    ("surface", "boundary_coefficient"),
+    ("operating", "pressure_scale"),
+    ("operating", "crankcase_pressure"),
+    ("surface", "e_ring"),
+    ("surface", "nu_liner"),
+    ("ring", "radial_depth"),
+    ("ring", "density"),
+]
 #: Modelling options flipped one at a time: (group, variable, alternative).
-OPTIONS = [("physics", "contact_area", {"lumped": "local", "local": "lumped"}),
-           ("physics", "outlet", {"reynolds": "ambient", "ambient": "reynolds"}),
-           ("ring", "tension_unit", {"N": "N/m", "N/m": "N"}),
-           ("physics", "gt_functions", {"exact": "fit", "fit": "exact"}),
-           ("physics", "roelands", {True: False, False: True}),
-           ("physics", "squeeze", {True: False, False: True})]
+OPTIONS = [
+    ("physics", "contact_area", {"lumped": "local", "local": "lumped"}),
+    ("physics", "outlet", {"reynolds": "ambient", "ambient": "reynolds"}),
+    ("ring", "tension_unit", {"N": "N/m", "N/m": "N"}),
+    ("physics", "gt_functions", {"exact": "fit", "fit": "exact"}),
+    ("physics", "roelands", {True: False, False: True}),
+    ("physics", "squeeze", {True: False, False: True}),
+]
 #: The study's stated trends: variable, range, what the study says.
-TRENDS = [("tension", DESIGN_RANGES["tension"], "energy loss rises with tension"),
-          ("crown_height", DESIGN_RANGES["crown_height"], "energy loss falls as crown height rises"),
-          ("crown_offset", DESIGN_RANGES["crown_offset"],
-           "a negative offset gives lower energy loss than a positive one"),
-          ("width", DESIGN_RANGES["width"], "energy loss has an interior optimum in width")]
+TRENDS = [
+    ("tension", DESIGN_RANGES["tension"], "energy loss rises with tension"),
+    ("crown_height", DESIGN_RANGES["crown_height"], "energy loss falls as crown height rises"),
+    (
+        "crown_offset",
+        DESIGN_RANGES["crown_offset"],
+        "a negative offset gives lower energy loss than a positive one",
+    ),
+    ("width", DESIGN_RANGES["width"], "energy loss has an interior optimum in width"),
+]
 #: The film models of SPEC 13, read one at a time (the other open choices crossed with them).
-READINGS = {"Swift-Stieber (the study)": {},
-            "JFO flooded": {"cavitation": "jfo"},
-            "JFO flooded, trailing gas": {"cavitation": "jfo", "cavity_pressure": "trailing_gas"},
-            "JFO starved": {"cavitation": "jfo", "inlet": "starved"},
-            "JFO starved, trailing gas": {"cavitation": "jfo", "inlet": "starved",
-                                          "cavity_pressure": "trailing_gas"}}
+READINGS = {
+    "Swift-Stieber (the study)": {},
+    "JFO flooded": {"cavitation": "jfo"},
+    "JFO flooded, trailing gas": {"cavitation": "jfo", "cavity_pressure": "trailing_gas"},
+    "JFO starved": {"cavitation": "jfo", "inlet": "starved"},
+    "JFO starved, trailing gas": {"cavitation": "jfo", "inlet": "starved", "cavity_pressure": "trailing_gas"},
+}
 
 
 def reading_rows(cases: dict[str, Case], points: int = 5) -> list[dict]:
@@ -75,16 +92,19 @@ def reading_rows(cases: dict[str, Case], points: int = 5) -> list[dict]:
     for film, physics in READINGS.items():
         for area in ("lumped", "local"):
             for unit in ("N/m", "N"):
-                c = {k: v.with_physics(**physics, contact_area=area).with_ring(tension_unit=unit)
-                     for k, v in cases.items()}
+                c = {
+                    k: v.with_physics(**physics, contact_area=area).with_ring(tension_unit=unit)
+                    for k, v in cases.items()
+                }
                 rows.append({"film": film, "area": area, "unit": unit})
                 plan.append((len(rows) - 1, "cold", None, None, c["cold"]))
                 plan.append((len(rows) - 1, "hot", None, None, c["hot"]))
                 for name, (lo, hi), _ in TRENDS:
                     for x in np.linspace(lo, hi, points):
-                        plan.append((len(rows) - 1, "sweep", name, x, c["cold"].with_ring(**{name: float(x)})))
-    results = run_many([p[-1] for p in plan], workers=os.cpu_count() or 1, progress=False,
-                       on_error="return")
+                        plan.append(
+                            (len(rows) - 1, "sweep", name, x, c["cold"].with_ring(**{name: float(x)}))
+                        )
+    results = run_many([p[-1] for p in plan], workers=os.cpu_count() or 1, progress=False, on_error="return")
     sweeps: dict[int, dict] = {}
     for (i, kind, name, x, _), r in zip(plan, results):
         if kind in ("cold", "hot"):
@@ -94,9 +114,10 @@ def reading_rows(cases: dict[str, Case], points: int = 5) -> list[dict]:
             xs.append(x)
             es.append(getattr(r, "energy_loss", np.nan))
     for i, row in enumerate(rows):
-        row["verdicts"] = trend_verdicts({k: (np.array(v[0]), np.array(v[1]))
-                                          for k, v in sweeps[i].items()})
+        row["verdicts"] = trend_verdicts({k: (np.array(v[0]), np.array(v[1])) for k, v in sweeps[i].items()})
     return rows
+
+
 def _value(case: Case, group: str, name: str, calibration: Case):
     """The effective value (deck, calibration file or kernel default)."""
     return case.value(group, name)
@@ -131,8 +152,10 @@ def validate(root: str | os.PathLike = ".", out: str | os.PathLike = "docs") -> 
     root, out = Path(root), Path(out)
     figdir = out / "figures"
     figdir.mkdir(parents=True, exist_ok=True)
-    decks = {"cold": root / "inputs" / "crf450r_4000rpm_full_cold.nml",
-             "hot": root / "inputs" / "crf450r_4000rpm_full_hot.nml"}
+    decks = {
+        "cold": root / "inputs" / "crf450r_4000rpm_full_cold.nml",
+        "hot": root / "inputs" / "crf450r_4000rpm_full_hot.nml",
+    }
     cases = {k: Case.from_namelist(p) for k, p in decks.items()}
     calib_path = Path(cases["cold"]["calibration", "file"])
     calibration = Case.from_namelist(calib_path) if calib_path.exists() else Case()
@@ -141,89 +164,140 @@ def validate(root: str | os.PathLike = ".", out: str | os.PathLike = "docs") -> 
         r.label = f"{k} ({cases[k]['operating', 'liner_temperature']:.0f} K)"
 
     md: list[str] = []
-    md += ["# Validation against the source study (Table 2)", "",
-           "Regenerated by `ringlube validate` (this file and `docs/figures/`). "
-           "4000 r/min full load, the study's optimum ring (width 1.004 mm, crown 9.31 um, "
-           "offset -38.3 um, tension 8), shipped decks `inputs/crf450r_4000rpm_full_{cold,hot}.nml` "
-           "with `inputs/calibration.nml`, preset 'default'.", "",
-           "**The cold case is the calibration target; the hot case is a prediction** (nothing "
-           "was fitted to it).", "",
-           "## Published against computed", "",
-           "| condition | quantity | published | ringlube | difference |", "|---|---|---|---|---|"]
+    md += [
+        "# Validation against the source study (Table 2)",
+        "",
+        "Regenerated by `ringlube validate` (this file and `docs/figures/`). "
+        "4000 r/min full load, the study's optimum ring (width 1.004 mm, crown 9.31 um, "
+        "offset -38.3 um, tension 8), shipped decks `inputs/crf450r_4000rpm_full_{cold,hot}.nml` "
+        "with `inputs/calibration.nml`, preset 'default'.",
+        "",
+        "**The cold case is the calibration target; the hot case is a prediction** (nothing "
+        "was fitted to it).",
+        "",
+        "## Published against computed",
+        "",
+        "| condition | quantity | published | ringlube | difference |",
+        "|---|---|---|---|---|",
+    ]
     for k in ("cold", "hot"):
         r, p = results[k], PUBLISHED[k]
-        md.append(f"| {k} | energy loss (J/cycle) | {p['energy_loss']:.2f} | {r.energy_loss:.3f} | "
-                  f"{(r.energy_loss - p['energy_loss']) / p['energy_loss']:+.1%} |")
-        md.append(f"| {k} | mixed/boundary share (%) | {p['mixed_share']:.2f} | {r.mixed_share:.2f} | "
-                  f"{r.mixed_share - p['mixed_share']:+.2f} points |")
+        md.append(
+            f"| {k} | energy loss (J/cycle) | {p['energy_loss']:.2f} | {r.energy_loss:.3f} | "
+            f"{(r.energy_loss - p['energy_loss']) / p['energy_loss']:+.1%} |"
+        )
+        md.append(
+            f"| {k} | mixed/boundary share (%) | {p['mixed_share']:.2f} | {r.mixed_share:.2f} | "
+            f"{r.mixed_share - p['mixed_share']:+.2f} points |"
+        )
         md.append(f"| {k} | ring mass (g) | {p['ring_mass']:.0f} | {r.ring_mass:.2f} | see below |")
     rc, rh = results["cold"], results["hot"]
-    md += ["", f"Hot against cold: energy {rh.energy_loss / rc.energy_loss - 1:+.1%} "
-           f"(study +26.6 %), mixed share {rh.mixed_share - rc.mixed_share:+.2f} points (study +4.03).", "",
-           f"**Ring mass.** ringlube gives {rc.ring_mass:.2f} g from SPEC 8 with the assumed radial depth "
-           "3.5 mm and steel density 7800 kg/m^3. The study reports 24 g, which no realistic radial depth "
-           f"gives for a 1 mm wide ring in a 96 mm bore: 24 g would need a radial depth of "
-           f"{_depth_for_mass(cases['cold'], 24.0) * 1e3:.1f} mm. We report our mass and do not tune to 24 g.", ""]
+    md += [
+        "",
+        f"Hot against cold: energy {rh.energy_loss / rc.energy_loss - 1:+.1%} "
+        f"(study +26.6 %), mixed share {rh.mixed_share - rc.mixed_share:+.2f} points (study +4.03).",
+        "",
+        f"**Ring mass.** ringlube gives {rc.ring_mass:.2f} g from SPEC 8 with the assumed radial depth "
+        "3.5 mm and steel density 7800 kg/m^3. The study reports 24 g, which no realistic radial depth "
+        f"gives for a 1 mm wide ring in a 96 mm bore: 24 g would need a radial depth of "
+        f"{_depth_for_mass(cases['cold'], 24.0) * 1e3:.1f} mm. We report our mass and do not tune to 24 g.",
+        "",
+    ]
 
     # calibration, re-run from scratch and compared with the shipped file
     fit, fits = calibrate(decks["cold"], progress=False)
     base = strip_calibrated(cases["cold"])
     jac, corr = correlation(base, fit)
-    shipped = {"zeta_kappa_sigma": calibration.get("surface", "zeta_kappa_sigma"),
-               "pressure_scale": calibration.get("operating", "pressure_scale")}
+    shipped = {
+        "zeta_kappa_sigma": calibration.get("surface", "zeta_kappa_sigma"),
+        "pressure_scale": calibration.get("operating", "pressure_scale"),
+    }
     same = all(abs(shipped[k] - getattr(fit, k)) <= 1e-9 * max(1.0, abs(shipped[k])) for k in shipped)
-    md += ["## Calibration (cold only)", "",
-           f"Two targets (cold energy {fit.targets['energy_loss']:g} J, cold mixed share "
-           f"{fit.targets['mixed_share']:g} %) determine two continuous inputs; "
-           "the discrete options the study leaves open are enumerated (see `pydriver/ringlube/calibrate.py`).", "",
-           "| input | bounds | fitted |", "|---|---|---|",
-           f"| `&surface zeta_kappa_sigma` | {BOUNDS['zeta_kappa_sigma']} | {fit.zeta_kappa_sigma:.4g}"
-           f"{' (at the upper bound)' if fit.zeta_kappa_sigma >= BOUNDS['zeta_kappa_sigma'][1] else ''} |",
-           f"| `&operating pressure_scale` | {BOUNDS['pressure_scale']} | {fit.pressure_scale:.4g} |"]
+    md += [
+        "## Calibration (cold only)",
+        "",
+        f"Two targets (cold energy {fit.targets['energy_loss']:g} J, cold mixed share "
+        f"{fit.targets['mixed_share']:g} %) determine two continuous inputs; "
+        "the discrete options the study leaves open are enumerated (see `pydriver/ringlube/calibrate.py`).",
+        "",
+        "| input | bounds | fitted |",
+        "|---|---|---|",
+        f"| `&surface zeta_kappa_sigma` | {BOUNDS['zeta_kappa_sigma']} | {fit.zeta_kappa_sigma:.4g}"
+        f"{' (at the upper bound)' if fit.zeta_kappa_sigma >= BOUNDS['zeta_kappa_sigma'][1] else ''} |",
+        f"| `&operating pressure_scale` | {BOUNDS['pressure_scale']} | {fit.pressure_scale:.4g} |",
+    ]
     for (g, k), v in fit.options.items():
         md.append(f"| `&{g} {k}` | choice | '{v}' |")
     tg = fit.targets
-    md += ["", f"Fit: energy {fit.energy_loss:.4f} J ({(fit.energy_loss - tg['energy_loss']) / tg['energy_loss']:+.1%}), "
-           f"mixed share {fit.mixed_share:.3f} % ({fit.mixed_share - tg['mixed_share']:+.3f} points). "
-           f"Sensitivity d(target/target)/d(ln input), rows energy and mixed, columns zeta_kappa_sigma and "
-           f"pressure_scale: [[{jac[0, 0]:.3f}, {jac[0, 1]:.3f}], [{jac[1, 0]:.3f}, {jac[1, 1]:.3f}]]; "
-           f"correlation of the two fitted inputs {corr:+.2f}.",
-           f"Re-running the fit reproduces the shipped `inputs/calibration.nml`: {'yes' if same else 'NO'}.", "",
-           "All combinations of the discrete options (each with its own two-input fit):", "",
-           "| tension_unit | contact_area | outlet | zeta_kappa_sigma | pressure_scale | energy J | mixed % | residual |",
-           "|---|---|---|---|---|---|---|---|"]
+    md += [
+        "",
+        f"Fit: energy {fit.energy_loss:.4f} J "
+        f"({(fit.energy_loss - tg['energy_loss']) / tg['energy_loss']:+.1%}), "
+        f"mixed share {fit.mixed_share:.3f} % ({fit.mixed_share - tg['mixed_share']:+.3f} points). "
+        f"Sensitivity d(target/target)/d(ln input), rows energy and mixed, columns zeta_kappa_sigma and "
+        f"pressure_scale: [[{jac[0, 0]:.3f}, {jac[0, 1]:.3f}], [{jac[1, 0]:.3f}, {jac[1, 1]:.3f}]]; "
+        f"correlation of the two fitted inputs {corr:+.2f}.",
+        f"Re-running the fit reproduces the shipped `inputs/calibration.nml`: {'yes' if same else 'NO'}.",
+        "",
+        "All combinations of the discrete options (each with its own two-input fit):",
+        "",
+        "| tension_unit | contact_area | outlet | zeta_kappa_sigma | pressure_scale | energy J "
+        "| mixed % | residual |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for f in sorted(fits, key=lambda f: f.residual):
         o = list(f.options.values())
-        md.append(f"| {o[0]} | {o[1]} | {o[2]} | {f.zeta_kappa_sigma:.4f} | {f.pressure_scale:.4f} | "
-                  f"{f.energy_loss:.4f} | {f.mixed_share:.3f} | {f.residual:.3f} |")
-    md += ["", "The 'N/m' reading of the tension (radial force per unit circumference, p_e = tension/b) "
-           "is the one the published cold numbers support: with 'N' (tangential force, p_e = F_T/(b r0)) "
-           "the elastic pressure is 20 times larger and no input within its bounds brings the mixed share "
-           "and the energy to the published pair together.", ""]
+        md.append(
+            f"| {o[0]} | {o[1]} | {o[2]} | {f.zeta_kappa_sigma:.4f} | {f.pressure_scale:.4f} | "
+            f"{f.energy_loss:.4f} | {f.mixed_share:.3f} | {f.residual:.3f} |"
+        )
+    md += [
+        "",
+        "The 'N/m' reading of the tension (radial force per unit circumference, p_e = tension/b) "
+        "is the one the published cold numbers support: with 'N' (tangential force, p_e = F_T/(b r0)) "
+        "the elastic pressure is 20 times larger and no input within its bounds brings the mixed share "
+        "and the energy to the published pair together.",
+        "",
+    ]
 
     # sensitivity, one at a time
-    md += ["## Sensitivity to the assumed inputs (one at a time, -10 % / +10 %)", "",
-           "Change of each compared number, in % of its value (mixed share: in points).", "",
-           "| input | value | cold energy | cold mixed (pts) | hot energy | hot mixed (pts) | mass |",
-           "|---|---|---|---|---|---|---|"]
+    md += [
+        "## Sensitivity to the assumed inputs (one at a time, -10 % / +10 %)",
+        "",
+        "Change of each compared number, in % of its value (mixed share: in points).",
+        "",
+        "| input | value | cold energy | cold mixed (pts) | hot energy | hot mixed (pts) | mass |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for group, name in ASSUMED:
         v0 = _value(cases["cold"], group, name, calibration)
         cells = []
         for k in ("cold", "hot"):
             rs = [run(_with(cases[k], calibration, group, name, v0 * f)) for f in (0.9, 1.1)]
             r0 = results[k]
-            cells.append(f"{(rs[0].energy_loss / r0.energy_loss - 1):+.1%} / {(rs[1].energy_loss / r0.energy_loss - 1):+.1%}")
-            cells.append(f"{rs[0].mixed_share - r0.mixed_share:+.2f} / {rs[1].mixed_share - r0.mixed_share:+.2f}")
-        mass = [run(_with(cases["cold"], calibration, group, name, v0 * f)).ring_mass for f in (0.9, 1.1)] \
-            if group == "ring" else None
-        mcell = (f"{mass[0] / rc.ring_mass - 1:+.1%} / {mass[1] / rc.ring_mass - 1:+.1%}" if mass else "0")
+            lo, hi = (r.energy_loss / r0.energy_loss - 1 for r in rs)
+            cells.append(f"{lo:+.1%} / {hi:+.1%}")
+            cells.append(
+                f"{rs[0].mixed_share - r0.mixed_share:+.2f} / {rs[1].mixed_share - r0.mixed_share:+.2f}"
+            )
+        mass = (
+            [run(_with(cases["cold"], calibration, group, name, v0 * f)).ring_mass for f in (0.9, 1.1)]
+            if group == "ring"
+            else None
+        )
+        mcell = f"{mass[0] / rc.ring_mass - 1:+.1%} / {mass[1] / rc.ring_mass - 1:+.1%}" if mass else "0"
         md.append(f"| `&{group} {name}` | {v0:g} | {' | '.join(cells)} | {mcell} |")
 
     # the gas trace: peak (pressure_scale above) and its crank angle
     psi, p = gas.read_csv(Path(cases["cold"]["operating", "pressure_file"]))
-    md += ["", "Gas trace: its peak is varied through `pressure_scale` above; its crank angle by "
-           "shifting the combustion part of the trace (the closed cycle 200-490 deg) by -5 / +5 deg:", "",
-           "| shift | cold energy | cold mixed (pts) | hot energy | hot mixed (pts) |", "|---|---|---|---|---|"]
+    md += [
+        "",
+        "Gas trace: its peak is varied through `pressure_scale` above; its crank angle by "
+        "shifting the combustion part of the trace (the closed cycle 200-490 deg) by -5 / +5 deg:",
+        "",
+        "| shift | cold energy | cold mixed (pts) | hot energy | hot mixed (pts) |",
+        "|---|---|---|---|---|",
+    ]
     tmp = out / "figures" / "_shifted.csv"
     for shift in (-5.0, 5.0):
         closed = (psi > 200) & (psi < 490)
@@ -239,9 +313,13 @@ def validate(root: str | os.PathLike = ".", out: str | os.PathLike = "docs") -> 
     tmp.unlink(missing_ok=True)
 
     # modelling options
-    md += ["", "## Modelling options (each flipped alone)", "",
-           "| option | shipped | flipped to | cold energy | cold mixed (pts) | hot energy | hot mixed (pts) |",
-           "|---|---|---|---|---|---|---|"]
+    md += [
+        "",
+        "## Modelling options (each flipped alone)",
+        "",
+        "| option | shipped | flipped to | cold energy | cold mixed (pts) | hot energy | hot mixed (pts) |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for group, name, alt in OPTIONS:
         v0 = _value(cases["cold"], group, name, calibration)
         v1 = alt[v0]
@@ -253,66 +331,93 @@ def validate(root: str | os.PathLike = ".", out: str | os.PathLike = "docs") -> 
         md.append(f"| `&{group} {name}` | {v0!r} | {v1!r} | {' | '.join(cells)} |")
 
     # trends
-    md += ["", "## Published trends on the calibrated model", "",
-           "Energy loss (J/cycle) along each design variable, the others at the optimum ring, cold and hot.", ""]
+    md += [
+        "",
+        "## Published trends on the calibrated model",
+        "",
+        "Energy loss (J/cycle) along each design variable, the others at the optimum ring, cold and hot.",
+        "",
+    ]
     verdicts = {}
     for k in ("cold", "hot"):
         sweeps = trend_sweeps(cases[k])
         verdicts[k] = trend_verdicts(sweeps)
-        md += [f"**{k}**", "", "| variable | values | energy loss | study says | ringlube agrees |",
-               "|---|---|---|---|---|"]
+        md += [
+            f"**{k}**",
+            "",
+            "| variable | values | energy loss | study says | ringlube agrees |",
+            "|---|---|---|---|---|",
+        ]
         for name, _, says in TRENDS:
             xs, e = sweeps[name]
             scale = 1e6 if name != "tension" else 1.0
-            md.append(f"| {name} | {xs[0] * scale:g} .. {xs[-1] * scale:g} | "
-                      f"{' '.join(f'{v:.3f}' for v in e)} | {says} | {'yes' if verdicts[k][name] else 'NO'} |")
+            md.append(
+                f"| {name} | {xs[0] * scale:g} .. {xs[-1] * scale:g} | "
+                f"{' '.join(f'{v:.3f}' for v in e)} | {says} | {'yes' if verdicts[k][name] else 'NO'} |"
+            )
         md.append("")
-    md += ["Where ringlube disagrees (see the tests in `tests/python/test_validation.py`, marked as "
-           "expected failures that name the disagreement):", "",
-           "- *crown height*: with the calibrated lumped contact area the asperity load acts over the whole "
-           "face at lambda = h0/sigma; a higher crown narrows the load-carrying wedge, lowers h0 and raises "
-           "the boundary friction, so energy rises with crown height. With `contact_area = 'local'` the "
-           "boundary term is confined to the crown; the calibration does not select it (its cold fit is worse).",
-           "- *offset*: in ringlube a positive offset (crown minimum towards the chamber) gives the "
-           "lower energy, because on the high-load expansion stroke the inlet is the crankcase edge and a "
-           "minimum towards the chamber gives that inlet a longer converging wedge. The study's opposite "
-           "finding may reflect a different sign convention for x_s or the measured, not synthetic, gas "
-           "pressure; SPEC 3 fixes the convention used here.",
-           "- *width*: energy rises monotonically with width over 0.54-1.34 mm (larger wetted area, more "
-           "viscous and boundary shear); the mixed share falls with width, so the study's interior optimum "
-           "appears only when the mixed share is traded against energy (the optimisation, issue 5), not in "
-           "energy alone.", ""]
+    md += [
+        "Where ringlube disagrees (see the tests in `tests/python/test_validation.py`, marked as "
+        "expected failures that name the disagreement):",
+        "",
+        "- *crown height*: with the calibrated lumped contact area the asperity load acts over the whole "
+        "face at lambda = h0/sigma; a higher crown narrows the load-carrying wedge, lowers h0 and raises "
+        "the boundary friction, so energy rises with crown height. With `contact_area = 'local'` the "
+        "boundary term is confined to the crown; the calibration does not select it (its cold fit is worse).",
+        "- *offset*: in ringlube a positive offset (crown minimum towards the chamber) gives the "
+        "lower energy, because on the high-load expansion stroke the inlet is the crankcase edge and a "
+        "minimum towards the chamber gives that inlet a longer converging wedge. The study's opposite "
+        "finding may reflect a different sign convention for x_s or the measured, not synthetic, gas "
+        "pressure; SPEC 3 fixes the convention used here.",
+        "- *width*: energy rises monotonically with width over 0.54-1.34 mm (larger wetted area, more "
+        "viscous and boundary shear); the mixed share falls with width, so the study's interior optimum "
+        "appears only when the mixed share is traded against energy (the optimisation, issue 5), not in "
+        "energy alone.",
+        "",
+    ]
 
     # readings of the open modelling choices (issue 9)
-    md += ["## Readings of the open choices: film model, contact area, tension unit (issue 9)", "",
-           "Each reading with the shipped calibration (`zeta_kappa_sigma`, `pressure_scale`, fitted "
-           "for the first row's reading): **not re-fitted per reading** (the per-reading calibration "
-           "with `supply_film` among the fitted inputs, which issue 9 asks for, is not done yet). "
-           "Trends on the cold case, 5 points per variable; 'yes' where the published direction "
-           "appears. `conv` counts the cold and hot runs that converged (JFO runs hold h0 at its "
-           "ceiling where the film carries more than the load: flagged, see docs/model.md).", "",
-           "| film model | contact area | tension unit | cold energy J | cold mixed % | hot energy J "
-           "| hot mixed % | tension | crown height | offset | width | trends | conv |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    md += [
+        "## Readings of the open choices: film model, contact area, tension unit (issue 9)",
+        "",
+        "Each reading with the shipped calibration (`zeta_kappa_sigma`, `pressure_scale`, fitted "
+        "for the first row's reading): **not re-fitted per reading** (the per-reading calibration "
+        "with `supply_film` among the fitted inputs, which issue 9 asks for, is not done yet). "
+        "Trends on the cold case, 5 points per variable; 'yes' where the published direction "
+        "appears. `conv` counts the cold and hot runs that converged (JFO runs hold h0 at its "
+        "ceiling where the film carries more than the load: flagged, see docs/model.md).",
+        "",
+        "| film model | contact area | tension unit | cold energy J | cold mixed % | hot energy J "
+        "| hot mixed % | tension | crown height | offset | width | trends | conv |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
     pub = PUBLISHED
     for row in reading_rows({"cold": cases["cold"], "hot": cases["hot"]}):
         c, h, v = row["cold"], row["hot"], row["verdicts"]
         if not hasattr(c, "energy_loss") or not hasattr(h, "energy_loss"):
-            md.append(f"| {row['film']} | {row['area']} | {row['unit']} | failed: "
-                      f"{c if not hasattr(c, 'energy_loss') else h} |" + " |" * 9)
+            md.append(
+                f"| {row['film']} | {row['area']} | {row['unit']} | failed: "
+                f"{c if not hasattr(c, 'energy_loss') else h} |" + " |" * 9
+            )
             continue
-        md.append(f"| {row['film']} | {row['area']} | {row['unit']} | {c.energy_loss:.3f} "
-                  f"({(c.energy_loss / pub['cold']['energy_loss'] - 1):+.0%}) | {c.mixed_share:.2f} | "
-                  f"{h.energy_loss:.3f} ({(h.energy_loss / pub['hot']['energy_loss'] - 1):+.0%}) | "
-                  f"{h.mixed_share:.2f} | "
-                  + " | ".join("yes" if v[n] else "no" for n, _, _ in TRENDS)
-                  + f" | {sum(v.values())}/4 | {int(c.converged) + int(h.converged)}/2 |")
-    md += ["", "No reading gives all four published trends together with Table 2 within 5 % energy "
-           "and 1.5 points mixed share (see the rows above for which comes closest and what each "
-           "misses). The shipped default stays the source study's reading (Swift-Stieber, lumped "
-           "contact, N/m), the only one calibrated; the mass-conserving readings change the energy by "
-           "up to a factor two and flip some trends, which a per-reading calibration must settle "
-           "before any of them can be the default.", ""]
+        md.append(
+            f"| {row['film']} | {row['area']} | {row['unit']} | {c.energy_loss:.3f} "
+            f"({(c.energy_loss / pub['cold']['energy_loss'] - 1):+.0%}) | {c.mixed_share:.2f} | "
+            f"{h.energy_loss:.3f} ({(h.energy_loss / pub['hot']['energy_loss'] - 1):+.0%}) | "
+            f"{h.mixed_share:.2f} | "
+            + " | ".join("yes" if v[n] else "no" for n, _, _ in TRENDS)
+            + f" | {sum(v.values())}/4 | {int(c.converged) + int(h.converged)}/2 |"
+        )
+    md += [
+        "",
+        "No reading gives all four published trends together with Table 2 within 5 % energy "
+        "and 1.5 points mixed share (see the rows above for which comes closest and what each "
+        "misses). The shipped default stays the source study's reading (Swift-Stieber, lumped "
+        "contact, N/m), the only one calibrated; the mass-conserving readings change the energy by "
+        "up to a factor two and flip some trends, which a per-reading calibration must settle "
+        "before any of them can be the default.",
+        "",
+    ]
 
     # figures
     files = plot_results([rc, rh], figdir, stem="fig11_cold_vs_hot")
@@ -323,12 +428,22 @@ def validate(root: str | os.PathLike = ".", out: str | os.PathLike = "docs") -> 
     for fmt in ("png", "pdf"):
         fig.savefig(figdir / f"fig2_gas_pressure.{fmt}", dpi=150, metadata=save_metadata(fmt))
         files.append(figdir / f"fig2_gas_pressure.{fmt}")
-    md += ["## Figures", "",
-           "Gas pressure (synthetic traces, study Fig 2; the decks use them times `pressure_scale`):", "",
-           "![gas](figures/fig2_gas_pressure.png)", "",
-           "Minimum film thickness and friction over the cycle, cold and hot (study Fig 11):", "",
-           "![film](figures/fig11_cold_vs_hot_film.png)", "", "![friction](figures/fig11_cold_vs_hot_friction.png)", "",
-           f"_Generated in {time.perf_counter() - t0:.0f} s._", ""]
+    md += [
+        "## Figures",
+        "",
+        "Gas pressure (synthetic traces, study Fig 2; the decks use them times `pressure_scale`):",
+        "",
+        "![gas](figures/fig2_gas_pressure.png)",
+        "",
+        "Minimum film thickness and friction over the cycle, cold and hot (study Fig 11):",
+        "",
+        "![film](figures/fig11_cold_vs_hot_film.png)",
+        "",
+        "![friction](figures/fig11_cold_vs_hot_friction.png)",
+        "",
+        f"_Generated in {time.perf_counter() - t0:.0f} s._",
+        "",
+    ]
     path = out / "validation.md"
     tmpmd = path.with_name(path.name + ".part")
     tmpmd.write_text("\n".join(md))
@@ -341,8 +456,7 @@ def _depth_for_mass(case: Case, grams: float) -> float:
     from scipy.optimize import brentq
 
     coarse = case.with_numerics(preset="fast", max_cycles=1)
-    return brentq(lambda a: run(coarse.with_ring(radial_depth=a)).ring_mass - grams, 1e-3, 0.04,
-                  xtol=1e-6)
+    return brentq(lambda a: run(coarse.with_ring(radial_depth=a)).ring_mass - grams, 1e-3, 0.04, xtol=1e-6)
 
 
 def _with(case: Case, calibration: Case, group: str, name: str, value) -> Case:

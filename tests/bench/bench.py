@@ -58,43 +58,51 @@ def main() -> None:
             subprocess.run([sys.executable, str(HERE / script)], check=True)
     for preset in args.sweep_presets.split(","):
         print(f"\n== DOE of {args.sweep} runs on {cores} cores (preset '{preset}', doe.py)", flush=True)
-        subprocess.run([sys.executable, str(HERE / "doe.py"), "--runs", str(args.sweep),
-                        "--preset", preset], check=True)
+        subprocess.run(
+            [sys.executable, str(HERE / "doe.py"), "--runs", str(args.sweep), "--preset", preset], check=True
+        )
 
 
 def roofline(cold: Path) -> None:
     """Cost per film solve in a whole 'default' run against its pieces alone."""
     exe = ROOT / "build" / "bench_kernel"
     print("\n== roofline (bench_kernel, CPU time)", flush=True)
-    micro = subprocess.run([str(exe), "--micro", "51"], check=True, capture_output=True,
-                           text=True, cwd=ROOT).stdout.strip()
+    micro = subprocess.run(
+        [str(exe), "--micro", "51"], check=True, capture_output=True, text=True, cwd=ROOT
+    ).stdout.strip()
     print(micro)
-    run = subprocess.run([str(exe), str(cold), "", "20"], check=True, capture_output=True,
-                         text=True, cwd=ROOT).stdout.strip()
+    run = subprocess.run(
+        [str(exe), str(cold), "", "20"], check=True, capture_output=True, text=True, cwd=ROOT
+    ).stdout.strip()
     print(run)
     r = {k: float(v) for k, v in (kv.split("=") for kv in run.splitlines()[0].replace("= ", "=").split())}
     m = {k: float(v) for k, v in (kv.split("=") for kv in micro.split()[:5])}
     per_solve = r["ms_per_run"] * 1e6 / r["film_solves"]
     steps = r["cycles_computed"] * r["steps"]
-    print(f"whole run: {per_solve:.0f} ns per film solve ({r['reynolds_solves'] / r['film_solves']:.2f} "
-          f"Thomas solves each); floor of one Thomas solve + one Roelands pass: "
-          f"{m['thomas_ns'] + m['roelands_all_nodes_ns']:.0f} ns; film solves per step "
-          f"{r['film_solves'] / steps:.2f} (floor 1)")
+    print(
+        f"whole run: {per_solve:.0f} ns per film solve ({r['reynolds_solves'] / r['film_solves']:.2f} "
+        f"Thomas solves each); floor of one Thomas solve + one Roelands pass: "
+        f"{m['thomas_ns'] + m['roelands_all_nodes_ns']:.0f} ns; film solves per step "
+        f"{r['film_solves'] / steps:.2f} (floor 1)"
+    )
 
 
 def tables(cold: Path) -> None:
-    print("== ms per cycle by preset (kernel time / cycles computed incl. warm-up; "
-          "error vs 'accurate')")
-    print(f"{'deck':34s} {'preset':9s} {'ms/run':>8s} {'ms/cycle':>9s} {'energy J':>9s} "
-          f"{'err':>9s} {'mixed %':>8s}")
+    print("== ms per cycle by preset (kernel time / cycles computed incl. warm-up; error vs 'accurate')")
+    print(
+        f"{'deck':34s} {'preset':9s} {'ms/run':>8s} {'ms/cycle':>9s} {'energy J':>9s} "
+        f"{'err':>9s} {'mixed %':>8s}"
+    )
     for deck in DECKS:
         ref = best(preset_case(deck, "accurate"), 1)
         for preset in ("fast", "default", "accurate"):
             r = best(preset_case(deck, preset), 1 if preset == "accurate" else 3)
             err = abs(r.energy_loss - ref.energy_loss) / ref.energy_loss
-            print(f"{deck.stem:34s} {preset:9s} {r.run_time * 1e3:8.1f} "
-                  f"{r.run_time * 1e3 / r.cycles_computed:9.2f} {r.energy_loss:9.4f} {err:9.1e} "
-                  f"{r.mixed_share:8.2f}")
+            print(
+                f"{deck.stem:34s} {preset:9s} {r.run_time * 1e3:8.1f} "
+                f"{r.run_time * 1e3 / r.cycles_computed:9.2f} {r.energy_loss:9.4f} {err:9.1e} "
+                f"{r.mixed_share:8.2f}"
+            )
 
     print("\n== damped vs safeguarded h0 update (cold deck, preset 'default', load_tol 1e-3)")
     ref = best(preset_case(cold, "accurate"), 1)
@@ -102,9 +110,11 @@ def tables(cold: Path) -> None:
     for upd in ("safeguarded", "damped"):
         r = best(preset_case(cold, "default").with_numerics(h0_update=upd), 3)
         rows[upd] = r
-        print(f"{upd:12s} {r.run_time * 1e3:8.1f} ms  film solves {int(r.film_solves.sum()):7d}  "
-              f"energy {r.energy_loss:.5f} J  err vs accurate "
-              f"{abs(r.energy_loss - ref.energy_loss) / ref.energy_loss:.2e}")
+        print(
+            f"{upd:12s} {r.run_time * 1e3:8.1f} ms  film solves {int(r.film_solves.sum()):7d}  "
+            f"energy {r.energy_loss:.5f} J  err vs accurate "
+            f"{abs(r.energy_loss - ref.energy_loss) / ref.energy_loss:.2e}"
+        )
     print(f"damped / safeguarded time ratio: {rows['damped'].run_time / rows['safeguarded'].run_time:.1f}")
 
 

@@ -20,7 +20,7 @@ program bench_jfo
   integer :: k, rep
 
   ! the machine may be shared: three repetitions, quote the fastest
-  write(*, '(a)') '  nodes  solver                      us/solve  iterations/solve (mean, max)'
+  write (*, '(a)') '  nodes  solver                      us/solve  iterations/solve (mean, max)'
   do k = 1, size(sizes)
     do rep = 1, 3
       call run(sizes(k))
@@ -34,7 +34,7 @@ contains
     real(dp), parameter :: b = 1e-3_dp, crown = 10e-6_dp, xs = -38e-6_dp, eta = 0.01_dp
     real(dp), parameter :: kk = crown / (0.5_dp * b)**2
     integer, parameter :: nsteps = 720, periods = 3
-    real(dp) :: x(n), h(n), hold(n), hmid(n-1), kmid(n-1), p(n), th(n), pc(n), cold(n)
+    real(dp) :: x(n), h(n), hold(n), hmid(n - 1), kmid(n - 1), p(n), th(n), pc(n), cold(n)
     real(dp) :: pr(n), tr(n), ps(n)
     logical :: active(n)
     real(dp) :: dx, dt, t, u, hm, tin, tn, te, ts
@@ -42,7 +42,7 @@ contains
     integer(8) :: c0, c1, rate
 
     dx = b / (n - 1)
-    x = [(-0.5_dp * b + (i - 1) * dx, i = 1, n)]
+    x = [(-0.5_dp * b + (i - 1) * dx, i=1, n)]
     dt = 1e-5_dp
     pc = 0.5e5_dp
     p = 1e5_dp
@@ -67,12 +67,13 @@ contains
       hold = h
       hm = 1e-6_dp * (1.0_dp + 0.6_dp * sin(6 * pi * j / nsteps))
       h = hm + kk * (x + xs)**2
-      hmid = hm + kk * (0.5_dp * (x(1:n-1) + x(2:n)) + xs)**2
+      hmid = hm + kk * (0.5_dp * (x(1:n - 1) + x(2:n)) + xs)**2
       kmid = hmid**3 / (12 * eta)
       tin = merge(0.6_dp, 1.0_dp, u < 0.0_dp)
       cold = th * hold
       call system_clock(c0, rate)
-      call jfo_solve(dx, h, hmid, kmid, u, dt, cold, 3e5_dp, 1e5_dp, tin, 1.0_dp, pc, p, th, it, info)
+      call jfo_solve(dx, h, hmid, kmid, u, dt, cold, 3e5_dp, 1e5_dp, tin, 1.0_dp, pc, p, th, it, &
+                     info)
       call system_clock(c1)
       if (j <= nsteps) cycle   ! first period: settle the periodic state
       tn = tn + real(c1 - c0, dp) / rate
@@ -81,27 +82,31 @@ contains
       nsolve = nsolve + 1
       cold = tr * hold
       call system_clock(c0)
-      call elrod_solve(dx, h, hmid, kmid, u, dt, cold, 3e5_dp, 1e5_dp, tin, 1.0_dp, pc, pr, tr, sw, &
-        1e-10_dp, 1.7_dp, 10000000)
+      call elrod_solve(dx, h, hmid, kmid, u, dt, cold, 3e5_dp, 1e5_dp, tin, 1.0_dp, pc, pr, tr, &
+                       sw, &
+                       1e-10_dp, 1.7_dp, 10000000)
       call system_clock(c1)
       te = te + real(c1 - c0, dp) / rate
       swsum = swsum + sw
       swmax = max(swmax, sw)
       call system_clock(c0)
       call reynolds_solve(dx, 2 * kmid, hmid, u, 2 * (h(1) - hold(1)) / dt, 3e5_dp, 1e5_dp, &
-        0.5e5_dp, ps, active, it, info)
+                          0.5e5_dp, ps, active, it, info)
       call system_clock(c1)
       ts = ts + real(c1 - c0, dp) / rate
       ssum = ssum + it
       smax = max(smax, it)
     end do
-    write(*, '(i7, 2x, a, f10.1, f10.2, i6)') n, 'jfo_solve (Newton)         ', 1e6_dp * tn / nsolve, &
+    write (*, '(i7, 2x, a, f10.1, f10.2, i6)') n, 'jfo_solve (Newton)         ', &
+      1e6_dp * tn / nsolve, &
       real(itsum, dp) / nsolve, itmax
-    write(*, '(i7, 2x, a, f10.1, f10.2, i6)') n, 'Elrod/Ausas relaxation     ', 1e6_dp * te / nsolve, &
+    write (*, '(i7, 2x, a, f10.1, f10.2, i6)') n, 'Elrod/Ausas relaxation     ', &
+      1e6_dp * te / nsolve, &
       real(swsum, dp) / nsolve, swmax
-    write(*, '(i7, 2x, a, f10.1, f10.2, i6)') n, 'reynolds_solve (Swift-St.) ', 1e6_dp * ts / nsolve, &
+    write (*, '(i7, 2x, a, f10.1, f10.2, i6)') n, 'reynolds_solve (Swift-St.) ', &
+      1e6_dp * ts / nsolve, &
       real(ssum, dp) / nsolve, smax
-    write(*, '(i7, 2x, a, es10.2, a, es10.2)') n, 'max |p_jfo - p_elrod| / max p at the end ', &
+    write (*, '(i7, 2x, a, es10.2, a, es10.2)') n, 'max |p_jfo - p_elrod| / max p at the end ', &
       maxval(abs(p - pr)) / maxval(p), ', max |theta diff| ', maxval(abs(th - tr))
   end subroutine run
 end program bench_jfo

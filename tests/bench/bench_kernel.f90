@@ -35,7 +35,7 @@ program bench_kernel
     nodes = 51
     if (command_argument_count() >= 2) then
       call get_command_argument(2, arg)
-      read(arg, *) nodes
+      read (arg, *) nodes
     end if
     call micro(nodes)
     stop
@@ -49,7 +49,7 @@ program bench_kernel
   end if
   if (command_argument_count() >= 3) then
     call get_command_argument(3, arg)
-    read(arg, *) repeats
+    read (arg, *) repeats
   end if
   call whole_run(deck, overrides, repeats)
 
@@ -69,7 +69,7 @@ contains
     if (allocated(err)) error stop 'cannot read the deck'
     call read_deck_text(text, path, dirname(path), c, err, ovr, 'overrides')
     if (allocated(err)) then
-      write(output_unit, '(a)') err%message
+      write (output_unit, '(a)') err%message
       error stop 1
     end if
   end subroutine load
@@ -90,12 +90,14 @@ contains
       best = min(best, now() - t0)
       if (allocated(err)) error stop 'run failed'
     end do
-    write(output_unit, '(a, f0.3, a, f0.3, a, es14.7, a, f0.3, a, i0, a, i0, a, f0.3, a, i0, a, i0)') &
+    write (output_unit, &
+           '(a, f0.3, a, f0.3, a, es14.7, a, f0.3, a, i0, a, i0, a, f0.3, a, i0, a, i0)') &
       'ms_per_run=', best * 1e3_dp, ' ms_per_cycle=', best * 1e3_dp / res%cycles_computed, &
       ' energy=', res%energy_loss, ' mixed=', res%mixed_share, ' film_solves=', res%evaluations, &
       ' reynolds_solves=', res%reynolds_solves, ' cycles_computed=', res%cycles_computed, &
       ' steps=', res%nsteps, ' converged=', merge(1, 0, res%converged)
-    write(output_unit, '(a, 4(1x, i0))') 'steps of the reported cycle with 1, 2, 3, >= 4 film solves:', &
+    write (output_unit, '(a, 4(1x, i0))') &
+      'steps of the reported cycle with 1, 2, 3, >= 4 film solves:', &
       count(res%iterations == 1), count(res%iterations == 2), count(res%iterations == 3), &
       count(res%iterations >= 4)
   end subroutine whole_run
@@ -107,7 +109,7 @@ contains
     real(dp) :: a(n), b(n), cc(n), d(n), x(n), p(n), eta(n), t0, tt, tv, tf, sink
     integer :: i, k, rep, info, nrep
     call load('inputs/crf450r_4000rpm_full_cold.nml', &
-      '&numerics nodes = ' // itoa(n) // ' /', c)
+              '&numerics nodes = '//itoa(n)//' /', c)
     call gt_init()
     call film_setup(c, f)
     ! a Reynolds-like M-matrix system
@@ -153,12 +155,13 @@ contains
       t0 = now()
       do k = 1, nrep
         call film_evaluate(c, f, 3.0_dp * f%sigma * (1.0_dp + 0.01_dp * mod(k, 2)), 0.0_dp, &
-          -10.0_dp, 2e5_dp, c%load_tol * (elastic_pressure(c) + 2e5_dp) * c%width * f%circ)
+                           -10.0_dp, 2e5_dp, &
+                           c%load_tol * (elastic_pressure(c) + 2e5_dp) * c%width * f%circ)
         sink = sink + f%wh
       end do
       tf = min(tf, (now() - t0) / nrep)
     end do
-    write(output_unit, '(a, i0, a, f0.1, a, f0.1, a, f0.1, a, f0.2, a, i0, a, es9.2)') &
+    write (output_unit, '(a, i0, a, f0.1, a, f0.1, a, f0.1, a, f0.2, a, i0, a, es9.2)') &
       'nodes=', n, ' thomas_ns=', tt * 1e9_dp, ' roelands_all_nodes_ns=', tv * 1e9_dp, &
       ' film_solve_ns=', tf * 1e9_dp, ' reynolds_per_film_solve=', &
       real(f%reynolds_solves, dp) / f%evaluations, ' evaluations=', f%evaluations, ' sink=', sink

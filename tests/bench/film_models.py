@@ -21,8 +21,7 @@ MODELS = {
     "jfo flooded": {"cavitation": "jfo"},
     "jfo flooded, trailing_gas": {"cavitation": "jfo", "cavity_pressure": "trailing_gas"},
     "jfo starved": {"cavitation": "jfo", "inlet": "starved"},
-    "jfo starved, trailing_gas": {"cavitation": "jfo", "inlet": "starved",
-                                  "cavity_pressure": "trailing_gas"},
+    "jfo starved, trailing_gas": {"cavitation": "jfo", "inlet": "starved", "cavity_pressure": "trailing_gas"},
 }
 
 
@@ -30,10 +29,14 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=5)
     args = ap.parse_args()
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores; "
-          f"kernel time best of {args.repeats}")
-    print(f"{'deck':28s} {'film model':28s} {'ms/run':>8s} {'cycles':>7s} {'ms/cycle':>9s} "
-          f"{'x SS':>6s} {'energy J':>9s} {'mixed %':>8s} {'conv':>5s}")
+    print(
+        f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores; "
+        f"kernel time best of {args.repeats}"
+    )
+    print(
+        f"{'deck':28s} {'film model':28s} {'ms/run':>8s} {'cycles':>7s} {'ms/cycle':>9s} "
+        f"{'x SS':>6s} {'energy J':>9s} {'mixed %':>8s} {'conv':>5s}"
+    )
     for stem in ("crf450r_4000rpm_full_cold", "crf450r_4000rpm_full_hot"):
         base = ringlube.Case.from_namelist(ROOT / "inputs" / f"{stem}.nml")
         ref = None
@@ -43,9 +46,12 @@ def main() -> None:
             r = min(runs, key=lambda x: x.run_time)
             per_cycle = r.run_time * 1e3 / r.cycles_computed
             ref = ref or r.run_time
-            print(f"{stem:28s} {label:28s} {r.run_time * 1e3:8.1f} {r.cycles_computed:7.2f} "
-                  f"{per_cycle:9.2f} {r.run_time / ref:6.1f} {r.energy_loss:9.4f} "
-                  f"{r.mixed_share:8.2f} {'yes' if r.converged else 'no':>5s}", flush=True)
+            print(
+                f"{stem:28s} {label:28s} {r.run_time * 1e3:8.1f} {r.cycles_computed:7.2f} "
+                f"{per_cycle:9.2f} {r.run_time / ref:6.1f} {r.energy_loss:9.4f} "
+                f"{r.mixed_share:8.2f} {'yes' if r.converged else 'no':>5s}",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

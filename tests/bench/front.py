@@ -24,8 +24,13 @@ REFERENCE = "nodes=801 dpsi_deg=0.125 pressure_tol=1e-8 load_tol=1e-6 cycle_tol=
 
 
 def bench(deck: Path, numerics: str, repeats: int) -> dict:
-    out = subprocess.run([str(BENCH), str(deck), f"&numerics {numerics} /", str(repeats)],
-                         check=True, capture_output=True, text=True, cwd=ROOT).stdout
+    out = subprocess.run(
+        [str(BENCH), str(deck), f"&numerics {numerics} /", str(repeats)],
+        check=True,
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    ).stdout
     first = out.splitlines()[0].replace("= ", "=")
     return {k: float(v) for k, v in (kv.split("=") for kv in first.split())}
 
@@ -36,8 +41,7 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="a smaller ladder")
     args = ap.parse_args()
     ref = {d: bench(p, REFERENCE, 1)["energy"] for d, p in DECKS.items()}
-    print("reference energy [J] (" + REFERENCE + "): "
-          + ", ".join(f"{d} {e:.7f}" for d, e in ref.items()))
+    print("reference energy [J] (" + REFERENCE + "): " + ", ".join(f"{d} {e:.7f}" for d, e in ref.items()))
     schemes = ("bdf2", "euler")
     nodes = (31, 51) if args.quick else (31, 41, 51, 71)
     steps = (1.0, 2.0, 3.0) if args.quick else (0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0)
@@ -50,21 +54,29 @@ def main() -> None:
         ms = max(r[d]["ms_per_cycle"] for d in DECKS)
         solves = r["cold"]["film_solves"] / (r["cold"]["cycles_computed"] * 720 / dpsi)
         rows.append((scheme, n, dpsi, tol, ms, err["cold"], err["hot"], solves))
-    print(f"\n{'scheme':6s} {'nodes':>5s} {'dpsi':>5s} {'load_tol':>8s} {'ms/cycle':>9s} "
-          f"{'err cold':>9s} {'err hot':>9s} {'solves/step':>11s} front")
+    print(
+        f"\n{'scheme':6s} {'nodes':>5s} {'dpsi':>5s} {'load_tol':>8s} {'ms/cycle':>9s} "
+        f"{'err cold':>9s} {'err hot':>9s} {'solves/step':>11s} front"
+    )
     for row in sorted(rows, key=lambda r: r[4]):
         worst = max(row[5], row[6])
         front = not any(o[4] < row[4] and max(o[5], o[6]) < worst for o in rows)
-        print(f"{row[0]:6s} {row[1]:5d} {row[2]:5.2f} {row[3]:>8s} {row[4]:9.2f} {row[5]:9.1e} "
-              f"{row[6]:9.1e} {row[7]:11.2f} {'*' if front else ''}")
+        print(
+            f"{row[0]:6s} {row[1]:5d} {row[2]:5.2f} {row[3]:>8s} {row[4]:9.2f} {row[5]:9.1e} "
+            f"{row[6]:9.1e} {row[7]:11.2f} {'*' if front else ''}"
+        )
     print("\npresets as shipped (ms per computed cycle, worst of the two decks; error vs reference)")
     for preset in ("fast", "default", "accurate"):
-        r = {d: bench(p, f"preset='{preset}'", 1 if preset == "accurate" else args.repeats)
-             for d, p in DECKS.items()}
-        print(f"{preset:9s} ms/run {max(r[d]['ms_per_run'] for d in DECKS):8.2f}  ms/cycle "
-              f"{max(r[d]['ms_per_cycle'] for d in DECKS):8.2f}  error cold "
-              f"{abs(r['cold']['energy'] - ref['cold']) / ref['cold']:.1e}, hot "
-              f"{abs(r['hot']['energy'] - ref['hot']) / ref['hot']:.1e}")
+        r = {
+            d: bench(p, f"preset='{preset}'", 1 if preset == "accurate" else args.repeats)
+            for d, p in DECKS.items()
+        }
+        print(
+            f"{preset:9s} ms/run {max(r[d]['ms_per_run'] for d in DECKS):8.2f}  ms/cycle "
+            f"{max(r[d]['ms_per_cycle'] for d in DECKS):8.2f}  error cold "
+            f"{abs(r['cold']['energy'] - ref['cold']) / ref['cold']:.1e}, hot "
+            f"{abs(r['hot']['energy'] - ref['hot']) / ref['hot']:.1e}"
+        )
 
 
 if __name__ == "__main__":

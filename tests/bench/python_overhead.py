@@ -20,12 +20,20 @@ SOLVER = ROOT / "build" / "ringlube-solve"
 REPEAT = 5
 
 first = subprocess.run(
-    [sys.executable, "-c",
-     "import time; t=time.perf_counter(); import ringlube; "
-     f"r=ringlube.run({str(DECK)!r}); print(time.perf_counter()-t, r.run_time)"],
-    check=True, capture_output=True, text=True).stdout.split()
-print(f"import + first result (fresh interpreter): {float(first[0]) * 1e3:.0f} ms "
-      f"(kernel {float(first[1]) * 1e3:.0f} ms)")
+    [
+        sys.executable,
+        "-c",
+        "import time; t=time.perf_counter(); import ringlube; "
+        f"r=ringlube.run({str(DECK)!r}); print(time.perf_counter()-t, r.run_time)",
+    ],
+    check=True,
+    capture_output=True,
+    text=True,
+).stdout.split()
+print(
+    f"import + first result (fresh interpreter): {float(first[0]) * 1e3:.0f} ms "
+    f"(kernel {float(first[1]) * 1e3:.0f} ms)"
+)
 
 import ringlube  # noqa: E402
 
@@ -42,11 +50,15 @@ for _ in range(REPEAT):
     subprocess.run([str(SOLVER), "-q", str(DECK), "-o", "/tmp/ringlube_bench.h5"], check=True)
     cli.append(time.perf_counter() - t)
 m = statistics.median
-print(f"per run, median of {REPEAT}: ringlube.run {m(py) * 1e3:.1f} ms "
-      f"(kernel {m(kern) * 1e3:.1f} ms, Python overhead {(m(py) - m(kern)) * 1e3:.1f} ms); "
-      f"ringlube-solve process {m(cli) * 1e3:.1f} ms")
-print(f"cycles computed per run (warm-up included): {r.cycles_computed:.2f}; kernel time per "
-      f"cycle {m(kern) / r.cycles_computed * 1e3:.1f} ms")
+print(
+    f"per run, median of {REPEAT}: ringlube.run {m(py) * 1e3:.1f} ms "
+    f"(kernel {m(kern) * 1e3:.1f} ms, Python overhead {(m(py) - m(kern)) * 1e3:.1f} ms); "
+    f"ringlube-solve process {m(cli) * 1e3:.1f} ms"
+)
+print(
+    f"cycles computed per run (warm-up included): {r.cycles_computed:.2f}; kernel time per "
+    f"cycle {m(kern) / r.cycles_computed * 1e3:.1f} ms"
+)
 
 import numpy as np  # noqa: E402
 
@@ -59,6 +71,8 @@ for _ in range(REPEAT):
     wall.append(time.perf_counter() - t)
     kern_b.append(float(np.sum(v[:, 0])))
 over = [(w - k) / BATCH for w, k in zip(wall, kern_b)]
-print(f"batch of {BATCH} designs through ringlube.run_designs, median of {REPEAT}: "
-      f"{m(wall) / BATCH * 1e3:.2f} ms per run (kernel {m(kern_b) / BATCH * 1e3:.2f} ms, "
-      f"Python and batch overhead {m(over) * 1e3:.3f} ms per run)")
+print(
+    f"batch of {BATCH} designs through ringlube.run_designs, median of {REPEAT}: "
+    f"{m(wall) / BATCH * 1e3:.2f} ms per run (kernel {m(kern_b) / BATCH * 1e3:.2f} ms, "
+    f"Python and batch overhead {m(over) * 1e3:.3f} ms per run)"
+)

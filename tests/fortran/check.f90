@@ -15,7 +15,7 @@ contains
       npass = npass + 1
     else
       nfail = nfail + 1
-      write(*, '(a)') 'FAIL: ' // what
+      write (*, '(a)') 'FAIL: '//what
     end if
   end subroutine check
 
@@ -31,7 +31,7 @@ contains
       npass = npass + 1
     else
       nfail = nfail + 1
-      write(*, '(a, 2es24.15, a, es10.2)') 'FAIL: ' // what // ': got, expected ', a, b, &
+      write (*, '(a, 2es24.15, a, es10.2)') 'FAIL: '//what//': got, expected ', a, b, &
         ' rel err ', abs(a - b) / max(abs(b), tiny(1.0_dp))
     end if
   end subroutine check_close
@@ -39,7 +39,7 @@ contains
   !> Print the tally and stop with status 1 on any failure.
   subroutine report(name)
     character(len=*), intent(in) :: name
-    write(*, '(a, i0, a, i0, a)') name // ': ', npass, ' passed, ', nfail, ' failed'
+    write (*, '(a, i0, a, i0, a)') name//': ', npass, ' passed, ', nfail, ' failed'
     if (nfail > 0) stop 1
   end subroutine report
 end module ringlube_check

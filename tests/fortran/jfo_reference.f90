@@ -17,7 +17,7 @@ module jfo_reference
 contains
 
   subroutine elrod_solve(dx, h, hmid, kmid, u, dt, cold, p_left, p_right, th_left, th_right, pc, &
-      p, theta, sweeps, tol, omega, max_sweeps)
+                         p, theta, sweeps, tol, omega, max_sweeps)
     real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, cold(:)
     real(dp), intent(in) :: p_left, p_right, th_left, th_right, pc(:), tol, omega
     real(dp), intent(inout) :: p(:), theta(:)
@@ -47,7 +47,7 @@ contains
         if (p(j) > pc(j) .or. theta(j) >= 1.0_dp) then
           theta(j) = 1.0_dp
           r = row(j)
-          slope = kmid(j) / dx * up_p(j, j + 1) + kmid(j-1) / dx * up_p(j, j - 1)
+          slope = kmid(j) / dx * up_p(j, j + 1) + kmid(j - 1) / dx * up_p(j, j - 1)
           pnew = p(j) - omega * r / slope
           if (pnew < pc(j)) pnew = pc(j)
           change = max(change, abs(pnew - p(j)) / pscale)
@@ -58,10 +58,10 @@ contains
           r = row(j)
           slope = w * h(j)
           if (a > 0.0_dp) slope = slope + a * hmid(j)
-          if (a < 0.0_dp) slope = slope - a * hmid(j-1)
-          g = kmid(j) / dx * (p(j+1) - p(j))
+          if (a < 0.0_dp) slope = slope - a * hmid(j - 1)
+          g = kmid(j) / dx * (p(j + 1) - p(j))
           if (g <= 0.0_dp) slope = slope - g
-          g = kmid(j-1) / dx * (p(j) - p(j-1))
+          g = kmid(j - 1) / dx * (p(j) - p(j - 1))
           if (g > 0.0_dp) slope = slope + g
           tnew = min(theta(j) - r / slope, 1.0_dp)
           change = max(change, abs(tnew - theta(j)))

@@ -21,20 +21,20 @@ program test_cycle
   call consistency(rd, 'damped')
   dh = maxval(abs(rs%h0 - rd%h0) / rs%h0)
   de = abs(rs%energy_loss - rd%energy_loss) / rs%energy_loss
-  write(*, '(a, 2es10.2)') 'load_tol 1e-3: max rel h0 difference, rel energy difference ', dh, de
+  write (*, '(a, 2es10.2)') 'load_tol 1e-3: max rel h0 difference, rel energy difference ', dh, de
   call check(dh <= 5e-3_dp, 'damped vs safeguarded: h0 within 5 load_tol at every step')
   call check(de <= 2e-3_dp, 'damped vs safeguarded: energy within 2 load_tol')
   call check(abs(rs%mixed_share - rd%mixed_share) <= 100.0_dp * 2 / rs%nsteps + 1e-12_dp, &
-    'damped vs safeguarded: mixed share within two crank steps')
+             'damped vs safeguarded: mixed share within two crank steps')
 
   call run('safeguarded', 1e-5_dp, rs5)
   call run('damped', 1e-5_dp, rd5)
   dh5 = maxval(abs(rs5%h0 - rd5%h0) / rs5%h0)
   de5 = abs(rs5%energy_loss - rd5%energy_loss) / rs5%energy_loss
-  write(*, '(a, 2es10.2)') 'load_tol 1e-5: max rel h0 difference, rel energy difference ', dh5, de5
+  write (*, '(a, 2es10.2)') 'load_tol 1e-5: max rel h0 difference, rel energy difference ', dh5, de5
   call check(dh5 <= 5e-5_dp .and. dh5 < 0.1_dp * dh, 'h0 difference shrinks with load_tol')
   call check(de5 <= 2e-5_dp, 'energy difference shrinks with load_tol')
-  write(*, '(a, 2i8)') 'film solves per cycle, safeguarded / damped: ', &
+  write (*, '(a, 2i8)') 'film solves per cycle, safeguarded / damped: ', &
     sum(rs%iterations), sum(rd%iterations)
   call report('test_cycle')
 
@@ -55,12 +55,12 @@ contains
     call finish_case(c, err)
     call check(.not. allocated(err), 'case accepted')
     if (allocated(err)) then
-      write(*, '(a)') err%message
+      write (*, '(a)') err%message
       call report('test_cycle')
     end if
     call solve_cycle(c, res, err)
-    call check(.not. allocated(err), 'solve_cycle without error (' // update // ')')
-    call check(res%converged, 'cycle converged (' // update // ')')
+    call check(.not. allocated(err), 'solve_cycle without error ('//update//')')
+    call check(res%converged, 'cycle converged ('//update//')')
   end subroutine run
 
   subroutine consistency(res, what)
@@ -72,26 +72,28 @@ contains
     sigma = composite_sigma(c)
     load = (elastic_pressure(c) + res%gas_pressure) * c%width * 2 * pi * c%bore_radius
     call check(maxval(abs(load - res%applied_load) / load) < 1e-12_dp, &
-      what // ': applied load = (p_e + p_gas) b 2 pi r0')
+               what//': applied load = (p_e + p_gas) b 2 pi r0')
     call check(all(abs(res%hydrodynamic_load + res%asperity_load - res%applied_load) &
-      <= c%load_tol * res%applied_load * (1 + 1e-9_dp)), what // ': load balanced at every step')
-    call check(all(res%flags == 0), what // ': no flagged step')
+                   <= c%load_tol * res%applied_load * (1 + 1e-9_dp)), &
+               what//': load balanced at every step')
+    call check(all(res%flags == 0), what//': no flagged step')
     call check(all(res%h0 > 0.0_dp) .and. all(ieee_is_finite(res%friction)), &
-      what // ': h0 > 0, friction finite')
+               what//': h0 > 0, friction finite')
     call check(maxval(abs(res%power_loss - abs(res%friction * res%sliding_speed))) < 1e-9_dp, &
-      what // ': P = |f U|')
+               what//': P = |f U|')
     dt = 1.0_dp * pi / 180.0_dp / (c%speed_rpm * 2 * pi / 60.0_dp)  ! run() uses 1 deg steps
-    call check_close(res%energy_loss, sum(res%power_loss) * dt, 1e-12_dp, what // ': E = sum P dt')
+    call check_close(res%energy_loss, sum(res%power_loss) * dt, 1e-12_dp, what//': E = sum P dt')
     ! the share interpolates lambda between steps: it differs from the count of steps
     ! with h0 < 4 sigma by less than one step per crossing of 4 sigma
     call check(abs(res%mixed_share - 100.0_dp * count(res%h0 < 4 * sigma) / res%nsteps) &
-      <= 100.0_dp * count((res%h0 < 4 * sigma) .neqv. (cshift(res%h0, 1) < 4 * sigma)) &
-      / res%nsteps, what // ': mixed share from h0 < 4 sigma, within a step per crossing')
+               <= 100.0_dp * count((res%h0 < 4 * sigma) .neqv. (cshift(res%h0, 1) < 4 * sigma)) &
+               / res%nsteps, what//': mixed share from h0 < 4 sigma, within a step per crossing')
     ! the crown minimum lies inside the face: min h is h0 up to the node spacing
     call check(all(res%lambda_min >= res%h0 / sigma * (1 - 1e-12_dp)) .and. &
-      all(res%lambda_min <= (res%h0 + c%crown_height * (c%width / 100 / c%width)**2) / sigma), &
-      what // ': h0/sigma <= lambda_min <= (h0 + S(dx/2))/sigma')
+               all(res%lambda_min <= (res%h0 + c%crown_height * (c%width / 100 / c%width)**2) &
+                   / sigma), &
+               what//': h0/sigma <= lambda_min <= (h0 + S(dx/2))/sigma')
     ! friction opposes the motion on average over every stroke
-    call check(sum(res%friction * res%sliding_speed) < 0.0_dp, what // ': friction dissipates')
+    call check(sum(res%friction * res%sliding_speed) < 0.0_dp, what//': friction dissipates')
   end subroutine consistency
 end program test_cycle

@@ -30,15 +30,16 @@ program test_film_viscosity
       start = h0 * merge(1.05_dp, 0.95_dp, mod(j, 2) == 0)
       call solve(ctight, 0.0_dp, w_ref, solves_tight)
       call solve(c, w_tol, load, solves_loose)
-      write(what, '(a, es9.2, a, es9.2, a)') 'load within w_tol/10 of the fixed point (p_chamber ', &
+      write (what, '(a, es9.2, a, es9.2, a)') &
+        'load within w_tol/10 of the fixed point (p_chamber ', &
         p_ch(i), ', h0 ', h0, ')'
       call check(abs(load - w_ref) <= 0.1_dp * w_tol, trim(what))
-      if (abs(load - w_ref) > 0.1_dp * w_tol) write(*, '(a, 3es12.4)') '  W, W_ref, w_tol: ', &
+      if (abs(load - w_ref) > 0.1_dp * w_tol) write (*, '(a, 3es12.4)') '  W, W_ref, w_tol: ', &
         load, w_ref, w_tol
       load = (elastic_pressure(c) + p_ch(i)) * c%width * 2.0_dp * acos(-1.0_dp) * c%bore_radius
     end do
   end do
-  write(*, '(a, 2i6)') 'Reynolds solves, load criterion / pressure_tol 1e-14: ', solves_loose, &
+  write (*, '(a, 2i6)') 'Reynolds solves, load criterion / pressure_tol 1e-14: ', solves_loose, &
     solves_tight
   call check(solves_loose < solves_tight, 'the load criterion saves Reynolds solves')
   call report('test_film_viscosity')

@@ -24,16 +24,16 @@ program test_greenwood_tripp
     e52 = abs(f52_exact(lam) - q52) / q52
     worst2 = max(worst2, e2)
     worst52 = max(worst52, e52)
-    write(what, '(a, f6.3)') 'F2 closed form vs quadrature at lambda=', lam
+    write (what, '(a, f6.3)') 'F2 closed form vs quadrature at lambda=', lam
     call check(e2 <= 1e-9_dp, trim(what))
-    write(what, '(a, f6.3)') 'F5/2 vs quadrature to 1e-6 at lambda=', lam
+    write (what, '(a, f6.3)') 'F5/2 vs quadrature to 1e-6 at lambda=', lam
     call check(e52 <= 1e-6_dp, trim(what))
   end do
-  write(*, '(a, es9.2, a, es9.2)') 'max rel error on [0,6]: F2 ', worst2, '  F5/2 ', worst52
+  write (*, '(a, es9.2, a, es9.2)') 'max rel error on [0,6]: F2 ', worst2, '  F5/2 ', worst52
   ! limits: F_n(0) = 2^(n/2) Gamma((n+1)/2) / (2 sqrt(pi))
   call check_close(f2_exact(0.0_dp), 0.5_dp, 1e-14_dp, 'F2(0) = 1/2')
   call check_close(f52_exact(0.0_dp), 2.0_dp**1.25_dp * gamma(1.75_dp) / (2.0_dp * sqrt(pi)), &
-    1e-8_dp, 'F5/2(0) from the Gamma function')
+                   1e-8_dp, 'F5/2(0) from the Gamma function')
   call check(f52_exact(10.5_dp) == 0.0_dp .and. f2_exact(10.5_dp) == 0.0_dp, 'zero above lambda 10')
 
   ! fits: never negative, zero from lambda = 4, and their error measured (printed)
@@ -42,16 +42,17 @@ program test_greenwood_tripp
     fiterr52(i) = (f52_fit(lam) - f52_exact(lam)) / f52_exact(lam)
     fiterr2(i) = (f2_fit(lam) - f2_exact(lam)) / f2_exact(lam)
   end do
-  write(*, '(a)') 'fit relative error at lambda = 0..6:'
-  write(*, '(a, 7f8.3)') '  F5/2 ', fiterr52
-  write(*, '(a, 7f8.3)') '  F2   ', fiterr2
+  write (*, '(a)') 'fit relative error at lambda = 0..6:'
+  write (*, '(a, 7f8.3)') '  F5/2 ', fiterr52
+  write (*, '(a, 7f8.3)') '  F2   ', fiterr2
   do i = 0, 800
     lam = i * 0.01_dp
     call check(f52_fit(lam) >= 0.0_dp .and. f2_fit(lam) >= 0.0_dp, 'fits never negative')
   end do
   call check(f52_fit(4.0_dp) == 0.0_dp .and. f2_fit(4.5_dp) == 0.0_dp, 'fits zero above 4')
   ! a non-finite lambda (from a non-finite film) must never index the table
-  call check(f52_exact(ieee_value(1.0_dp, ieee_quiet_nan)) == 0.0_dp, 'F5/2(NaN) = 0, no table index')
+  call check(f52_exact(ieee_value(1.0_dp, ieee_quiet_nan)) == 0.0_dp, &
+             'F5/2(NaN) = 0, no table index')
   call check(f2_exact(ieee_value(1.0_dp, ieee_quiet_nan)) == 0.0_dp, 'F2(NaN) = 0')
   call check(f52_exact(ieee_value(1.0_dp, ieee_positive_inf)) == 0.0_dp, 'F5/2(+Inf) = 0')
   call report('test_greenwood_tripp')
@@ -96,7 +97,7 @@ contains
       r = left + right + (left + right - whole) / 15.0_dp
     else
       r = simpson(a, m, fa, flm, fm, left, 0.5_dp * tol, depth - 1) &
-        + simpson(m, b, fm, frm, fb, right, 0.5_dp * tol, depth - 1)
+          + simpson(m, b, fm, frm, fb, right, 0.5_dp * tol, depth - 1)
     end if
   end function simpson
 end program test_greenwood_tripp

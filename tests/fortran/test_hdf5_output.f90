@@ -5,7 +5,7 @@ program test_hdf5_output
   use, intrinsic :: iso_c_binding, only: c_int
   use ringlube_textio, only: utf8_clean
   use ringlube_fsys, only: file_kind, same_file, make_temp_file, remove_file, dir_name, &
-    remove_temp_on_signal, fs_missing, fs_regular, fs_directory, fs_other
+                           remove_temp_on_signal, fs_missing, fs_regular, fs_directory, fs_other
   use ringlube_error, only: error_type, rl_input_error
   use ringlube_hdf5_output, only: check_output
   use ringlube_check
@@ -16,7 +16,7 @@ program test_hdf5_output
       integer(c_int), value :: sig
     end function c_raise
   end interface
-  character(len=3), parameter :: fffd = char(239) // char(191) // char(189)
+  character(len=3), parameter :: fffd = char(239)//char(191)//char(189)
   character(len=:), allocatable :: a, b, t1, s
   character(len=256) :: arg
   type(error_type), allocatable :: err
@@ -28,26 +28,26 @@ program test_hdf5_output
     call get_command_argument(2, arg)
     call remove_temp_on_signal()
     call make_temp_file(trim(arg), t1, code)
-    write(*, '(a)') t1
-    flush(6)
+    write (*, '(a)') t1
+    flush (6)
     code = c_raise(15_c_int)
     stop 0   ! not reached
   end if
 
   ! --- utf8_clean: valid text unchanged, each bad byte one U+FFFD ---
   call check(utf8_clean('plain ASCII, 1e-3') == 'plain ASCII, 1e-3', 'ascii unchanged')
-  s = 'caf' // char(195) // char(169) // ' ' // char(226) // char(128) // char(148) // ' ' // &
-    char(240) // char(159) // char(152) // char(128)      ! é, em dash, a 4-byte emoji
+  s = 'caf'//char(195)//char(169)//' '//char(226)//char(128)//char(148)//' '// &
+      char(240)//char(159)//char(152)//char(128)      ! é, em dash, a 4-byte emoji
   call check(utf8_clean(s) == s, 'valid multi-byte UTF-8 unchanged')
-  call check(utf8_clean('Stra' // char(223) // 'e') == 'Stra' // fffd // 'e', 'Latin-1 byte replaced')
-  call check(utf8_clean('a' // char(0) // 'b') == 'a' // fffd // 'b', 'NUL replaced')
+  call check(utf8_clean('Stra'//char(223)//'e') == 'Stra'//fffd//'e', 'Latin-1 byte replaced')
+  call check(utf8_clean('a'//char(0)//'b') == 'a'//fffd//'b', 'NUL replaced')
   call check(utf8_clean(char(195)) == fffd, 'truncated sequence at the end')
-  call check(utf8_clean(char(195) // 'x') == fffd // 'x', 'lead byte without continuation')
-  call check(utf8_clean(char(192) // char(175)) == fffd // fffd, 'overlong encoding (C0 AF)')
-  call check(utf8_clean(char(237) // char(160) // char(128)) == fffd // fffd // fffd, &
-    'UTF-16 surrogate (ED A0 80)')
-  call check(utf8_clean(char(244) // char(144) // char(128) // char(128)) == &
-    fffd // fffd // fffd // fffd, 'beyond U+10FFFF (F4 90 80 80)')
+  call check(utf8_clean(char(195)//'x') == fffd//'x', 'lead byte without continuation')
+  call check(utf8_clean(char(192)//char(175)) == fffd//fffd, 'overlong encoding (C0 AF)')
+  call check(utf8_clean(char(237)//char(160)//char(128)) == fffd//fffd//fffd, &
+             'UTF-16 surrogate (ED A0 80)')
+  call check(utf8_clean(char(244)//char(144)//char(128)//char(128)) == &
+             fffd//fffd//fffd//fffd, 'beyond U+10FFFF (F4 90 80 80)')
   call check(utf8_clean(char(128)) == fffd, 'lone continuation byte')
   call check(utf8_clean('') == '', 'empty')
 
@@ -63,21 +63,21 @@ program test_hdf5_output
   call check(file_kind('.') == fs_directory, 'file_kind folder')
   call check(file_kind('/dev/null') == fs_other, 'file_kind device')
   call check(file_kind('no/such/file') == fs_missing, 'file_kind missing')
-  call check(same_file(a, './' // a), 'same_file by another spelling')
+  call check(same_file(a, './'//a), 'same_file by another spelling')
   call make_temp_file('test_hdf5_output.tmp', b, code)
   call check(code == 0 .and. a /= b, 'two temporary names differ')
-  call check(index(a, 'test_hdf5_output.tmp.') == 1 .and. a(len(a)-4:) == '.part', &
-    'temporary name is BASE.<pid>.<random>.part: ' // a)
+  call check(index(a, 'test_hdf5_output.tmp.') == 1 .and. a(len(a) - 4:) == '.part', &
+             'temporary name is BASE.<pid>.<random>.part: '//a)
   call check(.not. same_file(a, b), 'different files are not the same')
   call check(.not. same_file(a, 'no/such/file'), 'missing file is not the same')
 
   ! --- check_output ---
-  call check_output(a, [character(len=64) :: 'x.nml', './' // a], [character(len=24) :: &
-    'the deck', 'the pressure file'], err)
+  call check_output(a, [character(len=64) :: 'x.nml', './'//a], &
+                    [character(len=24) :: 'the deck', 'the pressure file'], err)
   call check(allocated(err), 'output that is an input refused')
   if (allocated(err)) then
     call check(err%code == rl_input_error .and. index(err%message, 'the pressure file') > 0, &
-      'refusal names the input: ' // err%message)
+               'refusal names the input: '//err%message)
   end if
   call check_output(a, [character(len=64) :: 'x.nml'], [character(len=16) :: 'the deck'], err)
   call check(.not. allocated(err), 'existing regular file that is not an input accepted')

@@ -58,7 +58,7 @@ contains
     do q = 0, m
       xq = ss + q * hq
       cavity_content = cavity_content + hq / 3 * content_at(xq) &
-        * merge(1.0_dp, merge(4.0_dp, 2.0_dp, mod(q, 2) == 1), q == 0 .or. q == m)
+                       * merge(1.0_dp, merge(4.0_dp, 2.0_dp, mod(q, 2) == 1), q == 0 .or. q == m)
     end do
   end function cavity_content
   !> the time in [ta, tb] at which sigma_eq (decreasing there) equals xx
@@ -177,9 +177,9 @@ contains
     real(dp), intent(out) :: dx
     integer :: i
     dx = b / (n - 1)
-    x = [(-0.5_dp * b + (i - 1) * dx, i = 1, n)]
+    x = [(-0.5_dp * b + (i - 1) * dx, i=1, n)]
     h = hz(x + xs)
-    hmid = hz(0.5_dp * (x(1:n-1) + x(2:n)) + xs)
+    hmid = hz(0.5_dp * (x(1:n - 1) + x(2:n)) + xs)
     kmid = hmid**3 / (12 * eta)
   end subroutine grid
 
@@ -190,9 +190,9 @@ contains
     real(dp) :: order
     character(len=120) :: what
     do i = 2, size(err)
-      order = log(err(i-1) / err(i)) / log(2.0_dp)
-      write(*, '(2x, a, a, i0, a, f6.2)') label, ': observed order at N=', ns(i), ' is ', order
-      write(what, '(a, a, i0, a, f6.2)') label, ' order N=', ns(i), ': ', order
+      order = log(err(i - 1) / err(i)) / log(2.0_dp)
+      write (*, '(2x, a, a, i0, a, f6.2)') label, ': observed order at N=', ns(i), ' is ', order
+      write (what, '(a, a, i0, a, f6.2)') label, ' order N=', ns(i), ': ', order
       call check(order > lo, trim(what))
     end do
   end subroutine print_orders
@@ -206,37 +206,38 @@ contains
     real(dp) :: dx, xc, err(4), dss(4), ql, qr, q_exact
     integer :: k, n, it, info, itw, its
     xc = rupture_point(10.0_dp, 2e5_dp, 0.0_dp)
-    write(*, '(a)') '1. flooded steady slider against Swift-Stieber (closed form and reynolds_solve)'
-    write(*, '(a)') '    N  max|p-p_SS|/max p  |p_jfo - p_reynolds_solve|  Newton its (cold, warm)'
+    write (*, '(a)') '1. flooded steady slider against Swift-Stieber (closed form and '// &
+      'reynolds_solve)'
+    write (*, '(a)') '    N  max|p-p_SS|/max p  |p_jfo - p_reynolds_solve|  Newton its (cold, warm)'
     do k = 1, size(ns)
       n = ns(k)
       call grid(n, x, h, hmid, kmid, dx)
-      allocate(p(n), th(n), pc(n), pss(n), active(n))
+      allocate (p(n), th(n), pc(n), pss(n), active(n))
       pc = 0.0_dp
       p = 0.0_dp
       th = 1.0_dp
       call jfo_solve(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 0.0_dp, 2e5_dp, 1.0_dp, 1.0_dp, pc, &
-        p, th, it, info, ql, qr)
+                     p, th, it, info, ql, qr)
       call check(info == JFO_OK, 'flooded slider converges')
       pe = merge(p_film(x + xs, xc + xs, hz(xc + xs), 0.0_dp, 10.0_dp), 0.0_dp, x > xc)
       err(k) = maxval(abs(p - pe)) / maxval(pe)
       ! the flux is the Couette flux at the rupture point: -(U/2) h(xc)
       q_exact = -5.0_dp * hz(xc + xs)
       call check_close(qr, q_exact, 2.0_dp * dx * 2 * kk * abs(xc + xs) / hz(xc + xs) + 1e-2_dp, &
-        'flooded slider: inflow = Couette flux at the rupture point')
+                       'flooded slider: inflow = Couette flux at the rupture point')
       call check_close(ql, qr, 1e-10_dp, 'flooded slider: steady, q_left = q_right')
       ! Swift-Stieber on the same grid (K = h^3/(6 eta))
       active = .false.
       call reynolds_solve(dx, 2 * kmid, hmid, 10.0_dp, 0.0_dp, 0.0_dp, 2e5_dp, 0.0_dp, pss, &
-        active, its, info)
+                          active, its, info)
       dss(k) = maxval(abs(p - pss)) / maxval(pe)
       ! warm start from the solution, slightly perturbed step: 1 iteration
       call jfo_solve(dx, h, hmid, kmid, 10.0_dp * (1 + 1e-3_dp), 0.0_dp, h, 0.0_dp, 2e5_dp, &
-        1.0_dp, 1.0_dp, pc, p, th, itw, info)
-      write(*, '(i5, es16.3, es22.3, 6x, i3, i4)') n, err(k), dss(k), it, itw
+                     1.0_dp, 1.0_dp, pc, p, th, itw, info)
+      write (*, '(i5, es16.3, es22.3, 6x, i3, i4)') n, err(k), dss(k), it, itw
       call check(itw <= 3, 'flooded slider: warm start needs at most 3 iterations')
       call check(all(th >= 0.0_dp .and. th <= 1.0_dp), 'flooded slider: theta in [0, 1]')
-      deallocate(p, th, pc, pss, active)
+      deallocate (p, th, pc, pss, active)
     end do
     call print_orders('flooded slider vs Swift-Stieber', err, 0.9_dp)
     call check(err(4) < 1e-3_dp, 'flooded slider: error at N=401 below 1e-3')
@@ -254,25 +255,25 @@ contains
     integer :: k, n, it, outer, info
     pt = 1e5_dp
     xc = rupture_point(10.0_dp, 2e5_dp, pt)
-    write(*, '(a)') '6a. trailing gas: film ruptures at p_t with dp/dx = 0 (closed form)'
+    write (*, '(a)') '6a. trailing gas: film ruptures at p_t with dp/dx = 0 (closed form)'
     do k = 1, size(ns)
       n = ns(k)
       call grid(n, x, h, hmid, kmid, dx)
-      allocate(p(n), th(n), pc(n))
+      allocate (p(n), th(n), pc(n))
       p = pt
       th = 1.0_dp
       ! the trailing edge admits gas only (theta_left = 0): no oil is pushed in from there
       call jfo_solve_connected(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, pt, 2e5_dp, 0.0_dp, 1.0_dp, &
-        0.0_dp, .true., .false., pc, p, th, it, outer, info)
+                               0.0_dp, .true., .false., pc, p, th, it, outer, info)
       call check(info == JFO_OK, 'trailing gas converges')
       pe = merge(p_film(x + xs, xc + xs, hz(xc + xs), pt, 10.0_dp), pt, x > xc)
       err(k) = maxval(abs(p - pe)) / maxval(pe)
-      write(*, '(a, i4, a, es10.3, a, i0, a, i0)') '  N=', n, ' max|p-p_exact|/max p ', err(k), &
+      write (*, '(a, i4, a, es10.3, a, i0, a, i0)') '  N=', n, ' max|p-p_exact|/max p ', err(k), &
         '  outer loops ', outer, '  Newton its ', it
-      call check(all(pc(2:n-1) == merge(pt, 0.0_dp, th(2:n-1) < 1.0_dp)), &
-        'trailing gas: cavity at p_t, full film at p_cav')
+      call check(all(pc(2:n - 1) == merge(pt, 0.0_dp, th(2:n - 1) < 1.0_dp)), &
+                 'trailing gas: cavity at p_t, full film at p_cav')
       call check(th(2) < 1.0_dp, 'trailing gas: the cavity reaches the trailing edge')
-      deallocate(p, th, pc)
+      deallocate (p, th, pc)
     end do
     call print_orders('trailing gas vs closed form', err, 0.9_dp)
   end subroutine case_trailing_gas
@@ -289,7 +290,7 @@ contains
     real(dp) :: dx, err(4), errt(4), tin, hle, hc, zc, xm, pl, lo, hi, mid, load, vol
     real(dp) :: prev_load, prev_vol
     real(dp), parameter :: fills(10) = [1.0_dp, 0.7_dp, 0.5_dp, 0.4_dp, 0.3_dp, 0.2_dp, 0.12_dp, &
-      0.05_dp, 0.01_dp, 0.0_dp]
+                                        0.05_dp, 0.01_dp, 0.0_dp]
     integer :: k, n, it, outer, info, i
     logical :: thin, finite_ok
     pl = 2e5_dp
@@ -310,40 +311,40 @@ contains
       end if
     end do
     xm = 0.5_dp * (lo + hi) - xs
-    write(*, '(a, f5.2, a, f8.2, a, f8.2, a)') '5. starved inlet, theta_in = ', tin, &
+    write (*, '(a, f5.2, a, f8.2, a, f8.2, a)') '5. starved inlet, theta_in = ', tin, &
       ': rupture at ', (zc - xs) * 1e6_dp, ' um, meniscus at ', xm * 1e6_dp, ' um (exact)'
     do k = 1, size(ns)
       n = ns(k)
       call grid(n, x, h, hmid, kmid, dx)
-      allocate(p(n), th(n), pc(n), pf(n), tf(n))
+      allocate (p(n), th(n), pc(n), pf(n), tf(n))
       p = 0.0_dp
       th = 1.0_dp
       call jfo_solve_connected(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 0.0_dp, pl, 1.0_dp, tin, &
-        0.0_dp, .false., .true., pc, p, th, it, outer, info)
+                               0.0_dp, .false., .true., pc, p, th, it, outer, info)
       call check(info == JFO_OK, 'starved ring converges')
       pe = merge(p_film(x + xs, zc, hc, 0.0_dp, 10.0_dp), 0.0_dp, x > zc - xs)
       where (x >= xm) pe = pl
       te = merge(1.0_dp, hc / h, x > zc - xs .and. x < xm)
       err(k) = maxval(abs(p - pe)) / maxval(pe)
       errt(k) = sum(abs(th - te)) / n
-      write(*, '(a, i4, a, es10.3, a, es10.3, a, i0, a, i0)') '  N=', n, &
+      write (*, '(a, i4, a, es10.3, a, es10.3, a, i0, a, i0)') '  N=', n, &
         ' max|p-p_exact|/max p ', err(k), '  mean|theta-theta_exact| ', errt(k), &
         '  outer ', outer, '  its ', it
-      call check(all(pc(n-3:n-1) == pl) .and. all(th(n-3:n-1) < 1.0_dp), &
-        'starved: inlet zone partly filled at the leading gas pressure')
+      call check(all(pc(n - 3:n - 1) == pl) .and. all(th(n - 3:n - 1) < 1.0_dp), &
+                 'starved: inlet zone partly filled at the leading gas pressure')
       call check(all(p >= pc) .and. all(th >= 0.0_dp .and. th <= 1.0_dp), 'starved: bounds')
       ! theta_in = 1 with the leading-gas rule is the flooded film, exactly
       pf = 0.0_dp
       tf = 1.0_dp
       call jfo_solve_connected(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 0.0_dp, pl, 1.0_dp, 1.0_dp, &
-        0.0_dp, .false., .true., pc, pf, tf, it, outer, info)
+                               0.0_dp, .false., .true., pc, pf, tf, it, outer, info)
       p = 0.0_dp
       th = 1.0_dp
       pc = 0.0_dp
       call jfo_solve(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 0.0_dp, pl, 1.0_dp, 1.0_dp, pc, p, th, &
-        it, info)
+                     it, info)
       call check(all(pf == p) .and. all(tf == th), 'starved: theta_in = 1 equals the flooded film')
-      deallocate(p, th, pc, pf, tf)
+      deallocate (p, th, pc, pf, tf)
     end do
     call print_orders('starved pressure vs closed form', err, 0.8_dp)
     call print_orders('starved fill vs closed form', errt, 0.8_dp)
@@ -351,22 +352,22 @@ contains
     ! theta_in -> 0: load and oil volume fall monotonically, nothing breaks
     n = 101
     call grid(n, x, h, hmid, kmid, dx)
-    allocate(p(n), th(n), pc(n))
+    allocate (p(n), th(n), pc(n))
     p = 0.0_dp
     th = 1.0_dp
     prev_load = huge(1.0_dp)
     prev_vol = huge(1.0_dp)
     thin = .true.
     finite_ok = .true.
-    write(*, '(a)') '  theta_in   load (N/m)   oil volume (m^2)  info'
+    write (*, '(a)') '  theta_in   load (N/m)   oil volume (m^2)  info'
     do k = 1, size(fills)
       call jfo_solve_connected(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 0.0_dp, pl, 1.0_dp, &
-        fills(k), 0.0_dp, .false., .true., pc, p, th, it, outer, info)
-      load = dx * sum(p(2:n-1))
+                               fills(k), 0.0_dp, .false., .true., pc, p, th, it, outer, info)
+      load = dx * sum(p(2:n - 1))
       vol = jfo_film_volume(dx, h, th)
-      write(*, '(f10.2, es13.4, es16.4, i5)') fills(k), load, vol, info
+      write (*, '(f10.2, es13.4, es16.4, i5)') fills(k), load, vol, info
       finite_ok = finite_ok .and. info == JFO_OK .and. all(abs(p) < huge(1.0_dp)) &
-        .and. all(th >= 0.0_dp .and. th <= 1.0_dp)
+                  .and. all(th >= 0.0_dp .and. th <= 1.0_dp)
       thin = thin .and. load <= prev_load .and. vol < prev_vol
       prev_load = load
       prev_vol = vol
@@ -374,8 +375,8 @@ contains
     call check(finite_ok, 'starved: every fill converges with finite p and theta in [0, 1]')
     call check(thin, 'starved: load and oil volume fall monotonically as theta_in -> 0')
     ! (dry to round-off: the Thomas sweep multiplies by reciprocals)
-    call check(vol <= 1e-15_dp * dx * sum(h) .and. all(abs(p(2:n-1) - pl) <= 1e-12_dp * pl), &
-      'starved: theta_in = 0 is a dry face at p_l')
+    call check(vol <= 1e-15_dp * dx * sum(h) .and. all(abs(p(2:n - 1) - pl) <= 1e-12_dp * pl), &
+               'starved: theta_in = 0 is a dry face at p_l')
   end subroutine case_starved
 
   ! ------------------------------------------------------------------ 2. oscillatory squeeze
@@ -402,7 +403,7 @@ contains
     t2 = golden_min(t - dts, t + dts)
     smin = sq_sigma_eq(t2)
     nt = nint(tend / dts)
-    allocate(sig(0:nt))
+    allocate (sig(0:nt))
     s = 0.5_dp
     do i = 0, nt
       t = i * dts
@@ -411,34 +412,34 @@ contains
       else if (t <= t2) then
         sig(i) = sq_sigma_eq(t)
       else
-        if (i > 0 .and. sig(i-1) < 0.5_dp .and. (i-1) * dts >= t2) then
-          s = sig(i-1)
-          k1 = front_speed((i-1) * dts, s)
-          k2 = front_speed((i-0.5_dp) * dts, s + 0.5_dp * dts * k1)
-          k3 = front_speed((i-0.5_dp) * dts, s + 0.5_dp * dts * k2)
+        if (i > 0 .and. sig(i - 1) < 0.5_dp .and. (i - 1) * dts >= t2) then
+          s = sig(i - 1)
+          k1 = front_speed((i - 1) * dts, s)
+          k2 = front_speed((i - 0.5_dp) * dts, s + 0.5_dp * dts * k1)
+          k3 = front_speed((i - 0.5_dp) * dts, s + 0.5_dp * dts * k2)
           k4 = front_speed(i * dts, s + dts * k3)
           sig(i) = min(0.5_dp, s + dts * (k1 + 2 * k2 + 2 * k3 + k4) / 6)
-        else if ((i-1) * dts < t2) then
+        else if ((i - 1) * dts < t2) then
           sig(i) = smin
         else
           sig(i) = 0.5_dp
         end if
       end if
     end do
-    write(*, '(a)') '2. oscillatory squeeze film (Ausas, Jai, Buscaglia 2009), t in [0, 0.75]'
-    write(*, '(a, f8.5, a, f8.5, a, f8.5, a, f8.5)') '   exact: cavity opens t1 = ', t1, &
+    write (*, '(a)') '2. oscillatory squeeze film (Ausas, Jai, Buscaglia 2009), t in [0, 0.75]'
+    write (*, '(a, f8.5, a, f8.5, a, f8.5, a, f8.5)') '   exact: cavity opens t1 = ', t1, &
       ', widest at t2 = ', t2, ' (Sigma = ', smin, '), closes at t3 = ', &
       count(sig < 0.5_dp) * dts + t1
-    call check(any(sig(nt/2:) < 0.5_dp) .and. sig(nt) == 0.5_dp, &
-      'squeeze: exact solution ruptures, re-forms and closes before t = 0.75')
+    call check(any(sig(nt / 2:) < 0.5_dp) .and. sig(nt) == 0.5_dp, &
+               'squeeze: exact solution ruptures, re-forms and closes before t = 0.75')
     ! --- numerical: N nodes, dt = 1/(4 (N-1))
     do k = 1, size(nsq)
       n = nsq(k)
       dx = 1.0_dp / (n - 1)
       nsteps = 4 * (n - 1) / 2
       dt = tend / nsteps
-      x = [((i - 1) * dx, i = 1, n)]
-      allocate(h(n), hmid(n-1), kmid(n-1), p(n), th(n), pc(n), cold(n))
+      x = [((i - 1) * dx, i=1, n)]
+      allocate (h(n), hmid(n - 1), kmid(n - 1), p(n), th(n), pc(n), cold(n))
       pc = 0.0_dp
       p = pa
       th = 1.0_dp
@@ -456,7 +457,7 @@ contains
         hmid = h(1)
         kmid = hmid**3
         call jfo_solve(dx, h, hmid, kmid, 0.0_dp, dt, cold, pa, pa, 1.0_dp, 1.0_dp, pc, p, th, &
-          it, info)
+                       it, info)
         if (info /= JFO_OK) call check(.false., 'squeeze step converges')
         itmax = max(itmax, it)
         itsum = itsum + it
@@ -469,7 +470,7 @@ contains
         vnum = jfo_film_volume(dx, h, th) + hh * dx
         errv(k) = max(errv(k), abs(vnum - vex))
         ! numerical front: the full-film length from the left edge, theta-weighted
-        sn = 0.5_dp * dx + dx * count(th(2:(n+1)/2) >= 1.0_dp)
+        sn = 0.5_dp * dx + dx * count(th(2:(n + 1) / 2) >= 1.0_dp)
         if (s < 0.5_dp) errs(k) = errs(k) + abs(sn - s) * dt
         b0 = -(pa + hd * s * s / (2 * hh**3)) / s
         perr = 0.0_dp
@@ -490,16 +491,18 @@ contains
         pnorm = pnorm + pref * dt
       end do
       errp(k) = errp(k) / pnorm
-      write(*, '(a, i4, a, es10.3, a, es10.3, a, es10.3, a, i0, a, f5.2)') '   N=', n, &
-        ' max|V-V_exact| ', errv(k), ' int max|p-p_exact| dt (rel) ', errp(k), ' int|Sigma_err|dt ', &
+      write (*, '(a, i4, a, es10.3, a, es10.3, a, es10.3, a, i0, a, f5.2)') '   N=', n, &
+        ' max|V-V_exact| ', errv(k), ' int max|p-p_exact| dt (rel) ', errp(k), &
+        ' int|Sigma_err|dt ', &
         errs(k), '  Newton its max ', itmax, ' mean ', real(itsum, dp) / nsteps
-      deallocate(h, hmid, kmid, p, th, pc, cold)
+      deallocate (h, hmid, kmid, p, th, pc, cold)
     end do
     call print_orders('squeeze oil volume', errv, 0.8_dp)
     call print_orders('squeeze pressure', errp, 0.7_dp)
     ! the numerical front is known to a cell only: check the order over the whole range
     order = log(errs(1) / errs(4)) / log(8.0_dp)
-    write(*, '(a, f6.2)') '  squeeze front position (time-integrated): order from N=51 to 401 ', order
+    write (*, '(a, f6.2)') '  squeeze front position (time-integrated): order from N=51 to 401 ', &
+      order
     call check(order > 0.7_dp, 'squeeze front position converges at first order')
   end subroutine case_squeeze
 
@@ -517,7 +520,7 @@ contains
     integer :: j, it, info, sw, itmax, itsum, swmax, ncav, nref, outer, outmax, outsum
     logical :: ok_bounds, reformed, ruptured
     call grid(n, x, h, hmid, kmid, dx)
-    allocate(p(n), th(n), pc(n), cold(n), pr(n), tr(n))
+    allocate (p(n), th(n), pc(n), cold(n), pr(n), tr(n))
     pc = 0.5e5_dp
     p = 1e5_dp
     th = 1.0_dp
@@ -544,14 +547,14 @@ contains
       cold = th * h
       hmin_t = 1e-6_dp * (1.0_dp + 0.6_dp * sin(6 * pi * t / (nsteps * dt)))
       h = hmin_t + kk * (x + xs)**2
-      hmid = hmin_t + kk * (0.5_dp * (x(1:n-1) + x(2:n)) + xs)**2
+      hmid = hmin_t + kk * (0.5_dp * (x(1:n - 1) + x(2:n)) + xs)**2
       kmid = hmid**3 / (12 * eta)
       ! starved on the upstroke (u < 0, inlet at the chamber edge), flooded on the downstroke
       tin_l = merge(0.6_dp, 1.0_dp, u < 0.0_dp)
       tin_r = 1.0_dp
       v0 = jfo_film_volume(dx, h, cold / h)
       call jfo_solve(dx, h, hmid, kmid, u, dt, cold, 3e5_dp, 1e5_dp, tin_l, tin_r, pc, p, th, &
-        it, info, ql, qr)
+                     it, info, ql, qr)
       call check(info == JFO_OK, 'transient step converges')
       v1 = jfo_film_volume(dx, h, th)
       bal = abs((v1 - v0) - dt * (ql - qr))
@@ -559,34 +562,36 @@ contains
       total_in = total_in + dt * (ql - qr)
       itmax = max(itmax, it)
       itsum = itsum + it
-      ok_bounds = ok_bounds .and. all(th >= 0.0_dp .and. th <= 1.0_dp) .and. all(p(2:n-1) >= pc(2:n-1))
-      compl = max(compl, maxval(abs((p(2:n-1) - pc(2:n-1)) * (1 - th(2:n-1)))))
-      if (any(th(2:n-1) < 1.0_dp)) ruptured = .true.
-      if (count_runs(th) >= 1 .and. th(2) == 1.0_dp .and. th(n-1) == 1.0_dp) reformed = .true.
+      ok_bounds = ok_bounds .and. all(th >= 0.0_dp .and. th <= 1.0_dp) &
+                  .and. all(p(2:n - 1) >= pc(2:n - 1))
+      compl = max(compl, maxval(abs((p(2:n - 1) - pc(2:n - 1)) * (1 - th(2:n - 1)))))
+      if (any(th(2:n - 1) < 1.0_dp)) ruptured = .true.
+      if (count_runs(th) >= 1 .and. th(2) == 1.0_dp .and. th(n - 1) == 1.0_dp) reformed = .true.
       ! the independent relaxation from its own previous state, on the same step
       call elrod_solve(dx, h, hmid, kmid, u, dt, tr * hold, 3e5_dp, 1e5_dp, tin_l, tin_r, pc, &
-        pr, tr, sw, 1e-13_dp, 1.7_dp, 200000)
+                       pr, tr, sw, 1e-13_dp, 1.7_dp, 200000)
       swmax = max(swmax, sw)
       dev_p = max(dev_p, maxval(abs(pr - p)))
       dev_t = max(dev_t, maxval(abs(tr - th)))
       pmax = max(pmax, maxval(p))
     end do
-    ncav = count(th(2:n-1) < 1.0_dp)
+    ncav = count(th(2:n - 1) < 1.0_dp)
     nref = count_runs(th)
-    write(*, '(a)') '3. oil balance over a transient (61 nodes, 240 steps, reversal, starved upstroke)'
-    write(*, '(a, es10.3, a, es10.3)') '   max per-step |dV - dt (q_l - q_r)| = ', balmax, &
+    write (*, '(a)') '3. oil balance over a transient (61 nodes, 240 steps, reversal, '// &
+      'starved upstroke)'
+    write (*, '(a, es10.3, a, es10.3)') '   max per-step |dV - dt (q_l - q_r)| = ', balmax, &
       ' m^2;  relative to the film volume ', balmax / vstart
-    write(*, '(a, i0, a, f5.2, a, i0)') '   Newton iterations per step: max ', itmax, ', mean ', &
+    write (*, '(a, i0, a, f5.2, a, i0)') '   Newton iterations per step: max ', itmax, ', mean ', &
       real(itsum, dp) / nsteps, ';  Elrod relaxation sweeps per step: max ', swmax
-    write(*, '(a, es10.3, a, es10.3)') '4. JFO vs Elrod relaxation: max |dp|/max p ', &
+    write (*, '(a, es10.3, a, es10.3)') '4. JFO vs Elrod relaxation: max |dp|/max p ', &
       dev_p / pmax, ', max |dtheta| ', dev_t
-    write(*, '(a, es10.3)') '5. max |(p - pc)(1 - theta)| = ', compl
+    write (*, '(a, es10.3)') '5. max |(p - pc)(1 - theta)| = ', compl
     call check(balmax <= 1e-12_dp * vstart, 'transient: oil balance closes to 1e-12 of the volume')
     call check(ok_bounds, 'transient: theta in [0, 1], p >= pc')
     call check(compl == 0.0_dp, 'transient: complementarity exact')
     call check(ruptured .and. reformed, 'transient: rupture and reformation inside the face occur')
     call check(dev_p / pmax < 1e-8_dp .and. dev_t < 1e-8_dp, &
-      'transient: JFO agrees with the independent Elrod relaxation')
+               'transient: JFO agrees with the independent Elrod relaxation')
     call check(real(itsum, dp) / nsteps <= 3.0_dp, 'transient: warm-started mean <= 3 iterations')
     call check(ncav >= 0 .and. nref >= 0, 'transient: final state read')
 
@@ -606,7 +611,7 @@ contains
       cold = th * h
       hmin_t = 1e-6_dp * (1.0_dp + 0.6_dp * sin(6 * pi * t / (nsteps * dt)))
       h = hmin_t + kk * (x + xs)**2
-      hmid = hmin_t + kk * (0.5_dp * (x(1:n-1) + x(2:n)) + xs)**2
+      hmid = hmin_t + kk * (0.5_dp * (x(1:n - 1) + x(2:n)) + xs)**2
       kmid = hmid**3 / (12 * eta)
       ! upstroke: starved chamber-side inlet, crankcase side gas only behind the trailing edge;
       ! downstroke: flooded crankcase-side inlet, chamber side gas only
@@ -614,22 +619,24 @@ contains
       tin_r = merge(0.0_dp, 1.0_dp, u < 0.0_dp)
       v0 = jfo_film_volume(dx, h, cold / h)
       call jfo_solve_connected(dx, h, hmid, kmid, u, dt, cold, 3e5_dp, 1e5_dp, tin_l, tin_r, &
-        0.5e5_dp, .true., .true., pc, p, th, it, outer, info, ql, qr)
+                               0.5e5_dp, .true., .true., pc, p, th, it, outer, info, ql, qr)
       if (info /= JFO_OK) call check(.false., 'connected transient step converges')
       v1 = jfo_film_volume(dx, h, th)
       balmax = max(balmax, abs((v1 - v0) - dt * (ql - qr)))
       outmax = max(outmax, outer)
       outsum = outsum + outer
       itsum = itsum + it
-      ok_bounds = ok_bounds .and. all(th >= 0.0_dp .and. th <= 1.0_dp) .and. all(p(2:n-1) >= pc(2:n-1))
+      ok_bounds = ok_bounds .and. all(th >= 0.0_dp .and. th <= 1.0_dp) &
+                  .and. all(p(2:n - 1) >= pc(2:n - 1))
     end do
-    write(*, '(a, f5.2, a, i0, a, f5.2, a, es10.3)') &
+    write (*, '(a, f5.2, a, i0, a, f5.2, a, es10.3)') &
       '6d. same transient, trailing gas + starved: outer solves per step mean ', &
       real(outsum, dp) / nsteps, ', max ', outmax, '; Newton its per step ', &
       real(itsum, dp) / nsteps, '; oil balance ', balmax / vstart
     call check(balmax <= 1e-12_dp * vstart, 'connected transient: oil balance closes')
     call check(ok_bounds, 'connected transient: bounds')
-    call check(real(outsum, dp) / nsteps < 1.5_dp, 'connected transient: warm starts need ~1 outer solve')
+    call check(real(outsum, dp) / nsteps < 1.5_dp, &
+               'connected transient: warm starts need ~1 outer solve')
   end subroutine case_transient
 
   !> number of cavity runs strictly inside the face
@@ -638,7 +645,7 @@ contains
     integer :: i
     c = 0
     do i = 2, size(th) - 1
-      if (th(i) < 1.0_dp .and. th(i-1) >= 1.0_dp) c = c + 1
+      if (th(i) < 1.0_dp .and. th(i - 1) >= 1.0_dp) c = c + 1
     end do
   end function count_runs
 
@@ -646,22 +653,22 @@ contains
   subroutine case_connectivity_rule()
     real(dp) :: th(10), pc(10)
     real(dp), parameter :: pcav = 0.1e5_dp, pch = 3e5_dp, pcc = 1e5_dp
-    write(*, '(a)') '6. cavity-pressure connectivity rule on constructed fills'
+    write (*, '(a)') '6. cavity-pressure connectivity rule on constructed fills'
     ! downstroke (u > 0): trailing = chamber (left), leading = crankcase (right)
     th = [1.0_dp, 0.5_dp, 0.5_dp, 1.0_dp, 0.3_dp, 0.3_dp, 1.0_dp, 1.0_dp, 0.4_dp, 0.4_dp]
     call jfo_cavity_pressure(th, 5.0_dp, pch, pcc, pcav, .true., .true., pc)
     call check(all(pc == [pcav, pch, pch, pcav, pcav, pcav, pcav, pcav, pcc, pcav]), &
-      'rule: trailing run at p_t, enclosed at p_cav, leading zone at p_l (u > 0)')
+               'rule: trailing run at p_t, enclosed at p_cav, leading zone at p_l (u > 0)')
     call jfo_cavity_pressure(th, 5.0_dp, pch, pcc, pcav, .false., .true., pc)
     call check(all(pc == [pcav, pcav, pcav, pcav, pcav, pcav, pcav, pcav, pcc, pcav]), &
-      'rule: vapour trailing cavity, starved leading zone')
+               'rule: vapour trailing cavity, starved leading zone')
     call jfo_cavity_pressure(th, 5.0_dp, pch, pcc, pcav, .true., .false., pc)
     call check(all(pc == [pcav, pch, pch, pcav, pcav, pcav, pcav, pcav, pcav, pcav]), &
-      'rule: trailing gas, flooded leading side')
+               'rule: trailing gas, flooded leading side')
     ! upstroke (u < 0): trailing = crankcase (right), leading = chamber (left)
     call jfo_cavity_pressure(th, -5.0_dp, pch, pcc, pcav, .true., .true., pc)
     call check(all(pc == [pcav, pch, pch, pcav, pcav, pcav, pcav, pcav, pcc, pcav]), &
-      'rule: upstroke, both edge runs open to their gas')
+               'rule: upstroke, both edge runs open to their gas')
     ! gas below the cavitation pressure: the cavity stays at p_cav
     call jfo_cavity_pressure(th, -5.0_dp, 0.0_dp, 0.0_dp, pcav, .true., .true., pc)
     call check(all(pc == pcav), 'rule: gas below p_cav leaves the cavity at p_cav')
@@ -683,18 +690,18 @@ contains
     real(dp) :: dx, ql, qr
     integer :: it, outer, info
     call grid(n, x, h, hmid, kmid, dx)
-    allocate(p(n), th(n), pc(n))
+    allocate (p(n), th(n), pc(n))
     p = 1e5_dp
     th = 1.0_dp
     call jfo_solve_connected(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 1e5_dp, 1e5_dp, 1.0_dp, &
-      1.0_dp, 0.0_dp, .true., .false., pc, p, th, it, outer, info, ql, qr)
-    write(*, '(a, i0, a, i0, a, i0)') '6c. enclosed cavity: ', count(th < 1.0_dp), &
+                             1.0_dp, 0.0_dp, .true., .false., pc, p, th, it, outer, info, ql, qr)
+    write (*, '(a, i0, a, i0, a, i0)') '6c. enclosed cavity: ', count(th < 1.0_dp), &
       ' cavity nodes, outer loops ', outer, ', Newton its ', it
     call check(info == JFO_OK, 'enclosed cavity converges')
-    call check(count(th < 1.0_dp) > 3 .and. th(2) == 1.0_dp .and. th(n-1) == 1.0_dp, &
-      'enclosed cavity: ruptures and re-forms inside the face')
+    call check(count(th < 1.0_dp) > 3 .and. th(2) == 1.0_dp .and. th(n - 1) == 1.0_dp, &
+               'enclosed cavity: ruptures and re-forms inside the face')
     call check(all(pc == 0.0_dp) .and. all(pack(p, th < 1.0_dp) == 0.0_dp), &
-      'enclosed cavity: at p_cav, not at the gas pressure')
+               'enclosed cavity: at p_cav, not at the gas pressure')
     call check_close(ql, qr, 1e-10_dp, 'enclosed cavity: steady flux through the face')
   end subroutine case_enclosed_cavity
 
@@ -706,26 +713,27 @@ contains
     real(dp) :: dx
     integer :: it, info, sw, trial, nfail_plain, nfail_guard, i, nguarded, nflagged, itmx
     integer, parameter :: ntrial = 2000, count_converged_in_one = 0
-    real(dp) :: hh(n), hmm(n-1), km(n-1), cold(n), hm, tinr, dtr
+    real(dp) :: hh(n), hmm(n - 1), km(n - 1), cold(n), hm, tinr, dtr
     real(dp) :: u, pl, pr, tinl
     call grid(n, x, h, hmid, kmid, dx)
-    allocate(p(n), th(n), pc(n), p0(n), t0(n), pg(n), tg(n))
+    allocate (p(n), th(n), pc(n), p0(n), t0(n), pg(n), tg(n))
     itmx = 0
     pc = 0.0_dp
     ! reference solution of a case with an enclosed cavity
     p0 = 1e5_dp
     t0 = 1.0_dp
     call jfo_solve(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 1e5_dp, 1e5_dp, 1.0_dp, 1.0_dp, pc, &
-      p0, t0, it, info)
+                   p0, t0, it, info)
     ! the Gauss-Seidel fallback alone reaches the same solution
     p = 1e5_dp
     th = 1.0_dp
     call jfo_solve(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 1e5_dp, 1e5_dp, 1.0_dp, 1.0_dp, pc, &
-      p, th, it, info, newton=.false., max_iter=2000000, sweeps=sw)
-    write(*, '(a, i0, a, es10.3)') '7. Gauss-Seidel fallback alone: ', sw, &
+                   p, th, it, info, newton=.false., max_iter=2000000, sweeps=sw)
+    write (*, '(a, i0, a, es10.3)') '7. Gauss-Seidel fallback alone: ', sw, &
       ' sweeps, max |p - p_newton|/max p = ', maxval(abs(p - p0)) / maxval(p0)
     call check(info == JFO_OK .and. maxval(abs(p - p0)) <= 1e-8_dp * maxval(p0) &
-      .and. maxval(abs(th - t0)) <= 1e-8_dp, 'guard: fallback sweeps reach the Newton solution')
+               .and. maxval(abs(th - t0)) <= 1e-8_dp, &
+               'guard: fallback sweeps reach the Newton solution')
     ! cold starts far from the answer: random gap, speed, edge pressures and fills, steady or
     ! transient, part of the face at a gas pressure, random warm-start fills and pressures up to
     ! 100 bar. Plain Newton (guard off) cycles on some; the guarded solve must converge on all.
@@ -736,7 +744,7 @@ contains
     do trial = 1, ntrial
       hm = 0.3e-6_dp + 3e-6_dp * rnd(trial, 1)
       hh = hm + kk * (x + xs)**2
-      hmm = hm + kk * (0.5_dp * (x(1:n-1) + x(2:n)) + xs)**2
+      hmm = hm + kk * (0.5_dp * (x(1:n - 1) + x(2:n)) + xs)**2
       km = hmm**3 / (12 * eta)
       u = 40.0_dp * (rnd(trial, 2) - 0.5_dp)
       pl = 1e5_dp + 1e6_dp * rnd(trial, 3)**3
@@ -755,12 +763,12 @@ contains
       p = p0
       th = t0
       call jfo_solve(dx, hh, hmm, km, u, dtr, cold, pl, pr, tinl, tinr, pc, p, th, it, info, &
-        guard=.false., max_iter=200)
+                     guard=.false., max_iter=200)
       if (info /= JFO_OK) nfail_plain = nfail_plain + 1
       pg = p0
       tg = t0
       call jfo_solve(dx, hh, hmm, km, u, dtr, cold, pl, pr, tinl, tinr, pc, pg, tg, it, info, &
-        sweeps=sw)
+                     sweeps=sw)
       if (info /= JFO_OK) nfail_guard = nfail_guard + 1
       if (sw > 0) nguarded = nguarded + 1
       itmx = max(itmx, it)
@@ -768,17 +776,20 @@ contains
       p = p0
       th = t0
       call jfo_solve(dx, hh, hmm, km, u, dtr, cold, pl, pr, tinl, tinr, pc, p, th, it, info, &
-        max_iter=1)
-      if (info == JFO_NOT_CONVERGED .and. all(abs(p) < huge(1.0_dp)) .and. all(p(2:n-1) >= pc(2:n-1)) &
-        .and. all(th >= 0.0_dp .and. th <= 1.0_dp)) nflagged = nflagged + 1
+                     max_iter=1)
+      if (info == JFO_NOT_CONVERGED .and. all(abs(p) < huge(1.0_dp)) &
+          .and. all(p(2:n - 1) >= pc(2:n - 1)) &
+          .and. all(th >= 0.0_dp .and. th <= 1.0_dp)) nflagged = nflagged + 1
     end do
-    write(*, '(3x, i0, a, i0, a, i0, a, i0, a, i0)') ntrial, ' random cold starts: plain Newton failed ', &
+    write (*, '(3x, i0, a, i0, a, i0, a, i0, a, i0)') ntrial, &
+      ' random cold starts: plain Newton failed ', &
       nfail_plain, ', guarded failed ', nfail_guard, ' (guard engaged in ', nguarded, &
       ', max iterations ', itmx
-    call check(nfail_plain > 0, 'guard: the random set contains cases plain Newton does not solve')
+    call check(nfail_plain > 0, &
+               'guard: the random set contains cases plain Newton does not solve')
     call check(nfail_guard == 0, 'guard: every random cold start converges')
     call check(nflagged == ntrial - count_converged_in_one, &
-      'a solve cut off after one iteration is flagged, finite, in bounds')
+               'a solve cut off after one iteration is flagged, finite, in bounds')
   end subroutine case_guard
 
   !> deterministic pseudo-random number in [0, 1)
@@ -797,7 +808,7 @@ contains
     th = 1.0_dp
     pc = 0.0_dp
     call jfo_solve(1e-5_dp, h, hm, km, 1.0_dp, 0.0_dp, h, 0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp, pc, p, &
-      th, it, info)
+                   th, it, info)
     call check(info == JFO_BAD_INPUT, 'bad input: n < 3 flagged')
   end subroutine case_bad_input
 end program test_jfo

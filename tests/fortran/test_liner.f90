@@ -15,12 +15,14 @@ program test_liner
   ! a strip with partial cells at both ends
   v0 = strip_volume(lin, 1.03e-3_dp, 2.57e-3_dp)
   call check_close(v0, 2e-6_dp * 1.54e-3_dp, 1e-12_dp, 'strip volume with partial cells')
-  call check_close(strip_volume(lin, 2.57e-3_dp, 1.03e-3_dp), v0, 1e-15_dp, 'strip order irrelevant')
+  call check_close(strip_volume(lin, 2.57e-3_dp, 1.03e-3_dp), v0, 1e-15_dp, &
+                   'strip order irrelevant')
   total = liner_volume(lin)
   call strip_take(lin, 1.03e-3_dp, 2.57e-3_dp, v)
   call check_close(v, v0, 1e-14_dp, 'take removes the strip volume')
   ! (a film uniform within each cell: the partial end cells keep the oil outside the strip)
-  call check(strip_volume(lin, 1.03e-3_dp, 2.57e-3_dp) <= 0.1_dp * v0, 'strip emptied but its end cells')
+  call check(strip_volume(lin, 1.03e-3_dp, 2.57e-3_dp) <= 0.1_dp * v0, &
+             'strip emptied but its end cells')
   call check_close(liner_volume(lin), total - v, 1e-14_dp, 'take conserves')
   ! many random-ish transfers: total + (put - taken) bookkeeping to round-off
   total = liner_volume(lin)
@@ -38,12 +40,13 @@ program test_liner
       total = total + added - removed
     end if
   end do
-  call check_close(liner_volume(lin), total, 1e-12_dp, '2000 transfers: bookkeeping closes to round-off')
+  call check_close(liner_volume(lin), total, 1e-12_dp, &
+                   '2000 transfers: bookkeeping closes to round-off')
   call check(all(lin%h >= 0.0_dp), 'film never negative')
   ! strip_set gives the asked thickness on whole cells
   call strip_set(lin, 10e-3_dp, 20e-3_dp, 5e-6_dp, removed, added)
   ! (the strip's ends fall inside cells: round-off of the cell edges, 1e-10 relative)
   call check_close(strip_volume(lin, 10e-3_dp, 20e-3_dp), 5e-6_dp * 10e-3_dp, 1e-10_dp, &
-    'strip_set: film thickness as asked')
+                   'strip_set: film thickness as asked')
   call report('test_liner')
 end program test_liner

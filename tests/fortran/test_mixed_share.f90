@@ -19,13 +19,13 @@ program test_mixed_share
       e(lev) = max(e(lev), abs(mixed_share(lam(m, j / 40.0_dp)) - 200.0_dp / 3.0_dp))
     end do
   end do
-  write(*, '(a, 3es11.3)') 'largest error of the share [points] at 90, 180, 360 steps:', e
+  write (*, '(a, 3es11.3)') 'largest error of the share [points] at 90, 180, 360 steps:', e
   order = log(e(2) / e(3)) / log(2.0_dp)
-  write(*, '(a, f6.2)') 'observed order ', order
+  write (*, '(a, f6.2)') 'observed order ', order
   call check(e(1) < 100.0_dp / 90 / 10, 'within a tenth of a step at 90 steps')
   call check(order > 1.8_dp, 'second order in the step')
-  call check_close(mixed_share([(5.0_dp, m = 1, 10)]), 0.0_dp, 0.0_dp, 'never below 4', 1e-14_dp)
-  call check_close(mixed_share([(3.0_dp, m = 1, 10)]), 100.0_dp, 1e-14_dp, 'always below 4')
+  call check_close(mixed_share([(5.0_dp, m=1, 10)]), 0.0_dp, 0.0_dp, 'never below 4', 1e-14_dp)
+  call check_close(mixed_share([(3.0_dp, m=1, 10)]), 100.0_dp, 1e-14_dp, 'always below 4')
   ! one step from 3 to 5 and back: below 4 for half of each of the two steps
   call check_close(mixed_share([3.0_dp, 5.0_dp]), 50.0_dp, 1e-14_dp, 'crossing at mid-step')
   call report('test_mixed_share')

@@ -20,25 +20,26 @@ program test_physics_basics
     h = 0.5e-3_dp
     fd = w * (piston_position(psi + h, r, l) - piston_position(psi - h, r, l)) / (2 * h)
     e2 = abs(fd - sliding_speed(psi, r, l, w))
-    write(what, '(a, f7.2)') 'U vs finite difference at psi=', psi * 180 / pi
+    write (what, '(a, f7.2)') 'U vs finite difference at psi=', psi * 180 / pi
     call check(e2 <= 1e-6_dp * r * w, trim(what))
-    if (e1 > 1e-9_dp * r * w) call check(e1 / e2 > 3.5_dp, trim(what) // ' (second order)')
+    if (e1 > 1e-9_dp * r * w) call check(e1 / e2 > 3.5_dp, trim(what)//' (second order)')
   end do
   call check(abs(sliding_speed(0.0_dp, r, l, w)) == 0.0_dp, 'U(0) = 0')
-  call check(sliding_speed(0.5_dp * pi, r, l, w) > 0.0_dp, 'U > 0 on the intake stroke (towards crankcase)')
+  call check(sliding_speed(0.5_dp * pi, r, l, w) > 0.0_dp, &
+             'U > 0 on the intake stroke (towards crankcase)')
   call check_close(sliding_speed(0.5_dp * pi, r, l, w), r * w, 1e-14_dp, 'U(90 deg) = r w')
 
   ! Roelands: eta(0, theta0) = eta0; d ln eta/dp at p=0, theta0 = alpha;
   ! d ln eta/dtheta at p=0, theta0 = -beta (the definitions of alpha and beta)
   call check_close(roelands(0.0_dp, 313.15_dp, 0.05_dp, 313.15_dp, 1e-8_dp, 0.04_dp), 0.05_dp, &
-    1e-14_dp, 'eta(0, theta0) = eta0')
+                   1e-14_dp, 'eta(0, theta0) = eta0')
   dl = 1e2_dp
   fd = (log(roelands(dl, 313.15_dp, 0.05_dp, 313.15_dp, 1e-8_dp, 0.04_dp)) &
-    - log(roelands(0.0_dp, 313.15_dp, 0.05_dp, 313.15_dp, 1e-8_dp, 0.04_dp))) / dl
+        - log(roelands(0.0_dp, 313.15_dp, 0.05_dp, 313.15_dp, 1e-8_dp, 0.04_dp))) / dl
   call check_close(fd, 1e-8_dp, 1e-5_dp, 'd ln eta / dp = alpha at p = 0')
   dl = 1e-4_dp
   fd = (log(roelands(0.0_dp, 313.15_dp + dl, 0.05_dp, 313.15_dp, 1e-8_dp, 0.04_dp)) &
-    - log(roelands(0.0_dp, 313.15_dp - dl, 0.05_dp, 313.15_dp, 1e-8_dp, 0.04_dp))) / (2 * dl)
+        - log(roelands(0.0_dp, 313.15_dp - dl, 0.05_dp, 313.15_dp, 1e-8_dp, 0.04_dp))) / (2 * dl)
   call check_close(fd, -0.04_dp, 1e-7_dp, 'd ln eta / dtheta = -beta at theta0')
   ! hand computation at p = 50 MPa, theta = 348 K, written out step by step:
   ! ln eta0 + 9.67 = ln 0.05 + 9.67 = 6.674267...; z0 = 1e-8/(5.1e-9*6.674267) = 0.293785...
@@ -47,9 +48,10 @@ program test_physics_basics
   lnc = log(0.05_dp) + 9.67_dp
   z0 = 1e-8_dp / (5.1e-9_dp * lnc)
   s0 = 0.04_dp * 175.15_dp / lnc
-  expected = 0.05_dp * exp(lnc * (exp(z0 * log(1.255_dp) - s0 * log(210.0_dp / 175.15_dp)) - 1.0_dp))
+  expected = 0.05_dp * exp(lnc * (exp(z0 * log(1.255_dp) - s0 * log(210.0_dp / 175.15_dp)) &
+                                  - 1.0_dp))
   call check_close(roelands(50e6_dp, 348.0_dp, 0.05_dp, 313.15_dp, 1e-8_dp, 0.04_dp), expected, &
-    1e-13_dp, 'Roelands at 50 MPa, 348 K (hand computation)')
+                   1e-13_dp, 'Roelands at 50 MPa, 348 K (hand computation)')
   call check_close(expected, 2.29912e-2_dp, 1e-5_dp, 'hand value 0.0229912 Pa s (by calculator)')
   call report('test_physics_basics')
 end program test_physics_basics

@@ -19,24 +19,24 @@ program test_reynolds
     err_sq(i) = case_squeeze(ns(i))
     err_rey(i) = case_reynolds(ns(i))
   end do
-  write(*, '(a)') '    N   full film    squeeze   reynolds (max |p - p_exact| / max p_exact)'
+  write (*, '(a)') '    N   full film    squeeze   reynolds (max |p - p_exact| / max p_exact)'
   do i = 1, size(ns)
-    write(*, '(i5, 3es11.3)') ns(i), err_ff(i), err_sq(i), err_rey(i)
+    write (*, '(i5, 3es11.3)') ns(i), err_ff(i), err_sq(i), err_rey(i)
   end do
   do i = 2, size(ns)
-    order = log(err_ff(i-1) / err_ff(i)) / log(2.0_dp)
-    write(what, '(a, i0, a, f5.2)') 'full film second order, N=', ns(i), ': order ', order
+    order = log(err_ff(i - 1) / err_ff(i)) / log(2.0_dp)
+    write (what, '(a, i0, a, f5.2)') 'full film second order, N=', ns(i), ': order ', order
     call check(order > 1.9_dp, trim(what))
-    order = log(err_sq(i-1) / err_sq(i)) / log(2.0_dp)
-    write(what, '(a, i0, a, f5.2)') 'squeeze second order, N=', ns(i), ': order ', order
+    order = log(err_sq(i - 1) / err_sq(i)) / log(2.0_dp)
+    write (what, '(a, i0, a, f5.2)') 'squeeze second order, N=', ns(i), ': order ', order
     call check(order > 1.9_dp, trim(what))
-    order = log(err_rey(i-1) / err_rey(i)) / log(2.0_dp)
-    write(what, '(a, i0, a, f5.2)') 'rupture case converges at least first order, N=', ns(i), &
+    order = log(err_rey(i - 1) / err_rey(i)) / log(2.0_dp)
+    write (what, '(a, i0, a, f5.2)') 'rupture case converges at least first order, N=', ns(i), &
       ': order ', order
     call check(order > 0.9_dp, trim(what))
   end do
   call check(err_ff(4) < 1e-4_dp .and. err_sq(4) < 1e-4_dp .and. err_rey(4) < 1e-3_dp, &
-    'absolute accuracy at N=401')
+             'absolute accuracy at N=401')
   call case_ambient_kkt()
   call report('test_reynolds')
 
@@ -66,10 +66,10 @@ contains
     real(dp), allocatable, intent(out) :: x(:), hmid(:), kmid(:)
     real(dp), intent(out) :: dx
     integer :: i
-    allocate(x(n), hmid(n-1), kmid(n-1))
+    allocate (x(n), hmid(n - 1), kmid(n - 1))
     dx = b / (n - 1)
-    x = [(-0.5_dp * b + (i - 1) * dx, i = 1, n)]
-    hmid = hz(0.5_dp * (x(1:n-1) + x(2:n)) + xs)
+    x = [(-0.5_dp * b + (i - 1) * dx, i=1, n)]
+    hmid = hz(0.5_dp * (x(1:n - 1) + x(2:n)) + xs)
     kmid = hmid**3 / (6 * eta)
   end subroutine grid
 
@@ -84,7 +84,7 @@ contains
     pa = 5e5_dp
     pb = 1e5_dp
     call grid(n, x, hmid, kmid, dx)
-    allocate(p(n), active(n))
+    allocate (p(n), active(n))
     active = .false.
     call reynolds_solve(dx, kmid, hmid, u, 0.0_dp, pa, pb, -1e30_dp, p, active, it, info)
     call check(info == 0, 'full film solve')
@@ -105,7 +105,7 @@ contains
     hdot = -1e-3_dp
     pa = 1e5_dp
     call grid(n, x, hmid, kmid, dx)
-    allocate(p(n), active(n))
+    allocate (p(n), active(n))
     active = .false.
     call reynolds_solve(dx, kmid, hmid, 0.0_dp, 2 * hdot, pa, pa, 0.0_dp, p, active, it, info)
     call check(info == 0 .and. .not. any(active), 'squeeze solve without cavitation')
@@ -114,7 +114,7 @@ contains
     ! K p' = 2 hdot x + C; p(b) = p(a) fixes C
     c0 = 2 * hdot / (4 * kk) * (1 / hz(zb)**2 - 1 / hz(za)**2) / (j3(zb) - j3(za))
     pe = pa + 6 * eta * (-2 * hdot / (4 * kk) * (1 / hz(x + xs)**2 - 1 / hz(za)**2) &
-      + c0 * (j3(x + xs) - j3(za)))
+                         + c0 * (j3(x + xs) - j3(za)))
     e = maxval(abs(p - pe)) / maxval(abs(pe))
   end function case_squeeze
 
@@ -155,7 +155,7 @@ contains
     u = 10.0_dp
     pin = 2e5_dp
     call grid(n, x, hmid, kmid, dx)
-    allocate(p(n), active(n), pe(n))
+    allocate (p(n), active(n), pe(n))
     active = .false.
     call reynolds_solve(dx, kmid, hmid, u, 0.0_dp, 0.0_dp, pin, 0.0_dp, p, active, it, info)
     call check(info == 0, 'reynolds solve')
@@ -175,7 +175,7 @@ contains
     do i = 2, n - 1
       if (active(i)) irupt = i
     end do
-    write(*, '(a, i4, a, f9.3, a, f9.3, a, i0)') 'N=', n, ' rupture at ', x(irupt) * 1e6_dp, &
+    write (*, '(a, i4, a, f9.3, a, f9.3, a, i0)') 'N=', n, ' rupture at ', x(irupt) * 1e6_dp, &
       ' um, exact ', xc_exact * 1e6_dp, ' um; active-set iterations ', it
     call check(abs(x(irupt) - xc_exact) <= dx, 'rupture point within one cell')
     e = maxval(abs(p - pe)) / maxval(abs(pe))
@@ -190,14 +190,14 @@ contains
     integer :: it, info, i
     u = 10.0_dp
     call grid(n, x, hmid, kmid, dx)
-    allocate(p(n), active(n))
+    allocate (p(n), active(n))
     active = .false.
     call reynolds_solve(dx, kmid, hmid, u, 0.0_dp, 1e5_dp, 1e5_dp, 0.0_dp, p, active, it, info)
     call check(info == 0 .and. count(active) > 0, 'ambient outlet: cavitation zone found')
     call check(all(p >= 0.0_dp), 'ambient: p >= p_cav')
     do i = 2, n - 1
-      r = dx * u * (hmid(i) - hmid(i-1))
-      mu = -kmid(i-1) * p(i-1) + (kmid(i-1) + kmid(i)) * p(i) - kmid(i) * p(i+1) - r
+      r = dx * u * (hmid(i) - hmid(i - 1))
+      mu = -kmid(i - 1) * p(i - 1) + (kmid(i - 1) + kmid(i)) * p(i) - kmid(i) * p(i + 1) - r
       if (active(i)) then
         call check(p(i) == 0.0_dp .and. mu >= -1e-9_dp * abs(r), 'ambient: multiplier >= 0')
       else

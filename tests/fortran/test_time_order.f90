@@ -18,7 +18,7 @@ program test_time_order
   use ringlube_viscosity, only: roelands
   use ringlube_film, only: film_type, film_setup
   use ringlube_load_balance, only: step_context, load_problem, balance_memory, balance, &
-    start_history
+                                   start_history
   use ringlube_results, only: flag_floor
   use ringlube_check
   implicit none
@@ -30,14 +30,14 @@ program test_time_order
     e_euler(lev) = final_error('euler', 10 * 2**(lev - 1))
     e_bdf2(lev) = final_error('bdf2', 10 * 2**(lev - 1))
   end do
-  write(*, '(a, 4es11.3)') 'euler: relative error of h(t_end) at 10, 20, 40, 80 steps:', e_euler
-  write(*, '(a, 4es11.3)') 'bdf2:  relative error of h(t_end) at 10, 20, 40, 80 steps:', e_bdf2
+  write (*, '(a, 4es11.3)') 'euler: relative error of h(t_end) at 10, 20, 40, 80 steps:', e_euler
+  write (*, '(a, 4es11.3)') 'bdf2:  relative error of h(t_end) at 10, 20, 40, 80 steps:', e_bdf2
   do lev = 2, nlev
     order = log(e_euler(lev - 1) / e_euler(lev)) / log(2.0_dp)
-    write(*, '(a, i0, a, f6.3)') 'euler observed order, level ', lev, ': ', order
+    write (*, '(a, i0, a, f6.3)') 'euler observed order, level ', lev, ': ', order
     call check(abs(order - 1.0_dp) < 0.15_dp, 'euler: observed order 1')
     order = log(e_bdf2(lev - 1) / e_bdf2(lev)) / log(2.0_dp)
-    write(*, '(a, i0, a, f6.3)') 'bdf2 observed order, level ', lev, ': ', order
+    write (*, '(a, i0, a, f6.3)') 'bdf2 observed order, level ', lev, ': ', order
     call check(abs(order - 2.0_dp) < 0.15_dp, 'bdf2: observed order 2')
   end do
   call check(e_bdf2(1) < 0.2_dp * e_euler(1), 'bdf2 more accurate than euler at 10 steps')
@@ -69,7 +69,7 @@ contains
     call start_history(mem, h_init)
     do i = 1, nsteps
       call balance(c, ctx, f, mem, 90.0_dp, h, flags, resid, lp)
-      call check(flags == 0 .and. abs(resid) <= c%load_tol, scheme // ': step balanced, unflagged')
+      call check(flags == 0 .and. abs(resid) <= c%load_tol, scheme//': step balanced, unflagged')
       call check(lp%u == 0.0_dp, 'liner at rest')
     end do
     eta = roelands(0.0_dp, c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta)
@@ -124,7 +124,8 @@ contains
     do i = 1, 2
       call balance(cb, ctx, fb, mb, 0.0_dp, hb, flags, resid, lp)
     end do
-    call check(iand(flags, flag_floor) /= 0 .and. abs(hb - cb%h0_floor) <= 1e-12_dp * hb, 'held at h0_floor')
+    call check(iand(flags, flag_floor) /= 0 .and. abs(hb - cb%h0_floor) <= 1e-12_dp * hb, &
+               'held at h0_floor')
     ! from the held state, BDF2's next step is an Euler step
     cb%h0_floor = 1e-9_dp
     ce%h0_floor = 1e-9_dp

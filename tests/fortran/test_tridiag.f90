@@ -11,30 +11,30 @@ program test_tridiag
   real(dp) :: y(2)
   external :: dgtsv
 
-  call random_seed(put=[(12345 + is, is = 1, 64)])
+  call random_seed(put=[(12345 + is, is=1, 64)])
   do is = 1, size(sizes)
     n = sizes(is)
     do trial = 1, 5
-      allocate(a(n), b(n), c(n), d(n), x(n), dl(n-1), dd(n), du(n-1), rhs(n, 1))
+      allocate (a(n), b(n), c(n), d(n), x(n), dl(n - 1), dd(n), du(n - 1), rhs(n, 1))
       call random_number(a); call random_number(c); call random_number(d)
       a = a - 0.5_dp; c = c - 0.5_dp; d = 1e5_dp * (d - 0.5_dp)
       call random_number(b)
       b = abs(a) + abs(c) + 0.01_dp + b   ! strictly diagonally dominant
       if (mod(trial, 2) == 0) b = -b
       call thomas(a, b, c, d, x, info)
-      write(what, '(a, i0, a, i0)') 'thomas info n=', n, ' trial ', trial
+      write (what, '(a, i0, a, i0)') 'thomas info n=', n, ' trial ', trial
       call check(info == 0, trim(what))
-      dl = a(2:n); dd = b; du = c(1:n-1); rhs(:, 1) = d
+      dl = a(2:n); dd = b; du = c(1:n - 1); rhs(:, 1) = d
       call dgtsv(n, 1, dl, dd, du, rhs, n, info)
       call check(info == 0, 'dgtsv info')
-      write(what, '(a, i0, a, i0)') 'thomas vs dgtsv n=', n, ' trial ', trial
+      write (what, '(a, i0, a, i0)') 'thomas vs dgtsv n=', n, ' trial ', trial
       call check(maxval(abs(x - rhs(:, 1))) <= 1e-12_dp * maxval(abs(rhs(:, 1))), trim(what))
-      deallocate(a, b, c, d, x, dl, dd, du, rhs)
+      deallocate (a, b, c, d, x, dl, dd, du, rhs)
     end do
   end do
   ! a zero pivot is reported, not divided by
   call thomas([0.0_dp, 1.0_dp], [0.0_dp, 1.0_dp], [1.0_dp, 0.0_dp], [1.0_dp, 1.0_dp], &
-    y, info)
+              y, info)
   call check(info == 1, 'zero pivot reported')
   call report('test_tridiag')
 end program test_tridiag

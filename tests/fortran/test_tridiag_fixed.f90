@@ -15,12 +15,12 @@ program test_tridiag_fixed
   character(len=64) :: what
   external :: dgtsv
 
-  call random_seed(put=[(4321 + is, is = 1, 64)])
+  call random_seed(put=[(4321 + is, is=1, 64)])
   do is = 1, size(sizes)
     n = sizes(is)
     do trial = 1, 6
-      allocate(a(n), b(n), c(n), d(n), x(n), dl(n-1), dd(n), du(n-1), rhs(n, 1), u(n), w(n), &
-        fixed(n))
+      allocate (a(n), b(n), c(n), d(n), x(n), dl(n - 1), dd(n), du(n - 1), rhs(n, 1), u(n), w(n), &
+                fixed(n))
       call random_number(a); call random_number(c); call random_number(d)
       a = -a; c = -c; d = 1e5_dp * (d - 0.5_dp)
       call random_number(b)
@@ -45,22 +45,22 @@ program test_tridiag_fixed
       end select
       value = 1234.5_dp
       call thomas_fixed(a, b, c, d, fixed, value, x, info, w)
-      write(what, '(a, i0, a, i0)') 'thomas_fixed info n=', n, ' case ', trial
+      write (what, '(a, i0, a, i0)') 'thomas_fixed info n=', n, ' case ', trial
       call check(info == 0, trim(what))
       ! the same system with the fixed rows written out, solved by LAPACK
-      dd = b; dl = a(2:n); du = c(1:n-1); rhs(:, 1) = d
+      dd = b; dl = a(2:n); du = c(1:n - 1); rhs(:, 1) = d
       do i = 1, n
         if (.not. fixed(i)) cycle
         dd(i) = 1.0_dp
         rhs(i, 1) = value
-        if (i > 1) dl(i-1) = 0.0_dp
+        if (i > 1) dl(i - 1) = 0.0_dp
         if (i < n) du(i) = 0.0_dp
       end do
       call dgtsv(n, 1, dl, dd, du, rhs, n, info)
-      write(what, '(a, i0, a, i0)') 'thomas_fixed vs dgtsv n=', n, ' case ', trial
+      write (what, '(a, i0, a, i0)') 'thomas_fixed vs dgtsv n=', n, ' case ', trial
       call check(maxval(abs(x - rhs(:, 1))) <= 1e-12_dp * maxval(abs(rhs(:, 1))), trim(what))
       call check(all(pack(x, fixed) == value), 'fixed unknowns exactly at their value')
-      deallocate(a, b, c, d, x, dl, dd, du, rhs, u, w, fixed)
+      deallocate (a, b, c, d, x, dl, dd, du, rhs, u, w, fixed)
     end do
   end do
   call report('test_tridiag_fixed')

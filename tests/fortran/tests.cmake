@@ -1,4 +1,6 @@
 # ctest suite of the Fortran kernel (included from the root CMakeLists.txt).
+# Every test has LABELS (listed at the end; README "Tests"): select with `ctest -L numerics`,
+# leave out with `ctest -LE slow`, pick by name with `ctest -R jfo`.
 add_library(ringlube_check STATIC ${CMAKE_CURRENT_LIST_DIR}/check.f90)
 target_link_libraries(ringlube_check PUBLIC ringlube_kernel)
 
@@ -31,6 +33,29 @@ add_test(NAME hdf5_output COMMAND test_hdf5_output WORKING_DIRECTORY ${CMAKE_BIN
 # SIGTERM while a temporary file exists: the program ends by the signal, the file is gone
 add_test(NAME temp_removed_on_signal
   COMMAND bash -c "t=$(mktemp -d) && n=$($<TARGET_FILE:test_hdf5_output> signal $t/out.h5); rc=$?; echo \"exit $rc, temporary $n\"; [ $rc -eq 143 ] && [ -n \"$n\" ] && [ ! -e \"$n\" ] && [ -z \"$(ls -A $t)\" ] && rmdir $t")
+
+# Expected failure: the study's published crown-height trend, which ringlube does not
+# reproduce (docs/validation.md). WILL_FAIL makes ctest count the script's failure as a
+# pass; the script exits 0 (a reported failure) if the runs break or the trend appears.
+add_test(NAME study_trend_crown_height
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/../cli/study_trend_crown.sh $<TARGET_FILE:ringlube-solve>
+  WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+set_tests_properties(study_trend_crown_height PROPERTIES WILL_FAIL TRUE)
+
+# Labels. unit: one module or function against an exact or independent answer;
+# numerics: discretisation order, solver convergence and whole-cycle consistency;
+# cli: runs ringlube-solve; io: files (HDF5, temporary files, output checks);
+# slow: over 1 s alone on the reference 2-core machine (`ctest -LE slow` for a quick pass);
+# known_limitation: expected failures (WILL_FAIL) that document what the model does not do.
+set_tests_properties(tridiag tridiag_fixed liner PROPERTIES LABELS "unit")
+set_tests_properties(greenwood_tripp physics_basics mixed_share PROPERTIES LABELS "unit;numerics")
+set_tests_properties(reynolds cycle time_order film_viscosity PROPERTIES LABELS "numerics")
+set_tests_properties(jfo PROPERTIES LABELS "numerics;slow")
+set_tests_properties(bad_decks solve_shipped_deck PROPERTIES LABELS "cli;io")
+set_tests_properties(concurrent_output PROPERTIES LABELS "cli;io;slow")
+set_tests_properties(hdf5_output PROPERTIES LABELS "unit;io")
+set_tests_properties(temp_removed_on_signal PROPERTIES LABELS "io")
+set_tests_properties(study_trend_crown_height PROPERTIES LABELS "cli;known_limitation")
 
 # Kernel benchmark (make bench; not a test): whole runs and the roofline pieces.
 add_executable(bench_kernel ${CMAKE_CURRENT_LIST_DIR}/../bench/bench_kernel.f90)

@@ -46,7 +46,9 @@ def test_bad_deck_raises_named_error(tmp_path):
 
 
 def test_bad_value_from_python_raises_named_error(quick_case):
-    with pytest.raises(InputError, match=r"changed in Python>:\d+: &ring width: must be in \[1.0E-5, 5.0E-2\] m, got -1.0E-3"):
+    with pytest.raises(
+        InputError, match=r"changed in Python>:\d+: &ring width: must be in \[1.0E-5, 5.0E-2\] m, got -1.0E-3"
+    ):
         ringlube.run(quick_case.with_ring(width=-1e-3))
     with pytest.raises(InputError, match=r"&physics outlet"):
         quick_case.with_physics(outlet="nowhere").validate()
@@ -59,7 +61,9 @@ def test_bad_value_from_python_raises_named_error(quick_case):
 
 
 def test_missing_pressure_file(quick_case):
-    with pytest.raises(InputError, match=r"&operating pressure_file: .*nothere\.csv: pressure file not found"):
+    with pytest.raises(
+        InputError, match=r"&operating pressure_file: .*nothere\.csv: pressure file not found"
+    ):
         ringlube.run(quick_case.with_operating(pressure_file="/nonexistent/nothere.csv"))
 
 

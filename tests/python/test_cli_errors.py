@@ -28,8 +28,15 @@ def result_file(tmp_path_factory):
 
 
 def study_deck(tmp_path, **extra) -> str:
-    values = dict(name="'c'", cases=f"'{COLD}'", labels="'cold'", samples="24",
-                  population="8", generations="2", repeats="1")
+    values = dict(
+        name="'c'",
+        cases=f"'{COLD}'",
+        labels="'cold'",
+        samples="24",
+        population="8",
+        generations="2",
+        repeats="1",
+    )
     values.update(extra)
     path = tmp_path / f"c{len(list(tmp_path.glob('c*.nml')))}.nml"
     path.write_text("&study\n" + "".join(f"  {k} = {v}\n" for k, v in values.items()) + "/\n")
@@ -53,8 +60,11 @@ def _cases(tmp_path, result_file):
     sd = lambda **kw: study_deck(tmp_path, **kw)  # noqa: E731
     return {
         # (argv, exit code, a piece of the message)
-        "run -o into a missing folder": (["run", str(deck), "-o", str(tmp_path / "missing/x.h5")],
-                                         2, "folder"),
+        "run -o into a missing folder": (
+            ["run", str(deck), "-o", str(tmp_path / "missing/x.h5")],
+            2,
+            "folder",
+        ),
         "run -o onto a folder": (["run", str(deck), "-o", str(folder)], 2, "is a folder"),
         "run -o onto the deck": (["run", str(deck), "-o", str(deck)], 2, "is an input"),
         "run -o onto a device": (["run", str(deck), "-o", os.devnull], 2, "not a regular file"),
@@ -64,56 +74,96 @@ def _cases(tmp_path, result_file):
         "plot a truncated file": (["plot", str(truncated)], 2, "truncated.h5"),
         "plot an HDF5 file that is no result": (["plot", str(no_cycle)], 2, "other.h5"),
         "plot -o onto a file": (["plot", str(res), "-o", str(afile)], 2, "not a folder"),
-        "plot --labels with a slash": (["plot", str(res), "--labels", "a/b", "-o",
-                                        str(tmp_path / "p")], 2, "--labels"),
-        "optimise --out onto a file": (["optimise", sd(), "--out", str(afile), "--serial"], 2,
-                                       "not a folder"),
-        "optimise a corrupt study file": (["optimise", sd(), "--out", str(corrupt), "--serial"],
-                                          2, "c.h5"),
-        "samples = 'many'": (["optimise", sd(samples="'many'"), "--serial"], 2,
-                             "&study samples: must be a whole number, got 'many'"),
-        "samples = 64.5": (["optimise", sd(samples="64.5"), "--serial"], 2,
-                           "&study samples: must be a whole number, got 64.5"),
+        "plot --labels with a slash": (
+            ["plot", str(res), "--labels", "a/b", "-o", str(tmp_path / "p")],
+            2,
+            "--labels",
+        ),
+        "optimise --out onto a file": (
+            ["optimise", sd(), "--out", str(afile), "--serial"],
+            2,
+            "not a folder",
+        ),
+        "optimise a corrupt study file": (["optimise", sd(), "--out", str(corrupt), "--serial"], 2, "c.h5"),
+        "samples = 'many'": (
+            ["optimise", sd(samples="'many'"), "--serial"],
+            2,
+            "&study samples: must be a whole number, got 'many'",
+        ),
+        "samples = 64.5": (
+            ["optimise", sd(samples="64.5"), "--serial"],
+            2,
+            "&study samples: must be a whole number, got 64.5",
+        ),
         "samples = 1e8": (["optimise", sd(samples="1e8"), "--serial"], 2, "&study samples"),
-        "samples = 100000000": (["optimise", sd(samples="100000000"), "--serial"], 2,
-                                "&study samples: must be at most 1,000,000"),
-        "folds = 0": (["optimise", sd(folds="0"), "--serial"], 2,
-                      "&study folds: must be at least 2"),
-        "seed = -1": (["optimise", sd(seed="-1"), "--serial"], 2,
-                      "&study seed: must be at least 0"),
-        "upper = nan": (["optimise", sd(variables="'width'", lower="1e-3", upper="nan"),
-                         "--serial"], 2, "&study upper: must be finite"),
-        "label with a slash": (["optimise", sd(labels="'a/b'"), "--serial"], 2,
-                               "&study labels: 'a/b' must be a plain name"),
-        "name with a slash": (["optimise", sd(name="'x/y'"), "--serial"], 2,
-                              "&study name: 'x/y' must be a plain name"),
-        "a missing study deck": (["optimise", str(tmp_path / "none.nml"), "--serial"], 2,
-                                 "file not found"),
+        "samples = 100000000": (
+            ["optimise", sd(samples="100000000"), "--serial"],
+            2,
+            "&study samples: must be at most 1,000,000",
+        ),
+        "folds = 0": (["optimise", sd(folds="0"), "--serial"], 2, "&study folds: must be at least 2"),
+        "seed = -1": (["optimise", sd(seed="-1"), "--serial"], 2, "&study seed: must be at least 0"),
+        "upper = nan": (
+            ["optimise", sd(variables="'width'", lower="1e-3", upper="nan"), "--serial"],
+            2,
+            "&study upper: must be finite",
+        ),
+        "label with a slash": (
+            ["optimise", sd(labels="'a/b'"), "--serial"],
+            2,
+            "&study labels: 'a/b' must be a plain name",
+        ),
+        "name with a slash": (
+            ["optimise", sd(name="'x/y'"), "--serial"],
+            2,
+            "&study name: 'x/y' must be a plain name",
+        ),
+        "a missing study deck": (["optimise", str(tmp_path / "none.nml"), "--serial"], 2, "file not found"),
         "--workers -2": (["optimise", sd(), "--workers", "-2"], 2, "--workers"),
         "--workers 0": (["optimise", sd(), "--workers", "0"], 2, "--workers"),
         "--repeats x": (["convergence", str(deck), "--repeats", "x"], 2, "--repeats"),
-        "convergence --out onto a file": (["convergence", str(deck), "--out", str(afile)], 2,
-                                          "not a folder"),
+        "convergence --out onto a file": (["convergence", str(deck), "--out", str(afile)], 2, "not a folder"),
     }
 
 
-CASES = ["run -o into a missing folder", "run -o onto a folder", "run -o onto the deck",
-         "run -o onto a device", "plot a missing file", "plot a text file", "plot a deck",
-         "plot a truncated file", "plot an HDF5 file that is no result", "plot -o onto a file",
-         "plot --labels with a slash", "optimise --out onto a file",
-         "optimise a corrupt study file", "samples = 'many'", "samples = 64.5",
-         "samples = 1e8", "samples = 100000000", "folds = 0", "seed = -1", "upper = nan",
-         "label with a slash", "name with a slash", "a missing study deck", "--workers -2",
-         "--workers 0", "--repeats x", "convergence --out onto a file"]
+CASES = [
+    "run -o into a missing folder",
+    "run -o onto a folder",
+    "run -o onto the deck",
+    "run -o onto a device",
+    "plot a missing file",
+    "plot a text file",
+    "plot a deck",
+    "plot a truncated file",
+    "plot an HDF5 file that is no result",
+    "plot -o onto a file",
+    "plot --labels with a slash",
+    "optimise --out onto a file",
+    "optimise a corrupt study file",
+    "samples = 'many'",
+    "samples = 64.5",
+    "samples = 1e8",
+    "samples = 100000000",
+    "folds = 0",
+    "seed = -1",
+    "upper = nan",
+    "label with a slash",
+    "name with a slash",
+    "a missing study deck",
+    "--workers -2",
+    "--workers 0",
+    "--repeats x",
+    "convergence --out onto a file",
+]
 
 
 @pytest.mark.parametrize("name", CASES)
 def test_one_line_error(name, tmp_path, result_file, capsys, monkeypatch):
-    monkeypatch.chdir(tmp_path)                 # default outputs (out/NAME) land here
+    monkeypatch.chdir(tmp_path)  # default outputs (out/NAME) land here
     argv, code, piece = _cases(tmp_path, result_file)[name]
     try:
         status = main(argv)
-    except SystemExit as exc:                   # argparse's own errors
+    except SystemExit as exc:  # argparse's own errors
         status = exc.code
     err = capsys.readouterr().err
     assert status == code, err
@@ -132,13 +182,15 @@ def test_device_is_untouched(tmp_path, result_file):
 
 def test_real_process_prints_one_line(tmp_path):
     """The installed command in a real process: stderr is one line, exit 2."""
-    p = subprocess.run([sys.executable, "-m", "ringlube.cli", "plot", str(COLD)],
-                       capture_output=True, text=True, timeout=120)
+    p = subprocess.run(
+        [sys.executable, "-m", "ringlube.cli", "plot", str(COLD)], capture_output=True, text=True, timeout=120
+    )
     assert p.returncode == 2
     assert p.stderr.count("\n") == 1 and "Traceback" not in p.stderr
 
 
 # --- item 22 ---------------------------------------------------------------------------
+
 
 def test_version(capsys):
     with pytest.raises(SystemExit) as exc:
@@ -155,8 +207,9 @@ def test_run_quiet(tmp_path, result_file, capsys):
     assert (tmp_path / "r.h5").is_file()
 
 
-@pytest.mark.parametrize("command", ["run", "plot", "gas", "convergence", "calibrate",
-                                     "validate", "optimise"])
+@pytest.mark.parametrize(
+    "command", ["run", "plot", "gas", "convergence", "calibrate", "validate", "optimise"]
+)
 def test_help_shows_every_default(command, capsys):
     with pytest.raises(SystemExit):
         main([command, "--help"])
@@ -190,13 +243,16 @@ def test_dask_study_is_quiet_and_interrupts_in_one_line(tmp_path):
 
     deck = study_deck(tmp_path, samples="40")
     cmd = [sys.executable, "-m", "ringlube.cli", "optimise", deck, "--workers", "1", "-q"]
-    p = subprocess.run([*cmd, "--out", str(tmp_path / "a")], capture_output=True, text=True,
-                       timeout=300)
+    p = subprocess.run([*cmd, "--out", str(tmp_path / "a")], capture_output=True, text=True, timeout=300)
     assert p.returncode == 0 and p.stderr == "", p.stderr
     big = study_deck(tmp_path, samples="2048")
     out = tmp_path / "b"
-    proc = subprocess.Popen([*cmd[:4], big, "--workers", "1", "-q", "--out", str(out)],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [*cmd[:4], big, "--workers", "1", "-q", "--out", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     try:
         t0 = time.time()
         while time.time() - t0 < 240:
@@ -212,6 +268,7 @@ def test_dask_study_is_quiet_and_interrupts_in_one_line(tmp_path):
             proc.kill()
     assert proc.returncode == 130, err
     assert err.strip().splitlines() == [
-        "ringlube: interrupted; finished work is saved (run the same command to resume)"]
+        "ringlube: interrupted; finished work is saved (run the same command to resume)"
+    ]
     with h5py.File(out / "c.h5") as f:
         assert 0 < f["cases/cold/runs/done"][()].sum() < 2048

@@ -10,8 +10,9 @@ from conftest import ROOT
 
 
 def test_model_md_tables_are_current():
-    assert update_doc(ROOT / "docs" / "model.md", write=False), \
+    assert update_doc(ROOT / "docs" / "model.md", write=False), (
         "docs/model.md is stale: run `.venv/bin/python -m ringlube.docgen docs/model.md`"
+    )
 
 
 def test_stale_doc_is_detected(tmp_path):

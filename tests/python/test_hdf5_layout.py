@@ -24,7 +24,11 @@ SPEC = ROOT.parent / "shared" / "SPEC.md"
 #: written only by those runs)
 _ALWAYS = "\n".join(line for line in MODEL_MD.splitlines() if "only) |" not in line)
 ROOT_ATTRS = re.findall(r"^\| root attribute \| `([^`]+)`", _ALWAYS, flags=re.M) + [
-    "deck", "deck_path", "pressure_file", "ringlube_version"]
+    "deck",
+    "deck_path",
+    "pressure_file",
+    "ringlube_version",
+]
 CYCLE_DSETS = re.findall(r"^\| `/cycle` \| `([^`]+)`", _ALWAYS, flags=re.M)
 STRING_ATTRS = ("deck", "deck_path", "pressure_file", "ringlube_version")
 

@@ -24,17 +24,21 @@ def base() -> Case:
     return Case(name="hostile").with_numerics(**FAST)
 
 
-@pytest.mark.parametrize("group, values, variable", [
-    ("ring", {"width": 1e300}, "&ring width"),                    # was SIGSEGV (NaN lambda)
-    ("ring", {"width": 1e-200}, "&ring width"),
-    ("surface", {"rq_liner": 1e-200, "rq_ring": 1e-200}, "&surface rq_liner"),  # was NaN, exit 0
-    ("operating", {"speed_rpm": 4.9e-324}, "&operating speed_rpm"),
-    ("ring", {"density": 1e308}, "&ring density"),
-    ("numerics", {"dpsi_deg": 1e-5}, "&numerics dpsi_deg"),        # 7.2e7 steps: allocation died
-    ("numerics", {"nodes": 10**7}, "&numerics nodes"),
-    ("lubricant", {"eta0": 1e-9}, "&lubricant eta0"),
-    ("operating", {"liner_temperature": 1e9}, "&operating liner_temperature"),
-], ids=lambda v: str(v))
+@pytest.mark.parametrize(
+    "group, values, variable",
+    [
+        ("ring", {"width": 1e300}, "&ring width"),  # was SIGSEGV (NaN lambda)
+        ("ring", {"width": 1e-200}, "&ring width"),
+        ("surface", {"rq_liner": 1e-200, "rq_ring": 1e-200}, "&surface rq_liner"),  # was NaN, exit 0
+        ("operating", {"speed_rpm": 4.9e-324}, "&operating speed_rpm"),
+        ("ring", {"density": 1e308}, "&ring density"),
+        ("numerics", {"dpsi_deg": 1e-5}, "&numerics dpsi_deg"),  # 7.2e7 steps: allocation died
+        ("numerics", {"nodes": 10**7}, "&numerics nodes"),
+        ("lubricant", {"eta0": 1e-9}, "&lubricant eta0"),
+        ("operating", {"liner_temperature": 1e9}, "&operating liner_temperature"),
+    ],
+    ids=lambda v: str(v),
+)
 def test_out_of_range_is_a_named_input_error(base, group, values, variable):
     case = base.with_(group, **values)
     with pytest.raises(InputError, match=f"{variable}: must be in "):
@@ -89,7 +93,7 @@ def test_relative_pressure_file_of_a_python_case_resolves_against_cwd(tmp_path, 
     other = tmp_path / "elsewhere"
     other.mkdir()
     monkeypatch.chdir(other)
-    assert ringlube.run(case).energy_loss == r.energy_loss      # still the file set above
+    assert ringlube.run(case).energy_loss == r.energy_loss  # still the file set above
     late = Case(name="rel").with_numerics(**FAST).with_operating(pressure_file="p.csv")
     with pytest.raises(InputError, match=r"&operating pressure_file: .*elsewhere/p\.csv"):
         ringlube.run(late)
@@ -125,8 +129,9 @@ def test_run_many_keeps_good_results_and_names_the_bad_case(base):
 
 def test_batch_of_designs_equals_single_runs(base):
     x = np.array([[0.8e-3, 8e-6], [1.2e-3, 12e-6], [-1.0, 9e-6]])
-    values, converged, errors = ringlube.run_designs(base, ["width", "crown_height"], x,
-                                                     ["energy_loss", "mixed_share"])
+    values, converged, errors = ringlube.run_designs(
+        base, ["width", "crown_height"], x, ["energy_loss", "mixed_share"]
+    )
     for i in (0, 1):
         r = ringlube.run(base.with_ring(width=x[i, 0], crown_height=x[i, 1]))
         assert values[i].tolist() == [r.energy_loss, r.mixed_share]

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import ringlube
-from ringlube.study_settings import DESIGN_RANGES
 from ringlube import Case
+from ringlube.study_settings import DESIGN_RANGES
 
 from conftest import COLD
 
@@ -42,9 +42,11 @@ def test_supply_film_to_zero_never_breaks_the_run(cold):
     """Less oil supplied: less oil carried to the chamber, a thinner film over the upstrokes,
     and never a NaN (flags instead)."""
     starved = cold.with_physics(cavitation="jfo", inlet="starved").with_numerics(**FAST)
-    results = ringlube.run_many([starved.with_("lubricant", supply_film=f)
-                                 for f in (20e-6, 5e-6, 2e-6, 0.5e-6, 0.0)], workers=2,
-                                progress=False)
+    results = ringlube.run_many(
+        [starved.with_("lubricant", supply_film=f) for f in (20e-6, 5e-6, 2e-6, 0.5e-6, 0.0)],
+        workers=2,
+        progress=False,
+    )
     for r in results:
         for name in ("h0", "friction", "power_loss", "inlet_fill", "oil_bank"):
             assert np.isfinite(getattr(r, name)).all(), name
@@ -52,7 +54,7 @@ def test_supply_film_to_zero_never_breaks_the_run(cold):
     oil = [r.oil_to_chamber for r in results]
     assert all(a > b for a, b in zip(oil, oil[1:-1])), oil
     assert results[-1].oil_to_chamber == pytest.approx(0.0, abs=1e-12)
-    up = results[0].sliding_speed < 0      # upstrokes: the supply film is what the ring meets
+    up = results[0].sliding_speed < 0  # upstrokes: the supply film is what the ring meets
     fills = [r.inlet_fill[up].mean() for r in results]
     assert all(a >= b for a, b in zip(fills, fills[1:])), fills
 
@@ -90,20 +92,26 @@ def test_starved_needs_the_mass_conserving_film(cold):
         cold.with_physics(inlet="starved").validate()
 
 
-CORNERS = DESIGN_RANGES   # the study's design box (one home: ringlube.study_settings)
+CORNERS = DESIGN_RANGES  # the study's design box (one home: ringlube.study_settings)
 
 
-@pytest.mark.parametrize("physics", [{"cavitation": "jfo"},
-                                     {"cavitation": "jfo", "inlet": "starved"},
-                                     {"cavitation": "jfo", "cavity_pressure": "trailing_gas"}],
-                         ids=["jfo", "jfo_starved", "jfo_trailing_gas"])
+@pytest.mark.parametrize(
+    "physics",
+    [
+        {"cavitation": "jfo"},
+        {"cavitation": "jfo", "inlet": "starved"},
+        {"cavitation": "jfo", "cavity_pressure": "trailing_gas"},
+    ],
+    ids=["jfo", "jfo_starved", "jfo_trailing_gas"],
+)
 def test_design_corners_with_the_new_film_models(cold, physics):
     """The 16 design corners at two speeds and two liner temperatures: finite results,
     h0 > 0, the load balanced at every unflagged step, flags where it is not."""
     base = cold.with_physics(**physics).with_numerics(**FAST)
-    cases = [base.with_ring(**dict(zip(CORNERS, v[:4]))).with_operating(speed_rpm=v[4],
-                                                                           liner_temperature=v[5])
-             for v in itertools.product(*CORNERS.values(), (1000, 8000), (348.0, 423.0))]
+    cases = [
+        base.with_ring(**dict(zip(CORNERS, v[:4]))).with_operating(speed_rpm=v[4], liner_temperature=v[5])
+        for v in itertools.product(*CORNERS.values(), (1000, 8000), (348.0, 423.0))
+    ]
     for r in ringlube.run_many(cases, workers=2, progress=False):
         assert np.isfinite(r.h0).all() and (r.h0 > 0).all()
         assert np.isfinite(r.friction).all() and np.isfinite(r.energy_loss)

@@ -20,14 +20,19 @@ from ringlube.examples import copy_examples, examples_dir
 from conftest import INPUTS, ROOT
 
 #: Every shipped input of the repository (what the wheel must carry).
-SHIPPED = sorted(p.relative_to(INPUTS) for p in INPUTS.rglob("*")
-                 if p.is_file() and p.suffix in {".nml", ".csv", ".md"})
+SHIPPED = sorted(
+    p.relative_to(INPUTS) for p in INPUTS.rglob("*") if p.is_file() and p.suffix in {".nml", ".csv", ".md"}
+)
 
 
 def test_repository_has_the_inputs_the_tests_expect():
     names = {p.as_posix() for p in SHIPPED}
-    assert {"calibration.nml", "crf450r_4000rpm_full_cold.nml", "study_default.nml",
-            "pressure/crf450r_4000rpm_full.csv"} <= names
+    assert {
+        "calibration.nml",
+        "crf450r_4000rpm_full_cold.nml",
+        "study_default.nml",
+        "pressure/crf450r_4000rpm_full.csv",
+    } <= names
 
 
 def test_installed_package_holds_the_example_inputs():
@@ -42,8 +47,7 @@ def test_copied_deck_runs_like_the_repository_deck(tmp_path):
     assert sorted(p.relative_to(tmp_path) for p in copied) == SHIPPED
     deck = tmp_path / "crf450r_4000rpm_full_cold.nml"
     here = ringlube.run(ringlube.Case.from_namelist(deck).with_numerics(nodes=31, dpsi_deg=4.0))
-    repo = ringlube.run(ringlube.Case.from_namelist(INPUTS / deck.name)
-                        .with_numerics(nodes=31, dpsi_deg=4.0))
+    repo = ringlube.run(ringlube.Case.from_namelist(INPUTS / deck.name).with_numerics(nodes=31, dpsi_deg=4.0))
     # The copy finds its calibration and gas trace: same inputs, same numbers, bit for bit.
     assert here.energy_loss == repo.energy_loss
     assert here.mixed_share == repo.mixed_share
@@ -83,8 +87,9 @@ def test_one_version_everywhere(solver, tmp_path):
     # ... and the kernel writes the same version into every result.
     copy_examples(tmp_path)
     out = tmp_path / "cold.h5"
-    subprocess.run([solver, "-q", str(tmp_path / "crf450r_4000rpm_full_cold.nml"), "-o", str(out)],
-                   check=True)
+    subprocess.run(
+        [solver, "-q", str(tmp_path / "crf450r_4000rpm_full_cold.nml"), "-o", str(out)], check=True
+    )
     with h5py.File(out, "r") as f:
         written = f.attrs["ringlube_version"]
     assert (written.decode() if isinstance(written, bytes) else str(written)) == version
@@ -101,9 +106,11 @@ def test_pyproject_does_not_repeat_the_version():
 def test_a_single_run_needs_no_study_extra():
     """Dask and pymoo belong to the `study` extra: importing the package and the
     command line, and running a case, must not load them."""
-    code = ("import sys, ringlube, ringlube.cli; from ringlube.examples import examples_dir; "
-            "c = ringlube.Case.from_namelist(examples_dir() / 'crf450r_4000rpm_full_cold.nml'); "
-            "ringlube.run(c.with_numerics(nodes=31, dpsi_deg=4.0)); "
-            "print(sorted(m for m in ('dask', 'distributed', 'pymoo') if m in sys.modules))")
+    code = (
+        "import sys, ringlube, ringlube.cli; from ringlube.examples import examples_dir; "
+        "c = ringlube.Case.from_namelist(examples_dir() / 'crf450r_4000rpm_full_cold.nml'); "
+        "ringlube.run(c.with_numerics(nodes=31, dpsi_deg=4.0)); "
+        "print(sorted(m for m in ('dask', 'distributed', 'pymoo') if m in sys.modules))"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip().splitlines()[-1] == "[]"

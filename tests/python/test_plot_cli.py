@@ -28,8 +28,7 @@ def test_plot_files_and_data(quick_case, tmp_path):
     np.testing.assert_array_equal(lines[2].get_ydata(), a.boundary_friction)
     np.testing.assert_array_equal(lines[3].get_ydata(), b.friction)
     fig = film_figure([a])
-    np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), a.lambda_min * a.sigma * 1e6,
-                               rtol=1e-15)
+    np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), a.lambda_min * a.sigma * 1e6, rtol=1e-15)
 
 
 def test_cli_run_and_plot(tmp_path, capsys):

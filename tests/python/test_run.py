@@ -11,7 +11,7 @@ from scipy.integrate import quad
 
 import ringlube
 from ringlube import _kernel
-from ringlube.tables import INT_SERIES, SCALARS, SERIES
+from ringlube.tables import INT_SERIES, SERIES
 
 from conftest import COLD, DECKS
 
@@ -34,15 +34,28 @@ def test_python_identical_to_cli(deck, solver, tmp_path):
 
 def _layout(path):
     """Everything of a file but the run time: names, dtypes, shapes, values, attributes."""
+
     def attrs(obj):
-        return {k: (np.asarray(v).dtype.kind, np.asarray(v).tolist()) for k, v in obj.attrs.items()
-                if k != "run_time_s" and k not in ("DIMENSION_LIST", "REFERENCE_LIST")}
+        return {
+            k: (np.asarray(v).dtype.kind, np.asarray(v).tolist())
+            for k, v in obj.attrs.items()
+            if k != "run_time_s" and k not in ("DIMENSION_LIST", "REFERENCE_LIST")
+        }
+
     with h5py.File(path) as f:
         items = {}
-        f.visititems(lambda name, obj: items.__setitem__(
-            name, (type(obj).__name__, getattr(obj, "dtype", None) and obj.dtype.str,
-                   getattr(obj, "shape", None), attrs(obj),
-                   obj[()].tolist() if isinstance(obj, h5py.Dataset) else None)))
+        f.visititems(
+            lambda name, obj: items.__setitem__(
+                name,
+                (
+                    type(obj).__name__,
+                    getattr(obj, "dtype", None) and obj.dtype.str,
+                    getattr(obj, "shape", None),
+                    attrs(obj),
+                    obj[()].tolist() if isinstance(obj, h5py.Dataset) else None,
+                ),
+            )
+        )
         return attrs(f), items
 
 
@@ -75,8 +88,9 @@ def test_results_are_double_precision():
     f2, f52 = _kernel.rl_greenwood_tripp(lam, 0)
     assert f52.dtype == np.float64
     for lv, fv in zip(lam, f52):
-        ref = quad(lambda s: (s - lv) ** 2.5 * np.exp(-s * s / 2), lv, np.inf,
-                   epsabs=0, epsrel=1e-13)[0] / np.sqrt(2 * np.pi)
+        ref = quad(lambda s, lv=lv: (s - lv) ** 2.5 * np.exp(-s * s / 2), lv, np.inf, epsabs=0, epsrel=1e-13)[
+            0
+        ] / np.sqrt(2 * np.pi)
         assert abs(fv - ref) <= 1e-9 * ref
 
 

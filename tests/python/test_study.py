@@ -4,7 +4,6 @@ after an interruption, and a real Dask cluster on loopback (one worker killed mi
 from __future__ import annotations
 
 import json
-import os
 import signal
 import subprocess
 import sys
@@ -26,14 +25,16 @@ UPPER = [1.34e-3, 13e-6, 67e-6, 26.0]
 
 
 def write_study(tmp_path, name="t", samples=40, cases=("cold",), **extra) -> str:
-    decks = {"cold": INPUTS / "crf450r_4000rpm_full_cold.nml",
-             "hot": INPUTS / "crf450r_4000rpm_full_hot.nml"}
-    lines = ["&study", f"  name = '{name}'",
-             "  cases = " + ", ".join(f"'{decks[c]}'" for c in cases),
-             "  labels = " + ", ".join(f"'{c}'" for c in cases),
-             f"  samples = {samples}, sampler = 'sobol', seed = 7",
-             "  population = 24, generations = 15, repeats = 2",
-             "  direct_population = 8, direct_generations = 3, batch = 4"]
+    decks = {"cold": INPUTS / "crf450r_4000rpm_full_cold.nml", "hot": INPUTS / "crf450r_4000rpm_full_hot.nml"}
+    lines = [
+        "&study",
+        f"  name = '{name}'",
+        "  cases = " + ", ".join(f"'{decks[c]}'" for c in cases),
+        "  labels = " + ", ".join(f"'{c}'" for c in cases),
+        f"  samples = {samples}, sampler = 'sobol', seed = 7",
+        "  population = 24, generations = 15, repeats = 2",
+        "  direct_population = 8, direct_generations = 3, batch = 4",
+    ]
     lines += [f"  {k} = {v}" for k, v in extra.items()]
     lines.append("/")
     path = tmp_path / f"{name}.nml"
@@ -45,7 +46,7 @@ def test_quadratic_fit_recovers_known_coefficients():
     rng = np.random.default_rng(3)
     coef = rng.normal(size=15)
     x = rng.uniform(LOWER, UPPER, size=(60, 4))
-    probe = fit_quadratic(x, np.zeros(60), LOWER, UPPER)   # only for its scaling
+    probe = fit_quadratic(x, np.zeros(60), LOWER, UPPER)  # only for its scaling
     y = quadratic_features(probe.scale(x)) @ coef
     surf = fit_quadratic(x, y, LOWER, UPPER)
     np.testing.assert_allclose(surf.coef, coef, rtol=0, atol=1e-10)
@@ -53,8 +54,9 @@ def test_quadratic_fit_recovers_known_coefficients():
 
 
 def test_small_study_end_to_end(tmp_path):
-    deck = write_study(tmp_path, name="e2e", samples=40, cases=("cold", "hot"),
-                       scene=".true.", weights="3.0, 1.0")
+    deck = write_study(
+        tmp_path, name="e2e", samples=40, cases=("cold", "hot"), scene=".true.", weights="3.0, 1.0"
+    )
     study = run_study(deck, tmp_path / "out", serial=True, with_direct=True, progress=False)
     s = study.s
     with h5py.File(study.path) as f:
@@ -66,18 +68,28 @@ def test_small_study_end_to_end(tmp_path):
                 assert f"surface/{o}/coef" in g and g[f"surface/{o}"].attrs["r2"] > 0.5
             assert g["front/f"].shape[1] == 3
             assert "chosen/f_true" in g and "direct/f" in g
-        assert set(json.loads(f.attrs["stages"])) >= {"sampled", "ran", "fitted", "optimised",
-                                                      "checked", "direct"}
+        assert set(json.loads(f.attrs["stages"])) >= {
+            "sampled",
+            "ran",
+            "fitted",
+            "optimised",
+            "checked",
+            "direct",
+        }
     # the weighted scene: 3:1 mean of the two cases' objectives, with its own front
-    np.testing.assert_allclose(study.objectives("scene"), 0.75 * study.objectives("cold")
-                               + 0.25 * study.objectives("hot"), rtol=1e-14)
+    np.testing.assert_allclose(
+        study.objectives("scene"),
+        0.75 * study.objectives("cold") + 0.25 * study.objectives("hot"),
+        rtol=1e-14,
+    )
     assert study.cases["scene"].front.f.shape[1] == 3
     # stored objectives are the true model's: re-run two samples and one chosen design
     base = Case.from_namelist(s.cases[0])
     for i in (0, 17):
         r = ringlube.run(base.with_ring(**dict(zip(s.variables, study.x[i]))))
-        np.testing.assert_array_equal(study.objectives("cold")[i],
-                                      [r.energy_loss, r.mixed_share, r.ring_mass])
+        np.testing.assert_array_equal(
+            study.objectives("cold")[i], [r.energy_loss, r.mixed_share, r.ring_mass]
+        )
     ch = study.cases["cold"].chosen
     r = ringlube.run(base.with_ring(**dict(zip(s.variables, ch.x[-1]))))
     np.testing.assert_array_equal(ch.f_true[-1, :3], [r.energy_loss, r.mixed_share, r.ring_mass])
@@ -110,10 +122,24 @@ def test_resume_reruns_nothing_that_finished(tmp_path):
 def loopback_cluster(tmp_path):
     """A dask scheduler and two workers (no nanny) on 127.0.0.1, as separate processes."""
     sf = tmp_path / "scheduler.json"
-    procs = [subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_scheduler",
-                               "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
-                               "--scheduler-file", str(sf)],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    procs = [
+        subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "distributed.cli.dask_scheduler",
+                "--host",
+                "127.0.0.1",
+                "--port",
+                "0",
+                "--no-dashboard",
+                "--scheduler-file",
+                str(sf),
+            ],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+    ]
     try:
         t0 = time.time()
         while not sf.exists():
@@ -122,10 +148,25 @@ def loopback_cluster(tmp_path):
             time.sleep(0.2)
         workers = []
         for _ in range(2):
-            workers.append(subprocess.Popen(
-                [sys.executable, "-m", "distributed.cli.dask_worker", "--scheduler-file", str(sf),
-                 "--nthreads", "1", "--no-nanny", "--no-dashboard", "--host", "127.0.0.1"],
-                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+            workers.append(
+                subprocess.Popen(
+                    [
+                        sys.executable,
+                        "-m",
+                        "distributed.cli.dask_worker",
+                        "--scheduler-file",
+                        str(sf),
+                        "--nthreads",
+                        "1",
+                        "--no-nanny",
+                        "--no-dashboard",
+                        "--host",
+                        "127.0.0.1",
+                    ],
+                    stdout=subprocess.DEVNULL,
+                    stderr=subprocess.DEVNULL,
+                )
+            )
         procs += workers
         from dask.distributed import Client
 
@@ -160,9 +201,10 @@ def test_dask_cluster_matches_serial_and_survives_a_killed_worker(tmp_path, loop
     def map_and_kill(fn, tasks, on_result):
         def wrapped(i, value):
             on_result(i, value)
-            if not killed:          # after the first finished batch, kill a worker outright
+            if not killed:  # after the first finished batch, kill a worker outright
                 workers[0].send_signal(signal.SIGKILL)
                 killed.append(True)
+
         return original(fn, tasks, wrapped)
 
     ex.map = map_and_kill

@@ -54,5 +54,4 @@ def test_own_engine_walkthrough(tmp_path, monkeypatch, capsys):
     from ringlube.study_store import Study
 
     st = Study.open(read_study(out / "study.nml"), out / "study" / "myring.h5")
-    np.testing.assert_array_equal(st.cases["rated"].reference.f_true[0, :2],
-                                  [r.energy_loss, r.mixed_share])
+    np.testing.assert_array_equal(st.cases["rated"].reference.f_true[0, :2], [r.energy_loss, r.mixed_share])

@@ -9,9 +9,16 @@ import inspect
 
 import pytest
 
-MODULES = ["ringlube.executor", "ringlube.study_settings", "ringlube.study_store",
-           "ringlube.study", "ringlube.study_plots", "ringlube.study_report",
-           "ringlube.surrogate", "ringlube.cli"]
+MODULES = [
+    "ringlube.executor",
+    "ringlube.study_settings",
+    "ringlube.study_store",
+    "ringlube.study",
+    "ringlube.study_plots",
+    "ringlube.study_report",
+    "ringlube.surrogate",
+    "ringlube.cli",
+]
 
 
 @pytest.mark.parametrize("name", MODULES)
@@ -21,13 +28,16 @@ def test_public_names_are_documented(name):
     for public in mod.__all__:
         obj = getattr(mod, public)
         if not (inspect.isfunction(obj) or inspect.isclass(obj)):
-            continue                       # constants are described by a #: comment
+            continue  # constants are described by a #: comment
         doc = inspect.getdoc(obj) or ""
         assert "Example" in doc, f"{name}.{public}: no Example"
         if inspect.isfunction(obj) and inspect.signature(obj).parameters:
             assert "Parameters" in doc, f"{name}.{public}: no Parameters"
         if inspect.isfunction(obj) and inspect.signature(obj).return_annotation not in (
-                None, "None", inspect.Signature.empty):
+            None,
+            "None",
+            inspect.Signature.empty,
+        ):
             assert "Returns" in doc, f"{name}.{public}: no Returns"
 
 

@@ -24,21 +24,22 @@ from conftest import INPUTS
 COLD = INPUTS / "crf450r_4000rpm_full_cold.nml"
 
 
-def study_deck(tmp_path, *, name="h", cases=(COLD,), labels=("cold",), samples=24,
-               **extra) -> str:
-    lines = ["&study", f"  name = '{name}'",
-             "  cases = " + ", ".join(f"'{c}'" for c in cases),
-             "  labels = " + ", ".join(f"'{x}'" for x in labels),
-             f"  samples = {samples}, seed = 5",
-             "  population = 12, generations = 4, repeats = 2"]
+def study_deck(tmp_path, *, name="h", cases=(COLD,), labels=("cold",), samples=24, **extra) -> str:
+    lines = [
+        "&study",
+        f"  name = '{name}'",
+        "  cases = " + ", ".join(f"'{c}'" for c in cases),
+        "  labels = " + ", ".join(f"'{x}'" for x in labels),
+        f"  samples = {samples}, seed = 5",
+        "  population = 12, generations = 4, repeats = 2",
+    ]
     lines += [f"  {k} = {v}" for k, v in extra.items()]
     path = tmp_path / f"{name}.nml"
     path.write_text("\n".join(lines + ["/"]) + "\n")
     return str(path)
 
 
-TWO_VARS = dict(variables="'width', 'crown_offset'", lower="0.8e-3, -40e-6",
-                upper="1.2e-3, 40e-6")
+TWO_VARS = dict(variables="'width', 'crown_offset'", lower="0.8e-3, -40e-6", upper="1.2e-3, 40e-6")
 
 
 def own_inputs(tmp_path):
@@ -52,12 +53,13 @@ def own_inputs(tmp_path):
 
 # --- item 1: resume from any interruption ---------------------------------------------
 
+
 def test_resume_from_a_file_holding_only_samples(tmp_path):
     deck = study_deck(tmp_path, **TWO_VARS)
     s = read_study(deck)
     out = tmp_path / "out"
     out.mkdir()
-    early = Study(s, out / "h.h5")          # what an interruption before the first batch leaves
+    early = Study(s, out / "h.h5")  # what an interruption before the first batch leaves
     early.x = sample(s)
     early.stages.add("sampled")
     early.save()
@@ -75,7 +77,7 @@ def test_second_process_on_the_same_study_is_refused(tmp_path):
             Study.open(s, tmp_path / "h.h5", lock=True)
     finally:
         first.unlock()
-    Study.open(s, tmp_path / "h.h5", lock=True).unlock()     # free again
+    Study.open(s, tmp_path / "h.h5", lock=True).unlock()  # free again
 
 
 @pytest.mark.parametrize("garbage", [b"not hdf5 at all", b"\x89HDF\r\n\x1a\n" + b"\0" * 64])
@@ -89,8 +91,8 @@ def test_corrupt_study_file_is_an_input_error(tmp_path, garbage):
 
 # --- item 4: the study is keyed on the content of its inputs -----------------------------
 
-@pytest.mark.parametrize("edit", ["cold.nml", "calibration.nml",
-                                  "pressure/crf450r_4000rpm_full.csv"])
+
+@pytest.mark.parametrize("edit", ["cold.nml", "calibration.nml", "pressure/crf450r_4000rpm_full.csv"])
 def test_resume_after_an_edited_input_is_refused(tmp_path, edit):
     deck = own_inputs(tmp_path)
     study = study_deck(tmp_path, cases=(deck,), **TWO_VARS)
@@ -98,47 +100,63 @@ def test_resume_after_an_edited_input_is_refused(tmp_path, edit):
     with pytest.raises(KeyboardInterrupt):
         run_study(study, out, serial=True, progress=False, figures=False, stop_after=4)
     target = tmp_path / edit
-    target.write_text(target.read_text().replace("1", "2", 1)
-                      if edit.endswith(".csv") else target.read_text() + "! edited\n")
+    target.write_text(
+        target.read_text().replace("1", "2", 1)
+        if edit.endswith(".csv")
+        else target.read_text() + "! edited\n"
+    )
     with pytest.raises(InputError, match=rf"other contents of .*{edit.split('/')[-1]}"):
         run_study(study, out, serial=True, progress=False, figures=False)
 
 
 # --- item 14: variables of other groups, misspelt names ---------------------------------
 
+
 def test_variable_of_another_group(tmp_path):
-    deck = study_deck(tmp_path, variables="'width', 'operating:speed_rpm'",
-                      lower="0.8e-3, 3000", upper="1.2e-3, 5000")
+    deck = study_deck(
+        tmp_path, variables="'width', 'operating:speed_rpm'", lower="0.8e-3, 3000", upper="1.2e-3, 5000"
+    )
     s = read_study(deck)
     assert s.groups_names == [("ring", "width"), ("operating", "speed_rpm")]
-    assert s.units == ["m", "r/min"]   # units from the kernel's input table
+    assert s.units == ["m", "r/min"]  # units from the kernel's input table
     base = Case.from_namelist(COLD)
-    values, conv, errors = _run_designs(base, s.groups_names, np.array([[1e-3, 3000.0]]),
-                                        ["energy_loss"])
+    values, conv, errors = _run_designs(base, s.groups_names, np.array([[1e-3, 3000.0]]), ["energy_loss"])
     r = ringlube.run(base.with_ring(width=1e-3).with_operating(speed_rpm=3000.0))
     assert errors == [""] and values[0, 0] == r.energy_loss
 
 
-@pytest.mark.parametrize("extra, message", [
-    (dict(variables="'widht'", lower="1e-3", upper="2e-3"),
-     r"&study variables: 'widht' is not a variable of &ring"),
-    (dict(variables="'engine:speed'", lower="1", upper="2"),
-     r"&study variables: 'engine:speed' is not a variable of &engine"),
-    (dict(variables="'nogroup:x'", lower="1", upper="2"), r"&study variables: 'nogroup:x'"),
-    (dict(variables="'width', 'operating:speed_rpm'"),
-     r"&study lower: required: default ranges exist only for the ring variables"),
-    (dict(variables="'width'", lower="0.5e-3"), r"&study upper: required when 'lower'"),
-    (dict(variables="'width'", lower="-1e-3", upper="1e-3"),
-     r"&study lower: width = -0.001 is rejected by base deck 'cold'.*must be in"),
-])
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (
+            dict(variables="'widht'", lower="1e-3", upper="2e-3"),
+            r"&study variables: 'widht' is not a variable of &ring",
+        ),
+        (
+            dict(variables="'engine:speed'", lower="1", upper="2"),
+            r"&study variables: 'engine:speed' is not a variable of &engine",
+        ),
+        (dict(variables="'nogroup:x'", lower="1", upper="2"), r"&study variables: 'nogroup:x'"),
+        (
+            dict(variables="'width', 'operating:speed_rpm'"),
+            r"&study lower: required: default ranges exist only for the ring variables",
+        ),
+        (dict(variables="'width'", lower="0.5e-3"), r"&study upper: required when 'lower'"),
+        (
+            dict(variables="'width'", lower="-1e-3", upper="1e-3"),
+            r"&study lower: width = -0.001 is rejected by base deck 'cold'.*must be in",
+        ),
+    ],
+)
 def test_bad_variables_name_study_variables(tmp_path, extra, message):
     with pytest.raises(InputError, match=message):
         read_study(study_deck(tmp_path, **extra))
 
 
 def test_default_bounds_only_when_none_given(tmp_path):
-    s = read_study(study_deck(tmp_path, variables="'crown_height', 'tension'",
-                              lower="7e-6, 9", upper="8e-6, 10"))
+    s = read_study(
+        study_deck(tmp_path, variables="'crown_height', 'tension'", lower="7e-6, 9", upper="8e-6, 10")
+    )
     assert (s.lower, s.upper) == ([7e-6, 9.0], [8e-6, 10.0])
     s = read_study(study_deck(tmp_path, variables="'crown_height', 'tension'"))
     assert (s.lower, s.upper) == ([6e-6, 8.0], [13e-6, 26.0])
@@ -146,10 +164,16 @@ def test_default_bounds_only_when_none_given(tmp_path):
 
 # --- item 15: invalid designs inside the box -------------------------------------------
 
+
 def test_invalid_designs_are_recorded_and_the_study_goes_on(tmp_path):
     # |crown_offset| < width/2 is required: the corners (small width, large offset) fail
-    deck = study_deck(tmp_path, samples=32, variables="'width', 'crown_offset'",
-                      lower="0.1e-3, -0.2e-3", upper="1.0e-3, 0.2e-3")
+    deck = study_deck(
+        tmp_path,
+        samples=32,
+        variables="'width', 'crown_offset'",
+        lower="0.1e-3, -0.2e-3",
+        upper="1.0e-3, 0.2e-3",
+    )
     study = run_study(deck, tmp_path / "out", serial=True, progress=False, figures=False)
     r = study.cases["cold"].runs
     x = study.x
@@ -171,14 +195,14 @@ def test_invalid_designs_are_recorded_and_the_study_goes_on(tmp_path):
 
 def test_run_designs_reports_each_failure():
     base = Case.from_namelist(COLD)
-    values, conv, errors = _run_designs(base, [("ring", "width")],
-                                        np.array([[1e-3], [-1e-3]]), list(OUTPUTS))
+    values, conv, errors = _run_designs(base, [("ring", "width")], np.array([[1e-3], [-1e-3]]), list(OUTPUTS))
     assert errors[0] == "" and "&ring width" in errors[1]
     assert np.isfinite(values[0]).all() and np.isnan(values[1]).all()
     assert conv.tolist() == [True, False]
 
 
 # --- item 16: executor inputs --------------------------------------------------------
+
 
 @pytest.mark.parametrize("workers", [0, -2])
 def test_executor_refuses_fewer_than_one_worker(workers):
@@ -189,11 +213,14 @@ def test_executor_refuses_fewer_than_one_worker(workers):
 def test_unreachable_scheduler_is_one_error(monkeypatch):
     import ringlube.executor as ex
 
-    with socket.socket() as sock:              # a free port nobody listens on
+    with socket.socket() as sock:  # a free port nobody listens on
         sock.bind(("127.0.0.1", 0))
         port = sock.getsockname()[1]
-    with pytest.raises(RinglubeError, match=rf"--scheduler tcp://127.0.0.1:{port}: cannot "
-                                            r"connect within 2 s"):
+    with pytest.raises(
+        RinglubeError,
+        match=rf"--scheduler tcp://127.0.0.1:{port}: cannot "
+        r"connect within 2 s",
+    ):
         ex.Executor(scheduler=f"tcp://127.0.0.1:{port}", connect_timeout=2)
 
 
@@ -209,6 +236,7 @@ def test_process_backend_matches_serial():
 
 # --- items 24 and 25: labelled matrices, the optional reference --------------------------
 
+
 def test_study_file_labels_its_columns_and_the_reference(tmp_path):
     deck = study_deck(tmp_path, reference="1.004e-3, -38.3e-6", **TWO_VARS)
     study = run_study(deck, tmp_path / "out", serial=True, progress=False, figures=False)
@@ -219,8 +247,7 @@ def test_study_file_labels_its_columns_and_the_reference(tmp_path):
         d = f["cases/cold/runs/outputs"]
         assert list(d.attrs["columns"]) == list(OUTPUTS)
         assert list(d.attrs["units"])[:3] == ["J", "%", "g"]
-        assert list(f["cases/cold/front/f"].attrs["columns"]) == ["energy_loss", "mixed_share",
-                                                                   "ring_mass"]
+        assert list(f["cases/cold/front/f"].attrs["columns"]) == ["energy_loss", "mixed_share", "ring_mass"]
         assert json.loads(f.attrs["settings"])["reference"] == [1.004e-3, -38.3e-6]
     ref = study.cases["cold"].reference
     r = ringlube.run(Case.from_namelist(COLD).with_ring(width=1.004e-3, crown_offset=-38.3e-6))
@@ -238,7 +265,7 @@ def test_shipped_study_decks_read(tmp_path):
     for deck in ("study_default.nml", "study_full.nml"):
         s = read_study(INPUTS / deck)
         assert s.reference == [1.004e-3, 9.31e-6, -38.3e-6, 8.0]
-        assert s.units == ["m", "m", "m", "N/m"]     # the calibration file sets N/m
+        assert s.units == ["m", "m", "m", "N/m"]  # the calibration file sets N/m
 
 
 def test_reference_added_on_resume_is_computed(tmp_path):
@@ -255,7 +282,7 @@ def test_reference_added_on_resume_is_computed(tmp_path):
 def test_old_layout_file_is_refused(tmp_path):
     deck = study_deck(tmp_path, **TWO_VARS)
     (tmp_path / "out").mkdir()
-    with h5py.File(tmp_path / "out" / "h.h5", "w") as f:     # layout 1: no format attribute
+    with h5py.File(tmp_path / "out" / "h.h5", "w") as f:  # layout 1: no format attribute
         f.attrs["key"] = read_study(deck).key()
         f["samples/x"] = np.zeros((24, 2))
     with pytest.raises(InputError, match="not a ringlube study file"):
@@ -269,7 +296,7 @@ def test_missing_optional_package_says_how_to_install(tmp_path, monkeypatch, mis
     for name in list(sys.modules):
         if name == missing or name.startswith(missing + "."):
             monkeypatch.delitem(sys.modules, name)
-    monkeypatch.setitem(sys.modules, missing, None)          # import now fails
+    monkeypatch.setitem(sys.modules, missing, None)  # import now fails
     if missing == "dask":
         monkeypatch.setitem(sys.modules, "dask.distributed", None)
     deck = study_deck(tmp_path, **TWO_VARS)

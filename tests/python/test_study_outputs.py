@@ -45,32 +45,41 @@ def test_tradeoff_is_drawn_without_ring_mass_and_names_designs(study):
 
 def test_tradeoff_figure_plots_the_given_points():
     front = np.array([[8.0, 2.0], [9.0, 1.8], [10.0, 1.7]])
-    fig = tradeoff_figure([TradeoffSeries("cold", front, [("knee", 9.1, 1.79, "chosen"),
-                                                          ("min a", 8.0, 2.0, "chosen"),
-                                                          ("min b", 8.0, 2.0, "chosen"),
-                                                          ("reference", 8.5, 1.9, "reference")])],
-                          "mixed share [%]", "energy loss [J/cycle]")
+    fig = tradeoff_figure(
+        [
+            TradeoffSeries(
+                "cold",
+                front,
+                [
+                    ("knee", 9.1, 1.79, "chosen"),
+                    ("min a", 8.0, 2.0, "chosen"),
+                    ("min b", 8.0, 2.0, "chosen"),
+                    ("reference", 8.5, 1.9, "reference"),
+                ],
+            )
+        ],
+        "mixed share [%]",
+        "energy loss [J/cycle]",
+    )
     ax = fig.axes[0]
     np.testing.assert_array_equal(ax.collections[0].get_offsets(), front)
     texts = sorted(t.get_text() for t in ax.texts)
-    assert texts == ["knee", "min a = min b", "reference"]     # coincident designs share a label
+    assert texts == ["knee", "min a = min b", "reference"]  # coincident designs share a label
     fig.canvas.draw()
     legend = ax.get_legend().get_window_extent()
-    assert legend.x0 >= ax.get_window_extent().x1                  # outside: hides no point
+    assert legend.x0 >= ax.get_window_extent().x1  # outside: hides no point
     plt.close(fig)
 
 
 def test_two_variable_map_is_one_panel_with_marked_designs():
     axes = [Axis("width [mm]", 1e3, 0.8e-3, 1.2e-3), Axis("crown offset [µm]", 1e6, -4e-5, 4e-5)]
-    marks = [Mark("knee", np.array([1e-3, 0.0])), Mark("reference", np.array([1e-3, 1e-5]),
-                                                       "reference")]
+    marks = [Mark("knee", np.array([1e-3, 0.0])), Mark("reference", np.array([1e-3, 1e-5]), "reference")]
     fig = map_figure("e (cold)", "e [J]", lambda x: x[:, 0] * 1e3 + x[:, 1] * 1e4, axes, marks)
     panels = [a for a in fig.axes if a.get_label() != "<colorbar>"]
     assert len(panels) == 1
     ax = panels[0]
     assert ax.get_xlabel() == "width [mm]" and ax.get_ylabel() == "crown offset [µm]"
-    offsets = np.vstack([c.get_offsets() for c in ax.collections
-                         if type(c).__name__ == "PathCollection"])
+    offsets = np.vstack([c.get_offsets() for c in ax.collections if type(c).__name__ == "PathCollection"])
     np.testing.assert_allclose(offsets, [[1.0, 0.0], [1.0, 10.0]])
     plt.close(fig)
 
@@ -89,8 +98,8 @@ def test_near_constant_field_says_so():
 
 
 def test_tension_label_follows_the_decks_unit():
-    assert variable_unit(Case.from_namelist(COLD), "tension") == "N/m"   # calibration.nml
-    assert variable_unit(Case({"ring": {"tension": 10.0}}), "tension") == "N"   # kernel default
+    assert variable_unit(Case.from_namelist(COLD), "tension") == "N/m"  # calibration.nml
+    assert variable_unit(Case({"ring": {"tension": 10.0}}), "tension") == "N"  # kernel default
     assert variable_unit(Case({"ring": {"tension_unit": "N/m"}}), "tension") == "N/m"
     assert display("tension", "N", 8, 26) == ("tension [N]", 1.0)
     assert display("width", "m", 0.54e-3, 1.34e-3) == ("width [mm]", 1e3)
@@ -107,7 +116,7 @@ def test_summary_lines_carry_units(study):
             assert f" {units[name]} (" in line, line
         if line.strip().startswith(("min ", "knee", "reference")):
             assert "mm" in line and "µm" in line and " J" in line and " %" in line, line
-    assert text.splitlines()[2].endswith(" s")     # run time in seconds on the runs line
+    assert text.splitlines()[2].endswith(" s")  # run time in seconds on the runs line
 
 
 def test_pareto_csv_has_units_and_the_front(study):
@@ -115,17 +124,23 @@ def test_pareto_csv_has_units_and_the_front(study):
     with open(out / "pareto_cold.csv") as fh:
         rows = list(csv.reader(fh))
     units = output_units()
-    assert rows[0] == ["width [m]", "crown_offset [m]"] + [f"{o} [{units[o]}] (surrogate)"
-                                                            for o in OUTPUTS]
+    assert rows[0] == ["width [m]", "crown_offset [m]"] + [f"{o} [{units[o]}] (surrogate)" for o in OUTPUTS]
     values = np.array(rows[1:], float)
     front = st.cases["cold"].front
     np.testing.assert_array_equal(values[:, :2], front.x)
-    np.testing.assert_array_equal(values[:, 2:4], front.f)       # energy_loss, mixed_share
+    np.testing.assert_array_equal(values[:, 2:4], front.f)  # energy_loss, mixed_share
 
 
 def test_report_names_chosen_and_reference_designs(study):
     _, out = study
     text = (out / "report.md").read_text()
-    for piece in ("| knee |", "| reference |", "| min energy_loss |", "width [mm]",
-                  "crown offset [µm]", "energy_loss [J]", "![tradeoff](tradeoff.png)"):
+    for piece in (
+        "| knee |",
+        "| reference |",
+        "| min energy_loss |",
+        "width [mm]",
+        "crown offset [µm]",
+        "energy_loss [J]",
+        "![tradeoff](tradeoff.png)",
+    ):
         assert piece in text, piece

@@ -17,8 +17,7 @@ from ringlube.validate import PUBLISHED, trend_sweeps, trend_verdicts
 
 from conftest import INPUTS
 
-DECKS = {"cold": INPUTS / "crf450r_4000rpm_full_cold.nml",
-         "hot": INPUTS / "crf450r_4000rpm_full_hot.nml"}
+DECKS = {"cold": INPUTS / "crf450r_4000rpm_full_cold.nml", "hot": INPUTS / "crf450r_4000rpm_full_hot.nml"}
 
 
 @pytest.fixture(scope="module")
@@ -36,9 +35,11 @@ def test_table2(results, condition):
     r, p = results[condition], PUBLISHED[condition]
     de = (r.energy_loss - p["energy_loss"]) / p["energy_loss"]
     dm = r.mixed_share - p["mixed_share"]
-    print(f"\n{condition}: energy {r.energy_loss:.3f} J vs {p['energy_loss']} ({de:+.1%}), "
-          f"mixed {r.mixed_share:.2f} % vs {p['mixed_share']} ({dm:+.2f} points), "
-          f"ring mass {r.ring_mass:.2f} g (study: 24 g, see docs/validation.md)")
+    print(
+        f"\n{condition}: energy {r.energy_loss:.3f} J vs {p['energy_loss']} ({de:+.1%}), "
+        f"mixed {r.mixed_share:.2f} % vs {p['mixed_share']} ({dm:+.2f} points), "
+        f"ring mass {r.ring_mass:.2f} g (study: 24 g, see docs/validation.md)"
+    )
     assert abs(de) <= 0.10
     assert abs(dm) <= 3.0
 
