@@ -55,7 +55,29 @@ DISCRETE = {
 
 
 def cold_targets(targets: str | os.PathLike | None = None, condition: str = "cold"):
-    """(deck, {quantity: target}) of the calibrated condition in a targets file."""
+    """(deck, {quantity: target}) of the calibrated condition in a targets file.
+
+    Parameters
+    ----------
+    targets : path, optional
+        Targets CSV (default: the shipped Table 2).
+    condition : str
+        The condition fitted.
+
+    Returns
+    -------
+    (Path, dict)
+
+    Raises
+    ------
+    InputError
+        If the condition or one of its two quantities is missing.
+
+    Examples
+    --------
+    >>> cold_targets()[1]
+    {'energy_loss': 1.92, 'mixed_share': 8.47}
+    """
     from .targets import DEFAULT_TARGETS, read_targets
 
     path = Path(targets) if targets else DEFAULT_TARGETS
@@ -71,7 +93,14 @@ def cold_targets(targets: str | os.PathLike | None = None, condition: str = "col
 
 @dataclasses.dataclass
 class Fit:
-    """One fit of the two continuous inputs for one combination of discrete options."""
+    """One fit of the two continuous inputs for one combination of discrete options.
+
+    Examples
+    --------
+    >>> f = Fit({}, 0.04, 1.0, 1.92, 8.47, 1, True, {"energy_loss": 1.92, "mixed_share": 8.47})
+    >>> f.residual
+    0.0
+    """
 
     options: dict
     zeta_kappa_sigma: float
@@ -186,6 +215,17 @@ def calibrate(
         Show a progress bar.
     targets : path, optional
         Targets file (default: the shipped Table 2, ``inputs/targets_table2.csv``).
+
+    Returns
+    -------
+    (Fit, list of Fit)
+        The chosen fit and every fit.
+
+    Examples
+    --------
+    >>> fit, fits = calibrate(progress=False)  # doctest: +SKIP
+    >>> len(fits)  # doctest: +SKIP
+    8
     """
     from tqdm.auto import tqdm
 
@@ -227,7 +267,27 @@ def write_calibration(
     """The one calibration file every shipped deck includes (&calibration file = ...).
 
     It holds the two fitted uncertain inputs only; the chosen discrete options are
-    modelling choices, written in each deck (where a reader sees them) and listed here."""
+    modelling choices, written in each deck (where a reader sees them) and listed here.
+
+    Parameters
+    ----------
+    path : path
+        Written atomically.
+    fit, fits : Fit, list of Fit
+        The chosen fit and every fit.
+    jac, corr : ndarray, float
+        Sensitivity matrix and correlation of the fitted inputs.
+    deck : str
+        The deck fitted (named in the header).
+
+    Returns
+    -------
+    Path
+
+    Examples
+    --------
+    >>> write_calibration("inputs/calibration.nml", fit, fits, jac, corr, deck)  # doctest: +SKIP
+    """
     t = fit.targets
     lines = [
         f"! ringlube calibration: fitted to the COLD case only ({t['energy_loss']} J, {t['mixed_share']} %).",

@@ -380,7 +380,13 @@ def _arg(s: str) -> bytes:
 
 
 class KernelCase(NamedTuple):
-    """A case parsed by the kernel: its handle, crank steps and liner cells of a run."""
+    """A case parsed by the kernel: its handle, crank steps and liner cells of a run.
+
+    Examples
+    --------
+    >>> KernelCase(1, 720, 0).nsteps
+    720
+    """
 
     handle: int
     nsteps: int
@@ -390,6 +396,18 @@ class KernelCase(NamedTuple):
 @contextlib.contextmanager
 def kernel_case(case: Case, load_trace: bool = True) -> Iterator[KernelCase]:
     """Context manager: the case parsed by the kernel (a :class:`KernelCase`).
+
+    Parameters
+    ----------
+    case : Case
+    load_trace : bool
+        Read the gas-pressure file (else only check it exists).
+
+    Examples
+    --------
+    >>> with kernel_case(Case().with_numerics(dpsi_deg=2.0)) as k:
+    ...     k.nsteps
+    360
 
     Raises
     ------

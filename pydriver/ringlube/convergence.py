@@ -39,7 +39,13 @@ from .tables import PRESETS  # noqa: E402
 
 @dataclasses.dataclass(frozen=True)
 class Setting:
-    """One point of the ladder: a label and the changes from the reference."""
+    """One point of the ladder: a label and the changes from the reference.
+
+    Examples
+    --------
+    >>> Setting("nodes", "nodes = 51", {"nodes": 51}).numerics
+    {'nodes': 51}
+    """
 
     kind: str
     label: str
@@ -49,6 +55,14 @@ class Setting:
 
 @dataclasses.dataclass
 class Row:
+    """One measured setting: times, results and errors against the reference.
+
+    Examples
+    --------
+    >>> Row.__dataclass_fields__["err_energy"].type
+    'float'
+    """
+
     setting: Setting
     time_ms: float  # kernel time per run (best of the repeats)
     ms_per_cycle: float  # per cycle of crank steps computed (warm-up included)
@@ -63,7 +77,22 @@ class Row:
 
 
 def ladder(quick: bool = False) -> list[Setting]:
-    """The settings to run, each a change from :data:`REFERENCE`."""
+    """The settings to run, each a change from :data:`REFERENCE`.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter ladders (no 801/1601 nodes, no 0.125 deg).
+
+    Returns
+    -------
+    list of Setting
+
+    Examples
+    --------
+    >>> ladder(quick=True)[0].label
+    'nodes = 25'
+    """
     out: list[Setting] = []
     nodes = (25, 51, 101, 201, 401) if quick else (25, 51, 101, 201, 401, 801, 1601)
     steps = (2.0, 1.0, 0.5, 0.25) if quick else (2.0, 1.0, 0.5, 0.25, 0.125)
@@ -106,7 +135,24 @@ def _case_for(base: Case, s: Setting) -> Case:
 
 
 def measure(case: Case, repeats: int = 3):
-    """Run a case ``repeats`` times (the kernel is deterministic) and keep the best time."""
+    """Run a case ``repeats`` times (the kernel is deterministic) and keep the best time.
+
+    Parameters
+    ----------
+    case : Case
+    repeats : int
+
+    Returns
+    -------
+    CycleResult
+        The run with the shortest kernel time.
+
+    Examples
+    --------
+    >>> from ringlube import Case
+    >>> measure(Case().with_numerics(preset="fast"), 2).converged
+    True
+    """
     best = None
     for _ in range(repeats):
         r = run(case)
@@ -118,7 +164,26 @@ def measure(case: Case, repeats: int = 3):
 def convergence_study(
     deck: str | os.PathLike, quick: bool = False, repeats: int = 3, progress: bool = True
 ) -> tuple[dict, list[Row]]:
-    """Run the ladder on a deck; returns (reference summary, rows)."""
+    """Run the ladder on a deck; returns (reference summary, rows).
+
+    Parameters
+    ----------
+    deck : path
+    quick : bool
+        Shorter ladders.
+    repeats : int
+        Timing repeats per setting (best kept).
+    progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    (dict, list of Row)
+
+    Examples
+    --------
+    >>> ref, rows = convergence_study("inputs/crf450r_4000rpm_full_cold.nml")  # doctest: +SKIP
+    """
     from tqdm.auto import tqdm
 
     base = Case.from_namelist(deck).inline_calibration()

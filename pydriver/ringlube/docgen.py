@@ -11,7 +11,24 @@ from .tables import update_doc
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Rewrite each file's generated sections; prints whether each was current."""
+    """Rewrite each file's generated sections; prints whether each was current.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Markdown files (default: docs/model.md).
+
+    Returns
+    -------
+    int
+        0.
+
+    Examples
+    --------
+    >>> main(["docs/model.md"])  # doctest: +SKIP
+    docs/model.md: current
+    0
+    """
     for doc in (argv if argv is not None else sys.argv[1:]) or ["docs/model.md"]:
         print(f"{doc}: {'current' if update_doc(doc) else 'regenerated'}")
     return 0

@@ -6,24 +6,58 @@ __all__ = ["RinglubeError", "InputError", "NotConvergedError", "error_for"]
 
 
 class RinglubeError(RuntimeError):
-    """An error reported by the kernel; ``code`` is ringlube-solve's exit status."""
+    """An error reported by the kernel; ``code`` is ringlube-solve's exit status.
+
+    Examples
+    --------
+    >>> RinglubeError("disk full").code
+    1
+    """
 
     code = 1
 
 
 class InputError(RinglubeError, ValueError):
-    """Bad input: the message names the file, namelist group and variable."""
+    """Bad input: the message names the file, namelist group and variable.
+
+    Examples
+    --------
+    >>> isinstance(InputError("deck.nml:3: &ring width: ..."), ValueError), InputError.code
+    (True, 2)
+    """
 
     code = 2
 
 
 class NotConvergedError(RinglubeError):
-    """The run did not reach a converged periodic cycle (only raised on request)."""
+    """The run did not reach a converged periodic cycle (only raised on request).
+
+    Examples
+    --------
+    >>> NotConvergedError.code
+    3
+    """
 
     code = 3
 
 
 def error_for(code: int, message: str) -> RinglubeError:
-    """The exception matching a kernel error code."""
+    """The exception matching a kernel error code.
+
+    Parameters
+    ----------
+    code : int
+        2 input, 3 not converged, else runtime.
+    message : str
+
+    Returns
+    -------
+    RinglubeError
+
+    Examples
+    --------
+    >>> type(error_for(2, "bad")).__name__
+    'InputError'
+    """
     cls = {2: InputError, 3: NotConvergedError}.get(code, RinglubeError)
     return cls(message)

@@ -30,7 +30,14 @@ __all__ = ["GasModel", "PRESETS", "trace", "write_csv", "read_csv"]
 
 @dataclasses.dataclass(frozen=True)
 class GasModel:
-    """Parameters of the single-zone model (SI units, angles in degrees)."""
+    """Parameters of the single-zone model (SI units, angles in degrees).
+
+    Examples
+    --------
+    >>> m = GasModel(peak_pressure=50e5)
+    >>> float(m.volume([180.0])[0]) > float(m.volume([0.0])[0])
+    True
+    """
 
     bore: float = 96e-3
     crank_radius: float = 31.5e-3
@@ -93,7 +100,24 @@ def _closed_cycle(m: GasModel, psi: np.ndarray, q_total: float) -> np.ndarray:
 
 
 def trace(m: GasModel, step: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
-    """Crank angle (deg, 0..720 inclusive) and absolute pressure (Pa) of one cycle."""
+    """Crank angle (deg, 0..720 inclusive) and absolute pressure (Pa) of one cycle.
+
+    Parameters
+    ----------
+    m : GasModel
+    step : float
+        Crank-angle step [deg].
+
+    Returns
+    -------
+    (ndarray, ndarray)
+
+    Examples
+    --------
+    >>> psi, p = trace(PRESETS["crf450r_4000rpm_full"])
+    >>> round(float(p.max()) / 1e5, 3), float(psi[-1])
+    (60.0, 720.0)
+    """
     psi = np.arange(0.0, 720.0 + step / 2, step)
     fine = np.linspace(m.ivc, m.evo, int((m.evo - m.ivc) / 0.05) + 1)
 
@@ -120,7 +144,25 @@ def trace(m: GasModel, step: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
 
 
 def write_csv(path: str | Path, psi: np.ndarray, p: np.ndarray, header: str = "") -> None:
-    """Write a trace as the CSV the kernel reads (header line, then ``deg,Pa`` rows)."""
+    """Write a trace as the CSV the kernel reads (header line, then ``deg,Pa`` rows).
+
+    Parameters
+    ----------
+    path : path
+        Written atomically (``path.part``, then renamed).
+    psi, p : ndarray
+        Crank angle [deg] and absolute pressure [Pa].
+    header : str
+        Comment lines.
+
+    Examples
+    --------
+    >>> import numpy as np, tempfile, os
+    >>> f = os.path.join(tempfile.mkdtemp(), "t.csv")
+    >>> write_csv(f, np.array([0.0, 360.0, 720.0]), np.array([1e5, 2e5, 1e5]))
+    >>> read_csv(f)[1].tolist()
+    [100000.0, 200000.0, 100000.0]
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(path.suffix + ".part")
@@ -136,6 +178,21 @@ def write_csv(path: str | Path, psi: np.ndarray, p: np.ndarray, header: str = ""
 
 def read_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     """Read a measured or synthetic trace (``deg,Pa``) with the kernel's own CSV reader.
+
+    Parameters
+    ----------
+    path : path
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        Crank angle [deg] and absolute pressure [Pa].
+
+    Examples
+    --------
+    >>> psi, p = read_csv("inputs/pressure/crf450r_4000rpm_full.csv")
+    >>> float(psi[0]), float(psi[-1])
+    (0.0, 720.0)
 
     Raises
     ------

@@ -29,7 +29,22 @@ _METADATA = {"png": {"Software": None}, "pdf": {"CreationDate": None, "Producer"
 
 
 def save_metadata(fmt: str) -> dict:
-    """savefig metadata without timestamps for the given format."""
+    """savefig metadata without timestamps for the given format.
+
+    Parameters
+    ----------
+    fmt : str
+        'png' or 'pdf' (others: no metadata).
+
+    Returns
+    -------
+    dict
+
+    Examples
+    --------
+    >>> save_metadata("pdf")
+    {'CreationDate': None, 'Producer': None}
+    """
     return _METADATA.get(fmt, {})
 
 
@@ -62,7 +77,24 @@ def _label(r: CycleResult, i: int) -> str:
 
 
 def friction_figure(results: Sequence[CycleResult]) -> plt.Figure:
-    """Friction over the cycle with its viscous and boundary parts (study Figs 3, 5, 11b)."""
+    """Friction over the cycle with its viscous and boundary parts (study Figs 3, 5, 11b).
+
+    Parameters
+    ----------
+    results : sequence of CycleResult
+        Overlaid, in order.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import ringlube
+    >>> r = ringlube.run(ringlube.Case().with_numerics(preset="fast"))
+    >>> len(friction_figure([r]).axes) >= 1
+    True
+    """
     fig, ax = plt.subplots(figsize=(8, 4.2), layout="constrained")
     for i, r in enumerate(results):
         (line,) = ax.plot(
@@ -95,7 +127,24 @@ def friction_figure(results: Sequence[CycleResult]) -> plt.Figure:
 
 
 def film_figure(results: Sequence[CycleResult]) -> plt.Figure:
-    """Minimum film thickness over the cycle with the lambda = 4 threshold (Figs 6, 8, 11a)."""
+    """Minimum film thickness over the cycle with the lambda = 4 threshold (Figs 6, 8, 11a).
+
+    Parameters
+    ----------
+    results : sequence of CycleResult
+        Overlaid, in order.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import ringlube
+    >>> r = ringlube.run(ringlube.Case().with_numerics(preset="fast"))
+    >>> len(film_figure([r]).axes) >= 1
+    True
+    """
     fig, ax = plt.subplots(figsize=(8, 4.2), layout="constrained")
     for i, r in enumerate(results):
         ax.plot(
@@ -123,7 +172,24 @@ def film_figure(results: Sequence[CycleResult]) -> plt.Figure:
 
 
 def supply_figure(results: Sequence[CycleResult]) -> plt.Figure:
-    """Inlet fill and wetted width over the cycle (mass-conserving film, SPEC 13)."""
+    """Inlet fill and wetted width over the cycle (mass-conserving film, SPEC 13).
+
+    Parameters
+    ----------
+    results : sequence of CycleResult
+        Overlaid, in order.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import ringlube
+    >>> r = ringlube.run(ringlube.Case().with_numerics(preset="fast"))
+    >>> len(supply_figure([r]).axes) >= 1
+    True
+    """
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True, layout="constrained")
     for i, r in enumerate(results):
         if "inlet_fill" not in r.series:
@@ -140,7 +206,24 @@ def supply_figure(results: Sequence[CycleResult]) -> plt.Figure:
 
 
 def liner_figure(results: Sequence[CycleResult]) -> plt.Figure:
-    """The oil film on the liner along the stroke at the end of the cycle (starved inlet)."""
+    """The oil film on the liner along the stroke at the end of the cycle (starved inlet).
+
+    Parameters
+    ----------
+    results : sequence of CycleResult
+        Overlaid, in order.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import ringlube
+    >>> r = ringlube.run(ringlube.Case().with_numerics(preset="fast"))
+    >>> len(liner_figure([r]).axes) >= 1
+    True
+    """
     fig, ax = plt.subplots(figsize=(8, 4.2), layout="constrained")
     for i, r in enumerate(results):
         if not r.liner:
@@ -166,7 +249,29 @@ def plot_results(
 ) -> list[Path]:
     """Write the friction and film figures for one or several (overlaid) results, and for
     results of the mass-conserving film the inlet fill and wetted width, and with a starved
-    inlet the liner oil film."""
+    inlet the liner oil film.
+
+    Parameters
+    ----------
+    results : sequence of CycleResult
+    outdir : path
+        Created if missing.
+    formats : sequence of str
+        File formats.
+    stem : str
+        File name stem (default: the labels joined).
+
+    Returns
+    -------
+    list of Path
+
+    Examples
+    --------
+    >>> import ringlube, tempfile
+    >>> r = ringlube.run(ringlube.Case(name="r").with_numerics(preset="fast"))
+    >>> [p.name for p in plot_results([r], tempfile.mkdtemp(), formats=("png",))]
+    ['r_friction.png', 'r_film.png']
+    """
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     stem = stem or ("_vs_".join(r.label for r in results if r.label) or "result")
@@ -187,7 +292,24 @@ def plot_results(
 
 
 def gas_figure(traces: dict[str, tuple[np.ndarray, np.ndarray]]) -> plt.Figure:
-    """In-cylinder gas pressure over the cycle (study Fig 2)."""
+    """In-cylinder gas pressure over the cycle (study Fig 2).
+
+    Parameters
+    ----------
+    traces : dict of str to (ndarray, ndarray)
+        Label -> (crank angle deg, pressure Pa).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> psi = np.linspace(0, 720, 5)
+    >>> gas_figure({"flat": (psi, np.full(5, 1e5))}).axes[0].get_ylabel()
+    'gas pressure [bar abs]'
+    """
     fig, ax = plt.subplots(figsize=(8, 4.2), layout="constrained")
     for label, (psi, p) in traces.items():
         i = int(np.argmax(p))

@@ -155,6 +155,15 @@ def _text(value, strip: bool = True) -> str:
 def load(path: str | os.PathLike) -> CycleResult:
     """Read a result written by ``ringlube-solve`` or :meth:`CycleResult.to_hdf5`.
 
+    Parameters
+    ----------
+    path : path
+        An HDF5 result file.
+
+    Returns
+    -------
+    CycleResult
+
     Raises
     ------
     InputError

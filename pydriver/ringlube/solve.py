@@ -25,6 +25,12 @@ class BatchError(RinglubeError):
         One entry per case: its :class:`CycleResult`, or None where it failed.
     errors : dict of int to RinglubeError
         The error of each failed case, by index.
+
+    Examples
+    --------
+    >>> e = BatchError([1.0, None], {1: RinglubeError("boom")})
+    >>> e.results, list(e.errors)
+    ([1.0, None], [1])
     """
 
     def __init__(self, results: list, errors: dict[int, RinglubeError]):

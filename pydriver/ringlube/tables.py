@@ -52,6 +52,11 @@ class InputSpec:
         Allowed values of a choice.
     description : str
         One line.
+
+    Examples
+    --------
+    >>> INPUTS["numerics", "nodes"].kind, INPUTS["ring", "tension_unit"].choices
+    ('integer', ('N', 'N/m'))
     """
 
     group: str
@@ -77,7 +82,13 @@ class FieldSpec:
     """One result quantity: ``short`` name (Python, studies), ``stored`` name (HDF5),
     ``unit``, ``integer`` (integer-valued), ``long_name`` and ``requires`` ('' always
     produced, 'jfo' only by the mass-conserving film, 'starved' only with a starved inlet) and
-    ``objective`` (a design quantity a study records and may optimise)."""
+    ``objective`` (a design quantity a study records and may optimise).
+
+    Examples
+    --------
+    >>> SERIES["h0"].stored, SCALARS["oil_to_chamber"].requires
+    ('h0_m', 'starved')
+    """
 
     short: str
     stored: str
@@ -89,7 +100,23 @@ class FieldSpec:
 
 
 def table_text(which: str) -> str:
-    """The kernel's table ``which`` as tab-separated text (header line first)."""
+    """The kernel's table ``which`` as tab-separated text (header line first).
+
+    Parameters
+    ----------
+    which : str
+        'inputs', 'presets', 'series', 'int_series', 'scalars', 'flags' or 'liner'.
+
+    Returns
+    -------
+    str
+        '' for an unknown table.
+
+    Examples
+    --------
+    >>> table_text("flags").splitlines()[0].split()
+    ['bit', 'name', 'description']
+    """
     from . import _kernel
 
     text, n = _kernel.rl_table(which)

@@ -33,7 +33,13 @@ def _default() -> Path:
 
 @dataclasses.dataclass
 class Condition:
-    """The targets of one condition: its deck and {quantity: value} in the result's unit."""
+    """The targets of one condition: its deck and {quantity: value} in the result's unit.
+
+    Examples
+    --------
+    >>> read_targets(DEFAULT_TARGETS)["hot"].values["mixed_share"]
+    12.5
+    """
 
     name: str
     deck: Path
@@ -57,6 +63,11 @@ def read_targets(path: str | os.PathLike) -> dict[str, Condition]:
     InputError
         Naming the file and line of a missing column, an unknown quantity, a wrong unit, a
         value that is not a finite number or a condition with two decks.
+
+    Examples
+    --------
+    >>> sorted(read_targets(DEFAULT_TARGETS))
+    ['cold', 'hot']
     """
     path = Path(path)
     if not path.is_file():

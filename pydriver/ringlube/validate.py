@@ -148,6 +148,30 @@ def trend_verdicts(sweeps: dict) -> dict[str, bool]:
 
 
 def validate(root: str | os.PathLike = ".", out: str | os.PathLike = "docs") -> Path:
+    """Regenerate ``OUT/validation.md`` and ``OUT/figures/`` from the shipped decks.
+
+    Parameters
+    ----------
+    root : path
+        Project folder (with ``inputs/``).
+    out : path
+        Output folder.
+
+    Returns
+    -------
+    Path
+        The Markdown file written.
+
+    Raises
+    ------
+    InputError
+        If a shipped deck or the targets file is bad.
+
+    Examples
+    --------
+    >>> validate(".", "docs")  # doctest: +SKIP
+    PosixPath('docs/validation.md')
+    """
     t0 = time.perf_counter()
     root, out = Path(root), Path(out)
     figdir = out / "figures"
