@@ -39,7 +39,7 @@ def test_public_names_are_documented(name):
 
 @pytest.mark.parametrize("name", MODULES)
 def test_docstring_examples_run(name, monkeypatch):
-    monkeypatch.chdir(ROOT)   # examples name the shipped inputs by relative path
+    monkeypatch.chdir(ROOT)  # examples name the shipped inputs by relative path
     mod = importlib.import_module(f"ringlube.{name}")
     result = doctest.testmod(mod, optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
     assert result.failed == 0
