@@ -57,9 +57,30 @@ contains
       if (text(1:3) == achar(239)//achar(187)//achar(191)) pos = 4
     end if
 
-    outer: do
+    ! the deck, group by group: "&group", then "name = value" items up to "/" or "&end"
+    groups: do
       call skip_blank()
-      if (pos > n) exit outer
+      if (pos > n) exit groups
+      call read_group()
+      if (allocated(err)) return
+      items_of_group: do
+        call skip_blank()
+        if (group_closed()) cycle groups
+        if (allocated(err)) return
+        call read_name()
+        if (allocated(err)) return
+        call read_value()
+        if (allocated(err)) return
+        call add(group, name, value, quoted)
+        call check_follower()
+        if (allocated(err)) return
+      end do items_of_group
+    end do groups
+
+  contains
+
+    !> "&group" at pos: the group's name (lower case) and the line it opens on.
+    subroutine read_group()
       if (text(pos:pos) /= '&') then
         ! text outside a group (other than comments) is an error: it is usually a
         ! variable whose group line was lost
@@ -76,142 +97,143 @@ contains
       gline = line
       if (len(group) == 0) then
         call fail('"&" not followed by a group name')
-        return
-      end if
-      if (group == 'end') then
+      else if (group == 'end') then
         call fail('"&end" without an open group')
+      end if
+    end subroutine read_group
+
+    !> Is the group closed at pos ("/" or "&end", consumed)? An end of text or another
+    !> group before that is an error.
+    logical function group_closed()
+      group_closed = .false.
+      if (pos > n) then
+        call fail('&'//group//' (opened on line '//itoa(gline)//') is not closed with "/"')
         return
       end if
-      ! items of the group
-      do
-        call skip_blank()
-        if (pos > n) then
-          call fail('&'//group//' (opened on line '//itoa(gline)// &
-                    ') is not closed with "/"')
-          return
-        end if
-        if (text(pos:pos) == '/') then
-          pos = pos + 1
-          cycle outer
-        end if
-        if (text(pos:pos) == '&') then
-          if (pos + 3 <= n) then
-            if (lower(text(pos:pos + 3)) == '&end') then
-              pos = pos + 4
-              cycle outer
-            end if
+      if (text(pos:pos) == '/') then
+        pos = pos + 1
+        group_closed = .true.
+      else if (text(pos:pos) == '&') then
+        if (pos + 3 <= n) then
+          if (lower(text(pos:pos + 3)) == '&end') then
+            pos = pos + 4
+            group_closed = .true.
+            return
           end if
-          call fail('&'//group//' (opened on line '//itoa(gline)// &
-                    ') is not closed with "/" before the next group')
+        end if
+        call fail('&'//group//' (opened on line '//itoa(gline)// &
+                  ') is not closed with "/" before the next group')
+      end if
+    end function group_closed
+
+    !> "name =" at pos.
+    subroutine read_name()
+      if (.not. is_ident(text(pos:pos))) then
+        call fail('&'//group//': expected a variable name, found "'//snippet()//'"')
+        return
+      end if
+      start = pos
+      do while (pos <= n)
+        if (.not. is_ident(text(pos:pos))) exit
+        pos = pos + 1
+      end do
+      name = lower(text(start:pos - 1))
+      call skip_space()
+      if (pos > n) then
+        call fail('&'//group//' '//name//': expected "=" after the name')
+      else if (text(pos:pos) /= '=') then
+        call fail('&'//group//' '//name//': expected "=" after the name, found "' &
+                  //snippet()//'"')
+      else
+        pos = pos + 1
+        call skip_space()
+      end if
+    end subroutine read_name
+
+    !> The value at pos: a quoted string (doubled quotes escape) or a run of characters up
+    !> to a separator.
+    subroutine read_value()
+      quoted = .false.
+      if (pos <= n) quoted = text(pos:pos) == "'" .or. text(pos:pos) == '"'
+      if (quoted) then
+        call read_quoted()
+        return
+      end if
+      start = pos
+      do while (pos <= n)
+        if (is_sep(text(pos:pos))) exit
+        pos = pos + 1
+      end do
+      value = text(start:pos - 1)
+      if (len(value) == 0) call fail('&'//group//' '//name//': missing value')
+    end subroutine read_value
+
+    subroutine read_quoted()
+      q = text(pos:pos)
+      pos = pos + 1
+      value = ''
+      do
+        ! the run of characters up to the next quote or the end of the line, at once
+        ! (one character at a time costs quadratic time on long strings)
+        start = pos
+        do while (pos <= n)
+          if (text(pos:pos) == q .or. text(pos:pos) == new_line('a')) exit
+          pos = pos + 1
+        end do
+        if (pos > start) value = value//text(start:pos - 1)
+        if (pos > n) then
+          call fail('&'//group//' '//name//': unterminated string')
           return
         end if
-        if (.not. is_ident(text(pos:pos))) then
-          call fail('&'//group//': expected a variable name, found "'//snippet()//'"')
+        if (text(pos:pos) == new_line('a')) then
+          call fail('&'//group//' '//name//': unterminated string')
           return
         end if
+        ! a quote: doubled, it stands for itself; else it ends the string
+        if (pos < n) then
+          if (text(pos + 1:pos + 1) == q) then
+            value = value//q
+            pos = pos + 2
+            cycle
+          end if
+        end if
+        pos = pos + 1
+        exit
+      end do
+    end subroutine read_quoted
+
+    !> After a value: an optional comma, then a name followed by "=", "/" or "&end"
+    !> (anything else is a second value, which is an error).
+    subroutine check_follower()
+      call skip_space()
+      if (pos <= n) then
+        if (text(pos:pos) == ',') pos = pos + 1
+      end if
+      call skip_blank()
+      if (pos > n) return
+      if (is_ident(text(pos:pos))) then
         start = pos
         do while (pos <= n)
           if (.not. is_ident(text(pos:pos))) exit
           pos = pos + 1
         end do
-        name = lower(text(start:pos - 1))
         call skip_space()
         if (pos > n) then
-          call fail('&'//group//' '//name//': expected "=" after the name')
+          call fail('&'//group//' '//name//': malformed value "'//value//' ' &
+                    //token(start)//'" (one value per variable)')
           return
         end if
         if (text(pos:pos) /= '=') then
-          call fail('&'//group//' '//name//': expected "=" after the name, found "' &
-                    //snippet()//'"')
+          call fail('&'//group//' '//name//': malformed value "'//value//' ' &
+                    //token(start)//'" (one value per variable)')
           return
         end if
-        pos = pos + 1
-        call skip_space()
-        quoted = .false.
-        if (pos <= n) then
-          if (text(pos:pos) == "'" .or. text(pos:pos) == '"') then
-            q = text(pos:pos)
-            quoted = .true.
-            pos = pos + 1
-            value = ''
-            do
-              ! the run of characters up to the next quote or the end of the line, at once
-              ! (one character at a time costs quadratic time on long strings)
-              start = pos
-              do while (pos <= n)
-                if (text(pos:pos) == q .or. text(pos:pos) == new_line('a')) exit
-                pos = pos + 1
-              end do
-              if (pos > start) value = value//text(start:pos - 1)
-              if (pos > n) then
-                call fail('&'//group//' '//name//': unterminated string')
-                return
-              end if
-              if (text(pos:pos) == new_line('a')) then
-                call fail('&'//group//' '//name//': unterminated string')
-                return
-              end if
-              ! a quote: doubled, it stands for itself; else it ends the string
-              if (pos < n) then
-                if (text(pos + 1:pos + 1) == q) then
-                  value = value//q
-                  pos = pos + 2
-                  cycle
-                end if
-              end if
-              pos = pos + 1
-              exit
-            end do
-          end if
-        end if
-        if (.not. quoted) then
-          start = pos
-          do while (pos <= n)
-            if (is_sep(text(pos:pos))) exit
-            pos = pos + 1
-          end do
-          value = text(start:pos - 1)
-          if (len(value) == 0) then
-            call fail('&'//group//' '//name//': missing value')
-            return
-          end if
-        end if
-        call add(group, name, value, quoted)
-        ! the value must be followed by a separator, then a name, "/" or "&end"
-        call skip_space()
-        if (pos <= n) then
-          if (text(pos:pos) == ',') pos = pos + 1
-        end if
-        call skip_blank()
-        if (pos <= n) then
-          if (is_ident(text(pos:pos))) then
-            start = pos
-            do while (pos <= n)
-              if (.not. is_ident(text(pos:pos))) exit
-              pos = pos + 1
-            end do
-            call skip_space()
-            if (pos > n) then
-              call fail('&'//group//' '//name//': malformed value "'//value//' ' &
-                        //token(start)//'" (one value per variable)')
-              return
-            end if
-            if (text(pos:pos) /= '=') then
-              call fail('&'//group//' '//name//': malformed value "'//value//' ' &
-                        //token(start)//'" (one value per variable)')
-              return
-            end if
-            pos = start
-          else if (text(pos:pos) /= '/' .and. text(pos:pos) /= '&') then
-            call fail('&'//group//' '//name//': malformed value "'//value// &
-                      snippet()//'"')
-            return
-          end if
-        end if
-      end do
-    end do outer
-
-  contains
+        pos = start
+      else if (text(pos:pos) /= '/' .and. text(pos:pos) /= '&') then
+        call fail('&'//group//' '//name//': malformed value "'//value// &
+                  snippet()//'"')
+      end if
+    end subroutine check_follower
 
     pure logical function is_ident(ch)
       character(len=1), intent(in) :: ch
