@@ -115,8 +115,9 @@ contains
     type(case_type), intent(in) :: c
     type(film_type), intent(inout) :: f
     real(dp), intent(in) :: h0, sq, u, p_chamber, w_tol
-    real(dp) :: pl, pr, diff, tot, dvisc
-    integer :: it, iters, info, n, i
+    real(dp) :: pl, pr
+    integer :: it, iters, info, n
+    logical :: settled
 
     n = f%n
     f%h0 = h0
@@ -166,35 +167,11 @@ contains
         exit
       end if
       if (.not. c%roelands) exit
-      ! the viscosity of the new pressure (once per node and iteration; only where the
-      ! pressure changed, e.g. not in a cavitated zone held at p_cav), kept for the next
-      ! iteration or the next trial
-      dvisc = 0.0_dp
-      do i = 1, n
-        if (f%p(i) /= f%pold(i)) then
-          f%eta_new(i) = roelands_eta(f%law, min(max(f%p(i), 0.0_dp), roelands_p_max))
-          dvisc = max(dvisc, abs(f%eta_new(i) - f%eta(i)) / f%eta(i))
-          f%eta(i) = f%eta_new(i)
-        end if
-      end do
-      f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
-      if (dvisc * abs(f%wh) <= 0.1_dp * w_tol) exit
-      diff = sum(abs(f%p - f%pold))
-      tot = sum(abs(f%p))
-      if (diff <= c%pressure_tol * tot) exit
-      if (it == c%max_pressure_iterations) f%flags = ior(f%flags, flag_viscosity)
+      call update_viscosity(c, f, w_tol, it, settled)
+      if (settled) exit
     end do
 
-    if (c%roelands .and. maxval(f%p) > roelands_p_max) f%flags = ior(f%flags, flag_piezo)
-    f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
-    if (c%asperity_contact) then
-      call asperity_contact(f%h, h0, f%dx, c%width, f%circ, f%sigma, c%zeta_kappa_sigma, &
-             c%sigma_over_kappa, f%e_reduced, c%gt_functions == 'fit', c%contact_area == 'lumped', &
-                            f%wa, f%aa)
-    else
-      f%wa = 0.0_dp
-      f%aa = 0.0_dp
-    end if
+    call film_loads(c, f)
   end subroutine film_evaluate
 
   !> The mass-conserving film at the trial h0 in f%h (SPEC 13): the JFO solve of
@@ -211,8 +188,9 @@ contains
     type(case_type), intent(in) :: c
     type(film_type), intent(inout) :: f
     real(dp), intent(in) :: u, p_chamber, w_tol
-    real(dp) :: pl, pr, tl, tr, dvisc, diff, tot, v_in, h_le, p_save(f%n), th_save(f%n)
-    integer :: it, iters, outer, info, n, i, pass
+    real(dp) :: pl, pr, tl, tr, v_in, h_le, p_save(f%n), th_save(f%n)
+    integer :: it, iters, outer, info, n, pass
+    logical :: settled
     logical :: trailing_gas
 
     n = f%n
@@ -257,20 +235,8 @@ contains
         f%reynolds_solves = f%reynolds_solves + iters
         if (info /= JFO_OK) f%flags = ior(f%flags, flag_cavitation)
         if (.not. c%roelands) exit
-        dvisc = 0.0_dp
-        do i = 1, n
-          if (f%p(i) /= f%pold(i)) then
-            f%eta_new(i) = roelands_eta(f%law, min(max(f%p(i), 0.0_dp), roelands_p_max))
-            dvisc = max(dvisc, abs(f%eta_new(i) - f%eta(i)) / f%eta(i))
-            f%eta(i) = f%eta_new(i)
-          end if
-        end do
-        f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
-        if (dvisc * abs(f%wh) <= 0.1_dp * w_tol) exit
-        diff = sum(abs(f%p - f%pold))
-        tot = sum(abs(f%p))
-        if (diff <= c%pressure_tol * tot) exit
-        if (it == c%max_pressure_iterations) f%flags = ior(f%flags, flag_viscosity)
+        call update_viscosity(c, f, w_tol, it, settled)
+        if (settled) exit
       end do
       if (.not. f%starved) exit
       ! oil entering through the leading edge over the step must be oil that is there
@@ -289,17 +255,54 @@ contains
       f%theta = th_save
     end do
 
+    call film_loads(c, f)
+  end subroutine jfo_evaluate
+
+  !> One step of the pressure-viscosity loop of either film model, after a solve: the
+  !> viscosity of the new pressure (once per node and iteration; only where the pressure
+  !> changed, e.g. not in a cavity held at its pressure), kept for the next iteration or the
+  !> next trial. `done` when the loop may stop (see film_evaluate); flags a loop that reaches
+  !> max_pressure_iterations.
+  pure subroutine update_viscosity(c, f, w_tol, it, done)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(inout) :: f
+    real(dp), intent(in) :: w_tol
+    integer, intent(in) :: it
+    logical, intent(out) :: done
+    real(dp) :: dvisc
+    integer :: i, n
+    n = f%n
+    dvisc = 0.0_dp
+    do i = 1, n
+      if (f%p(i) /= f%pold(i)) then
+        f%eta_new(i) = roelands_eta(f%law, min(max(f%p(i), 0.0_dp), roelands_p_max))
+        dvisc = max(dvisc, abs(f%eta_new(i) - f%eta(i)) / f%eta(i))
+        f%eta(i) = f%eta_new(i)
+      end if
+    end do
+    f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
+    done = dvisc * abs(f%wh) <= 0.1_dp * w_tol
+    if (.not. done) done = sum(abs(f%p - f%pold)) <= c%pressure_tol * sum(abs(f%p))
+    if (.not. done .and. it == c%max_pressure_iterations) f%flags = ior(f%flags, flag_viscosity)
+  end subroutine update_viscosity
+
+  !> The loads of a solved film: W_h (trapezoidal rule) and the asperity load and area.
+  pure subroutine film_loads(c, f)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(inout) :: f
+    integer :: n
+    n = f%n
     if (c%roelands .and. maxval(f%p) > roelands_p_max) f%flags = ior(f%flags, flag_piezo)
     f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
     if (c%asperity_contact) then
       call asperity_contact(f%h, f%h0, f%dx, c%width, f%circ, f%sigma, c%zeta_kappa_sigma, &
-             c%sigma_over_kappa, f%e_reduced, c%gt_functions == 'fit', c%contact_area == 'lumped', &
-                            f%wa, f%aa)
+                            c%sigma_over_kappa, f%e_reduced, c%gt_functions == 'fit', &
+                            c%contact_area == 'lumped', f%wa, f%aa)
     else
       f%wa = 0.0_dp
       f%aa = 0.0_dp
     end if
-  end subroutine jfo_evaluate
+  end subroutine film_loads
 
   !> Viscous and boundary friction on the ring [N], positive towards the crankcase.
   !>
