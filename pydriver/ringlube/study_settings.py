@@ -312,8 +312,8 @@ class StudySettings:
     seed: int = 1
     scene: bool = False
     folds: int = 5
-    direct_population: int = 40
-    direct_generations: int = 25
+    direct_population: int = 200   # the study's own NSGA-II size (affordable since issue 11)
+    direct_generations: int = 200
     batch: int = 16
     reference: list[float] | None = None
     deck_text: str = ""
