@@ -100,7 +100,8 @@ module ringlube_results
       '', .true.), &
    field_spec('max_friction', 'max_friction_N', 'N', .false., 'largest |friction| over the cycle', &
       '', .true.), &
-    field_spec('converged', 'converged', '1', .true., '1: periodic within cycle_tol, no flagged step'), &
+    field_spec('converged', 'converged', '1', .true., &
+      '1: periodic within cycle_tol, no flagged step but lift-off (flag 2)'), &
     field_spec('cycles_run', 'cycles_run', '1', .true., 'cycles run (the last is reported)'), &
     field_spec('cycle_change', 'cycle_change', '1', .false., &
       'relative change of h0 at psi = 0 over the last cycle'), &

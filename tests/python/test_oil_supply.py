@@ -117,7 +117,7 @@ def test_design_corners_with_the_new_film_models(cold, physics):
         assert np.isfinite(r.friction).all() and np.isfinite(r.energy_loss)
         unflagged = r.flags == 0
         assert (np.abs(r.load_residual[unflagged]) <= 3e-3 * (1 + 1e-9)).all()
-        if (~unflagged).any():
+        if ((r.flags & ~2) != 0).any():   # flag 2 (lift-off at h0_ceiling) is an answer
             assert not r.converged
 
 
