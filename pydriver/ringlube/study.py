@@ -23,7 +23,7 @@ import numpy as np
 from .case import Case
 from .errors import InputError, RinglubeError
 from .executor import Executor, require
-from .study_settings import OUTPUTS, StudySettings, read_study
+from .study_settings import StudySettings, read_study
 from .study_store import CaseState, Checked, Direct, Front, Runs, Study, Surface
 
 __all__ = [
@@ -147,13 +147,13 @@ def run_samples(study: Study, ex: Executor, progress: bool = True, stop_after: i
     s = study.s
     for label in s.labels:
         if label not in study.cases:
-            study.cases[label] = CaseState(Runs.empty(s.samples))
+            study.cases[label] = CaseState(Runs.empty(s.samples, len(s.outputs)))
     tasks, where = [], []
     for label, base in zip(s.labels, _bases(s)):
         todo = np.flatnonzero(~study.cases[label].runs.done)
         for chunk in np.array_split(todo, max(1, int(np.ceil(len(todo) / s.batch)))):
             if len(chunk):
-                tasks.append((base, s.groups_names, study.x[chunk], list(OUTPUTS)))
+                tasks.append((base, s.groups_names, study.x[chunk], list(s.outputs)))
                 where.append((label, chunk))
     total = sum(len(c) for _, c in where)
     if total == 0:
@@ -248,7 +248,7 @@ def fit_surfaces(study: Study) -> None:
                 "surface (see the errors in the study file)"
             )
         x = study.x[ok]
-        for j, o in enumerate(OUTPUTS):
+        for j, o in enumerate(s.outputs):
             y = c.runs.outputs[ok, j]
             surf = fit_quadratic(x, y, s.lower, s.upper)
             rmse, rel = cross_validate(x, y, s.lower, s.upper, k=s.folds, seed=s.seed)
@@ -286,7 +286,7 @@ def surfaces_of(study: Study, label: str, names: list[str] | None = None) -> lis
 
 
 def _predict_all(study: Study, label: str, x: np.ndarray) -> np.ndarray:
-    return np.column_stack([f(x) for f in surfaces_of(study, label, list(OUTPUTS))])
+    return np.column_stack([f(x) for f in surfaces_of(study, label, list(study.s.outputs))])
 
 
 def ga_repeat(
@@ -491,7 +491,7 @@ def check_designs(study: Study, ex: Executor) -> None:
     tasks, where = [], []
     for j, (label, _, _, xs) in enumerate(jobs):
         for base_label in [label] if label in bases else s.labels:
-            tasks.append((bases[base_label], s.groups_names, xs, list(OUTPUTS)))
+            tasks.append((bases[base_label], s.groups_names, xs, list(s.outputs)))
             where.append((j, base_label))
     results: dict[tuple[int, str], tuple] = {}
     ex.map(_run_designs, tasks, lambda i, res: results.__setitem__(where[i], res))

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .study_settings import OUTPUTS, display, output_units
+from .study_settings import display, output_units
 from .study_store import Checked, Study
 
 __all__ = ["summary", "write_report", "write_pareto_csv", "format_design", "study_figures", "write_outputs"]
@@ -108,7 +108,7 @@ def summary(study: Study) -> str:
             if ch is None:
                 continue
             for n, x, ft, err, e in zip(ch.names, ch.x, ch.f_true, ch.rel_error, ch.errors):
-                cols = [OUTPUTS.index(o) for o in s.objectives]
+                cols = [study.s.outputs.index(o) for o in s.objectives]
                 if e:
                     lines.append(f"  {n:18s} {format_design(study, x)} -> failed: {e}")
                     continue
@@ -138,7 +138,7 @@ def _predict(study: Study, label: str, x: np.ndarray) -> np.ndarray:
     return np.column_stack(
         [
             QuadraticSurface(np.array(s.lower), np.array(s.upper), np.asarray(c.surfaces[o].coef))(x)
-            for o in OUTPUTS
+            for o in study.s.outputs
         ]
     )
 
@@ -169,13 +169,13 @@ def write_pareto_csv(study: Study, out: str | os.PathLike) -> list[Path]:
             continue
         pred = _predict(study, label, c.front.x)
         for j, o in enumerate(s.objectives):  # the GA's own values of its objectives
-            pred[:, OUTPUTS.index(o)] = c.front.f[:, j]
+            pred[:, study.s.outputs.index(o)] = c.front.f[:, j]
         path = Path(out) / f"pareto_{label}.csv"
         with open(path, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(
                 [f"{v} [{u}]" if u else v for v, u in zip(s.variables, s.units)]
-                + [f"{o} [{units[o]}] (surrogate)" for o in OUTPUTS]
+                + [f"{o} [{units[o]}] (surrogate)" for o in study.s.outputs]
             )
             for x, y in zip(c.front.x, pred):
                 w.writerow([repr(float(v)) for v in (*x, *y)])
@@ -191,15 +191,15 @@ def _design_table(study: Study, ch: Checked) -> list[str]:
         "| design | "
         + " | ".join(heads)
         + " | "
-        + " | ".join(f"{o} [{units[o]}]" for o in OUTPUTS)
+        + " | ".join(f"{o} [{units[o]}]" for o in study.s.outputs)
         + " | surrogate error |",
-        "|" + "---|" * (2 + len(heads) + len(OUTPUTS)),
+        "|" + "---|" * (2 + len(heads) + len(study.s.outputs)),
     ]
-    cols = [OUTPUTS.index(o) for o in s.objectives]
+    cols = [study.s.outputs.index(o) for o in s.objectives]
     for n, x, ft, err, e in zip(ch.names, ch.x, ch.f_true, ch.rel_error, ch.errors):
         xs = " | ".join(f"{xi * k:.4g}" for xi, k in zip(x, scales))
         if e:
-            rows.append(f"| {n} | {xs} | " + " | ".join("failed" for _ in OUTPUTS) + f" | {e} |")
+            rows.append(f"| {n} | {xs} | " + " | ".join("failed" for _ in study.s.outputs) + f" | {e} |")
             continue
         rows.append(
             f"| {n} | {xs} | "
@@ -423,7 +423,13 @@ def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
             f = QuadraticSurface(np.array(s.lower), np.array(s.upper), np.asarray(sf.coef))
             panels.append(
                 sp.FitPanel(
-                    o, units[o], c.runs.outputs[ok, OUTPUTS.index(o)], f(x), sf.r2, sf.r2_adj, sf.cv_rel
+                    o,
+                    units[o],
+                    c.runs.outputs[ok, study.s.outputs.index(o)],
+                    f(x),
+                    sf.r2,
+                    sf.r2_adj,
+                    sf.cv_rel,
                 )
             )
         files += sp.save(sp.fit_figure(label, panels, s.folds), out, f"fit_{label}")
@@ -439,7 +445,7 @@ def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
                 sp.map_figure(f"{o} ({label})", f"{o} [{units[o]}]", f, axes, marks), out, f"map_{label}_{o}"
             )
     series = []
-    ie, im = OUTPUTS.index("energy_loss"), OUTPUTS.index("mixed_share")
+    ie, im = study.s.outputs.index("energy_loss"), study.s.outputs.index("mixed_share")
     for label, c in study.cases.items():
         if c.front is None:
             continue

@@ -103,6 +103,23 @@ def _is_unknown_variable(group: str, name: str) -> bool:
     return (group, name) not in INPUTS
 
 
+def _model_units() -> dict[str, str]:
+    """Every design quantity a study may record, with its unit: the objective results of the
+    kernel's table, including those only some film models produce (``oil_to_chamber``)."""
+    from .tables import SCALARS
+
+    return {k: v.unit for k, v in SCALARS.items() if v.objective}
+
+
+def _produces(case: Case, requires: str) -> bool:
+    """Does a run of ``case`` produce results that need ``requires`` ('jfo', 'starved')?"""
+    if requires == "jfo":
+        return case.value("physics", "cavitation") == "jfo"
+    if requires == "starved":
+        return case.value("physics", "inlet") == "starved"
+    return True
+
+
 def output_units() -> dict[str, str]:
     """Scalar results a study records for every design, with their units.
 
@@ -116,7 +133,7 @@ def output_units() -> dict[str, str]:
     >>> output_units()["energy_loss"]
     'J'
     """
-    return dict(_output_units())
+    return dict(_model_units())
 
 
 #: Names of the scalar results a study records for every design (in this order).
@@ -312,9 +329,12 @@ class StudySettings:
     seed: int = 1
     scene: bool = False
     folds: int = 5
-    direct_population: int = 200   # the study's own NSGA-II size (affordable since issue 11)
+    direct_population: int = 200  # the study's own NSGA-II size (affordable since issue 11)
     direct_generations: int = 200
     batch: int = 16
+    #: results recorded for every design: :data:`OUTPUTS` plus the objectives only some
+    #: film models produce (e.g. ``oil_to_chamber`` with a starved inlet)
+    outputs: list[str] = dataclasses.field(default_factory=lambda: list(OUTPUTS))
     reference: list[float] | None = None
     deck_text: str = ""
     source: str = ""
@@ -568,6 +588,16 @@ def read_study(path: str | os.PathLike) -> StudySettings:
             f"{len(variables)} variables with {st.folds}-fold cross-validation",
         )
     st.inputs, st.units = _check_cases(chk, st, pairs)
+    from .tables import SCALARS
+
+    for o in objectives:
+        req = SCALARS[o].requires if o in SCALARS else ""
+        if req and o not in st.outputs:
+            need = {"jfo": "cavitation = 'jfo'", "starved": "inlet = 'starved'"}[req]
+            for deck in cases:
+                if not _produces(Case.from_namelist(deck), req):
+                    chk.bad("objectives", f"'{o}' needs &physics {need} in every base deck ({deck} has not)")
+            st.outputs.append(o)
     return st
 
 

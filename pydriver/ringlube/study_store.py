@@ -70,13 +70,15 @@ class Runs:
     wall_s: float = 0.0
 
     @classmethod
-    def empty(cls, n: int) -> Runs:
+    def empty(cls, n: int, k: int = len(OUTPUTS)) -> Runs:
         """Runs of ``n`` samples, none done.
 
         Parameters
         ----------
         n : int
             Number of samples.
+        k : int
+            Number of results recorded per sample (the study's outputs).
 
         Returns
         -------
@@ -88,7 +90,7 @@ class Runs:
         2
         """
         return cls(
-            np.full((n, len(OUTPUTS)), np.nan),
+            np.full((n, k), np.nan),
             np.zeros(n, bool),
             np.zeros(n, bool),
             np.zeros(n, bool),
@@ -339,7 +341,7 @@ class Study:
         >>> study.objective_columns()                         # doctest: +SKIP
         [0, 1, 2]
         """
-        return [OUTPUTS.index(o) for o in self.s.objectives]
+        return [self.s.outputs.index(o) for o in self.s.objectives]
 
     # --- locking -----------------------------------------------------------------------
     def lock(self) -> None:
@@ -554,10 +556,10 @@ def _strings(d: h5py.Dataset) -> list[str]:
 
 def _write_case(g: h5py.Group, c: CaseState, s: StudySettings) -> None:
     units = output_units()
-    out_units = [units[o] for o in OUTPUTS]
+    out_units = [units[o] for o in s.outputs]
     obj_units = [units[o] for o in s.objectives]
     r = g.create_group("runs")
-    _put(r, "outputs", c.runs.outputs, list(OUTPUTS), out_units)
+    _put(r, "outputs", c.runs.outputs, list(s.outputs), out_units)
     for k in ("done", "converged", "failed"):
         r.create_dataset(k, data=getattr(c.runs, k))
     _put_strings(r, "errors", c.runs.errors)
@@ -589,9 +591,9 @@ def _write_case(g: h5py.Group, c: CaseState, s: StudySettings) -> None:
             cg = g.create_group(key)
             _put_strings(cg, "names", ch.names)
             _put(cg, "x", ch.x, s.variables, s.units)
-            _put(cg, "f_true", ch.f_true, list(OUTPUTS), out_units)
-            _put(cg, "f_surrogate", ch.f_surrogate, list(OUTPUTS), out_units)
-            _put(cg, "rel_error", ch.rel_error, list(OUTPUTS), ["1"] * len(OUTPUTS))
+            _put(cg, "f_true", ch.f_true, list(s.outputs), out_units)
+            _put(cg, "f_surrogate", ch.f_surrogate, list(s.outputs), out_units)
+            _put(cg, "rel_error", ch.rel_error, list(s.outputs), ["1"] * len(s.outputs))
             cg.create_dataset("converged", data=ch.converged)
             _put_strings(cg, "errors", ch.errors)
     if c.direct is not None:
@@ -614,7 +616,7 @@ def _read_case(g: h5py.Group, s: StudySettings) -> CaseState:
         _strings(r["errors"]),
         float(r.attrs["wall_s"]),
     )
-    if runs.outputs.shape != (n, len(OUTPUTS)) or runs.done.shape != (n,):
+    if runs.outputs.shape != (n, len(s.outputs)) or runs.done.shape != (n,):
         raise ValueError(f"{g.name}/runs has the wrong shape")
     c = CaseState(runs)
     for o, sg in g.get("surface", {}).items():

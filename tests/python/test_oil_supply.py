@@ -117,7 +117,7 @@ def test_design_corners_with_the_new_film_models(cold, physics):
         assert np.isfinite(r.friction).all() and np.isfinite(r.energy_loss)
         unflagged = r.flags == 0
         assert (np.abs(r.load_residual[unflagged]) <= 3e-3 * (1 + 1e-9)).all()
-        if ((r.flags & ~2) != 0).any():   # flag 2 (lift-off at h0_ceiling) is an answer
+        if ((r.flags & ~2) != 0).any():  # flag 2 (lift-off at h0_ceiling) is an answer
             assert not r.converged
 
 
@@ -131,3 +131,35 @@ def test_liner_and_supply_figures(cold, tmp_path):
     np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), r.liner["liner_oil_film"] * 1e6)
     fig = supply_figure([r])
     np.testing.assert_array_equal(fig.axes[0].lines[0].get_ydata(), r.inlet_fill)
+
+
+def test_study_trades_friction_against_oil_transport(tmp_path, cold):
+    """oil_to_chamber as a study objective (issue 9): recorded for every design of a starved
+    base deck, fitted and optimised; refused, naming the deck, where a base deck does not
+    produce it."""
+    from ringlube.study import run_study
+    from ringlube.study_settings import read_study
+
+    deck = tmp_path / "starved.nml"
+    cold.with_physics(cavitation="jfo", inlet="starved").with_numerics(**FAST).to_namelist(deck)
+    study = tmp_path / "oil.nml"
+    study.write_text(
+        "&study\n  name = 'oil'\n"
+        f"  cases = '{deck}'\n  labels = 'cold'\n"
+        "  variables = 'width', 'crown_offset'\n"
+        "  objectives = 'energy_loss', 'oil_to_chamber'\n"
+        "  samples = 24, sampler = 'sobol', seed = 3\n"
+        "  population = 16, generations = 6, repeats = 2\n/\n")
+    st = run_study(study, tmp_path / "out", serial=True, progress=False, figures=False)
+    assert "oil_to_chamber" in st.s.outputs
+    j = st.s.outputs.index("oil_to_chamber")
+    oil = st.cases["cold"].runs.outputs[:, j]
+    assert np.isfinite(oil).all() and (oil > 0).all()
+    assert "oil_to_chamber" in st.cases["cold"].surfaces
+    assert st.cases["cold"].front.f.shape[1] == 2
+    flooded = tmp_path / "flooded.nml"
+    study.write_text(study.read_text().replace(str(deck), str(COLD)))
+    with pytest.raises(ringlube.InputError, match=r"&study objectives: 'oil_to_chamber' needs "
+                                                  r"&physics inlet = 'starved'"):
+        read_study(study)
+    assert not flooded.exists()

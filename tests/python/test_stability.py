@@ -47,7 +47,7 @@ def _check(result: ringlube.CycleResult, what: str) -> None:
     assert (np.abs(result.load_residual[unflagged]) <= load_tol * (1 + 1e-9)).all(), (
         f"{what}: load outside load_tol at an unflagged step"
     )
-    failed = (result.flags & ~2) != 0   # flag 2 (lift-off at h0_ceiling) is an answer
+    failed = (result.flags & ~2) != 0  # flag 2 (lift-off at h0_ceiling) is an answer
     if failed.any():
         assert not result.converged, f"{what}: flagged steps but converged = True"
 
