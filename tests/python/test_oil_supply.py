@@ -149,7 +149,8 @@ def test_study_trades_friction_against_oil_transport(tmp_path, cold):
         "  variables = 'width', 'crown_offset'\n"
         "  objectives = 'energy_loss', 'oil_to_chamber'\n"
         "  samples = 24, sampler = 'sobol', seed = 3\n"
-        "  population = 16, generations = 6, repeats = 2\n/\n")
+        "  population = 16, generations = 6, repeats = 2\n/\n"
+    )
     st = run_study(study, tmp_path / "out", serial=True, progress=False, figures=False)
     assert "oil_to_chamber" in st.s.outputs
     j = st.s.outputs.index("oil_to_chamber")
@@ -159,7 +160,10 @@ def test_study_trades_friction_against_oil_transport(tmp_path, cold):
     assert st.cases["cold"].front.f.shape[1] == 2
     flooded = tmp_path / "flooded.nml"
     study.write_text(study.read_text().replace(str(deck), str(COLD)))
-    with pytest.raises(ringlube.InputError, match=r"&study objectives: 'oil_to_chamber' needs "
-                                                  r"&physics inlet = 'starved'"):
+    with pytest.raises(
+        ringlube.InputError,
+        match=r"&study objectives: 'oil_to_chamber' needs "
+        r"&physics inlet = 'starved'",
+    ):
         read_study(study)
     assert not flooded.exists()
