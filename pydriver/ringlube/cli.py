@@ -175,6 +175,12 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_readings(args: argparse.Namespace) -> int:
+    from .readings import main as readings_main
+
+    return readings_main(["--out", args.out, "--points", str(args.points)])
+
+
 def _cmd_optimise(args: argparse.Namespace) -> int:
     import signal
 
@@ -271,6 +277,15 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--root", default=".", help="project folder (with inputs/)")
     p.add_argument("--out", default="docs", help="output folder")
     p.set_defaults(func=_cmd_validate)
+    p = sub.add_parser(
+        "readings",
+        help="calibrate every reading of the open modelling choices (cold only)",
+        description="Fit every reading (film model x contact area x tension unit) to the cold "
+        "Table 2 case and the published trends; write docs/readings.md.",
+    )
+    p.add_argument("--out", default="docs/readings.md", help="Markdown file written")
+    p.add_argument("--points", type=int, default=3, help="grid points per fitted input")
+    p.set_defaults(func=_cmd_readings)
     p = sub.add_parser(
         "optimise",
         help="DOE, quadratic surfaces and NSGA-II from a &study deck",
