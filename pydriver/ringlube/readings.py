@@ -213,6 +213,28 @@ def write_readings(rows: list[dict], out: str | os.PathLike, command: str, secon
             + ", ".join("yes" if v[n] else "no" for n, _, _ in TRENDS)
             + f" | {r['score']:.3f} |"
         )
+    ok = [r for r in rows if hasattr(r["cold"], "energy_loss")]
+    all4 = [r for r in ok if all(r["verdicts"].values())]
+    t2 = [
+        r
+        for r in ok
+        if abs(r["cold"].energy_loss / pub["cold"]["energy_loss"] - 1) <= 0.05
+        and abs(r["cold"].mixed_share - pub["cold"]["mixed_share"]) <= 1.5
+    ]
+    on_bounds = [
+        r
+        for r in ok
+        if r["inputs"][0] in BOUNDS["zeta_kappa_sigma"] or r["inputs"][1] in BOUNDS["pressure_scale"]
+    ]
+    if ok:
+        best = min(ok, key=lambda r: r["score"])
+        md += [
+            "",
+            f"Readings with all four published trends: {len(all4)} of {len(ok)}; with the cold "
+            f"Table 2 pair within 5 % energy and 1.5 points mixed share: {len(t2)}; fitted with an "
+            f"input on its bound: {len(on_bounds)}. Best score: {best['film']}, {best['area']} "
+            f"contact, tension in {best['unit']} ({sum(best['verdicts'].values())} of 4 trends).",
+        ]
     path = Path(out)
     tmp = path.with_name(path.name + ".part")
     tmp.write_text("\n".join(md) + "\n")
