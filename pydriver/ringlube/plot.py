@@ -201,7 +201,8 @@ def supply_figure(results: Sequence[CycleResult]) -> plt.Figure:
     ax2.set_ylabel("wetted (full-film) width [mm]")
     ax2.set_ylim(bottom=0)
     _crank_axis(ax2)
-    ax1.legend(fontsize=8, loc="lower right")
+    if ax1.lines:
+        ax1.legend(fontsize=8, loc="lower right")
     return fig
 
 
@@ -237,7 +238,8 @@ def liner_figure(results: Sequence[CycleResult]) -> plt.Figure:
     ax.set_xlabel("liner position from the top ring at TDC [mm] (towards the crankcase)")
     ax.set_ylabel(r"oil film on the liner [$\mu$m]")
     ax.set_ylim(bottom=0)
-    ax.legend(fontsize=8, loc="upper right")
+    if ax.lines:
+        ax.legend(fontsize=8, loc="upper right")
     return fig
 
 
