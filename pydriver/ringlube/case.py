@@ -119,7 +119,7 @@ class Case:
         with kernel_case(case, load_trace=False):
             pass  # the kernel's reader first: it rejects what f90nml would reinterpret
         try:
-            nml = f90nml.reads(text)
+            nml = f90nml.reads(text.removeprefix("\ufeff"))  # a byte-order mark is not the deck
         except Exception as exc:  # f90nml raises several types for bad syntax
             raise InputError(f"{path}: cannot parse namelist: {exc}") from exc
         for group, values in nml.items():
