@@ -145,6 +145,14 @@ contains
       gap_volume = f%dx * sum(f%content_old(2:f%n - 1))
     end function gap_volume
 
+    !> Direction the piston moves in from s_prev to s: 1 towards the crankcase, -1 away, 0.
+    integer function motion(s)
+      real(dp), intent(in) :: s
+      motion = 0
+      if (s > s_prev) motion = 1
+      if (s < s_prev) motion = -1
+    end function motion
+
     !> Set what the starved inlet of film `ff` can draw on in the step to psi.
     subroutine prepare(ff, psi)
       type(film_type), intent(inout) :: ff
@@ -153,9 +161,7 @@ contains
       integer :: dir
       if (.not. ff%starved) return
       s = position(psi)
-      dir = 0
-      if (s > s_prev) dir = 1
-      if (s < s_prev) dir = -1
+      dir = motion(s)
       if (dir == 0) dir = sup%direction
       ff%ds = s - s_prev
       ff%available = inlet_available(sup, s_prev, s, dir)
@@ -185,9 +191,7 @@ contains
       end if
       s = position(psi)
       if (f%starved) then
-        dir = 0
-        if (s > s_prev) dir = 1
-        if (s < s_prev) dir = -1
+        dir = motion(s)
         call supply_step(sup, s_prev, s, dir, v_in, v_out)
         call supply_to_chamber(sup)
       end if
