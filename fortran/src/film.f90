@@ -179,16 +179,18 @@ contains
   !> edges are held at their gas pressures; the content theta h of the last accepted step
   !> gives the time term (backward Euler on the content, whatever the time_scheme of the
   !> squeeze term of the Swift-Stieber film). The leading edge admits oil of fill 1
-  !> (flooded) or, starved, the fill the available oil gives (`inlet_fill`); oil pushed in
-  !> by pressure beyond the oil available is prevented by lowering that fill (a few
-  !> passes); the trailing edge admits gas only. 'trailing_gas' puts a cavity reaching the
+  !> (flooded) or, starved, the fill the available oil gives (`inlet_fill`); the oil it
+  !> admits over the step (Couette and pressure-driven) is capped at the oil available inside
+  !> the solve (`inflow_cap`); should a solve still draw more (the Gauss-Seidel fallback does
+  !> not apply the cap), the fill is lowered and the step solved again (at most 4 passes,
+  !> then flagged); the trailing edge admits gas only. 'trailing_gas' puts a cavity reaching the
   !> trailing edge at that edge's gas pressure; a starved inlet's partly filled zone is at
   !> the leading edge's gas pressure (the connectivity rule of ringlube_jfo).
   pure subroutine jfo_evaluate(c, f, u, p_chamber, w_tol)
     type(case_type), intent(in) :: c
     type(film_type), intent(inout) :: f
     real(dp), intent(in) :: u, p_chamber, w_tol
-    real(dp) :: pl, pr, tl, tr, v_in, h_le, p_save(f%n), th_save(f%n)
+    real(dp) :: pl, pr, tl, tr, v_in, h_le, qcap, p_save(f%n), th_save(f%n)
     integer :: it, iters, outer, info, n, pass
     logical :: settled
     logical :: trailing_gas
@@ -203,7 +205,12 @@ contains
       h_le = f%hmid(n - 1)
     end if
     f%theta_in = 1.0_dp
-    if (f%starved) f%theta_in = inlet_fill(f%available, h_le, f%ds)
+    qcap = huge(1.0_dp)
+    if (f%starved) then
+      f%theta_in = inlet_fill(f%available, h_le, f%ds)
+      ! the leading edge admits at most the oil there over the step
+      if (f%dt > 0.0_dp) qcap = max(f%available, 0.0_dp) / f%dt
+    end if
     if (maxval(f%p) > 1e8_dp) then
       f%p = 0.0_dp
       f%eta = f%eta_e
@@ -226,7 +233,7 @@ contains
         if (f%starved .or. trailing_gas) then
           call jfo_solve_connected(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, &
                 tl, tr, c%cavitation_pressure, trailing_gas, f%starved, f%pc, f%p, f%theta, iters, &
-                                   outer, info, f%q_left, f%q_right)
+                                   outer, info, f%q_left, f%q_right, inflow_cap=qcap)
         else
           f%pc = c%cavitation_pressure
           call jfo_solve(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, tl, tr, &

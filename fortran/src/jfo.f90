@@ -78,9 +78,13 @@ contains
   !> max_iter: Newton iterations (default 200); guard = .false. switches the anti-cycling guard off
   !> (tests); newton = .false. uses only projected Gauss-Seidel sweeps, max_iter of them (the
   !> fallback, for tests and the benchmark); sweeps (out): Gauss-Seidel sweeps spent.
+  !> inflow_cap (m^2/s, default none): the oil entering through the upwind (leading) edge face
+  !> is at most this (the oil there, of a starved inlet): `F = min(F, inflow_cap)`, a kink
+  !> like the others of the residual; beyond it the edge admits gas. (The Gauss-Seidel
+  !> fallback does not apply it; the caller checks the inflow.)
   pure subroutine jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
                             theta_right, pc, p, theta, iterations, info, q_left, q_right, tol, &
-                            max_iter, guard, newton, sweeps)
+                            max_iter, guard, newton, sweeps, inflow_cap)
     real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
     real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, pc(:)
     real(dp), intent(inout) :: p(:), theta(:)
@@ -90,11 +94,12 @@ contains
     integer, intent(in), optional :: max_iter
     logical, intent(in), optional :: guard, newton
     integer, intent(out), optional :: sweeps
+    real(dp), intent(in), optional :: inflow_cap
     real(dp) :: v(size(h)), vt(size(h)), vbest(size(h)), dv(size(h)), r(size(h)), rt(size(h))
     real(dp) :: ca(size(h)), kd(size(h)), fl(size(h)), pn(size(h)), tn(size(h)), ps(size(h))
     real(dp) :: dfpl(size(h)), dfpr(size(h)), dftl(size(h)), dftr(size(h))
     real(dp) :: jl(size(h)), jd(size(h)), ju(size(h))
-    real(dp) :: a, w, rtol, f0, ft, fbest, t, rscale, rmax, fhist(nonmonotone)
+    real(dp) :: a, w, rtol, f0, ft, fbest, t, rscale, rmax, fhist(nonmonotone), qcap
     integer :: n, i, it, itmax, tinfo, nls, nsweep, stall, nfall
     logical :: use_guard, use_newton, accepted
 
@@ -118,6 +123,8 @@ contains
     if (present(guard)) use_guard = guard
     use_newton = .true.
     if (present(newton)) use_newton = newton
+    qcap = huge(1.0_dp)
+    if (present(inflow_cap)) qcap = max(inflow_cap, 0.0_dp)
 
     a = -0.5_dp * u
     w = 0.0_dp
@@ -305,6 +312,17 @@ contains
         dfpl(j) = kd(j) * tp
         dfpr(j) = -kd(j) * tp
       end do
+      ! oil entering through the upwind (leading) edge face is capped at inflow_cap: beyond
+      ! it the edge admits gas; the capped flux does not depend on the interior nodes
+      if (a > 0.0_dp .and. fl(1) > qcap) then
+        fl(1) = qcap
+        dfpr(1) = 0.0_dp
+        dftr(1) = 0.0_dp
+      else if (a < 0.0_dp .and. -fl(n - 1) > qcap) then
+        fl(n - 1) = -qcap
+        dfpl(n - 1) = 0.0_dp
+        dftl(n - 1) = 0.0_dp
+      end if
       scale = tiny(1.0_dp)
       res(1) = 0.0_dp
       res(n) = 0.0_dp
@@ -505,7 +523,7 @@ contains
   pure subroutine jfo_solve_connected(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
                                       theta_left, theta_right, p_cav, trailing_gas, leading_gas, &
                                       pc, p, theta, iterations, outer, info, q_left, q_right, tol, &
-                                      max_iter, max_outer)
+                                      max_iter, max_outer, inflow_cap)
     real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
     real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, p_cav
     logical, intent(in) :: trailing_gas, leading_gas
@@ -515,6 +533,7 @@ contains
     real(dp), intent(out), optional :: q_left, q_right
     real(dp), intent(in), optional :: tol
     integer, intent(in), optional :: max_iter, max_outer
+    real(dp), intent(in), optional :: inflow_cap
     real(dp) :: pcn(size(pc)), th(size(theta))
     integer :: k, kmax, it
 
@@ -533,7 +552,8 @@ contains
     do k = 1, kmax
       outer = k
       call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
-                     theta_right, pc, p, theta, it, info, q_left, q_right, tol, max_iter)
+                     theta_right, pc, p, theta, it, info, q_left, q_right, tol, max_iter, &
+                     inflow_cap=inflow_cap)
       iterations = iterations + it
       if (info /= JFO_OK .and. info /= JFO_DRY) return
       call jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pcn, p)

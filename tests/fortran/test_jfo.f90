@@ -7,7 +7,8 @@
 !>  4. an independent Elrod/Ausas relaxation solver (jfo_reference) on that transient;
 !>  5. bounds and complementarity; starved inlet (closed form), theta_in -> 0 thins the film;
 !>  6. the cavity-pressure connectivity rule: trailing gas (closed form), leading gas, enclosed;
-!>  7. the anti-cycling guard and the Gauss-Seidel fallback.
+!>  7. the anti-cycling guard and the Gauss-Seidel fallback;
+!>  8. the inflow cap of the leading edge (the oil there) against a fill found by bisection.
 !> Semi-analytical solution of the oscillatory squeeze film (see case_squeeze in test_jfo).
 module squeeze_exact
   use ringlube_kinds, only: dp, pi
@@ -118,6 +119,7 @@ program test_jfo
   call case_connectivity_rule()
   call case_enclosed_cavity()
   call case_guard()
+  call case_inflow_cap()
   call case_bad_input()
   call report('test_jfo')
 
@@ -797,6 +799,68 @@ contains
     integer, intent(in) :: i, j
     rnd = modulo(sin(real(i, dp) * 12.9898_dp + real(j, dp) * 78.233_dp) * 43758.5453_dp, 1.0_dp)
   end function rnd
+
+  ! ------------------------------------------------------------------ 8. inflow cap
+  !> The cap on the oil entering through the leading edge (inflow_cap) against an independent
+  !> construction: the same problem without a cap, with the edge fill theta_left found by
+  !> bisection such that the inflow equals the cap. The flux of the first face enters only the
+  !> first node's balance, so both must give the same film.
+  subroutine case_inflow_cap()
+    integer, parameter :: n = 81
+    real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), pb(:), tb(:)
+    real(dp) :: dx, dt, u, q0, qcap, ql, qr, lo, hi, tl, v0, v1
+    integer :: it, info, k
+    call grid(n, x, h, hmid, kmid, dx)
+    allocate (p(n), th(n), pc(n), pb(n), tb(n))
+    pc = 0.0_dp
+    u = -10.0_dp              ! leading edge on the left (content moves to +x)
+    dt = 1e-5_dp
+    ! uncapped: a starved inlet (fill 0.5) at 3 bar drawn in by a film below it
+    p = 1e5_dp
+    th = 1.0_dp
+    call jfo_solve(dx, h, hmid, kmid, u, dt, 0.6_dp * h, 3e5_dp, 1e5_dp, 0.5_dp, 1.0_dp, pc, p, &
+                   th, it, info, q0, qr)
+    call check(info == JFO_OK .and. q0 > 0.0_dp, 'inflow cap: the uncapped inlet draws oil in')
+    qcap = 0.6_dp * q0
+    p = 1e5_dp
+    th = 1.0_dp
+    call jfo_solve(dx, h, hmid, kmid, u, dt, 0.6_dp * h, 3e5_dp, 1e5_dp, 0.5_dp, 1.0_dp, pc, p, &
+                   th, it, info, ql, qr, inflow_cap=qcap)
+    v0 = jfo_film_volume(dx, h, 0.6_dp * h / h)
+    v1 = jfo_film_volume(dx, h, th)
+    call check(info == JFO_OK, 'inflow cap: converges')
+    call check_close(ql, qcap, 1e-12_dp, 'inflow cap: the inflow equals the cap')
+    call check(abs((v1 - v0) - dt * (ql - qr)) <= 1e-12_dp * v0, 'inflow cap: oil balance closes')
+    ! independent: bisection on the edge fill of the uncapped problem
+    lo = 0.0_dp
+    hi = 0.5_dp
+    do k = 1, 200
+      tl = 0.5_dp * (lo + hi)
+      pb = 1e5_dp
+      tb = 1.0_dp
+      call jfo_solve(dx, h, hmid, kmid, u, dt, 0.6_dp * h, 3e5_dp, 1e5_dp, tl, 1.0_dp, pc, pb, &
+                     tb, it, info, ql, qr)
+      if (ql > qcap) then
+        hi = tl
+      else
+        lo = tl
+      end if
+      if (hi - lo < 1e-15_dp) exit
+    end do
+    write (*, '(a, f8.5, a, es10.3, a, es10.3)') '8. inflow cap: bisected edge fill ', tl, &
+      ', max |dp|/max p ', maxval(abs(pb - p)) / maxval(p), ', max |dtheta| ', &
+      maxval(abs(tb(2:n - 1) - th(2:n - 1)))
+    ! (interior nodes: the edge values are the edge fills, 0.5 and the bisected one)
+    call check(maxval(abs(pb - p)) <= 1e-8_dp * maxval(p) &
+               .and. maxval(abs(tb(2:n - 1) - th(2:n - 1))) <= 1e-8_dp, &
+               'inflow cap: the same film as the bisected edge fill')
+    ! a cap above the inflow changes nothing
+    pb = 1e5_dp
+    tb = 1.0_dp
+    call jfo_solve(dx, h, hmid, kmid, u, dt, 0.6_dp * h, 3e5_dp, 1e5_dp, 0.5_dp, 1.0_dp, pc, pb, &
+                   tb, it, info, ql, qr, inflow_cap=2.0_dp * q0)
+    call check_close(ql, q0, 1e-12_dp, 'inflow cap: a cap above the inflow is inactive')
+  end subroutine case_inflow_cap
 
   subroutine case_bad_input()
     real(dp) :: h(2), hm(1), km(1), p(2), th(2), pc(2)
