@@ -514,7 +514,9 @@ contains
   end subroutine jfo_cavity_pressure
 
   !> jfo_solve inside the outer loop of the connectivity rule: pc from the warm-start theta,
-  !> solve, recompute pc from the new theta, repeat until pc no longer changes.
+  !> solve, recompute pc from the new theta, repeat until pc no longer changes, or until it
+  !> alternates between two sets (a meniscus between two nodes): then the larger pc of the two
+  !> at every node and one more solve (docs/film_model.md).
   !>
   !> Arguments as jfo_solve, plus p_cav, trailing_gas, leading_gas (see jfo_cavity_pressure);
   !> pc (out) the cavity pressures of the solution; outer (out) the number of solves;
@@ -534,7 +536,7 @@ contains
     real(dp), intent(in), optional :: tol
     integer, intent(in), optional :: max_iter, max_outer
     real(dp), intent(in), optional :: inflow_cap
-    real(dp) :: pcn(size(pc)), th(size(theta))
+    real(dp) :: pcn(size(pc)), th(size(theta)), pc_prev(size(pc))
     integer :: k, kmax, it
 
     kmax = default_max_outer
@@ -558,6 +560,22 @@ contains
       if (info /= JFO_OK .and. info /= JFO_DRY) return
       call jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pcn, p)
       if (all(pcn == pc)) return
+      if (k > 1) then
+        if (all(pcn == pc_prev)) then
+          ! the rule alternates between two sets of cavity pressures: a meniscus between two
+          ! nodes (a node joined to the gas-connected zone rises above the gas pressure, left
+          ! out of it falls below). No fixed point exists on this grid; the node is taken as
+          ! connected (the larger pc of the two) and solved once more.
+          pc = max(pc, pcn)
+          call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
+                         theta_right, pc, p, theta, it, info, q_left, q_right, tol, max_iter, &
+                         inflow_cap=inflow_cap)
+          iterations = iterations + it
+          outer = k + 1
+          return
+        end if
+      end if
+      pc_prev = pc
       pc = pcn
     end do
     info = JFO_CONNECTIVITY
