@@ -98,10 +98,10 @@ contains
     real(dp) :: v(size(h)), vt(size(h)), vbest(size(h)), dv(size(h)), r(size(h)), rt(size(h))
     real(dp) :: ca(size(h)), kd(size(h)), fl(size(h)), pn(size(h)), tn(size(h)), ps(size(h))
     real(dp) :: dfpl(size(h)), dfpr(size(h)), dftl(size(h)), dftr(size(h))
-    real(dp) :: jl(size(h)), jd(size(h)), ju(size(h))
+    real(dp) :: jl(size(h)), jd(size(h)), ju(size(h)), tw(size(h))
     real(dp) :: a, w, rtol, f0, ft, fbest, t, rscale, rmax, fhist(nonmonotone), qcap
     integer :: n, i, it, itmax, tinfo, nls, nsweep, stall, nfall
-    logical :: use_guard, use_newton, accepted
+    logical :: use_guard, use_newton, accepted, jac_ok
 
     n = size(h)
     iterations = 0
@@ -152,7 +152,10 @@ contains
       if (.not. ieee_is_finite(v(i))) v(i) = 0.0_dp
     end do
 
-    call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+    ! jac_ok: jl, jd, ju hold the Jacobian at v (the residual of an accepted step is evaluated
+    ! with it, so the next iteration need not evaluate the residual again)
+    call residual(v, r, rscale, use_newton, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+    jac_ok = use_newton
     f0 = sumsq(r)
     vbest = v
     fbest = f0
@@ -169,7 +172,9 @@ contains
         f0 = sumsq(r)
         cycle
       end if
-      call residual(v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+      if (.not. jac_ok) &
+        call residual(v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+      jac_ok = .false.
       dv(2:n - 1) = -r(2:n - 1)
       ! the M-matrix sign pattern holds by construction (upwinding); a violation (a degenerate
       ! zero diagonal) is treated like a zero pivot
@@ -177,7 +182,7 @@ contains
                            .or. any(ju(2:n - 1) > 0.0_dp))) then
         tinfo = -1
       else
-        call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo)
+        call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo, tw)
       end if
       if (tinfo /= 0 .and. .not. use_guard) then
         info = JFO_SINGULAR
@@ -193,7 +198,7 @@ contains
         t = 1.0_dp
         do nls = 0, 30
           vt = v + t * dv
-          call residual(vt, rt, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+          call residual(vt, rt, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
           ft = sumsq(rt)
           if (.not. use_guard .or. it < free_steps &
               .or. ft <= (1.0_dp - 1e-4_dp * t) * maxval(fhist)) then
@@ -205,6 +210,7 @@ contains
         if (accepted) then
           v = vt
           r = rt
+          jac_ok = .true.   ! the last evaluation was at vt
           f0 = ft
           fhist(mod(it, size(fhist)) + 1) = f0
           if (nls > 0) stall = stall + 1
@@ -215,6 +221,7 @@ contains
         ! (each fallback sweeps twice as long as the previous one)
         call gauss_seidel(v, n * 2**min(nfall, 10), nsweep)
         nfall = nfall + 1
+        jac_ok = .false.
         call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
         f0 = sumsq(r)
         fhist = f0

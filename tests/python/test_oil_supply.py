@@ -36,6 +36,17 @@ def test_oil_balance_closes_over_the_cycle(cold, cavity):
     assert (r.oil_bank >= 0).all() and (r.oil_left >= 0).all()
     assert r.liner["liner_oil_film"].min() >= 0
     assert not (r.flags & 64).any(), "the inlet drew more oil than there was"
+    assert r.converged and not (r.flags & 16).any(), "every step's connectivity loop settles"
+
+
+@pytest.mark.parametrize("deck", ["cold", "hot"])
+def test_trailing_gas_connectivity_settles(deck):
+    """The cavity-pressure rule can alternate between two zone sets (a meniscus between two
+    nodes); the loop must end that, not run to its cap and flag the step (it did on the cold
+    deck before)."""
+    case = Case.from_namelist(COLD.with_name(f"crf450r_4000rpm_full_{deck}.nml"))
+    r = ringlube.run(case.with_physics(cavitation="jfo", cavity_pressure="trailing_gas"))
+    assert r.converged and not (r.flags & 16).any()
 
 
 @pytest.mark.parametrize("deck", ["cold", "hot"])
