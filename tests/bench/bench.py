@@ -53,9 +53,10 @@ def main() -> None:
     if not args.only_sweep:
         tables(cold)
         roofline(cold)
-        for script in ("front.py", "levers.py", "film_models.py"):
+        for script in ("front.py", "levers.py", "film_models.py", "film_presets.py --convergence"):
             print(f"\n== {script}", flush=True)
-            subprocess.run([sys.executable, str(HERE / script)], check=True)
+            name, *opts = script.split()
+            subprocess.run([sys.executable, str(HERE / name), *opts], check=True)
     for preset in args.sweep_presets.split(","):
         print(f"\n== DOE of {args.sweep} runs on {cores} cores (preset '{preset}', doe.py)", flush=True)
         subprocess.run(

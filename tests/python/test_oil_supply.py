@@ -196,3 +196,30 @@ def test_study_trades_friction_against_oil_transport(tmp_path, cold):
     ):
         read_study(study)
     assert not flooded.exists()
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="known limitation (docs/performance.md, 'Film models'): at 0.125 deg the hot starved "
+    "face runs almost dry on the expansion stroke (wetted width 5 um instead of 0.57 mm at 450 deg) "
+    "and the energy falls from 2.03 to 0.46 J; at 0.25 deg and above it does not",
+)
+def test_starved_hot_energy_converges_in_the_crank_step():
+    """Refining the crank step must not change the starved energy by more than 5 %."""
+    case = Case.from_namelist(COLD.with_name("crf450r_4000rpm_full_hot.nml"))
+    case = case.with_physics(cavitation="jfo", inlet="starved").with_numerics(nodes=201)
+    coarse, fine = (ringlube.run(case.with_numerics(dpsi_deg=d)) for d in (0.25, 0.125))
+    assert fine.energy_loss == pytest.approx(coarse.energy_loss, rel=0.05)
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="known limitation (docs/performance.md, 'Film models'): with 'trailing_gas' the cold "
+    "energy and mixed share do not converge in the number of nodes",
+)
+def test_trailing_gas_cold_energy_converges_in_nodes():
+    """Doubling the nodes must not change the trailing-gas energy by more than 5 %."""
+    case = Case.from_namelist(COLD).with_physics(cavitation="jfo", cavity_pressure="trailing_gas")
+    case = case.with_numerics(dpsi_deg=0.25)
+    coarse, fine = (ringlube.run(case.with_numerics(nodes=n)) for n in (201, 401))
+    assert fine.energy_loss == pytest.approx(coarse.energy_loss, rel=0.05)
