@@ -26,7 +26,7 @@ forward-difference Jacobian whose steps are run as one batch; every point evalua
 and the best one is the fit. Each reading is one task; readings run in parallel worker
 processes, and each point's runs go to the kernel as one ``run_designs`` batch.
 
-    ringlube readings [--out docs/readings.md] [--readings ID ...] [--evals 40] [--quick]
+    ringlube readings [--out docs/readings.md] [--readings ID ...] [--evals 60] [--quick]
 """
 
 from __future__ import annotations
@@ -84,7 +84,7 @@ FAILED_RESIDUAL = 100.0
 #: A normalised input closer than this to 0 or 1 counts as on its bound.
 AT_BOUND = 0.005
 #: Default budget: points per reading the optimiser may evaluate (start design included).
-EVALS = 40
+EVALS = 60
 #: Forward-difference step of the Jacobian (normalised inputs).
 STEP = 0.02
 #: The scalar results read from each run.
@@ -269,7 +269,7 @@ def trend_measures(sweeps: dict) -> dict[str, float]:
     >>> m = trend_measures({"tension": (x, [1, 2, 3, 2.5, 4.0]), "crown_height": (x, [4, 3, 2, 1, 0.5]),
     ...                     "crown_offset": (x[[0, -1]], [1.0, 2.0]), "width": (x, [2, 1, 2, 3, 4.0])})
     >>> {k: round(v, 4) for k, v in m.items()}
-    {'tension': 0.1, 'crown_height': 0.0, 'crown_offset': 0.0, 'width': 0.0}
+    {'tension': 0.2, 'crown_height': 0.0, 'crown_offset': 0.0, 'width': 0.0}
     """
     out = {}
     for name, (_, e) in sweeps.items():
@@ -1077,13 +1077,36 @@ def write_readings(out: dict, path: str | os.PathLike, command: str, seconds: fl
             f"- Closest by score: **{b['reading'].id}** (score {b['min'].score:.3g}); it misses "
             f"{'; '.join(_misses(b['cold'], t, b['hot'], th)) or 'nothing'}."
         )
-        both_t2 = [r for r in t2 if r in hot_ok]
-        if both_t2:
-            c = both_t2[0]
-            md.append(
-                f"- Best score with Table 2 within the goal cold and hot: **{c['reading'].id}** "
-                f"(score {c['min'].score:.3g}); it misses {'; '.join(_misses(c['cold'], t, c['hot'], th))}."
+        hot_res = {
+            id(r): math.hypot(
+                (r["hot"].energy / th["energy_loss"] - 1) / e_tol,
+                (r["hot"].mixed - th["mixed_share"]) / m_tol,
             )
+            for r in ok
+        }
+        if t2:
+            c = min(t2, key=lambda r: hot_res[id(r)])
+            md.append(
+                f"- Best hot prediction among those with cold Table 2 within the goal: **{c['reading'].id}** "
+                f"(hot {_table2(c['hot'], th).replace(' | ', ' J, ')} %; score {c['min'].score:.3g}); "
+                f"it misses {'; '.join(_misses(c['cold'], t, c['hot'], th)) or 'nothing'}."
+            )
+        for name in RING:
+            if not any(r["cold"].verdicts.get(name) for r in ok):
+                w = min(ok, key=lambda r: r["cold"].measures[name])
+                md.append(
+                    f"- No reading gives the published {name} trend; the smallest miss is "
+                    f"{w['cold'].measures[name]:.1%} of the energy ({w['reading'].id})"
+                    + (
+                        "; with relaxed bounds: "
+                        + ", ".join(
+                            f"{x['cold'].measures[name]:.1%} ({x['reading'].id})" for x in out["relaxed"]
+                        )
+                        if out["relaxed"]
+                        else ""
+                    )
+                    + "."
+                )
     path = Path(path)
     tmp = path.with_name(path.name + ".part")
     tmp.write_text("\n".join(md) + "\n")
