@@ -686,16 +686,18 @@ def fit_reading(
 # --- every reading ---------------------------------------------------------------------------
 
 
-def _cases(quick: bool) -> tuple[Case, Case, dict, dict, Case]:
-    """Cold and hot cases without calibration file, their targets, and the shipped cold case."""
+def _cases(quick: bool) -> tuple[Case, Case, dict, dict, Case, Case]:
+    """Cold and hot cases without calibration file, their targets, and the shipped cold and
+    hot cases (with the shipped calibration file)."""
     deck, targets = cold_targets()
     hot_deck, hot_targets = cold_targets(condition="hot")
-    shipped = Case.from_namelist(deck)
+    shipped, shipped_hot = Case.from_namelist(deck), Case.from_namelist(hot_deck)
     cold = shipped.with_("calibration", file="")
-    hot = Case.from_namelist(hot_deck).with_("calibration", file="")
+    hot = shipped_hot.with_("calibration", file="")
+    cases = [cold, hot, shipped, shipped_hot]
     if quick:
-        cold, hot, shipped = (x.with_numerics(preset="fast", max_cycles=3) for x in (cold, hot, shipped))
-    return cold, hot, targets, hot_targets, shipped
+        cases = [x.with_numerics(preset="fast", max_cycles=3) for x in cases]
+    return cases[0], cases[1], targets, hot_targets, cases[2], cases[3]
 
 
 def _cost(reading: Reading) -> int:
@@ -733,8 +735,8 @@ def calibrate_readings(
     -------
     dict
         'rows' (from :func:`fit_reading`, best score first), 'relaxed' (the same for the
-        relaxed re-fits), 'shipped' (the shipped calibration's cold :class:`Point` and its
-        residuals), 'targets', 'hot_targets', 'runs', 'quick', 'budget', 'workers'.
+        relaxed re-fits), 'shipped' (the shipped calibration's cold and hot :class:`Point`,
+        its residuals and options), 'targets', 'hot_targets', 'runs', 'quick', 'budget', 'workers'.
 
     Examples
     --------
@@ -746,7 +748,7 @@ def calibrate_readings(
     from .executor import Executor
 
     readings = all_readings() if readings is None else list(readings)
-    cold, hot, targets, hot_targets, shipped = _cases(quick)
+    cold, hot, targets, hot_targets, shipped, shipped_hot = _cases(quick)
     order = sorted(range(len(readings)), key=lambda i: -_cost(readings[i]))
     tasks = [(readings[i], cold, hot, targets, budget) for i in order]
     rows: list[dict] = []
@@ -779,14 +781,15 @@ def calibrate_readings(
     ship_params = _params(Reading(list(READINGS)[0], "lumped", "N/m"))
     ship_in = {p.name: float(shipped.value(*p.key.split(":"))) for p in ship_params}
     ring0 = _ring0(cold)
-    sp = evaluate(
-        shipped, ship_params, np.array([[p.normalised(ship_in[p.name]) for p in ship_params]]), ring0
-    )[0]
+    u_ship = np.array([[p.normalised(ship_in[p.name]) for p in ship_params]])
+    sp = evaluate(shipped, ship_params, u_ship, ring0)[0]
+    sph = evaluate(shipped_hot, ship_params, u_ship, ring0)[0]
     return {
         "rows": rows,
         "relaxed": relaxed,
         "shipped": {
             "point": sp,
+            "hot": sph,
             "residuals": residuals(sp.energy, sp.mixed, sp.measures, targets),
             "options": {
                 k: shipped.value(*k.split(":"))
@@ -795,7 +798,7 @@ def calibrate_readings(
         },
         "targets": targets,
         "hot_targets": hot_targets,
-        "runs": sum(r["runs"] for r in rows + relaxed) + sp.runs,
+        "runs": sum(r["runs"] for r in rows + relaxed) + sp.runs + sph.runs,
         "quick": quick,
         "budget": budget,
         "workers": workers,
@@ -1040,7 +1043,8 @@ def write_readings(out: dict, path: str | os.PathLike, command: str, seconds: fl
         + ", ".join(f"{k} {_fmt_input(Param(k, '', 1, 2), v)}" for k, v in sp.inputs.items())
         + f"): cold {_table2(sp, t).replace(' | ', ' J, ')} %, trends {_yn(sp.verdicts)} (measures "
         + ", ".join(f"{100 * sp.measures[n]:.2f} %" for n in RING)
-        + f"), score {float(np.sqrt(np.sum(sr**2))):.3g}.",
+        + f"), score {float(np.sqrt(np.sum(sr**2))):.3g}; hot (prediction) "
+        + f"{_table2(sh['hot'], th).replace(' | ', ' J, ')} %, trends {_yn(sh['hot'].verdicts)}.",
     ]
     # the computed summary
     ok = [r for r in rows if math.isfinite(r["cold"].energy)]
