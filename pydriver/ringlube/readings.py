@@ -726,8 +726,9 @@ def calibrate_readings(
     workers : int
         Worker processes (one reading per task).
     relax : int
-        Re-fit the best this many readings that end with an input on a bound, with
-        :data:`RELAXED_BOUNDS` (outside the physical range: shown, never shipped).
+        Re-fit the best this many readings that end with an input on a bound, and the best of
+        those with the most published trends, with :data:`RELAXED_BOUNDS` (outside the
+        physical range: shown, never shipped); 0: none.
     progress : bool
         Print a line as each reading finishes.
 
@@ -770,7 +771,12 @@ def calibrate_readings(
         ex.map(fit_reading, tasks, done)
         rows.sort(key=lambda r: r["min"].score)
         relaxed: list[dict] = []
-        again = [r for r in rows if _on_bound(r)][: max(0, relax)]
+        bound = [r for r in rows if _on_bound(r)]
+        again = bound[: max(0, relax)]
+        if relax > 0 and bound:  # and the best of those with the most published trends
+            most = max(sum(r["cold"].verdicts.values()) for r in bound)
+            pick = next(r for r in bound if sum(r["cold"].verdicts.values()) == most)
+            again += [pick] if pick not in again else []
         if again:
             t2 = [(r["reading"], cold, hot, targets, budget, RELAXED_BOUNDS, r["cold"].inputs) for r in again]
             ex.map(fit_reading, t2, lambda i, row: relaxed.append(row))
@@ -1011,7 +1017,8 @@ def write_readings(out: dict, path: str | os.PathLike, command: str, seconds: fl
         md += [
             "",
             "**Outside the physical range (not a candidate default):** the best readings that end "
-            "with an input on a bound, re-fitted from their fit with the bounds relaxed to "
+            "with an input on a bound (and the best of those with the most trends), re-fitted from "
+            "their fit with the bounds relaxed to "
             + ", ".join(
                 f"{k} {_fmt_input(Param(k, '', *v), v[0])}-{_fmt_input(Param(k, '', *v), v[1])}"
                 for k, v in RELAXED_BOUNDS.items()

@@ -171,3 +171,23 @@ def test_bound_sides_give_the_outward_derivative():
     sides = rd._bound_sides({"params": params, "min": m})
     assert [(p.name, side) for p, side, _ in sides] == [("a", "upper"), ("b", "lower")]
     assert all(g < 0 for _, _, g in sides)
+
+
+def test_a_bound_that_stops_the_fit_is_reported_and_relaxed(monkeypatch, tmp_path):
+    """Synthetic truth beyond the upper zeta_kappa_sigma bound: the fit ends on the bound, the
+    report says the score falls beyond it, and the relaxed re-fit finds the truth."""
+    truth = {"zeta_kappa_sigma": 0.15, "pressure_scale": 1.0}
+    t = {"energy_loss": 1.92, "mixed_share": 8.47}
+    monkeypatch.setattr(rd, "_run_batch", _synthetic(truth, t))
+    out = rd.calibrate_readings(
+        rd.select_readings(["jfo/lumped/N/m"]), budget=40, workers=1, relax=1, progress=False
+    )
+    (row,), (relaxed,) = out["rows"], out["relaxed"]
+    zks = [p for p in row["params"] if p.name == "zeta_kappa_sigma"][0]
+    assert row["cold"].inputs["zeta_kappa_sigma"] > zks.hi - rd.AT_BOUND * (zks.hi - zks.lo)
+    assert [(p.name, side) for p, side, g in rd._bound_sides(row) if g < 0] == [("zeta_kappa_sigma", "upper")]
+    assert relaxed["cold"].inputs["zeta_kappa_sigma"] == pytest.approx(0.15, rel=0.02)
+    assert relaxed["min"].score < 0.1 < row["min"].score
+    text = rd.write_readings(out, tmp_path / "r.md", "test", 0.0).read_text()
+    assert "| jfo/lumped/N/m | zeta_kappa_sigma | upper (0.1) |" in text and "| yes |" in text
+    assert "Outside the physical range" in text
