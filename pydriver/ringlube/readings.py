@@ -1151,7 +1151,11 @@ def add_arguments(ap) -> None:
     )
     ap.add_argument("--workers", type=int, default=2, help="worker processes")
     ap.add_argument("--relax", type=int, default=2, help="re-fit the best N readings with relaxed bounds")
-    ap.add_argument("--quick", action="store_true", help="coarse numerics, at most 10 points, no relaxed re-fit: a smoke test")
+    ap.add_argument(
+        "--quick",
+        action="store_true",
+        help="coarse numerics, at most 10 points, no relaxed re-fit: a smoke test",
+    )
     ap.add_argument("--list", action="store_true", help="list the reading ids and stop")
 
 
