@@ -176,9 +176,9 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
 
 def _cmd_readings(args: argparse.Namespace) -> int:
-    from .readings import main as readings_main
+    from .readings import run_args
 
-    return readings_main(["--out", args.out, "--points", str(args.points)])
+    return run_args(args)
 
 
 def _cmd_optimise(args: argparse.Namespace) -> int:
@@ -283,8 +283,9 @@ def _parser() -> argparse.ArgumentParser:
         description="Fit every reading (film model x contact area x tension unit) to the cold "
         "Table 2 case and the published trends; write docs/readings.md.",
     )
-    p.add_argument("--out", default="docs/readings.md", help="Markdown file written")
-    p.add_argument("--points", type=int, default=3, help="grid points per fitted input")
+    from .readings import add_arguments as readings_arguments
+
+    readings_arguments(p)
     p.set_defaults(func=_cmd_readings)
     p = sub.add_parser(
         "optimise",
