@@ -502,12 +502,15 @@ contains
         end do
       end if
     end if
-    if (il >= ir - 1) then
-      ! the open zones meet: the face is partly filled across its width
+    if (il >= ir - 1 .and. all(theta(2:n - 1) < 1.0_dp)) then
+      ! the face is partly filled across its width: open to the higher of the two gas pressures
       pc(2:n - 1) = max(lev_l, lev_r)
     else
+      ! each open zone at its own gas pressure; where they overlap through full film below
+      ! both gas pressures (not a partly filled face), at the lower one
       pc(2:il) = lev_l
       pc(ir:n - 1) = lev_r
+      if (il >= ir) pc(ir:il) = min(lev_l, lev_r)
     end if
 
   contains
@@ -543,8 +546,8 @@ contains
     real(dp), intent(in), optional :: tol
     integer, intent(in), optional :: max_iter, max_outer
     real(dp), intent(in), optional :: inflow_cap
-    real(dp) :: pcn(size(pc)), th(size(theta)), pc_prev(size(pc))
-    integer :: k, kmax, it
+    real(dp) :: pcn(size(pc)), th(size(theta)), hist(size(pc), 4)
+    integer :: k, kmax, it, i, j
 
     kmax = default_max_outer
     if (present(max_outer)) kmax = max_outer
@@ -567,13 +570,15 @@ contains
       if (info /= JFO_OK .and. info /= JFO_DRY) return
       call jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pcn, p)
       if (all(pcn == pc)) return
-      if (k > 1) then
-        if (all(pcn == pc_prev)) then
-          ! the rule alternates between two sets of cavity pressures: a meniscus between two
-          ! nodes (a node joined to the gas-connected zone rises above the gas pressure, left
-          ! out of it falls below). No fixed point exists on this grid; the node is taken as
-          ! connected (the larger pc of the two) and solved once more.
-          pc = max(pc, pcn)
+      ! a cycle: pcn equals one of the last few sets (a two-cycle is a meniscus between two
+      ! nodes: a node joined to the gas-connected zone rises above the gas pressure, left out
+      ! of it falls below). No fixed point exists on this grid; the nodes are taken as
+      ! connected (the largest pc of the sets in the cycle) and solved once more.
+      do j = 1, min(k - 1, size(hist, 2))
+        if (all(pcn == hist(:, j))) then
+          do i = 1, j
+            pc = max(pc, hist(:, i))
+          end do
           call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
                          theta_right, pc, p, theta, it, info, q_left, q_right, tol, max_iter, &
                          inflow_cap=inflow_cap)
@@ -581,8 +586,10 @@ contains
           outer = k + 1
           return
         end if
-      end if
-      pc_prev = pc
+      end do
+      ! hist(:, 1) the set just solved with, hist(:, 2) the one before, ...
+      hist(:, 2:) = hist(:, 1:size(hist, 2) - 1)
+      hist(:, 1) = pc
       pc = pcn
     end do
     info = JFO_CONNECTIVITY

@@ -405,8 +405,9 @@ def validate(root: str | os.PathLike = ".", out: str | os.PathLike = "docs") -> 
         "## Readings of the open choices: film model, contact area, tension unit (issue 9)",
         "",
         "Each reading with the shipped calibration (`zeta_kappa_sigma`, `pressure_scale`, fitted "
-        "for the first row's reading): **not re-fitted per reading** (the per-reading calibration "
-        "with `supply_film` among the fitted inputs, which issue 9 asks for, is not done yet). "
+        "for the first row's reading), **not re-fitted per reading**: the per-reading calibration "
+        "(cold Table 2 and trends, `supply_film` among the fitted inputs for starved readings) is "
+        "[readings.md](readings.md), from `ringlube readings`. "
         "Trends on the cold case, 5 points per variable; 'yes' where the published direction "
         "appears. `conv` counts the cold and hot runs that converged (JFO runs hold h0 at its "
         "ceiling where the film carries more than the load: flagged, see docs/model.md).",

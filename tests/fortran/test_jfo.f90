@@ -653,7 +653,7 @@ contains
 
   ! ------------------------------------------------------------------ 6. connectivity rule
   subroutine case_connectivity_rule()
-    real(dp) :: th(10), pc(10)
+    real(dp) :: th(10), pc(10), pp(10)
     real(dp), parameter :: pcav = 0.1e5_dp, pch = 3e5_dp, pcc = 1e5_dp
     write (*, '(a)') '6. cavity-pressure connectivity rule on constructed fills'
     ! downstroke (u > 0): trailing = chamber (left), leading = crankcase (right)
@@ -682,6 +682,17 @@ contains
     th = 1.0_dp
     call jfo_cavity_pressure(th, 5.0_dp, pch, pcc, pcav, .true., .true., pc)
     call check(all(pc == pcav), 'rule: full film at p_cav')
+    ! a starved inlet zone, then full film below the leading gas pressure up to the trailing
+    ! edge: the zone reaches across the face only through full film, so the face is not partly
+    ! filled across its width: the leading gas pressure, not the higher chamber pressure
+    th = [1.0_dp, 1.0_dp, 1.0_dp, 1.0_dp, 1.0_dp, 1.0_dp, 1.0_dp, 0.5_dp, 0.5_dp, 0.5_dp]
+    pp = 0.5e5_dp
+    call jfo_cavity_pressure(th, 5.0_dp, pch, pcc, pcav, .false., .true., pc, pp)
+    call check(all(pc(2:9) == pcc), &
+               'rule: full film below the gas joins the zone, not a partly filled face')
+    ! both edges open, their zones overlapping through full film below both: the lower gas
+    call jfo_cavity_pressure(th, 5.0_dp, pch, pcc, pcav, .true., .true., pc, pp)
+    call check(all(pc(2:9) == min(pch, pcc)), 'rule: overlapping zones at the lower gas')
   end subroutine case_connectivity_rule
 
   !> Both edges at 1 bar, U = 10, p_cav = 0, trailing_gas on: the cavity that forms on the
