@@ -546,7 +546,7 @@ contains
     real(dp), intent(in), optional :: tol
     integer, intent(in), optional :: max_iter, max_outer
     real(dp), intent(in), optional :: inflow_cap
-    real(dp) :: pcn(size(pc)), th(size(theta)), hist(size(pc), 4)
+    real(dp) :: pcn(size(pc)), th(size(theta)), hist(size(pc), 16)
     integer :: k, kmax, it, i, j
 
     kmax = default_max_outer
@@ -570,7 +570,7 @@ contains
       if (info /= JFO_OK .and. info /= JFO_DRY) return
       call jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pcn, p)
       if (all(pcn == pc)) return
-      ! a cycle: pcn equals one of the last few sets (a two-cycle is a meniscus between two
+      ! a cycle: pcn equals one of the last 16 sets (a two-cycle is a meniscus between two
       ! nodes: a node joined to the gas-connected zone rises above the gas pressure, left out
       ! of it falls below). No fixed point exists on this grid; the nodes are taken as
       ! connected (the largest pc of the sets in the cycle) and solved once more.
