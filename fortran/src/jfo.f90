@@ -369,13 +369,15 @@ contains
 
     !> Projected Gauss-Seidel on v: each node solves its own equation (monotone in v(j)) with
     !> the neighbours fixed and the upwind choices of the current state, sweeping downstream.
+    !> The inflow cap applies as in the residual: at the first node downstream of the leading
+    !> edge, if the inflow of the update exceeds qcap, the node is solved again with that face
+    !> carrying qcap (a constant).
     pure subroutine gauss_seidel(x, nsw, nsweep)
       real(dp), intent(inout) :: x(:)
       integer, intent(in) :: nsw
       integer, intent(inout) :: nsweep
       integer :: s, k, j, j0, j1, step
-      real(dp) :: r0, dpr, dth, gl, gr, tl, tr, pl, pr, cl, cr, pj, rj
-      integer :: q
+      real(dp) :: pl, pr, tl, tr, fin
       if (a >= 0.0_dp) then
         j0 = 2; j1 = n - 1; step = 1
       else
@@ -397,44 +399,96 @@ contains
             pr = p_right
             tr = theta_right
           end if
-          ! fluxes with p(j) = pc(j), theta(j) = 1 (v = 0): F(j) - F(j-1)
-          gl = kd(j - 1) * (pc(j) - pl)
-          gr = kd(j) * (pr - pc(j))
-          cl = ca(j - 1) * tl
-          cr = ca(j) * tr
-          if (a > 0.0_dp) cr = ca(j)
-          if (a < 0.0_dp) cl = ca(j - 1)
-          r0 = w * (h(j) - content_old(j)) + cr - gr * merge(1.0_dp, tr, gr <= 0.0_dp) &
-               - cl + gl * merge(tl, 1.0_dp, gl <= 0.0_dp)
-          if (r0 < 0.0_dp) then
-            ! full film, p(j) > pc(j): R(p) is piecewise linear, increasing and convex in p
-            ! (the pressure-driven content switches to theta = 1 once p(j) passes a neighbour),
-            ! so Newton from p = pc reaches its root without overshoot in at most 3 steps
-            pj = pc(j)
-            rj = r0
-            do q = 1, 4
-              dpr = kd(j) * merge(tr, 1.0_dp, pr > pj) + kd(j - 1) * merge(tl, 1.0_dp, pl > pj)
-              if (.not. dpr > 0.0_dp) exit
-              pj = pj - rj / dpr
-              rj = w * (h(j) - content_old(j)) + cr &
-                   - kd(j) * (pr - pj) * merge(tr, 1.0_dp, pr > pj) &
-                   - cl + kd(j - 1) * (pj - pl) * merge(tl, 1.0_dp, pl > pj)
-              if (rj >= 0.0_dp) exit
-            end do
-            x(j) = (pj - pc(j)) / ps(j)
-          else
-            ! cavity: theta(j) from the balance at p(j) = pc(j)
-            dth = w * h(j) + max(ca(j), 0.0_dp) - min(ca(j - 1), 0.0_dp) - min(gr, 0.0_dp) &
-                  + max(gl, 0.0_dp)
-            if (dth > 0.0_dp) then
-              x(j) = -r0 / dth
-            else
-              x(j) = 0.0_dp
-            end if
+          call node_update(j, pl, pr, tl, tr, .false., .false., x(j))
+          if (a > 0.0_dp .and. j == 2) then
+            fin = face_flux(j - 1, pl, node_p(j, x(j)), tl, node_t(x(j)))
+            if (fin > qcap) call node_update(j, pl, pr, tl, tr, .true., .false., x(j))
+          else if (a < 0.0_dp .and. j == n - 1) then
+            fin = -face_flux(j, node_p(j, x(j)), pr, node_t(x(j)), tr)
+            if (fin > qcap) call node_update(j, pl, pr, tl, tr, .false., .true., x(j))
           end if
         end do
       end do
     end subroutine gauss_seidel
+
+    pure real(dp) function node_p(j, xj)
+      integer, intent(in) :: j
+      real(dp), intent(in) :: xj
+      node_p = pc(j) + ps(j) * max(xj, 0.0_dp)
+    end function node_p
+
+    pure real(dp) function node_t(xj)
+      real(dp), intent(in) :: xj
+      node_t = 1.0_dp + min(xj, 0.0_dp)
+    end function node_t
+
+    !> Flux through face f (nodes f, f+1) as in the residual.
+    pure real(dp) function face_flux(f, p0, p1, t0, t1)
+      integer, intent(in) :: f
+      real(dp), intent(in) :: p0, p1, t0, t1
+      real(dp) :: g
+      g = kd(f) * (p1 - p0)
+      face_flux = -g * merge(t0, t1, g <= 0.0_dp)
+      if (a > 0.0_dp) then
+        face_flux = face_flux + ca(f) * t0
+      else
+        face_flux = face_flux + ca(f) * t1
+      end if
+    end function face_flux
+
+    !> Node j's own equation with its neighbours (pl, tl), (pr, tr) fixed; with capl (capr)
+    !> the left (right) face carries the constant inflow qcap.
+    pure subroutine node_update(j, pl, pr, tl, tr, capl, capr, xj)
+      integer, intent(in) :: j
+      real(dp), intent(in) :: pl, pr, tl, tr
+      logical, intent(in) :: capl, capr
+      real(dp), intent(out) :: xj
+      real(dp) :: r0, dpr, dth, gl, gr, cl, cr, pj, rj, fl0, fr0
+      integer :: q
+      ! fluxes with p(j) = pc(j), theta(j) = 1 (v = 0): F(j) - F(j-1)
+      gl = kd(j - 1) * (pc(j) - pl)
+      gr = kd(j) * (pr - pc(j))
+      cl = ca(j - 1) * tl
+      cr = ca(j) * tr
+      if (a > 0.0_dp) cr = ca(j)
+      if (a < 0.0_dp) cl = ca(j - 1)
+      fr0 = cr - gr * merge(1.0_dp, tr, gr <= 0.0_dp)
+      fl0 = cl - gl * merge(tl, 1.0_dp, gl <= 0.0_dp)
+      if (capl) fl0 = qcap
+      if (capr) fr0 = -qcap
+      r0 = w * (h(j) - content_old(j)) + fr0 - fl0
+      if (r0 < 0.0_dp) then
+        ! full film, p(j) > pc(j): R(p) is piecewise linear, increasing and convex in p
+        ! (the pressure-driven content switches to theta = 1 once p(j) passes a neighbour),
+        ! so Newton from p = pc reaches its root without overshoot in at most 3 steps
+        pj = pc(j)
+        rj = r0
+        do q = 1, 4
+          dpr = 0.0_dp
+          if (.not. capr) dpr = dpr + kd(j) * merge(tr, 1.0_dp, pr > pj)
+          if (.not. capl) dpr = dpr + kd(j - 1) * merge(tl, 1.0_dp, pl > pj)
+          if (.not. dpr > 0.0_dp) exit
+          pj = pj - rj / dpr
+          fr0 = cr - kd(j) * (pr - pj) * merge(tr, 1.0_dp, pr > pj)
+          fl0 = cl - kd(j - 1) * (pj - pl) * merge(tl, 1.0_dp, pl > pj)
+          if (capl) fl0 = qcap
+          if (capr) fr0 = -qcap
+          rj = w * (h(j) - content_old(j)) + fr0 - fl0
+          if (rj >= 0.0_dp) exit
+        end do
+        xj = (pj - pc(j)) / ps(j)
+      else
+        ! cavity: theta(j) from the balance at p(j) = pc(j)
+        dth = w * h(j)
+        if (.not. capr) dth = dth + max(ca(j), 0.0_dp) - min(gr, 0.0_dp)
+        if (.not. capl) dth = dth - min(ca(j - 1), 0.0_dp) + max(gl, 0.0_dp)
+        if (dth > 0.0_dp) then
+          xj = -r0 / dth
+        else
+          xj = 0.0_dp
+        end if
+      end if
+    end subroutine node_update
   end subroutine jfo_solve
 
   !> Oil volume per unit circumference held by the interior finite volumes (m^2): the quantity
