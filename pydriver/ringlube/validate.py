@@ -437,10 +437,9 @@ def validate(root: str | os.PathLike = ".", out: str | os.PathLike = "docs") -> 
         "",
         "No reading gives all four published trends together with Table 2 within 5 % energy "
         "and 1.5 points mixed share (see the rows above for which comes closest and what each "
-        "misses). The shipped default stays the source study's reading (Swift-Stieber, lumped "
-        "contact, N/m), the only one calibrated; the mass-conserving readings change the energy by "
-        "up to a factor two and flip some trends, which a per-reading calibration must settle "
-        "before any of them can be the default.",
+        "misses). Fitted per reading ([readings.md](readings.md)), none does either; the shipped "
+        "default stays the source study's reading (Swift-Stieber, lumped contact, N/m) with the "
+        "shipped calibration, for the reasons in docs/model.md ('Which reading is the default').",
         "",
     ]
 
