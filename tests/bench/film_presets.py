@@ -78,6 +78,8 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--convergence", action="store_true")
+    ap.add_argument("--decks", default="cold,hot", help="decks (cold, hot), comma-separated")
+    ap.add_argument("--models", default=";".join(MODELS), help="film models, separated by ';'")
     args = ap.parse_args()
     if args.convergence:
         convergence()
@@ -91,10 +93,13 @@ def main() -> None:
         f"{'deck':5s} {'film model':27s} {'preset':9s} {'ms/run':>7s} {'cycles':>6s} {'x SS':>5s} "
         f"{'energy err':>10s} {'mixed pts':>9s} {'oil err':>8s} {'conv':>4s}"
     )
-    for stem in ("cold", "hot"):
+    models = args.models.split(";")
+    for stem in args.decks.split(","):
         base = ringlube.Case.from_namelist(ROOT / "inputs" / f"crf450r_4000rpm_full_{stem}.nml")
         ss = {}
         for label, physics in MODELS.items():
+            if label not in models and label != "swift_stieber":
+                continue
             case = base.with_physics(**physics) if physics else base
             ref = ringlube.run(case.with_numerics(**REFERENCE))
             print(
