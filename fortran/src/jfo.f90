@@ -298,8 +298,8 @@ contains
       tn(1) = theta_left
       tn(n) = theta_right
       do j = 2, n - 1
-        pn(j) = pc(j) + ps(j) * max(x(j), 0.0_dp)
-        tn(j) = 1.0_dp + min(x(j), 0.0_dp)
+        pn(j) = node_p(j, x(j))
+        tn(j) = node_t(x(j))
       end do
       do j = 1, n - 1
         g = kd(j) * (pn(j + 1) - pn(j))
@@ -390,14 +390,14 @@ contains
         nsweep = nsweep + 1
         do k = j0, j1, step
           j = k
-          pl = pc(j - 1) + ps(j - 1) * max(x(j - 1), 0.0_dp)
-          tl = 1.0_dp + min(x(j - 1), 0.0_dp)
+          pl = node_p(j - 1, x(j - 1))
+          tl = node_t(x(j - 1))
           if (j == 2) then
             pl = p_left
             tl = theta_left
           end if
-          pr = pc(j + 1) + ps(j + 1) * max(x(j + 1), 0.0_dp)
-          tr = 1.0_dp + min(x(j + 1), 0.0_dp)
+          pr = node_p(j + 1, x(j + 1))
+          tr = node_t(x(j + 1))
           if (j == n - 1) then
             pr = p_right
             tr = theta_right
@@ -414,6 +414,8 @@ contains
       end do
     end subroutine gauss_seidel
 
+    !> Pressure and fill of node j at the universal variable xj (p = pc + ps max(v, 0),
+    !> theta = 1 + min(v, 0)).
     pure real(dp) function node_p(j, xj)
       integer, intent(in) :: j
       real(dp), intent(in) :: xj
