@@ -23,9 +23,10 @@ DECKS = {d: ROOT / "inputs" / f"crf450r_4000rpm_full_{d}.nml" for d in ("cold", 
 REFERENCE = "nodes=801 dpsi_deg=0.125 pressure_tol=1e-8 load_tol=1e-6 cycle_tol=1e-6 time_scheme='bdf2'"
 
 
-def bench(deck: Path, numerics: str, repeats: int) -> dict:
+def bench(deck: Path, numerics: str, repeats: int, exe: Path = BENCH) -> dict:
+    """The key=value line of `bench_kernel` (exe) for one deck and numerics, as numbers."""
     out = subprocess.run(
-        [str(BENCH), str(deck), f"&numerics {numerics} /", str(repeats)],
+        [str(exe), str(deck), f"&numerics {numerics} /", str(repeats)],
         check=True,
         capture_output=True,
         text=True,

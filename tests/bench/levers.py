@@ -18,6 +18,8 @@ import subprocess
 import tempfile
 from pathlib import Path
 
+from front import bench  # the bench_kernel call and its parsing, one copy
+
 ROOT = Path(__file__).resolve().parents[2]
 DECK = ROOT / "inputs" / "crf450r_4000rpm_full_cold.nml"
 OLD_NUMERICS = "nodes=51 dpsi_deg=1.0 pressure_tol=1e-5 load_tol=1e-3 warmup_deg=360"
@@ -80,15 +82,7 @@ def export(commit: str, dest: Path) -> Path:
 
 
 def time_run(exe: Path, numerics: str, repeats: int) -> dict:
-    out = subprocess.run(
-        [str(exe), str(DECK), f"&numerics {numerics} /", str(repeats)],
-        check=True,
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-    ).stdout
-    first = out.splitlines()[0].replace("= ", "=")
-    return {k: float(v) for k, v in (kv.split("=") for kv in first.split())}
+    return bench(DECK, numerics, repeats, exe)
 
 
 def line(name: str, r: dict) -> str:
