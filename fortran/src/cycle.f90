@@ -7,7 +7,8 @@ module ringlube_cycle
   use ringlube_kinematics, only: deg2rad, piston_position
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_results, only: result_type, allocate_result, flag_ceiling
-  use ringlube_oil_supply, only: supply_type, supply_setup, inlet_available, supply_step, &
+  use ringlube_oil_supply, only: supply_type, supply_setup, inlet_available, trailing_available, &
+                                 supply_step, &
                                  supply_reset_counters, supply_stored, supply_to_chamber
   use ringlube_liner, only: liner_positions
   use ringlube_film, only: film_type, film_setup, film_friction
@@ -178,6 +179,7 @@ contains
       if (dir == 0) dir = sup%direction
       ff%ds = s - s_prev
       ff%available = inlet_available(sup, s_prev, s, dir)
+      ff%behind = trailing_available(sup, s_prev, s, dir)
     end subroutine prepare
 
     !> Solve the step to psi and carry the film content and the oil supply forward.
@@ -258,7 +260,9 @@ contains
       res%iterations(k) = f%evaluations - nev
       if (f%jfo) then
         res%inlet_fill(k) = f%theta_in
-        res%wetted_width(k) = f%dx * count(f%theta >= 1.0_dp - 1e-9_dp)
+        ! the control volumes of full nodes: dx inside, dx/2 at an edge
+        res%wetted_width(k) = f%dx * (count(f%theta(2:f%n - 1) >= 1.0_dp - 1e-9_dp) + 0.5_dp * &
+                                      count([f%theta(1), f%theta(f%n)] >= 1.0_dp - 1e-9_dp))
         res%oil_left(k) = 0.0_dp
         if (abs(f%ds) > 0.0_dp) res%oil_left(k) = max(vout, 0.0_dp) / abs(f%ds)
         if (.not. f%starved .and. abs(lp%u) > 0.0_dp) &

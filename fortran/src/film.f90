@@ -53,6 +53,9 @@ module ringlube_film
     !> the ring moves in it [m] (set by the caller); the fill the inlet admitted
     logical :: starved = .false.
     real(dp) :: available = 0.0_dp, ds = 0.0_dp, theta_in = 1.0_dp
+    !> starved: oil on the liner just behind the trailing edge that it may draw back over the
+    !> step [m^2]; the caps on the inflow through the left and right edge faces [m^2/s]
+    real(dp) :: behind = 0.0_dp, cap_left = huge(1.0_dp), cap_right = huge(1.0_dp)
   end type film_type
 
 contains
@@ -176,22 +179,22 @@ contains
 
   !> The mass-conserving film at the trial h0 in f%h (SPEC 13): the JFO solve of
   !> ringlube_jfo inside the same pressure-viscosity loop as the Swift-Stieber film. Both
-  !> edges are held at their gas pressures; the content theta h of the last accepted step
-  !> gives the time term (backward Euler on the content, whatever the time_scheme of the
-  !> squeeze term of the Swift-Stieber film). The leading edge admits oil of fill 1
-  !> (flooded) or, starved, the fill the available oil gives (`inlet_fill`); the oil it
-  !> admits over the step (Couette and pressure-driven) is capped at the oil available inside
-  !> the solve (`inflow_cap`); should a solve still draw more (the Gauss-Seidel fallback does
-  !> not apply the cap), the fill is lowered and the step solved again (at most 4 passes,
-  !> then flagged); the trailing edge admits gas only. 'trailing_gas' puts a cavity reaching the
-  !> trailing edge at that edge's gas pressure; a starved inlet's partly filled zone is at
-  !> the leading edge's gas pressure (the connectivity rule of ringlube_jfo).
+  !> edges are liquid boundaries held at their gas pressures; the content theta h of the last
+  !> accepted step gives the time term (backward Euler on the content, whatever the
+  !> time_scheme of the squeeze term of the Swift-Stieber film). The leading edge admits oil of
+  !> fill 1 (flooded) or, starved, the fill the available oil gives (`inlet_fill`); the
+  !> trailing edge admits oil of fill 1 (pushed back in by its gas pressure). Starved, the net
+  !> oil entering through either edge over the step is capped at the oil there (the leading
+  !> edge's strip and bank, the liner film just behind the trailing edge: `f%available`,
+  !> `f%behind`), inside the solve; beyond the cap the edge admits gas. 'trailing_gas' puts a
+  !> cavity reaching the trailing edge at that edge's gas pressure; a starved inlet's partly
+  !> filled zone is at the leading edge's gas pressure (the connectivity rule of ringlube_jfo).
   pure subroutine jfo_evaluate(c, f, u, p_chamber, w_tol)
     type(case_type), intent(in) :: c
     type(film_type), intent(inout) :: f
     real(dp), intent(in) :: u, p_chamber, w_tol
-    real(dp) :: pl, pr, tl, tr, v_in, h_le, qcap, p_save(f%n), th_save(f%n)
-    integer :: it, iters, outer, info, n, pass
+    real(dp) :: pl, pr, tl, tr, v_in, h_le, qlead, qtrail, ql, qr
+    integer :: it, iters, outer, info, n
     logical :: settled
     logical :: trailing_gas
 
@@ -205,62 +208,63 @@ contains
       h_le = f%hmid(n - 1)
     end if
     f%theta_in = 1.0_dp
-    qcap = huge(1.0_dp)
+    qlead = huge(1.0_dp)
+    qtrail = huge(1.0_dp)
     if (f%starved) then
       f%theta_in = inlet_fill(f%available, h_le, f%ds)
-      ! the leading edge admits at most the oil there over the step
-      if (f%dt > 0.0_dp) qcap = max(f%available, 0.0_dp) / f%dt
+      ! each edge admits at most the oil there over the step
+      if (f%dt > 0.0_dp) then
+        qlead = max(f%available, 0.0_dp) / f%dt
+        qtrail = max(f%behind, 0.0_dp) / f%dt
+      end if
     end if
+    if (f%lead_left) then
+      tl = f%theta_in
+      tr = 1.0_dp
+      ql = qlead
+      qr = qtrail
+    else
+      tl = 1.0_dp
+      tr = f%theta_in
+      ql = qtrail
+      qr = qlead
+    end if
+    f%cap_left = ql
+    f%cap_right = qr
     if (maxval(f%p) > 1e8_dp) then
       f%p = 0.0_dp
       f%eta = f%eta_e
     end if
     if (.not. c%roelands) f%eta = f%eta_e
-    p_save = f%p
-    th_save = f%theta
-    do pass = 1, 4
-      if (f%lead_left) then
-        tl = f%theta_in
-        tr = 0.0_dp
-      else
-        tl = 0.0_dp
-        tr = f%theta_in
-      end if
-      do it = 1, c%max_pressure_iterations
-        f%etamid = 0.5_dp * (f%eta(1:n - 1) + f%eta(2:n))
-        f%kmid = f%hmid**3 / (12.0_dp * f%etamid)
-        f%pold = f%p
-        if (f%starved .or. trailing_gas) then
-          call jfo_solve_connected(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, &
+    do it = 1, c%max_pressure_iterations
+      f%etamid = 0.5_dp * (f%eta(1:n - 1) + f%eta(2:n))
+      f%kmid = f%hmid**3 / (12.0_dp * f%etamid)
+      f%pold = f%p
+      if (f%starved .or. trailing_gas) then
+        call jfo_solve_connected(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, &
                 tl, tr, c%cavitation_pressure, trailing_gas, f%starved, f%pc, f%p, f%theta, iters, &
-                                   outer, info, f%q_left, f%q_right, inflow_cap=qcap)
-        else
-          f%pc = c%cavitation_pressure
-          call jfo_solve(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, tl, tr, &
-                         f%pc, f%p, f%theta, iters, info, f%q_left, f%q_right)
-        end if
-        f%reynolds_solves = f%reynolds_solves + iters
-        if (info /= JFO_OK) f%flags = ior(f%flags, flag_cavitation)
-        if (.not. c%roelands) exit
-        call update_viscosity(c, f, w_tol, it, settled)
-        if (settled) exit
-      end do
-      if (.not. f%starved) exit
-      ! oil entering through the leading edge over the step must be oil that is there
+                                 outer, info, f%q_left, f%q_right, cap_left=ql, cap_right=qr)
+      else
+        f%pc = c%cavitation_pressure
+        call jfo_solve(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, tl, tr, &
+                       f%pc, f%p, f%theta, iters, info, f%q_left, f%q_right)
+      end if
+      f%reynolds_solves = f%reynolds_solves + iters
+      if (info /= JFO_OK) f%flags = ior(f%flags, flag_cavitation)
+      if (.not. c%roelands) exit
+      call update_viscosity(c, f, w_tol, it, settled)
+      if (settled) exit
+    end do
+    if (f%starved) then
+      ! oil entering through the leading edge over the step must be oil that is there (the
+      ! cap inside the solve ensures it; a solve that ended unconverged may not)
       if (f%lead_left) then
         v_in = f%q_left * f%dt
       else
         v_in = -f%q_right * f%dt
       end if
-      if (v_in <= f%available * (1.0_dp + 1e-9_dp) + 1e-30_dp .or. f%theta_in <= 0.0_dp) exit
-      if (pass == 4) then
-        f%flags = ior(f%flags, flag_overdraw)
-        exit
-      end if
-      f%theta_in = f%theta_in * max(0.0_dp, f%available) / v_in
-      f%p = p_save
-      f%theta = th_save
-    end do
+      if (v_in > f%available * (1.0_dp + 1e-9_dp) + 1e-30_dp) f%flags = ior(f%flags, flag_overdraw)
+    end if
 
     call film_loads(c, f)
   end subroutine jfo_evaluate
@@ -313,6 +317,14 @@ contains
 
   !> Viscous and boundary friction on the ring [N], positive towards the crankcase.
   !>
+  !> Mass-conserving film: the shear of each interval is weighted like its flux (SPEC 13:
+  !> no shear where the flux carries no oil). The Couette shear `eta U / h` by the fill the
+  !> Couette flux carries (the upwind node's), the Poiseuille shear `(h/2) dp/dx` by the fill
+  !> the pressure-driven flux carries (the node at the higher pressure, as in the flux of
+  !> ringlube_jfo), and at an edge face whose inflow was capped at the oil there by the share
+  !> of that flux that is oil. So a gas-only interval (a gas-filled edge next to a cavity) has
+  !> no shear, and a lifted ring whose gap holds a little oil has the shear of that oil only.
+  !>
   !> Full-film cells: `tau = (h/2) dp/dx + eta U / h` at the cell midpoint. Cavitated cells
   !> (both ends at p_cav): Couette shear scaled by the film fraction `h_c / h`, h_c the
   !> gap at the upstream rupture node (the oil passes the ruptured zone as streamers of
@@ -329,12 +341,8 @@ contains
     n = f%n
     fv = 0.0_dp
     if (f%jfo) then
-      ! mass-conserving film: Poiseuille shear from the pressure gradient (zero in a cavity,
-      ! held at its cavity pressure) and Couette shear scaled by the fill of the cell
       do i = 1, n - 1
-        tau = 0.5_dp * f%hmid(i) * (f%p(i + 1) - f%p(i)) / f%dx + &
-              0.5_dp * (f%theta(i) + f%theta(i + 1)) * f%etamid(i) * u / f%hmid(i)
-        fv = fv + tau * f%dx
+        fv = fv + jfo_shear(i) * f%dx
       end do
       fv = -f%circ * fv
       fb = boundary()
@@ -381,6 +389,34 @@ contains
         boundary = 0.0_dp
       end if
     end function boundary
+
+    !> Shear [Pa] of interval i (nodes i, i+1) of the mass-conserving film, weighted like
+    !> its flux (see above).
+    pure real(dp) function jfo_shear(i)
+      integer, intent(in) :: i
+      real(dp) :: g, wp, wc, c_flux, p_flux, q_act
+      g = f%kmid(i) * (f%p(i + 1) - f%p(i)) / f%dx
+      wp = merge(f%theta(i), f%theta(i + 1), g <= 0.0_dp)
+      wc = merge(f%theta(i), f%theta(i + 1), u < 0.0_dp)
+      if (i == 1 .or. i == n - 1) then
+        ! an edge face: the flux actually carried (capped at the oil there) against the
+        ! uncapped one; the cut falls on the pressure-driven part, then on the Couette part
+        c_flux = -0.5_dp * u * wc * f%hmid(i)
+        p_flux = -g * wp
+        if (i == 1) then
+          q_act = f%q_left
+        else
+          q_act = f%q_right
+        end if
+        if (abs(q_act - (c_flux + p_flux)) > 1e-12_dp * (abs(c_flux) + abs(p_flux))) then
+          if (abs(p_flux) > 0.0_dp) wp = wp * min(1.0_dp, max(0.0_dp, (q_act - c_flux) / p_flux))
+          if (abs(c_flux) > 0.0_dp .and. (q_act - c_flux) * c_flux < 0.0_dp .and. &
+              abs(q_act) < abs(c_flux)) wc = wc * max(0.0_dp, q_act / c_flux)
+        end if
+      end if
+      jfo_shear = wp * 0.5_dp * f%hmid(i) * (f%p(i + 1) - f%p(i)) / f%dx + &
+                  wc * f%etamid(i) * u / f%hmid(i)
+    end function jfo_shear
 
     pure logical function cavitated(k)
       integer, intent(in) :: k

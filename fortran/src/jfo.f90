@@ -24,7 +24,8 @@
 !> right the step is exact, so a warm start needs 1-2 iterations. Guard against cycling: after
 !> free_steps full steps a step must bring ||R||^2 below the largest of the last few accepted
 !> values (non-monotone Armijo, halving); if it cannot, projected Gauss-Seidel sweeps on v (a
-!> convergent M-function iteration; n sweeps, doubling at each further use up to 16 n) take over
+!> convergent M-function iteration; gs_sweeps sweeps, doubling at each further use up to 16 times,
+!> gs_budget in all per solve) take over
 !> for a while.
 !> The pressure-driven content is upwind in pressure (theta_P), so a cavity at a gas pressure
 !> above its neighbour pushes out oil only in proportion to its fill: theta >= 0 by construction.
@@ -60,6 +61,15 @@ module ringlube_jfo
   !> after that, a step is accepted if it decreases ||R||^2 below the largest of the last
   !> `nonmonotone` accepted values (non-monotone Armijo rule, Grippo, Lampariello and Lucidi 1986)
   integer, parameter :: nonmonotone = 5
+  !> Gauss-Seidel sweeps of the first fallback (doubling at each further use, up to 16 times):
+  !> a fixed number, not one per node, so that a fallback costs O(n) like a Newton step (with n
+  !> sweeps it cost O(n^2): 95 % of a starved run at 801 nodes). The sweeps only have to move
+  !> the state off the piece where Newton cycles, not to converge.
+  integer, parameter :: gs_sweeps = 32
+  !> Gauss-Seidel sweeps one solve may spend in all: a solve where neither method converges (a
+  !> few trial films of extreme starved designs) ends at the iteration cap, flagged, after
+  !> O(n) work, not after tens of thousands of sweeps
+  integer, parameter :: gs_budget = 2048
 
 contains
 
@@ -79,13 +89,14 @@ contains
   !> max_iter: Newton iterations (default 200); guard = .false. switches the anti-cycling guard off
   !> (tests); newton = .false. uses only projected Gauss-Seidel sweeps, max_iter of them (the
   !> fallback, for tests and the benchmark); sweeps (out): Gauss-Seidel sweeps spent.
-  !> inflow_cap (m^2/s, default none): the oil entering through the upwind (leading) edge face
-  !> is at most this (the oil there, of a starved inlet): `F = min(F, inflow_cap)`, a kink
-  !> like the others of the residual; beyond it the edge admits gas. (The Gauss-Seidel
-  !> fallback does not apply it; the caller checks the inflow.)
+  !> cap_left, cap_right (m^2/s, default none): the oil entering the gap through the left
+  !> (right) edge face is at most this (the oil there: a starved inlet's strip and bank, the
+  !> liner film behind a trailing edge): `F_in = min(F_in, cap)`, a kink like the others of
+  !> the residual; beyond it the edge admits gas. Both edges are treated alike, whichever
+  !> leads; the Newton solve and the Gauss-Seidel fallback apply the same caps.
   pure subroutine jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
                             theta_right, pc, p, theta, iterations, info, q_left, q_right, tol, &
-                            max_iter, guard, newton, sweeps, inflow_cap)
+                            max_iter, guard, newton, sweeps, cap_left, cap_right)
     real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
     real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, pc(:)
     real(dp), intent(inout) :: p(:), theta(:)
@@ -95,12 +106,12 @@ contains
     integer, intent(in), optional :: max_iter
     logical, intent(in), optional :: guard, newton
     integer, intent(out), optional :: sweeps
-    real(dp), intent(in), optional :: inflow_cap
+    real(dp), intent(in), optional :: cap_left, cap_right
     real(dp) :: v(size(h)), vt(size(h)), vbest(size(h)), dv(size(h)), r(size(h)), rt(size(h))
     real(dp) :: ca(size(h)), kd(size(h)), fl(size(h)), pn(size(h)), tn(size(h)), ps(size(h))
     real(dp) :: dfpl(size(h)), dfpr(size(h)), dftl(size(h)), dftr(size(h))
     real(dp) :: jl(size(h)), jd(size(h)), ju(size(h)), tw(size(h))
-    real(dp) :: a, w, rtol, f0, ft, fbest, t, rscale, rmax, fhist(nonmonotone), qcap
+    real(dp) :: a, w, rtol, f0, ft, fbest, t, rscale, rmax, fhist(nonmonotone), qcl, qcr
     integer :: n, i, it, itmax, tinfo, nls, nsweep, stall, nfall
     logical :: use_guard, use_newton, accepted, jac_ok
 
@@ -124,8 +135,10 @@ contains
     if (present(guard)) use_guard = guard
     use_newton = .true.
     if (present(newton)) use_newton = newton
-    qcap = huge(1.0_dp)
-    if (present(inflow_cap)) qcap = max(inflow_cap, 0.0_dp)
+    qcl = huge(1.0_dp)
+    if (present(cap_left)) qcl = max(cap_left, 0.0_dp)
+    qcr = huge(1.0_dp)
+    if (present(cap_right)) qcr = max(cap_right, 0.0_dp)
 
     a = -0.5_dp * u
     w = 0.0_dp
@@ -219,10 +232,11 @@ contains
       end if
       if (.not. accepted .or. stall >= 3) then
         ! zero pivot, no descent, or repeated damping: Gauss-Seidel sweeps, then Newton again
-        ! (each fallback sweeps twice as long as the previous one, at most 16 n sweeps: where
-        ! neither converges, as in a few extreme starved designs, a solve must still end at the
-        ! iteration cap, flagged, not after millions of sweeps)
-        call gauss_seidel(v, n * 2**min(nfall, 4), nsweep)
+        ! (each fallback sweeps twice as long as the previous one, at most 16 gs_sweeps, and
+        ! gs_budget in all: where neither converges, as in a few extreme starved designs, a
+        ! solve must still end at the iteration cap, flagged, after O(n) work)
+        if (nsweep < gs_budget) &
+          call gauss_seidel(v, min(gs_sweeps * 2**min(nfall, 4), gs_budget - nsweep), nsweep)
         nfall = nfall + 1
         jac_ok = .false.
         call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
@@ -322,14 +336,15 @@ contains
         dfpl(j) = kd(j) * tp
         dfpr(j) = -kd(j) * tp
       end do
-      ! oil entering through the upwind (leading) edge face is capped at inflow_cap: beyond
-      ! it the edge admits gas; the capped flux does not depend on the interior nodes
-      if (a > 0.0_dp .and. fl(1) > qcap) then
-        fl(1) = qcap
+      ! oil entering through an edge face is capped at the oil there: beyond it the edge
+      ! admits gas; the capped flux does not depend on the interior nodes
+      if (fl(1) > qcl) then
+        fl(1) = qcl
         dfpr(1) = 0.0_dp
         dftr(1) = 0.0_dp
-      else if (a < 0.0_dp .and. -fl(n - 1) > qcap) then
-        fl(n - 1) = -qcap
+      end if
+      if (-fl(n - 1) > qcr) then
+        fl(n - 1) = -qcr
         dfpl(n - 1) = 0.0_dp
         dftl(n - 1) = 0.0_dp
       end if
@@ -372,15 +387,16 @@ contains
 
     !> Projected Gauss-Seidel on v: each node solves its own equation (monotone in v(j)) with
     !> the neighbours fixed and the upwind choices of the current state, sweeping downstream.
-    !> The inflow cap applies as in the residual: at the first node downstream of the leading
-    !> edge, if the inflow of the update exceeds qcap, the node is solved again with that face
-    !> carrying qcap (a constant).
+    !> The edge caps apply as in the residual: at a node next to an edge, if the inflow through
+    !> the edge face of the update exceeds the cap, the node is solved again with that face
+    !> carrying the cap (a constant).
     pure subroutine gauss_seidel(x, nsw, nsweep)
       real(dp), intent(inout) :: x(:)
       integer, intent(in) :: nsw
       integer, intent(inout) :: nsweep
       integer :: s, k, j, j0, j1, step
-      real(dp) :: pl, pr, tl, tr, fin
+      real(dp) :: pl, pr, tl, tr
+      logical :: capl, capr, again
       if (a >= 0.0_dp) then
         j0 = 2; j1 = n - 1; step = 1
       else
@@ -402,14 +418,21 @@ contains
             pr = p_right
             tr = theta_right
           end if
-          call node_update(j, pl, pr, tl, tr, .false., .false., x(j))
-          if (a > 0.0_dp .and. j == 2) then
-            fin = face_flux(j - 1, pl, node_p(j, x(j)), tl, node_t(x(j)))
-            if (fin > qcap) call node_update(j, pl, pr, tl, tr, .true., .false., x(j))
-          else if (a < 0.0_dp .and. j == n - 1) then
-            fin = -face_flux(j, node_p(j, x(j)), pr, node_t(x(j)), tr)
-            if (fin > qcap) call node_update(j, pl, pr, tl, tr, .false., .true., x(j))
-          end if
+          capl = .false.
+          capr = .false.
+          do
+            call node_update(j, pl, pr, tl, tr, capl, capr, x(j))
+            again = .false.
+            if (j == 2 .and. .not. capl) then
+              if (face_flux(1, pl, node_p(j, x(j)), tl, node_t(x(j))) > qcl) capl = .true.
+              again = capl
+            end if
+            if (j == n - 1 .and. .not. capr) then
+              if (-face_flux(j, node_p(j, x(j)), pr, node_t(x(j)), tr) > qcr) capr = .true.
+              again = again .or. capr
+            end if
+            if (.not. again) exit
+          end do
         end do
       end do
     end subroutine gauss_seidel
@@ -442,7 +465,7 @@ contains
     end function face_flux
 
     !> Node j's own equation with its neighbours (pl, tl), (pr, tr) fixed; with capl (capr)
-    !> the left (right) face carries the constant inflow qcap.
+    !> the left (right) face carries the constant inflow qcl (qcr).
     pure subroutine node_update(j, pl, pr, tl, tr, capl, capr, xj)
       integer, intent(in) :: j
       real(dp), intent(in) :: pl, pr, tl, tr
@@ -459,8 +482,8 @@ contains
       if (a < 0.0_dp) cl = ca(j - 1)
       fr0 = cr - gr * merge(1.0_dp, tr, gr <= 0.0_dp)
       fl0 = cl - gl * merge(tl, 1.0_dp, gl <= 0.0_dp)
-      if (capl) fl0 = qcap
-      if (capr) fr0 = -qcap
+      if (capl) fl0 = qcl
+      if (capr) fr0 = -qcr
       r0 = w * (h(j) - content_old(j)) + fr0 - fl0
       if (r0 < 0.0_dp) then
         ! full film, p(j) > pc(j): R(p) is piecewise linear, increasing and convex in p
@@ -476,8 +499,8 @@ contains
           pj = pj - rj / dpr
           fr0 = cr - kd(j) * (pr - pj) * merge(tr, 1.0_dp, pr > pj)
           fl0 = cl - kd(j - 1) * (pj - pl) * merge(tl, 1.0_dp, pl > pj)
-          if (capl) fl0 = qcap
-          if (capr) fr0 = -qcap
+          if (capl) fl0 = qcl
+          if (capr) fr0 = -qcr
           rj = w * (h(j) - content_old(j)) + fr0 - fl0
           if (rj >= 0.0_dp) exit
         end do
@@ -513,7 +536,8 @@ contains
   !> u = 0 an edge is open if either flag is set). The zone open to an edge's gas is the run of
   !> theta < 1 nodes next to that edge (the cavity reaching the trailing edge; the partly filled
   !> inlet zone of a starved film); when p is given it also takes in the full nodes next to the
-  !> run, or next to an edge that admits gas (theta(1) or theta(n) < 1), whose pressure is below
+  !> run, or next to an edge that is a gas interface (it admits gas, theta(1) or theta(n) < 1,
+  !> or it is the trailing edge with trailing_gas), whose pressure is below
   !> that gas pressure: a meniscus is in pressure equilibrium with the gas behind it, so a film
   !> below the gas pressure cannot touch the gas. The zone sits at max(p_gas, p_cav); a zone
   !> spanning the face (partly filled across its width) at the higher of the two gas pressures;
@@ -525,7 +549,7 @@ contains
     real(dp), intent(out) :: pc(:)
     real(dp), intent(in), optional :: p(:)
     integer :: n, il, ir
-    logical :: open_left, open_right
+    logical :: open_left, open_right, gas_left, gas_right
     real(dp) :: lev_l, lev_r
 
     n = size(theta)
@@ -540,12 +564,16 @@ contains
       open_left = trailing_gas .or. leading_gas
       open_right = open_left
     end if
+    ! an edge is a gas interface (film below its pressure next to it joins its gas) when it
+    ! admits gas (fill < 1: a starved inlet) or it is the trailing edge with trailing_gas
+    gas_left = theta(1) < 1.0_dp .or. (trailing_gas .and. u >= 0.0_dp)
+    gas_right = theta(n) < 1.0_dp .or. (trailing_gas .and. u <= 0.0_dp)
     lev_l = max(p_left, p_cav)
     lev_r = max(p_right, p_cav)
     ! il: last node of the zone open at the left edge (1: none); ir: first of the right one (n)
     il = 1
     if (open_left) then
-      if (theta(2) < 1.0_dp .or. (present(p) .and. theta(1) < 1.0_dp)) then
+      if (theta(2) < 1.0_dp .or. (present(p) .and. gas_left)) then
         do while (il < n - 1)
           if (.not. in_zone(il + 1, lev_l)) exit
           il = il + 1
@@ -554,7 +582,7 @@ contains
     end if
     ir = n
     if (open_right) then
-      if (theta(n - 1) < 1.0_dp .or. (present(p) .and. theta(n) < 1.0_dp)) then
+      if (theta(n - 1) < 1.0_dp .or. (present(p) .and. gas_right)) then
         do while (ir > 2)
           if (.not. in_zone(ir - 1, lev_r)) exit
           ir = ir - 1
@@ -594,7 +622,7 @@ contains
   pure subroutine jfo_solve_connected(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
                                       theta_left, theta_right, p_cav, trailing_gas, leading_gas, &
                                       pc, p, theta, iterations, outer, info, q_left, q_right, tol, &
-                                      max_iter, max_outer, inflow_cap)
+                                      max_iter, max_outer, cap_left, cap_right)
     real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
     real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, p_cav
     logical, intent(in) :: trailing_gas, leading_gas
@@ -604,7 +632,7 @@ contains
     real(dp), intent(out), optional :: q_left, q_right
     real(dp), intent(in), optional :: tol
     integer, intent(in), optional :: max_iter, max_outer
-    real(dp), intent(in), optional :: inflow_cap
+    real(dp), intent(in), optional :: cap_left, cap_right
     real(dp) :: pcn(size(pc)), th(size(theta)), hist(size(pc), 16)
     integer :: k, kmax, it, i, j
 
@@ -624,7 +652,7 @@ contains
       outer = k
       call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
                      theta_right, pc, p, theta, it, info, q_left, q_right, tol, max_iter, &
-                     inflow_cap=inflow_cap)
+                     cap_left=cap_left, cap_right=cap_right)
       iterations = iterations + it
       if (info /= JFO_OK .and. info /= JFO_DRY) return
       call jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pcn, p)
@@ -640,7 +668,7 @@ contains
           end do
           call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
                          theta_right, pc, p, theta, it, info, q_left, q_right, tol, max_iter, &
-                         inflow_cap=inflow_cap)
+                         cap_left=cap_left, cap_right=cap_right)
           iterations = iterations + it
           outer = k + 1
           return

@@ -9,7 +9,7 @@ module ringlube_liner
   use ringlube_kinds, only: dp
   implicit none
   private
-  public :: liner_type, liner_init, strip_volume, strip_take, strip_put, strip_set, &
+  public :: liner_type, liner_init, strip_volume, strip_take, strip_put, strip_set, strip_draw, &
             liner_volume, liner_positions
 
   !> The liner film.
@@ -95,6 +95,27 @@ contains
       lin%h(i) = lin%h(i) * (1.0_dp - o / lin%dz)
     end do
   end subroutine strip_take
+
+  !> Take volume v [m^2] from the strip, the same share of the oil of every part of it (at
+  !> most all of it); returns in `taken` what was taken.
+  pure subroutine strip_draw(lin, za, zb, v, taken)
+    type(liner_type), intent(inout) :: lin
+    real(dp), intent(in) :: za, zb, v
+    real(dp), intent(out) :: taken
+    real(dp) :: o, avail, share
+    integer :: i, i0, i1
+    taken = 0.0_dp
+    avail = strip_volume(lin, za, zb)
+    if (.not. (avail > 0.0_dp) .or. .not. (v > 0.0_dp)) return
+    share = min(1.0_dp, v / avail)
+    call cell_range(lin, za, zb, i0, i1)
+    do i = i0, i1
+      o = overlap(lin, i, min(za, zb), max(za, zb))
+      if (o <= 0.0_dp) cycle
+      taken = taken + share * lin%h(i) * o
+      lin%h(i) = lin%h(i) * (1.0_dp - share * o / lin%dz)
+    end do
+  end subroutine strip_draw
 
   !> Spread volume v [m^2] evenly over the strip (over the nearest cell if it has no length
   !> on the grid). Returns in `put` what was placed (v, unless the strip lies off the grid).

@@ -11,10 +11,10 @@
 module ringlube_oil_supply
   use ringlube_kinds, only: dp
   use ringlube_liner, only: liner_type, liner_init, strip_volume, strip_take, strip_put, &
-                            strip_set, liner_volume
+                            strip_set, strip_draw, liner_volume
   implicit none
   private
-  public :: supply_type, supply_setup, inlet_available, inlet_fill, supply_step, &
+public :: supply_type, supply_setup, inlet_available, trailing_available, inlet_fill, supply_step, &
             supply_reset_counters, supply_stored, supply_to_chamber
 
   !> State and counters of the oil supply (volumes per unit circumference, m^2).
@@ -69,6 +69,21 @@ contains
                                        leading_edge(sup, s, dir))
   end function inlet_available
 
+  !> Oil the trailing edge may draw back into the gap in a step from s_prev to s [m^2]: the
+  !> liner film on the strip just behind its position at the start of the step, as long as
+  !> the distance moved (the film it left there; at a reversal, the bank left by the old
+  !> leading edge). Its rate limit is |U| h_oil, as the leading edge's.
+  pure real(dp) function trailing_available(sup, s_prev, s, dir) result(v)
+    type(supply_type), intent(in) :: sup
+    real(dp), intent(in) :: s_prev, s
+    integer, intent(in) :: dir
+    real(dp) :: te
+    v = 0.0_dp
+    if (dir == 0) return
+    te = leading_edge(sup, s_prev, -dir)
+    v = strip_volume(sup%liner, te, te - dir * abs(s - s_prev))
+  end function trailing_available
+
   !> Fill of the oil the leading edge admits: min(1, 2 V / (h_le |ds|)), V the oil
   !> available over the step, h_le the gap at the leading face, |ds| the distance moved
   !> (at a dead centre: 1 if there is any oil, else 0).
@@ -85,7 +100,8 @@ contains
 
   !> The exchanges of one crank step from s_prev to s with sliding direction dir (sign of U;
   !> 0 at a dead centre): `v_in` oil entered the gap through the leading edge (negative:
-  !> pushed out ahead), `v_out` oil left it through the trailing edge. At a reversal the
+  !> pushed out ahead), `v_out` oil left it through the trailing edge (negative: drawn back from
+  !> the liner behind it, `trailing_available`). At a reversal the
   !> bank stays on the liner ahead of the old leading edge; at the start of an upstroke the
   !> lower rings replace the downstroke film where they reach.
   pure subroutine supply_step(sup, s_prev, s, dir, v_in, v_out)
@@ -126,11 +142,16 @@ contains
       sup%overdrawn = sup%overdrawn - sup%bank
       sup%bank = 0.0_dp
     end if
-    ! the trailing edge's strip: the film that left the gap
+    ! the trailing edge's strip: the film that left the gap, or the oil drawn back into it
+    ! from the strip behind the trailing edge
     if (v_out > 0.0_dp) then
       call strip_put(sup%liner, leading_edge(sup, s_prev, -sup%direction), &
                      leading_edge(sup, s, -sup%direction), v_out, put)
       sup%overdrawn = sup%overdrawn + (v_out - put)
+    else if (v_out < 0.0_dp) then
+      edge = leading_edge(sup, s_prev, -sup%direction)
+      call strip_draw(sup%liner, edge, edge - sup%direction * abs(s - s_prev), -v_out, put)
+      sup%overdrawn = sup%overdrawn + (-v_out - put)
     end if
   end subroutine supply_step
 

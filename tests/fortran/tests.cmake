@@ -5,7 +5,7 @@ add_library(ringlube_check STATIC ${CMAKE_CURRENT_LIST_DIR}/check.f90)
 target_link_libraries(ringlube_check PUBLIC ringlube_kernel)
 
 foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner jfo time_order
-    mixed_share film_viscosity)
+    mixed_share film_viscosity film_edges)
   add_executable(test_${t} ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
   target_link_libraries(test_${t} PRIVATE ringlube_check ringlube_io ${LAPACK_LIBRARIES})
   add_test(NAME ${t} COMMAND test_${t} WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
@@ -49,7 +49,7 @@ set_tests_properties(study_trend_crown_height PROPERTIES WILL_FAIL TRUE)
 # known_limitation: expected failures (WILL_FAIL) that document what the model does not do.
 set_tests_properties(tridiag tridiag_fixed liner PROPERTIES LABELS "unit")
 set_tests_properties(greenwood_tripp physics_basics mixed_share PROPERTIES LABELS "unit;numerics")
-set_tests_properties(reynolds cycle time_order film_viscosity PROPERTIES LABELS "numerics")
+set_tests_properties(reynolds cycle time_order film_viscosity film_edges PROPERTIES LABELS "numerics")
 set_tests_properties(jfo PROPERTIES LABELS "numerics;slow")
 set_tests_properties(bad_decks solve_shipped_deck PROPERTIES LABELS "cli;io")
 set_tests_properties(concurrent_output PROPERTIES LABELS "cli;io;slow")
