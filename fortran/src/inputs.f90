@@ -78,7 +78,7 @@ module ringlube_inputs
       'viscosity-temperature coefficient'), &
     input_spec('lubricant', 'alpha', kind_real, '1e-8', 0.0_dp, 1e-6_dp, '1/Pa', '', &
       'pressure-viscosity coefficient'), &
-    input_spec('lubricant', 'supply_film', kind_real, '5e-6', 0.0_dp, 1e-3_dp, 'm', '', &
+    input_spec('lubricant', 'supply_film', kind_real, '1e-6', 0.0_dp, 1e-3_dp, 'm', '', &
       'oil film the lower rings leave on the liner for the top ring (starved inlet)'), &
     input_spec('surface', 'rq_liner', kind_real, '0.378e-6', 1e-9_dp, 1e-4_dp, 'm', '', &
       'liner roughness Rq'), &
