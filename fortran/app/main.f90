@@ -81,8 +81,9 @@ program ringlube_solve
   call system_clock(t1)
   if (allocated(err)) call die(err%message, err%code)
   runtime = real(t1 - t0, dp) / real(rate, dp)
+  res%run_time = runtime
 
-  call write_result(out, c, res, runtime, err, inputs, input_labels)
+  call write_result(out, c, res, err, inputs, input_labels)
   if (allocated(err)) call die(err%message, err%code)
 
   if (.not. quiet) then

@@ -30,9 +30,9 @@ module ringlube_hdf5_output
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_runtime_error, rl_input_error
   use ringlube_case, only: case_type
-  use ringlube_results, only: result_type, result_scalar, scalar_spec, n_scalars, series_spec, &
+  use ringlube_results, only: result_type, scalar_value, scalar_spec, n_scalars, series_spec, &
                               n_series, int_series_spec, n_int_series, series_ptr, int_series_ptr, &
-                              flag_description, liner_spec, produced
+                              liner_ptr, flag_description, liner_spec, n_liner, produced
   use ringlube_version, only: package_version
   use ringlube_textio, only: utf8_clean
   use ringlube_fsys, only: file_kind, same_file, make_temp_file, rename_file, remove_file, &
@@ -113,16 +113,16 @@ contains
   end subroutine check_output
 
   !> Write the result of case `c` to `path` (atomically, via a unique temporary file in
-  !> the same folder). `path` is first checked by `check_output` against the deck and the
-  !> pressure file of `c` and the optional further `inputs` (named by `labels`).
-  subroutine write_result(path, c, res, runtime_s, err, inputs, labels)
+  !> the same folder): every series and scalar of the result tables, by index. `path` is
+  !> first checked by `check_output` against the deck and the pressure file of `c` and the
+  !> optional further `inputs` (named by `labels`).
+  subroutine write_result(path, c, res, err, inputs, labels)
     character(len=*), intent(in) :: path
     type(case_type), intent(in) :: c
-    type(result_type), intent(in), target :: res
-    real(dp), intent(in) :: runtime_s
+    type(result_type), intent(in) :: res
     type(error_type), allocatable, intent(out) :: err
     character(len=*), intent(in), optional :: inputs(:), labels(:)
-    type(result_type) :: r
+    type(result_type), target :: r
     real(dp) :: v
     integer :: i
     character(len=:), allocatable :: tmp, failed
@@ -185,12 +185,12 @@ contains
       end if
     end if
 
-    ! the scalar results, by the kernel's table (run time from the caller)
+    ! the scalar results, by the kernel's table (a copy: the map to the series needs a
+    ! result it may point into)
     r = res
-    r%run_time = runtime_s
     do i = 1, n_scalars
       if (.not. produced(r, scalar_spec(i)%requires)) cycle
-      call result_scalar(r, i, v, .false.)
+      v = scalar_value(r, i)
       if (scalar_spec(i)%integer_valued) then
         call attr_int(fid, trim(scalar_spec(i)%stored), nint(v))
       else
@@ -209,35 +209,41 @@ contains
     ! the crank angle is the dimension scale (coordinate) of every other /cycle dataset;
     ! it stays open until they are written
     do i = 1, n_series
-      if (.not. produced(res, series_spec(i)%requires)) cycle
+      if (.not. produced(r, series_spec(i)%requires)) cycle
       if (i == 1) then
-        call dset(gid, trim(series_spec(i)%stored), series_ptr(res, i), trim(series_spec(i)%unit), &
+        call dset(gid, trim(series_spec(i)%stored), series_ptr(r, i), trim(series_spec(i)%unit), &
                   trim(series_spec(i)%long_name), keep=scale_id)
       else
-        call dset(gid, trim(series_spec(i)%stored), series_ptr(res, i), trim(series_spec(i)%unit), &
+        call dset(gid, trim(series_spec(i)%stored), series_ptr(r, i), trim(series_spec(i)%unit), &
                   trim(series_spec(i)%long_name))
       end if
     end do
     do i = 1, n_int_series
       if (trim(int_series_spec(i)%short) == 'flags') then
-        call dset_int(gid, trim(int_series_spec(i)%stored), int_series_ptr(res, i), &
+        call dset_int(gid, trim(int_series_spec(i)%stored), int_series_ptr(r, i), &
                       trim(int_series_spec(i)%unit), trim(int_series_spec(i)%long_name), &
                       flag_description())
       else
-        call dset_int(gid, trim(int_series_spec(i)%stored), int_series_ptr(res, i), &
+        call dset_int(gid, trim(int_series_spec(i)%stored), int_series_ptr(r, i), &
                       trim(int_series_spec(i)%unit), trim(int_series_spec(i)%long_name), &
                       trim(int_series_spec(i)%long_name))
       end if
     end do
-    ! the liner film at the end of the cycle (starved inlet): its position is the scale
-    if (res%has_starved .and. ok) then
+    ! the liner film at the end of the cycle (starved inlet): its position (the first row
+    ! of the table) is the scale
+    if (r%has_starved .and. ok) then
       call h5gcreate_f(fid, 'liner', lid, herr)
       call opened(herr, 'group /liner', lid, k_group)
-      call dset(lid, trim(liner_spec(1)%stored), res%liner_z, trim(liner_spec(1)%unit), &
-                trim(liner_spec(1)%long_name), keep=liner_scale)
-      scale_id = liner_scale
-      call dset(lid, trim(liner_spec(2)%stored), res%liner_h, trim(liner_spec(2)%unit), &
-                trim(liner_spec(2)%long_name))
+      do i = 1, n_liner
+        if (i == 1) then
+          call dset(lid, trim(liner_spec(i)%stored), liner_ptr(r, i), trim(liner_spec(i)%unit), &
+                    trim(liner_spec(i)%long_name), keep=liner_scale)
+          scale_id = liner_scale
+        else
+          call dset(lid, trim(liner_spec(i)%stored), liner_ptr(r, i), trim(liner_spec(i)%unit), &
+                    trim(liner_spec(i)%long_name))
+        end if
+      end do
     end if
     ! close the scale, the group and the file (the file's metadata is written then)
     do while (ok .and. nopen > 0)

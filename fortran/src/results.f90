@@ -9,7 +9,8 @@ module ringlube_results
   private
   public :: result_type, field_spec, flag_spec, series_spec, n_series, int_series_spec, &
             n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, series_ptr, int_series_ptr, &
-            result_scalar, allocate_result, flag_description, liner_spec, n_liner, produced
+            liner_ptr, scalar_value, allocate_result, flag_description, liner_spec, n_liner, &
+            produced
 
   !> Per-step flag bits (dataset `/cycle/flags`).
   integer, parameter, public :: flag_floor = 1        !< h0 held at h0_floor
@@ -75,13 +76,6 @@ module ringlube_results
     field_spec('oil_bank', 'oil_bank_m2', 'm^2', .false., &
       'oil bank pushed ahead of the leading edge, per unit circumference', 'starved') &
   ]
-  !> Index of each real series in `series_spec` and in the f2py export.
-  integer, parameter, public :: s_crank_angle = 1, s_sliding_speed = 2, s_h0 = 3, &
-    s_lambda_min = 4, s_gas_pressure = 5, s_applied_load = 6, s_hydrodynamic_load = 7, &
-    s_asperity_load = 8, s_viscous_friction = 9, s_boundary_friction = 10, s_friction = 11, &
-    s_power_loss = 12, s_load_residual = 13, s_inlet_fill = 14, s_wetted_width = 15, &
-    s_oil_left = 16, s_oil_bank = 17
-
   !> Integer series over the reported cycle.
   type(field_spec), parameter :: int_series_spec(*) = [ &
     field_spec('flags', 'flags', '1', .true., 'bit flags of the crank step (see description)'), &
@@ -176,26 +170,21 @@ module ringlube_results
 
 contains
 
-  !> Allocate every series for m crank steps (zeros).
+  !> Allocate every series of the tables for m crank steps (zeros; the liner film empty).
   subroutine allocate_result(res, m)
     type(result_type), intent(inout), target :: res
     integer, intent(in) :: m
-    real(dp), pointer :: p(:)
     integer :: i
     res%nsteps = m
-    allocate (res%crank_angle_deg(m), res%sliding_speed(m), res%h0(m), res%lambda_min(m), &
-              res%gas_pressure(m), res%applied_load(m), res%hydrodynamic_load(m), &
-              res%asperity_load(m), res%viscous_friction(m), res%boundary_friction(m), &
-              res%friction(m), res%power_loss(m), res%load_residual(m), res%flags(m), &
-              res%iterations(m), res%inlet_fill(m), res%wetted_width(m), res%oil_left(m), &
-              res%oil_bank(m))
-    allocate (res%liner_z(0), res%liner_h(0))
     do i = 1, n_series
-      p => series_ptr(res, i)
-      p = 0.0_dp
+      call real_field(res, 'series', i, m=m)
     end do
-    res%flags = 0
-    res%iterations = 0
+    do i = 1, n_int_series
+      call int_field(res, i, m=m)
+    end do
+    do i = 1, n_liner
+      call real_field(res, 'liner', i, m=0)
+    end do
   end subroutine allocate_result
 
   !> Did the run produce a result that `requires` this model ('' always)?
@@ -211,94 +200,126 @@ contains
 
   !> The real series i of `series_spec`.
   function series_ptr(res, i) result(p)
-    type(result_type), intent(in), target :: res
+    type(result_type), intent(inout), target :: res
     integer, intent(in) :: i
     real(dp), pointer :: p(:)
-    select case (i)
-    case (s_crank_angle); p => res%crank_angle_deg
-    case (s_sliding_speed); p => res%sliding_speed
-    case (s_h0); p => res%h0
-    case (s_lambda_min); p => res%lambda_min
-    case (s_gas_pressure); p => res%gas_pressure
-    case (s_applied_load); p => res%applied_load
-    case (s_hydrodynamic_load); p => res%hydrodynamic_load
-    case (s_asperity_load); p => res%asperity_load
-    case (s_viscous_friction); p => res%viscous_friction
-    case (s_boundary_friction); p => res%boundary_friction
-    case (s_friction); p => res%friction
-    case (s_power_loss); p => res%power_loss
-    case (s_load_residual); p => res%load_residual
-    case (s_inlet_fill); p => res%inlet_fill
-    case (s_wetted_width); p => res%wetted_width
-    case (s_oil_left); p => res%oil_left
-    case (s_oil_bank); p => res%oil_bank
-    case default; p => null()
-    end select
+    call real_field(res, 'series', i, p=p)
   end function series_ptr
+
+  !> The liner film quantity i of `liner_spec`.
+  function liner_ptr(res, i) result(p)
+    type(result_type), intent(inout), target :: res
+    integer, intent(in) :: i
+    real(dp), pointer :: p(:)
+    call real_field(res, 'liner', i, p=p)
+  end function liner_ptr
 
   !> The integer series i of `int_series_spec`.
   function int_series_ptr(res, i) result(p)
-    type(result_type), intent(in), target :: res
+    type(result_type), intent(inout), target :: res
     integer, intent(in) :: i
     integer, pointer :: p(:)
-    select case (i)
-    case (1); p => res%flags
-    case (2); p => res%iterations
-    case default; p => null()
-    end select
+    call int_field(res, i, p=p)
   end function int_series_ptr
 
-  !> Get (`set = .false.`) or set scalar i of `scalar_spec` in its stored unit (mass in g).
-  subroutine result_scalar(res, i, v, set)
-    type(result_type), intent(inout) :: res
+  !> The one map from the rows of `series_spec` (`table = 'series'`) and `liner_spec`
+  !> ('liner') to the components of `result_type`: with `m`, (re)allocate the component
+  !> with m zeros; with `p`, point p at it. A new series is a row of the table, its
+  !> component and one line here.
+  subroutine real_field(res, table, i, m, p)
+    type(result_type), intent(inout), target :: res
+    character(len=*), intent(in) :: table
     integer, intent(in) :: i
-    real(dp), intent(inout) :: v
-    logical, intent(in) :: set
-    select case (trim(scalar_spec(i)%short))
-    case ('energy_loss'); call r(res%energy_loss, 1.0_dp)
-    case ('mixed_share'); call r(res%mixed_share, 1.0_dp)
-    case ('ring_mass'); call r(res%ring_mass, 1e3_dp)
-    case ('min_film'); call r(res%min_film, 1.0_dp)
-    case ('max_friction'); call r(res%max_friction, 1.0_dp)
-    case ('converged'); call b(res%converged)
-    case ('cycles_run'); call n(res%cycles_run)
-    case ('cycle_change'); call r(res%cycle_change, 1.0_dp)
-    case ('sigma'); call r(res%sigma, 1.0_dp)
-    case ('run_time'); call r(res%run_time, 1.0_dp)
-    case ('total_film_solves'); call n(res%evaluations)
-    case ('reynolds_solves'); call n(res%reynolds_solves)
-    case ('cycles_computed'); call r(res%cycles_computed, 1.0_dp)
-    case ('periodic'); call b(res%periodic)
-    case ('oil_to_chamber'); call r(res%oil_to_chamber, 1.0_dp)
-    case ('oil_balance_error'); call r(res%oil_balance_error, 1.0_dp)
+    integer, intent(in), optional :: m
+    real(dp), pointer, intent(out), optional :: p(:)
+    character(len=:), allocatable :: name
+    if (present(p)) p => null()
+    if (table == 'liner') then
+      name = trim(liner_spec(i)%short)
+    else
+      name = trim(series_spec(i)%short)
+    end if
+    select case (name)
+    case ('crank_angle_deg'); call point(res%crank_angle_deg)
+    case ('sliding_speed'); call point(res%sliding_speed)
+    case ('h0'); call point(res%h0)
+    case ('lambda_min'); call point(res%lambda_min)
+    case ('gas_pressure'); call point(res%gas_pressure)
+    case ('applied_load'); call point(res%applied_load)
+    case ('hydrodynamic_load'); call point(res%hydrodynamic_load)
+    case ('asperity_load'); call point(res%asperity_load)
+    case ('viscous_friction'); call point(res%viscous_friction)
+    case ('boundary_friction'); call point(res%boundary_friction)
+    case ('friction'); call point(res%friction)
+    case ('power_loss'); call point(res%power_loss)
+    case ('load_residual'); call point(res%load_residual)
+    case ('inlet_fill'); call point(res%inlet_fill)
+    case ('wetted_width'); call point(res%wetted_width)
+    case ('oil_left'); call point(res%oil_left)
+    case ('oil_bank'); call point(res%oil_bank)
+    case ('liner_position'); call point(res%liner_z)
+    case ('liner_oil_film'); call point(res%liner_h)
     end select
   contains
-    subroutine r(x, scale)
-      real(dp), intent(inout) :: x
-      real(dp), intent(in) :: scale
-      if (set) then
-        x = v / scale
-      else
-        v = x * scale
+    subroutine point(x)
+      real(dp), allocatable, target, intent(inout) :: x(:)
+      if (present(m)) then
+        if (allocated(x)) deallocate (x)
+        allocate (x(m))
+        x = 0.0_dp
       end if
-    end subroutine r
-    subroutine n(x)
-      integer, intent(inout) :: x
-      if (set) then
-        x = nint(v)
-      else
-        v = real(x, dp)
+      if (present(p)) p => x
+    end subroutine point
+  end subroutine real_field
+
+  !> `real_field` for the rows of `int_series_spec`.
+  subroutine int_field(res, i, m, p)
+    type(result_type), intent(inout), target :: res
+    integer, intent(in) :: i
+    integer, intent(in), optional :: m
+    integer, pointer, intent(out), optional :: p(:)
+    if (present(p)) p => null()
+    select case (trim(int_series_spec(i)%short))
+    case ('flags'); call point(res%flags)
+    case ('film_solves'); call point(res%iterations)
+    end select
+  contains
+    subroutine point(x)
+      integer, allocatable, target, intent(inout) :: x(:)
+      if (present(m)) then
+        if (allocated(x)) deallocate (x)
+        allocate (x(m))
+        x = 0
       end if
-    end subroutine n
-    subroutine b(x)
-      logical, intent(inout) :: x
-      if (set) then
-        x = v > 0.5_dp
-      else
-        v = merge(1.0_dp, 0.0_dp, x)
-      end if
-    end subroutine b
-  end subroutine result_scalar
+      if (present(p)) p => x
+    end subroutine point
+  end subroutine int_field
+
+  !> Scalar i of `scalar_spec` in its stored unit (mass in g; integers and logicals as
+  !> 0/1 reals): the one map from the rows of the table to the components of `result_type`.
+  pure real(dp) function scalar_value(res, i) result(v)
+    type(result_type), intent(in) :: res
+    integer, intent(in) :: i
+    v = 0.0_dp
+    select case (trim(scalar_spec(i)%short))
+    case ('energy_loss'); v = res%energy_loss
+    case ('mixed_share'); v = res%mixed_share
+    case ('ring_mass'); v = res%ring_mass * 1e3_dp
+    case ('min_film'); v = res%min_film
+    case ('max_friction'); v = res%max_friction
+    case ('converged'); v = merge(1.0_dp, 0.0_dp, res%converged)
+    case ('cycles_run'); v = real(res%cycles_run, dp)
+    case ('cycle_change'); v = res%cycle_change
+    case ('sigma'); v = res%sigma
+    case ('run_time'); v = res%run_time
+    case ('total_film_solves'); v = real(res%evaluations, dp)
+    case ('reynolds_solves'); v = real(res%reynolds_solves, dp)
+    case ('cycles_computed'); v = res%cycles_computed
+    case ('periodic'); v = merge(1.0_dp, 0.0_dp, res%periodic)
+    case ('oil_to_chamber'); v = res%oil_to_chamber
+    case ('oil_balance_error'); v = res%oil_balance_error
+    end select
+  end function scalar_value
 
   !> "1: h0 at h0_floor, 2: ..." (the `description` of /cycle/flags).
   function flag_description() result(t)

@@ -1,8 +1,9 @@
 """Results of one cycle, by name: the series and scalars of the kernel's result tables.
 
 Every name, unit and description comes from the kernel (:mod:`ringlube.tables`); a
-result is written to HDF5 by the kernel's own writer, so files from ``ringlube-solve``
-and from Python have one layout.
+result file is written by the kernel itself (``ringlube-solve``, or
+``ringlube.run(case, output=path)``), so files from the command line and from Python have
+one layout and the numbers never travel back to the kernel to be written.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError, error_for
+from .errors import InputError
 from .tables import FLAG_BITS, INT_SERIES, LINER, SCALARS, SERIES
 
 __all__ = ["CycleResult", "load", "SERIES", "INT_SERIES", "SCALARS", "FLAG_BITS", "LINER"]
@@ -38,6 +39,10 @@ class CycleResult:
         The deck's text as the kernel read it, where it came from, and the gas trace.
     label : str
         Legend label.
+    calibration_file : str
+        The calibration file the deck included.
+    path : Path, optional
+        The result file the kernel wrote (``run(case, output=...)``) or :func:`load` read.
 
     Examples
     --------
@@ -58,6 +63,7 @@ class CycleResult:
         pressure_file: str = "",
         label: str = "",
         calibration_file: str = "",
+        path: os.PathLike | None = None,
     ):
         self.series = dict(series)
         self.scalars = dict(scalars)
@@ -65,9 +71,10 @@ class CycleResult:
         self.deck = deck
         self.deck_path = deck_path
         self.pressure_file = pressure_file
-        #: the calibration file the deck included (never overwritten by to_hdf5)
         self.calibration_file = calibration_file
         self.label = label
+        #: the HDF5 file of this result, if it has one
+        self.path = Path(path) if path is not None else None
 
     def __getattr__(self, name: str):
         d = self.__dict__
@@ -106,45 +113,6 @@ class CycleResult:
             f"converged {'yes' if self.converged else 'no'}"
         )
 
-    def to_hdf5(self, path: str | os.PathLike) -> Path:
-        """Write the SPEC layout with the kernel's writer (atomically).
-
-        Raises
-        ------
-        RinglubeError
-            If the file cannot be written (the message names it).
-        """
-        from . import _kernel
-
-        if not str(path) or "\0" in str(path):
-            raise InputError(f"{str(path)!r}: not a usable file name")
-        path = Path(path)
-        n = len(self.crank_angle_deg)
-        s = np.column_stack([np.asarray(self.series.get(k, np.zeros(n)), float) for k in SERIES])
-        i = np.column_stack([np.asarray(self.series[k], np.int32) for k in INT_SERIES])
-        c = np.array([float(self.scalars.get(k, 0.0)) for k in SCALARS])
-        produced = np.array([int("inlet_fill" in self.series), int(bool(self.liner))], np.int32)
-        lin = np.column_stack([self.liner[k] for k in LINER]) if self.liner else np.zeros((0, len(LINER)))
-        code, message = _kernel.rl_write(
-            os.fsencode(path),
-            s,
-            i,
-            c,
-            produced,
-            lin,
-            _b(self.deck),
-            _b(self.deck_path),
-            _b(self.pressure_file),
-            _b(self.calibration_file),
-        )
-        if code:
-            raise error_for(code, _text(message))
-        return path
-
-
-def _b(s: str) -> bytes:
-    return s.encode("utf-8", "surrogateescape")
-
 
 def _text(value, strip: bool = True) -> str:
     if isinstance(value, (bytes, np.bytes_)):
@@ -153,7 +121,8 @@ def _text(value, strip: bool = True) -> str:
 
 
 def load(path: str | os.PathLike) -> CycleResult:
-    """Read a result written by ``ringlube-solve`` or :meth:`CycleResult.to_hdf5`.
+    """Read a result file written by ``ringlube-solve``, ``ringlube run`` or
+    ``ringlube.run(case, output=path)``.
 
     Parameters
     ----------
@@ -172,8 +141,8 @@ def load(path: str | os.PathLike) -> CycleResult:
     Examples
     --------
     >>> import ringlube, tempfile, os
-    >>> r = ringlube.run(ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0))
-    >>> p = r.to_hdf5(os.path.join(tempfile.mkdtemp(), "r.h5"))
+    >>> p = os.path.join(tempfile.mkdtemp(), "r.h5")
+    >>> r = ringlube.run(ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0), output=p)
     >>> ringlube.load(p).energy_loss == r.energy_loss
     True
     """
@@ -208,6 +177,7 @@ def load(path: str | os.PathLike) -> CycleResult:
                 deck_path=_text(a.get("deck_path", b"")),
                 pressure_file=_text(a.get("pressure_file", b"")),
                 label=path.stem,
+                path=path,
             )
     except (OSError, KeyError, ValueError, TypeError) as exc:
         raise InputError(f"{path}: not a readable ringlube result ({exc})") from None

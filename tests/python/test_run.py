@@ -95,8 +95,9 @@ def test_results_are_double_precision():
 
 
 def test_hdf5_round_trip(quick_case, tmp_path):
-    r = ringlube.run(quick_case)
-    path = r.to_hdf5(tmp_path / "py.h5")
+    r = ringlube.run(quick_case, output=tmp_path / "py.h5")
+    path = r.path
+    assert path == tmp_path / "py.h5"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["py.h5"]
     back = ringlube.load(path)
     assert set(back.series) == set(r.series) and set(back.scalars) == set(r.scalars)
@@ -124,3 +125,21 @@ def test_repeated_runs_keep_no_state(quick_case):
     ringlube.run(quick_case.with_ring(width=1.3e-3, tension=20.0))
     b = ringlube.run(quick_case)
     np.testing.assert_array_equal(a.h0, b.h0)
+
+
+def test_batch_returns_each_failure_message_without_rerunning(monkeypatch):
+    """The batch call returns the kernel's message of each failed design (a failed design
+    used to be run again, alone, to get its message)."""
+    import ringlube.solve
+
+    def no_rerun(*args, **kwargs):
+        raise AssertionError("run() called again for a failed design")
+
+    monkeypatch.setattr(ringlube.solve, "run", no_rerun)
+    base = ringlube.Case.from_namelist(COLD).with_numerics(nodes=31, dpsi_deg=5.0)
+    x = np.array([[1.0e-3, 8.0], [-1.0, 8.0], [1.0e-3, 1e9]])
+    values, converged, errors = ringlube.run_designs(base, ["width", "tension"], x, ["energy_loss"])
+    assert errors[0] is None and np.isfinite(values[0]).all()
+    assert "&ring width" in errors[1] and "must be in" in errors[1]
+    assert "&ring tension" in errors[2]
+    assert np.isnan(values[1:]).all() and not converged[1:].any()
