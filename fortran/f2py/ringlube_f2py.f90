@@ -277,6 +277,24 @@ subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes, messages)
   end do
 end subroutine rl_run_batch
 
+!> The summary `ringlube-solve` prints, from the scalar results `scalars` (table
+!> 'scalars'); `starved` nonzero for a run with a starved inlet; `title` and `written`
+!> (the first and last line) left out when blank. `n` is the text's length.
+subroutine rl_summary(nc, scalars, starved, title, written, text, n)
+  use, intrinsic :: iso_c_binding, only: c_int, c_double
+  use ringlube_results, only: summary_text
+  implicit none
+  integer(c_int), intent(in) :: nc, starved
+  real(c_double), intent(in) :: scalars(nc)
+  character(len=*), intent(in) :: title, written
+  character(len=8192), intent(out) :: text
+  integer(c_int), intent(out) :: n
+  character(len=:), allocatable :: t
+  t = summary_text(scalars, starved /= 0, title, written)
+  n = min(len(t), len(text))
+  text = t
+end subroutine rl_summary
+
 !> Slider-crank kinematics (the kernel's): piston distance from TDC x [m] and sliding
 !> speed u [m/s] at crank angles psi_deg, for crank speed omega [rad/s].
 subroutine rl_kinematics(n, psi_deg, crank_radius, conrod_length, omega, x, u)

@@ -15,8 +15,8 @@ module ringlube_api
   use ringlube_input, only: read_deck_text
   use ringlube_gas, only: check_pressure_trace
   use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
-               n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, field_spec, scalar_value, &
-                              liner_spec, n_liner
+                              n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, &
+                              field_spec, scalar_value, liner_spec, n_liner
   use ringlube_hdf5_output, only: write_result, check_output
   use ringlube_cycle, only: solve_cycle, liner_cells
   use ringlube_textio, only: itoa
@@ -31,8 +31,9 @@ module ringlube_api
 
   character(len=1), parameter :: tab = achar(9), nl = achar(10)
   !> what the inputs of a run are, in output-file messages
-  character(len=*), parameter :: input_labels(3) = [character(len=20) :: 'the deck', &
-                                                        'the pressure file', 'the calibration file']
+  character(len=*), parameter :: input_labels(3) = [character(len=20) :: &
+                                                    'the deck', 'the pressure file', &
+                                                    'the calibration file']
 
 contains
 

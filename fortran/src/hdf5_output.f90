@@ -19,6 +19,10 @@
 !>   cut (an fsync would add a disk flush to every result, which sweeps writing thousands
 !>   of files would feel).
 !>
+!> Root attributes: the scalar results (table `scalar_spec`), the deck's text and paths,
+!> and every input of the case by the input table as `group.name` (e.g. `ring.width`,
+!> its effective value: deck, calibration file, preset or default).
+!>
 !> Layout for xarray/netCDF readers: `/cycle/crank_angle_deg` is an HDF5 dimension scale
 !> attached to every other `/cycle` dataset (so it is their coordinate); every dataset has
 !> `units` and a one-line `long_name`; every string attribute is a variable-length UTF-8
@@ -27,9 +31,12 @@
 !> deck) are kept in dense attribute storage instead of failing.
 module ringlube_hdf5_output
   use, intrinsic :: iso_c_binding, only: c_char, c_null_char, c_ptr, c_loc
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_runtime_error, rl_input_error
-  use ringlube_case, only: case_type
+  use ringlube_case, only: case_type, case_access, access_get
+  use ringlube_inputs, only: input_table => inputs, n_inputs, input_key, kind_real, kind_int, &
+                             kind_logical
   use ringlube_results, only: result_type, scalar_value, scalar_spec, n_scalars, series_spec, &
                               n_series, int_series_spec, n_int_series, series_ptr, int_series_ptr, &
                               liner_ptr, flag_description, liner_spec, n_liner, produced
@@ -123,8 +130,10 @@ contains
     type(error_type), allocatable, intent(out) :: err
     character(len=*), intent(in), optional :: inputs(:), labels(:)
     type(result_type), target :: r
+    type(case_type) :: cc
     real(dp) :: v
-    integer :: i
+    integer :: i, n, ios
+    character(len=:), allocatable :: text, why
     character(len=:), allocatable :: tmp, failed
     character(len=max(len(c%deck_path), len(c%pressure_file), 1)) :: own(2)
     integer(hid_t) :: ids(16), fid, gid, fapl, scale_id, lid, liner_scale
@@ -196,6 +205,27 @@ contains
       else
         call attr_real(fid, trim(scalar_spec(i)%stored), v)
       end if
+    end do
+    ! the effective inputs of the case, by the input table, as `group.name` (reals and
+    ! integers as numbers, logicals as 0/1, text as text), so that files can be compared
+    ! without reading their decks
+    cc = c
+    do i = 1, n_inputs
+      call case_access(cc, i, access_get, text, why)
+      select case (input_table(i)%kind)
+      case (kind_real)
+        read (text, *, iostat=ios) v
+        if (ios /= 0) v = ieee_value(v, ieee_quiet_nan)
+        call attr_real(fid, input_key(i), v)
+      case (kind_int)
+        read (text, *, iostat=ios) n
+        if (ios /= 0) n = -huge(n)
+        call attr_int(fid, input_key(i), n)
+      case (kind_logical)
+        call attr_int(fid, input_key(i), merge(1, 0, text == '.true.'))
+      case default
+        call attr_str(fid, input_key(i), text)
+      end select
     end do
     call attr_str(fid, 'deck', c%deck_text)
     call attr_str(fid, 'deck_path', c%deck_path)

@@ -10,7 +10,7 @@ module ringlube_results
   public :: result_type, field_spec, flag_spec, series_spec, n_series, int_series_spec, &
             n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, series_ptr, int_series_ptr, &
             liner_ptr, scalar_value, allocate_result, flag_description, liner_spec, n_liner, &
-            produced
+            produced, derive_results, summary_text
 
   !> Per-step flag bits (dataset `/cycle/flags`).
   integer, parameter, public :: flag_floor = 1        !< h0 held at h0_floor
@@ -110,7 +110,15 @@ module ringlube_results
     field_spec('oil_to_chamber', 'oil_to_chamber_mm3', 'mm^3', .false., &
       'oil transported towards the chamber per cycle, whole circumference', 'starved', .true.), &
     field_spec('oil_balance_error', 'oil_balance_error', '1', .false., &
-      'relative closure error of the oil balance over the reported cycle', 'starved') &
+      'relative closure error of the oil balance over the reported cycle', 'starved'), &
+    field_spec('friction_power', 'friction_power_W', 'W', .false., &
+      'mean friction power of the ring: energy_loss x cycles per second (four-stroke, rpm/120)'), &
+    field_spec('fmep', 'fmep_kPa', 'kPa', .false., &
+      "the ring's friction mean effective pressure: energy_loss / swept volume pi r0^2 2 r"), &
+    field_spec('oil_to_chamber_rate', 'oil_to_chamber_g_h', 'g/h', .false., &
+      'oil to the chamber per hour: oil_to_chamber x oil_density x cycles per hour', 'starved'), &
+    field_spec('flagged_steps', 'flagged_steps', '1', .true., &
+      'crank steps of the reported cycle with a flag (see /cycle/flags)') &
   ]
 
   !> The liner film at the end of the reported cycle (group /liner).
@@ -151,6 +159,10 @@ module ringlube_results
     real(dp), allocatable :: liner_z(:), liner_h(:)
     real(dp) :: oil_to_chamber = 0.0_dp     !< mm^3 per cycle, whole circumference
     real(dp) :: oil_balance_error = 0.0_dp  !< relative
+    real(dp) :: oil_to_chamber_rate = 0.0_dp  !< g/h
+    real(dp) :: friction_power = 0.0_dp    !< W, mean over the cycle
+    real(dp) :: fmep = 0.0_dp              !< kPa
+    integer :: flagged_steps = 0           !< crank steps with a flag
     real(dp) :: energy_loss = 0.0_dp       !< J per cycle
     real(dp) :: mixed_share = 0.0_dp       !< % of the cycle with h0/sigma < 4
     real(dp) :: ring_mass = 0.0_dp         !< kg
@@ -318,8 +330,103 @@ contains
     case ('periodic'); v = merge(1.0_dp, 0.0_dp, res%periodic)
     case ('oil_to_chamber'); v = res%oil_to_chamber
     case ('oil_balance_error'); v = res%oil_balance_error
+    case ('friction_power'); v = res%friction_power
+    case ('fmep'); v = res%fmep
+    case ('oil_to_chamber_rate'); v = res%oil_to_chamber_rate
+    case ('flagged_steps'); v = real(res%flagged_steps, dp)
     end select
   end function scalar_value
+
+  !> The results engineers quote, from the cycle's (called at the end of a run): mean
+  !> friction power [W] (energy per cycle x speed_rpm / 120 cycles per second, four-stroke),
+  !> FMEP [kPa] (energy per cycle / swept volume [m^3]), the oil to the chamber in g/h
+  !> (oil_density [kg/m^3]) and the count of flagged crank steps.
+  pure subroutine derive_results(res, speed_rpm, swept_volume, oil_density)
+    type(result_type), intent(inout) :: res
+    real(dp), intent(in) :: speed_rpm, swept_volume, oil_density
+    res%friction_power = res%energy_loss * speed_rpm / 120.0_dp
+    res%fmep = res%energy_loss / swept_volume * 1e-3_dp
+    ! mm^3/cycle x 1e-9 m^3/mm^3 x kg/m^3 x 1e3 g/kg x 30 speed_rpm cycles per hour
+    res%oil_to_chamber_rate = res%oil_to_chamber * 1e-6_dp * oil_density * 30.0_dp * speed_rpm
+    if (allocated(res%flags)) res%flagged_steps = count(res%flags /= 0)
+  end subroutine derive_results
+
+  !> The summary of a run that `ringlube-solve`, `ringlube run` and
+  !> `CycleResult.summary()` print: one line per quantity with its unit, from the scalars
+  !> `v` (order and stored units of `scalar_spec`). The oil line needs a starved inlet
+  !> (`has_starved`); `title` (first line) and `written`
+  !> (the file, last line) are left out when blank.
+  function summary_text(v, has_starved, title, written) result(t)
+    real(dp), intent(in) :: v(:)
+    logical, intent(in) :: has_starved
+    character(len=*), intent(in) :: title, written
+    character(len=:), allocatable :: t
+    character(len=64) :: a, b
+    character(len=1), parameter :: nl = achar(10)
+    t = ''
+    if (len_trim(title) > 0) t = trim(title)//nl
+    write (a, '(f10.4)') x('energy_loss')
+    call line('energy loss per cycle', a, 'J')
+    write (a, '(f10.2)') x('friction_power')
+    call line('mean friction power', a, 'W (energy per cycle x cycles per second)')
+    write (a, '(f10.3)') x('fmep')
+    call line('FMEP of the ring', a, 'kPa (energy per cycle / swept volume)')
+    write (a, '(f10.3)') x('mixed_share')
+    call line('mixed/boundary share', a, '% of the cycle (h0/sigma < 4)')
+    if (has_starved) then
+      call line('oil to the chamber', num(x('oil_to_chamber')), 'mm^3 per cycle = '// &
+                trim(adjustl(num(x('oil_to_chamber_rate'))))//' g/h (oil_density)')
+    end if
+    write (a, '(f10.3)') x('ring_mass')
+    call line('ring mass', a, 'g')
+    write (a, '(f10.4)') x('min_film') * 1e6_dp
+    call line('minimum film', a, 'um')
+    write (a, '(f10.3)') x('max_friction')
+    call line('peak friction', a, 'N')
+    write (a, '(i10)') nint(x('cycles_run'))
+    write (b, '(es9.2)') x('cycle_change')
+    call line('cycles run', a, '  (last cycle change in h0: '//trim(adjustl(b))//')')
+    write (a, '(i10)') nint(x('flagged_steps'))
+    call line('flagged crank steps', a, '(see /cycle/flags)')
+    call line('converged', merge('       yes', '        no', x('converged') > 0.5_dp), '')
+    write (a, '(f10.3)') x('run_time')
+    write (b, '(f8.1)') 1e3_dp * x('run_time') / max(x('cycles_computed'), tiny(1.0_dp))
+    call line('run time', a, 's ('//trim(adjustl(b))//' ms per cycle; '// &
+              trim(adjustl(fixed(x('cycles_computed'))))//' cycles incl. warm-up)')
+    if (len_trim(written) > 0) call line('written', trim(written), '')
+  contains
+    real(dp) function x(name)
+      character(len=*), intent(in) :: name
+      integer :: i
+      x = 0.0_dp
+      do i = 1, min(size(v), n_scalars)
+        if (trim(scalar_spec(i)%short) == name) x = v(i)
+      end do
+    end function x
+    subroutine line(label, value, unit)
+      character(len=*), intent(in) :: label, value, unit
+      character(len=24) :: l
+      l = label
+      t = t//'  '//l//trim(value)
+      if (len_trim(unit) > 0) t = t//' '//trim(unit)
+      t = t//nl
+    end subroutine line
+    !> f10.4 where that shows four significant digits, else es10.3
+    function num(y) result(s)
+      real(dp), intent(in) :: y
+      character(len=16) :: s
+      if (y == 0.0_dp .or. (abs(y) >= 1e-1_dp .and. abs(y) < 1e5_dp)) then
+        write (s, '(f10.4)') y
+      else
+        write (s, '(es10.3)') y
+      end if
+    end function num
+    function fixed(y) result(s)
+      real(dp), intent(in) :: y
+      character(len=16) :: s
+      write (s, '(f8.2)') y
+    end function fixed
+  end function summary_text
 
   !> "1: h0 at h0_floor, 2: ..." (the `description` of /cycle/flags).
   function flag_description() result(t)

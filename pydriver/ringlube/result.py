@@ -8,6 +8,7 @@ one layout and the numbers never travel back to the kernel to be written.
 
 from __future__ import annotations
 
+import html
 import os
 from pathlib import Path
 
@@ -16,15 +17,41 @@ import numpy as np
 from .errors import InputError
 from .tables import FLAG_BITS, INT_SERIES, LINER, SCALARS, SERIES
 
-__all__ = ["CycleResult", "load", "SERIES", "INT_SERIES", "SCALARS", "FLAG_BITS", "LINER"]
+__all__ = [
+    "CycleResult",
+    "Comparison",
+    "compare",
+    "load",
+    "SERIES",
+    "INT_SERIES",
+    "SCALARS",
+    "FLAG_BITS",
+    "LINER",
+]
+
+#: the scalars :func:`compare` shows by default (those a run has), in this order
+COMPARED = (
+    "energy_loss",
+    "friction_power",
+    "fmep",
+    "mixed_share",
+    "oil_to_chamber",
+    "oil_to_chamber_rate",
+    "ring_mass",
+    "min_film",
+    "max_friction",
+    "converged",
+)
 
 
 class CycleResult:
-    """One reported engine cycle: arrays over the crank steps and scalar results (SI).
+    """One reported engine cycle: arrays over the crank steps and scalar results.
 
     Every series and scalar of the kernel's tables is an attribute by its short name
-    (``result.h0``, ``result.friction``, ``result.energy_loss``, ...); units are in
-    :data:`ringlube.tables.SERIES` and :data:`ringlube.tables.SCALARS`.
+    (``result.h0``, ``result.friction``, ``result.energy_loss``, ...) in the unit of the
+    table (``result.units(name)``; mostly SI, but ring mass in g, mixed share in %, oil to
+    the chamber in mm^3 per cycle and g/h, FMEP in kPa): :data:`ringlube.tables.SERIES`
+    and :data:`ringlube.tables.SCALARS`.
 
     Parameters
     ----------
@@ -104,14 +131,164 @@ class CycleResult:
         """h0 / sigma over the cycle."""
         return self.h0 / self.sigma
 
-    def summary(self) -> str:
-        """One line with units."""
-        return (
-            f"energy loss {self.energy_loss:.4f} J/cycle, mixed share {self.mixed_share:.2f} %, "
-            f"ring mass {self.ring_mass:.3f} g, min film {self.min_film * 1e6:.4f} µm, "
-            f"peak friction {self.max_friction:.3f} N, cycles {self.cycles_run}, "
-            f"converged {'yes' if self.converged else 'no'}"
+    def summary(self, title: str = "", written: str = "") -> str:
+        """The summary ``ringlube-solve`` prints (the kernel formats it): one line per
+        quantity with its unit, energy, friction power, FMEP, mixed share, oil to the
+        chamber (starved inlet), ring mass, film, friction, convergence and run time.
+
+        Parameters
+        ----------
+        title, written : str
+            First line and the file written (last line); left out when empty.
+
+        Examples
+        --------
+        >>> import ringlube
+        >>> r = ringlube.run(ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0))
+        >>> print(r.summary().splitlines()[1].split())
+        ['mean', 'friction', 'power', ..., 'W', '(energy', 'per', 'cycle', 'x', 'cycles', 'per', 'second)']
+        """
+        from . import _kernel
+
+        v = np.array([float(self.scalars.get(k, 0.0)) for k in SCALARS])
+        text, n = _kernel.rl_summary(v, int(bool(self.liner)), title.encode(), written.encode())
+        text = bytes(text[:n]).decode("utf-8", "replace") if isinstance(text, bytes) else str(text)[:n]
+        return text.rstrip("\n")
+
+    def __repr__(self) -> str:
+        head = f"<CycleResult {self.label!r}" if self.label else "<CycleResult"
+        return f"{head}\n{self.summary()}>"
+
+    def _repr_html_(self) -> str:
+        rows = "".join(
+            f"<tr><td>{k}</td><td style='text-align:right'>{_num(self.scalars[k])}</td>"
+            f"<td>{SCALARS[k].unit}</td><td>{html.escape(SCALARS[k].long_name)}</td></tr>"
+            for k in SCALARS
+            if k in self.scalars
         )
+        title = html.escape(f"CycleResult {self.label}".strip())
+        return (
+            f"<table><caption>{title} ({len(self.crank_angle_deg)} crank steps)</caption>"
+            f"<tr><th>result</th><th>value</th><th>unit</th><th>meaning</th></tr>{rows}</table>"
+        )
+
+
+class Comparison:
+    """Scalar results of several runs side by side (:func:`compare`).
+
+    Attributes
+    ----------
+    labels : list of str
+        One per result (column).
+    names : list of str
+        Scalar short names (rows), with their units in :attr:`units`.
+    values : dict of str to ndarray
+        Each row's values, one per result (NaN where a result lacks it).
+    results : list of CycleResult
+
+    Examples
+    --------
+    >>> import ringlube
+    >>> base = ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0)
+    >>> rs = [ringlube.run(base), ringlube.run(base.with_ring(width=1.2e-3))]
+    >>> t = ringlube.compare(rs, labels=["1.0 mm", "1.2 mm"])
+    >>> t.values["energy_loss"].shape, t.units["energy_loss"]
+    ((2,), 'J')
+    """
+
+    def __init__(self, results, labels, names):
+        self.results = list(results)
+        self.labels = list(labels)
+        self.names = list(names)
+        self.units = {n: SCALARS[n].unit for n in self.names}
+        self.values = {
+            n: np.array([float(r.scalars[n]) if n in r.scalars else np.nan for r in self.results])
+            for n in self.names
+        }
+
+    def rows(self) -> list[list[str]]:
+        """Header row, then one row per quantity: name [unit], then the values as text."""
+        head = ["quantity", *self.labels]
+        body = [[f"{n} [{self.units[n]}]", *(_num(v) for v in self.values[n])] for n in self.names]
+        return [head, *body]
+
+    def to_markdown(self) -> str:
+        """A Markdown table (quantities as rows, results as columns)."""
+        rows = self.rows()
+        lines = ["| " + " | ".join(rows[0]) + " |", "|---" + "|---:" * (len(rows[0]) - 1) + "|"]
+        lines += ["| " + " | ".join(r) + " |" for r in rows[1:]]
+        return "\n".join(lines)
+
+    def __str__(self) -> str:
+        rows = self.rows()
+        widths = [max(len(r[j]) for r in rows) for j in range(len(rows[0]))]
+        return "\n".join(
+            "  ".join(c.ljust(w) if j == 0 else c.rjust(w) for j, (c, w) in enumerate(zip(r, widths)))
+            for r in rows
+        )
+
+    def __repr__(self) -> str:
+        return f"<Comparison of {len(self.results)} results>\n{self}"
+
+    def _repr_markdown_(self) -> str:
+        return self.to_markdown()
+
+    def figure(self):
+        """Friction and film ratio h0/sigma over the cycle, every result overlaid."""
+        from .plot import overlay_figure
+
+        return overlay_figure(self.results, self.labels)
+
+
+def compare(results, labels=None, names=None) -> Comparison:
+    """Scalar results of several runs side by side, and an overlay figure.
+
+    Parameters
+    ----------
+    results : sequence of CycleResult
+    labels : sequence of str, optional
+        Column names (default: each result's label, else its index).
+    names : sequence of str, optional
+        Scalars to compare (short names; default: the summary quantities).
+
+    Returns
+    -------
+    Comparison
+        ``str()`` a text table, ``.to_markdown()``, ``.values`` (dict of arrays) and
+        ``.figure()`` (matplotlib).
+
+    Raises
+    ------
+    InputError
+        For an unknown name or a labels list of another length.
+
+    Examples
+    --------
+    >>> import ringlube
+    >>> base = ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0)
+    >>> t = compare([ringlube.run(base), ringlube.run(base.with_ring(width=1.2e-3))], ["a", "b"])
+    >>> print(t.to_markdown().splitlines()[0])
+    | quantity | a | b |
+    """
+    results = list(results)
+    if labels is None:
+        labels = [r.label or str(i) for i, r in enumerate(results)]
+    labels = [str(x) for x in labels]
+    if len(labels) != len(results):
+        raise InputError(f"compare: {len(labels)} labels for {len(results)} results")
+    if names is None:
+        names = [n for n in COMPARED if any(n in r.scalars for r in results)]
+    unknown = [n for n in names if n not in SCALARS]
+    if unknown:
+        raise InputError(f"compare: unknown results {unknown} (known: {', '.join(SCALARS)})")
+    return Comparison(results, labels, names)
+
+
+def _num(v: float) -> str:
+    """Four significant digits ('-' for NaN)."""
+    if not np.isfinite(v):
+        return "-"
+    return f"{v:.4g}"
 
 
 def _text(value, strip: bool = True) -> str:

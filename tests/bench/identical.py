@@ -14,6 +14,7 @@ Usage::
     python3 tests/bench/identical.py                     # base: HEAD, built here
     python3 tests/bench/identical.py --base-commit HEAD~1
     python3 tests/bench/identical.py --base-solver /path/to/ringlube-solve
+    python3 tests/bench/identical.py --allow-new   # a change that adds results
 
 A benchmark-style script (not run by the tests): it needs the kernel built (``make``) and
 h5py.
@@ -140,13 +141,15 @@ def same(a, b) -> bool:
     return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
 
 
-def compare(a: Path, b: Path) -> tuple[int, list[str]]:
-    """Number of items compared and the paths that differ (or exist in one file only)."""
+def compare(a: Path, b: Path, allow_new: bool = False) -> tuple[int, list[str], list[str]]:
+    """Number of items compared, the paths that differ (or exist in one file only) and, with
+    `allow_new`, the paths only `b` has (not counted as differences)."""
     with h5py.File(a) as fa, h5py.File(b) as fb:
         ia, ib = items(fa), items(fb)
-    differ = sorted(set(ia) ^ set(ib))
+    new = sorted(set(ib) - set(ia)) if allow_new else []
+    differ = sorted((set(ia) ^ set(ib)) - set(new))
     differ += [k for k in sorted(set(ia) & set(ib)) if not same(ia[k], ib[k])]
-    return len(set(ia) | set(ib)), differ
+    return len(set(ia) & set(ib)) if allow_new else len(set(ia) | set(ib)), differ, new
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -155,6 +158,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--solver", default=here, help="the build under test")
     parser.add_argument("--base-solver", help="an existing base build (instead of building --base-commit)")
     parser.add_argument("--base-commit", default="HEAD", help="the commit to build as the base")
+    parser.add_argument(
+        "--allow-new",
+        action="store_true",
+        help="items only the new build writes (added results) are listed, not counted as differences",
+    )
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory(prefix="ringlube_identical_") as tmp:
         tmp = Path(tmp)
@@ -167,6 +175,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"base: {label}\nnew:  {args.solver}\n")
         print(f"{'case':<34} {'exit':>9} {'items':>6}  identical")
         bad = 0
+        added: set[str] = set()
         for name, deck, physics in case_decks():
             path = write_deck(tmp, deck, physics)
             runs = []
@@ -176,14 +185,17 @@ def main(argv: list[str] | None = None) -> int:
                 runs.append((subprocess.run(cmd, capture_output=True).returncode, out))
             (rc_a, out_a), (rc_b, out_b) = runs
             if out_a.exists() and out_b.exists():
-                n, differ = compare(out_a, out_b)
+                n, differ, new = compare(out_a, out_b, args.allow_new)
             else:
-                n, differ = 0, ["(no file)"]
+                n, differ, new = 0, ["(no file)"], []
+            added.update(new)
             ok = rc_a == rc_b and not differ
             bad += not ok
             print(f"{name:<34} {rc_a:>4}/{rc_b:<4} {n:>6}  {'yes' if ok else 'NO: ' + ', '.join(differ[:6])}")
         verdict = "all identical" if not bad else f"{bad} case(s) differ"
         print(f"\n{verdict} (root attributes but {sorted(SKIP_ATTRS)})")
+        if added:
+            print(f"only in the new files ({len(added)}): {', '.join(sorted(added))}")
     return 1 if bad else 0
 
 

@@ -5,7 +5,7 @@ program test_results
   use ringlube_kinds, only: dp
   use ringlube_results, only: result_type, allocate_result, series_ptr, int_series_ptr, &
                               liner_ptr, scalar_value, n_series, n_int_series, n_liner, &
-                              n_scalars, scalar_spec, series_spec
+                              n_scalars, scalar_spec, series_spec, derive_results, summary_text
   use ringlube_check
   implicit none
   type(result_type), target :: r
@@ -14,6 +14,8 @@ program test_results
   integer :: i
   integer, parameter :: m = 7
   character(len=8) :: num
+  real(dp), allocatable :: v(:)
+  character(len=:), allocatable :: text
 
   call allocate_result(r, m)
   call check(r%nsteps == m, 'nsteps')
@@ -71,6 +73,14 @@ program test_results
   r%cycles_computed = 4.25_dp
   r%oil_to_chamber = 0.3_dp
   r%oil_balance_error = 1e-9_dp
+  r%flags = [0, 2, 0, 0, 4, 0, 0]
+  call derive_results(r, 4000.0_dp, 4.5e-4_dp, 850.0_dp)
+  ! 1.5 J per cycle at 4000 r/min = 2000 cycles/min: 50 W; 1.5 J / 0.45 L = 3.333 kPa;
+  ! 0.3 mm^3 x 850 kg/m^3 = 0.255 mg per cycle x 120000 cycles/h = 30.6 g/h
+  call check_close(r%friction_power, 50.0_dp, 1e-14_dp, 'friction power = E n / 120')
+  call check_close(r%fmep, 1.5_dp / 4.5e-4_dp / 1e3_dp, 1e-14_dp, 'FMEP = E / V_s in kPa')
+  call check_close(r%oil_to_chamber_rate, 30.6_dp, 1e-13_dp, 'oil to the chamber in g/h')
+  call check(r%flagged_steps == 2, 'flagged steps counted')
   do i = 1, n_scalars
     call check(scalar_value(r, i) /= 0.0_dp, 'scalar '//trim(scalar_spec(i)%short)//' mapped')
   end do
@@ -84,6 +94,22 @@ program test_results
       call check(scalar_value(r, i) == 11.0_dp, 'film solves')
     end select
   end do
+  ! the summary: a line per quantity with its unit, the oil only for a starved inlet
+  allocate (v(n_scalars))
+  do i = 1, n_scalars
+    v(i) = scalar_value(r, i)
+  end do
+  text = summary_text(v, .true., 'title line', 'out.h5')
+  call check(index(text, 'title line') == 1, 'summary title first')
+  call check(index(text, '50.00 W') > 0 .and. index(text, '3.333 kPa') > 0, &
+             'summary power and FMEP with units: '//text)
+  call check(index(text, '30.6000 g/h') > 0 .and. index(text, 'mm^3 per cycle') > 0, &
+             'summary oil in mm^3 per cycle and g/h')
+  call check(index(text, '7.958 g') > 0 .and. index(text, '1.0000 um') > 0, 'mass in g, film in um')
+  call check(index(text, 'out.h5') > 0, 'summary names the file')
+  text = summary_text(v, .false., '', '')
+  call check(index(text, 'oil to the chamber') == 0 .and. index(text, 'written') == 0 .and. &
+           index(text, '  energy loss per cycle') == 1, 'no oil line, title or file when not given')
   r%converged = .false.
   do i = 1, n_scalars
     if (trim(scalar_spec(i)%short) == 'converged') &
