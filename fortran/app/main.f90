@@ -12,7 +12,8 @@ program ringlube_solve
   use ringlube_input, only: read_deck
   use ringlube_cycle, only: solve_cycle
   use ringlube_results, only: result_type, scalar_value, n_scalars, summary_text
-  use ringlube_hdf5_output, only: write_result, check_output
+  use ringlube_hdf5_output, only: write_result
+  use ringlube_output_path, only: check_output
   use ringlube_version, only: package_version
   use ringlube_fsys, only: ignore_file_size_signal, remove_temp_on_signal
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64

@@ -17,7 +17,8 @@ module ringlube_api
   use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
                               n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, &
                               field_spec, scalar_value, liner_spec, n_liner
-  use ringlube_hdf5_output, only: write_result, check_output
+  use ringlube_hdf5_output, only: write_result
+  use ringlube_output_path, only: check_output
   use ringlube_cycle, only: solve_cycle, liner_cells
   use ringlube_textio, only: itoa
   use, intrinsic :: iso_fortran_env, only: int64

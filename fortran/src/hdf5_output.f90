@@ -1,14 +1,11 @@
 !> Writing a result to HDF5 in the layout of SPEC section 9 (README "Output").
 !>
 !> Safety (issue 12):
+!> - The output is first checked by `check_output` (ringlube_output_path).
 !> - The file is written under a unique temporary name in the destination folder
 !>   (`OUT.<pid>.<random>.part`, created with O_EXCL) and moved into place with one
 !>   rename(2) when complete: an interrupted run never leaves a half-written result, and
 !>   two runs writing the same output each publish a whole file (the last rename wins).
-!> - `check_output` refuses an output that is one of the run's inputs (compared by device
-!>   and inode, so other spellings and links count), anything that exists and is not a
-!>   regular file (a folder, a device such as /dev/null, a pipe), and a path whose folder
-!>   does not exist: all input errors (exit status 2).
 !> - Every HDF5 call is checked; on a failure whatever is open is closed, the temporary
 !>   file is deleted and a runtime error (exit status 1) is returned with the system's
 !>   message (e.g. "No space left on device", or "File too large" over `ulimit -f`). HDF5
@@ -33,7 +30,7 @@ module ringlube_hdf5_output
   use, intrinsic :: iso_c_binding, only: c_char, c_null_char, c_ptr, c_loc
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use ringlube_kinds, only: dp
-  use ringlube_error, only: error_type, fatal_error, rl_runtime_error, rl_input_error
+  use ringlube_error, only: error_type, fatal_error, rl_runtime_error
   use ringlube_case, only: case_type, case_access, access_get
   use ringlube_inputs, only: input_table => inputs, n_inputs, input_key, kind_real, kind_int, &
                              kind_logical
@@ -42,14 +39,14 @@ module ringlube_hdf5_output
                               liner_ptr, flag_description, liner_spec, n_liner, produced
   use ringlube_version, only: package_version
   use ringlube_textio, only: utf8_clean
-  use ringlube_fsys, only: file_kind, same_file, make_temp_file, rename_file, remove_file, &
-                           dir_name, last_errno, clear_errno, errno_text, fs_missing, fs_regular, &
-                           fs_directory, fs_other, fs_unknown
+  use ringlube_fsys, only: make_temp_file, rename_file, remove_file, dir_name, last_errno, &
+                           clear_errno, errno_text
+  use ringlube_output_path, only: check_output
   use hdf5
   use h5ds, only: h5dsset_scale_f, h5dsattach_scale_f
   implicit none
   private
-  public :: write_result, check_output, remove_file
+  public :: write_result, remove_file
 
   ! kinds of open HDF5 objects, for closing them in reverse order after a failure
   integer, parameter :: k_file = 1, k_group = 2, k_dset = 3, k_space = 4, k_attr = 5, &
@@ -59,65 +56,6 @@ module ringlube_hdf5_output
   logical, save :: library_open = .false.
 
 contains
-
-  !> Refuse an output path that would destroy something: one of the run's `inputs`
-  !> (same device and inode; `labels(i)` names input i in the message, e.g. "the deck"),
-  !> an existing non-regular file (folder, device, pipe, socket), a path in a folder that
-  !> does not exist, or an empty name. Blank entries of `inputs` are skipped. Errors are
-  !> input errors (exit status 2) and name the output and the reason. An existing regular
-  !> file is replaced; a symbolic link to one (not an input) is replaced by the result,
-  !> as `mv` would, and its target left alone.
-  subroutine check_output(path, inputs, labels, err)
-    character(len=*), intent(in) :: path
-    character(len=*), intent(in) :: inputs(:), labels(:)
-    type(error_type), allocatable, intent(out) :: err
-    character(len=:), allocatable :: d
-    integer :: i, kind, e
-
-    if (len_trim(path) == 0) then
-      call fatal_error(err, 'the output file name is empty', rl_input_error)
-      return
-    end if
-    if (path(len(path):len(path)) == '/') then
-      call fatal_error(err, path//': output names a folder, not a file', rl_input_error)
-      return
-    end if
-    call clear_errno()
-    kind = file_kind(path)
-    e = last_errno()
-    select case (kind)
-    case (fs_missing)
-      d = dir_name(path)
-      select case (file_kind(d))
-      case (fs_directory)
-      case (fs_missing)
-        call fatal_error(err, path//': output folder '//d//' does not exist', &
-                         rl_input_error)
-      case (fs_unknown)
-        call fatal_error(err, path//': output folder '//d//' cannot be used: '// &
-                         errno_text(last_errno()), rl_input_error)
-      case default
-        call fatal_error(err, path//': '//d//' is not a folder', rl_input_error)
-      end select
-    case (fs_regular)
-      do i = 1, size(inputs)
-        if (len_trim(inputs(i)) == 0) cycle
-        if (same_file(path, trim(inputs(i)))) then
-          call fatal_error(err, path//': output is '//trim(labels(min(i, size(labels)))) &
-                           //' '//trim(inputs(i))//' of this run; refusing to overwrite an input', &
-                           rl_input_error)
-          return
-        end if
-      end do
-    case (fs_directory)
-      call fatal_error(err, path//': output is a folder, not a file', rl_input_error)
-    case (fs_other)
-      call fatal_error(err, path//': output exists and is not a regular file '// &
-                       '(a device, pipe or socket); refusing to replace it', rl_input_error)
-    case default
-      call fatal_error(err, path//': cannot use as output: '//errno_text(e), rl_input_error)
-    end select
-  end subroutine check_output
 
   !> Write the result of case `c` to `path` (atomically, via a unique temporary file in
   !> the same folder): every series and scalar of the result tables, by index. `path` is
