@@ -11,8 +11,9 @@ program ringlube_solve
   use ringlube_case, only: case_type, composite_sigma
   use ringlube_input, only: read_deck
   use ringlube_cycle, only: solve_cycle
-  use ringlube_results, only: result_type
-  use ringlube_hdf5_output, only: write_result, check_output
+  use ringlube_results, only: result_type, scalar_value, n_scalars, summary_text
+  use ringlube_hdf5_output, only: write_result
+  use ringlube_output_path, only: check_output
   use ringlube_version, only: package_version
   use ringlube_fsys, only: ignore_file_size_signal, remove_temp_on_signal
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64
@@ -20,14 +21,15 @@ program ringlube_solve
   type(case_type) :: c
   type(result_type) :: res
   type(error_type), allocatable :: err
-  character(len=:), allocatable :: deck, out
+  character(len=:), allocatable :: deck, out, summary
   character(len=4096), allocatable :: inputs(:)
   !> what each of `inputs` is, for messages
   character(len=*), parameter :: input_labels(3) = [character(len=20) :: &
                                                     'the deck', 'the pressure file', &
                                                     'the calibration file']
   character(len=4096) :: arg
-  integer :: i, nargs, nflagged
+  integer :: i, nargs
+  real(dp) :: v(n_scalars)
   integer(int64) :: t0, t1, rate
   real(dp) :: runtime
   logical :: quiet
@@ -81,28 +83,17 @@ program ringlube_solve
   call system_clock(t1)
   if (allocated(err)) call die(err%message, err%code)
   runtime = real(t1 - t0, dp) / real(rate, dp)
+  res%run_time = runtime
 
-  call write_result(out, c, res, runtime, err, inputs, input_labels)
+  call write_result(out, c, res, err, inputs, input_labels)
   if (allocated(err)) call die(err%message, err%code)
 
   if (.not. quiet) then
-    nflagged = count(res%flags /= 0)
-    write (output_unit, '(a)') 'ringlube '//package_version//': '//deck
-    write (output_unit, '(a, f10.4, a)') '  energy loss per cycle   ', res%energy_loss, ' J'
-    write (output_unit, '(a, f10.3, a)') '  mixed/boundary share    ', res%mixed_share, &
-      ' % of the cycle (h0/sigma < 4)'
-    write (output_unit, '(a, f10.3, a)') '  ring mass               ', res%ring_mass * 1e3_dp, ' g'
-    write (output_unit, '(a, f10.4, a)') '  minimum film            ', res%min_film * 1e6_dp, ' um'
-    write (output_unit, '(a, f10.3, a)') '  peak friction           ', res%max_friction, ' N'
-    write (output_unit, '(a, i10, a, es9.2, a)') '  cycles run              ', res%cycles_run, &
-      '   (last cycle change in h0: ', res%cycle_change, ')'
-    write (output_unit, '(a, i10, a)') '  flagged crank steps     ', nflagged, ' (see /cycle/flags)'
-    write (output_unit, '(a, a)') '  converged               ', &
-      merge('       yes', '        no', res%converged)
-    write (output_unit, '(a, f10.3, a, f8.1, a, f5.2, a)') '  run time                ', runtime, &
-      ' s (', 1e3_dp * runtime / res%cycles_computed, ' ms per cycle; ', res%cycles_computed, &
-      ' cycles incl. warm-up)'
-    write (output_unit, '(a, a)') '  written                 ', out
+    do i = 1, n_scalars
+      v(i) = scalar_value(res, i)
+    end do
+    summary = summary_text(v, res%has_starved, 'ringlube '//package_version//': '//deck, out)
+    write (output_unit, '(a)', advance='no') summary
   end if
   if (.not. res%converged) then
     write (error_unit, '(a)') 'ringlube-solve: warning: the run did not converge; '// &

@@ -3,7 +3,8 @@
 !> f2py cannot pass derived types, so a case is parsed once from deck text into a handle
 !> (`rl_open`), run (`rl_run`, `rl_run_batch`) and closed (`rl_close`). Results come back
 !> as arrays whose columns follow the kernel's result tables (`rl_table`), so Python
-!> addresses them by name. Text travels as UTF-8 bytes. Errors come back as (code,
+!> addresses them by name; `rl_run` writes the HDF5 file itself (the kernel's writer), so
+!> results never travel back to the kernel to be written. Text travels as UTF-8 bytes. Errors come back as (code,
 !> message); nothing here stops the process.
 
 !> A kernel table as tab-separated text: 'inputs', 'presets', 'series', 'int_series',
@@ -167,17 +168,19 @@ end subroutine rl_set_trace
 !> Run the case. Columns of `series`, `iseries` and `scalars` follow the tables 'series',
 !> 'int_series' and 'scalars'; `produced` (0/1) says which optional results the run made
 !> (1: the mass-conserving film, 2: the starved inlet); `liner` (nliner, 2): position and
-!> oil film of the liner at the end of the reported cycle (starved inlet).
-subroutine rl_run(handle, nsteps, ns, ni, nc, nliner, series, iseries, scalars, produced, &
-                  liner, code, message)
+!> oil film of the liner at the end of the reported cycle (starved inlet). With a
+!> non-empty `out_path` the kernel also writes the result there (HDF5, atomically; the
+!> path is checked before the run).
+subroutine rl_run(handle, out_path, nsteps, ns, ni, nc, nliner, series, iseries, scalars, &
+                  produced, liner, code, message)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
-  use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, rl_runtime_error
   use ringlube_api, only: api_run
-  use ringlube_results, only: result_type, n_series, n_int_series, n_scalars, series_ptr, &
-                              int_series_ptr, result_scalar
+  use ringlube_results, only: result_type, n_series, n_int_series, n_scalars, n_liner, &
+                              series_ptr, int_series_ptr, liner_ptr, scalar_value
   implicit none
   integer(c_int), intent(in) :: handle, nsteps, ns, ni, nc, nliner
+  character(len=*), intent(in) :: out_path
   real(c_double), intent(out) :: series(nsteps, ns)
   integer(c_int), intent(out) :: iseries(nsteps, ni)
   real(c_double), intent(out) :: scalars(nc)
@@ -187,7 +190,6 @@ subroutine rl_run(handle, nsteps, ns, ni, nc, nliner, series, iseries, scalars, 
   character(len=4096), intent(out) :: message
   type(result_type), target :: r
   type(error_type), allocatable :: err
-  real(dp) :: v
   integer :: j
   series = 0.0_c_double
   iseries = 0
@@ -196,12 +198,12 @@ subroutine rl_run(handle, nsteps, ns, ni, nc, nliner, series, iseries, scalars, 
   liner = 0.0_c_double
   code = 0
   message = ''
-  if (ns /= n_series .or. ni /= n_int_series .or. nc /= n_scalars) then
+  if (ns /= n_series .or. ni /= n_int_series .or. nc /= n_scalars .or. n_liner /= 2) then
     code = rl_runtime_error
     message = 'rl_run: result table sizes differ from the caller''s'
     return
   end if
-  call api_run(handle, r, err)
+  call api_run(handle, r, err, out_path)
   if (allocated(err)) then
     code = err%code
     message = err%message
@@ -219,13 +221,13 @@ subroutine rl_run(handle, nsteps, ns, ni, nc, nliner, series, iseries, scalars, 
     iseries(:, j) = int_series_ptr(r, j)
   end do
   do j = 1, n_scalars
-    call result_scalar(r, j, v, .false.)
-    scalars(j) = v
+    scalars(j) = scalar_value(r, j)
   end do
   produced = [merge(1, 0, r%has_jfo), merge(1, 0, r%has_starved)]
   if (size(r%liner_z) == nliner) then
-    liner(:, 1) = r%liner_z
-    liner(:, 2) = r%liner_h
+    do j = 1, n_liner
+      liner(:, j) = liner_ptr(r, j)
+    end do
   else if (r%has_starved) then
     code = rl_runtime_error
     message = 'rl_run: liner cells differ from rl_open''s'
@@ -234,13 +236,13 @@ end subroutine rl_run
 
 !> Run `nd` designs of one case: row i of `x` gives the values of the variables named in
 !> `keys` ('group.name' separated by blanks). `out(i, :)` are the scalar results of design
-!> i (table 'scalars'); `codes(i)` its error code (0: ok).
-subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes)
+!> i (table 'scalars'); `codes(i)` its error code (0: ok) and `messages(i)` its error
+!> message (UTF-8, blank for a design that ran).
+subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes, messages)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
   use ringlube_kinds, only: dp
-  use ringlube_error, only: error_type
+  use ringlube_error, only: error_type, rl_input_error
   use ringlube_api, only: api_run_design
-  use ringlube_error, only: rl_input_error
   use ringlube_results, only: n_scalars
   implicit none
   integer(c_int), intent(in) :: handle, nd, nv, nc
@@ -248,22 +250,26 @@ subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes)
   real(c_double), intent(in) :: x(nd, nv)
   real(c_double), intent(out) :: out(nd, nc)
   integer(c_int), intent(out) :: codes(nd)
+  character(len=1024), intent(out) :: messages(nd)
   character(len=64) :: names(nv)
   type(error_type), allocatable :: err
   real(dp) :: s(n_scalars)
   integer :: i, ios
   out = 0.0_c_double
   codes = 0
+  messages = ''
   names = ''
   read (keys, *, iostat=ios) names
   if (ios /= 0) then
     codes = rl_input_error
+    messages = 'rl_run_batch: cannot read the variable names '//keys
     return
   end if
   do i = 1, nd
     call api_run_design(handle, names, x(i, :), s, err)
     if (allocated(err)) then
       codes(i) = err%code
+      messages(i) = err%message
       deallocate (err)
       cycle
     end if
@@ -271,59 +277,23 @@ subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes)
   end do
 end subroutine rl_run_batch
 
-!> Write a result given as arrays (columns as in rl_run) with the kernel's HDF5 writer.
-subroutine rl_write(path, nsteps, ns, ni, nc, nliner, series, iseries, scalars, produced, liner, &
-                    deck_text, deck_path, pressure_file, calibration_file, code, message)
+!> The summary `ringlube-solve` prints, from the scalar results `scalars` (table
+!> 'scalars'); `starved` nonzero for a run with a starved inlet; `title` and `written`
+!> (the first and last line) left out when blank. `n` is the text's length.
+subroutine rl_summary(nc, scalars, starved, title, written, text, n)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
-  use ringlube_kinds, only: dp
-  use ringlube_error, only: error_type
-  use ringlube_case, only: case_type, default_case
-  use ringlube_results, only: result_type, allocate_result, series_ptr, int_series_ptr, &
-                              result_scalar, n_series, n_int_series, n_scalars
-  use ringlube_hdf5_output, only: write_result
+  use ringlube_results, only: summary_text
   implicit none
-  character(len=*), intent(in) :: path, deck_text, deck_path, pressure_file, calibration_file
-  integer(c_int), intent(in) :: nsteps, ns, ni, nc, nliner
-  real(c_double), intent(in) :: series(nsteps, ns), scalars(nc), liner(nliner, 2)
-  integer(c_int), intent(in) :: iseries(nsteps, ni), produced(2)
-  integer(c_int), intent(out) :: code
-  character(len=4096), intent(out) :: message
-  type(result_type), target :: r
-  type(case_type) :: c
-  type(error_type), allocatable :: err
-  real(dp), pointer :: ps(:)
-  integer, pointer :: pi(:)
-  real(dp) :: v
-  integer :: j
-  code = 0
-  message = ''
-  call allocate_result(r, nsteps)
-  do j = 1, min(ns, n_series)
-    ps => series_ptr(r, j)
-    ps = series(:, j)
-  end do
-  do j = 1, min(ni, n_int_series)
-    pi => int_series_ptr(r, j)
-    pi = iseries(:, j)
-  end do
-  do j = 1, min(nc, n_scalars)
-    v = scalars(j)
-    call result_scalar(r, j, v, .true.)
-  end do
-  r%has_jfo = produced(1) /= 0
-  r%has_starved = produced(2) /= 0
-  r%liner_z = liner(:, 1)
-  r%liner_h = liner(:, 2)
-  c = default_case()
-  c%deck_text = deck_text
-  c%deck_path = deck_path
-  c%pressure_file = pressure_file
-  call write_result(path, c, r, r%run_time, err, [calibration_file], ['the calibration file'])
-  if (allocated(err)) then
-    code = err%code
-    message = err%message
-  end if
-end subroutine rl_write
+  integer(c_int), intent(in) :: nc, starved
+  real(c_double), intent(in) :: scalars(nc)
+  character(len=*), intent(in) :: title, written
+  character(len=8192), intent(out) :: text
+  integer(c_int), intent(out) :: n
+  character(len=:), allocatable :: t
+  t = summary_text(scalars, starved /= 0, title, written)
+  n = min(len(t), len(text))
+  text = t
+end subroutine rl_summary
 
 !> Slider-crank kinematics (the kernel's): piston distance from TDC x [m] and sliding
 !> speed u [m/s] at crank angles psi_deg, for crank speed omega [rad/s].

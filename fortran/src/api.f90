@@ -3,8 +3,9 @@
 !> A case is parsed once from deck text (`api_open`), kept in a small store under an
 !> integer handle, run any number of times (one design or a batch of designs), and closed
 !> (`api_close`). The store holds parsed inputs only, never run state: two runs of the
-!> same handle give identical results. The tables of inputs, presets and results are
-!> exported as tab-separated text (`api_table`).
+!> same handle give identical results; a run writes its own HDF5 file when given a path
+!> (`api_run`), so results never come back to the kernel to be written. The tables of
+!> inputs, presets and results are exported as tab-separated text (`api_table`).
 module ringlube_api
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_input_error
@@ -14,8 +15,10 @@ module ringlube_api
   use ringlube_input, only: read_deck_text
   use ringlube_gas, only: check_pressure_trace
   use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
-              n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, field_spec, result_scalar, &
-                              liner_spec, n_liner
+                              n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, &
+                              field_spec, scalar_value, liner_spec, n_liner
+  use ringlube_hdf5_output, only: write_result
+  use ringlube_output_path, only: check_output
   use ringlube_cycle, only: solve_cycle, liner_cells
   use ringlube_textio, only: itoa
   use, intrinsic :: iso_fortran_env, only: int64
@@ -28,6 +31,10 @@ module ringlube_api
   logical, allocatable, save :: used(:)
 
   character(len=1), parameter :: tab = achar(9), nl = achar(10)
+  !> what the inputs of a run are, in output-file messages
+  character(len=*), parameter :: input_labels(3) = [character(len=20) :: &
+                                                    'the deck', 'the pressure file', &
+                                                    'the calibration file']
 
 contains
 
@@ -97,17 +104,34 @@ contains
     end if
   end subroutine api_trace
 
-  !> Run the case; `res%run_time` is the kernel time.
-  subroutine api_run(handle, res, err)
+  !> Run the case; `res%run_time` is the kernel time. With a non-blank `out_path` the
+  !> result is also written there (HDF5, atomically); the path is checked before the run
+  !> (not one of the run's inputs, see `check_output`).
+  subroutine api_run(handle, res, err, out_path)
     integer, intent(in) :: handle
     type(result_type), intent(out) :: res
     type(error_type), allocatable, intent(out) :: err
+    character(len=*), intent(in), optional :: out_path
     integer(int64) :: t0, t1, rate
+    logical :: to_file
     if (.not. check_handle(handle, err)) return
-    call system_clock(t0, rate)
-    call solve_cycle(store(handle), res, err)
-    call system_clock(t1)
-    res%run_time = real(t1 - t0, dp) / real(rate, dp)
+    to_file = .false.
+    if (present(out_path)) to_file = len_trim(out_path) > 0
+    associate (c => store(handle))
+      if (to_file) then
+        call check_output(out_path, [character(len=max(len(c%deck_path), len(c%pressure_file), &
+                                                       len(c%calibration_file), 1)) :: &
+                                     c%deck_path, c%pressure_file, c%calibration_file], &
+                          input_labels, err)
+        if (allocated(err)) return
+      end if
+      call system_clock(t0, rate)
+      call solve_cycle(c, res, err)
+      call system_clock(t1)
+      res%run_time = real(t1 - t0, dp) / real(rate, dp)
+      if (allocated(err) .or. .not. to_file) return
+      call write_result(out_path, c, res, err, [c%calibration_file], [input_labels(3)])
+    end associate
   end subroutine api_run
 
   !> Run one design: the case with `values(j)` (deck text) assigned to the variables
@@ -166,7 +190,7 @@ contains
     if (allocated(err)) return
     res%run_time = real(t1 - t0, dp) / real(rate, dp)
     do i = 1, n_scalars
-      call result_scalar(res, i, scalars(i), .false.)
+      scalars(i) = scalar_value(res, i)
     end do
   end subroutine api_run_design
 

@@ -38,6 +38,7 @@ module ringlube_case
     real(dp) :: radial_depth = 0.0_dp, density = 0.0_dp, lower_ring_distance = 0.0_dp
     ! &lubricant
     real(dp) :: eta0 = 0.0_dp, theta0 = 0.0_dp, beta = 0.0_dp, alpha = 0.0_dp, supply_film = 0.0_dp
+    real(dp) :: oil_density = 0.0_dp
     ! &surface
     real(dp) :: rq_liner = 0.0_dp, rq_ring = 0.0_dp, zeta_kappa_sigma = 0.0_dp, &
          sigma_over_kappa = 0.0_dp, tau0 = 0.0_dp, boundary_coefficient = 0.0_dp, e_ring = 0.0_dp, &
@@ -146,6 +147,7 @@ contains
     case ('lubricant.beta'); call r(c%beta)
     case ('lubricant.alpha'); call r(c%alpha)
     case ('lubricant.supply_film'); call r(c%supply_film)
+    case ('lubricant.oil_density'); call r(c%oil_density)
     case ('surface.rq_liner'); call r(c%rq_liner)
     case ('surface.rq_ring'); call r(c%rq_ring)
     case ('surface.zeta_kappa_sigma'); call r(c%zeta_kappa_sigma)

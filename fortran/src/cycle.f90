@@ -6,7 +6,7 @@ module ringlube_cycle
   use ringlube_case, only: case_type, elastic_pressure, ring_mass, steps_per_cycle
   use ringlube_kinematics, only: deg2rad, piston_position
   use ringlube_greenwood_tripp, only: gt_init
-  use ringlube_results, only: result_type, allocate_result, flag_ceiling
+  use ringlube_results, only: result_type, allocate_result, flag_ceiling, derive_results
   use ringlube_oil_supply, only: supply_type, supply_setup, inlet_available, trailing_available, &
                                  supply_step, &
                                  supply_reset_counters, supply_stored, supply_to_chamber
@@ -136,6 +136,8 @@ contains
     ! a step held at h0_ceiling is an answer of the model (the film carries more than the load
     ! at every h0: the ring lifts off), flagged but not a failure; every other flag is
     res%converged = res%periodic .and. all(iand(res%flags, not(flag_ceiling)) == 0)
+    call derive_results(res, c%speed_rpm, pi * c%bore_radius**2 * 2.0_dp * c%crank_radius, &
+                        c%oil_density)
     if (.not. (all(ieee_is_finite(res%friction)) .and. all(ieee_is_finite(res%h0)) .and. &
                all(ieee_is_finite(res%power_loss)) .and. ieee_is_finite(res%energy_loss))) then
       ! every input lies in its plausible range, so a non-finite film comes from a

@@ -1,14 +1,11 @@
 !> Writing a result to HDF5 in the layout of SPEC section 9 (README "Output").
 !>
 !> Safety (issue 12):
+!> - The output is first checked by `check_output` (ringlube_output_path).
 !> - The file is written under a unique temporary name in the destination folder
 !>   (`OUT.<pid>.<random>.part`, created with O_EXCL) and moved into place with one
 !>   rename(2) when complete: an interrupted run never leaves a half-written result, and
 !>   two runs writing the same output each publish a whole file (the last rename wins).
-!> - `check_output` refuses an output that is one of the run's inputs (compared by device
-!>   and inode, so other spellings and links count), anything that exists and is not a
-!>   regular file (a folder, a device such as /dev/null, a pipe), and a path whose folder
-!>   does not exist: all input errors (exit status 2).
 !> - Every HDF5 call is checked; on a failure whatever is open is closed, the temporary
 !>   file is deleted and a runtime error (exit status 1) is returned with the system's
 !>   message (e.g. "No space left on device", or "File too large" over `ulimit -f`). HDF5
@@ -19,6 +16,10 @@
 !>   cut (an fsync would add a disk flush to every result, which sweeps writing thousands
 !>   of files would feel).
 !>
+!> Root attributes: the scalar results (table `scalar_spec`), the deck's text and paths,
+!> and every input of the case by the input table as `group.name` (e.g. `ring.width`,
+!> its effective value: deck, calibration file, preset or default).
+!>
 !> Layout for xarray/netCDF readers: `/cycle/crank_angle_deg` is an HDF5 dimension scale
 !> attached to every other `/cycle` dataset (so it is their coordinate); every dataset has
 !> `units` and a one-line `long_name`; every string attribute is a variable-length UTF-8
@@ -27,22 +28,25 @@
 !> deck) are kept in dense attribute storage instead of failing.
 module ringlube_hdf5_output
   use, intrinsic :: iso_c_binding, only: c_char, c_null_char, c_ptr, c_loc
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use ringlube_kinds, only: dp
-  use ringlube_error, only: error_type, fatal_error, rl_runtime_error, rl_input_error
-  use ringlube_case, only: case_type
-  use ringlube_results, only: result_type, result_scalar, scalar_spec, n_scalars, series_spec, &
+  use ringlube_error, only: error_type, fatal_error, rl_runtime_error
+  use ringlube_case, only: case_type, case_access, access_get
+  use ringlube_inputs, only: input_table => inputs, n_inputs, input_key, kind_real, kind_int, &
+                             kind_logical
+  use ringlube_results, only: result_type, scalar_value, scalar_spec, n_scalars, series_spec, &
                               n_series, int_series_spec, n_int_series, series_ptr, int_series_ptr, &
-                              flag_description, liner_spec, produced
+                              liner_ptr, flag_description, liner_spec, n_liner, produced
   use ringlube_version, only: package_version
   use ringlube_textio, only: utf8_clean
-  use ringlube_fsys, only: file_kind, same_file, make_temp_file, rename_file, remove_file, &
-                           dir_name, last_errno, clear_errno, errno_text, fs_missing, fs_regular, &
-                           fs_directory, fs_other, fs_unknown
+  use ringlube_fsys, only: make_temp_file, rename_file, remove_file, dir_name, last_errno, &
+                           clear_errno, errno_text
+  use ringlube_output_path, only: check_output
   use hdf5
   use h5ds, only: h5dsset_scale_f, h5dsattach_scale_f
   implicit none
   private
-  public :: write_result, check_output, remove_file
+  public :: write_result, remove_file
 
   ! kinds of open HDF5 objects, for closing them in reverse order after a failure
   integer, parameter :: k_file = 1, k_group = 2, k_dset = 3, k_space = 4, k_attr = 5, &
@@ -53,78 +57,21 @@ module ringlube_hdf5_output
 
 contains
 
-  !> Refuse an output path that would destroy something: one of the run's `inputs`
-  !> (same device and inode; `labels(i)` names input i in the message, e.g. "the deck"),
-  !> an existing non-regular file (folder, device, pipe, socket), a path in a folder that
-  !> does not exist, or an empty name. Blank entries of `inputs` are skipped. Errors are
-  !> input errors (exit status 2) and name the output and the reason. An existing regular
-  !> file is replaced; a symbolic link to one (not an input) is replaced by the result,
-  !> as `mv` would, and its target left alone.
-  subroutine check_output(path, inputs, labels, err)
-    character(len=*), intent(in) :: path
-    character(len=*), intent(in) :: inputs(:), labels(:)
-    type(error_type), allocatable, intent(out) :: err
-    character(len=:), allocatable :: d
-    integer :: i, kind, e
-
-    if (len_trim(path) == 0) then
-      call fatal_error(err, 'the output file name is empty', rl_input_error)
-      return
-    end if
-    if (path(len(path):len(path)) == '/') then
-      call fatal_error(err, path//': output names a folder, not a file', rl_input_error)
-      return
-    end if
-    call clear_errno()
-    kind = file_kind(path)
-    e = last_errno()
-    select case (kind)
-    case (fs_missing)
-      d = dir_name(path)
-      select case (file_kind(d))
-      case (fs_directory)
-      case (fs_missing)
-        call fatal_error(err, path//': output folder '//d//' does not exist', &
-                         rl_input_error)
-      case (fs_unknown)
-        call fatal_error(err, path//': output folder '//d//' cannot be used: '// &
-                         errno_text(last_errno()), rl_input_error)
-      case default
-        call fatal_error(err, path//': '//d//' is not a folder', rl_input_error)
-      end select
-    case (fs_regular)
-      do i = 1, size(inputs)
-        if (len_trim(inputs(i)) == 0) cycle
-        if (same_file(path, trim(inputs(i)))) then
-          call fatal_error(err, path//': output is '//trim(labels(min(i, size(labels)))) &
-                           //' '//trim(inputs(i))//' of this run; refusing to overwrite an input', &
-                           rl_input_error)
-          return
-        end if
-      end do
-    case (fs_directory)
-      call fatal_error(err, path//': output is a folder, not a file', rl_input_error)
-    case (fs_other)
-      call fatal_error(err, path//': output exists and is not a regular file '// &
-                       '(a device, pipe or socket); refusing to replace it', rl_input_error)
-    case default
-      call fatal_error(err, path//': cannot use as output: '//errno_text(e), rl_input_error)
-    end select
-  end subroutine check_output
-
   !> Write the result of case `c` to `path` (atomically, via a unique temporary file in
-  !> the same folder). `path` is first checked by `check_output` against the deck and the
-  !> pressure file of `c` and the optional further `inputs` (named by `labels`).
-  subroutine write_result(path, c, res, runtime_s, err, inputs, labels)
+  !> the same folder): every series and scalar of the result tables, by index. `path` is
+  !> first checked by `check_output` against the deck and the pressure file of `c` and the
+  !> optional further `inputs` (named by `labels`).
+  subroutine write_result(path, c, res, err, inputs, labels)
     character(len=*), intent(in) :: path
     type(case_type), intent(in) :: c
-    type(result_type), intent(in), target :: res
-    real(dp), intent(in) :: runtime_s
+    type(result_type), intent(in) :: res
     type(error_type), allocatable, intent(out) :: err
     character(len=*), intent(in), optional :: inputs(:), labels(:)
-    type(result_type) :: r
+    type(result_type), target :: r
+    type(case_type) :: cc
     real(dp) :: v
-    integer :: i
+    integer :: i, n, ios
+    character(len=:), allocatable :: text, why
     character(len=:), allocatable :: tmp, failed
     character(len=max(len(c%deck_path), len(c%pressure_file), 1)) :: own(2)
     integer(hid_t) :: ids(16), fid, gid, fapl, scale_id, lid, liner_scale
@@ -185,17 +132,38 @@ contains
       end if
     end if
 
-    ! the scalar results, by the kernel's table (run time from the caller)
+    ! the scalar results, by the kernel's table (a copy: the map to the series needs a
+    ! result it may point into)
     r = res
-    r%run_time = runtime_s
     do i = 1, n_scalars
       if (.not. produced(r, scalar_spec(i)%requires)) cycle
-      call result_scalar(r, i, v, .false.)
+      v = scalar_value(r, i)
       if (scalar_spec(i)%integer_valued) then
         call attr_int(fid, trim(scalar_spec(i)%stored), nint(v))
       else
         call attr_real(fid, trim(scalar_spec(i)%stored), v)
       end if
+    end do
+    ! the effective inputs of the case, by the input table, as `group.name` (reals and
+    ! integers as numbers, logicals as 0/1, text as text), so that files can be compared
+    ! without reading their decks
+    cc = c
+    do i = 1, n_inputs
+      call case_access(cc, i, access_get, text, why)
+      select case (input_table(i)%kind)
+      case (kind_real)
+        read (text, *, iostat=ios) v
+        if (ios /= 0) v = ieee_value(v, ieee_quiet_nan)
+        call attr_real(fid, input_key(i), v)
+      case (kind_int)
+        read (text, *, iostat=ios) n
+        if (ios /= 0) n = -huge(n)
+        call attr_int(fid, input_key(i), n)
+      case (kind_logical)
+        call attr_int(fid, input_key(i), merge(1, 0, text == '.true.'))
+      case default
+        call attr_str(fid, input_key(i), text)
+      end select
     end do
     call attr_str(fid, 'deck', c%deck_text)
     call attr_str(fid, 'deck_path', c%deck_path)
@@ -209,35 +177,41 @@ contains
     ! the crank angle is the dimension scale (coordinate) of every other /cycle dataset;
     ! it stays open until they are written
     do i = 1, n_series
-      if (.not. produced(res, series_spec(i)%requires)) cycle
+      if (.not. produced(r, series_spec(i)%requires)) cycle
       if (i == 1) then
-        call dset(gid, trim(series_spec(i)%stored), series_ptr(res, i), trim(series_spec(i)%unit), &
+        call dset(gid, trim(series_spec(i)%stored), series_ptr(r, i), trim(series_spec(i)%unit), &
                   trim(series_spec(i)%long_name), keep=scale_id)
       else
-        call dset(gid, trim(series_spec(i)%stored), series_ptr(res, i), trim(series_spec(i)%unit), &
+        call dset(gid, trim(series_spec(i)%stored), series_ptr(r, i), trim(series_spec(i)%unit), &
                   trim(series_spec(i)%long_name))
       end if
     end do
     do i = 1, n_int_series
       if (trim(int_series_spec(i)%short) == 'flags') then
-        call dset_int(gid, trim(int_series_spec(i)%stored), int_series_ptr(res, i), &
+        call dset_int(gid, trim(int_series_spec(i)%stored), int_series_ptr(r, i), &
                       trim(int_series_spec(i)%unit), trim(int_series_spec(i)%long_name), &
                       flag_description())
       else
-        call dset_int(gid, trim(int_series_spec(i)%stored), int_series_ptr(res, i), &
+        call dset_int(gid, trim(int_series_spec(i)%stored), int_series_ptr(r, i), &
                       trim(int_series_spec(i)%unit), trim(int_series_spec(i)%long_name), &
                       trim(int_series_spec(i)%long_name))
       end if
     end do
-    ! the liner film at the end of the cycle (starved inlet): its position is the scale
-    if (res%has_starved .and. ok) then
+    ! the liner film at the end of the cycle (starved inlet): its position (the first row
+    ! of the table) is the scale
+    if (r%has_starved .and. ok) then
       call h5gcreate_f(fid, 'liner', lid, herr)
       call opened(herr, 'group /liner', lid, k_group)
-      call dset(lid, trim(liner_spec(1)%stored), res%liner_z, trim(liner_spec(1)%unit), &
-                trim(liner_spec(1)%long_name), keep=liner_scale)
-      scale_id = liner_scale
-      call dset(lid, trim(liner_spec(2)%stored), res%liner_h, trim(liner_spec(2)%unit), &
-                trim(liner_spec(2)%long_name))
+      do i = 1, n_liner
+        if (i == 1) then
+          call dset(lid, trim(liner_spec(i)%stored), liner_ptr(r, i), trim(liner_spec(i)%unit), &
+                    trim(liner_spec(i)%long_name), keep=liner_scale)
+          scale_id = liner_scale
+        else
+          call dset(lid, trim(liner_spec(i)%stored), liner_ptr(r, i), trim(liner_spec(i)%unit), &
+                    trim(liner_spec(i)%long_name))
+        end if
+      end do
     end if
     ! close the scale, the group and the file (the file's metadata is written then)
     do while (ok .and. nopen > 0)

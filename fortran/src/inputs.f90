@@ -80,6 +80,8 @@ module ringlube_inputs
       'pressure-viscosity coefficient'), &
     input_spec('lubricant', 'supply_film', kind_real, '1e-6', 0.0_dp, 1e-3_dp, 'm', '', &
       'oil film the lower rings leave on the liner for the top ring (starved inlet)'), &
+    input_spec('lubricant', 'oil_density', kind_real, '850', 600.0_dp, 1200.0_dp, 'kg/m^3', '', &
+      'oil density, for the oil to the chamber in g/h (results only; docs/model.md)'), &
     input_spec('surface', 'rq_liner', kind_real, '0.378e-6', 1e-9_dp, 1e-4_dp, 'm', '', &
       'liner roughness Rq'), &
     input_spec('surface', 'rq_ring', kind_real, '0.238e-6', 1e-9_dp, 1e-4_dp, 'm', '', &

@@ -9,7 +9,8 @@ module ringlube_results
   private
   public :: result_type, field_spec, flag_spec, series_spec, n_series, int_series_spec, &
             n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, series_ptr, int_series_ptr, &
-            result_scalar, allocate_result, flag_description, liner_spec, n_liner, produced
+            liner_ptr, scalar_value, allocate_result, flag_description, liner_spec, n_liner, &
+            produced, derive_results, summary_text
 
   !> Per-step flag bits (dataset `/cycle/flags`).
   integer, parameter, public :: flag_floor = 1        !< h0 held at h0_floor
@@ -75,13 +76,6 @@ module ringlube_results
     field_spec('oil_bank', 'oil_bank_m2', 'm^2', .false., &
       'oil bank pushed ahead of the leading edge, per unit circumference', 'starved') &
   ]
-  !> Index of each real series in `series_spec` and in the f2py export.
-  integer, parameter, public :: s_crank_angle = 1, s_sliding_speed = 2, s_h0 = 3, &
-    s_lambda_min = 4, s_gas_pressure = 5, s_applied_load = 6, s_hydrodynamic_load = 7, &
-    s_asperity_load = 8, s_viscous_friction = 9, s_boundary_friction = 10, s_friction = 11, &
-    s_power_loss = 12, s_load_residual = 13, s_inlet_fill = 14, s_wetted_width = 15, &
-    s_oil_left = 16, s_oil_bank = 17
-
   !> Integer series over the reported cycle.
   type(field_spec), parameter :: int_series_spec(*) = [ &
     field_spec('flags', 'flags', '1', .true., 'bit flags of the crank step (see description)'), &
@@ -116,7 +110,15 @@ module ringlube_results
     field_spec('oil_to_chamber', 'oil_to_chamber_mm3', 'mm^3', .false., &
       'oil transported towards the chamber per cycle, whole circumference', 'starved', .true.), &
     field_spec('oil_balance_error', 'oil_balance_error', '1', .false., &
-      'relative closure error of the oil balance over the reported cycle', 'starved') &
+      'relative closure error of the oil balance over the reported cycle', 'starved'), &
+    field_spec('friction_power', 'friction_power_W', 'W', .false., &
+      'mean friction power of the ring: energy_loss x cycles per second (four-stroke, rpm/120)'), &
+    field_spec('fmep', 'fmep_kPa', 'kPa', .false., &
+      "the ring's friction mean effective pressure: energy_loss / swept volume pi r0^2 2 r"), &
+    field_spec('oil_to_chamber_rate', 'oil_to_chamber_g_h', 'g/h', .false., &
+      'oil to the chamber per hour: oil_to_chamber x oil_density x cycles per hour', 'starved'), &
+    field_spec('flagged_steps', 'flagged_steps', '1', .true., &
+      'crank steps of the reported cycle with a flag (see /cycle/flags)') &
   ]
 
   !> The liner film at the end of the reported cycle (group /liner).
@@ -157,6 +159,10 @@ module ringlube_results
     real(dp), allocatable :: liner_z(:), liner_h(:)
     real(dp) :: oil_to_chamber = 0.0_dp     !< mm^3 per cycle, whole circumference
     real(dp) :: oil_balance_error = 0.0_dp  !< relative
+    real(dp) :: oil_to_chamber_rate = 0.0_dp  !< g/h
+    real(dp) :: friction_power = 0.0_dp    !< W, mean over the cycle
+    real(dp) :: fmep = 0.0_dp              !< kPa
+    integer :: flagged_steps = 0           !< crank steps with a flag
     real(dp) :: energy_loss = 0.0_dp       !< J per cycle
     real(dp) :: mixed_share = 0.0_dp       !< % of the cycle with h0/sigma < 4
     real(dp) :: ring_mass = 0.0_dp         !< kg
@@ -176,26 +182,21 @@ module ringlube_results
 
 contains
 
-  !> Allocate every series for m crank steps (zeros).
+  !> Allocate every series of the tables for m crank steps (zeros; the liner film empty).
   subroutine allocate_result(res, m)
     type(result_type), intent(inout), target :: res
     integer, intent(in) :: m
-    real(dp), pointer :: p(:)
     integer :: i
     res%nsteps = m
-    allocate (res%crank_angle_deg(m), res%sliding_speed(m), res%h0(m), res%lambda_min(m), &
-              res%gas_pressure(m), res%applied_load(m), res%hydrodynamic_load(m), &
-              res%asperity_load(m), res%viscous_friction(m), res%boundary_friction(m), &
-              res%friction(m), res%power_loss(m), res%load_residual(m), res%flags(m), &
-              res%iterations(m), res%inlet_fill(m), res%wetted_width(m), res%oil_left(m), &
-              res%oil_bank(m))
-    allocate (res%liner_z(0), res%liner_h(0))
     do i = 1, n_series
-      p => series_ptr(res, i)
-      p = 0.0_dp
+      call real_field(res, 'series', i, m=m)
     end do
-    res%flags = 0
-    res%iterations = 0
+    do i = 1, n_int_series
+      call int_field(res, i, m=m)
+    end do
+    do i = 1, n_liner
+      call real_field(res, 'liner', i, m=0)
+    end do
   end subroutine allocate_result
 
   !> Did the run produce a result that `requires` this model ('' always)?
@@ -211,94 +212,221 @@ contains
 
   !> The real series i of `series_spec`.
   function series_ptr(res, i) result(p)
-    type(result_type), intent(in), target :: res
+    type(result_type), intent(inout), target :: res
     integer, intent(in) :: i
     real(dp), pointer :: p(:)
-    select case (i)
-    case (s_crank_angle); p => res%crank_angle_deg
-    case (s_sliding_speed); p => res%sliding_speed
-    case (s_h0); p => res%h0
-    case (s_lambda_min); p => res%lambda_min
-    case (s_gas_pressure); p => res%gas_pressure
-    case (s_applied_load); p => res%applied_load
-    case (s_hydrodynamic_load); p => res%hydrodynamic_load
-    case (s_asperity_load); p => res%asperity_load
-    case (s_viscous_friction); p => res%viscous_friction
-    case (s_boundary_friction); p => res%boundary_friction
-    case (s_friction); p => res%friction
-    case (s_power_loss); p => res%power_loss
-    case (s_load_residual); p => res%load_residual
-    case (s_inlet_fill); p => res%inlet_fill
-    case (s_wetted_width); p => res%wetted_width
-    case (s_oil_left); p => res%oil_left
-    case (s_oil_bank); p => res%oil_bank
-    case default; p => null()
-    end select
+    call real_field(res, 'series', i, p=p)
   end function series_ptr
+
+  !> The liner film quantity i of `liner_spec`.
+  function liner_ptr(res, i) result(p)
+    type(result_type), intent(inout), target :: res
+    integer, intent(in) :: i
+    real(dp), pointer :: p(:)
+    call real_field(res, 'liner', i, p=p)
+  end function liner_ptr
 
   !> The integer series i of `int_series_spec`.
   function int_series_ptr(res, i) result(p)
-    type(result_type), intent(in), target :: res
+    type(result_type), intent(inout), target :: res
     integer, intent(in) :: i
     integer, pointer :: p(:)
-    select case (i)
-    case (1); p => res%flags
-    case (2); p => res%iterations
-    case default; p => null()
-    end select
+    call int_field(res, i, p=p)
   end function int_series_ptr
 
-  !> Get (`set = .false.`) or set scalar i of `scalar_spec` in its stored unit (mass in g).
-  subroutine result_scalar(res, i, v, set)
-    type(result_type), intent(inout) :: res
+  !> The one map from the rows of `series_spec` (`table = 'series'`) and `liner_spec`
+  !> ('liner') to the components of `result_type`: with `m`, (re)allocate the component
+  !> with m zeros; with `p`, point p at it. A new series is a row of the table, its
+  !> component and one line here.
+  subroutine real_field(res, table, i, m, p)
+    type(result_type), intent(inout), target :: res
+    character(len=*), intent(in) :: table
     integer, intent(in) :: i
-    real(dp), intent(inout) :: v
-    logical, intent(in) :: set
-    select case (trim(scalar_spec(i)%short))
-    case ('energy_loss'); call r(res%energy_loss, 1.0_dp)
-    case ('mixed_share'); call r(res%mixed_share, 1.0_dp)
-    case ('ring_mass'); call r(res%ring_mass, 1e3_dp)
-    case ('min_film'); call r(res%min_film, 1.0_dp)
-    case ('max_friction'); call r(res%max_friction, 1.0_dp)
-    case ('converged'); call b(res%converged)
-    case ('cycles_run'); call n(res%cycles_run)
-    case ('cycle_change'); call r(res%cycle_change, 1.0_dp)
-    case ('sigma'); call r(res%sigma, 1.0_dp)
-    case ('run_time'); call r(res%run_time, 1.0_dp)
-    case ('total_film_solves'); call n(res%evaluations)
-    case ('reynolds_solves'); call n(res%reynolds_solves)
-    case ('cycles_computed'); call r(res%cycles_computed, 1.0_dp)
-    case ('periodic'); call b(res%periodic)
-    case ('oil_to_chamber'); call r(res%oil_to_chamber, 1.0_dp)
-    case ('oil_balance_error'); call r(res%oil_balance_error, 1.0_dp)
+    integer, intent(in), optional :: m
+    real(dp), pointer, intent(out), optional :: p(:)
+    character(len=:), allocatable :: name
+    if (present(p)) p => null()
+    if (table == 'liner') then
+      name = trim(liner_spec(i)%short)
+    else
+      name = trim(series_spec(i)%short)
+    end if
+    select case (name)
+    case ('crank_angle_deg'); call point(res%crank_angle_deg)
+    case ('sliding_speed'); call point(res%sliding_speed)
+    case ('h0'); call point(res%h0)
+    case ('lambda_min'); call point(res%lambda_min)
+    case ('gas_pressure'); call point(res%gas_pressure)
+    case ('applied_load'); call point(res%applied_load)
+    case ('hydrodynamic_load'); call point(res%hydrodynamic_load)
+    case ('asperity_load'); call point(res%asperity_load)
+    case ('viscous_friction'); call point(res%viscous_friction)
+    case ('boundary_friction'); call point(res%boundary_friction)
+    case ('friction'); call point(res%friction)
+    case ('power_loss'); call point(res%power_loss)
+    case ('load_residual'); call point(res%load_residual)
+    case ('inlet_fill'); call point(res%inlet_fill)
+    case ('wetted_width'); call point(res%wetted_width)
+    case ('oil_left'); call point(res%oil_left)
+    case ('oil_bank'); call point(res%oil_bank)
+    case ('liner_position'); call point(res%liner_z)
+    case ('liner_oil_film'); call point(res%liner_h)
     end select
   contains
-    subroutine r(x, scale)
-      real(dp), intent(inout) :: x
-      real(dp), intent(in) :: scale
-      if (set) then
-        x = v / scale
-      else
-        v = x * scale
+    subroutine point(x)
+      real(dp), allocatable, target, intent(inout) :: x(:)
+      if (present(m)) then
+        if (allocated(x)) deallocate (x)
+        allocate (x(m))
+        x = 0.0_dp
       end if
-    end subroutine r
-    subroutine n(x)
-      integer, intent(inout) :: x
-      if (set) then
-        x = nint(v)
-      else
-        v = real(x, dp)
+      if (present(p)) p => x
+    end subroutine point
+  end subroutine real_field
+
+  !> `real_field` for the rows of `int_series_spec`.
+  subroutine int_field(res, i, m, p)
+    type(result_type), intent(inout), target :: res
+    integer, intent(in) :: i
+    integer, intent(in), optional :: m
+    integer, pointer, intent(out), optional :: p(:)
+    if (present(p)) p => null()
+    select case (trim(int_series_spec(i)%short))
+    case ('flags'); call point(res%flags)
+    case ('film_solves'); call point(res%iterations)
+    end select
+  contains
+    subroutine point(x)
+      integer, allocatable, target, intent(inout) :: x(:)
+      if (present(m)) then
+        if (allocated(x)) deallocate (x)
+        allocate (x(m))
+        x = 0
       end if
-    end subroutine n
-    subroutine b(x)
-      logical, intent(inout) :: x
-      if (set) then
-        x = v > 0.5_dp
+      if (present(p)) p => x
+    end subroutine point
+  end subroutine int_field
+
+  !> Scalar i of `scalar_spec` in its stored unit (mass in g; integers and logicals as
+  !> 0/1 reals): the one map from the rows of the table to the components of `result_type`.
+  pure real(dp) function scalar_value(res, i) result(v)
+    type(result_type), intent(in) :: res
+    integer, intent(in) :: i
+    v = 0.0_dp
+    select case (trim(scalar_spec(i)%short))
+    case ('energy_loss'); v = res%energy_loss
+    case ('mixed_share'); v = res%mixed_share
+    case ('ring_mass'); v = res%ring_mass * 1e3_dp
+    case ('min_film'); v = res%min_film
+    case ('max_friction'); v = res%max_friction
+    case ('converged'); v = merge(1.0_dp, 0.0_dp, res%converged)
+    case ('cycles_run'); v = real(res%cycles_run, dp)
+    case ('cycle_change'); v = res%cycle_change
+    case ('sigma'); v = res%sigma
+    case ('run_time'); v = res%run_time
+    case ('total_film_solves'); v = real(res%evaluations, dp)
+    case ('reynolds_solves'); v = real(res%reynolds_solves, dp)
+    case ('cycles_computed'); v = res%cycles_computed
+    case ('periodic'); v = merge(1.0_dp, 0.0_dp, res%periodic)
+    case ('oil_to_chamber'); v = res%oil_to_chamber
+    case ('oil_balance_error'); v = res%oil_balance_error
+    case ('friction_power'); v = res%friction_power
+    case ('fmep'); v = res%fmep
+    case ('oil_to_chamber_rate'); v = res%oil_to_chamber_rate
+    case ('flagged_steps'); v = real(res%flagged_steps, dp)
+    end select
+  end function scalar_value
+
+  !> The results engineers quote, from the cycle's (called at the end of a run): mean
+  !> friction power [W] (energy per cycle x speed_rpm / 120 cycles per second, four-stroke),
+  !> FMEP [kPa] (energy per cycle / swept volume [m^3]), the oil to the chamber in g/h
+  !> (oil_density [kg/m^3]) and the count of flagged crank steps.
+  pure subroutine derive_results(res, speed_rpm, swept_volume, oil_density)
+    type(result_type), intent(inout) :: res
+    real(dp), intent(in) :: speed_rpm, swept_volume, oil_density
+    res%friction_power = res%energy_loss * speed_rpm / 120.0_dp
+    res%fmep = res%energy_loss / swept_volume * 1e-3_dp
+    ! mm^3/cycle x 1e-9 m^3/mm^3 x kg/m^3 x 1e3 g/kg x 30 speed_rpm cycles per hour
+    res%oil_to_chamber_rate = res%oil_to_chamber * 1e-6_dp * oil_density * 30.0_dp * speed_rpm
+    if (allocated(res%flags)) res%flagged_steps = count(res%flags /= 0)
+  end subroutine derive_results
+
+  !> The summary of a run that `ringlube-solve`, `ringlube run` and
+  !> `CycleResult.summary()` print: one line per quantity with its unit, from the scalars
+  !> `v` (order and stored units of `scalar_spec`). The oil line needs a starved inlet
+  !> (`has_starved`); `title` (first line) and `written`
+  !> (the file, last line) are left out when blank.
+  function summary_text(v, has_starved, title, written) result(t)
+    real(dp), intent(in) :: v(:)
+    logical, intent(in) :: has_starved
+    character(len=*), intent(in) :: title, written
+    character(len=:), allocatable :: t
+    character(len=64) :: a, b
+    character(len=1), parameter :: nl = achar(10)
+    t = ''
+    if (len_trim(title) > 0) t = trim(title)//nl
+    write (a, '(f10.4)') x('energy_loss')
+    call line('energy loss per cycle', a, 'J')
+    write (a, '(f10.2)') x('friction_power')
+    call line('mean friction power', a, 'W (energy per cycle x cycles per second)')
+    write (a, '(f10.3)') x('fmep')
+    call line('FMEP of the ring', a, 'kPa (energy per cycle / swept volume)')
+    write (a, '(f10.3)') x('mixed_share')
+    call line('mixed/boundary share', a, '% of the cycle (h0/sigma < 4)')
+    if (has_starved) then
+      call line('oil to the chamber', num(x('oil_to_chamber')), 'mm^3 per cycle = '// &
+                trim(adjustl(num(x('oil_to_chamber_rate'))))//' g/h (oil_density)')
+    end if
+    write (a, '(f10.3)') x('ring_mass')
+    call line('ring mass', a, 'g')
+    write (a, '(f10.4)') x('min_film') * 1e6_dp
+    call line('minimum film', a, 'um')
+    write (a, '(f10.3)') x('max_friction')
+    call line('peak friction', a, 'N')
+    write (a, '(i10)') nint(x('cycles_run'))
+    write (b, '(es9.2)') x('cycle_change')
+    call line('cycles run', a, '  (last cycle change in h0: '//trim(adjustl(b))//')')
+    write (a, '(i10)') nint(x('flagged_steps'))
+    call line('flagged crank steps', a, '(see /cycle/flags)')
+    call line('converged', merge('       yes', '        no', x('converged') > 0.5_dp), '')
+    write (a, '(f10.3)') x('run_time')
+    write (b, '(f8.1)') 1e3_dp * x('run_time') / max(x('cycles_computed'), tiny(1.0_dp))
+    call line('run time', a, 's ('//trim(adjustl(b))//' ms per cycle; '// &
+              trim(adjustl(fixed(x('cycles_computed'))))//' cycles incl. warm-up)')
+    if (len_trim(written) > 0) call line('written', trim(written), '')
+  contains
+    real(dp) function x(name)
+      character(len=*), intent(in) :: name
+      integer :: i
+      x = 0.0_dp
+      do i = 1, min(size(v), n_scalars)
+        if (trim(scalar_spec(i)%short) == name) x = v(i)
+      end do
+    end function x
+    subroutine line(label, value, unit)
+      character(len=*), intent(in) :: label, value, unit
+      character(len=24) :: l
+      l = label
+      t = t//'  '//l//trim(value)
+      if (len_trim(unit) > 0) t = t//' '//trim(unit)
+      t = t//nl
+    end subroutine line
+    !> f10.4 where that shows four significant digits, else es10.3
+    function num(y) result(s)
+      real(dp), intent(in) :: y
+      character(len=16) :: s
+      if (y == 0.0_dp .or. (abs(y) >= 1e-1_dp .and. abs(y) < 1e5_dp)) then
+        write (s, '(f10.4)') y
       else
-        v = merge(1.0_dp, 0.0_dp, x)
+        write (s, '(es10.3)') y
       end if
-    end subroutine b
-  end subroutine result_scalar
+    end function num
+    function fixed(y) result(s)
+      real(dp), intent(in) :: y
+      character(len=16) :: s
+      write (s, '(f8.2)') y
+    end function fixed
+  end function summary_text
 
   !> "1: h0 at h0_floor, 2: ..." (the `description` of /cycle/flags).
   function flag_description() result(t)

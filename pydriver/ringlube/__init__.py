@@ -12,14 +12,16 @@ from . import gas
 from ._version import __version__
 from .case import GROUPS, Case
 from .errors import InputError, NotConvergedError, RinglubeError
-from .result import CycleResult, load
+from .result import Comparison, CycleResult, compare, load
 from .solve import BatchError, run, run_designs, run_many
 
 __all__ = [
     "BatchError",
     "Case",
     "GROUPS",
+    "Comparison",
     "CycleResult",
+    "compare",
     "InputError",
     "NotConvergedError",
     "RinglubeError",

@@ -74,10 +74,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
         *(Path(p) for p in (case.get("operating", "pressure_file"), case.get("calibration", "file")) if p),
     ]
     _output_file("-o" if args.output else f"{args.deck}: &output file", out, inputs)
-    result = run(case)
-    result.to_hdf5(out)
+    result = run(case, output=out)
     if not args.quiet:
-        print(f"{args.deck}: {result.summary()}\nwritten {out}")
+        from ._version import __version__
+
+        print(result.summary(title=f"ringlube {__version__}: {args.deck}", written=str(out)))
     return 0 if result.converged else 3
 
 

@@ -19,6 +19,7 @@ __all__ = [
     "film_figure",
     "gas_figure",
     "liner_figure",
+    "overlay_figure",
     "plot_results",
     "save_metadata",
     "supply_figure",
@@ -168,6 +169,52 @@ def film_figure(results: Sequence[CycleResult]) -> plt.Figure:
     ax.set_ylim(bottom=0)
     _crank_axis(ax)
     ax.legend(fontsize=8, loc="upper right")
+    return fig
+
+
+def overlay_figure(results: Sequence[CycleResult], labels: Sequence[str] | None = None) -> plt.Figure:
+    """Several results over one cycle, one colour each (``ringlube.compare(...).figure()``):
+    friction (positive towards the crankcase), friction power and film thickness h0.
+
+    Parameters
+    ----------
+    results : sequence of CycleResult
+    labels : sequence of str, optional
+        One per result (default: their labels).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import ringlube
+    >>> r = ringlube.run(ringlube.Case().with_numerics(preset="fast"))
+    >>> len(overlay_figure([r, r], ["a", "b"]).axes)
+    3
+    """
+    labels = [_label(r, i) for i, r in enumerate(results)] if labels is None else list(labels)
+    fig, axes = plt.subplots(3, 1, figsize=(8, 8), sharex=True, layout="constrained")
+    for r, name in zip(results, labels):
+        (line,) = axes[0].plot(r.crank_angle_deg, r.friction, lw=1.2, label=name)
+        axes[1].plot(
+            r.crank_angle_deg,
+            r.power_loss,
+            lw=1.2,
+            color=line.get_color(),
+            label=f"{name}: {r.scalars.get('friction_power', np.nan):.1f} W mean",
+        )
+        axes[2].plot(r.crank_angle_deg, r.h0 * 1e6, lw=1.2, color=line.get_color(), label=name)
+    axes[0].axhline(0, color="k", lw=0.6)
+    axes[0].set_ylabel("friction [N]\n(+ towards the crankcase)")
+    axes[1].set_ylabel("friction power [W]")
+    axes[2].set_ylabel(r"film thickness $h_0$ [$\mu$m]")
+    axes[2].set_yscale("log")  # a ring that lifts off (h0_ceiling) beside microns
+    for ax in axes:
+        _crank_axis(ax)
+        ax.legend(fontsize=7, loc="upper right")
+    for ax in axes[:-1]:
+        ax.set_xlabel("")
     return fig
 
 

@@ -1,29 +1,57 @@
 """Results of one cycle, by name: the series and scalars of the kernel's result tables.
 
 Every name, unit and description comes from the kernel (:mod:`ringlube.tables`); a
-result is written to HDF5 by the kernel's own writer, so files from ``ringlube-solve``
-and from Python have one layout.
+result file is written by the kernel itself (``ringlube-solve``, or
+``ringlube.run(case, output=path)``), so files from the command line and from Python have
+one layout and the numbers never travel back to the kernel to be written.
 """
 
 from __future__ import annotations
 
+import html
 import os
 from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError, error_for
+from .errors import InputError
 from .tables import FLAG_BITS, INT_SERIES, LINER, SCALARS, SERIES
 
-__all__ = ["CycleResult", "load", "SERIES", "INT_SERIES", "SCALARS", "FLAG_BITS", "LINER"]
+__all__ = [
+    "CycleResult",
+    "Comparison",
+    "compare",
+    "load",
+    "SERIES",
+    "INT_SERIES",
+    "SCALARS",
+    "FLAG_BITS",
+    "LINER",
+]
+
+#: the scalars :func:`compare` shows by default (those a run has), in this order
+COMPARED = (
+    "energy_loss",
+    "friction_power",
+    "fmep",
+    "mixed_share",
+    "oil_to_chamber",
+    "oil_to_chamber_rate",
+    "ring_mass",
+    "min_film",
+    "max_friction",
+    "converged",
+)
 
 
 class CycleResult:
-    """One reported engine cycle: arrays over the crank steps and scalar results (SI).
+    """One reported engine cycle: arrays over the crank steps and scalar results.
 
     Every series and scalar of the kernel's tables is an attribute by its short name
-    (``result.h0``, ``result.friction``, ``result.energy_loss``, ...); units are in
-    :data:`ringlube.tables.SERIES` and :data:`ringlube.tables.SCALARS`.
+    (``result.h0``, ``result.friction``, ``result.energy_loss``, ...) in the unit of the
+    table (``result.units(name)``; mostly SI, but ring mass in g, mixed share in %, oil to
+    the chamber in mm^3 per cycle and g/h, FMEP in kPa): :data:`ringlube.tables.SERIES`
+    and :data:`ringlube.tables.SCALARS`.
 
     Parameters
     ----------
@@ -38,6 +66,10 @@ class CycleResult:
         The deck's text as the kernel read it, where it came from, and the gas trace.
     label : str
         Legend label.
+    calibration_file : str
+        The calibration file the deck included.
+    path : Path, optional
+        The result file the kernel wrote (``run(case, output=...)``) or :func:`load` read.
 
     Examples
     --------
@@ -58,6 +90,7 @@ class CycleResult:
         pressure_file: str = "",
         label: str = "",
         calibration_file: str = "",
+        path: os.PathLike | None = None,
     ):
         self.series = dict(series)
         self.scalars = dict(scalars)
@@ -65,9 +98,10 @@ class CycleResult:
         self.deck = deck
         self.deck_path = deck_path
         self.pressure_file = pressure_file
-        #: the calibration file the deck included (never overwritten by to_hdf5)
         self.calibration_file = calibration_file
         self.label = label
+        #: the HDF5 file of this result, if it has one
+        self.path = Path(path) if path is not None else None
 
     def __getattr__(self, name: str):
         d = self.__dict__
@@ -97,53 +131,164 @@ class CycleResult:
         """h0 / sigma over the cycle."""
         return self.h0 / self.sigma
 
-    def summary(self) -> str:
-        """One line with units."""
-        return (
-            f"energy loss {self.energy_loss:.4f} J/cycle, mixed share {self.mixed_share:.2f} %, "
-            f"ring mass {self.ring_mass:.3f} g, min film {self.min_film * 1e6:.4f} µm, "
-            f"peak friction {self.max_friction:.3f} N, cycles {self.cycles_run}, "
-            f"converged {'yes' if self.converged else 'no'}"
-        )
+    def summary(self, title: str = "", written: str = "") -> str:
+        """The summary ``ringlube-solve`` prints (the kernel formats it): one line per
+        quantity with its unit, energy, friction power, FMEP, mixed share, oil to the
+        chamber (starved inlet), ring mass, film, friction, convergence and run time.
 
-    def to_hdf5(self, path: str | os.PathLike) -> Path:
-        """Write the SPEC layout with the kernel's writer (atomically).
+        Parameters
+        ----------
+        title, written : str
+            First line and the file written (last line); left out when empty.
 
-        Raises
-        ------
-        RinglubeError
-            If the file cannot be written (the message names it).
+        Examples
+        --------
+        >>> import ringlube
+        >>> r = ringlube.run(ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0))
+        >>> print(r.summary().splitlines()[1].split())
+        ['mean', 'friction', 'power', ..., 'W', '(energy', 'per', 'cycle', 'x', 'cycles', 'per', 'second)']
         """
         from . import _kernel
 
-        if not str(path) or "\0" in str(path):
-            raise InputError(f"{str(path)!r}: not a usable file name")
-        path = Path(path)
-        n = len(self.crank_angle_deg)
-        s = np.column_stack([np.asarray(self.series.get(k, np.zeros(n)), float) for k in SERIES])
-        i = np.column_stack([np.asarray(self.series[k], np.int32) for k in INT_SERIES])
-        c = np.array([float(self.scalars.get(k, 0.0)) for k in SCALARS])
-        produced = np.array([int("inlet_fill" in self.series), int(bool(self.liner))], np.int32)
-        lin = np.column_stack([self.liner[k] for k in LINER]) if self.liner else np.zeros((0, len(LINER)))
-        code, message = _kernel.rl_write(
-            os.fsencode(path),
-            s,
-            i,
-            c,
-            produced,
-            lin,
-            _b(self.deck),
-            _b(self.deck_path),
-            _b(self.pressure_file),
-            _b(self.calibration_file),
+        v = np.array([float(self.scalars.get(k, 0.0)) for k in SCALARS])
+        text, n = _kernel.rl_summary(v, int(bool(self.liner)), title.encode(), written.encode())
+        text = bytes(text[:n]).decode("utf-8", "replace") if isinstance(text, bytes) else str(text)[:n]
+        return text.rstrip("\n")
+
+    def __repr__(self) -> str:
+        head = f"<CycleResult {self.label!r}" if self.label else "<CycleResult"
+        return f"{head}\n{self.summary()}>"
+
+    def _repr_html_(self) -> str:
+        rows = "".join(
+            f"<tr><td>{k}</td><td style='text-align:right'>{_num(self.scalars[k])}</td>"
+            f"<td>{SCALARS[k].unit}</td><td>{html.escape(SCALARS[k].long_name)}</td></tr>"
+            for k in SCALARS
+            if k in self.scalars
         )
-        if code:
-            raise error_for(code, _text(message))
-        return path
+        title = html.escape(f"CycleResult {self.label}".strip())
+        return (
+            f"<table><caption>{title} ({len(self.crank_angle_deg)} crank steps)</caption>"
+            f"<tr><th>result</th><th>value</th><th>unit</th><th>meaning</th></tr>{rows}</table>"
+        )
 
 
-def _b(s: str) -> bytes:
-    return s.encode("utf-8", "surrogateescape")
+class Comparison:
+    """Scalar results of several runs side by side (:func:`compare`).
+
+    Attributes
+    ----------
+    labels : list of str
+        One per result (column).
+    names : list of str
+        Scalar short names (rows), with their units in :attr:`units`.
+    values : dict of str to ndarray
+        Each row's values, one per result (NaN where a result lacks it).
+    results : list of CycleResult
+
+    Examples
+    --------
+    >>> import ringlube
+    >>> base = ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0)
+    >>> rs = [ringlube.run(base), ringlube.run(base.with_ring(width=1.2e-3))]
+    >>> t = ringlube.compare(rs, labels=["1.0 mm", "1.2 mm"])
+    >>> t.values["energy_loss"].shape, t.units["energy_loss"]
+    ((2,), 'J')
+    """
+
+    def __init__(self, results, labels, names):
+        self.results = list(results)
+        self.labels = list(labels)
+        self.names = list(names)
+        self.units = {n: SCALARS[n].unit for n in self.names}
+        self.values = {
+            n: np.array([float(r.scalars[n]) if n in r.scalars else np.nan for r in self.results])
+            for n in self.names
+        }
+
+    def rows(self) -> list[list[str]]:
+        """Header row, then one row per quantity: name [unit], then the values as text."""
+        head = ["quantity", *self.labels]
+        body = [[f"{n} [{self.units[n]}]", *(_num(v) for v in self.values[n])] for n in self.names]
+        return [head, *body]
+
+    def to_markdown(self) -> str:
+        """A Markdown table (quantities as rows, results as columns)."""
+        rows = self.rows()
+        lines = ["| " + " | ".join(rows[0]) + " |", "|---" + "|---:" * (len(rows[0]) - 1) + "|"]
+        lines += ["| " + " | ".join(r) + " |" for r in rows[1:]]
+        return "\n".join(lines)
+
+    def __str__(self) -> str:
+        rows = self.rows()
+        widths = [max(len(r[j]) for r in rows) for j in range(len(rows[0]))]
+        return "\n".join(
+            "  ".join(c.ljust(w) if j == 0 else c.rjust(w) for j, (c, w) in enumerate(zip(r, widths)))
+            for r in rows
+        )
+
+    def __repr__(self) -> str:
+        return f"<Comparison of {len(self.results)} results>\n{self}"
+
+    def _repr_markdown_(self) -> str:
+        return self.to_markdown()
+
+    def figure(self):
+        """Friction and film ratio h0/sigma over the cycle, every result overlaid."""
+        from .plot import overlay_figure
+
+        return overlay_figure(self.results, self.labels)
+
+
+def compare(results, labels=None, names=None) -> Comparison:
+    """Scalar results of several runs side by side, and an overlay figure.
+
+    Parameters
+    ----------
+    results : sequence of CycleResult
+    labels : sequence of str, optional
+        Column names (default: each result's label, else its index).
+    names : sequence of str, optional
+        Scalars to compare (short names; default: the summary quantities).
+
+    Returns
+    -------
+    Comparison
+        ``str()`` a text table, ``.to_markdown()``, ``.values`` (dict of arrays) and
+        ``.figure()`` (matplotlib).
+
+    Raises
+    ------
+    InputError
+        For an unknown name or a labels list of another length.
+
+    Examples
+    --------
+    >>> import ringlube
+    >>> base = ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0)
+    >>> t = compare([ringlube.run(base), ringlube.run(base.with_ring(width=1.2e-3))], ["a", "b"])
+    >>> print(t.to_markdown().splitlines()[0])
+    | quantity | a | b |
+    """
+    results = list(results)
+    if labels is None:
+        labels = [r.label or str(i) for i, r in enumerate(results)]
+    labels = [str(x) for x in labels]
+    if len(labels) != len(results):
+        raise InputError(f"compare: {len(labels)} labels for {len(results)} results")
+    if names is None:
+        names = [n for n in COMPARED if any(n in r.scalars for r in results)]
+    unknown = [n for n in names if n not in SCALARS]
+    if unknown:
+        raise InputError(f"compare: unknown results {unknown} (known: {', '.join(SCALARS)})")
+    return Comparison(results, labels, names)
+
+
+def _num(v: float) -> str:
+    """Four significant digits ('-' for NaN)."""
+    if not np.isfinite(v):
+        return "-"
+    return f"{v:.4g}"
 
 
 def _text(value, strip: bool = True) -> str:
@@ -153,7 +298,8 @@ def _text(value, strip: bool = True) -> str:
 
 
 def load(path: str | os.PathLike) -> CycleResult:
-    """Read a result written by ``ringlube-solve`` or :meth:`CycleResult.to_hdf5`.
+    """Read a result file written by ``ringlube-solve``, ``ringlube run`` or
+    ``ringlube.run(case, output=path)``.
 
     Parameters
     ----------
@@ -172,8 +318,8 @@ def load(path: str | os.PathLike) -> CycleResult:
     Examples
     --------
     >>> import ringlube, tempfile, os
-    >>> r = ringlube.run(ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0))
-    >>> p = r.to_hdf5(os.path.join(tempfile.mkdtemp(), "r.h5"))
+    >>> p = os.path.join(tempfile.mkdtemp(), "r.h5")
+    >>> r = ringlube.run(ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0), output=p)
     >>> ringlube.load(p).energy_loss == r.energy_loss
     True
     """
@@ -208,6 +354,7 @@ def load(path: str | os.PathLike) -> CycleResult:
                 deck_path=_text(a.get("deck_path", b"")),
                 pressure_file=_text(a.get("pressure_file", b"")),
                 label=path.stem,
+                path=path,
             )
     except (OSError, KeyError, ValueError, TypeError) as exc:
         raise InputError(f"{path}: not a readable ringlube result ({exc})") from None

@@ -5,11 +5,12 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Sequence
+from pathlib import Path
 
 import numpy as np
 
 from .case import Case, _text, kernel_case
-from .errors import NotConvergedError, RinglubeError, error_for
+from .errors import InputError, NotConvergedError, RinglubeError, error_for
 from .result import CycleResult
 from .tables import INT_SERIES, LINER, SCALARS, SERIES
 
@@ -48,11 +49,13 @@ def run(
     *,
     strict: bool = False,
     trace: tuple[np.ndarray, np.ndarray] | None = None,
+    output: str | os.PathLike | None = None,
 ) -> CycleResult:
     """Run one engine cycle of ``case`` (a :class:`Case` or a deck path).
 
     Gives the same numbers as ``ringlube-solve`` on the same deck: the case is parsed by
-    the same reader, in memory, once.
+    the same reader, in memory, once. With ``output`` the kernel writes the result file
+    itself, with the writer and layout of ``ringlube-solve``.
 
     Parameters
     ----------
@@ -64,6 +67,11 @@ def run(
     trace : (ndarray, ndarray), optional
         Crank angle [deg] and absolute gas pressure [Pa] used instead of the case's
         pressure file (checked like the file; times the case's ``pressure_scale``).
+    output : path, optional
+        Write the result there (HDF5, atomically: a temporary file renamed when
+        complete). The path is checked before the run: not one of the run's inputs (the
+        deck, its pressure or calibration file), not a folder or device, in a folder that
+        exists. ``result.path`` is where it was written.
 
     Returns
     -------
@@ -89,6 +97,11 @@ def run(
         if not isinstance(case, (str, os.PathLike)):
             raise TypeError(f"run: expected a Case or a deck path, got {type(case).__name__}")
         case = Case.from_namelist(case)
+    out = b""
+    if output is not None:
+        if not str(output) or "\0" in str(output):
+            raise InputError(f"{str(output)!r}: not a usable file name")
+        out = os.fsencode(output)
     with kernel_case(case, load_trace=trace is None) as k:
         if trace is not None:
             psi, p = (np.ascontiguousarray(a, dtype=float) for a in trace)
@@ -96,7 +109,7 @@ def run(
             if code:
                 raise error_for(code, _text(message))
         series, iseries, scalars, produced, liner, code, message = _kernel.rl_run(
-            k.handle, k.nsteps, len(SERIES), len(INT_SERIES), len(SCALARS), k.nliner
+            k.handle, out, k.nsteps, len(SERIES), len(INT_SERIES), len(SCALARS), k.nliner
         )
         if code:
             raise error_for(code, _text(message))
@@ -120,6 +133,7 @@ def run(
         pressure_file=_text(pressure_file),
         label=case.name,
         calibration_file=_text(calibration_file),
+        path=Path(os.fsdecode(out)) if out else None,
     )
     if strict and not result.converged:
         raise NotConvergedError(
@@ -162,7 +176,6 @@ def run_designs(
     (True, True)
     """
     from . import _kernel
-    from .errors import InputError
     from .tables import INPUTS
 
     outputs = list(SCALARS if outputs is None else outputs)
@@ -201,18 +214,10 @@ def run_designs(
     if len(x) == 0:
         return values, converged, errors
     with kernel_case(case) as k:
-        out, codes = _kernel.rl_run_batch(k.handle, " ".join(keys).encode(), x, len(SCALARS))
+        out, codes, messages = _kernel.rl_run_batch(k.handle, " ".join(keys).encode(), x, len(SCALARS))
     for i, code in enumerate(codes):
         if code:
-            try:  # the message: run the one design alone (rare, so not worth a buffer)
-                design = case.copy()
-                for k, v in zip(keys, x[i]):
-                    g, n = k.split(":")
-                    design.set(g, **{n: float(v)})
-                run(design)
-                errors[i] = f"design {i}: error code {int(code)}"
-            except RinglubeError as exc:
-                errors[i] = str(exc)
+            errors[i] = _text(messages[i]) or f"design {i}: error code {int(code)}"
             continue
         values[i] = out[i, cols]
         converged[i] = out[i, names.index("converged")] > 0.5

@@ -47,7 +47,8 @@ class InputSpec:
     lower, upper : float
         Plausible range of a number (inclusive).
     unit : str
-        SI unit ('1' dimensionless; '(unit)' for the tension, see ``tension_unit``).
+        Unit of the value in a deck ('1' dimensionless; '(unit)' for the tension, see
+        ``tension_unit``).
     choices : tuple of str
         Allowed values of a choice.
     description : str
@@ -234,6 +235,12 @@ def results_markdown() -> str:
         row("`/cycle`", s, s.short)
     for s in LINER.values():
         row("`/liner`", s, f"liner['{s.short}']")
+    lines += [
+        "",
+        "Every input of the case is also a root attribute `group.name` (e.g. `ring.width`): its "
+        "effective value (deck, calibration file, preset or default; `Case.value(group, name)`) in "
+        "the unit of the [input table](#inputs), logicals as 0/1, choices and paths as text.",
+    ]
     lines += ["", "Bits of `/cycle/flags`: " + "; ".join(f"{b}: {d}" for b, d in FLAG_BITS.items()) + "."]
     return "\n".join(lines)
 

@@ -7,7 +7,7 @@ program test_hdf5_output
   use ringlube_fsys, only: file_kind, same_file, make_temp_file, remove_file, dir_name, &
                            remove_temp_on_signal, fs_missing, fs_regular, fs_directory, fs_other
   use ringlube_error, only: error_type, rl_input_error
-  use ringlube_hdf5_output, only: check_output
+  use ringlube_output_path, only: check_output
   use ringlube_check
   implicit none
   interface

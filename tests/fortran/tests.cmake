@@ -5,7 +5,7 @@ add_library(ringlube_check STATIC ${CMAKE_CURRENT_LIST_DIR}/check.f90)
 target_link_libraries(ringlube_check PUBLIC ringlube_kernel)
 
 foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner jfo time_order
-    mixed_share film_viscosity film_edges)
+    mixed_share film_viscosity film_edges results)
   add_executable(test_${t} ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
   target_link_libraries(test_${t} PRIVATE ringlube_check ringlube_io ${LAPACK_LIBRARIES})
   add_test(NAME ${t} COMMAND test_${t} WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
@@ -47,7 +47,7 @@ set_tests_properties(study_trend_crown_height PROPERTIES WILL_FAIL TRUE)
 # cli: runs ringlube-solve; io: files (HDF5, temporary files, output checks);
 # slow: over 1 s alone on the reference 2-core machine (`ctest -LE slow` for a quick pass);
 # known_limitation: expected failures (WILL_FAIL) that document what the model does not do.
-set_tests_properties(tridiag tridiag_fixed liner PROPERTIES LABELS "unit")
+set_tests_properties(tridiag tridiag_fixed liner results PROPERTIES LABELS "unit")
 set_tests_properties(greenwood_tripp physics_basics mixed_share PROPERTIES LABELS "unit;numerics")
 set_tests_properties(reynolds cycle time_order film_viscosity film_edges PROPERTIES LABELS "numerics")
 set_tests_properties(jfo PROPERTIES LABELS "numerics;slow")

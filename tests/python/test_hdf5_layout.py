@@ -161,3 +161,37 @@ def test_xarray_opens_cycle_with_crank_angle_coordinate(result):
         for name in CYCLE_DSETS:
             if name != "crank_angle_deg":
                 assert ds[name].dims == ("crank_angle_deg",), name
+
+
+def test_every_input_is_a_root_attribute(result):
+    """The design inputs travel with the result (`group.name`, the effective value), so
+    files can be compared without parsing their decks."""
+    from ringlube import Case
+    from ringlube.tables import INPUTS
+
+    case = Case.from_namelist(result.parent / "deck.nml")
+    with h5py.File(result) as f:
+        a = f.attrs
+        for (group, name), spec in INPUTS.items():
+            key = f"{group}.{name}"
+            assert key in a, key
+            value, expected = a[key], case.value(group, name)
+            if spec.kind == "real":
+                assert isinstance(value, np.floating) and value == expected, key
+            elif spec.kind in ("integer", "logical"):
+                assert isinstance(value, np.integer) and value == int(expected), key
+            else:
+                assert isinstance(value, str) and value == str(expected), key
+        assert a["ring.width"] == 1.004e-3 and a["operating.speed_rpm"] == 4000.0
+        assert a["physics.roelands"] == 1 and a["physics.outlet"] == "reynolds"
+
+
+def test_units_in_every_scalar_name(result):
+    """Each stored scalar's name ends in its unit (the README's words: not all SI)."""
+    from ringlube.tables import SCALARS
+
+    suffix = {"J": "_J", "%": "_pct", "g": "_g", "m": "_m", "N": "_N", "s": "_s", "W": "_W"}
+    suffix.update({"kPa": "_kPa", "mm^3": "_mm3", "g/h": "_g_h"})
+    for s in SCALARS.values():
+        if s.unit != "1":
+            assert s.stored.endswith(suffix[s.unit]), (s.stored, s.unit)

@@ -95,10 +95,10 @@ def test_optional_results_round_trip_and_layout(cold, tmp_path, solver):
     import subprocess
 
     case = cold.with_physics(cavitation="jfo", inlet="starved").with_numerics(**FAST)
-    r = ringlube.run(case)
+    r = ringlube.run(case, output=tmp_path / "s.h5")
     assert {"inlet_fill", "wetted_width", "oil_left", "oil_bank"} <= set(r.series)
     assert {"oil_to_chamber", "oil_balance_error"} <= set(r.scalars)
-    back = ringlube.load(r.to_hdf5(tmp_path / "s.h5"))
+    back = ringlube.load(r.path)
     for k in r.series:
         np.testing.assert_array_equal(getattr(back, k), getattr(r, k))
     for k in r.liner:

@@ -31,12 +31,11 @@ def deck_dir(tmp_path):
 
 
 def test_python_never_overwrites_the_calibration_file(deck_dir):
-    """F01: `to_hdf5` onto the deck's calibration file replaced it with HDF5."""
+    """F01: writing a result onto the deck's calibration file replaced it with HDF5."""
     cal = deck_dir / "calibration.nml"
     before = cal.read_bytes()
-    r = ringlube.run(deck_dir / "deck.nml")
     with pytest.raises(InputError, match=r"calibration file .* refusing to overwrite an input"):
-        r.to_hdf5(cal)
+        ringlube.run(deck_dir / "deck.nml", output=cal)
     assert cal.read_bytes() == before
 
 
@@ -137,8 +136,7 @@ def test_run_many_keeps_results_whatever_a_case_raises():
 
 def test_load_refuses_inconsistent_files(tmp_path):
     """F16: a file whose series lengths disagree loaded, and writing it back failed."""
-    r = ringlube.run(Case().with_numerics(**FAST))
-    path = r.to_hdf5(tmp_path / "r.h5")
+    path = ringlube.run(Case().with_numerics(**FAST), output=tmp_path / "r.h5").path
     with h5py.File(path, "a") as f:
         del f["cycle/h0_m"]
         f["cycle/h0_m"] = np.zeros(3)

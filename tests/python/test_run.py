@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import subprocess
+import sys
+from pathlib import Path
 
 import h5py
 import numpy as np
@@ -95,8 +97,9 @@ def test_results_are_double_precision():
 
 
 def test_hdf5_round_trip(quick_case, tmp_path):
-    r = ringlube.run(quick_case)
-    path = r.to_hdf5(tmp_path / "py.h5")
+    r = ringlube.run(quick_case, output=tmp_path / "py.h5")
+    path = r.path
+    assert path == tmp_path / "py.h5"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["py.h5"]
     back = ringlube.load(path)
     assert set(back.series) == set(r.series) and set(back.scalars) == set(r.scalars)
@@ -124,3 +127,97 @@ def test_repeated_runs_keep_no_state(quick_case):
     ringlube.run(quick_case.with_ring(width=1.3e-3, tension=20.0))
     b = ringlube.run(quick_case)
     np.testing.assert_array_equal(a.h0, b.h0)
+
+
+def test_batch_returns_each_failure_message_without_rerunning(monkeypatch):
+    """The batch call returns the kernel's message of each failed design (a failed design
+    used to be run again, alone, to get its message)."""
+    import ringlube.solve
+
+    def no_rerun(*args, **kwargs):
+        raise AssertionError("run() called again for a failed design")
+
+    monkeypatch.setattr(ringlube.solve, "run", no_rerun)
+    base = ringlube.Case.from_namelist(COLD).with_numerics(nodes=31, dpsi_deg=5.0)
+    x = np.array([[1.0e-3, 8.0], [-1.0, 8.0], [1.0e-3, 1e9]])
+    values, converged, errors = ringlube.run_designs(base, ["width", "tension"], x, ["energy_loss"])
+    assert errors[0] is None and np.isfinite(values[0]).all()
+    assert "&ring width" in errors[1] and "must be in" in errors[1]
+    assert "&ring tension" in errors[2]
+    assert np.isnan(values[1:]).all() and not converged[1:].any()
+
+
+def test_friction_power_fmep_and_oil_per_hour(cold_case_starved):
+    """The quoted results against the deck's own numbers: P = E n/120, FMEP = E / (pi r0^2
+    2 r), oil [g/h] = V [mm^3] 1e-9 rho 1e3 (n/2 60)."""
+    r, case = cold_case_starved
+    n = case.value("operating", "speed_rpm")
+    r0, crank = case.value("engine", "bore_radius"), case.value("engine", "crank_radius")
+    assert r.friction_power == pytest.approx(r.energy_loss * n / 120, rel=1e-14)
+    assert r.fmep == pytest.approx(r.energy_loss / (np.pi * r0**2 * 2 * crank) / 1e3, rel=1e-14)
+    rho = case.value("lubricant", "oil_density")
+    assert rho == 850.0
+    assert r.oil_to_chamber > 0
+    assert r.oil_to_chamber_rate == pytest.approx(r.oil_to_chamber * 1e-9 * rho * 1e3 * n / 2 * 60, rel=1e-14)
+    assert r.flagged_steps == int(np.count_nonzero(r.flags))
+    # the oil density converts, nothing else
+    heavy = ringlube.run(case.with_("lubricant", oil_density=900.0))
+    assert heavy.energy_loss == r.energy_loss and heavy.oil_to_chamber == r.oil_to_chamber
+    assert heavy.oil_to_chamber_rate == pytest.approx(r.oil_to_chamber_rate * 900 / 850, rel=1e-14)
+
+
+@pytest.fixture(scope="module")
+def cold_case_starved():
+    case = ringlube.Case.from_namelist(COLD).with_physics(cavitation="jfo", inlet="starved")
+    case = case.with_numerics(nodes=31, dpsi_deg=4.0)
+    return ringlube.run(case), case
+
+
+def test_oil_density_is_range_checked():
+    with pytest.raises(ringlube.InputError, match=r"&lubricant oil_density: must be in"):
+        ringlube.Case().with_("lubricant", oil_density=10.0).validate()
+
+
+def test_solve_and_ringlube_run_print_one_summary(solver, tmp_path):
+    """ringlube-solve and `ringlube run` print the same summary (the kernel formats it),
+    with units and the quoted results; only the run time differs."""
+    cli = subprocess.run([solver, str(COLD), "-o", str(tmp_path / "a.h5")], capture_output=True, text=True)
+    py = subprocess.run(
+        [str(Path(sys.executable).parent / "ringlube"), "run", str(COLD), "-o", str(tmp_path / "a.h5")],
+        capture_output=True,
+        text=True,
+    )
+    assert cli.returncode == py.returncode == 0, py.stderr
+
+    def lines(text):
+        return [line for line in text.splitlines() if "run time" not in line]
+
+    assert lines(cli.stdout) == lines(py.stdout)
+    for words in ("mean friction power", " W ", "FMEP", "kPa", "J", "um", "written"):
+        assert words in cli.stdout, words
+    # and CycleResult.summary() of the file is the same text without title and file
+    assert lines(ringlube.load(tmp_path / "a.h5").summary()) == lines(py.stdout)[1:-1]
+
+
+def test_result_repr_and_html(quick_case):
+    r = ringlube.run(quick_case)
+    text = repr(r)
+    assert text.startswith("<CycleResult") and "energy loss per cycle" in text and "W" in text
+    page = r._repr_html_()
+    assert page.startswith("<table") and "energy_loss" in page and "<td>J</td>" in page
+
+
+def test_compare_table_and_figure(quick_case):
+    runs = [ringlube.run(quick_case), ringlube.run(quick_case.with_ring(width=1.2e-3))]
+    t = ringlube.compare(runs, labels=["a", "b"])
+    assert t.values["energy_loss"].tolist() == [runs[0].energy_loss, runs[1].energy_loss]
+    assert t.units["friction_power"] == "W" and t.units["fmep"] == "kPa"
+    assert "oil_to_chamber" not in t.names  # no starved run: no row of dashes
+    md = t.to_markdown().splitlines()
+    assert md[0] == "| quantity | a | b |" and md[2].startswith("| energy_loss [J] |")
+    assert str(t).splitlines()[0].split() == ["quantity", "a", "b"]
+    assert len(t.figure().axes) == 3
+    with pytest.raises(ringlube.InputError, match="unknown results"):
+        ringlube.compare(runs, names=["nope"])
+    with pytest.raises(ringlube.InputError, match="2 results"):
+        ringlube.compare(runs, labels=["a"])

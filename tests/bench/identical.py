@@ -1,0 +1,203 @@
+"""Is every result bit-identical to another build's? (issue 19: a refactor changes no number.)
+
+Runs every shipped case deck (``inputs/*.nml`` but the ``&study`` decks) and three
+variants of the cold 4000 r/min deck through ``&physics`` (the mass-conserving film
+flooded, starved, and with the trailing-gas cavity pressure) with two builds of
+``ringlube-solve``: this tree's (``build/ringlube-solve``) and a base build, by default
+one of ``HEAD`` made from ``git archive`` in a temporary folder. It compares every HDF5
+dataset (values bit for bit, dtype, shape and attributes), every group and every root
+attribute except the run time, and the exit status. Exit status 0 when everything is
+identical, 1 otherwise.
+
+Usage::
+
+    python3 tests/bench/identical.py                     # base: HEAD, built here
+    python3 tests/bench/identical.py --base-commit HEAD~1
+    python3 tests/bench/identical.py --base-solver /path/to/ringlube-solve
+    python3 tests/bench/identical.py --allow-new   # a change that adds results
+
+A benchmark-style script (not run by the tests): it needs the kernel built (``make``) and
+h5py.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+INPUTS = ROOT / "inputs"
+#: root attributes that differ between two runs of the same build
+SKIP_ATTRS = {"run_time_s"}
+#: (name, deck, &physics settings added to the deck's own)
+VARIANTS = [
+    ("jfo_flooded", "crf450r_4000rpm_full_cold.nml", "cavitation = 'jfo'"),
+    ("jfo_starved", "crf450r_4000rpm_full_cold.nml", "cavitation = 'jfo', inlet = 'starved'"),
+    ("trailing_gas", "crf450r_4000rpm_full_cold.nml", "cavitation = 'jfo', cavity_pressure = 'trailing_gas'"),
+]
+
+
+def case_decks() -> list[tuple[str, str, str]]:
+    """The shipped case decks (not the &study decks) and the variants."""
+    decks = [
+        (p.stem, p.name, "")
+        for p in sorted(INPUTS.glob("*.nml"))
+        if "&study" not in p.read_text() and p.name != "calibration.nml"
+    ]
+    return decks + VARIANTS
+
+
+def build_base(commit: str, folder: Path) -> tuple[Path, str]:
+    """``ringlube-solve`` of `commit`, built in `folder` (git archive + CMake)."""
+    sha = subprocess.run(
+        ["git", "-C", str(ROOT), "rev-parse", commit], check=True, capture_output=True, text=True
+    ).stdout.strip()
+    src = folder / "src"
+    src.mkdir()
+    archive = subprocess.run(["git", "-C", str(ROOT), "archive", sha], check=True, capture_output=True)
+    subprocess.run(["tar", "-x", "-C", str(src)], input=archive.stdout, check=True)
+    build = folder / "build"
+    subprocess.run(
+        [
+            "cmake",
+            "-S",
+            str(src),
+            "-B",
+            str(build),
+            "-G",
+            "Ninja",
+            "-DCMAKE_BUILD_TYPE=Release",
+            "-DRINGLUBE_TESTS=OFF",
+        ],
+        check=True,
+        capture_output=True,
+    )
+    target = ["--target", "ringlube-solve"]
+    subprocess.run(["cmake", "--build", str(build), *target], check=True, capture_output=True)
+    return build / "ringlube-solve", sha[:12]
+
+
+def write_deck(folder: Path, deck: str, physics: str) -> Path:
+    """A copy of the shipped `deck` (with its calibration file and traces) in `folder`,
+    with `physics` added to its &physics group."""
+    if not (folder / "pressure").exists():
+        shutil.copytree(INPUTS / "pressure", folder / "pressure")
+        shutil.copy(INPUTS / "calibration.nml", folder / "calibration.nml")
+    text = (INPUTS / deck).read_text()
+    if physics:
+        text, n = re.subn(r"&physics\b", f"&physics {physics},", text, count=1)
+        assert n == 1, deck
+    path = folder / f"{Path(deck).stem}{'_' + re.sub(r'[^a-z]+', '_', physics) if physics else ''}.nml"
+    path.write_text(text)
+    return path
+
+
+def items(f: h5py.File) -> dict[str, object]:
+    """Every group, dataset and attribute of a file by path ('/cycle/h0_m', '/cycle/h0_m@units');
+    object references (the dimension scales' lists) as the names they point to."""
+    out: dict[str, object] = {}
+
+    def plain(v):
+        if isinstance(v, h5py.Reference):
+            return ("ref", f[v].name if v else None)
+        if isinstance(v, np.void):  # a compound (REFERENCE_LIST: dataset, index)
+            return tuple(plain(x) for x in v.tolist())
+        if isinstance(v, np.ndarray) and (v.dtype.kind in "OV"):
+            return ("array", v.shape, tuple(plain(x) for x in v.flat))
+        if isinstance(v, tuple):
+            return tuple(plain(x) for x in v)
+        return v
+
+    def attrs(path: str, obj) -> None:
+        for k, v in obj.attrs.items():
+            if path == "/" and k in SKIP_ATTRS:
+                continue
+            out[f"{path}@{k}"] = plain(v)
+
+    def visit(name: str, obj) -> None:
+        path = "/" + name
+        out[path] = obj[()] if isinstance(obj, h5py.Dataset) else "group"
+        attrs(path, obj)
+
+    attrs("/", f)
+    f.visititems(visit)
+    return out
+
+
+def same(a, b) -> bool:
+    """Bit for bit: same type, shape and bytes (a NaN equals the same NaN); references
+    (made plain by `items`) by what they point to."""
+    if isinstance(a, tuple) or isinstance(b, tuple):
+        return a == b
+    a, b = np.asarray(a), np.asarray(b)
+    return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+def compare(a: Path, b: Path, allow_new: bool = False) -> tuple[int, list[str], list[str]]:
+    """Number of items compared, the paths that differ (or exist in one file only) and, with
+    `allow_new`, the paths only `b` has (not counted as differences)."""
+    with h5py.File(a) as fa, h5py.File(b) as fb:
+        ia, ib = items(fa), items(fb)
+    new = sorted(set(ib) - set(ia)) if allow_new else []
+    differ = sorted((set(ia) ^ set(ib)) - set(new))
+    differ += [k for k in sorted(set(ia) & set(ib)) if not same(ia[k], ib[k])]
+    return len(set(ia) & set(ib)) if allow_new else len(set(ia) | set(ib)), differ, new
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    here = str(ROOT / "build" / "ringlube-solve")
+    parser.add_argument("--solver", default=here, help="the build under test")
+    parser.add_argument("--base-solver", help="an existing base build (instead of building --base-commit)")
+    parser.add_argument("--base-commit", default="HEAD", help="the commit to build as the base")
+    parser.add_argument(
+        "--allow-new",
+        action="store_true",
+        help="items only the new build writes (added results) are listed, not counted as differences",
+    )
+    args = parser.parse_args(argv)
+    with tempfile.TemporaryDirectory(prefix="ringlube_identical_") as tmp:
+        tmp = Path(tmp)
+        if args.base_solver:
+            base, label = Path(args.base_solver), args.base_solver
+        else:
+            print(f"building {args.base_commit} ...", flush=True)
+            (tmp / "base").mkdir()
+            base, label = build_base(args.base_commit, tmp / "base")
+        print(f"base: {label}\nnew:  {args.solver}\n")
+        print(f"{'case':<34} {'exit':>9} {'items':>6}  identical")
+        bad = 0
+        added: set[str] = set()
+        for name, deck, physics in case_decks():
+            path = write_deck(tmp, deck, physics)
+            runs = []
+            for tag, solver in (("base", base), ("new", args.solver)):
+                out = tmp / f"{name}.{tag}.h5"
+                cmd = [str(solver), "-q", str(path), "-o", str(out)]
+                runs.append((subprocess.run(cmd, capture_output=True).returncode, out))
+            (rc_a, out_a), (rc_b, out_b) = runs
+            if out_a.exists() and out_b.exists():
+                n, differ, new = compare(out_a, out_b, args.allow_new)
+            else:
+                n, differ, new = 0, ["(no file)"], []
+            added.update(new)
+            ok = rc_a == rc_b and not differ
+            bad += not ok
+            print(f"{name:<34} {rc_a:>4}/{rc_b:<4} {n:>6}  {'yes' if ok else 'NO: ' + ', '.join(differ[:6])}")
+        verdict = "all identical" if not bad else f"{bad} case(s) differ"
+        print(f"\n{verdict} (root attributes but {sorted(SKIP_ATTRS)})")
+        if added:
+            print(f"only in the new files ({len(added)}): {', '.join(sorted(added))}")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
