@@ -194,6 +194,43 @@ def _gas_options(message: str) -> str:
     return f"{', '.join(opts)}: {why}" if why else message
 
 
+def _cmd_show(args: argparse.Namespace) -> int:
+    from .case import Case, _format
+
+    case = Case.from_namelist(args.deck)
+    rows = case.effective_inputs()
+    tension_unit = next(r.value for r in rows if r.name == "tension_unit")
+    if args.set:
+        rows = [r for r in rows if r.origin not in ("default",) and not r.origin.startswith("preset")]
+    print(f"{args.deck}: effective inputs (from: deck, calibration file, preset, default)")
+    print(f"{'group':<12}{'variable':<25}{'from':<18}value [unit]")
+    for r in rows:
+        unit = {"1": "", "(unit)": f"[{tension_unit}]"}.get(r.unit, f"[{r.unit}]" if r.unit else "")
+        print(f"{'&' + r.group:<12}{r.name:<25}{r.origin:<18}{_format(r.value)} {unit}".rstrip())
+    case.warn_source_defaults()
+    return 0
+
+
+def _one_line_warnings() -> None:
+    """Source-engine-default warnings as one line on stderr: ``ringlube: warning: ...``."""
+    import warnings
+
+    from .case import SourceEngineDefaultWarning
+
+    show = warnings.showwarning
+    if getattr(show, "_ringlube", False):
+        return
+
+    def one_line(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, SourceEngineDefaultWarning):
+            print(f"ringlube: warning: {message}", file=sys.stderr)
+        else:
+            show(message, category, filename, lineno, file, line)
+
+    one_line._ringlube = True
+    warnings.showwarning = one_line
+
+
 def _cmd_convergence(args: argparse.Namespace) -> int:
     from .convergence import convergence_study, write_report
 
@@ -328,6 +365,16 @@ def _parser() -> argparse.ArgumentParser:
         )
     p.set_defaults(func=_cmd_gas)
     p = sub.add_parser(
+        "show",
+        help="the effective inputs of a deck and where each came from",
+        description="Print every input of a deck as the kernel reads it, with where its value came "
+        "from (deck, calibration file, numerics preset, default), and warn if the source engine's "
+        "defaults fill part of the engine geometry or ring.",
+    )
+    p.add_argument("deck", help="the case deck (namelist)")
+    p.add_argument("--set", action="store_true", help="only the inputs the deck or its calibration file set")
+    p.set_defaults(func=_cmd_show)
+    p = sub.add_parser(
         "convergence",
         help="speed against accuracy over numerical settings",
         description="Speed against accuracy over numerical settings.",
@@ -421,6 +468,7 @@ def main(argv: list[str] | None = None) -> int:
     ringlube 0.1.0
     """
     args = _parser().parse_args(argv)
+    _one_line_warnings()
     try:
         return args.func(args)
     except RinglubeError as exc:

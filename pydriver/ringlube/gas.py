@@ -335,6 +335,12 @@ def imep(psi: np.ndarray, p: np.ndarray, m: GasModel) -> float:
 def heat_released(m: GasModel, step: float = 0.5) -> float:
     """Total heat released per cycle [J] for the model's load.
 
+    Parameters
+    ----------
+    m : GasModel
+    step : float
+        Crank-angle step [deg] of the trace whose IMEP is the target.
+
     >>> heat_released(GasModel(**CRF450R, heat_fraction=0.0))
     0.0
     """
@@ -382,6 +388,14 @@ def trace(m: GasModel, step: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
 def burn_angles(m: GasModel, fractions=(0.1, 0.5, 0.9)) -> list[float]:
     """Crank angles [deg] at which the Wiebe function reaches the mass fractions burned.
 
+    Parameters
+    ----------
+    m : GasModel
+    fractions : sequence of float
+        Mass fractions burned, each in [0, 1).
+
+    Examples
+    --------
     >>> [round(a, 1) for a in burn_angles(PRESETS["crf450r_4000rpm_full"])]
     [357.2, 370.5, 384.5]
     """
@@ -394,6 +408,12 @@ def burn_angles(m: GasModel, fractions=(0.1, 0.5, 0.9)) -> list[float]:
 
 def describe(m: GasModel, psi: np.ndarray, p: np.ndarray) -> str:
     """One line of derived quantities of a trace (peak, IMEP, heat, burn angles).
+
+    Parameters
+    ----------
+    m : GasModel
+    psi, p : ndarray
+        The trace: crank angle [deg], absolute pressure [Pa].
 
     Examples
     --------
@@ -439,6 +459,12 @@ OPTIONS: dict[str, tuple[str, str]] = {
 def command(m: GasModel, output: str | Path) -> str:
     """The ``ringlube gas`` command that writes this model's trace to ``output``.
 
+    Parameters
+    ----------
+    m : GasModel
+    output : path
+        The trace file named in the command.
+
     Examples
     --------
     >>> command(GasModel(0.086, 0.043, 0.1435, 10.5, imep=9e5), "p.csv").split()[:5]
@@ -455,6 +481,16 @@ def command(m: GasModel, output: str | Path) -> str:
 def header(m: GasModel, name: str, derived: str = "", output: str | Path | None = None) -> str:
     """The comment lines of a trace file: its name, parameters and (for traces made with
     ``ringlube gas -o``) the command that regenerates it and derived quantities.
+
+    Parameters
+    ----------
+    m : GasModel
+    name : str
+        The trace's name.
+    derived : str
+        A line of derived quantities (:func:`describe`), if any.
+    output : path, optional
+        The file written; given, the header records the command that writes it.
 
     Examples
     --------
@@ -545,6 +581,14 @@ def read_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
 def figure(m: GasModel, psi: np.ndarray, p: np.ndarray, title: str = ""):
     """The trace over the cycle and its log p - log V diagram.
 
+    Parameters
+    ----------
+    m : GasModel
+    psi, p : ndarray
+        The trace: crank angle [deg], absolute pressure [Pa].
+    title : str
+        Figure title.
+
     Returns
     -------
     matplotlib.figure.Figure
@@ -594,6 +638,16 @@ def write_trace(m: GasModel, output: str | Path, name: str | None = None, figure
     """Write the trace of ``m`` to ``output`` (CSV with its inputs in the header) and, with
     ``figures``, ``output`` with .png and .pdf beside it; returns the files written.
 
+    Parameters
+    ----------
+    m : GasModel
+    output : path
+        The CSV file (written atomically; its folder is created).
+    name : str, optional
+        Name in the header (default: the file's stem).
+    figures : bool
+        Also write the figure.
+
     Examples
     --------
     >>> import tempfile, os
@@ -624,7 +678,19 @@ def write_trace(m: GasModel, output: str | Path, name: str | None = None, figure
 
 
 def main(argv: list[str] | None = None) -> None:
-    """Regenerate shipped traces: ``python -m ringlube.gas [--out DIR] [NAME ...]``."""
+    """Regenerate shipped traces: ``python -m ringlube.gas [--out DIR] [NAME ...]``.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Command-line arguments.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> main(["--out", tempfile.mkdtemp(), "crf450r_3000rpm_half"])
+    crf450r_3000rpm_half: peak 35.0 bar at 381.5 deg
+    """
     import argparse
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
