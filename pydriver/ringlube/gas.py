@@ -622,9 +622,15 @@ def figure(m: GasModel, psi: np.ndarray, p: np.ndarray, title: str = ""):
     ax.set_ylabel("gas pressure [bar abs]")
     ax.set_ylim(bottom=0)
     _crank_axis(ax)
-    ax.legend(fontsize=8, loc="upper right")
+    ax.legend(fontsize=8, loc="upper left")
     v = m.volume(psi)
     axv.loglog(v * 1e6, p / 1e5, lw=1.2, color="C0")
+    from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
+
+    for axis in (axv.xaxis, axv.yaxis):
+        axis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+        axis.set_major_formatter(ScalarFormatter())
+        axis.set_minor_formatter(NullFormatter())
     axv.set_xlabel("cylinder volume [cm3]")
     axv.set_ylabel("gas pressure [bar abs]")
     axv.set_title(f"net IMEP {imep(psi, p, m) / 1e5:.2f} bar", fontsize=9)
@@ -666,7 +672,8 @@ def write_trace(m: GasModel, output: str | Path, name: str | None = None, figure
     write_csv(output, psi, p, header=header(m, name, derived, output))
     files = [output]
     if figures:
-        fig = figure(m, psi, p, title=f"'{name}': {derived}")
+        head, _, tail = derived.partition(", heat")
+        fig = figure(m, psi, p, title=f"'{name}': {head}\nheat{tail}")
         for fmt in ("png", "pdf"):
             path = output.with_suffix(f".{fmt}")
             tmp = path.with_name(path.name + ".part")
