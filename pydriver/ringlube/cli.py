@@ -140,6 +140,8 @@ def _cmd_gas(args: argparse.Namespace) -> int:
     from . import gas
 
     given = {f: getattr(args, f) for f in gas.OPTIONS if hasattr(args, f)}
+    args.output, args.name = getattr(args, "output", None), getattr(args, "name", None)
+    args.names = getattr(args, "names", [])
     if args.output is None:
         if given:
             option = gas.OPTIONS[next(iter(given))][0]
@@ -340,10 +342,14 @@ def _parser() -> argparse.ArgumentParser:
         "The load is --imep or --peak-pressure if given, else the fuel of the trapped charge "
         "(--manifold-pressure, --heat-fraction; 0 gives the motored trace). See docs/own_engine.md.",
     )
-    p.add_argument("names", nargs="*", help="shipped traces to write (default: all)")
+    p.add_argument(
+        "names", nargs="*", default=argparse.SUPPRESS, help="shipped traces to write (none given: all)"
+    )
     p.add_argument("--out", default="inputs/pressure", help="output folder of the shipped traces")
-    p.add_argument("-o", "--output", help="your engine's trace (CSV) to write")
-    p.add_argument("--name", help="name in the trace's header (default: the file's name)")
+    p.add_argument("-o", "--output", default=argparse.SUPPRESS, help="your engine's trace (CSV) to write")
+    p.add_argument(
+        "--name", default=argparse.SUPPRESS, help="name in the trace's header (none given: the file's name)"
+    )
     p.add_argument("--no-figure", action="store_true", help="no PNG/PDF figure beside the CSV")
     import dataclasses
 
