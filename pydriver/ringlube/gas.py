@@ -33,6 +33,7 @@ regenerates the shipped traces (:data:`PRESETS`).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import shlex
 from collections.abc import Callable
@@ -332,6 +333,7 @@ def imep(psi: np.ndarray, p: np.ndarray, m: GasModel) -> float:
     return float(np.sum(0.5 * (p[1:] + p[:-1]) * np.diff(v)) / m.swept_volume)
 
 
+@functools.lru_cache(maxsize=32)  # GasModel is frozen: the same model, the same heat
 def heat_released(m: GasModel, step: float = 0.5) -> float:
     """Total heat released per cycle [J] for the model's load.
 
