@@ -110,6 +110,16 @@ def test_own_engine_walkthrough(tmp_path, monkeypatch, capsys):
     assert "| reference | 1.2 | 8 |" in report
     header = (root / "study" / "pareto_rated.csv").read_text().splitlines()[0]
     assert header.startswith("width [m],crown_height [m],")
+    # the reference row is the deck's own ring, run as it stands
+    import ringlube
+    from ringlube.study_settings import read_study
+    from ringlube.study_store import Study
+
+    r = ringlube.run(ringlube.Case.from_namelist(root / "ring.nml"))
+    settings = read_study(root / "study.nml")
+    st = Study.open(settings, root / "study" / "myring.h5")
+    reference = dict(zip(settings.outputs, st.cases["rated"].reference.f_true[0]))
+    assert [reference["energy_loss"], reference["oil_to_chamber"]] == [r.energy_loss, r.oil_to_chamber]
 
 
 def test_page_numbers_at_the_default_preset(tmp_path, monkeypatch):
