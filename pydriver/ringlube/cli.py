@@ -165,8 +165,9 @@ def _cmd_gas(args: argparse.Namespace) -> int:
         raise InputError(f"gas: -o {out}: the trace is a CSV file; name it *.csv")
     if out.exists() and not out.is_file():
         raise InputError(f"gas: -o {out}: exists and is not a regular file")
-    if "crank_radius" in given:
-        given["crank_radius"] = given["crank_radius"] / 2  # --stroke
+    if given["crank_radius"] <= 0:  # --stroke, named with its own value
+        raise InputError(f"gas: --stroke: must be a positive number, not {given['crank_radius']:g}")
+    given["crank_radius"] = given["crank_radius"] / 2
     try:
         model = gas.GasModel(**given)
         files = gas.write_trace(model, out, name=args.name, figures=not args.no_figure)

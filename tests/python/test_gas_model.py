@@ -157,6 +157,10 @@ def test_figure_beside_the_trace(tmp_path):
             "--imep: must be a",
         ),
         ("gas -o p.csv --bore nan", "'nan' is not a finite number"),
+        (
+            "gas -o p.csv --bore 0.08 --stroke=-0.08 --conrod 0.13 --compression-ratio 9",
+            "--stroke: must be a positive number, not -0.08",
+        ),
         ("gas -o p.csv crf450r_4000rpm_full --bore 1", "drop crf450r_4000rpm_full"),
     ],
 )
