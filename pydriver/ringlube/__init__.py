@@ -10,7 +10,7 @@ The pipeline reads case -> run -> (sample -> fit -> optimise) -> plot:
 
 from . import gas
 from ._version import __version__
-from .case import GROUPS, Case
+from .case import GROUPS, Case, SourceEngineDefaultWarning
 from .errors import InputError, NotConvergedError, RinglubeError
 from .result import Comparison, CycleResult, compare, load
 from .solve import BatchError, run, run_designs, run_many
@@ -25,6 +25,7 @@ __all__ = [
     "InputError",
     "NotConvergedError",
     "RinglubeError",
+    "SourceEngineDefaultWarning",
     "gas",
     "load",
     "run",

@@ -11,9 +11,11 @@ paths against the working directory.
 from __future__ import annotations
 
 import contextlib
+import html
 import numbers
 import os
 import re
+import warnings
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -22,7 +24,15 @@ import f90nml
 
 from .errors import InputError, error_for
 
-__all__ = ["Case", "GROUPS", "KernelCase", "kernel_case"]
+__all__ = [
+    "Case",
+    "EffectiveInput",
+    "GROUPS",
+    "KernelCase",
+    "SOURCE_ENGINE_INPUTS",
+    "SourceEngineDefaultWarning",
+    "kernel_case",
+]
 
 
 def _groups() -> tuple[str, ...]:
@@ -33,6 +43,59 @@ def _groups() -> tuple[str, ...]:
 
 #: Namelist groups of a deck (from the kernel's input table; set at the end of the module).
 GROUPS: tuple[str, ...] = ()
+
+#: Inputs whose defaults describe the source study's engine (Honda CRF450R: crank, conrod,
+#: 96 mm bore) and its optimum top ring (face width, crown, tension, and a radial depth sized
+#: for that bore). A case that sets some of these but not all gets the rest from that engine,
+#: and :class:`SourceEngineDefaultWarning` says so. Not counted: the ring's density and
+#: ``tension_unit`` (a material and a convention, not the engine), the operating point,
+#: lubricant and surfaces (the study's, but not engine geometry; see docs/own_engine.md).
+SOURCE_ENGINE_INPUTS: tuple[tuple[str, str], ...] = (
+    ("engine", "crank_radius"),
+    ("engine", "conrod_length"),
+    ("engine", "bore_radius"),
+    ("ring", "width"),
+    ("ring", "crown_height"),
+    ("ring", "crown_offset"),
+    ("ring", "tension"),
+    ("ring", "radial_depth"),
+)
+
+
+class SourceEngineDefaultWarning(UserWarning):
+    """The source engine's (CRF450R) defaults fill engine-geometry or ring inputs of a case
+    that sets some of its own (see :data:`SOURCE_ENGINE_INPUTS`).
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     Case({"engine": {"bore_radius": 43e-3}}).with_numerics(dpsi_deg=2.0).validate()
+    360
+    >>> w[0].category.__name__, str(w[0].message).split(":")[0]
+    ('SourceEngineDefaultWarning', "case 'case'")
+    """
+
+
+class EffectiveInput(NamedTuple):
+    """One input as the kernel uses it, and where its value came from.
+
+    ``origin`` is 'deck', 'calibration file', 'Python' (changed on the Case), "preset 'NAME'"
+    (set by the numerics preset) or 'default' (the kernel's table).
+
+    Examples
+    --------
+    >>> EffectiveInput("ring", "width", 1e-3, "m", "deck").origin
+    'deck'
+    """
+
+    group: str
+    name: str
+    value: Any
+    unit: str
+    origin: str
+
 
 _PATH_VARS = {("operating", "pressure_file"), ("output", "file"), ("calibration", "file")}
 _NAME = re.compile(r"[a-z_][a-z0-9_]*")
@@ -116,7 +179,7 @@ class Case:
         case = cls(name=path.stem, source=path)
         case._text = text
         case._base = str(path.resolve().parent)
-        with kernel_case(case, load_trace=False):
+        with kernel_case(case, load_trace=False, warn=False):
             pass  # the kernel's reader first: it rejects what f90nml would reinterpret
         try:
             nml = f90nml.reads(text.removeprefix("\ufeff"))  # a byte-order mark is not the deck
@@ -190,7 +253,7 @@ class Case:
         spec = INPUTS.get((group.lower(), name.lower()))
         if spec is None:
             raise InputError(f"&{group} {name}: unknown variable")
-        with kernel_case(self, load_trace=False) as k:
+        with kernel_case(self, load_trace=False, warn=False) as k:
             handle = k.handle
             text, code, message = _kernel.rl_get(handle, spec.group.encode(), spec.name.encode())
         if code:
@@ -266,7 +329,166 @@ class Case:
         return isinstance(other, Case) and self.to_dict() == other.to_dict()
 
     def __repr__(self) -> str:
-        return f"Case({self.name!r}, {self.to_dict()!r})"
+        """The values set, one group a line, those changed in Python marked with '*'."""
+        where = f" from {self.source}" if self.source else ""
+        lines = [f"<Case {self.name!r}{where}: {self._count()} inputs set, the rest defaults>"]
+        for group, values in self._nml.items():
+            items = ", ".join(
+                f"{n} = {_format(v)}{'*' if (group, n) in self._changed and self._text else ''}"
+                for n, v in values.items()
+            )
+            lines.append(f"  &{group:<10} {items}")
+        if self._changed and self._text:
+            lines.append("  (* changed in Python)")
+        return "\n".join(lines)
+
+    def _repr_html_(self) -> str:
+        """A table of the values set (Jupyter)."""
+        from .tables import INPUTS
+
+        where = f" from <code>{html.escape(self.source)}</code>" if self.source else ""
+        rows = []
+        for group, values in self._nml.items():
+            for n, v in values.items():
+                spec = INPUTS.get((group, n))
+                unit = spec.unit if spec and spec.unit not in ("1", "(unit)") else ""
+                origin = "deck" if self._text and (group, n) not in self._changed else "Python"
+                rows.append(
+                    f"<tr><td>&amp;{group}</td><td>{html.escape(n)}</td><td>{html.escape(_format(v))}</td>"
+                    f"<td>{html.escape(unit)}</td><td>{origin}</td></tr>"
+                )
+        return (
+            f"<p>Case <b>{html.escape(self.name)}</b>{where}: {self._count()} inputs set, the rest defaults "
+            "(<code>case.effective_inputs()</code> lists all)</p>"
+            "<table><tr><th>group</th><th>variable</th><th>value</th><th>unit</th><th>from</th></tr>"
+            + "".join(rows)
+            + "</table>"
+        )
+
+    def _count(self) -> int:
+        return sum(len(v) for v in self._nml.values())
+
+    # where the values come from -------------------------------------------------------
+    def _calibration_keys(self) -> set[tuple[str, str]]:
+        path = self.get("calibration", "file")
+        if not path:
+            return set()
+        try:
+            nml = f90nml.read(path)
+        except Exception:  # the kernel reports an unreadable calibration file
+            return set()
+        return {(g.lower(), n.lower()) for g, values in nml.items() for n in values}
+
+    def origins(self) -> dict[tuple[str, str], str]:
+        """Where each input's value comes from: 'deck', 'calibration file', 'Python',
+        "preset 'NAME'" or 'default', for every input of the kernel's table.
+
+        Examples
+        --------
+        >>> o = Case.from_namelist("inputs/crf450r_4000rpm_full_cold.nml").with_ring(width=1.1e-3).origins()
+        >>> o["ring", "width"], o["ring", "crown_height"], o["surface", "zeta_kappa_sigma"]
+        ('Python', 'deck', 'calibration file')
+        >>> o["numerics", "nodes"], o["lubricant", "supply_film"]
+        ("preset 'default'", 'default')
+        """
+        from .tables import INPUTS, PRESETS
+
+        calibration = self._calibration_keys()
+        preset = str(self.get("numerics", "preset", "default")).lower()
+        preset_values = PRESETS.get(preset, PRESETS["default"])
+        out = {}
+        for group, name in INPUTS:
+            key = (group, name)
+            if key in self._changed:
+                out[key] = "Python"
+            elif name in self._nml.get(group, {}):
+                out[key] = "deck"
+            elif key in calibration:
+                out[key] = "calibration file"
+            elif group == "numerics" and name in preset_values:
+                out[key] = f"preset '{preset}'"
+            else:
+                out[key] = "default"
+        return out
+
+    def effective_inputs(self) -> list[EffectiveInput]:
+        """Every input of the kernel's table as the kernel reads this case, with its unit and
+        where it came from (see :meth:`origins`).
+
+        Returns
+        -------
+        list of EffectiveInput
+
+        Raises
+        ------
+        InputError
+            If the kernel rejects the case.
+
+        Examples
+        --------
+        >>> rows = Case.from_namelist("inputs/crf450r_4000rpm_full_cold.nml").effective_inputs()
+        >>> [r for r in rows if r.name == "crown_offset"][0]
+        EffectiveInput(group='ring', name='crown_offset', value=-3.83e-05, unit='m', origin='deck')
+        """
+        from . import _kernel
+        from .tables import INPUTS, _value
+
+        origins = self.origins()
+        rows = []
+        with kernel_case(self, load_trace=False, warn=False) as k:
+            for (group, name), spec in INPUTS.items():
+                text, code, message = _kernel.rl_get(k.handle, group.encode(), name.encode())
+                if code:
+                    raise error_for(code, _text(message))
+                rows.append(
+                    EffectiveInput(
+                        group, name, _value(spec.kind, _text(text)), spec.unit, origins[group, name]
+                    )
+                )
+        return rows
+
+    def source_engine_defaults(self) -> tuple[list[tuple[str, str]], list[tuple[str, str]]]:
+        """(inputs of :data:`SOURCE_ENGINE_INPUTS` this case sets, those left to the source
+        engine's defaults); a warning is due when both are non-empty.
+
+        Examples
+        --------
+        >>> own, filled = Case({"engine": {"bore_radius": 43e-3}}).source_engine_defaults()
+        >>> own, filled[:2]
+        ([('engine', 'bore_radius')], [('engine', 'crank_radius'), ('engine', 'conrod_length')])
+        """
+        calibration = self._calibration_keys() if self.get("calibration", "file") else set()
+        own, filled = [], []
+        for group, name in SOURCE_ENGINE_INPUTS:
+            is_set = name in self._nml.get(group, {}) or (group, name) in calibration
+            (own if is_set else filled).append((group, name))
+        return own, filled
+
+    def warn_source_defaults(self, stacklevel: int = 2) -> str:
+        """Warn (:class:`SourceEngineDefaultWarning`) if the source engine's defaults fill
+        some engine-geometry or ring inputs of this case while it sets others; returns the
+        message ('' when none is due).
+
+        Parameters
+        ----------
+        stacklevel : int
+            As for :func:`warnings.warn`.
+
+        Examples
+        --------
+        >>> Case().warn_source_defaults()   # nothing set: the source engine, knowingly
+        ''
+        """
+        own, filled = self.source_engine_defaults()
+        if not (own and filled):
+            return ""
+        where = self.source or f"case {self.name!r}"
+        message = (
+            f"{where}: the source engine's (CRF450R) defaults fill {_names(filled)} "
+            f"while the case sets {_names(own)}; set them for your engine (docs/own_engine.md)"
+        )
+        warnings.warn(message, SourceEngineDefaultWarning, stacklevel=stacklevel + 1)
+        return message
 
     # variants -------------------------------------------------------------------------
     def copy(self) -> Case:
@@ -281,24 +503,22 @@ class Case:
         return new
 
     def with_(self, group: str, **values: Any) -> Case:
-        """A copy with variables of ``group`` changed."""
+        """A copy with variables of ``group`` changed (``with_<group>`` for each group, e.g.
+        :meth:`with_ring`, checks the names against the kernel's table first).
+
+        Parameters
+        ----------
+        group : str
+            Namelist group.
+        **values
+            Variables and their new values.
+
+        Examples
+        --------
+        >>> Case().with_("ring", width=1e-3)["ring", "width"]
+        0.001
+        """
         return self.copy().set(group, **values)
-
-    def with_ring(self, **values: Any) -> Case:
-        """A copy with ``&ring`` variables changed."""
-        return self.with_("ring", **values)
-
-    def with_operating(self, **values: Any) -> Case:
-        """A copy with ``&operating`` variables changed."""
-        return self.with_("operating", **values)
-
-    def with_numerics(self, **values: Any) -> Case:
-        """A copy with ``&numerics`` variables changed."""
-        return self.with_("numerics", **values)
-
-    def with_physics(self, **values: Any) -> Case:
-        """A copy with ``&physics`` variables changed."""
-        return self.with_("physics", **values)
 
     def inline_calibration(self) -> Case:
         """A copy with the calibration file's values written into the case itself (and no
@@ -394,7 +614,7 @@ class KernelCase(NamedTuple):
 
 
 @contextlib.contextmanager
-def kernel_case(case: Case, load_trace: bool = True) -> Iterator[KernelCase]:
+def kernel_case(case: Case, load_trace: bool = True, warn: bool = True) -> Iterator[KernelCase]:
     """Context manager: the case parsed by the kernel (a :class:`KernelCase`).
 
     Parameters
@@ -402,6 +622,9 @@ def kernel_case(case: Case, load_trace: bool = True) -> Iterator[KernelCase]:
     case : Case
     load_trace : bool
         Read the gas-pressure file (else only check it exists).
+    warn : bool
+        Warn if source-engine defaults fill part of the case's engine geometry or ring
+        (:class:`SourceEngineDefaultWarning`), once the kernel has accepted the case.
 
     Examples
     --------
@@ -424,10 +647,74 @@ def kernel_case(case: Case, load_trace: bool = True) -> Iterator[KernelCase]:
     )
     if code:
         raise error_for(code, _text(message))
+    if warn:
+        case.warn_source_defaults(stacklevel=4)
     try:
         yield KernelCase(int(handle), int(nsteps), int(nliner))
     finally:
         _kernel.rl_close(handle)
 
 
+def _names(keys: list[tuple[str, str]]) -> str:
+    """'&engine a, b; &ring c' from [(group, name), ...]."""
+    by_group: dict[str, list[str]] = {}
+    for group, name in keys:
+        by_group.setdefault(group, []).append(name)
+    return "; ".join(f"&{g} {', '.join(n)}" for g, n in by_group.items())
+
+
+def _with_group(group: str):
+    """The method ``Case.with_<group>``, its docstring listing the group's variables."""
+    from .tables import INPUTS, PRESETS
+
+    specs = [s for (g, _), s in INPUTS.items() if g == group]
+    known = [s.name for s in specs]
+
+    def method(self: Case, **values: Any) -> Case:
+        import difflib
+
+        for name in values:
+            if name.lower() not in known:
+                near = difflib.get_close_matches(name.lower(), known, n=1)
+                hint = f"; did you mean {near[0]}?" if near else f" (known: {', '.join(known)})"
+                raise InputError(f"&{group} {name}: unknown variable{hint}")
+        return self.with_(group, **values)
+
+    def row(s) -> str:
+        default = s.default if s.default != "(preset)" else f"{PRESETS['default'][s.name]} (preset)"
+        unit = {"1": "", "(unit)": " [see tension_unit]"}.get(s.unit, f" [{s.unit}]" if s.unit else "")
+        return f"    {s.name}{unit}, default {default}: {s.description}"
+
+    first = specs[0]
+    if first.kind == "string":  # a path: made absolute when set in Python
+        call = f'Case().with_{group}({first.name}="x.txt")["{group}", "{first.name}"]'
+        example = f'>>> {call}.endswith("x.txt")\nTrue'
+    else:
+        value = _example(first)
+        example = f'>>> Case().with_{group}({first.name}={value})["{group}", "{first.name}"]\n{value}'
+    method.__name__ = f"with_{group}"
+    method.__qualname__ = f"Case.with_{group}"
+    method.__doc__ = (
+        f"A copy with ``&{group}`` variables changed (names checked against the kernel's table).\n\n"
+        "Parameters\n----------\n**values\n"
+        + "\n".join(row(s) for s in specs)
+        + f"\n\nExamples\n--------\n{example}\n"
+    )
+    return method
+
+
+def _example(spec) -> str:
+    """A value of ``spec`` as Python text (the default where there is one)."""
+    from .tables import PRESETS, _value
+
+    if spec.kind == "choice":
+        return repr(spec.choices[-1])
+    if spec.default == "(preset)":
+        return repr(PRESETS["default"][spec.name])
+    return repr(_value(spec.kind, spec.default))
+
+
 GROUPS = _groups()
+for _group in GROUPS:
+    setattr(Case, f"with_{_group}", _with_group(_group))
+del _group

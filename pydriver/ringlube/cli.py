@@ -38,6 +38,18 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _finite_float(text: str) -> float:
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"'{text}' is not a finite number")
+    return value
+
+
 def _output_file(option: str, out: Path, inputs: list[Path]) -> Path:
     """Check a result file to be written: a new path or a regular file, not an input."""
     if out.exists() and out.is_dir():
@@ -128,12 +140,99 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 def _cmd_gas(args: argparse.Namespace) -> int:
     from . import gas
 
-    _output_folder("--out", Path(args.out))
-    unknown = [n for n in args.names if n not in gas.PRESETS]
-    if unknown:
-        raise InputError(f"gas: unknown trace {', '.join(unknown)} (known: {', '.join(sorted(gas.PRESETS))})")
-    gas.main(["--out", args.out, *args.names])
+    given = {f: getattr(args, f) for f in gas.OPTIONS if hasattr(args, f)}
+    args.output, args.name = getattr(args, "output", None), getattr(args, "name", None)
+    args.names = getattr(args, "names", [])
+    if args.output is None:
+        if given:
+            option = gas.OPTIONS[next(iter(given))][0]
+            raise InputError(f"gas: {option} describes your own engine; give -o FILE.csv, the trace to write")
+        _output_folder("--out", Path(args.out))
+        unknown = [n for n in args.names if n not in gas.PRESETS]
+        if unknown:
+            raise InputError(
+                f"gas: unknown trace {', '.join(unknown)} (known: {', '.join(sorted(gas.PRESETS))}; "
+                "for your own engine: ringlube gas -o FILE.csv --bore ... , see ringlube gas --help)"
+            )
+        gas.main(["--out", args.out, *args.names])
+        return 0
+    if args.names:
+        raise InputError(f"gas: -o writes one trace of your own engine; drop {' '.join(args.names)}")
+    missing = [gas.OPTIONS[f][0] for f in _GAS_REQUIRED if f not in given]
+    if missing:
+        raise InputError(f"gas: -o {args.output}: give {', '.join(missing)} (your engine's, in SI units)")
+    out = Path(args.output)
+    if out.suffix.lower() != ".csv":
+        raise InputError(f"gas: -o {out}: the trace is a CSV file; name it *.csv")
+    if out.exists() and not out.is_file():
+        raise InputError(f"gas: -o {out}: exists and is not a regular file")
+    if given["crank_radius"] <= 0:  # --stroke, named with its own value
+        raise InputError(f"gas: --stroke: must be a positive number, not {given['crank_radius']:g}")
+    given["crank_radius"] = given["crank_radius"] / 2
+    try:
+        model = gas.GasModel(**given)
+        files = gas.write_trace(model, out, name=args.name, figures=not args.no_figure)
+    except ValueError as exc:
+        raise InputError(f"gas: {_gas_options(str(exc))}") from None
+    psi, p = gas.read_csv(out)  # as the kernel reads it
+    print(f"written {', '.join(map(str, files))}\n{out}: {gas.describe(model, psi, p)}")
+    speed = f"speed_rpm = {model.speed_rpm:g}, " if model.speed_rpm else ""
+    print(
+        f"deck lines: &engine crank_radius = {model.crank_radius:g}, conrod_length = "
+        f"{model.conrod_length:g}, bore_radius = {model.bore / 2:g} / "
+        f"&operating {speed}pressure_file = '{out.name}' /"
+    )
     return 0
+
+
+# what `ringlube gas -o` needs: the engine's own geometry (no source-engine defaults)
+_GAS_REQUIRED = ("bore", "crank_radius", "conrod_length", "compression_ratio")
+
+
+def _gas_options(message: str) -> str:
+    """A GasModel message with its parameter names replaced by the command's options."""
+    from .gas import OPTIONS
+
+    names, _, why = message.partition(": ")
+    opts = [OPTIONS[n.strip()][0] if n.strip() in OPTIONS else n for n in names.split(",")]
+    return f"{', '.join(opts)}: {why}" if why else message
+
+
+def _cmd_show(args: argparse.Namespace) -> int:
+    from .case import Case, _format
+
+    case = Case.from_namelist(args.deck)
+    rows = case.effective_inputs()
+    tension_unit = next(r.value for r in rows if r.name == "tension_unit")
+    if args.set:
+        rows = [r for r in rows if r.origin not in ("default",) and not r.origin.startswith("preset")]
+    print(f"{args.deck}: effective inputs (from: deck, calibration file, preset, default)")
+    print(f"{'group':<12}{'variable':<25}{'from':<18}value [unit]")
+    for r in rows:
+        unit = {"1": "", "(unit)": f"[{tension_unit}]"}.get(r.unit, f"[{r.unit}]" if r.unit else "")
+        print(f"{'&' + r.group:<12}{r.name:<25}{r.origin:<18}{_format(r.value)} {unit}".rstrip())
+    case.warn_source_defaults()
+    return 0
+
+
+def _one_line_warnings() -> None:
+    """Source-engine-default warnings as one line on stderr: ``ringlube: warning: ...``."""
+    import warnings
+
+    from .case import SourceEngineDefaultWarning
+
+    show = warnings.showwarning
+    if getattr(show, "_ringlube", False):
+        return
+
+    def one_line(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, SourceEngineDefaultWarning):
+            print(f"ringlube: warning: {message}", file=sys.stderr)
+        else:
+            show(message, category, filename, lineno, file, line)
+
+    one_line._ringlube = True
+    warnings.showwarning = one_line
 
 
 def _cmd_convergence(args: argparse.Namespace) -> int:
@@ -238,12 +337,51 @@ def _parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_plot)
     p = sub.add_parser(
         "gas",
-        help="regenerate the synthetic gas-pressure traces",
-        description="Regenerate the synthetic gas-pressure traces (CSV).",
+        help="a gas-pressure trace for your engine, or the shipped ones",
+        description="Without -o: regenerate the shipped synthetic traces (CSV) in --out. With -o "
+        "FILE.csv: the single-zone trace of your own engine (bore, stroke, conrod, compression ratio "
+        "required; SI units), with its inputs in the file's header and a figure beside it (PNG, PDF). "
+        "The load is --imep or --peak-pressure if given, else the fuel of the trapped charge "
+        "(--manifold-pressure, --heat-fraction; 0 gives the motored trace). See docs/own_engine.md.",
     )
-    p.add_argument("--out", default="inputs/pressure", help="output folder")
-    p.add_argument("names", nargs="*", help="traces to write (default: all)")
+    p.add_argument(
+        "names", nargs="*", default=argparse.SUPPRESS, help="shipped traces to write (none given: all)"
+    )
+    p.add_argument("--out", default="inputs/pressure", help="output folder of the shipped traces")
+    p.add_argument("-o", "--output", default=argparse.SUPPRESS, help="your engine's trace (CSV) to write")
+    p.add_argument(
+        "--name", default=argparse.SUPPRESS, help="name in the trace's header (none given: the file's name)"
+    )
+    p.add_argument("--no-figure", action="store_true", help="no PNG/PDF figure beside the CSV")
+    import dataclasses
+
+    from .gas import OPTIONS as gas_options, GasModel
+
+    defaults = {f.name: f.default for f in dataclasses.fields(GasModel)}
+    for field, (option, help_text) in gas_options.items():
+        default = defaults[field]
+        shown = (
+            "required with -o" if field in _GAS_REQUIRED else "none" if default is None else f"{default:g}"
+        )
+        p.add_argument(
+            option,
+            dest=field,
+            type=_finite_float,
+            default=argparse.SUPPRESS,
+            metavar="X",
+            help=f"{help_text} ({shown})",
+        )
     p.set_defaults(func=_cmd_gas)
+    p = sub.add_parser(
+        "show",
+        help="the effective inputs of a deck and where each came from",
+        description="Print every input of a deck as the kernel reads it, with where its value came "
+        "from (deck, calibration file, numerics preset, default), and warn if the source engine's "
+        "defaults fill part of the engine geometry or ring.",
+    )
+    p.add_argument("deck", help="the case deck (namelist)")
+    p.add_argument("--set", action="store_true", help="only the inputs the deck or its calibration file set")
+    p.set_defaults(func=_cmd_show)
     p = sub.add_parser(
         "convergence",
         help="speed against accuracy over numerical settings",
@@ -338,6 +476,7 @@ def main(argv: list[str] | None = None) -> int:
     ringlube 0.1.0
     """
     args = _parser().parse_args(argv)
+    _one_line_warnings()
     try:
         return args.func(args)
     except RinglubeError as exc:

@@ -1,59 +1,221 @@
-"""Synthetic in-cylinder gas-pressure traces from a single-zone cylinder model.
+"""Synthetic in-cylinder gas-pressure traces for any engine, from a single-zone model.
 
 The source study used measured pressure traces that it does not publish, so ringlube
-ships synthetic ones (SPEC section 10). The model, per crank angle psi (deg, 0 = TDC at
-the start of intake, 360 = firing TDC):
+ships synthetic ones (SPEC section 10), and ``ringlube gas`` makes one for your engine
+when you have no measurement. The model, per crank angle psi (deg, 0 = TDC at the start
+of intake, 360 = firing TDC):
 
-* slider-crank volume ``V = Vc + (pi/4) B^2 x(psi)``, compression ratio ``rc``;
-* intake (0 .. ivc): manifold pressure; exhaust (evo+blowdown .. 720): exhaust pressure;
-* closed cycle (ivc .. evo): first law of a single ideal-gas zone with ratio of specific
-  heats ``gamma`` and a Wiebe heat release
+* slider-crank volume ``V = Vc + (pi/4) B^2 x(psi)`` (the kernel's kinematics), with the
+  clearance volume ``Vc = Vd / (rc - 1)`` from the compression ratio ``rc``;
+* intake (0 .. ivc): manifold pressure; exhaust (evo + blowdown .. 720): exhaust pressure;
+* closed cycle (ivc .. evo): first law of one ideal-gas zone with a constant ratio of
+  specific heats ``gamma`` (also the polytropic exponent of compression and expansion:
+  there is no separate wall heat transfer) and a Wiebe heat release
   ``x_b = 1 - exp(-a ((psi - soc)/duration)^(m+1))``,
-  ``dp = (gamma - 1)/V dQ - gamma p/V dV``;
-* blowdown (evo .. evo + blowdown): pressure relaxes exponentially to the exhaust value.
+  ``dp = (gamma - 1)/V dQ - gamma p/V dV`` (trapezoidal steps of 0.05 deg);
+* blowdown (evo .. evo + blowdown): pressure relaxes to the exhaust value.
 
-The total heat released is scaled so the peak pressure equals ``peak_pressure``.
-Everything is a plain parameter of :class:`GasModel`, and ``python -m ringlube.gas``
-regenerates the shipped traces.
+The total heat released ``Q`` sets the load; it comes from exactly one of
+
+* ``peak_pressure``: ``Q`` such that the trace peaks there (the shipped traces);
+* ``imep``: ``Q`` such that the net indicated mean effective pressure, the whole cycle's
+  ``(closed integral of p dV) / Vd`` over 0..720 deg including the pumping loop, is the target;
+* neither: the fuel in the trapped charge, ``Q = heat_fraction * m / (1 + AFR) * LHV``
+  with ``m = p_manifold V(ivc) / (R T_intake)``; ``heat_fraction`` is the share of the fuel's
+  energy that heats the gas (net of wall heat loss and incomplete combustion), and
+  ``heat_fraction = 0`` gives the motored trace.
+
+Everything is a plain parameter of :class:`GasModel`; a trace file records them in its
+``#`` header, with the command that regenerates it. ``ringlube gas`` (no arguments)
+regenerates the shipped traces (:data:`PRESETS`).
 """
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
+import functools
+import math
+import shlex
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["GasModel", "PRESETS", "trace", "write_csv", "read_csv"]
+__all__ = [
+    "GasModel",
+    "PRESETS",
+    "CRF450R",
+    "R_AIR",
+    "trace",
+    "imep",
+    "burn_angles",
+    "describe",
+    "header",
+    "command",
+    "write_csv",
+    "write_trace",
+    "read_csv",
+    "figure",
+    "main",
+]
+
+#: Gas constant of the charge [J/(kg K)] (air; used only for the trapped mass).
+R_AIR = 287.0
+
+_FINE_STEP = 0.05  # deg, step of the closed-cycle integration
+
+# the parameters every trace depends on, in the order of the shipped files' headers
+_COMMON = (
+    "bore",
+    "crank_radius",
+    "conrod_length",
+    "compression_ratio",
+    "manifold_pressure",
+    "exhaust_pressure",
+    "gamma",
+    "ivc",
+    "evo",
+    "blowdown",
+    "soc",
+    "duration",
+    "wiebe_a",
+    "wiebe_m",
+)
+_FUEL = ("intake_temperature", "air_fuel_ratio", "lower_heating_value", "heat_fraction")
 
 
 @dataclasses.dataclass(frozen=True)
 class GasModel:
-    """Parameters of the single-zone model (SI units, angles in degrees).
+    """Parameters of the single-zone model (SI units: m, Pa, K, J/kg; angles in degrees).
+
+    Attributes
+    ----------
+    bore, crank_radius, conrod_length : float
+        Engine geometry [m] (the stroke is ``2 crank_radius``); no defaults, so no trace
+        silently takes another engine's geometry.
+    compression_ratio : float
+        Geometric compression ratio (> 1).
+    manifold_pressure, exhaust_pressure : float
+        Cylinder pressure [Pa abs] during intake and exhaust; ``manifold_pressure`` is also
+        the pressure at intake valve closing.
+    gamma : float
+        Ratio of specific heats, the polytropic exponent of compression and expansion.
+    ivc, evo, blowdown : float
+        Intake valve closing, exhaust valve opening [deg] and the crank angle over which
+        the cylinder empties to the exhaust pressure.
+    soc, duration, wiebe_a, wiebe_m : float
+        Wiebe heat release: start of combustion and duration [deg], efficiency and form
+        factors.
+    peak_pressure, imep : float or None
+        The load as a target [Pa]: the peak of the trace or the net IMEP (at most one).
+    intake_temperature, air_fuel_ratio, lower_heating_value, heat_fraction : float
+        The load from the fuel when neither target is given: charge temperature at intake
+        valve closing [K], air-fuel mass ratio, the fuel's lower heating value [J/kg] and
+        the share of the fuel's energy that heats the gas (0: motored).
+    speed_rpm : float or None
+        Recorded only: the model works in crank angle and has no heat transfer, so speed
+        does not change the trace (give the burn ``duration`` your speed has).
 
     Examples
     --------
-    >>> m = GasModel(peak_pressure=50e5)
+    >>> m = GasModel(**CRF450R, peak_pressure=50e5)
     >>> float(m.volume([180.0])[0]) > float(m.volume([0.0])[0])
     True
+    >>> GasModel(**CRF450R, peak_pressure=50e5, imep=8e5)
+    Traceback (most recent call last):
+    ...
+    ValueError: peak_pressure, imep: give at most one load target
     """
 
-    bore: float = 96e-3
-    crank_radius: float = 31.5e-3
-    conrod_length: float = 107e-3
-    compression_ratio: float = 12.0
+    bore: float
+    crank_radius: float
+    conrod_length: float
+    compression_ratio: float
     manifold_pressure: float = 1.0e5
     exhaust_pressure: float = 1.1e5
     gamma: float = 1.32
     ivc: float = 200.0  # intake valve closing
     evo: float = 490.0  # exhaust valve opening
     blowdown: float = 50.0  # deg over which the cylinder empties to exhaust pressure
-    soc: float = 345.0  # start of combustion
+    soc: float = 340.0  # start of combustion (50 % burned 8.5 deg after firing TDC)
     duration: float = 55.0  # combustion duration
     wiebe_a: float = 5.0
     wiebe_m: float = 2.0
-    peak_pressure: float = 60e5
+    peak_pressure: float | None = None
+    imep: float | None = None
+    intake_temperature: float = 330.0
+    air_fuel_ratio: float = 14.7
+    lower_heating_value: float = 43.4e6
+    heat_fraction: float = 0.75
+    speed_rpm: float | None = None
+
+    def __post_init__(self):
+        for name, why in self._problems():
+            raise ValueError(f"{name}: {why}")
+
+    def _problems(self):
+        positive = ("bore", "crank_radius", "conrod_length", "manifold_pressure", "exhaust_pressure")
+        for name in (*positive, "duration", "blowdown", "lower_heating_value", "intake_temperature"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                yield name, f"must be a positive number, not {value}"
+        for name in ("wiebe_a", "air_fuel_ratio", "heat_fraction"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0):
+                yield name, f"must be a number >= 0, not {value}"
+        if not self.wiebe_m > -1:
+            yield "wiebe_m", f"must be > -1, not {self.wiebe_m}"
+        if self.conrod_length <= self.crank_radius:
+            yield "conrod_length", "must be longer than the crank radius (half the stroke)"
+        if not (math.isfinite(self.compression_ratio) and self.compression_ratio > 1):
+            yield "compression_ratio", f"must be > 1, not {self.compression_ratio}"
+        if not (math.isfinite(self.gamma) and 1 < self.gamma < 2):
+            yield "gamma", f"must be between 1 and 2, not {self.gamma}"
+        if not 0 < self.ivc < self.evo < 720:
+            yield "ivc, evo", f"need 0 < ivc < evo < 720 deg, not {self.ivc}, {self.evo}"
+        if self.evo + self.blowdown > 720:
+            yield "blowdown", "evo + blowdown must not pass 720 deg"
+        if not self.ivc <= self.soc < self.evo:
+            yield "soc", f"start of combustion must lie between ivc and evo, not {self.soc}"
+        if self.peak_pressure is not None and self.imep is not None:
+            yield "peak_pressure, imep", "give at most one load target"
+        for name in ("peak_pressure", "imep", "speed_rpm"):
+            value = getattr(self, name)
+            if value is not None and not (math.isfinite(value) and value > 0):
+                yield name, f"must be a positive number, not {value}"
+
+    @property
+    def load(self) -> str:
+        """How the heat released is set: 'peak_pressure', 'imep' or 'fuel'.
+
+        >>> GasModel(**CRF450R).load, GasModel(**CRF450R, imep=9e5).load
+        ('fuel', 'imep')
+        """
+        if self.peak_pressure is not None:
+            return "peak_pressure"
+        if self.imep is not None:
+            return "imep"
+        return "fuel"
+
+    @property
+    def swept_volume(self) -> float:
+        """Swept volume Vd [m^3].
+
+        >>> round(GasModel(86e-3, 43e-3, 143.5e-3, 10.5).swept_volume * 1e6, 1)
+        499.6
+        """
+        return np.pi / 4 * self.bore**2 * 2 * self.crank_radius
+
+    def parameters(self) -> dict[str, float]:
+        """The parameters the trace depends on (the header of its file), in order.
+
+        >>> list(GasModel(**CRF450R, imep=9e5).parameters())[-1]
+        'imep'
+        """
+        names = [*_COMMON, self.load] if self.load != "fuel" else [*_COMMON, *_FUEL]
+        if self.speed_rpm is not None:
+            names.append("speed_rpm")
+        return {n: getattr(self, n) for n in names}
 
     def volume(self, psi_deg: np.ndarray) -> np.ndarray:
         """Cylinder volume [m^3] at crank angles [deg] (the kernel's slider-crank)."""
@@ -66,29 +228,47 @@ class GasModel:
         vc = vd / (self.compression_ratio - 1)
         return vc + area * x
 
+    def burned(self, psi_deg: float) -> float:
+        """Wiebe mass fraction burned at a crank angle [deg].
+
+        >>> m = GasModel(**CRF450R)
+        >>> m.burned(300.0), round(m.burned(m.soc + m.duration), 6)   # 1 - exp(-a) at the end
+        (0.0, 0.993262)
+        """
+        if psi_deg <= self.soc:
+            return 0.0
+        z = (psi_deg - self.soc) / self.duration
+        return float(1.0 - np.exp(-self.wiebe_a * z ** (self.wiebe_m + 1)))
+
+    def fuel_heat(self) -> float:
+        """Heat released by the trapped charge's fuel [J] (the 'fuel' load).
+
+        >>> round(GasModel(**CRF450R, heat_fraction=0).fuel_heat(), 6)
+        0.0
+        """
+        mass = self.manifold_pressure * float(self.volume([self.ivc])[0]) / (R_AIR * self.intake_temperature)
+        return self.heat_fraction * mass / (1 + self.air_fuel_ratio) * self.lower_heating_value
+
+
+#: The source study's engine (Honda CRF450R): compression ratio 12, bore 96 mm, the
+#: study's crank radius and conrod.
+CRF450R = dict(bore=96e-3, crank_radius=31.5e-3, conrod_length=107e-3, compression_ratio=12.0)
 
 #: Shipped operating points (see inputs/README.md).
 PRESETS: dict[str, GasModel] = {
-    "crf450r_4000rpm_full": GasModel(manifold_pressure=1.0e5, peak_pressure=60e5, soc=342.0),
-    "crf450r_3000rpm_half": GasModel(manifold_pressure=0.55e5, peak_pressure=35e5, soc=348.0),
+    "crf450r_4000rpm_full": GasModel(**CRF450R, manifold_pressure=1.0e5, peak_pressure=60e5, soc=342.0),
+    "crf450r_3000rpm_half": GasModel(**CRF450R, manifold_pressure=0.55e5, peak_pressure=35e5, soc=348.0),
 }
 
 
 def _closed_cycle(m: GasModel, psi: np.ndarray, q_total: float) -> np.ndarray:
-    """Integrate the first law from ivc to evo with RK2 on the fine grid ``psi``."""
+    """Integrate the first law from ivc to evo on the fine grid ``psi``."""
     v = m.volume(psi)
     p = np.empty_like(psi)
     p[0] = m.manifold_pressure
     xb_prev = 0.0
-
-    def burned(a: float) -> float:
-        if a <= m.soc:
-            return 0.0
-        z = (a - m.soc) / m.duration
-        return 1.0 - np.exp(-m.wiebe_a * z ** (m.wiebe_m + 1))
-
     for i in range(1, len(psi)):
-        xb = burned(psi[i])
+        xb = m.burned(psi[i])
         dq = q_total * (xb - xb_prev)
         xb_prev = xb
         dv = v[i] - v[i - 1]
@@ -97,6 +277,84 @@ def _closed_cycle(m: GasModel, psi: np.ndarray, q_total: float) -> np.ndarray:
         g = m.gamma
         p[i] = (p[i - 1] * (1 - 0.5 * g * dv / vm) + (g - 1) * dq / vm) / (1 + 0.5 * g * dv / vm)
     return p
+
+
+def _fine(m: GasModel) -> np.ndarray:
+    return np.linspace(m.ivc, m.evo, int((m.evo - m.ivc) / _FINE_STEP) + 1)
+
+
+def _assemble(m: GasModel, psi: np.ndarray, fine: np.ndarray, pc: np.ndarray) -> np.ndarray:
+    """The whole cycle on ``psi`` from the closed part ``pc`` on ``fine``."""
+    p_evo = pc[-1]
+    p = np.full_like(psi, m.exhaust_pressure)
+    p[psi <= m.ivc] = m.manifold_pressure
+    closed = (psi > m.ivc) & (psi <= m.evo)
+    p[closed] = np.interp(psi[closed], fine, pc)
+    blow = (psi > m.evo) & (psi <= m.evo + m.blowdown)
+    frac = (psi[blow] - m.evo) / m.blowdown
+    p[blow] = m.exhaust_pressure + (p_evo - m.exhaust_pressure) * np.exp(-5.0 * frac) * (1 - frac)
+    return p
+
+
+def _bisect(f: Callable[[float], float], target: float, what: str) -> float:
+    """The heat ``q >= 0`` with ``f(q) = target`` for an increasing ``f``."""
+    if f(0.0) >= target:
+        raise ValueError(f"{what}: {target:g} Pa is not above the motored trace's {f(0.0):g} Pa")
+    lo, hi = 0.0, 1.0e4
+    while f(hi) < target:
+        hi *= 2
+        if hi > 1e9:
+            raise ValueError(f"{what}: {target:g} Pa is out of reach of the model")
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if f(mid) < target else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def imep(psi: np.ndarray, p: np.ndarray, m: GasModel) -> float:
+    """Net indicated mean effective pressure [Pa] of a trace: ``(closed integral of p dV)
+    / Vd`` over 0..720 deg (trapezoidal in V), for the engine of ``m``.
+
+    Parameters
+    ----------
+    psi, p : ndarray
+        Crank angle [deg] from 0 to 720 and absolute pressure [Pa].
+    m : GasModel
+        The engine (geometry only).
+
+    Examples
+    --------
+    >>> m = GasModel(**CRF450R)
+    >>> psi = np.linspace(0.0, 720.0, 1441)
+    >>> abs(imep(psi, np.full_like(psi, 1e5), m)) < 1e-6    # no work at constant pressure
+    True
+    """
+    v = m.volume(psi)
+    return float(np.sum(0.5 * (p[1:] + p[:-1]) * np.diff(v)) / m.swept_volume)
+
+
+@functools.lru_cache(maxsize=32)  # GasModel is frozen: the same model, the same heat
+def heat_released(m: GasModel, step: float = 0.5) -> float:
+    """Total heat released per cycle [J] for the model's load.
+
+    Parameters
+    ----------
+    m : GasModel
+    step : float
+        Crank-angle step [deg] of the trace whose IMEP is the target.
+
+    >>> heat_released(GasModel(**CRF450R, heat_fraction=0.0))
+    0.0
+    """
+    fine = _fine(m)
+    if m.load == "peak_pressure":
+        return _bisect(lambda q: float(_closed_cycle(m, fine, q).max()), m.peak_pressure, "peak_pressure")
+    if m.load == "imep":
+        psi = np.arange(0.0, 720.0 + step / 2, step)
+        return _bisect(
+            lambda q: imep(psi, _assemble(m, psi, fine, _closed_cycle(m, fine, q)), m), m.imep, "imep"
+        )
+    return m.fuel_heat()
 
 
 def trace(m: GasModel, step: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
@@ -112,6 +370,11 @@ def trace(m: GasModel, step: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
     -------
     (ndarray, ndarray)
 
+    Raises
+    ------
+    ValueError
+        If a load target cannot be reached (an IMEP below the motored trace's).
+
     Examples
     --------
     >>> psi, p = trace(PRESETS["crf450r_4000rpm_full"])
@@ -119,32 +382,135 @@ def trace(m: GasModel, step: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
     (60.0, 720.0)
     """
     psi = np.arange(0.0, 720.0 + step / 2, step)
-    fine = np.linspace(m.ivc, m.evo, int((m.evo - m.ivc) / 0.05) + 1)
+    fine = _fine(m)
+    pc = _closed_cycle(m, fine, heat_released(m, step))
+    return psi, _assemble(m, psi, fine, pc)
 
-    def peak(q: float) -> float:
-        return float(_closed_cycle(m, fine, q).max())
 
-    lo, hi = 0.0, 1.0e4
-    while peak(hi) < m.peak_pressure:
-        hi *= 2
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if peak(mid) < m.peak_pressure else (lo, mid)
-    pc = _closed_cycle(m, fine, 0.5 * (lo + hi))
-    p_evo = pc[-1]
+def burn_angles(m: GasModel, fractions=(0.1, 0.5, 0.9)) -> list[float]:
+    """Crank angles [deg] at which the Wiebe function reaches the mass fractions burned.
 
-    p = np.full_like(psi, m.exhaust_pressure)
-    p[psi <= m.ivc] = m.manifold_pressure
-    closed = (psi > m.ivc) & (psi <= m.evo)
-    p[closed] = np.interp(psi[closed], fine, pc)
-    blow = (psi > m.evo) & (psi <= m.evo + m.blowdown)
-    frac = (psi[blow] - m.evo) / m.blowdown
-    p[blow] = m.exhaust_pressure + (p_evo - m.exhaust_pressure) * np.exp(-5.0 * frac) * (1 - frac)
-    return psi, p
+    Parameters
+    ----------
+    m : GasModel
+    fractions : sequence of float
+        Mass fractions burned, each in [0, 1).
+
+    Examples
+    --------
+    >>> [round(a, 1) for a in burn_angles(PRESETS["crf450r_4000rpm_full"])]
+    [357.2, 370.5, 384.5]
+    """
+    out = []
+    for x in fractions:
+        z = (-math.log(1.0 - x) / m.wiebe_a) ** (1.0 / (m.wiebe_m + 1)) if m.wiebe_a > 0 else math.inf
+        out.append(m.soc + z * m.duration)
+    return out
+
+
+def describe(m: GasModel, psi: np.ndarray, p: np.ndarray) -> str:
+    """One line of derived quantities of a trace (peak, IMEP, heat, burn angles).
+
+    Parameters
+    ----------
+    m : GasModel
+    psi, p : ndarray
+        The trace: crank angle [deg], absolute pressure [Pa].
+
+    Examples
+    --------
+    >>> m = PRESETS["crf450r_4000rpm_full"]
+    >>> describe(m, *trace(m)).split(",")[1]
+    ' peak 60.00 bar at 375.5 deg'
+    """
+    i = int(np.argmax(p))
+    ca10, ca50, ca90 = burn_angles(m)
+    return (
+        f"swept volume {m.swept_volume * 1e6:.1f} cm3, peak {p[i] / 1e5:.2f} bar at {psi[i]:.1f} deg, "
+        f"net IMEP {imep(psi, p, m) / 1e5:.3f} bar, heat released {heat_released(m):.1f} J, "
+        f"10/50/90 % burned at {ca10:.1f}/{ca50:.1f}/{ca90:.1f} deg"
+    )
+
+
+# command-line options of `ringlube gas` for the model's parameters (one home)
+OPTIONS: dict[str, tuple[str, str]] = {
+    "bore": ("--bore", "bore [m]"),
+    "crank_radius": ("--stroke", "stroke [m] (the crank radius is half of it)"),
+    "conrod_length": ("--conrod", "connecting-rod length, centre to centre [m]"),
+    "compression_ratio": ("--compression-ratio", "geometric compression ratio"),
+    "speed_rpm": ("--speed-rpm", "engine speed [r/min] (recorded; the trace does not depend on it)"),
+    "manifold_pressure": ("--manifold-pressure", "intake manifold pressure [Pa abs]"),
+    "imep": ("--imep", "target net IMEP [Pa] (sets the heat released)"),
+    "peak_pressure": ("--peak-pressure", "target peak pressure [Pa abs] (sets the heat released)"),
+    "heat_fraction": ("--heat-fraction", "share of the fuel's energy heating the gas (0: motored)"),
+    "intake_temperature": ("--intake-temperature", "charge temperature at intake valve closing [K]"),
+    "air_fuel_ratio": ("--air-fuel-ratio", "air-fuel mass ratio"),
+    "lower_heating_value": ("--lower-heating-value", "fuel lower heating value [J/kg]"),
+    "soc": ("--soc", "start of combustion [deg, 360 = firing TDC]"),
+    "duration": ("--duration", "combustion (Wiebe) duration [deg]"),
+    "wiebe_a": ("--wiebe-a", "Wiebe efficiency factor a"),
+    "wiebe_m": ("--wiebe-m", "Wiebe form factor m"),
+    "exhaust_pressure": ("--exhaust-pressure", "exhaust pressure [Pa abs]"),
+    "gamma": ("--gamma", "ratio of specific heats (polytropic exponent)"),
+    "ivc": ("--ivc", "intake valve closing [deg]"),
+    "evo": ("--evo", "exhaust valve opening [deg]"),
+    "blowdown": ("--blowdown", "blowdown duration after evo [deg]"),
+}
+
+
+def command(m: GasModel, output: str | Path) -> str:
+    """The ``ringlube gas`` command that writes this model's trace to ``output``.
+
+    Parameters
+    ----------
+    m : GasModel
+    output : path
+        The trace file named in the command.
+
+    Examples
+    --------
+    >>> command(GasModel(0.086, 0.043, 0.1435, 10.5, imep=9e5), "p.csv").split()[:5]
+    ['ringlube', 'gas', '-o', 'p.csv', '--bore']
+    """
+    words = ["ringlube", "gas", "-o", str(output)]
+    for name, value in m.parameters().items():
+        if name == "crank_radius":
+            value = 2 * value
+        words += [OPTIONS[name][0], f"{value:g}" if float(value).is_integer() else repr(float(value))]
+    return shlex.join(words)
+
+
+def header(m: GasModel, name: str, derived: str = "", output: str | Path | None = None) -> str:
+    """The comment lines of a trace file: its name, parameters and (for traces made with
+    ``ringlube gas -o``) the command that regenerates it and derived quantities.
+
+    Parameters
+    ----------
+    m : GasModel
+    name : str
+        The trace's name.
+    derived : str
+        A line of derived quantities (:func:`describe`), if any.
+    output : path, optional
+        The file written; given, the header records the command that writes it.
+
+    Examples
+    --------
+    >>> header(PRESETS["crf450r_4000rpm_full"], "x").splitlines()[1].split(", ")[0]
+    'bore=0.096'
+    """
+    params = ", ".join(f"{k}={v}" for k, v in m.parameters().items())
+    lines = [f"ringlube synthetic single-zone trace '{name}'", params]
+    if output is not None:
+        lines.append(f"command: {command(m, output)}")
+    if derived:
+        lines.append(f"derived: {derived}")
+    return "\n".join(lines)
 
 
 def write_csv(path: str | Path, psi: np.ndarray, p: np.ndarray, header: str = "") -> None:
-    """Write a trace as the CSV the kernel reads (header line, then ``deg,Pa`` rows).
+    """Write a trace as the CSV the kernel reads (``#`` comment lines, a header line, then
+    ``deg,Pa`` rows).
 
     Parameters
     ----------
@@ -159,21 +525,24 @@ def write_csv(path: str | Path, psi: np.ndarray, p: np.ndarray, header: str = ""
     --------
     >>> import numpy as np, tempfile, os
     >>> f = os.path.join(tempfile.mkdtemp(), "t.csv")
-    >>> write_csv(f, np.array([0.0, 360.0, 720.0]), np.array([1e5, 2e5, 1e5]))
+    >>> write_csv(f, np.array([0.0, 360.0, 720.0]), np.array([1e5, 2e5, 1e5]), header="a\\nb")
     >>> read_csv(f)[1].tolist()
     [100000.0, 200000.0, 100000.0]
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(path.suffix + ".part")
-    with open(tmp, "w") as fh:
-        if header:
-            for line in header.splitlines():
-                fh.write(f"# {line}\n")
-        fh.write("crank_angle_deg,pressure_Pa\n")
-        for a, b in zip(psi, p):
-            fh.write(f"{a:.3f},{b:.6e}\n")
-    tmp.replace(path)
+    try:
+        with open(tmp, "w") as fh:
+            if header:
+                for line in header.splitlines():
+                    fh.write(f"# {line}\n")
+            fh.write("crank_angle_deg,pressure_Pa\n")
+            for a, b in zip(psi, p):
+                fh.write(f"{a:.3f},{b:.6e}\n")
+        tmp.replace(path)
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
 def read_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
@@ -211,7 +580,128 @@ def read_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     return psi, p
 
 
+def figure(m: GasModel, psi: np.ndarray, p: np.ndarray, title: str = ""):
+    """The trace over the cycle and its log p - log V diagram.
+
+    Parameters
+    ----------
+    m : GasModel
+    psi, p : ndarray
+        The trace: crank angle [deg], absolute pressure [Pa].
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> m = PRESETS["crf450r_4000rpm_full"]
+    >>> len(figure(m, *trace(m)).axes)
+    2
+    """
+    import matplotlib.pyplot as plt
+
+    from .plot import _crank_axis
+
+    fig, (ax, axv) = plt.subplots(
+        1, 2, figsize=(11, 4.2), layout="constrained", gridspec_kw={"width_ratios": [1.7, 1]}
+    )
+    i = int(np.argmax(p))
+    ax.plot(psi, p / 1e5, lw=1.4, color="C0")
+    ax.plot(psi[i], p[i] / 1e5, "o", color="C3", ms=4)
+    ax.annotate(
+        f"peak {p[i] / 1e5:.1f} bar at {psi[i]:.1f} deg",
+        (psi[i], p[i] / 1e5),
+        xytext=(12, -4),
+        textcoords="offset points",
+        fontsize=8,
+        va="top",
+    )
+    ca50 = burn_angles(m, (0.5,))[0]
+    ax.axvline(ca50, color="C1", lw=0.8, ls="--", label=f"50 % burned, {ca50:.1f} deg")
+    ax.set_ylabel("gas pressure [bar abs]")
+    ax.set_ylim(bottom=0)
+    _crank_axis(ax)
+    ax.legend(fontsize=8, loc="upper left")
+    v = m.volume(psi)
+    axv.loglog(v * 1e6, p / 1e5, lw=1.2, color="C0")
+    from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
+
+    for axis in (axv.xaxis, axv.yaxis):
+        axis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+        axis.set_major_formatter(ScalarFormatter())
+        axis.set_minor_formatter(NullFormatter())
+    axv.set_xlabel("cylinder volume [cm3]")
+    axv.set_ylabel("gas pressure [bar abs]")
+    axv.set_title(f"net IMEP {imep(psi, p, m) / 1e5:.2f} bar", fontsize=9)
+    axv.grid(True, which="both", color="0.9", lw=0.6)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    return fig
+
+
+def write_trace(m: GasModel, output: str | Path, name: str | None = None, figures: bool = True) -> list[Path]:
+    """Write the trace of ``m`` to ``output`` (CSV with its inputs in the header) and, with
+    ``figures``, ``output`` with .png and .pdf beside it; returns the files written.
+
+    Parameters
+    ----------
+    m : GasModel
+    output : path
+        The CSV file (written atomically; its folder is created).
+    name : str, optional
+        Name in the header (default: the file's stem).
+    figures : bool
+        Also write the figure.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> out = os.path.join(tempfile.mkdtemp(), "p.csv")
+    >>> [f.suffix for f in write_trace(PRESETS["crf450r_4000rpm_full"], out)]
+    ['.csv', '.png', '.pdf']
+    """
+    import matplotlib.pyplot as plt
+
+    from .plot import save_metadata
+
+    output = Path(output)
+    name = name or output.stem
+    psi, p = trace(m)
+    derived = describe(m, psi, p)
+    write_csv(output, psi, p, header=header(m, name, derived, output))
+    files = [output]
+    if figures:
+        head, _, tail = derived.partition(", heat")
+        fig = figure(m, psi, p, title=f"'{name}': {head}\nheat{tail}")
+        for fmt in ("png", "pdf"):
+            path = output.with_suffix(f".{fmt}")
+            tmp = path.with_name(path.name + ".part")
+            fig.savefig(tmp, format=fmt, dpi=150, metadata=save_metadata(fmt))
+            tmp.replace(path)
+            files.append(path)
+        plt.close(fig)
+    return files
+
+
 def main(argv: list[str] | None = None) -> None:
+    """Regenerate shipped traces: ``python -m ringlube.gas [--out DIR] [NAME ...]``.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Command-line arguments.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> main(["--out", tempfile.mkdtemp(), "crf450r_3000rpm_half"])
+    crf450r_3000rpm_half: peak 35.0 bar at 381.5 deg
+    """
+    import argparse
+
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="inputs/pressure", help="output folder")
     ap.add_argument("names", nargs="*", help="presets to write (default: all)")
@@ -219,13 +709,7 @@ def main(argv: list[str] | None = None) -> None:
     for name in args.names or sorted(PRESETS):
         m = PRESETS[name]
         psi, p = trace(m)
-        params = ", ".join(f"{k}={v}" for k, v in dataclasses.asdict(m).items())
-        write_csv(
-            Path(args.out) / f"{name}.csv",
-            psi,
-            p,
-            header=f"ringlube synthetic single-zone trace '{name}'\n{params}",
-        )
+        write_csv(Path(args.out) / f"{name}.csv", psi, p, header=header(m, name))
         i = int(np.argmax(p))
         print(f"{name}: peak {p[i] / 1e5:.1f} bar at {psi[i]:.1f} deg")
 

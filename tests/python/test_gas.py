@@ -20,7 +20,7 @@ def test_shipped_trace_is_the_documented_model(name):
 
 
 def test_volume_uses_slider_crank():
-    m = gas.GasModel()
+    m = gas.PRESETS["crf450r_4000rpm_full"]
     area = np.pi / 4 * m.bore**2
     vc = area * 2 * m.crank_radius / (m.compression_ratio - 1)
     assert m.volume(np.array([0.0]))[0] == pytest.approx(vc, rel=1e-12)
