@@ -89,8 +89,8 @@ module ringlube_ring_pack
     !> Sub-step control: largest land-pressure change per sub-step relative to the land
     !> pressure, largest ring travel per sub-step relative to the clearance, and at most
     !> 2^max_halvings sub-steps per crank step. adaptive = .false.: one sub-step per call.
-    real(dp) :: pressure_rtol = 1e-2_dp
-    real(dp) :: travel_fraction = 0.1_dp
+    real(dp) :: pressure_rtol = 3e-2_dp
+    real(dp) :: travel_fraction = 0.3_dp
     integer :: max_halvings = 20
     logical :: adaptive = .true.
   end type ring_pack_params
@@ -151,6 +151,13 @@ module ringlube_ring_pack
     logical :: converged = .false.
   end type ring_pack_cycle_out
 
+  !> Constants of the orifice law for one gamma: 2 g/(g-1), 2/g, (g+1)/g, r*, Psi(r*) and
+  !> Psi where it turns straight.
+  type :: orifice_consts
+    real(dp) :: k = 0.0_dp, e1 = 0.0_dp, e2 = 0.0_dp, rc = 0.0_dp, psi_c = 0.0_dp, &
+                psi_lin = 0.0_dp
+  end type orifice_consts
+
 contains
 
   !> Parameters from a case (&ring_pack, the ring's geometry and mass).
@@ -210,7 +217,31 @@ contains
     real(dp), intent(in) :: cd_area, pa, pb, temperature, gamma
     real(dp), intent(out) :: q
     real(dp), intent(out), optional :: dq_dpa, dq_dpb
-    real(dp) :: pu, pd, r, rc, c, psi, dpsi, r_lin, sgn, dq_pu, dq_pd, e
+    real(dp) :: da, db
+    call orifice_eval(orifice_constants(gamma), cd_area / sqrt(gas_constant * temperature), &
+                      pa, pb, q, da, db)
+    if (present(dq_dpa)) dq_dpa = da
+    if (present(dq_dpb)) dq_dpb = db
+  end subroutine orifice_flow
+
+  !> The gamma-dependent constants of the orifice law.
+  pure function orifice_constants(gamma) result(oc)
+    real(dp), intent(in) :: gamma
+    type(orifice_consts) :: oc
+    oc%k = 2.0_dp * gamma / (gamma - 1.0_dp)
+    oc%e1 = 2.0_dp / gamma
+    oc%e2 = (gamma + 1.0_dp) / gamma
+    oc%rc = (2.0_dp / (gamma + 1.0_dp))**(gamma / (gamma - 1.0_dp))
+    oc%psi_c = orifice_psi(oc%rc, gamma)
+    oc%psi_lin = orifice_psi(1.0_dp - orifice_linear, gamma)
+  end function orifice_constants
+
+  !> orifice_flow with the constants at hand; c = C_d A / sqrt(R T).
+  pure subroutine orifice_eval(oc, c, pa, pb, q, dq_dpa, dq_dpb)
+    type(orifice_consts), intent(in) :: oc
+    real(dp), intent(in) :: c, pa, pb
+    real(dp), intent(out) :: q, dq_dpa, dq_dpb
+    real(dp) :: pu, pd, r, psi, dpsi, sgn, dq_pu, dq_pd, lr, ra, rb
     if (pa >= pb) then
       pu = pa
       pd = pb
@@ -220,41 +251,40 @@ contains
       pd = pa
       sgn = -1.0_dp
     end if
-    c = cd_area / sqrt(gas_constant * temperature)
-    if (pu <= 0.0_dp .or. cd_area <= 0.0_dp) then
+    if (pu <= 0.0_dp .or. c <= 0.0_dp) then
       q = 0.0_dp
-      if (present(dq_dpa)) dq_dpa = 0.0_dp
-      if (present(dq_dpb)) dq_dpb = 0.0_dp
+      dq_dpa = 0.0_dp
+      dq_dpb = 0.0_dp
       return
     end if
     r = pd / pu
-    rc = (2.0_dp / (gamma + 1.0_dp))**(gamma / (gamma - 1.0_dp))
-    r_lin = 1.0_dp - orifice_linear
-    if (r <= rc) then
-      psi = orifice_psi(rc, gamma)
+    if (r <= oc%rc) then
+      psi = oc%psi_c
       dpsi = 0.0_dp
-    else if (r < r_lin) then
-      psi = orifice_psi(r, gamma)
-      e = r**(2.0_dp / gamma) - r**((gamma + 1.0_dp) / gamma)
-      dpsi = gamma / (gamma - 1.0_dp) * ((2.0_dp / gamma) * r**(2.0_dp / gamma - 1.0_dp) &
-                                         - ((gamma + 1.0_dp) / gamma) * r**(1.0_dp / gamma)) / psi
-      if (e <= 0.0_dp) dpsi = 0.0_dp
+    else if (r < 1.0_dp - orifice_linear) then
+      ! Psi = sqrt(k (r^e1 - r^e2)), dPsi/dr = k (e1 r^e1 - e2 r^e2) / (2 r Psi)
+      lr = log(r)
+      ra = exp(oc%e1 * lr)
+      rb = exp(oc%e2 * lr)
+      psi = sqrt(max(0.0_dp, oc%k * (ra - rb)))
+      dpsi = 0.0_dp
+      if (psi > 0.0_dp) dpsi = 0.5_dp * oc%k * (oc%e1 * ra - oc%e2 * rb) / (r * psi)
     else
-      psi = orifice_psi(r_lin, gamma) * (1.0_dp - r) / orifice_linear
-      dpsi = -orifice_psi(r_lin, gamma) / orifice_linear
+      psi = oc%psi_lin * (1.0_dp - r) / orifice_linear
+      dpsi = -oc%psi_lin / orifice_linear
     end if
     q = sgn * c * pu * psi
     ! q = c pu Psi(pd/pu): d/dpu = c (Psi - r Psi'), d/dpd = c Psi'
     dq_pu = c * (psi - r * dpsi)
     dq_pd = c * dpsi
     if (sgn > 0.0_dp) then
-      if (present(dq_dpa)) dq_dpa = dq_pu
-      if (present(dq_dpb)) dq_dpb = dq_pd
+      dq_dpa = dq_pu
+      dq_dpb = dq_pd
     else
-      if (present(dq_dpa)) dq_dpa = -dq_pd
-      if (present(dq_dpb)) dq_dpb = -dq_pu
+      dq_dpa = -dq_pd
+      dq_dpb = -dq_pu
     end if
-  end subroutine orifice_flow
+  end subroutine orifice_eval
 
   !> Laminar isothermal channel flow from a to b [kg/s] through a gap g of length w and
   !> width l: l g^3 (p_a^2 - p_b^2) / (24 mu R T w) (SPEC 14); derivatives optional.
@@ -471,8 +501,13 @@ contains
     real(dp), intent(out) :: q(4)
     logical, intent(out) :: ok
     real(dp) :: c2, c3, p(2), p_old(2), res(2), jac(2, 2), dp_(2), trial(2), res_t(2), &
-                scale, norm0, norm_t, det, lam, g_up, g_lo
+                scale, norm0, norm_t, det, lam, g_up, g_lo, c_top, c_2nd
+    type(orifice_consts) :: oc
     integer :: it, ls
+    oc = orifice_constants(par%gamma)
+    c_top = par%discharge_coefficient * par%top_gap_area / sqrt(gas_constant * par%gas_temperature)
+    c_2nd = par%discharge_coefficient * par%second_gap_area &
+            / sqrt(gas_constant * par%gas_temperature)
     c2 = par%groove_volume / (gas_constant * par%gas_temperature)
     c3 = par%land_volume / (gas_constant * par%gas_temperature)
     g_up = par%groove_clearance - st%x
@@ -532,10 +567,8 @@ contains
       real(dp), intent(in) :: pp(2)
       real(dp), intent(out) :: r(2), j(2, 2), qq(4)
       real(dp) :: d12a, d12b, d23a, d23b, d13a, d13b, d34a, d34b
-      call orifice_flow(par%discharge_coefficient * par%top_gap_area, p1, pp(2), &
-                        par%gas_temperature, par%gamma, qq(1), d13a, d13b)
-      call orifice_flow(par%discharge_coefficient * par%second_gap_area, pp(2), p4, &
-                        par%gas_temperature, par%gamma, qq(2), d34a, d34b)
+      call orifice_eval(oc, c_top, p1, pp(2), qq(1), d13a, d13b)
+      call orifice_eval(oc, c_2nd, pp(2), p4, qq(2), d34a, d34b)
       call channel_flow(par%circumference, g_up, par%radial_depth, par%gas_viscosity, &
                         par%gas_temperature, p1, pp(1), qq(3), d12a, d12b)
       call channel_flow(par%circumference, g_lo, par%radial_depth, par%gas_viscosity, &

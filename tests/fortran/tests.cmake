@@ -58,6 +58,10 @@ set_tests_properties(hdf5_output PROPERTIES LABELS "unit;io")
 set_tests_properties(temp_removed_on_signal PROPERTIES LABELS "io")
 set_tests_properties(study_trend_crown_height PROPERTIES LABELS "cli;known_limitation")
 
+# Ring-pack gas network benchmark and reference numbers (not a test; docs/ring_pack.md).
+add_executable(bench_ring_pack ${CMAKE_CURRENT_LIST_DIR}/../bench/bench_ring_pack.f90)
+target_link_libraries(bench_ring_pack PRIVATE ringlube_kernel)
+
 # Kernel benchmark (make bench; not a test): whole runs and the roofline pieces.
 add_executable(bench_kernel ${CMAKE_CURRENT_LIST_DIR}/../bench/bench_kernel.f90)
 target_link_libraries(bench_kernel PRIVATE ringlube_kernel)
