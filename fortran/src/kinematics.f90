@@ -34,7 +34,8 @@ contains
 
   !> Piston acceleration [m/s^2], positive towards the crankcase: the crank-angle
   !> derivative of `sliding_speed` times omega,
-  !> `a = r w^2 (cos(psi) + cos(2 psi)/S + sin(psi)^2 cos(psi)^2 / S^3)`, `S = sqrt((l/r)^2 - sin(psi)^2)`.
+  !> `a = r w^2 (cos(psi) + cos(2 psi)/S + sin(psi)^2 cos(psi)^2 / S^3)`,
+  !> `S = sqrt((l/r)^2 - sin(psi)^2)`.
   elemental real(dp) function piston_acceleration(psi, crank_radius, conrod_length, omega)
     real(dp), intent(in) :: psi, crank_radius, conrod_length, omega
     real(dp) :: s, c, q

@@ -1,8 +1,9 @@
 !> Benchmark and reference numbers of the ring pack's gas network (not a test): the periodic
 !> cycle with the shipped 4000 r/min full-load trace at 4000 and 12,000 r/min, friction 0, 10
-!> and 20 N, crank step 0.5 deg (or the argument); prints the cycle quantities of docs/ring_pack.md and the CPU
-!> time per cycle. Run from the source folder: `build/bench_ring_pack [DPSI_DEG [PRESSURE_RTOL]]`
-!> (PRESSURE_RTOL also sets travel_fraction to 10 times it; 1 or more: no sub-steps)..
+!> and 20 N, crank step 0.5 deg (or the argument); prints the cycle quantities of
+!> docs/ring_pack.md and the CPU time per cycle. Run from the source folder:
+!> `build/bench_ring_pack [DPSI_DEG [PRESSURE_RTOL]]` (PRESSURE_RTOL also sets travel_fraction
+!> to 10 times it; 1 or more: no sub-steps).
 program bench_ring_pack
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type
