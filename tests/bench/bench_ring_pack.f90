@@ -21,8 +21,8 @@ program bench_ring_pack
   real(dp) :: rpm, w, dpsi, fr, t0, t1, charge, u, rtol
   integer :: k, n, i, j
   character(len=32) :: arg
-  character(len=*), parameter :: fmt = &
-          '(f7.0, f5.0, f14.3, f10.3, f9.3, f13.3, f7.2, f10.2, i9, f13.3, f8.1, i10, f10.2, es9.1)'
+  character(len=*), parameter :: fmt = '(f7.0, f5.0, f14.3, f10.3, f9.3, f13.3, f7.2, '// &
+                                 'f10.2, i9, f13.3, f8.1, i10, f10.2, es9.1)'
 
   c = default_case()
   call read_pressure_csv('inputs/pressure/crf450r_4000rpm_full.csv', tpsi, tp, err)
