@@ -120,6 +120,26 @@ module ringlube_inputs
       'vapour|trailing_gas', 'cavities at cavitation_pressure, or one reaching the trailing edge at its gas'), &
     input_spec('physics', 'inlet', kind_choice, 'flooded', 0.0_dp, 0.0_dp, '', 'flooded|starved', &
       "leading edge fully flooded, or fed by the liner oil film (needs cavitation = 'jfo')"), &
+    input_spec('physics', 'ring_pack', kind_choice, 'none', 0.0_dp, 0.0_dp, '', 'none|gas', &
+  "'none': chamber above and behind the ring, crankcase below; 'gas': docs/ring_pack.md (not coupled)"), &
+    input_spec('ring_pack', 'gas_temperature', kind_real, '450', 200.0_dp, 2000.0_dp, 'K', '', &
+      'temperature of the isothermal gas in the groove and on the second land'), &
+    input_spec('ring_pack', 'gamma', kind_real, '1.3', 1.01_dp, 1.67_dp, '1', '', &
+      'ratio of specific heats of the gas (end-gap orifice flow)'), &
+    input_spec('ring_pack', 'gas_viscosity', kind_real, '2.5e-5', 1e-6_dp, 1e-3_dp, 'Pa s', '', &
+      'dynamic viscosity of the gas (groove-flank channels)'), &
+    input_spec('ring_pack', 'discharge_coefficient', kind_real, '0.7', 0.05_dp, 1.0_dp, '1', '', &
+      'discharge coefficient C_d of the end gaps'), &
+    input_spec('ring_pack', 'top_gap_area', kind_real, '1e-7', 0.0_dp, 1e-4_dp, 'm^2', '', &
+      'flow area of the top ring end gap'), &
+    input_spec('ring_pack', 'second_gap_area', kind_real, '1.5e-7', 0.0_dp, 1e-4_dp, 'm^2', '', &
+      'flow area of the second ring end gap'), &
+    input_spec('ring_pack', 'groove_clearance', kind_real, '40e-6', 1e-6_dp, 1e-3_dp, 'm', '', &
+      'axial clearance c_a of the top ring in its groove'), &
+    input_spec('ring_pack', 'groove_volume', kind_real, '1e-7', 1e-10_dp, 1e-3_dp, 'm^3', '', &
+      'gas volume of the groove behind the top ring (whole circumference)'), &
+    input_spec('ring_pack', 'land_volume', kind_real, '5e-7', 1e-10_dp, 1e-2_dp, 'm^3', '', &
+      'gas volume of the second land between the top and second rings'), &
     input_spec('numerics', 'preset', kind_choice, 'default', 0.0_dp, 0.0_dp, '', &
       'fast|default|accurate', 'numerics preset (nodes, crank step, tolerances); explicit values override'), &
     input_spec('numerics', 'nodes', kind_int, '(preset)', 5.0_dp, 20001.0_dp, '1', '', &

@@ -3,7 +3,7 @@ module ringlube_kinematics
   use ringlube_kinds, only: dp, pi
   implicit none
   private
-  public :: sliding_speed, piston_position, deg2rad
+  public :: sliding_speed, piston_position, piston_acceleration, deg2rad
 
 contains
 
@@ -31,4 +31,18 @@ contains
     sliding_speed = crank_radius * omega * s &
                     * (1.0_dp + cos(psi) / sqrt((conrod_length / crank_radius)**2 - s**2))
   end function sliding_speed
+
+  !> Piston acceleration [m/s^2], positive towards the crankcase: the crank-angle
+  !> derivative of `sliding_speed` times omega,
+  !> `a = r w^2 (cos(psi) + cos(2 psi)/S + sin(psi)^2 cos(psi)^2 / S^3)`,
+  !> `S = sqrt((l/r)^2 - sin(psi)^2)`.
+  elemental real(dp) function piston_acceleration(psi, crank_radius, conrod_length, omega)
+    real(dp), intent(in) :: psi, crank_radius, conrod_length, omega
+    real(dp) :: s, c, q
+    s = sin(psi)
+    c = cos(psi)
+    q = sqrt((conrod_length / crank_radius)**2 - s**2)
+    piston_acceleration = crank_radius * omega**2 &
+                          * (c + cos(2.0_dp * psi) / q + (s * c)**2 / q**3)
+  end function piston_acceleration
 end module ringlube_kinematics

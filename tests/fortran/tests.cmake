@@ -5,7 +5,7 @@ add_library(ringlube_check STATIC ${CMAKE_CURRENT_LIST_DIR}/check.f90)
 target_link_libraries(ringlube_check PUBLIC ringlube_kernel)
 
 foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner jfo time_order
-    mixed_share film_viscosity film_edges results)
+    mixed_share film_viscosity film_edges results ring_pack)
   add_executable(test_${t} ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
   target_link_libraries(test_${t} PRIVATE ringlube_check ringlube_io ${LAPACK_LIBRARIES})
   add_test(NAME ${t} COMMAND test_${t} WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
@@ -51,11 +51,16 @@ set_tests_properties(tridiag tridiag_fixed liner results PROPERTIES LABELS "unit
 set_tests_properties(greenwood_tripp physics_basics mixed_share PROPERTIES LABELS "unit;numerics")
 set_tests_properties(reynolds cycle time_order film_viscosity film_edges PROPERTIES LABELS "numerics")
 set_tests_properties(jfo PROPERTIES LABELS "numerics;slow")
+set_tests_properties(ring_pack PROPERTIES LABELS "unit;numerics;slow")
 set_tests_properties(bad_decks solve_shipped_deck PROPERTIES LABELS "cli;io")
 set_tests_properties(concurrent_output PROPERTIES LABELS "cli;io;slow")
 set_tests_properties(hdf5_output PROPERTIES LABELS "unit;io")
 set_tests_properties(temp_removed_on_signal PROPERTIES LABELS "io")
 set_tests_properties(study_trend_crown_height PROPERTIES LABELS "cli;known_limitation")
+
+# Ring-pack gas network benchmark and reference numbers (not a test; docs/ring_pack.md).
+add_executable(bench_ring_pack ${CMAKE_CURRENT_LIST_DIR}/../bench/bench_ring_pack.f90)
+target_link_libraries(bench_ring_pack PRIVATE ringlube_kernel)
 
 # Kernel benchmark (make bench; not a test): whole runs and the roofline pieces.
 add_executable(bench_kernel ${CMAKE_CURRENT_LIST_DIR}/../bench/bench_kernel.f90)

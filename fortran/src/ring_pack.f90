@@ -1,0 +1,685 @@
+!> The ring pack's gas (SPEC section 14): groove (space 2) and second land (space 3) as
+!> isothermal gas volumes joined by the top and second rings' end gaps (orifices) and the
+!> top ring's groove-flank channels, and the top ring's axial motion in its groove.
+!>
+!> Standalone: the film is not involved here; a caller couples it. Spaces: 1 the chamber
+!> (given p1), 2 the groove behind the top ring, 3 the second land, 4 the crankcase (given
+!> p4). Flows are signed positive towards the crankcase: `top_gap` 1 -> 3, `second_gap`
+!> 3 -> 4, `upper_channel` 1 -> 2 (over the ring's upper flank), `lower_channel` 2 -> 3.
+!> Axial axis: piston frame, positive towards the chamber; lift x_r in [0, c_a] above the
+!> lower groove flank.
+!>
+!> How to call it from a crank loop (one call per crank step dt):
+!>
+!>     type(ring_pack_params) :: par
+!>     type(ring_pack_state)  :: st
+!>     type(ring_pack_step_out) :: out
+!>     type(ring_pack_totals) :: tot
+!>     par = ring_pack_params_from_case(c)          ! once
+!>     call ring_pack_init(st, p1_start, p4)    ! once (or keep st from the last cycle)
+!>     ! every crank step:
+!>     call ring_pack_step(par, st, p1_old, p1_new, p4, f_f, a_p, dt, out, err)
+!>     call ring_pack_accumulate(tot, out, dt)       ! cycle quantities
+!>     ! st%p2: back pressure of the ring (its gas load p2 b l), p1 its upper edge,
+!>     ! st%p3 its lower edge; st%x lift, st%flank which flank it rests on.
+!>
+!> - p1_old, p1_new: chamber pressure at the start and end of the step (Pa abs), linear
+!>   in time in between.
+!> - p4: crankcase pressure (Pa abs).
+!> - f_f: the liner's friction force on the ring along the axis positive towards the
+!>   chamber (N). The kernel's friction is positive towards the crankcase: f_f = -friction.
+!> - a_p: the piston's acceleration, positive towards the chamber (m/s^2). The kinematics'
+!>   `piston_acceleration` is positive towards the crankcase: a_p = -piston_acceleration.
+!>   f_f and a_p are held constant over the step: pass values representative of it (at
+!>   its middle, or the mean of its ends).
+!> - dt: the step (s).
+!>
+!> Integrator (docs/ring_pack.md): each crank step is split into adaptive sub-steps. In a
+!> sub-step the ring moves exactly under a constant net force (the land pressure at the
+!> sub-step's start, the chamber pressure at its middle), stopping at a flank it meets
+!> (velocity set to zero, plastic impact) and resting there while the force presses it
+!> on; then the gas masses take one backward-Euler step with the flank gaps at the
+!> sub-step's end, solved by Newton's method on the 2x2 system (analytic Jacobian,
+!> backtracking on the residual). Backward Euler is L-stable: the groove's time constant
+!> V_2 / (R T dmdot/dp2) through an open 40 um channel is about 5 us at 1 MPa and 0.5 us at
+!> 10 MPa (it scales with 1/(g^3 p)), down to 1/50 of a crank step of 2 deg at
+!> 12,000 r/min; backward Euler then gives the groove its quasi-static pressure where an
+!> explicit scheme would blow up and the trapezoidal rule would ring. Sub-steps are halved
+!> until the groove and land pressures change by at most `pressure_rtol` and the ring
+!> travels at most `travel_fraction` of the clearance per sub-step, which bounds the
+!> first-order error (measured in tests/fortran/test_ring_pack.f90).
+module ringlube_ring_pack
+  use ringlube_kinds, only: dp, pi
+  use ringlube_error, only: error_type, fatal_error, rl_not_converged
+  use ringlube_case, only: case_type, ring_mass
+  implicit none
+  private
+  public :: ring_pack_params, ring_pack_state, ring_pack_step_out, ring_pack_totals, &
+            ring_pack_cycle_out
+  public :: ring_pack_params_from_case, ring_pack_init, ring_pack_step, ring_pack_accumulate, &
+            ring_pack_finish, ring_pack_cycle, ring_pack_gas_mass
+  public :: orifice_flow, channel_flow, orifice_psi, ring_gas_force
+
+  !> Gas constant of air and burnt gas [J/(kg K)] (SPEC 14).
+  real(dp), parameter, public :: gas_constant = 287.0_dp
+  !> Standard state of the blowby volume flow: 101325 Pa, 293.15 K.
+  real(dp), parameter, public :: std_pressure = 101325.0_dp, std_temperature = 293.15_dp
+  !> Below a pressure difference of this fraction of the upstream pressure the orifice's
+  !> Psi(r) is replaced by the straight line from Psi(1 - orifice_linear) to 0 at r = 1
+  !> (the exact Psi has an infinite slope there; Newton's method needs a finite one).
+  real(dp), parameter, public :: orifice_linear = 1e-4_dp
+
+  !> Which flank the ring rests on.
+  integer, parameter, public :: flank_none = 0, flank_lower = 1, flank_upper = 2
+
+  !> Parameters of the gas network and the ring (from a case: ring_pack_params_from_case).
+  type :: ring_pack_params
+    real(dp) :: gas_temperature = 0.0_dp      !< T [K]
+    real(dp) :: gamma = 0.0_dp                !< ratio of specific heats
+    real(dp) :: gas_viscosity = 0.0_dp        !< mu_g [Pa s]
+    real(dp) :: discharge_coefficient = 0.0_dp !< C_d
+    real(dp) :: top_gap_area = 0.0_dp         !< top ring end gap [m^2]
+    real(dp) :: second_gap_area = 0.0_dp      !< second ring end gap [m^2]
+    real(dp) :: groove_clearance = 0.0_dp     !< c_a [m]
+    real(dp) :: groove_volume = 0.0_dp        !< V_2 [m^3]
+    real(dp) :: land_volume = 0.0_dp          !< V_3 [m^3]
+    real(dp) :: circumference = 0.0_dp        !< l = 2 pi r0 [m]
+    real(dp) :: radial_depth = 0.0_dp         !< d = w, the channel length [m]
+    real(dp) :: ring_mass = 0.0_dp            !< m_r [kg]
+    !> Sub-step control: largest land-pressure change per sub-step relative to the land
+    !> pressure, largest ring travel per sub-step relative to the clearance, and at most
+    !> 2^max_halvings sub-steps per crank step. adaptive = .false.: one sub-step per call.
+    real(dp) :: pressure_rtol = 3e-2_dp
+    real(dp) :: travel_fraction = 0.3_dp
+    integer :: max_halvings = 20
+    logical :: adaptive = .true.
+  end type ring_pack_params
+
+  !> State of the ring pack at one instant.
+  type :: ring_pack_state
+    real(dp) :: p2 = 0.0_dp       !< groove pressure [Pa]
+    real(dp) :: p3 = 0.0_dp       !< land pressure [Pa]
+    real(dp) :: x = 0.0_dp        !< ring lift above the lower flank [m], in [0, c_a]
+    real(dp) :: v = 0.0_dp        !< ring velocity [m/s], positive towards the chamber
+    integer :: flank = flank_lower !< flank the ring rests on (flank_none: in flight)
+    real(dp) :: h_next = 0.0_dp   !< sub-step to try first in the next call [s] (0: dt)
+  end type ring_pack_state
+
+  !> What one crank step did. Flows are means over the step (mass through / dt), kg/s,
+  !> positive towards the crankcase.
+  type :: ring_pack_step_out
+    real(dp) :: top_gap_flow = 0.0_dp
+    real(dp) :: second_gap_flow = 0.0_dp
+    real(dp) :: upper_channel_flow = 0.0_dp
+    real(dp) :: lower_channel_flow = 0.0_dp
+    !> Mass that flowed back into the chamber (top gap and upper channel, reverse part) [kg].
+    real(dp) :: blowback_mass = 0.0_dp
+    !> Gross mass through the boundaries of spaces 2+3, sum of |flow| h [kg].
+    real(dp) :: gross_mass = 0.0_dp
+    real(dp) :: lift_time = 0.0_dp  !< time off the lower flank [s]
+    real(dp) :: lift_time_against_gas = 0.0_dp  !< of which while p1 > p3 [s]
+    integer :: lift_offs = 0        !< times the ring left its lower flank
+    integer :: flutter_events = 0   !< of which while p1 > p3
+    integer :: substeps = 0
+    logical :: on_lower = .false., on_upper = .false.  !< at the end of the step
+  end type ring_pack_step_out
+
+  !> Sums over a cycle (ring_pack_accumulate), turned into SPEC 14's cycle quantities by
+  !> ring_pack_finish.
+  type :: ring_pack_totals
+    real(dp) :: time = 0.0_dp, blowby_mass = 0.0_dp, blowback_mass = 0.0_dp, &
+                inflow_mass = 0.0_dp, gross_mass = 0.0_dp, lift_time = 0.0_dp, &
+                lift_time_against_gas = 0.0_dp
+    integer :: flutter_events = 0, lift_offs = 0
+    real(dp) :: stored_start = -1.0_dp  !< m2 + m3 at the start (set by the caller) [kg]
+  end type ring_pack_totals
+
+  !> One periodic cycle (ring_pack_cycle): per crank step (at its end) and totals.
+  type :: ring_pack_cycle_out
+    real(dp), allocatable :: p2(:), p3(:), x(:), top_gap_flow(:), second_gap_flow(:), &
+                             upper_channel_flow(:), lower_channel_flow(:)
+    real(dp) :: blowby_l_min = 0.0_dp, blowby_mg_per_cycle = 0.0_dp, &
+                blowback_mg_per_cycle = 0.0_dp, ring_lift_share_pct = 0.0_dp, &
+                gas_balance_error = 0.0_dp
+    !> Share of the cycle the ring is off its lower flank while the chamber pressure exceeds
+    !> the land pressure (lift against the gas: inertia or friction beat the gas force) [%].
+    real(dp) :: lift_against_gas_pct = 0.0_dp
+    !> Net inflow minus outflow of spaces 2+3 over the cycle relative to the gross flow
+    !> (zero when periodic).
+    real(dp) :: periodicity_error = 0.0_dp
+    integer :: flutter_events = 0, cycles_run = 0, substeps = 0
+    logical :: converged = .false.
+  end type ring_pack_cycle_out
+
+  !> Constants of the orifice law for one gamma: 2 g/(g-1), 2/g, (g+1)/g, r*, Psi(r*) and
+  !> Psi where it turns straight.
+  type :: orifice_consts
+    real(dp) :: k = 0.0_dp, e1 = 0.0_dp, e2 = 0.0_dp, rc = 0.0_dp, psi_c = 0.0_dp, &
+                psi_lin = 0.0_dp
+  end type orifice_consts
+
+contains
+
+  !> Parameters from a case (&ring_pack, the ring's geometry and mass).
+  function ring_pack_params_from_case(c) result(par)
+    type(case_type), intent(in) :: c
+    type(ring_pack_params) :: par
+    par%gas_temperature = c%gas_temperature
+    par%gamma = c%gamma
+    par%gas_viscosity = c%gas_viscosity
+    par%discharge_coefficient = c%discharge_coefficient
+    par%top_gap_area = c%top_gap_area
+    par%second_gap_area = c%second_gap_area
+    par%groove_clearance = c%groove_clearance
+    par%groove_volume = c%groove_volume
+    par%land_volume = c%land_volume
+    par%circumference = 2.0_dp * pi * c%bore_radius
+    par%radial_depth = c%radial_depth
+    par%ring_mass = ring_mass(c)
+  end function ring_pack_params_from_case
+
+  !> A starting state: groove at the chamber pressure, land at the crankcase pressure,
+  !> ring at rest on its lower flank.
+  pure subroutine ring_pack_init(st, p1, p4)
+    type(ring_pack_state), intent(out) :: st
+    real(dp), intent(in) :: p1, p4
+    st%p2 = p1
+    st%p3 = p4
+    st%x = 0.0_dp
+    st%v = 0.0_dp
+    st%flank = flank_lower
+    st%h_next = 0.0_dp
+  end subroutine ring_pack_init
+
+  !> Gas mass in spaces 2 and 3 [kg].
+  pure real(dp) function ring_pack_gas_mass(par, st) result(m)
+    type(ring_pack_params), intent(in) :: par
+    type(ring_pack_state), intent(in) :: st
+    m = (st%p2 * par%groove_volume + st%p3 * par%land_volume) &
+        / (gas_constant * par%gas_temperature)
+  end function ring_pack_gas_mass
+
+  !> The orifice's flow function: Psi(r) = sqrt(2 g/(g-1) (r^(2/g) - r^((g+1)/g))) for
+  !> r = p_d/p_u above the critical ratio (2/(g+1))^(g/(g-1)), Psi(r*) below it (choked).
+  pure real(dp) function orifice_psi(r, gamma) result(psi)
+    real(dp), intent(in) :: r, gamma
+    real(dp) :: rr
+    rr = max(r, (2.0_dp / (gamma + 1.0_dp))**(gamma / (gamma - 1.0_dp)))
+    rr = min(rr, 1.0_dp)
+    psi = sqrt(max(0.0_dp, 2.0_dp * gamma / (gamma - 1.0_dp) &
+                   * (rr**(2.0_dp / gamma) - rr**((gamma + 1.0_dp) / gamma))))
+  end function orifice_psi
+
+  !> Isentropic orifice flow from a to b [kg/s] (negative from b to a):
+  !> C_d A p_u / sqrt(R T) Psi(p_d/p_u) (SPEC 14), with Psi straight within
+  !> `orifice_linear` of r = 1. Optional derivatives with respect to p_a and p_b.
+  pure subroutine orifice_flow(cd_area, pa, pb, temperature, gamma, q, dq_dpa, dq_dpb)
+    real(dp), intent(in) :: cd_area, pa, pb, temperature, gamma
+    real(dp), intent(out) :: q
+    real(dp), intent(out), optional :: dq_dpa, dq_dpb
+    real(dp) :: da, db
+    call orifice_eval(orifice_constants(gamma), cd_area / sqrt(gas_constant * temperature), &
+                      pa, pb, q, da, db)
+    if (present(dq_dpa)) dq_dpa = da
+    if (present(dq_dpb)) dq_dpb = db
+  end subroutine orifice_flow
+
+  !> The gamma-dependent constants of the orifice law.
+  pure function orifice_constants(gamma) result(oc)
+    real(dp), intent(in) :: gamma
+    type(orifice_consts) :: oc
+    oc%k = 2.0_dp * gamma / (gamma - 1.0_dp)
+    oc%e1 = 2.0_dp / gamma
+    oc%e2 = (gamma + 1.0_dp) / gamma
+    oc%rc = (2.0_dp / (gamma + 1.0_dp))**(gamma / (gamma - 1.0_dp))
+    oc%psi_c = orifice_psi(oc%rc, gamma)
+    oc%psi_lin = orifice_psi(1.0_dp - orifice_linear, gamma)
+  end function orifice_constants
+
+  !> orifice_flow with the constants at hand; c = C_d A / sqrt(R T).
+  pure subroutine orifice_eval(oc, c, pa, pb, q, dq_dpa, dq_dpb)
+    type(orifice_consts), intent(in) :: oc
+    real(dp), intent(in) :: c, pa, pb
+    real(dp), intent(out) :: q, dq_dpa, dq_dpb
+    real(dp) :: pu, pd, r, psi, dpsi, sgn, dq_pu, dq_pd, lr, ra, rb
+    if (pa >= pb) then
+      pu = pa
+      pd = pb
+      sgn = 1.0_dp
+    else
+      pu = pb
+      pd = pa
+      sgn = -1.0_dp
+    end if
+    if (pu <= 0.0_dp .or. c <= 0.0_dp) then
+      q = 0.0_dp
+      dq_dpa = 0.0_dp
+      dq_dpb = 0.0_dp
+      return
+    end if
+    r = pd / pu
+    if (r <= oc%rc) then
+      psi = oc%psi_c
+      dpsi = 0.0_dp
+    else if (r < 1.0_dp - orifice_linear) then
+      ! Psi = sqrt(k (r^e1 - r^e2)), dPsi/dr = k (e1 r^e1 - e2 r^e2) / (2 r Psi)
+      lr = log(r)
+      ra = exp(oc%e1 * lr)
+      rb = exp(oc%e2 * lr)
+      psi = sqrt(max(0.0_dp, oc%k * (ra - rb)))
+      dpsi = 0.0_dp
+      if (psi > 0.0_dp) dpsi = 0.5_dp * oc%k * (oc%e1 * ra - oc%e2 * rb) / (r * psi)
+    else
+      psi = oc%psi_lin * (1.0_dp - r) / orifice_linear
+      dpsi = -oc%psi_lin / orifice_linear
+    end if
+    q = sgn * c * pu * psi
+    ! q = c pu Psi(pd/pu): d/dpu = c (Psi - r Psi'), d/dpd = c Psi'
+    dq_pu = c * (psi - r * dpsi)
+    dq_pd = c * dpsi
+    if (sgn > 0.0_dp) then
+      dq_dpa = dq_pu
+      dq_dpb = dq_pd
+    else
+      dq_dpa = -dq_pd
+      dq_dpb = -dq_pu
+    end if
+  end subroutine orifice_eval
+
+  !> Laminar isothermal channel flow from a to b [kg/s] through a gap g of length w and
+  !> width l: l g^3 (p_a^2 - p_b^2) / (24 mu R T w) (SPEC 14); derivatives optional.
+  pure subroutine channel_flow(width, gap, length, viscosity, temperature, pa, pb, q, &
+                               dq_dpa, dq_dpb)
+    real(dp), intent(in) :: width, gap, length, viscosity, temperature, pa, pb
+    real(dp), intent(out) :: q
+    real(dp), intent(out), optional :: dq_dpa, dq_dpb
+    real(dp) :: k
+    k = width * max(gap, 0.0_dp)**3 / (24.0_dp * viscosity * gas_constant * temperature * length)
+    q = k * (pa**2 - pb**2)
+    if (present(dq_dpa)) dq_dpa = 2.0_dp * k * pa
+    if (present(dq_dpb)) dq_dpb = -2.0_dp * k * pb
+  end subroutine channel_flow
+
+  !> Gas force on the ring, positive towards the chamber [N]: l d ((p3 + p2)/2 - (p1 + p2)/2).
+  pure real(dp) function ring_gas_force(par, p1, p3) result(f)
+    type(ring_pack_params), intent(in) :: par
+    real(dp), intent(in) :: p1, p3
+    f = par%circumference * par%radial_depth * 0.5_dp * (p3 - p1)
+  end function ring_gas_force
+
+  !> Advance the gas network and the ring over one crank step dt (see the module header
+  !> for the arguments). `err` is set if a sub-step of dt / 2^max_halvings still fails.
+  subroutine ring_pack_step(par, st, p1_old, p1_new, p4, f_f, a_p, dt, out, err)
+    type(ring_pack_params), intent(in) :: par
+    type(ring_pack_state), intent(inout) :: st
+    real(dp), intent(in) :: p1_old, p1_new, p4, f_f, a_p, dt
+    type(ring_pack_step_out), intent(out) :: out
+    type(error_type), allocatable, intent(out) :: err
+    type(ring_pack_state) :: trial
+    real(dp) :: t, h, hmin, q(4), lift_time, against, pa, pb, blowback, gross
+    integer :: lift_offs, flutter
+    logical :: ok, accept
+    real(dp) :: mass(4)
+
+    mass = 0.0_dp
+    blowback = 0.0_dp
+    gross = 0.0_dp
+    hmin = dt / 2.0_dp**par%max_halvings
+    h = dt
+    if (par%adaptive .and. st%h_next > 0.0_dp) h = min(dt, st%h_next)
+    t = 0.0_dp
+    do while (t < dt * (1.0_dp - 1e-12_dp))
+      h = min(h, dt - t)
+      pa = p1_old + (p1_new - p1_old) * (t / dt)
+      pb = p1_old + (p1_new - p1_old) * ((t + h) / dt)
+      trial = st
+      call substep(par, trial, pa, pb, p4, f_f, a_p, h, q, lift_time, lift_offs, flutter, &
+                   against, ok)
+      accept = ok
+      if (accept .and. par%adaptive) then
+        accept = abs(trial%p3 - st%p3) <= par%pressure_rtol * max(trial%p3, st%p3) &
+                 .and. abs(trial%p2 - st%p2) <= par%pressure_rtol * max(trial%p2, st%p2) &
+                 .and. abs(trial%x - st%x) <= par%travel_fraction * par%groove_clearance
+      end if
+      if (.not. accept .and. h > hmin * 1.5_dp .and. (par%adaptive .or. .not. ok)) then
+        h = 0.5_dp * h
+        cycle
+      end if
+      if (.not. ok) then
+        call fatal_error(err, 'ring_pack_step: the gas network did not converge in a '// &
+                         'sub-step of the smallest size', rl_not_converged)
+        return
+      end if
+      st = trial
+      t = t + h
+      mass = mass + h * q
+      blowback = blowback + h * (max(0.0_dp, -q(1)) + max(0.0_dp, -q(3)))
+      gross = gross + h * (abs(q(1)) + abs(q(2)) + abs(q(3)))
+      out%lift_time = out%lift_time + lift_time
+      out%lift_time_against_gas = out%lift_time_against_gas + against
+      out%lift_offs = out%lift_offs + lift_offs
+      out%flutter_events = out%flutter_events + flutter
+      out%substeps = out%substeps + 1
+      st%h_next = h
+      if (par%adaptive .and. accept) h = 2.0_dp * h
+    end do
+    if (par%adaptive) st%h_next = min(h, dt)
+    out%top_gap_flow = mass(1) / dt
+    out%second_gap_flow = mass(2) / dt
+    out%upper_channel_flow = mass(3) / dt
+    out%lower_channel_flow = mass(4) / dt
+    out%blowback_mass = blowback
+    out%gross_mass = gross
+    out%on_lower = st%flank == flank_lower
+    out%on_upper = st%flank == flank_upper
+  end subroutine ring_pack_step
+
+  !> One sub-step of length h: the ring under a constant force, then backward Euler on
+  !> the gas masses. q: flows at the end (top gap, second gap, upper, lower channel).
+  pure subroutine substep(par, st, p1a, p1b, p4, f_f, a_p, h, q, lift_time, lift_offs, &
+                          flutter, against, ok)
+    type(ring_pack_params), intent(in) :: par
+    type(ring_pack_state), intent(inout) :: st
+    real(dp), intent(in) :: p1a, p1b, p4, f_f, a_p, h
+    real(dp), intent(out) :: q(4), lift_time, against
+    integer, intent(out) :: lift_offs, flutter
+    logical, intent(out) :: ok
+    real(dp) :: force, p1m
+    p1m = 0.5_dp * (p1a + p1b)
+    force = ring_gas_force(par, p1m, st%p3) + f_f - par%ring_mass * a_p
+    call move_ring(st%x, st%v, st%flank, force, par%ring_mass, par%groove_clearance, h, &
+                   lift_time, lift_offs)
+    flutter = 0
+    against = 0.0_dp
+    if (p1m > st%p3) then
+      flutter = lift_offs
+      against = lift_time
+    end if
+    call gas_backward_euler(par, st, p1b, p4, h, q, ok)
+  end subroutine substep
+
+  !> The ring over time h under a constant force: free flight x + v t + F t^2/(2 m)
+  !> between the flanks; at a flank it stops (v = 0) and rests while the force presses it
+  !> there. lift_time: time off the lower flank; lift_offs: departures from it.
+  pure subroutine move_ring(x, v, flank, force, mass, clearance, h, lift_time, lift_offs)
+    real(dp), intent(inout) :: x, v
+    integer, intent(inout) :: flank
+    real(dp), intent(in) :: force, mass, clearance, h
+    real(dp), intent(out) :: lift_time
+    integer, intent(out) :: lift_offs
+    real(dp) :: left, acc, t_hit, t_lo, t_up
+    integer :: iter
+    lift_time = 0.0_dp
+    lift_offs = 0
+    left = h
+    acc = force / mass
+    do iter = 1, 8
+      if (left <= 0.0_dp) exit
+      if (flank == flank_lower) then
+        if (force <= 0.0_dp) exit
+        flank = flank_none
+        x = 0.0_dp
+        v = 0.0_dp
+        lift_offs = lift_offs + 1
+      else if (flank == flank_upper) then
+        if (force >= 0.0_dp) then
+          lift_time = lift_time + left
+          exit
+        end if
+        flank = flank_none
+        x = clearance
+        v = 0.0_dp
+      else if (x <= 0.0_dp .and. v <= 0.0_dp) then
+        ! in flight, at or (by round-off) below the lower flank and still moving down
+        x = 0.0_dp
+        v = 0.0_dp
+        flank = flank_lower
+        cycle
+      else if (x >= clearance .and. v >= 0.0_dp) then
+        x = clearance
+        v = 0.0_dp
+        flank = flank_upper
+        cycle
+      end if
+      t_lo = first_hit(x, v, acc, 0.0_dp, left)
+      t_up = first_hit(x, v, acc, clearance, left)
+      t_hit = min(t_lo, t_up)
+      if (t_hit > left) then
+        x = min(clearance, max(0.0_dp, x + v * left + 0.5_dp * acc * left**2))
+        v = v + acc * left
+        lift_time = lift_time + left
+        exit
+      end if
+      lift_time = lift_time + t_hit
+      left = left - t_hit
+      v = 0.0_dp
+      if (t_lo <= t_up) then
+        x = 0.0_dp
+        flank = flank_lower
+      else
+        x = clearance
+        flank = flank_upper
+      end if
+    end do
+  end subroutine move_ring
+
+  !> First time t in (0, tmax] at which x + v t + a t^2/2 reaches b; huge if none.
+  pure real(dp) function first_hit(x, v, a, b, tmax) result(t)
+    real(dp), intent(in) :: x, v, a, b, tmax
+    real(dp) :: c, disc, r1, r2, qq, tiny_t
+    t = huge(1.0_dp)
+    c = x - b
+    tiny_t = 1e-14_dp * tmax
+    ! the ring leaving the flank b it sits on does not "reach" b at t = 0
+    if (abs(a) <= tiny(1.0_dp)) then
+      if (v /= 0.0_dp) then
+        r1 = -c / v
+        if (r1 > tiny_t .and. r1 <= tmax) t = r1
+      end if
+      return
+    end if
+    disc = v**2 - 2.0_dp * a * c
+    if (disc < 0.0_dp) return
+    qq = -0.5_dp * (v + sign(sqrt(disc), v))
+    if (qq /= 0.0_dp) then
+      r1 = qq / (0.5_dp * a)
+      r2 = c / qq
+    else
+      r1 = 0.0_dp
+      r2 = 0.0_dp
+    end if
+    if (r1 > tiny_t .and. r1 <= tmax) t = min(t, r1)
+    if (r2 > tiny_t .and. r2 <= tmax) t = min(t, r2)
+  end function first_hit
+
+  !> Backward Euler on the masses of spaces 2 and 3 over h with the chamber at p1 and the
+  !> gaps of the ring's current lift; Newton's method on (p2, p3).
+  pure subroutine gas_backward_euler(par, st, p1, p4, h, q, ok)
+    type(ring_pack_params), intent(in) :: par
+    type(ring_pack_state), intent(inout) :: st
+    real(dp), intent(in) :: p1, p4, h
+    real(dp), intent(out) :: q(4)
+    logical, intent(out) :: ok
+    real(dp) :: c2, c3, p(2), p_old(2), res(2), jac(2, 2), dp_(2), trial(2), res_t(2), &
+                scale, norm0, norm_t, det, lam, g_up, g_lo, c_top, c_2nd
+    type(orifice_consts) :: oc
+    integer :: it, ls
+    oc = orifice_constants(par%gamma)
+    c_top = par%discharge_coefficient * par%top_gap_area / sqrt(gas_constant * par%gas_temperature)
+    c_2nd = par%discharge_coefficient * par%second_gap_area &
+            / sqrt(gas_constant * par%gas_temperature)
+    c2 = par%groove_volume / (gas_constant * par%gas_temperature)
+    c3 = par%land_volume / (gas_constant * par%gas_temperature)
+    g_up = par%groove_clearance - st%x
+    g_lo = st%x
+    p_old = [st%p2, st%p3]
+    p = p_old
+    scale = max(p1, p4, p_old(1), p_old(2))
+    ok = .false.
+    call residual(p, res, jac, q)
+    norm0 = rnorm(res)
+    do it = 1, 100
+      det = jac(1, 1) * jac(2, 2) - jac(1, 2) * jac(2, 1)
+      if (.not. (abs(det) > 0.0_dp)) exit
+      dp_(1) = -(jac(2, 2) * res(1) - jac(1, 2) * res(2)) / det
+      dp_(2) = -(-jac(2, 1) * res(1) + jac(1, 1) * res(2)) / det
+      if (maxval(abs(dp_)) <= 1e-12_dp * scale) then
+        ! converged: a last full step (round-off level), flows at the final pressures
+        p = p + dp_
+        call residual(p, res, jac, q)
+        ok = .true.
+        exit
+      end if
+      lam = 1.0_dp
+      ! keep the pressures positive
+      if (p(1) + dp_(1) < 0.1_dp * p(1)) lam = min(lam, 0.9_dp * p(1) / max(-dp_(1), tiny(1.0_dp)))
+      if (p(2) + dp_(2) < 0.1_dp * p(2)) lam = min(lam, 0.9_dp * p(2) / max(-dp_(2), tiny(1.0_dp)))
+      do ls = 1, 40
+        trial = p + lam * dp_
+        call residual(trial, res_t, jac, q)
+        norm_t = rnorm(res_t)
+        if (norm_t <= (1.0_dp - 1e-4_dp * lam) * norm0 .or. norm_t == 0.0_dp) exit
+        lam = 0.5_dp * lam
+      end do
+      if (ls > 40) then
+        ! no decrease: accept if already at round-off level
+        call residual(p, res, jac, q)
+        ok = maxval(abs(dp_)) <= 1e-10_dp * scale
+        exit
+      end if
+      p = trial
+      res = res_t
+      norm0 = norm_t
+      if (norm0 == 0.0_dp) then
+        ok = .true.
+        exit
+      end if
+    end do
+    if (ok) then
+      st%p2 = p(1)
+      st%p3 = p(2)
+    end if
+
+  contains
+
+    !> Residuals (kg) and Jacobian (kg/Pa) of backward Euler; q the flows at p.
+    pure subroutine residual(pp, r, j, qq)
+      real(dp), intent(in) :: pp(2)
+      real(dp), intent(out) :: r(2), j(2, 2), qq(4)
+      real(dp) :: d12a, d12b, d23a, d23b, d13a, d13b, d34a, d34b
+      call orifice_eval(oc, c_top, p1, pp(2), qq(1), d13a, d13b)
+      call orifice_eval(oc, c_2nd, pp(2), p4, qq(2), d34a, d34b)
+      call channel_flow(par%circumference, g_up, par%radial_depth, par%gas_viscosity, &
+                        par%gas_temperature, p1, pp(1), qq(3), d12a, d12b)
+      call channel_flow(par%circumference, g_lo, par%radial_depth, par%gas_viscosity, &
+                        par%gas_temperature, pp(1), pp(2), qq(4), d23a, d23b)
+      r(1) = c2 * (pp(1) - p_old(1)) - h * (qq(3) - qq(4))
+      r(2) = c3 * (pp(2) - p_old(2)) - h * (qq(1) + qq(4) - qq(2))
+      j(1, 1) = c2 - h * (d12b - d23a)
+      j(1, 2) = h * d23b
+      j(2, 1) = -h * d23a
+      j(2, 2) = c3 - h * (d13b + d23b - d34a)
+    end subroutine residual
+
+    !> Residual norm in units of the pressure scale.
+    pure real(dp) function rnorm(r)
+      real(dp), intent(in) :: r(2)
+      rnorm = max(abs(r(1)) / c2, abs(r(2)) / c3) / scale
+    end function rnorm
+  end subroutine gas_backward_euler
+
+  !> Add one step's output to a cycle's sums.
+  pure subroutine ring_pack_accumulate(tot, out, dt)
+    type(ring_pack_totals), intent(inout) :: tot
+    type(ring_pack_step_out), intent(in) :: out
+    real(dp), intent(in) :: dt
+    tot%time = tot%time + dt
+    tot%blowby_mass = tot%blowby_mass + out%second_gap_flow * dt
+    tot%blowback_mass = tot%blowback_mass + out%blowback_mass
+    tot%inflow_mass = tot%inflow_mass + (out%top_gap_flow + out%upper_channel_flow) * dt
+    tot%gross_mass = tot%gross_mass + out%gross_mass
+    tot%lift_time = tot%lift_time + out%lift_time
+    tot%lift_time_against_gas = tot%lift_time_against_gas + out%lift_time_against_gas
+    tot%flutter_events = tot%flutter_events + out%flutter_events
+    tot%lift_offs = tot%lift_offs + out%lift_offs
+  end subroutine ring_pack_accumulate
+
+  !> SPEC 14's cycle quantities from a cycle's sums; stored_end = m2 + m3 at the end, and
+  !> tot%stored_start must hold m2 + m3 at the start.
+  pure subroutine ring_pack_finish(tot, stored_end, cyc)
+    type(ring_pack_totals), intent(in) :: tot
+    real(dp), intent(in) :: stored_end
+    type(ring_pack_cycle_out), intent(inout) :: cyc
+    real(dp) :: gross
+    gross = max(tot%gross_mass, tiny(1.0_dp))
+    cyc%blowby_mg_per_cycle = 1e6_dp * tot%blowby_mass
+    cyc%blowby_l_min = tot%blowby_mass / tot%time * gas_constant * std_temperature &
+                       / std_pressure * 6e4_dp
+    cyc%blowback_mg_per_cycle = 1e6_dp * tot%blowback_mass
+    cyc%ring_lift_share_pct = 100.0_dp * tot%lift_time / tot%time
+    cyc%lift_against_gas_pct = 100.0_dp * tot%lift_time_against_gas / tot%time
+    cyc%flutter_events = tot%flutter_events
+    cyc%gas_balance_error = abs((stored_end - tot%stored_start) &
+                                - (tot%inflow_mass - tot%blowby_mass)) / gross
+    cyc%periodicity_error = abs(tot%inflow_mass - tot%blowby_mass) / gross
+  end subroutine ring_pack_finish
+
+  !> Run the gas network over whole cycles with prescribed p1, a_p and f_f at the crank
+  !> angles psi_k = k dpsi_deg, k = 0 .. n-1 (periodic, n = 720/dpsi_deg; a_p and f_f on
+  !> ring_pack_step's axis), until the state at psi = 0 repeats within `tol` (pressures
+  !> relative to the largest chamber pressure, lift relative to the clearance) or
+  !> max_cycles. st: the start (ring_pack_init if its p2 is not positive), then the state
+  !> at the end. cyc: the last cycle.
+  subroutine ring_pack_cycle(par, p1, a_p, f_f, dpsi_deg, speed_rpm, p4, st, cyc, err, &
+                             max_cycles, tol)
+    type(ring_pack_params), intent(in) :: par
+    real(dp), intent(in) :: p1(0:), a_p(0:), f_f(0:), dpsi_deg, speed_rpm, p4
+    type(ring_pack_state), intent(inout) :: st
+    type(ring_pack_cycle_out), intent(out) :: cyc
+    type(error_type), allocatable, intent(out) :: err
+    integer, intent(in), optional :: max_cycles
+    real(dp), intent(in), optional :: tol
+    type(ring_pack_step_out) :: out
+    type(ring_pack_totals) :: tot
+    type(ring_pack_state) :: st0
+    real(dp) :: dt, tol_, pmax
+    integer :: n, k, kn, icyc, ncyc
+    n = size(p1)
+    ncyc = 200
+    if (present(max_cycles)) ncyc = max_cycles
+    tol_ = 1e-9_dp
+    if (present(tol)) tol_ = tol
+    dt = dpsi_deg / (6.0_dp * speed_rpm)
+    pmax = maxval(p1)
+    if (st%p2 <= 0.0_dp) call ring_pack_init(st, p1(0), p4)
+    allocate (cyc%p2(n), cyc%p3(n), cyc%x(n), cyc%top_gap_flow(n), cyc%second_gap_flow(n), &
+              cyc%upper_channel_flow(n), cyc%lower_channel_flow(n))
+    do icyc = 1, ncyc
+      st0 = st
+      tot = ring_pack_totals()
+      tot%stored_start = ring_pack_gas_mass(par, st)
+      cyc%substeps = 0
+      do k = 0, n - 1
+        kn = mod(k + 1, n)
+        call ring_pack_step(par, st, p1(k), p1(kn), p4, 0.5_dp * (f_f(k) + f_f(kn)), &
+                            0.5_dp * (a_p(k) + a_p(kn)), dt, out, err)
+        if (allocated(err)) return
+        call ring_pack_accumulate(tot, out, dt)
+        cyc%substeps = cyc%substeps + out%substeps
+        cyc%p2(k + 1) = st%p2
+        cyc%p3(k + 1) = st%p3
+        cyc%x(k + 1) = st%x
+        cyc%top_gap_flow(k + 1) = out%top_gap_flow
+        cyc%second_gap_flow(k + 1) = out%second_gap_flow
+        cyc%upper_channel_flow(k + 1) = out%upper_channel_flow
+        cyc%lower_channel_flow(k + 1) = out%lower_channel_flow
+      end do
+      call ring_pack_finish(tot, ring_pack_gas_mass(par, st), cyc)
+      cyc%cycles_run = icyc
+      cyc%converged = abs(st%p2 - st0%p2) <= tol_ * pmax .and. abs(st%p3 - st0%p3) <= tol_ * pmax &
+                      .and. abs(st%x - st0%x) <= tol_ * par%groove_clearance &
+                      .and. st%flank == st0%flank
+      if (cyc%converged) exit
+    end do
+  end subroutine ring_pack_cycle
+end module ringlube_ring_pack
