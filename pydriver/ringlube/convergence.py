@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from .case import Case
+from .outputs import atomic_path, check_output, save_figure, write_text
 from .solve import run
 
 __all__ = ["Setting", "Row", "REFERENCE", "PRESETS", "ladder", "measure", "convergence_study"]
@@ -292,9 +293,12 @@ def write_report(
             f"{'*' if id(r) in front else ''} |"
         )
     md_path = outdir / f"convergence_{stem}.md"
-    md_path.write_text("\n".join(md) + "\n")
     csv_path = outdir / f"convergence_{stem}.csv"
-    with open(csv_path, "w", newline="") as fh:
+    png = outdir / f"convergence_{stem}.png"
+    for p in (md_path, csv_path, png):
+        check_output(p, [deck])
+    write_text(md_path, "\n".join(md) + "\n", [deck])
+    with atomic_path(csv_path, [deck]) as tmp, open(tmp, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(
             [
@@ -350,7 +354,6 @@ def write_report(
     ax.set_ylabel("relative error in energy loss vs reference")
     ax.set_title(stem, fontsize=9)
     ax.legend(fontsize=7)
-    png = outdir / f"convergence_{stem}.png"
-    fig.savefig(png, dpi=150)
+    save_figure(fig, png, [deck], dpi=150)
     plt.close(fig)
     return [md_path, csv_path, png]

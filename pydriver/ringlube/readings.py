@@ -43,6 +43,7 @@ import numpy as np
 from .calibrate import BOUNDS, cold_targets
 from .case import Case
 from .errors import InputError
+from .outputs import write_text
 from .validate import READINGS, TRENDS, trend_verdicts
 
 __all__ = [
@@ -1119,9 +1120,7 @@ def write_readings(out: dict, path: str | os.PathLike, command: str, seconds: fl
                     + "."
                 )
     path = Path(path)
-    tmp = path.with_name(path.name + ".part")
-    tmp.write_text("\n".join(md) + "\n")
-    tmp.replace(path)
+    write_text(path, "\n".join(md) + "\n")
     return path
 
 

@@ -23,6 +23,7 @@ import numpy as np
 from .case import Case
 from .errors import InputError, RinglubeError
 from .executor import Executor, require
+from .outputs import check_output
 from .study_settings import StudySettings, read_study
 from .study_store import CaseState, Checked, Direct, Front, Runs, Study, Surface
 
@@ -676,6 +677,8 @@ def run_study(
     """
     s = read_study(deck)
     out = _out_folder(out, s)
+    for name in ["report.md", *(f"pareto_{label}.csv" for label in [*s.labels, "scene"])]:
+        check_output(out / name, s.cases)  # before the work, not after it
     path = out / f"{s.name}.h5"
     study = Study.open(s, path, lock=True)
     try:

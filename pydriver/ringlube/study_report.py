@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .outputs import atomic_path, write_text
 from .study_settings import display, output_units
 from .study_store import Checked, Study
 
@@ -171,7 +172,7 @@ def write_pareto_csv(study: Study, out: str | os.PathLike) -> list[Path]:
         for j, o in enumerate(s.objectives):  # the GA's own values of its objectives
             pred[:, study.s.outputs.index(o)] = c.front.f[:, j]
         path = Path(out) / f"pareto_{label}.csv"
-        with open(path, "w", newline="") as fh:
+        with atomic_path(path, [study.path]) as tmp, open(tmp, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(
                 [f"{v} [{u}]" if u else v for v, u in zip(s.variables, s.units)]
@@ -350,9 +351,7 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
     if figures:
         L += ["", "## Figures", ""]
         L += [f"![{f.stem}]({f.name})" for f in figures]
-    path = out / "report.md"
-    path.write_text("\n".join(L) + "\n")
-    return path
+    return write_text(out / "report.md", "\n".join(L) + "\n", [study.path])
 
 
 def write_outputs(study: Study, out: str | os.PathLike, figures: bool = True) -> list[Path]:
