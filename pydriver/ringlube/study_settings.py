@@ -397,6 +397,40 @@ class StudySettings:
             }
         )
 
+    def derived_key(self, label: str, direct: bool = False) -> str:
+        """What must match for results derived from the runs of one case to be kept on resume.
+
+        The fit and GA settings shape every surface and front; the weights and ``scene``
+        also shape the weighted scene (``label == 'scene'``); the direct NSGA-II sizes shape
+        the direct comparison (``direct=True``). A stored result whose key differs is
+        recomputed from the runs (which are kept).
+
+        Parameters
+        ----------
+        label : str
+            Case label or ``scene``.
+        direct : bool
+            The key of the direct NSGA-II comparison.
+
+        Returns
+        -------
+        str
+            JSON.
+
+        Example
+        -------
+        >>> s = StudySettings("s", ["a.nml"], ["a"], [1.0], ["width"], [0.0], [1.0], ["energy_loss"])
+        >>> '"weights"' in s.derived_key("scene"), '"weights"' in s.derived_key("a")
+        (True, False)
+        """
+        names = ["surrogate", "folds", "population", "generations", "repeats"]
+        if label == "scene":
+            names += ["weights", "scene"]
+        if direct:
+            names += ["direct_population", "direct_generations"]
+        d = dataclasses.asdict(self)
+        return json.dumps({k: d[k] for k in names})
+
     def to_json(self) -> str:
         """The settings as JSON (stored in the study file).
 

@@ -475,7 +475,12 @@ class Study:
                 raise ValueError(f"samples/x has shape {self.x.shape}")
         for label in [*s.labels, "scene"]:
             if f"cases/{label}/runs" in f:
-                self.cases[label] = _read_case(f[f"cases/{label}"], s)
+                g = f[f"cases/{label}"]
+                if _text(g.attrs.get("derived_key", "")) == s.derived_key(label):
+                    self.cases[label] = _read_case(g, s)
+                elif label != "scene":  # runs kept; what was derived from them is redone
+                    self.cases[label] = CaseState(_read_case(g, s).runs)
+                # a scene of other weights: recomputed from the cases' runs
 
     # --- writing -----------------------------------------------------------------------
     def save(self, force: bool = True) -> None:
@@ -526,7 +531,9 @@ class Study:
             d.attrs["lower"] = s.lower
             d.attrs["upper"] = s.upper
         for label, c in self.cases.items():
-            _write_case(f.require_group(f"cases/{label}"), c, s)
+            g = f.require_group(f"cases/{label}")
+            g.attrs["derived_key"] = s.derived_key(label)
+            _write_case(g, c, s)
 
 
 def _text(value: Any) -> str:
@@ -598,6 +605,7 @@ def _write_case(g: h5py.Group, c: CaseState, s: StudySettings) -> None:
             _put_strings(cg, "errors", ch.errors)
     if c.direct is not None:
         dg = g.create_group("direct")
+        dg.attrs["key"] = s.derived_key(g.name.rsplit("/", 1)[-1], direct=True)
         _put(dg, "x", c.direct.x, s.variables, s.units)
         _put(dg, "f", c.direct.f, s.objectives, obj_units)
         for fld in dataclasses.fields(Direct):
@@ -654,7 +662,8 @@ def _read_case(g: h5py.Group, s: StudySettings) -> CaseState:
                     _strings(cg["errors"]),
                 ),
             )
-    if "direct" in g:
+    direct_key = s.derived_key(g.name.rsplit("/", 1)[-1], direct=True)
+    if "direct" in g and _text(g["direct"].attrs.get("key", "")) == direct_key:  # else redone
         dg = g["direct"]
         kw = {
             fld.name: dg.attrs[fld.name] for fld in dataclasses.fields(Direct) if fld.name not in ("x", "f")
