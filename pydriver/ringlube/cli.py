@@ -135,6 +135,11 @@ def _cmd_convergence(args: argparse.Namespace) -> int:
     command = "ringlube convergence " + " ".join(
         [*args.decks, *(["--quick"] if args.quick else []), "--out", args.out]
     )
+    from .outputs import check_output
+
+    for deck in args.decks:  # every output checked before the first (long) run
+        for suffix in ("md", "csv", "png"):
+            check_output(Path(args.out) / f"convergence_{Path(deck).stem}.{suffix}", args.decks, "--out")
     for deck in args.decks:
         reference, rows = convergence_study(deck, quick=args.quick, repeats=args.repeats)
         for f in write_report(deck, reference, rows, args.out, command):

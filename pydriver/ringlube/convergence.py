@@ -135,13 +135,15 @@ def _case_for(base: Case, s: Setting) -> Case:
     return c
 
 
-def measure(case: Case, repeats: int = 3):
+def measure(case: Case, repeats: int = 3, after_run=None):
     """Run a case ``repeats`` times (the kernel is deterministic) and keep the best time.
 
     Parameters
     ----------
     case : Case
     repeats : int
+    after_run : callable, optional
+        Called with no argument after each run (progress).
 
     Returns
     -------
@@ -157,6 +159,8 @@ def measure(case: Case, repeats: int = 3):
     best = None
     for _ in range(repeats):
         r = run(case)
+        if after_run is not None:
+            after_run()
         if best is None or r.run_time < best.run_time:
             best = r
     return best
@@ -175,7 +179,8 @@ def convergence_study(
     repeats : int
         Timing repeats per setting (best kept).
     progress : bool
-        Show a progress bar.
+        Show a progress bar (on stderr) before the first run: one step per run, the
+        setting being run beside it (a starved reference run alone can take minutes).
 
     Returns
     -------
@@ -189,8 +194,24 @@ def convergence_study(
 
     base = Case.from_namelist(deck).inline_calibration()
     base._nml.get("numerics", {}).pop("preset", None)
+    settings = ladder(quick)
+    bar = tqdm(
+        total=5 + len(settings) * repeats,
+        desc=f"convergence {Path(deck).name}",
+        unit="run",
+        mininterval=0.0,  # every run is shown: a run takes from 10 ms to minutes
+        disable=not progress,
+    )
+
+    def step(case: Case, what: str = ""):
+        if what:
+            bar.set_postfix_str(what, refresh=True)
+        r = run(case)
+        bar.update()
+        return r
+
     ref_case = base.with_("numerics", **REFERENCE)
-    ref = run(ref_case)
+    ref = step(ref_case, f"reference: nodes {REFERENCE['nodes']}, dpsi {REFERENCE['dpsi_deg']} deg")
 
     # Richardson: the observed order from three levels (reference, 1/2 and 1/4 of its
     # resolution) in N and in the crank step, then the extrapolated error of the reference
@@ -205,13 +226,13 @@ def convergence_study(
     p_n, rich_n = richardson(
         [
             ref,
-            run(ref_case.with_numerics(nodes=(n0 - 1) // 2 + 1)),
-            run(ref_case.with_numerics(nodes=(n0 - 1) // 4 + 1)),
+            step(ref_case.with_numerics(nodes=(n0 - 1) // 2 + 1), "Richardson levels"),
+            step(ref_case.with_numerics(nodes=(n0 - 1) // 4 + 1)),
         ]
     )
     d0 = REFERENCE["dpsi_deg"]
     p_t, rich_t = richardson(
-        [ref, run(ref_case.with_numerics(dpsi_deg=2 * d0)), run(ref_case.with_numerics(dpsi_deg=4 * d0))]
+        [ref, step(ref_case.with_numerics(dpsi_deg=2 * d0)), step(ref_case.with_numerics(dpsi_deg=4 * d0))]
     )
     reference = {
         "energy": ref.energy_loss,
@@ -225,9 +246,10 @@ def convergence_study(
         "est_err_t": abs(rich_t) / ref.energy_loss,
     }
     rows: list[Row] = []
-    for s in tqdm(ladder(quick), desc="convergence ladder", disable=not progress):
+    for s in settings:
         case = _case_for(base, s)
-        r = measure(case, repeats)
+        bar.set_postfix_str(f"{s.kind} {s.label}", refresh=True)
+        r = measure(case, repeats, after_run=bar.update)
         rows.append(
             Row(
                 setting=s,
@@ -243,6 +265,7 @@ def convergence_study(
                 film_solves=int(r.film_solves.sum()),
             )
         )
+    bar.close()
     return reference, rows
 
 
