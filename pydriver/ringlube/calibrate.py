@@ -37,6 +37,7 @@ from scipy.optimize import brentq
 
 from .case import Case
 from .errors import InputError
+from .outputs import write_text
 from .solve import run
 
 __all__ = ["FITTED", "BOUNDS", "NOMINAL", "DISCRETE", "Fit", "calibrate", "write_calibration", "cold_targets"]
@@ -88,6 +89,12 @@ def cold_targets(targets: str | os.PathLike | None = None, condition: str = "col
     missing = [q for q in FITTED if q not in c.values]
     if missing:
         raise InputError(f"{path}: condition '{condition}' lacks {', '.join(missing)}")
+    for q in FITTED:
+        if not c.values[q] > 0:
+            raise InputError(
+                f"{path}: condition '{condition}' {q} = {c.values[q]:g}: must be positive "
+                "(the fit matches each target relative to its value)"
+            )
     return c.deck, {q: c.values[q] for q in FITTED}
 
 
@@ -315,8 +322,4 @@ def write_calibration(
         f"&operating pressure_scale = {fit.pressure_scale!r} /",
         "",
     ]
-    path = Path(path)
-    tmp = path.with_name(path.name + ".part")
-    tmp.write_text("\n".join(lines))
-    tmp.replace(path)
-    return path
+    return write_text(path, "\n".join(lines), [deck], "--out")

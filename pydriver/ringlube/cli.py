@@ -8,7 +8,6 @@ converge exits 3; Ctrl-C exits 130.
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from pathlib import Path
 
@@ -52,17 +51,9 @@ def _finite_float(text: str) -> float:
 
 def _output_file(option: str, out: Path, inputs: list[Path]) -> Path:
     """Check a result file to be written: a new path or a regular file, not an input."""
-    if out.exists() and out.is_dir():
-        raise InputError(f"{option} {out}: is a folder; give a file name")
-    if out.exists() and not out.is_file():
-        raise InputError(f"{option} {out}: exists and is not a regular file")
-    parent = out.parent if str(out.parent) else Path(".")
-    if not parent.is_dir():
-        raise InputError(f"{option} {out}: folder '{parent}' does not exist")
-    for p in inputs:
-        if p and out.exists() and Path(p).exists() and os.path.samefile(out, p):
-            raise InputError(f"{option} {out}: is an input of this run; choose another name")
-    return out
+    from .outputs import check_output
+
+    return check_output(out, inputs, option)
 
 
 def _output_folder(option: str, out: Path) -> Path:
@@ -126,13 +117,15 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             raise InputError(
                 f"--labels: '{label}' must be a non-empty name without '/' (it names the figure files)"
             )
+    if len(labels) > len(args.results):
+        raise InputError(f"--labels: {len(labels)} labels for {len(args.results)} result files")
     results = [_load(p) for p in args.results]
     for r, label in zip(results, labels):
         r.label = label
     for r in results:
         if "/" in r.label or "\\" in r.label:
             raise InputError(f"result label '{r.label}' contains '/'; give --labels")
-    for f in plot_results(results, out):
+    for f in plot_results(results, out, inputs=[Path(p) for p in args.results]):
         print(f"written {f}")
     return 0
 
@@ -242,6 +235,11 @@ def _cmd_convergence(args: argparse.Namespace) -> int:
     command = "ringlube convergence " + " ".join(
         [*args.decks, *(["--quick"] if args.quick else []), "--out", args.out]
     )
+    from .outputs import check_output
+
+    for deck in args.decks:  # every output checked before the first (long) run
+        for suffix in ("md", "csv", "png"):
+            check_output(Path(args.out) / f"convergence_{Path(deck).stem}.{suffix}", args.decks, "--out")
     for deck in args.decks:
         reference, rows = convergence_study(deck, quick=args.quick, repeats=args.repeats)
         for f in write_report(deck, reference, rows, args.out, command):
@@ -250,9 +248,17 @@ def _cmd_convergence(args: argparse.Namespace) -> int:
 
 
 def _cmd_calibrate(args: argparse.Namespace) -> int:
-    from .calibrate import calibrate, correlation, strip_calibrated, write_calibration
+    from .calibrate import calibrate, cold_targets, correlation, strip_calibrated, write_calibration
     from .case import Case
+    from .outputs import check_output
+    from .targets import DEFAULT_TARGETS
 
+    target_deck, _ = cold_targets(args.targets)
+    case = Case.from_namelist(args.deck)
+    # the calibration file the deck includes is not read by the fit (it is what is written)
+    trace = case.value("operating", "pressure_file")
+    inputs = [args.deck, args.targets or DEFAULT_TARGETS, target_deck, trace]
+    check_output(args.out, inputs, "--out")  # before the ~300 runs, not after
     fit, fits = calibrate(args.deck, targets=args.targets)
     base = strip_calibrated(Case.from_namelist(args.deck))
     jac, corr = correlation(base, fit)
@@ -290,6 +296,8 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
     def terminate(signum, frame):  # a batch system's SIGTERM: save finished runs, then stop
         raise KeyboardInterrupt(f"signal {signum}")
 
+    if args.scheduler is not None and not args.scheduler.strip():
+        raise InputError("--scheduler '': empty address (omit --scheduler for a local cluster)")
     if args.out is not None:
         _output_folder("--out", Path(args.out))
     signal.signal(signal.SIGTERM, terminate)

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from .case import Case
+from .outputs import atomic_path, check_output, save_figure, write_text
 from .solve import run
 
 __all__ = ["Setting", "Row", "REFERENCE", "PRESETS", "ladder", "measure", "convergence_study"]
@@ -134,13 +135,15 @@ def _case_for(base: Case, s: Setting) -> Case:
     return c
 
 
-def measure(case: Case, repeats: int = 3):
+def measure(case: Case, repeats: int = 3, after_run=None):
     """Run a case ``repeats`` times (the kernel is deterministic) and keep the best time.
 
     Parameters
     ----------
     case : Case
     repeats : int
+    after_run : callable, optional
+        Called with no argument after each run (progress).
 
     Returns
     -------
@@ -156,6 +159,8 @@ def measure(case: Case, repeats: int = 3):
     best = None
     for _ in range(repeats):
         r = run(case)
+        if after_run is not None:
+            after_run()
         if best is None or r.run_time < best.run_time:
             best = r
     return best
@@ -174,7 +179,8 @@ def convergence_study(
     repeats : int
         Timing repeats per setting (best kept).
     progress : bool
-        Show a progress bar.
+        Show a progress bar (on stderr) before the first run: one step per run, the
+        setting being run beside it (a starved reference run alone can take minutes).
 
     Returns
     -------
@@ -188,8 +194,24 @@ def convergence_study(
 
     base = Case.from_namelist(deck).inline_calibration()
     base._nml.get("numerics", {}).pop("preset", None)
+    settings = ladder(quick)
+    bar = tqdm(
+        total=5 + len(settings) * repeats,
+        desc=f"convergence {Path(deck).name}",
+        unit="run",
+        mininterval=0.0,  # every run is shown: a run takes from 10 ms to minutes
+        disable=not progress,
+    )
+
+    def step(case: Case, what: str = ""):
+        if what:
+            bar.set_postfix_str(what, refresh=True)
+        r = run(case)
+        bar.update()
+        return r
+
     ref_case = base.with_("numerics", **REFERENCE)
-    ref = run(ref_case)
+    ref = step(ref_case, f"reference: nodes {REFERENCE['nodes']}, dpsi {REFERENCE['dpsi_deg']} deg")
 
     # Richardson: the observed order from three levels (reference, 1/2 and 1/4 of its
     # resolution) in N and in the crank step, then the extrapolated error of the reference
@@ -204,13 +226,13 @@ def convergence_study(
     p_n, rich_n = richardson(
         [
             ref,
-            run(ref_case.with_numerics(nodes=(n0 - 1) // 2 + 1)),
-            run(ref_case.with_numerics(nodes=(n0 - 1) // 4 + 1)),
+            step(ref_case.with_numerics(nodes=(n0 - 1) // 2 + 1), "Richardson levels"),
+            step(ref_case.with_numerics(nodes=(n0 - 1) // 4 + 1)),
         ]
     )
     d0 = REFERENCE["dpsi_deg"]
     p_t, rich_t = richardson(
-        [ref, run(ref_case.with_numerics(dpsi_deg=2 * d0)), run(ref_case.with_numerics(dpsi_deg=4 * d0))]
+        [ref, step(ref_case.with_numerics(dpsi_deg=2 * d0)), step(ref_case.with_numerics(dpsi_deg=4 * d0))]
     )
     reference = {
         "energy": ref.energy_loss,
@@ -224,9 +246,10 @@ def convergence_study(
         "est_err_t": abs(rich_t) / ref.energy_loss,
     }
     rows: list[Row] = []
-    for s in tqdm(ladder(quick), desc="convergence ladder", disable=not progress):
+    for s in settings:
         case = _case_for(base, s)
-        r = measure(case, repeats)
+        bar.set_postfix_str(f"{s.kind} {s.label}", refresh=True)
+        r = measure(case, repeats, after_run=bar.update)
         rows.append(
             Row(
                 setting=s,
@@ -242,6 +265,7 @@ def convergence_study(
                 film_solves=int(r.film_solves.sum()),
             )
         )
+    bar.close()
     return reference, rows
 
 
@@ -292,9 +316,12 @@ def write_report(
             f"{'*' if id(r) in front else ''} |"
         )
     md_path = outdir / f"convergence_{stem}.md"
-    md_path.write_text("\n".join(md) + "\n")
     csv_path = outdir / f"convergence_{stem}.csv"
-    with open(csv_path, "w", newline="") as fh:
+    png = outdir / f"convergence_{stem}.png"
+    for p in (md_path, csv_path, png):
+        check_output(p, [deck])
+    write_text(md_path, "\n".join(md) + "\n", [deck])
+    with atomic_path(csv_path, [deck]) as tmp, open(tmp, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(
             [
@@ -350,7 +377,6 @@ def write_report(
     ax.set_ylabel("relative error in energy loss vs reference")
     ax.set_title(stem, fontsize=9)
     ax.legend(fontsize=7)
-    png = outdir / f"convergence_{stem}.png"
-    fig.savefig(png, dpi=150)
+    save_figure(fig, png, [deck], dpi=150)
     plt.close(fig)
     return [md_path, csv_path, png]

@@ -22,6 +22,7 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
+import warnings
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -137,6 +138,8 @@ class Executor:
         backend: str | None = None,
         connect_timeout: float | None = None,
     ):
+        if scheduler is not None and not str(scheduler).strip():
+            raise InputError("--scheduler '': empty address (omit --scheduler for a local cluster)")
         self.backend = backend or ("scheduler" if scheduler else "serial" if serial else "dask")
         if self.backend not in BACKENDS:
             raise InputError(f"unknown executor backend '{self.backend}' (known: {', '.join(BACKENDS)})")
@@ -159,22 +162,34 @@ class Executor:
     # --- Dask set-up -------------------------------------------------------------------
     def _start_local_cluster(self) -> None:
         dd = require("dask.distributed", "a Dask LocalCluster")
-        with _quiet():
-            self.cluster = dd.LocalCluster(
-                n_workers=self.workers,
-                threads_per_worker=1,
-                processes=True,
-                dashboard_address=None,
-                silence_logs=logging.CRITICAL,
-            )
-            self.client = dd.Client(self.cluster)
+        from distributed.deploy.spec import SpecCluster
+
+        before = set(SpecCluster._instances)
+        try:
+            with _quiet(), warnings.catch_warnings():
+                # the scheduler's HTTP server asks for port 8787 even without a dashboard; a
+                # second study on this machine gets another port, which is not news to a user
+                warnings.filterwarnings("ignore", message="Port 8787 is already in use")
+                self.cluster = dd.LocalCluster(
+                    n_workers=self.workers,
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=None,
+                    silence_logs=logging.CRITICAL,
+                )
+                self.client = dd.Client(self.cluster)
+        except BaseException:  # e.g. a SIGTERM mid start-up: close what started, quietly
+            self.close()
+            _abandon(set(SpecCluster._instances) - before)
+            raise
 
     def _connect(self, address: str, timeout: float) -> None:
         dd = require("dask.distributed", "--scheduler")
         try:
             with _quiet():
+                _probe_scheduler(address, timeout)  # Client alone can wait forever on a non-Dask port
                 self.client = dd.Client(address, timeout=timeout)
-        except (OSError, TimeoutError, ValueError, TypeError) as exc:
+        except Exception as exc:  # OSError, TimeoutError, tornado's and Dask's own types
             reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             raise RinglubeError(
                 f"--scheduler {address}: cannot connect within {timeout:g} s ({reason})"
@@ -271,6 +286,49 @@ class Executor:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _abandon(clusters) -> None:
+    """Close clusters whose start was interrupted, and keep Dask's exit hook and its
+    loggers from reporting on them later (its ``close_clusters`` asserts on workers that
+    never started)."""
+    with _quiet():
+        for cluster in clusters:
+            with contextlib.suppress(BaseException):
+                cluster.close(timeout=5)
+            cluster.shutdown_on_close = False
+    for name in _NOISY:  # what is left of them is torn down at exit: no more reports
+        logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+
+
+def _probe_scheduler(address: str, timeout: float) -> None:
+    """Ask ``address`` who it is, within ``timeout`` seconds in all (connect, handshake, reply).
+
+    Raises
+    ------
+    TimeoutError
+        Nothing answered in time (e.g. a socket that accepts and never speaks).
+    RinglubeError
+        Something answered that is not a Dask scheduler.
+    """
+    import asyncio
+
+    from distributed.comm import connect
+
+    async def identity():
+        comm = await connect(address, timeout=timeout)
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    try:
+        who = asyncio.run(asyncio.wait_for(identity(), timeout))
+    except asyncio.TimeoutError:
+        raise TimeoutError("timed out") from None
+    if not isinstance(who, dict) or who.get("type") != "Scheduler":
+        raise RinglubeError(f"the server there is not a Dask scheduler (it says it is {who!r:.60})")
 
 
 @contextlib.contextmanager

@@ -12,6 +12,7 @@ matplotlib.use("Agg")  # files only; no display needed
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .outputs import check_output, save_figure  # noqa: E402
 from .result import CycleResult  # noqa: E402
 
 __all__ = [
@@ -295,6 +296,7 @@ def plot_results(
     outdir: str | os.PathLike,
     formats: Sequence[str] = ("png", "pdf"),
     stem: str = "",
+    inputs: Sequence[str | os.PathLike] = (),
 ) -> list[Path]:
     """Write the friction and film figures for one or several (overlaid) results, and for
     results of the mass-conserving film the inlet fill and wetted width, and with a starved
@@ -309,6 +311,10 @@ def plot_results(
         File formats.
     stem : str
         File name stem (default: the labels joined).
+    inputs : sequence of path
+        Files that must not be overwritten (the result files plotted); every figure is
+        checked by :func:`ringlube.outputs.check_output` (no symbolic link, no folder, no
+        input) before any is written, and written atomically.
 
     Returns
     -------
@@ -330,12 +336,14 @@ def plot_results(
         kinds.append(("supply", supply_figure))
     if any(r.liner for r in results):
         kinds.append(("liner", liner_figure))
+    for kind, _ in kinds:  # every name checked before the first figure is written
+        for fmt in formats:
+            check_output(outdir / f"{stem}_{kind}.{fmt}", inputs)
     for kind, make in kinds:
         fig = make(results)
         for fmt in formats:
             path = outdir / f"{stem}_{kind}.{fmt}"
-            fig.savefig(path, dpi=150, metadata=_METADATA[fmt])
-            files.append(path)
+            files.append(save_figure(fig, path, inputs, dpi=150, metadata=_METADATA[fmt]))
         plt.close(fig)
     return files
 

@@ -43,6 +43,7 @@ import numpy as np
 from .calibrate import BOUNDS, cold_targets
 from .case import Case
 from .errors import InputError
+from .outputs import check_output, write_text
 from .validate import READINGS, TRENDS, trend_verdicts
 
 __all__ = [
@@ -1119,9 +1120,7 @@ def write_readings(out: dict, path: str | os.PathLike, command: str, seconds: fl
                     + "."
                 )
     path = Path(path)
-    tmp = path.with_name(path.name + ".part")
-    tmp.write_text("\n".join(md) + "\n")
-    tmp.replace(path)
+    write_text(path, "\n".join(md) + "\n")
     return path
 
 
@@ -1192,9 +1191,7 @@ def run_args(args) -> int:
     if args.evals < 1 or args.workers < 1 or args.relax < 0:
         raise InputError("--evals and --workers must be at least 1, --relax at least 0")
     readings = select_readings(args.readings)
-    out_path = Path(args.out)
-    if out_path.is_dir() or not (out_path.parent if str(out_path.parent) else Path(".")).is_dir():
-        raise InputError(f"--out {out_path}: not a file in an existing folder")
+    check_output(args.out, option="--out")  # before hours of fits, not after
     budget = min(args.evals, 10) if args.quick else args.evals
     relax = 0 if args.quick else args.relax
     t0 = time.perf_counter()

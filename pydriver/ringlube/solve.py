@@ -178,10 +178,19 @@ def run_designs(
     from . import _kernel
     from .tables import INPUTS
 
+    if isinstance(case, (str, os.PathLike)):
+        case = Case.from_namelist(case)
+    elif not isinstance(case, Case):
+        raise TypeError(f"run_designs: expected a Case or a deck path, got {type(case).__name__}")
     outputs = list(SCALARS if outputs is None else outputs)
     unknown = [o for o in outputs if o not in SCALARS]
     if unknown:
         raise InputError(f"unknown outputs {unknown} (known: {', '.join(SCALARS)})")
+    need = {"jfo": ("cavitation", "jfo"), "starved": ("inlet", "starved")}
+    for o in outputs:  # a result the case's film model does not produce is refused, not 0.0
+        req = need.get(SCALARS[o].requires)
+        if req and case.value("physics", req[0]) != req[1]:
+            raise InputError(f"run_designs: {o} needs &physics {req[0]} = '{req[1]}' in the case")
     keys = []
     for v in variables:
         group, _, name = str(v).rpartition(":")
@@ -194,6 +203,8 @@ def run_designs(
             raise InputError(
                 f"run_designs: &{spec.group} {spec.name} is not a number: change it on the case instead"
             )
+        if f"{spec.group}:{spec.name}" in keys:
+            raise InputError(f"run_designs: '{v}' is &{spec.group} {spec.name} again; give it once")
         keys.append(f"{spec.group}:{spec.name}")
     try:
         x = np.asarray(x, dtype=float)

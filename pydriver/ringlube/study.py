@@ -23,8 +23,9 @@ import numpy as np
 from .case import Case
 from .errors import InputError, RinglubeError
 from .executor import Executor, require
+from .outputs import check_output
 from .study_settings import StudySettings, read_study
-from .study_store import CaseState, Checked, Direct, Front, Runs, Study, Surface
+from .study_store import CaseState, Checked, Direct, DirectGeneration, Front, Runs, Study, Surface
 
 __all__ = [
     "StudySettings",
@@ -524,7 +525,12 @@ def check_designs(study: Study, ex: Executor) -> None:
 def direct(study: Study, ex: Executor, progress: bool = True) -> None:
     """NSGA-II on the true model (no surrogate); compared with the surrogate front.
 
-    A design the kernel rejects gets :data:`FAILED_PENALTY` for every objective.
+    A design the kernel rejects gets :data:`FAILED_PENALTY` for every objective; a design
+    that failed or did not converge violates the problem's one constraint, so pymoo ranks
+    it below every converged design and never returns it in the front. Every evaluated
+    generation is checkpointed in the study file (``cases/LABEL/direct_generations``); an
+    interrupted run resumes by replaying the same seeded NSGA-II over the stored
+    generations, so it re-runs none of them.
 
     Parameters
     ----------
@@ -532,6 +538,11 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
         With fronts.
     ex : Executor
     progress : bool
+
+    Raises
+    ------
+    RinglubeError
+        No design of the direct NSGA-II converged.
 
     Example
     -------
@@ -547,30 +558,48 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
     s = study.s
 
     class TrueModel(Problem):
-        """The kernel itself as the pymoo problem, for one case (its base deck)."""
+        """The kernel itself as the pymoo problem, for one case (its base deck); one
+        inequality constraint: 0 for a converged run, 1 for a failed or unconverged one."""
 
-        def __init__(self, base, bar):
+        def __init__(self, label, base, bar):
             super().__init__(
-                n_var=len(s.variables), n_obj=len(s.objectives), xl=np.array(s.lower), xu=np.array(s.upper)
+                n_var=len(s.variables),
+                n_obj=len(s.objectives),
+                n_ieq_constr=1,
+                xl=np.array(s.lower),
+                xu=np.array(s.upper),
             )
-            self.base, self.bar = base, bar
-            self.evaluated, self.failed = [], []
+            self.label, self.base, self.bar = label, base, bar
+            self.generation = 0
 
         def _evaluate(self, x, out, *args, **kwargs):
+            done = study.cases[self.label].direct_generations
+            if self.generation < len(done) and np.array_equal(done[self.generation].x, x):
+                gen = done[self.generation]  # run before an interruption: replayed, not re-run
+            else:
+                del done[self.generation :]
+                gen = self._run(x)
+                done.append(gen)
+                study.save(force=False)
+            self.generation += 1
+            self.bar.update(len(x))
+            out["F"] = np.where(gen.failed[:, None], FAILED_PENALTY, gen.f)
+            out["G"] = np.where(gen.converged & ~gen.failed, 0.0, 1.0)[:, None]
+
+        def _run(self, x) -> DirectGeneration:
             chunks = np.array_split(np.arange(len(x)), max(1, len(x) // s.batch))
             f = np.empty((len(x), len(s.objectives)))
+            converged, failed = np.zeros(len(x), bool), np.zeros(len(x), bool)
 
             def put(i, res):
-                values, _, errors = res
-                bad = np.array([bool(e) for e in errors])
-                values = np.where(bad[:, None], FAILED_PENALTY, values)
+                values, conv, errors = res
                 f[chunks[i]] = values
-                self.failed.append(int(bad.sum()))
-                self.bar.update(len(chunks[i]))
+                converged[chunks[i]] = conv
+                failed[chunks[i]] = [bool(e) for e in errors]
 
+            t0 = time.perf_counter()
             ex.map(_run_designs, [(self.base, s.groups_names, x[c], list(s.objectives)) for c in chunks], put)
-            self.evaluated.append(len(x))
-            out["F"] = f
+            return DirectGeneration(np.array(x), f, converged, failed, time.perf_counter() - t0)
 
     for label, base in zip(s.labels, _bases(s)):
         if study.cases[label].direct is not None:
@@ -581,17 +610,21 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
             desc=f"direct NSGA-II ({label})",
             disable=not progress,
         )
-        problem = TrueModel(base, bar)
-        t0 = time.perf_counter()
-        res = minimize(
-            problem,
-            NSGA2(pop_size=s.direct_population),
-            ("n_gen", s.direct_generations),
-            seed=s.seed,
-            verbose=False,
-        )
-        bar.close()
-        wall = time.perf_counter() - t0
+        problem = TrueModel(label, base, bar)
+        try:
+            res = minimize(
+                problem,
+                NSGA2(pop_size=s.direct_population),
+                ("n_gen", s.direct_generations),
+                seed=s.seed,
+                verbose=False,
+            )
+        finally:
+            bar.close()
+            study.save()
+        gens = study.cases[label].direct_generations
+        if res.F is None:
+            raise RinglubeError(f"case '{label}': no design of the direct NSGA-II converged")
         fd = np.atleast_2d(res.F)
         fs = np.asarray(study.cases[label].front.f)
         both = np.vstack([fd, fs])
@@ -600,13 +633,14 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
         study.cases[label].direct = Direct(
             np.atleast_2d(res.X),
             fd,
-            int(sum(problem.evaluated)),
-            wall,
+            sum(len(g.x) for g in gens),
+            sum(g.wall_s for g in gens),
             hypervolume(fd, ref, lo),
             hypervolume(fs, ref, lo),
             float(IGD(fd / scale)(fs / scale)),
             float(IGD(fs / scale)(fd / scale)),
-            int(sum(problem.failed)),
+            int(sum(g.failed.sum() for g in gens)),
+            int(sum((~g.converged & ~g.failed).sum() for g in gens)),
         )
         study.save()
 
@@ -676,6 +710,8 @@ def run_study(
     """
     s = read_study(deck)
     out = _out_folder(out, s)
+    for name in ["report.md", *(f"pareto_{label}.csv" for label in [*s.labels, "scene"])]:
+        check_output(out / name, s.cases)  # before the work, not after it
     path = out / f"{s.name}.h5"
     study = Study.open(s, path, lock=True)
     try:

@@ -22,6 +22,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .outputs import save_figure  # noqa: E402
 from .plot import save_metadata  # noqa: E402
 
 __all__ = [
@@ -138,9 +139,7 @@ def save(fig: plt.Figure, out: str | Path, stem: str) -> list[Path]:
     """
     files = []
     for fmt in ("png", "pdf"):
-        p = Path(out) / f"{stem}.{fmt}"
-        fig.savefig(p, dpi=130, metadata=save_metadata(fmt))
-        files.append(p)
+        files.append(save_figure(fig, Path(out) / f"{stem}.{fmt}", dpi=130, metadata=save_metadata(fmt)))
     plt.close(fig)
     return files
 

@@ -13,10 +13,23 @@ from pathlib import Path
 
 import numpy as np
 
+from .outputs import atomic_path, write_text
 from .study_settings import display, output_units
 from .study_store import Checked, Study
 
-__all__ = ["summary", "write_report", "write_pareto_csv", "format_design", "study_figures", "write_outputs"]
+#: How a re-checked design whose true-model run did not converge is marked (its numbers are
+#: the last cycle's, not a verified periodic result).
+NOT_CONVERGED = "NOT CONVERGED, not verified"
+
+__all__ = [
+    "NOT_CONVERGED",
+    "summary",
+    "write_report",
+    "write_pareto_csv",
+    "format_design",
+    "study_figures",
+    "write_outputs",
+]
 
 
 def format_design(study: Study, x) -> str:
@@ -107,13 +120,14 @@ def summary(study: Study) -> str:
         for ch in (c.chosen, c.reference):
             if ch is None:
                 continue
-            for n, x, ft, err, e in zip(ch.names, ch.x, ch.f_true, ch.rel_error, ch.errors):
+            for n, x, ft, err, e, ok in zip(ch.names, ch.x, ch.f_true, ch.rel_error, ch.errors, ch.converged):
                 cols = [study.s.outputs.index(o) for o in s.objectives]
                 if e:
                     lines.append(f"  {n:18s} {format_design(study, x)} -> failed: {e}")
                     continue
                 lines.append(
                     f"  {n:18s} {format_design(study, x)} -> "
+                    + ("" if ok else f"{NOT_CONVERGED}: ")
                     + _values(s.objectives, ft[cols])
                     + "  (surrogate error "
                     + ", ".join(f"{err[j]:+.1%}" for j in cols)
@@ -122,7 +136,8 @@ def summary(study: Study) -> str:
         d = c.direct
         if d is not None:
             lines.append(
-                f"  direct NSGA-II: {d.runs} true-model runs ({d.failed} failed) in "
+                f"  direct NSGA-II: {d.runs} true-model runs ({d.failed} failed, "
+                f"{d.unconverged} not converged: never in its front) in "
                 f"{d.wall_s:.1f} s; hypervolume direct {d.hv_direct:.3f} vs surrogate "
                 f"front {d.hv_surrogate:.3f} (normalised, common reference); IGD "
                 f"surrogate->direct {d.igd_surrogate_to_direct:.3f}, direct->surrogate "
@@ -171,7 +186,7 @@ def write_pareto_csv(study: Study, out: str | os.PathLike) -> list[Path]:
         for j, o in enumerate(s.objectives):  # the GA's own values of its objectives
             pred[:, study.s.outputs.index(o)] = c.front.f[:, j]
         path = Path(out) / f"pareto_{label}.csv"
-        with open(path, "w", newline="") as fh:
+        with atomic_path(path, [study.path]) as tmp, open(tmp, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(
                 [f"{v} [{u}]" if u else v for v, u in zip(s.variables, s.units)]
@@ -196,13 +211,13 @@ def _design_table(study: Study, ch: Checked) -> list[str]:
         "|" + "---|" * (2 + len(heads) + len(study.s.outputs)),
     ]
     cols = [study.s.outputs.index(o) for o in s.objectives]
-    for n, x, ft, err, e in zip(ch.names, ch.x, ch.f_true, ch.rel_error, ch.errors):
+    for n, x, ft, err, e, ok in zip(ch.names, ch.x, ch.f_true, ch.rel_error, ch.errors, ch.converged):
         xs = " | ".join(f"{xi * k:.4g}" for xi, k in zip(x, scales))
         if e:
             rows.append(f"| {n} | {xs} | " + " | ".join("failed" for _ in study.s.outputs) + f" | {e} |")
             continue
         rows.append(
-            f"| {n} | {xs} | "
+            f"| {n}{'' if ok else f' ({NOT_CONVERGED})'} | {xs} | "
             + " | ".join(f"{v:.4g}" for v in ft)
             + " | "
             + ", ".join(f"{s.objectives[k]} {err[j]:+.1%}" for k, j in enumerate(cols))
@@ -315,7 +330,9 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
         "The extremes of each objective on the merged Pareto set and its knee (nearest the "
         "ideal point in normalised objectives)"
         + (", and the reference design of the study deck" if s.reference is not None else "")
-        + ". Results from the true model; surrogate error = (surface - true) / |true|.",
+        + ". Results from the true model; surrogate error = (surface - true) / |true|. "
+        f"A design marked '{NOT_CONVERGED}' did not reach a periodic cycle: its numbers are "
+        "the last cycle's and confirm nothing.",
     ]
     for label, c in study.cases.items():
         if c.chosen is None:
@@ -337,22 +354,23 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
             "",
             "## NSGA-II on the true model (--direct)",
             "",
-            "| case | runs | failed | wall time [s] | hypervolume direct / surrogate | "
+            "A run that failed or did not converge violates the direct NSGA-II's constraint: "
+            "it is ranked below every converged design and never in its front.",
+            "",
+            "| case | runs | failed | not converged | wall time [s] | hypervolume direct / surrogate | "
             "IGD surrogate->direct, direct->surrogate |",
-            "|---|---|---|---|---|---|",
+            "|---|---|---|---|---|---|---|",
         ]
         for label, d in direct:
             L.append(
-                f"| {label} | {d.runs} | {d.failed} | {d.wall_s:.1f} | "
+                f"| {label} | {d.runs} | {d.failed} | {d.unconverged} | {d.wall_s:.1f} | "
                 f"{d.hv_direct:.3f} / {d.hv_surrogate:.3f} | "
                 f"{d.igd_surrogate_to_direct:.3f}, {d.igd_direct_to_surrogate:.3f} |"
             )
     if figures:
         L += ["", "## Figures", ""]
         L += [f"![{f.stem}]({f.name})" for f in figures]
-    path = out / "report.md"
-    path.write_text("\n".join(L) + "\n")
-    return path
+    return write_text(out / "report.md", "\n".join(L) + "\n", [study.path])
 
 
 def write_outputs(study: Study, out: str | os.PathLike, figures: bool = True) -> list[Path]:

@@ -103,6 +103,14 @@ def _is_unknown_variable(group: str, name: str) -> bool:
     return (group, name) not in INPUTS
 
 
+def _is_whole_number(group: str, name: str) -> bool:
+    """Is ``&group name`` an integer input of the kernel's table?"""
+    from .tables import INPUTS
+
+    spec = INPUTS.get((group, name))
+    return spec is not None and spec.kind == "integer"
+
+
 def _model_units() -> dict[str, str]:
     """Every design quantity a study may record, with its unit: the objective results of the
     kernel's table, including those only some film models produce (``oil_to_chamber``)."""
@@ -389,6 +397,40 @@ class StudySettings:
             }
         )
 
+    def derived_key(self, label: str, direct: bool = False) -> str:
+        """What must match for results derived from the runs of one case to be kept on resume.
+
+        The fit and GA settings shape every surface and front; the weights and ``scene``
+        also shape the weighted scene (``label == 'scene'``); the direct NSGA-II sizes shape
+        the direct comparison (``direct=True``). A stored result whose key differs is
+        recomputed from the runs (which are kept).
+
+        Parameters
+        ----------
+        label : str
+            Case label or ``scene``.
+        direct : bool
+            The key of the direct NSGA-II comparison.
+
+        Returns
+        -------
+        str
+            JSON.
+
+        Example
+        -------
+        >>> s = StudySettings("s", ["a.nml"], ["a"], [1.0], ["width"], [0.0], [1.0], ["energy_loss"])
+        >>> '"weights"' in s.derived_key("scene"), '"weights"' in s.derived_key("a")
+        (True, False)
+        """
+        names = ["surrogate", "folds", "population", "generations", "repeats"]
+        if label == "scene":
+            names += ["weights", "scene"]
+        if direct:
+            names += ["direct_population", "direct_generations"]
+        d = dataclasses.asdict(self)
+        return json.dumps({k: d[k] for k in names})
+
     def to_json(self) -> str:
         """The settings as JSON (stored in the study file).
 
@@ -479,16 +521,16 @@ def read_study(path: str | os.PathLike) -> StudySettings:
     path = Path(path)
     if not path.is_file():
         raise InputError(f"{path}: file not found" if not path.exists() else f"{path}: not a file")
-    try:
-        import f90nml
-
-        nml = f90nml.read(path)
-    except Exception as exc:  # f90nml raises several types for bad syntax
-        raise InputError(f"{path}: cannot parse namelist: {str(exc).splitlines()[0]}") from None
+    nml = _parse(path)
     if "study" not in nml:
         raise InputError(f"{path}: no &study group")
+    if not isinstance(nml["study"], dict):
+        raise InputError(f"{path}: {len(nml['study'])} &study groups; a study deck has one")
     s = dict(nml["study"])
     chk = _Checker(path)
+    twice = _given_twice(path.read_text(errors="replace"))
+    if twice:
+        chk.bad(twice, "given twice; keep one")
     known = {f.name for f in dataclasses.fields(StudySettings)} - {"deck_text", "source", "inputs", "units"}
     for k in s:
         if k not in known:
@@ -528,6 +570,12 @@ def read_study(path: str | os.PathLike) -> StudySettings:
         group, name_ = split_variable(v)
         if not name_ or ":" in name_:
             chk.bad("variables", f"'{v}' is not 'name' or 'group:name'")
+        if _is_whole_number(group, name_):
+            chk.bad(
+                "variables",
+                f"'{v}' is a whole number (&{group} {name_}); a study samples real values: "
+                "vary it with one base deck per value instead",
+            )
         pairs.append((group, name_))
     if len(set(pairs)) != len(pairs):
         chk.bad("variables", "a variable is given twice")
@@ -599,6 +647,47 @@ def read_study(path: str | os.PathLike) -> StudySettings:
                     chk.bad("objectives", f"'{o}' needs &physics {need} in every base deck ({deck} has not)")
             st.outputs.append(o)
     return st
+
+
+def _parse(path: Path):
+    """The namelist file read by f90nml, or one line saying why not."""
+    import contextlib
+    import io
+
+    import f90nml
+
+    try:
+        with contextlib.redirect_stdout(io.StringIO()):  # f90nml prints its state on some errors
+            return f90nml.read(path)
+    except Exception as exc:  # f90nml raises several types for bad syntax
+        lines = str(exc).strip().splitlines()
+        why = lines[0] if lines else f"{type(exc).__name__} (an unterminated string or a stray character?)"
+        raise InputError(f"{path}: cannot parse namelist: {why}") from None
+
+
+def _given_twice(text: str) -> str:
+    """The first variable assigned twice in the ``&study`` group of ``text`` ('' if none).
+
+    Strings and ``!`` comments are skipped; ``name(i) =`` counts per index.
+
+    Example
+    -------
+    >>> _given_twice("&study samples = 16, samples = 32 /")
+    'samples'
+    >>> _given_twice("&study name = 'a=b', lower(1) = 1, lower(2) = 2 /")
+    ''
+    """
+    import re
+
+    code = re.sub(r"'(?:[^']|'')*'|\"(?:[^\"]|\"\")*\"|![^\n]*", " ", text)
+    group = re.search(r"&study\b(.*?)(?:/|&end\b|$)", code, flags=re.IGNORECASE | re.DOTALL)
+    seen = set()
+    for m in re.finditer(r"([A-Za-z_]\w*)\s*(\([^)]*\))?\s*=", group.group(1) if group else ""):
+        key = (m.group(1).lower(), (m.group(2) or "").replace(" ", ""))
+        if key in seen:
+            return m.group(1).lower()
+        seen.add(key)
+    return ""
 
 
 def _bounds(

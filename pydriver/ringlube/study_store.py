@@ -30,7 +30,18 @@ import numpy as np
 from .errors import InputError, RinglubeError
 from .study_settings import OUTPUTS, StudySettings, output_units
 
-__all__ = ["Study", "CaseState", "Runs", "Surface", "Front", "Checked", "Direct", "FORMAT", "FORMAT_VERSION"]
+__all__ = [
+    "Study",
+    "CaseState",
+    "Runs",
+    "Surface",
+    "Front",
+    "Checked",
+    "Direct",
+    "DirectGeneration",
+    "FORMAT",
+    "FORMAT_VERSION",
+]
 
 #: ``format`` attribute of a study file.
 FORMAT = "ringlube-study"
@@ -251,6 +262,36 @@ class Direct:
     igd_surrogate_to_direct: float
     igd_direct_to_surrogate: float
     failed: int = 0
+    unconverged: int = 0
+
+
+@dataclasses.dataclass
+class DirectGeneration:
+    """One generation of the direct NSGA-II, as evaluated (its checkpoint).
+
+    Attributes
+    ----------
+    x : ndarray, shape (k, d)
+        The designs pymoo asked for.
+    f : ndarray, shape (k, len(objectives))
+        Their true objectives (NaN where the run failed).
+    converged, failed : ndarray of bool, shape (k,)
+        Whether each run converged, and whether the kernel rejected the design.
+    wall_s : float
+        Wall time of the generation's runs.
+
+    Example
+    -------
+    >>> DirectGeneration(np.zeros((2, 1)), np.ones((2, 1)), np.ones(2, bool),
+    ...                  np.zeros(2, bool), 0.1).x.shape
+    (2, 1)
+    """
+
+    x: np.ndarray
+    f: np.ndarray
+    converged: np.ndarray
+    failed: np.ndarray
+    wall_s: float = 0.0
 
 
 @dataclasses.dataclass
@@ -270,6 +311,7 @@ class CaseState:
     chosen: Checked | None = None
     reference: Checked | None = None
     direct: Direct | None = None
+    direct_generations: list[DirectGeneration] = dataclasses.field(default_factory=list)
 
 
 class Study:
@@ -475,7 +517,12 @@ class Study:
                 raise ValueError(f"samples/x has shape {self.x.shape}")
         for label in [*s.labels, "scene"]:
             if f"cases/{label}/runs" in f:
-                self.cases[label] = _read_case(f[f"cases/{label}"], s)
+                g = f[f"cases/{label}"]
+                if _text(g.attrs.get("derived_key", "")) == s.derived_key(label):
+                    self.cases[label] = _read_case(g, s)
+                elif label != "scene":  # runs kept; what was derived from them is redone
+                    self.cases[label] = CaseState(_read_case(g, s).runs)
+                # a scene of other weights: recomputed from the cases' runs
 
     # --- writing -----------------------------------------------------------------------
     def save(self, force: bool = True) -> None:
@@ -526,7 +573,9 @@ class Study:
             d.attrs["lower"] = s.lower
             d.attrs["upper"] = s.upper
         for label, c in self.cases.items():
-            _write_case(f.require_group(f"cases/{label}"), c, s)
+            g = f.require_group(f"cases/{label}")
+            g.attrs["derived_key"] = s.derived_key(label)
+            _write_case(g, c, s)
 
 
 def _text(value: Any) -> str:
@@ -596,8 +645,17 @@ def _write_case(g: h5py.Group, c: CaseState, s: StudySettings) -> None:
             _put(cg, "rel_error", ch.rel_error, list(s.outputs), ["1"] * len(s.outputs))
             cg.create_dataset("converged", data=ch.converged)
             _put_strings(cg, "errors", ch.errors)
+    for k, gen in enumerate(c.direct_generations):
+        gg = g.create_group(f"direct_generations/g{k}")
+        gg.attrs["key"] = s.derived_key(g.name.rsplit("/", 1)[-1], direct=True)
+        gg.attrs["wall_s"] = gen.wall_s
+        _put(gg, "x", gen.x, s.variables, s.units)
+        _put(gg, "f", gen.f, s.objectives, obj_units)
+        gg.create_dataset("converged", data=gen.converged)
+        gg.create_dataset("failed", data=gen.failed)
     if c.direct is not None:
         dg = g.create_group("direct")
+        dg.attrs["key"] = s.derived_key(g.name.rsplit("/", 1)[-1], direct=True)
         _put(dg, "x", c.direct.x, s.variables, s.units)
         _put(dg, "f", c.direct.f, s.objectives, obj_units)
         for fld in dataclasses.fields(Direct):
@@ -654,10 +712,27 @@ def _read_case(g: h5py.Group, s: StudySettings) -> CaseState:
                     _strings(cg["errors"]),
                 ),
             )
-    if "direct" in g:
+    direct_key = s.derived_key(g.name.rsplit("/", 1)[-1], direct=True)
+    if "direct" in g and _text(g["direct"].attrs.get("key", "")) == direct_key:  # else redone
         dg = g["direct"]
         kw = {
-            fld.name: dg.attrs[fld.name] for fld in dataclasses.fields(Direct) if fld.name not in ("x", "f")
+            fld.name: dg.attrs.get(fld.name, fld.default)
+            for fld in dataclasses.fields(Direct)
+            if fld.name not in ("x", "f")
         }
         c.direct = Direct(dg["x"][()], dg["f"][()], **kw)
+    gens = g.get("direct_generations", {})
+    for k in range(len(gens)):
+        gg = gens[f"g{k}"]
+        if _text(gg.attrs.get("key", "")) != direct_key:
+            break  # checkpoints of other direct settings: redone
+        c.direct_generations.append(
+            DirectGeneration(
+                gg["x"][()],
+                gg["f"][()],
+                gg["converged"][()].astype(bool),
+                gg["failed"][()].astype(bool),
+                float(gg.attrs["wall_s"]),
+            )
+        )
     return c

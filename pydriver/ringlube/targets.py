@@ -25,6 +25,10 @@ from .tables import SCALARS
 __all__ = ["Condition", "read_targets", "DEFAULT_TARGETS"]
 
 
+#: Results that cannot be negative (a negative target is a typing mistake).
+_NON_NEGATIVE = frozenset({"energy_loss", "mixed_share", "ring_mass", "min_film", "max_friction"})
+
+
 def _default() -> Path:
     from .examples import examples_dir
 
@@ -62,7 +66,9 @@ def read_targets(path: str | os.PathLike) -> dict[str, Condition]:
     ------
     InputError
         Naming the file and line of a missing column, an unknown quantity, a wrong unit, a
-        value that is not a finite number or a condition with two decks.
+        value that is not a finite number, a negative energy, share, mass, film or
+        friction, a quantity given twice for one condition, a condition with two decks, or
+        text that is not UTF-8 (a leading byte-order mark is accepted).
 
     Examples
     --------
@@ -73,8 +79,15 @@ def read_targets(path: str | os.PathLike) -> dict[str, Condition]:
     if not path.is_file():
         raise InputError(f"{path}: targets file not found")
     out: dict[str, Condition] = {}
-    with open(path, newline="", encoding="utf-8") as fh:
-        rows = [(n, line) for n, line in enumerate(fh, 1) if line.strip() and not line.startswith("#")]
+    try:  # utf-8-sig: a byte-order mark (as spreadsheets write) is not part of the header
+        text = path.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = path.read_bytes()[: exc.start].count(b"\n") + 1
+        raise InputError(
+            f"{path}:{line}: not UTF-8 text (byte 0x{exc.object[exc.start]:02x}); save the file as UTF-8"
+        ) from None
+    lines = text.splitlines(keepends=True)
+    rows = [(n, line) for n, line in enumerate(lines, 1) if line.strip() and not line.startswith("#")]
     reader = csv.DictReader([line for _, line in rows])
     need = {"condition", "deck", "quantity", "value", "unit"}
     if not need <= set(reader.fieldnames or ()):
@@ -95,9 +108,13 @@ def read_targets(path: str | os.PathLike) -> dict[str, Condition]:
             raise InputError(f"{where}: value '{row['value']}' is not a finite number")
         name = (row["condition"] or "").strip()
         deck = (path.parent / (row["deck"] or "").strip()).resolve()
+        if value < 0 and q in _NON_NEGATIVE:
+            raise InputError(f"{where}: {q} = {value:g}: must not be negative")
         cond = out.setdefault(name, Condition(name, deck, {}))
         if cond.deck != deck:
             raise InputError(f"{where}: condition '{name}' already uses the deck {cond.deck}")
+        if q in cond.values:
+            raise InputError(f"{where}: condition '{name}' gives {q} twice; keep one row")
         cond.values[q] = value
     return out
 

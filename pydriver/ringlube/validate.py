@@ -18,6 +18,8 @@ import numpy as np
 from . import gas
 from .calibrate import BOUNDS, calibrate, correlation, strip_calibrated
 from .case import Case
+from .errors import InputError
+from .outputs import check_output, save_figure, write_text
 from .plot import gas_figure, plot_results, save_metadata
 from .solve import run, run_many
 from .study_settings import DESIGN_RANGES
@@ -181,8 +183,14 @@ def validate(root: str | os.PathLike = ".", out: str | os.PathLike = "docs") -> 
         "hot": root / "inputs" / "crf450r_4000rpm_full_hot.nml",
     }
     cases = {k: Case.from_namelist(p) for k, p in decks.items()}
-    calib_path = Path(cases["cold"]["calibration", "file"])
-    calibration = Case.from_namelist(calib_path) if calib_path.exists() else Case()
+    calib_file = cases["cold"]["calibration", "file"]
+    if not calib_file:
+        raise InputError(
+            f"{decks['cold']}: &calibration file: not given; validate compares the calibration "
+            "file the cold deck includes with a fresh fit (ringlube calibrate writes one)"
+        )
+    calibration = Case.from_namelist(calib_file)
+    check_output(out / "validation.md", list(decks.values()))
     results = {k: run(c) for k, c in cases.items()}
     for k, r in results.items():
         r.label = f"{k} ({cases[k]['operating', 'liner_temperature']:.0f} K)"
@@ -450,8 +458,8 @@ def validate(root: str | os.PathLike = ".", out: str | os.PathLike = "docs") -> 
         traces[name] = gas.read_csv(root / "inputs" / "pressure" / f"{name}.csv")
     fig = gas_figure(traces)
     for fmt in ("png", "pdf"):
-        fig.savefig(figdir / f"fig2_gas_pressure.{fmt}", dpi=150, metadata=save_metadata(fmt))
-        files.append(figdir / f"fig2_gas_pressure.{fmt}")
+        path = figdir / f"fig2_gas_pressure.{fmt}"
+        files.append(save_figure(fig, path, dpi=150, metadata=save_metadata(fmt)))
     md += [
         "## Figures",
         "",
@@ -468,11 +476,7 @@ def validate(root: str | os.PathLike = ".", out: str | os.PathLike = "docs") -> 
         f"_Generated in {time.perf_counter() - t0:.0f} s._",
         "",
     ]
-    path = out / "validation.md"
-    tmpmd = path.with_name(path.name + ".part")
-    tmpmd.write_text("\n".join(md))
-    tmpmd.replace(path)
-    return path
+    return write_text(out / "validation.md", "\n".join(md))
 
 
 def _depth_for_mass(case: Case, grams: float) -> float:

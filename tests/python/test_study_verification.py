@@ -1,0 +1,98 @@
+"""A design whose true-model run did not converge is never reported as verified nor ranked
+as a good design; the direct NSGA-II resumes from its last finished generation."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import ringlube.study as study_mod
+from ringlube.study import run_study
+from ringlube.study_report import NOT_CONVERGED, summary, write_report
+
+from conftest import COLD
+
+#: designs with a crown offset above this are made 'unconverged' by the tests' stand-in
+OFFSET_LIMIT = 0.0
+
+
+def write(tmp_path, name="v", samples=32, generations=4) -> str:
+    path = tmp_path / f"{name}.nml"
+    path.write_text(
+        f"&study\n  name = '{name}', cases = '{COLD}', labels = 'cold'\n"
+        "  variables = 'width', 'crown_offset', lower = 0.8e-3, -40e-6, upper = 1.2e-3, 40e-6\n"
+        "  objectives = 'energy_loss', 'mixed_share'\n"
+        f"  samples = {samples}, seed = 3, population = 12, generations = 4, repeats = 2\n"
+        f"  direct_population = 6, direct_generations = {generations}, batch = 6\n/\n"
+    )
+    return str(path)
+
+
+def some_unconverged(real):
+    """``_run_designs`` whose runs at a large crown offset report 'not converged'."""
+
+    def run(base, variables, x, outputs):
+        values, converged, errors = real(base, variables, x, outputs)
+        return values, converged & (np.asarray(x)[:, 1] <= OFFSET_LIMIT), errors
+
+    return run
+
+
+def test_direct_nsga2_never_ranks_an_unconverged_run(tmp_path, monkeypatch):
+    monkeypatch.setattr(study_mod, "_run_designs", some_unconverged(study_mod._run_designs))
+    study = run_study(
+        write(tmp_path), tmp_path / "out", serial=True, with_direct=True, progress=False, figures=False
+    )
+    d = study.cases["cold"].direct
+    assert d.unconverged > 0
+    assert np.all(d.x[:, 1] <= OFFSET_LIMIT), "an unconverged design is in the direct front"
+    assert "not converged: never in its front" in summary(study)
+
+
+def test_unconverged_recheck_is_marked_in_summary_and_report(tmp_path):
+    study = run_study(
+        write(tmp_path, generations=1), tmp_path / "out", serial=True, progress=False, figures=False
+    )
+    chosen = study.cases["cold"].chosen
+    chosen.converged[:] = True
+    chosen.converged[1] = False
+    text = summary(study)
+    marked = [line for line in text.splitlines() if NOT_CONVERGED in line]
+    assert len(marked) == 1 and marked[0].strip().startswith(chosen.names[1])
+    report = write_report(study, tmp_path / "out").read_text()
+    assert f"| {chosen.names[1]} ({NOT_CONVERGED}) |" in report
+    assert f"| {chosen.names[0]} |" in report
+
+
+def test_direct_nsga2_resumes_from_its_last_generation(tmp_path, monkeypatch):
+    real = study_mod._run_designs
+    deck = write(tmp_path)
+    run_study(deck, tmp_path / "out", serial=True, progress=False, figures=False)
+    fresh_deck = write(tmp_path, name="fresh")
+    run_study(fresh_deck, tmp_path / "fresh", serial=True, progress=False, figures=False)
+    rows: list[int] = []
+
+    def counting(base, variables, x, outputs):  # one call per generation (batch = population)
+        if stop_at is not None and len(rows) == stop_at:
+            raise KeyboardInterrupt("test: interrupted during the direct NSGA-II")
+        rows.append(len(x))
+        return real(base, variables, x, outputs)
+
+    monkeypatch.setattr(study_mod, "_run_designs", counting)
+    stop_at = None
+    fresh = run_study(
+        fresh_deck, tmp_path / "fresh", serial=True, with_direct=True, progress=False, figures=False
+    )
+    all_rows, rows[:] = list(rows), []
+    assert len(all_rows) == 4  # the test's premise: one call per generation
+    stop_at = 2
+    with pytest.raises(KeyboardInterrupt):
+        run_study(deck, tmp_path / "out", serial=True, with_direct=True, progress=False, figures=False)
+    assert rows == all_rows[:2]
+    rows[:], stop_at = [], None
+    resumed = run_study(deck, tmp_path / "out", serial=True, with_direct=True, progress=False, figures=False)
+    assert rows == all_rows[2:]  # the two finished generations were not re-run
+    a, b = resumed.cases["cold"].direct, fresh.cases["cold"].direct
+    np.testing.assert_array_equal(a.x, b.x)
+    np.testing.assert_array_equal(a.f, b.f)
+    assert a.runs == b.runs == sum(all_rows)
