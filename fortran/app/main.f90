@@ -92,7 +92,8 @@ program ringlube_solve
     do i = 1, n_scalars
       v(i) = scalar_value(res, i)
     end do
-    summary = summary_text(v, res%has_starved, 'ringlube '//package_version//': '//deck, out)
+    summary = summary_text(v, res%has_starved, 'ringlube '//package_version//': '//deck, out, &
+                           res%has_ring_pack)
     write (output_unit, '(a)', advance='no') summary
   end if
   if (.not. res%converged) then

@@ -184,7 +184,7 @@ subroutine rl_run(handle, out_path, nsteps, ns, ni, nc, nliner, series, iseries,
   real(c_double), intent(out) :: series(nsteps, ns)
   integer(c_int), intent(out) :: iseries(nsteps, ni)
   real(c_double), intent(out) :: scalars(nc)
-  integer(c_int), intent(out) :: produced(2)
+  integer(c_int), intent(out) :: produced(3)
   real(c_double), intent(out) :: liner(nliner, 2)
   integer(c_int), intent(out) :: code
   character(len=4096), intent(out) :: message
@@ -223,7 +223,7 @@ subroutine rl_run(handle, out_path, nsteps, ns, ni, nc, nliner, series, iseries,
   do j = 1, n_scalars
     scalars(j) = scalar_value(r, j)
   end do
-  produced = [merge(1, 0, r%has_jfo), merge(1, 0, r%has_starved)]
+  produced = [merge(1, 0, r%has_jfo), merge(1, 0, r%has_starved), merge(1, 0, r%has_ring_pack)]
   if (size(r%liner_z) == nliner) then
     do j = 1, n_liner
       liner(:, j) = liner_ptr(r, j)
@@ -278,19 +278,19 @@ subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes, messages)
 end subroutine rl_run_batch
 
 !> The summary `ringlube-solve` prints, from the scalar results `scalars` (table
-!> 'scalars'); `starved` nonzero for a run with a starved inlet; `title` and `written`
+!> 'scalars'); `starved` (`gas`) nonzero for a run with a starved inlet (the ring pack); `title` and `written`
 !> (the first and last line) left out when blank. `n` is the text's length.
-subroutine rl_summary(nc, scalars, starved, title, written, text, n)
+subroutine rl_summary(nc, scalars, starved, gas, title, written, text, n)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
   use ringlube_results, only: summary_text
   implicit none
-  integer(c_int), intent(in) :: nc, starved
+  integer(c_int), intent(in) :: nc, starved, gas
   real(c_double), intent(in) :: scalars(nc)
   character(len=*), intent(in) :: title, written
   character(len=8192), intent(out) :: text
   integer(c_int), intent(out) :: n
   character(len=:), allocatable :: t
-  t = summary_text(scalars, starved /= 0, title, written)
+  t = summary_text(scalars, starved /= 0, title, written, gas /= 0)
   n = min(len(t), len(text))
   text = t
 end subroutine rl_summary

@@ -475,12 +475,6 @@ contains
       call bad('physics', 'inlet', "'starved' needs the mass-conserving film, cavitation = 'jfo'")
       return
     end if
-    if (c%ring_pack == 'gas') then
-      ! the gas network (ringlube_ring_pack) is built and tested but not yet coupled to the
-      ! film: refuse rather than silently run the source study's pressures (issue 17)
-      call bad('physics', 'ring_pack', "'gas' is not yet coupled to the film (the gas "// &
-               "network exists as a standalone module, issue 17); use 'none'"); return
-    end if
     if (c%h0_ceiling <= 10.0_dp * c%h0_floor) then
       call bad('numerics', 'h0_ceiling', 'must exceed 10 h0_floor'); return
     end if

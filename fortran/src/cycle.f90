@@ -4,7 +4,12 @@ module ringlube_cycle
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, elastic_pressure, ring_mass, steps_per_cycle
-  use ringlube_kinematics, only: deg2rad, piston_position
+  use ringlube_kinematics, only: deg2rad, piston_position, piston_acceleration
+  use ringlube_gas, only: gas_pressure
+  use ringlube_ring_pack, only: ring_pack_params, ring_pack_state, ring_pack_step_out, &
+                                ring_pack_totals, ring_pack_cycle_out, ring_pack_params_from_case, &
+                                ring_pack_init, ring_pack_step, ring_pack_accumulate, &
+                                ring_pack_finish, ring_pack_cycle, ring_pack_gas_mass
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_results, only: result_type, allocate_result, flag_ceiling, derive_results
   use ringlube_oil_supply, only: supply_type, supply_setup, inlet_available, trailing_available, &
@@ -40,6 +45,16 @@ contains
     real(dp), allocatable :: map_prev(:)
     type(load_problem) :: lp
     integer :: extra_evaluations, extra_solves
+    ! the ring pack (SPEC 14): parameters, state (now, at the start of the cycle, on the copy
+    ! that solves psi = 720), the last step, the cycle's sums; the friction of the last step
+    logical :: gas_pack
+    type(ring_pack_params) :: rpar
+    type(ring_pack_state) :: rst, rst0, gst
+    type(ring_pack_step_out) :: rout, gout
+    type(ring_pack_totals) :: rtot
+    type(ring_pack_cycle_out) :: rcyc
+    type(error_type), allocatable :: rerr
+    real(dp) :: fric_prev, rp_change
 
     if (c%gt_functions == 'exact') call gt_init()
 
@@ -74,9 +89,19 @@ contains
     if (f%starved) warmup = max(warmup, starved_warmup_deg)
     k = steps_per_cycle(c) - nint(warmup / c%dpsi_deg) + 1
     s_prev = position((k - 2) * c%dpsi_deg)
+    fric_prev = 0.0_dp
+    gas_pack = c%ring_pack == 'gas'
+    if (gas_pack) then
+      call ring_pack_start(k)
+      if (allocated(err)) return
+    end if
     do k = k, m
       call advance((k - 1) * c%dpsi_deg, h0, flags, resid, lp, vin, vout)
     end do
+    if (allocated(rerr)) then
+      call move_alloc(rerr, err)
+      return
+    end if
     energy_prev = -1.0_dp
     do icycle = 1, c%max_cycles
       res%cycles_run = icycle
@@ -86,14 +111,36 @@ contains
         stored0 = supply_stored(sup) + gap0
         map_prev = sup%liner%h
       end if
+      if (gas_pack) then
+        rst0 = rst
+        rtot = ring_pack_totals()
+        rtot%stored_start = ring_pack_gas_mass(rpar, rst)
+      end if
       do k = 1, m
         call step(k, h0)
         if (k == 1) h0_start = h0
       end do
+      if (allocated(rerr)) then
+        call move_alloc(rerr, err)
+        return
+      end if
       ! psi = 720 deg is psi = 0 of the next cycle: solve it on a copy of the film
       g = f
       gmem = mem
       call prepare(g, 0.0_dp)
+      rp_change = 0.0_dp
+      if (gas_pack) then
+        ! the ring pack's state repeats too (pressures relative to the peak chamber pressure,
+        ! lift relative to the clearance), and its last step to psi = 720 on a copy
+        call ring_pack_finish(rtot, ring_pack_gas_mass(rpar, rst), rcyc)
+        rp_change = max(abs(rst%p2 - rst0%p2), abs(rst%p3 - rst0%p3)) / max(c%crankcase_pressure, &
+                                                           maxval(c%gas_p, mask=c%gas_p > 0.0_dp)) &
+                    + abs(rst%x - rst0%x) / c%groove_clearance
+        gst = rst
+        call ring_pack_advance(gst, gout, 720.0_dp)
+        g%p_back = gst%p2
+        g%p_lower = gst%p3
+      end if
       call balance(c, ctx, g, gmem, 0.0_dp, h0_end, flags, resid, lp)
       extra_evaluations = extra_evaluations + g%evaluations - f%evaluations
       extra_solves = extra_solves + g%reynolds_solves - f%reynolds_solves
@@ -110,15 +157,25 @@ contains
         ! oil in the gap at its start and end
         if (icycle == 1) change_energy = max(res%cycle_change, abs(gap_volume() - gap0) / &
                                              max(gap0, tiny(1.0_dp)))
-        if (change_map <= c%cycle_tol .and. change_energy <= c%cycle_tol) then
+        if (change_map <= c%cycle_tol .and. change_energy <= c%cycle_tol .and. &
+            rp_change <= c%cycle_tol) then
           res%periodic = .true.
           exit
         end if
-      else if (res%cycle_change <= c%cycle_tol) then
+      else if (res%cycle_change <= c%cycle_tol .and. rp_change <= c%cycle_tol) then
         res%periodic = .true.
         exit
       end if
     end do
+    if (gas_pack) then
+      res%has_ring_pack = .true.
+      res%blowby = rcyc%blowby_l_min
+      res%blowby_mass = rcyc%blowby_mg_per_cycle
+      res%blowback_mass = rcyc%blowback_mg_per_cycle
+      res%ring_lift_share = rcyc%ring_lift_share_pct
+      res%flutter_events = rcyc%flutter_events
+      res%gas_balance_error = rcyc%gas_balance_error
+    end if
     res%has_jfo = f%jfo
     res%has_starved = f%starved
     if (f%starved) then
@@ -190,10 +247,20 @@ contains
       real(dp), intent(out) :: h0out, resid_out, v_in, v_out
       integer, intent(out) :: flags_out
       type(load_problem), intent(out) :: lp_out
-      real(dp) :: s
+      real(dp) :: s, fv, fb
       integer :: dir
       call prepare(f, psi)
+      if (gas_pack) then
+        call ring_pack_advance(rst, rout, psi)
+        f%p_back = rst%p2
+        f%p_lower = rst%p3
+      end if
       call balance(c, ctx, f, mem, psi, h0out, flags_out, resid_out, lp_out)
+      if (gas_pack) then
+        ! the friction that moves the ring in its groove over the next step
+        call film_friction(c, f, lp_out%u, fv, fb)
+        fric_prev = fv + fb
+      end if
       v_in = 0.0_dp
       v_out = 0.0_dp
       if (.not. f%jfo) return
@@ -271,7 +338,62 @@ contains
           res%oil_left(k) = max(vout, 0.0_dp) / (abs(lp%u) * ctx%dt)
       end if
       if (f%starved) res%oil_bank(k) = sup%bank
+      if (gas_pack) then
+        res%groove_pressure(k) = rst%p2
+        res%land_pressure(k) = rst%p3
+        res%ring_lift(k) = rst%x
+        res%top_gap_flow(k) = rout%top_gap_flow
+        res%second_gap_flow(k) = rout%second_gap_flow
+        call ring_pack_accumulate(rtot, rout, ctx%dt)
+      end if
     end subroutine step
+
+    !> Chamber pressure [Pa] at crank angle psi [deg] (the trace, scaled).
+    real(dp) function chamber(psi)
+      real(dp), intent(in) :: psi
+      chamber = gas_pressure(c%gas_psi, c%gas_p, modulo(psi, 720.0_dp), c%crankcase_pressure)
+    end function chamber
+
+    !> Advance the ring pack's state `st` over the crank step ending at psi [deg]: the chamber
+    !> pressure linear in time over the step, the friction of the last step (explicit: the
+    !> gas and the ring's axial motion are advanced first, then the film at the step's end
+    !> sees the new groove and land pressures), the piston's acceleration at mid-step.
+    subroutine ring_pack_advance(st, out, psi)
+      type(ring_pack_state), intent(inout) :: st
+      type(ring_pack_step_out), intent(out) :: out
+      real(dp), intent(in) :: psi
+      real(dp) :: a_p
+      a_p = -piston_acceleration(deg2rad(psi - 0.5_dp * c%dpsi_deg), c%crank_radius, &
+                                 c%conrod_length, ctx%omega)
+      if (allocated(rerr)) return
+      call ring_pack_step(rpar, st, chamber(psi - c%dpsi_deg), chamber(psi), &
+                          c%crankcase_pressure, -fric_prev, a_p, ctx%dt, out, rerr)
+    end subroutine ring_pack_advance
+
+    !> The ring pack at the start of the warm-up (crank step kstart): the gas network alone
+    !> (no friction) run to its periodic state over whole cycles, then advanced to the
+    !> warm-up's first step, so that the coupled cycles start near their own periodic state
+    !> (the land takes 2-16 gas cycles to settle from a cold start, docs/ring_pack.md).
+    subroutine ring_pack_start(kstart)
+      integer, intent(in) :: kstart
+      real(dp) :: p1(0:m - 1), ap(0:m - 1), ff(0:m - 1)
+      integer :: j
+      rpar = ring_pack_params_from_case(c)
+      do j = 0, m - 1
+        p1(j) = chamber(j * c%dpsi_deg)
+        ap(j) = -piston_acceleration(deg2rad(j * c%dpsi_deg), c%crank_radius, c%conrod_length, &
+                                     ctx%omega)
+      end do
+      ff = 0.0_dp
+      call ring_pack_init(rst, p1(0), c%crankcase_pressure)
+      call ring_pack_cycle(rpar, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, rst, &
+                           rcyc, err, max_cycles=50, tol=1e-6_dp)
+      if (allocated(err)) return
+      do j = 1, kstart - 2
+        call ring_pack_advance(rst, rout, j * c%dpsi_deg)
+      end do
+      if (allocated(rerr)) call move_alloc(rerr, err)
+    end subroutine ring_pack_start
   end subroutine solve_cycle
 
   !> Percentage of the cycle with lambda = h0/sigma < 4 (SPEC section 8), lambda linear

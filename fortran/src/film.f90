@@ -56,6 +56,10 @@ module ringlube_film
     !> starved: oil on the liner just behind the trailing edge that it may draw back over the
     !> step [m^2]; the caps on the inflow through the left and right edge faces [m^2/s]
     real(dp) :: behind = 0.0_dp, cap_left = huge(1.0_dp), cap_right = huge(1.0_dp)
+    !> the gas around the ring (SPEC 14, set by the caller with ring_pack = 'gas'): the
+    !> pressure behind the ring (its gas load) and at its lower (crankcase) edge [Pa];
+    !> negative: the chamber pressure behind it and the crankcase pressure below it
+    real(dp) :: p_back = -1.0_dp, p_lower = -1.0_dp
   end type film_type
 
 contains
@@ -133,7 +137,7 @@ contains
       return
     end if
     pl = p_chamber
-    pr = c%crankcase_pressure
+    pr = lower_edge_pressure(c, f)
     f%trailing_cavitated = .false.
     if (c%outlet == 'reynolds') then
       f%trailing_cavitated = .true.
@@ -200,7 +204,7 @@ contains
 
     n = f%n
     pl = p_chamber
-    pr = c%crankcase_pressure
+    pr = lower_edge_pressure(c, f)
     trailing_gas = c%cavity_pressure == 'trailing_gas'
     if (f%lead_left) then
       h_le = f%hmid(1)
@@ -268,6 +272,15 @@ contains
 
     call film_loads(c, f)
   end subroutine jfo_evaluate
+
+  !> Gas pressure at the ring's lower (crankcase) edge [Pa]: the land pressure with the ring
+  !> pack, else the crankcase pressure.
+  pure real(dp) function lower_edge_pressure(c, f) result(p)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(in) :: f
+    p = c%crankcase_pressure
+    if (f%p_lower >= 0.0_dp) p = f%p_lower
+  end function lower_edge_pressure
 
   !> One step of the pressure-viscosity loop of either film model, after a solve: the
   !> viscosity of the new pressure (once per node and iteration; only where the pressure

@@ -95,7 +95,12 @@ contains
     lp%u = u
     lp%dt = ctx%dt
     lp%pg = gas_pressure(c%gas_psi, c%gas_p, psi, c%crankcase_pressure)
-    lp%load = (ctx%p_e + lp%pg) * c%width * g%circ
+    ! the gas behind the ring: the chamber's, or the groove's with the ring pack
+    if (g%p_back >= 0.0_dp) then
+      lp%load = (ctx%p_e + g%p_back) * c%width * g%circ
+    else
+      lp%load = (ctx%p_e + lp%pg) * c%width * g%circ
+    end if
     ! BDF2 on a smooth stretch: two previous steps, and the sign of u (the inlet edge)
     ! as at the last step
     if (c%time_scheme == 'bdf2' .and. mem%nh >= 2 .and. &

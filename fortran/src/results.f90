@@ -28,7 +28,8 @@ module ringlube_results
     character(len=8) :: unit = ''
     logical :: integer_valued = .false.
     character(len=110) :: long_name = ''
-    !> '' (always written), 'jfo' (mass-conserving film only) or 'starved' (starved inlet only)
+    !> '' (always written), 'jfo' (mass-conserving film only), 'starved' (starved inlet only)
+    !> or 'gas' (ring_pack = 'gas' only)
     character(len=8) :: requires = ''
     !> a design quantity a study records for every design (and may optimise)
     logical :: objective = .false.
@@ -74,7 +75,18 @@ module ringlube_results
     field_spec('oil_left', 'oil_left_m', 'm', .false., &
       'oil film left on the liner at the trailing edge', 'jfo'), &
     field_spec('oil_bank', 'oil_bank_m2', 'm^2', .false., &
-      'oil bank pushed ahead of the leading edge, per unit circumference', 'starved') &
+      'oil bank pushed ahead of the leading edge, per unit circumference', 'starved'), &
+    field_spec('groove_pressure', 'groove_pressure_Pa', 'Pa', .false., &
+      'gas pressure in the groove behind the top ring, space 2 (its back pressure)', 'gas'), &
+    field_spec('land_pressure', 'land_pressure_Pa', 'Pa', .false., &
+      'gas pressure on the second land, space 3 (the ring''s lower edge)', 'gas'), &
+    field_spec('ring_lift', 'ring_lift_m', 'm', .false., &
+      'top ring lift above the lower groove flank', 'gas'), &
+    field_spec('top_gap_flow', 'top_gap_flow_kg_s', 'kg/s', .false., &
+      'gas flow through the top ring''s end gap, chamber to land, positive towards the crankcase', &
+      'gas'), &
+    field_spec('second_gap_flow', 'second_gap_flow_kg_s', 'kg/s', .false., &
+      'gas flow through the second ring''s end gap, land to crankcase (blowby)', 'gas') &
   ]
   !> Integer series over the reported cycle.
   type(field_spec), parameter :: int_series_spec(*) = [ &
@@ -118,7 +130,24 @@ module ringlube_results
     field_spec('oil_to_chamber_rate', 'oil_to_chamber_g_h', 'g/h', .false., &
       'oil to the chamber per hour: oil_to_chamber x oil_density x cycles per hour', 'starved'), &
     field_spec('flagged_steps', 'flagged_steps', '1', .true., &
-      'crank steps of the reported cycle with a flag (see /cycle/flags)') &
+      'crank steps of the reported cycle with a flag (see /cycle/flags)'), &
+    field_spec('liner_lift_share', 'liner_lift_share_pct', '%', .false., &
+      'share of the cycle the ring is lifted off the liner (h0 held at h0_ceiling, flag 2)', &
+      '', .true.), &
+    field_spec('blowby', 'blowby_l_min', 'L/min', .false., &
+      'mean gas flow past the second ring to the crankcase, at 101325 Pa and 293.15 K', 'gas', &
+      .true.), &
+    field_spec('blowby_mass', 'blowby_mg_per_cycle', 'mg', .false., &
+      'gas mass past the second ring per cycle', 'gas'), &
+    field_spec('blowback_mass', 'blowback_mg_per_cycle', 'mg', .false., &
+      'gas mass flowing back from the ring pack into the chamber per cycle', 'gas'), &
+    field_spec('ring_lift_share', 'ring_lift_share_pct', '%', .false., &
+      'share of the cycle the top ring is off its lower groove flank', 'gas', .true.), &
+    field_spec('flutter_events', 'flutter_events', '1', .true., &
+      'times the top ring leaves its lower flank while the chamber pressure exceeds the land''s', &
+      'gas', .true.), &
+    field_spec('gas_balance_error', 'gas_balance_error', '1', .false., &
+      'relative closure of the ring pack''s gas mass over the reported cycle', 'gas') &
   ]
 
   !> The liner film at the end of the reported cycle (group /liner).
@@ -151,10 +180,17 @@ module ringlube_results
     real(dp), allocatable :: crank_angle_deg(:), sliding_speed(:), h0(:), lambda_min(:), &
                          gas_pressure(:), applied_load(:), hydrodynamic_load(:), asperity_load(:), &
           viscous_friction(:), boundary_friction(:), friction(:), power_loss(:), load_residual(:), &
-                             inlet_fill(:), wetted_width(:), oil_left(:), oil_bank(:)
+                             inlet_fill(:), wetted_width(:), oil_left(:), oil_bank(:), &
+                             groove_pressure(:), land_pressure(:), ring_lift(:), top_gap_flow(:), &
+                             second_gap_flow(:)
     integer, allocatable :: flags(:), iterations(:)
-    !> which optional results the run produced ('jfo', 'starved')
-    logical :: has_jfo = .false., has_starved = .false.
+    !> which optional results the run produced ('jfo', 'starved', 'gas')
+    logical :: has_jfo = .false., has_starved = .false., has_ring_pack = .false.
+    !> share of the cycle lifted off the liner [%]; the ring pack's cycle quantities
+    real(dp) :: liner_lift_share = 0.0_dp
+    real(dp) :: blowby = 0.0_dp, blowby_mass = 0.0_dp, blowback_mass = 0.0_dp, &
+                ring_lift_share = 0.0_dp, gas_balance_error = 0.0_dp
+    integer :: flutter_events = 0
     !> liner film at the end of the reported cycle
     real(dp), allocatable :: liner_z(:), liner_h(:)
     real(dp) :: oil_to_chamber = 0.0_dp     !< mm^3 per cycle, whole circumference
@@ -206,6 +242,7 @@ contains
     select case (trim(requires))
     case ('jfo'); produced = res%has_jfo
     case ('starved'); produced = res%has_starved
+    case ('gas'); produced = res%has_ring_pack
     case default; produced = .true.
     end select
   end function produced
@@ -269,6 +306,11 @@ contains
     case ('wetted_width'); call point(res%wetted_width)
     case ('oil_left'); call point(res%oil_left)
     case ('oil_bank'); call point(res%oil_bank)
+    case ('groove_pressure'); call point(res%groove_pressure)
+    case ('land_pressure'); call point(res%land_pressure)
+    case ('ring_lift'); call point(res%ring_lift)
+    case ('top_gap_flow'); call point(res%top_gap_flow)
+    case ('second_gap_flow'); call point(res%second_gap_flow)
     case ('liner_position'); call point(res%liner_z)
     case ('liner_oil_film'); call point(res%liner_h)
     end select
@@ -334,6 +376,13 @@ contains
     case ('fmep'); v = res%fmep
     case ('oil_to_chamber_rate'); v = res%oil_to_chamber_rate
     case ('flagged_steps'); v = real(res%flagged_steps, dp)
+    case ('liner_lift_share'); v = res%liner_lift_share
+    case ('blowby'); v = res%blowby
+    case ('blowby_mass'); v = res%blowby_mass
+    case ('blowback_mass'); v = res%blowback_mass
+    case ('ring_lift_share'); v = res%ring_lift_share
+    case ('flutter_events'); v = real(res%flutter_events, dp)
+    case ('gas_balance_error'); v = res%gas_balance_error
     end select
   end function scalar_value
 
@@ -348,7 +397,11 @@ contains
     res%fmep = res%energy_loss / swept_volume * 1e-3_dp
     ! mm^3/cycle x 1e-9 m^3/mm^3 x kg/m^3 x 1e3 g/kg x 30 speed_rpm cycles per hour
     res%oil_to_chamber_rate = res%oil_to_chamber * 1e-6_dp * oil_density * 30.0_dp * speed_rpm
-    if (allocated(res%flags)) res%flagged_steps = count(res%flags /= 0)
+    if (allocated(res%flags)) then
+      res%flagged_steps = count(res%flags /= 0)
+      res%liner_lift_share = 100.0_dp * count(iand(res%flags, flag_ceiling) /= 0) &
+                             / real(max(size(res%flags), 1), dp)
+    end if
   end subroutine derive_results
 
   !> The summary of a run that `ringlube-solve`, `ringlube run` and
@@ -356,9 +409,10 @@ contains
   !> `v` (order and stored units of `scalar_spec`). The oil line needs a starved inlet
   !> (`has_starved`); `title` (first line) and `written`
   !> (the file, last line) are left out when blank.
-  function summary_text(v, has_starved, title, written) result(t)
+  function summary_text(v, has_starved, title, written, has_ring_pack) result(t)
     real(dp), intent(in) :: v(:)
     logical, intent(in) :: has_starved
+    logical, intent(in), optional :: has_ring_pack
     character(len=*), intent(in) :: title, written
     character(len=:), allocatable :: t
     character(len=64) :: a, b
@@ -376,6 +430,19 @@ contains
     if (has_starved) then
       call line('oil to the chamber', num(x('oil_to_chamber')), 'mm^3 per cycle = '// &
                 trim(adjustl(num(x('oil_to_chamber_rate'))))//' g/h (oil_density)')
+    end if
+    write (a, '(f10.2)') x('liner_lift_share')
+    call line('lifted off the liner', a, '% of the cycle (h0 at h0_ceiling)')
+    if (present(has_ring_pack)) then
+      if (has_ring_pack) then
+        write (a, '(f10.3)') x('blowby')
+        write (b, '(f8.2)') x('blowby_mass')
+        call line('blowby', a, 'L/min ('//trim(adjustl(b))//' mg per cycle)')
+        write (a, '(f10.2)') x('ring_lift_share')
+        write (b, '(i8)') nint(x('flutter_events'))
+        call line('ring lift in its groove', a, '% of the cycle ('//trim(adjustl(b))// &
+                  ' flutter events)')
+      end if
     end if
     write (a, '(f10.3)') x('ring_mass')
     call line('ring mass', a, 'g')

@@ -254,6 +254,65 @@ def supply_figure(results: Sequence[CycleResult]) -> plt.Figure:
     return fig
 
 
+def ring_pack_figure(results: Sequence[CycleResult]) -> plt.Figure:
+    """The gas around the ring over the cycle (``ring_pack = 'gas'``, SPEC 14): chamber p1,
+    groove p2 and land p3 pressures, the ring's lift in its groove and the flows through the
+    two end gaps (the second ring's is the blowby).
+
+    Parameters
+    ----------
+    results : sequence of CycleResult
+        Overlaid, in order (results without the ring pack are left out).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import ringlube
+    >>> r = ringlube.run(ringlube.Case().with_physics(ring_pack="gas").with_numerics(preset="fast"))
+    >>> len(ring_pack_figure([r]).axes)
+    3
+    """
+    fig, (ax1, ax2, ax3) = plt.subplots(3, 1, figsize=(8, 8), sharex=True, layout="constrained")
+    for i, r in enumerate(results):
+        if "groove_pressure" not in r.series:
+            continue
+        tag = _label(r, i)
+        (line,) = ax1.plot(r.crank_angle_deg, r.gas_pressure / 1e5, lw=1.0, label=f"{tag} p1 chamber")
+        ax1.plot(
+            r.crank_angle_deg,
+            r.groove_pressure / 1e5,
+            lw=1.2,
+            ls="--",
+            color=line.get_color(),
+            label=f"{tag} p2 groove",
+        )
+        ax1.plot(
+            r.crank_angle_deg,
+            r.land_pressure / 1e5,
+            lw=1.2,
+            ls=":",
+            color=line.get_color(),
+            label=f"{tag} p3 land",
+        )
+        ax2.plot(r.crank_angle_deg, r.ring_lift * 1e6, lw=1.2, label=tag)
+        ax3.plot(r.crank_angle_deg, r.top_gap_flow * 1e3, lw=1.0, label=f"{tag} top gap (chamber to land)")
+        ax3.plot(
+            r.crank_angle_deg, r.second_gap_flow * 1e3, lw=1.2, ls="--", label=f"{tag} second gap (blowby)"
+        )
+    ax1.set_ylabel("gas pressure [bar abs]")
+    ax1.set_yscale("log")
+    ax2.set_ylabel("ring lift above the lower flank [um]")
+    ax3.set_ylabel("gas flow [g/s], + towards crankcase")
+    _crank_axis(ax3)
+    for ax in (ax1, ax3):
+        if ax.lines:
+            ax.legend(fontsize=7, loc="upper right")
+    return fig
+
+
 def liner_figure(results: Sequence[CycleResult]) -> plt.Figure:
     """The oil film on the liner along the stroke at the end of the cycle (starved inlet).
 
@@ -299,8 +358,8 @@ def plot_results(
     inputs: Sequence[str | os.PathLike] = (),
 ) -> list[Path]:
     """Write the friction and film figures for one or several (overlaid) results, and for
-    results of the mass-conserving film the inlet fill and wetted width, and with a starved
-    inlet the liner oil film.
+    results of the mass-conserving film the inlet fill and wetted width, with a starved
+    inlet the liner oil film, and with the ring pack its pressures, lift and gas flows.
 
     Parameters
     ----------
@@ -336,6 +395,8 @@ def plot_results(
         kinds.append(("supply", supply_figure))
     if any(r.liner for r in results):
         kinds.append(("liner", liner_figure))
+    if any("groove_pressure" in r.series for r in results):
+        kinds.append(("ring_pack", ring_pack_figure))
     for kind, _ in kinds:  # every name checked before the first figure is written
         for fmt in formats:
             check_output(outdir / f"{stem}_{kind}.{fmt}", inputs)

@@ -116,7 +116,7 @@ def run(
         pressure_file, _, _ = _kernel.rl_get(k.handle, b"operating", b"pressure_file")
         calibration_file, _, _ = _kernel.rl_get(k.handle, b"calibration", b"file")
         deck = _kernel.rl_deck_text(k.handle, _kernel.rl_deck_length(k.handle))
-    made = {"": True, "jfo": bool(produced[0]), "starved": bool(produced[1])}
+    made = {"": True, "jfo": bool(produced[0]), "starved": bool(produced[1]), "gas": bool(produced[2])}
     data = {
         k: np.ascontiguousarray(series[:, j]) for j, (k, s) in enumerate(SERIES.items()) if made[s.requires]
     }
@@ -186,7 +186,7 @@ def run_designs(
     unknown = [o for o in outputs if o not in SCALARS]
     if unknown:
         raise InputError(f"unknown outputs {unknown} (known: {', '.join(SCALARS)})")
-    need = {"jfo": ("cavitation", "jfo"), "starved": ("inlet", "starved")}
+    need = {"jfo": ("cavitation", "jfo"), "starved": ("inlet", "starved"), "gas": ("ring_pack", "gas")}
     for o in outputs:  # a result the case's film model does not produce is refused, not 0.0
         req = need.get(SCALARS[o].requires)
         if req and case.value("physics", req[0]) != req[1]:

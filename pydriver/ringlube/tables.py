@@ -223,7 +223,12 @@ def inputs_markdown() -> str:
 
 def results_markdown() -> str:
     """The result table of docs/model.md (generated from the kernel's tables)."""
-    note = {"": "", "jfo": " (`cavitation = 'jfo'` only)", "starved": " (`inlet = 'starved'` only)"}
+    note = {
+        "": "",
+        "jfo": " (`cavitation = 'jfo'` only)",
+        "starved": " (`inlet = 'starved'` only)",
+        "gas": " (`ring_pack = 'gas'` only)",
+    }
     lines = ["| where | HDF5 name | Python name | unit | meaning |", "|---|---|---|---|---|"]
 
     def row(where: str, s: FieldSpec, python: str) -> None:

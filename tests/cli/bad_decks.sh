@@ -57,8 +57,6 @@ expect_error negative_width '&ring width: must be in \[1.0E-5, 5.0E-2\] m, got -
 expect_error bad_option "&physics outlet: must be 'reynolds' or 'ambient'" "$base
 &physics outlet = 'sommerfeld' /"
 # the ring-pack gas network is not yet coupled to the film (issue 17): refused, not ignored
-expect_error ring_pack_not_coupled "&physics ring_pack: 'gas' is not yet coupled to the film" "$base
-&physics ring_pack = 'gas' /"
 expect_error ring_pack_range '&ring_pack gamma: must be in' "$base
 &ring_pack gamma = 0.9 /"
 expect_error twice '&ring width: given twice' "$base

@@ -74,7 +74,15 @@ program test_results
   r%oil_to_chamber = 0.3_dp
   r%oil_balance_error = 1e-9_dp
   r%flags = [0, 2, 0, 0, 4, 0, 0]
+  r%blowby = 2.5_dp
+  r%blowby_mass = 1.5_dp
+  r%blowback_mass = 5.0_dp
+  r%ring_lift_share = 55.0_dp
+  r%flutter_events = 1
+  r%gas_balance_error = 1e-15_dp
   call derive_results(r, 4000.0_dp, 4.5e-4_dp, 850.0_dp)
+  call check_close(r%liner_lift_share, 100.0_dp / 7.0_dp, 1e-14_dp, &
+                   'lifted share: the steps with flag 2')
   ! 1.5 J per cycle at 4000 r/min = 2000 cycles/min: 50 W; 1.5 J / 0.45 L = 3.333 kPa;
   ! 0.3 mm^3 x 850 kg/m^3 = 0.255 mg per cycle x 120000 cycles/h = 30.6 g/h
   call check_close(r%friction_power, 50.0_dp, 1e-14_dp, 'friction power = E n / 120')

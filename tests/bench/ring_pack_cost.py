@@ -1,0 +1,39 @@
+"""Benchmark (not a test): the ring pack's cost, ms per computed cycle of ringlube-solve with
+&physics ring_pack = 'none' and 'gas' on the 4000 r/min decks, Swift-Stieber and starved JFO
+(best of 5; the kernel's own run_time_s / cycles_computed). Run from the project folder:
+
+    .venv/bin/python tests/bench/ring_pack_cost.py [build/ringlube-solve]
+"""
+
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import h5py
+
+ROOT = Path(__file__).resolve().parents[2]
+S = sys.argv[1] if len(sys.argv) > 1 else str(ROOT / "build" / "ringlube-solve")
+tmp = Path(tempfile.mkdtemp())
+for deck in ("4000rpm_full_cold", "4000rpm_full_hot"):
+    for model, phys in (("swift_stieber", ""), ("jfo starved", "cavitation='jfo', inlet='starved',")):
+        best = {}
+        for rp in ("none", "gas"):
+            txt = (ROOT / "inputs" / f"crf450r_{deck}.nml").read_text()
+            txt = txt.replace("&physics", f"&physics {phys} ring_pack='{rp}',")
+            txt = txt.replace("'calibration.nml'", repr(str(ROOT / "inputs" / "calibration.nml")))
+            txt = txt.replace("'pressure/", "'" + str(ROOT / "inputs" / "pressure") + "/")
+            (tmp / "c.nml").write_text(txt)
+            ts = []
+            for _ in range(5):
+                subprocess.run([S, str(tmp / "c.nml"), "-o", str(tmp / "c.h5"), "-q"], check=False)
+                with h5py.File(tmp / "c.h5") as f:
+                    ts.append(f.attrs["run_time_s"] / f.attrs["cycles_computed"] * 1e3)
+                    cyc = f.attrs["cycles_computed"]
+            best[rp] = (min(ts), cyc)
+        print(
+            f"{deck} {model}: ms per cycle none {best['none'][0]:.2f} gas {best['gas'][0]:.2f} "
+            f"ratio {best['gas'][0] / best['none'][0]:.2f}; cycles computed "
+            f"{best['none'][1]:.2f} / {best['gas'][1]:.2f}",
+            flush=True,
+        )
