@@ -162,11 +162,14 @@ class Executor:
     # --- Dask set-up -------------------------------------------------------------------
     def _start_local_cluster(self) -> None:
         dd = require("dask.distributed", "a Dask LocalCluster")
+        import multiprocessing
+
         from distributed.deploy.spec import SpecCluster
 
         before = set(SpecCluster._instances)
+        children = set(multiprocessing.active_children())
         try:
-            with _quiet(), warnings.catch_warnings():
+            with _held_interrupts(), _quiet(), warnings.catch_warnings():
                 # the scheduler's HTTP server asks for port 8787 even without a dashboard; a
                 # second study on this machine gets another port, which is not news to a user
                 warnings.filterwarnings("ignore", message="Port 8787 is already in use")
@@ -180,7 +183,7 @@ class Executor:
                 self.client = dd.Client(self.cluster)
         except BaseException:  # e.g. a SIGTERM mid start-up: close what started, quietly
             self.close()
-            _abandon(set(SpecCluster._instances) - before)
+            _abandon(set(SpecCluster._instances) - before, set(multiprocessing.active_children()) - children)
             raise
 
     def _connect(self, address: str, timeout: float) -> None:
@@ -288,15 +291,48 @@ class Executor:
         self.close()
 
 
-def _abandon(clusters) -> None:
-    """Close clusters whose start was interrupted, and keep Dask's exit hook and its
-    loggers from reporting on them later (its ``close_clusters`` asserts on workers that
-    never started)."""
+@contextlib.contextmanager
+def _held_interrupts():
+    """Hold SIGINT and SIGTERM for the block (a Dask cluster's start-up, 2-4 s), then deliver
+    the first one received to the handler of before: an interrupted start-up leaves workers
+    half started, which Dask and multiprocessing report with tracebacks at exit; a started
+    cluster closes quietly. Outside the main thread (no signal handlers there) a plain block.
+    """
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    got: list[int] = []
+    held = (signal.SIGINT, signal.SIGTERM)
+    before = {s: signal.getsignal(s) for s in held}
+    for s in held:
+        signal.signal(s, lambda signum, frame: got.append(signum))
+    try:
+        yield
+    finally:
+        for s, handler in before.items():
+            if handler is not None:  # None: a handler not set from Python, left alone
+                signal.signal(s, handler)
+        if got:
+            signal.raise_signal(got[0])
+
+
+def _abandon(clusters, processes) -> None:
+    """Close clusters whose start was interrupted, end the worker processes they were
+    spawning, and keep Dask's exit hook and its loggers from reporting on them later (its
+    ``close_clusters`` asserts on workers that never started; a worker process still
+    unpickling its start-up state when this process exits prints a traceback)."""
     with _quiet():
         for cluster in clusters:
             with contextlib.suppress(BaseException):
                 cluster.close(timeout=5)
             cluster.shutdown_on_close = False
+        for p in processes:
+            with contextlib.suppress(BaseException):
+                p.terminate()
+                p.join(5)
     for name in _NOISY:  # what is left of them is torn down at exit: no more reports
         logging.getLogger(name).setLevel(logging.CRITICAL + 1)
 

@@ -37,7 +37,9 @@ def test_convergence_shows_progress_before_the_first_run(fake_runs):
 
 
 def test_convergence_checks_its_outputs_before_the_runs(fake_runs, tmp_path, capsys):
-    (tmp_path / f"convergence_{COLD.stem}.csv").symlink_to(COLD)
+    victim = tmp_path / "victim.nml"
+    victim.write_text("&ring /\n")
+    (tmp_path / f"convergence_{COLD.stem}.csv").symlink_to(victim)
     assert main(["convergence", str(COLD), "--quick", "--out", str(tmp_path)]) == 2
     assert "is a symbolic link" in capsys.readouterr().err
-    assert fake_runs == []
+    assert fake_runs == [] and victim.read_text() == "&ring /\n"

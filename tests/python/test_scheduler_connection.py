@@ -88,6 +88,7 @@ def test_sigterm_during_cluster_start_ends_quietly(tmp_path):
         f"""
         import os, signal, sys
         from distributed.deploy.spec import SpecCluster
+        from ringlube.cli import main
 
         correct_state = SpecCluster._correct_state_internal
 
