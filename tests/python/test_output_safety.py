@@ -22,9 +22,7 @@ from conftest import COLD, INPUTS
 @pytest.fixture()
 def result_file(tmp_path, quick_case):
     path = tmp_path / "cold.h5"
-    r = ringlube.run(quick_case)
-    r.label = "cold"
-    r.to_hdf5(path)
+    ringlube.run(quick_case, output=path)
     return path
 
 
