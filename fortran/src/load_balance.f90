@@ -54,6 +54,9 @@ module ringlube_load_balance
     real(dp) :: u = 0.0_dp
   end type balance_memory
 
+  !> trials of the damped rule over which its best residual must fall by 1 % (else it stops)
+  integer, parameter :: stall_window = 25
+
 contains
 
   !> Sliding speed at crank angle psi [deg]; round-off speeds at the dead centres are 0.
@@ -191,15 +194,25 @@ contains
     real(dp), intent(in) :: guess
     real(dp), intent(out) :: h0out, resid
     integer, intent(out) :: flags
-    real(dp) :: h, w, chi
+    real(dp) :: h, w, chi, best, best_before
     integer :: it
     h = guess
     flags = flag_load
+    best = huge(1.0_dp)
+    best_before = huge(1.0_dp)
     do it = 1, c%max_load_iterations
       resid = residual(c, lp, g, mem, h)
       if (abs(resid) <= c%load_tol) then
         flags = 0
         exit
+      end if
+      ! a rule that no longer contracts (a damping near 1 overshoots and oscillates) ends,
+      ! flagged, when the best residual of the last `stall_window` trials is not 1 % below
+      ! the best before them, instead of spending max_load_iterations at every step
+      best = min(best, abs(resid))
+      if (mod(it, stall_window) == 0) then
+        if (best > 0.99_dp * best_before) exit
+        best_before = best
       end if
       w = g%wh + g%wa
       chi = (w - lp%load) / max(w, lp%load)
