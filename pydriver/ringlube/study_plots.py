@@ -352,7 +352,11 @@ def _design_marker(name: str, names: Sequence[str], style: str) -> dict:
 
 
 def tradeoff_figure(
-    series: Sequence[TradeoffSeries], xlabel: str, ylabel: str, title: str | None = None
+    series: Sequence[TradeoffSeries],
+    xlabel: str,
+    ylabel: str,
+    title: str | None = None,
+    limits: Sequence[tuple[str, float, str]] = (),
 ) -> plt.Figure:
     """One objective against another: every case's Pareto set, the chosen and reference
     designs marked.
@@ -367,6 +371,9 @@ def tradeoff_figure(
     xlabel, ylabel : str
         Axis labels with units.
     title : str, optional
+    limits : sequence of (axis, value, label)
+        Constraint bounds on a drawn objective (``axis`` ``'x'`` or ``'y'``), drawn as
+        dashed lines named in the legend.
 
     Returns
     -------
@@ -393,6 +400,9 @@ def tradeoff_figure(
                 label=f"{sr.label}: {name} (true model)",
                 **_design_marker(name, names, style),
             )
+    for k, (axis, value, text) in enumerate(limits):
+        line = ax.axvline if axis == "x" else ax.axhline
+        line(value, color="0.3", ls=("--", ":", "-.")[k % 3], lw=1, label=text)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.grid(alpha=0.3)

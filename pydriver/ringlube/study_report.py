@@ -129,6 +129,8 @@ def summary(study: Study) -> str:
         f"study '{s.name}': {s.samples} samples ({s.sampler}) x {len(s.labels)} cases; "
         f"true-model runs executed now: {study.runs_executed}"
     ]
+    if s.constraints:
+        lines.append(f"constraints: {'; '.join(s.constraints)} (feasibility below by the true model)")
     for label, c in study.cases.items():
         lines.append(f"[{label}]")
         lines.append(_failed_line(c))
@@ -162,6 +164,7 @@ def summary(study: Study) -> str:
                     + "  (surrogate error "
                     + ", ".join(f"{err[j]:+.1%}" for j in cols)
                     + ")"
+                    + (f"; {_feasible_text(study, label, ft)}" if s.constraints else "")
                 )
         d = c.direct
         if d is not None:
@@ -426,8 +429,9 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
             "",
             "## NSGA-II on the true model (--direct)",
             "",
-            "A run that failed or did not converge violates the direct NSGA-II's constraint: "
-            "it is ranked below every converged design and never in its front.",
+            "A run that failed or did not converge violates the direct NSGA-II's first constraint: "
+            "it is ranked below every converged design and never in its front"
+            + ("; the study's constraints follow on the true results." if s.constraints else "."),
             "",
             "| case | runs | failed | not converged | wall time [s] | hypervolume direct / surrogate | "
             "IGD surrogate->direct, direct->surrogate |",
@@ -713,6 +717,7 @@ def tradeoff_figures(study: Study, out: str | os.PathLike) -> list[Path]:
     import itertools
 
     from . import study_plots as sp
+    from .study import constraint_bounds
 
     s = study.s
     cols = [s.outputs.index(o) for o in s.objectives]
@@ -743,7 +748,14 @@ def tradeoff_figures(study: Study, out: str | os.PathLike) -> list[Path]:
             for label in fronts
         ]
         title = f"trade-off: {s.objectives[a]} against {s.objectives[b]} (both minimised)"
-        files += sp.save(sp.tradeoff_figure(series, labels[b], labels[a], title), out, stem)
+        limits = [
+            ("x" if k.name == s.objectives[b] else "y", bound * shown[idx][1], f"{label}: {k} (constraint)")
+            for label in fronts
+            for k, _, bound in constraint_bounds(study, label)
+            for idx in (a, b)
+            if k.name == s.objectives[idx]
+        ]
+        files += sp.save(sp.tradeoff_figure(series, labels[b], labels[a], title, limits), out, stem)
     if len(s.objectives) >= 3:
         series = [sp.TradeoffSeries(label, fronts[label], designs[label]) for label in fronts]
         files += sp.save(sp.parallel_figure(series, labels, "objectives of the Pareto set"), out, stems[-1])

@@ -235,3 +235,27 @@ def test_uncalibrated_case_is_said(tmp_path):
     assert "cold: **not calibrated**" in (tmp_path / "outu" / "report.md").read_text()
     assert study.cases["cold"].sure is not None
     assert ringlube  # imported for with_<group>
+
+
+def test_constraint_bound_on_a_drawn_objective_is_a_line():
+    from ringlube.study_plots import TradeoffSeries, tradeoff_figure
+
+    fig = tradeoff_figure(
+        [TradeoffSeries("rated", np.array([[0.3, 2.0], [0.4, 1.9]]), [("knee", 0.35, 1.95, "chosen")])],
+        "oil [mm^3]",
+        "energy [J]",
+        limits=[("x", 0.461, "rated: oil_to_chamber <= reference (constraint)")],
+    )
+    ax = fig.axes[0]
+    assert [line.get_xdata()[0] for line in ax.lines] == [0.461]
+    assert "rated: oil_to_chamber <= reference (constraint)" in [
+        t.get_text() for t in ax.get_legend().get_texts()
+    ]
+
+
+def test_summary_gives_constraints_and_feasibility(constrained):
+    from ringlube.study_report import summary
+
+    text = summary(constrained[0])
+    assert "constraints: max_friction <= reference; min_film >= 7e-07" in text
+    assert text.count("; feasible") + text.count("; INFEASIBLE") == 4  # three chosen and the reference
