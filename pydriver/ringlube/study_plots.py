@@ -419,7 +419,8 @@ def parallel_figure(
 
     ``front`` of each series has one column per objective, and each point is
     ``(name, values, style)``; every axis is scaled from the best (0) to the worst (1) value
-    of the case's Pareto set and designs, with its range written under it.
+    of the case's Pareto set and chosen designs, with that range written under it (a
+    reference design outside the range is drawn beyond 0 or 1).
 
     Parameters
     ----------
@@ -443,10 +444,10 @@ def parallel_figure(
     )
     xs = np.arange(m)
     for ax, sr in zip(axs[:, 0], series):
-        pts = np.array([p[1] for p in sr.points]).reshape(-1, m)
-        allv = np.vstack([sr.front, pts])
+        pts = np.array([p[1] for p in sr.points if p[2] == "chosen"]).reshape(-1, m)
+        allv = np.vstack([sr.front, pts])  # the reference may lie far off: drawn beyond 0..1
         lo, hi = np.nanmin(allv, 0), np.nanmax(allv, 0)
-        span = np.where(hi > lo, hi - lo, 1.0)
+        span = np.where(hi > lo, hi - lo, np.maximum(np.abs(hi), 1e-300))
         for row in (sr.front - lo) / span:
             ax.plot(xs, row, color="0.6", lw=0.6, alpha=0.5)
         names = [p[0] for p in sr.points if p[2] == "chosen"]
@@ -463,8 +464,7 @@ def parallel_figure(
                 label=f"{name} (true model)",
             )
         ax.set_xticks(xs, [f"{lab}\n{a:.4g} to {b:.4g}" for lab, a, b in zip(labels, lo, hi)], fontsize=8)
-        ax.set_ylabel("best (0) to worst (1)")
-        ax.set_ylim(-0.05, 1.05)
+        ax.set_ylabel("Pareto set: best (0) to worst (1)")
         ax.grid(alpha=0.3, axis="x")
         ax.set_title(f"{title} ({sr.label}): Pareto designs thin, chosen designs thick", fontsize=10)
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
