@@ -259,3 +259,18 @@ def test_summary_gives_constraints_and_feasibility(constrained):
     text = summary(constrained[0])
     assert "constraints: max_friction <= reference; min_film >= 7e-07" in text
     assert text.count("; feasible") + text.count("; INFEASIBLE") == 4  # three chosen and the reference
+
+
+def test_unchanged_resume_keeps_the_how_sure_runs(tmp_path, monkeypatch):
+    import ringlube.study as study_module
+
+    path = deck(tmp_path, name="keep", extra="constraints = 'max_friction <= reference'")
+    first = run_study(path, tmp_path / "out", serial=True, progress=False, figures=False)
+
+    def fail(*args, **kwargs):
+        raise AssertionError("how_sure re-ran on an unchanged resume")
+
+    monkeypatch.setattr(study_module, "how_sure", fail)
+    again = run_study(path, tmp_path / "out", serial=True, progress=False, figures=False)
+    np.testing.assert_array_equal(again.cases["cold"].sure.high, first.cases["cold"].sure.high)
+    assert again.cases["cold"].sure.names == first.cases["cold"].sure.names
