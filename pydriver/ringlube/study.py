@@ -25,7 +25,7 @@ from .errors import InputError, RinglubeError
 from .executor import Executor, require
 from .outputs import check_output
 from .study_settings import StudySettings, read_study
-from .study_store import CaseState, Checked, Direct, DirectGeneration, Front, Runs, Study, Surface
+from .study_store import CaseState, Checked, Direct, DirectGeneration, Front, Runs, Study, Sure, Surface
 
 __all__ = [
     "StudySettings",
@@ -42,12 +42,25 @@ __all__ = [
     "scene_results",
     "direct",
     "surfaces_of",
+    "constraint_bounds",
+    "feasibility",
+    "direct_outputs",
+    "how_sure",
     "FAILED_PENALTY",
+    "UNCERTAIN",
 ]
 
 #: Objective value given to a design the kernel rejects during the direct NSGA-II (the GA
 #: needs a finite number; any valid design is far better).
 FAILED_PENALTY = 1e10
+#: The uncertain inputs of :func:`how_sure`, each multiplied and divided by its factor:
+#: the liner film the lower rings leave (unmeasured; only with a starved inlet), the
+#: roughness parameter and the gas-pressure scale (both calibrated at best).
+UNCERTAIN = {
+    ("lubricant", "supply_film"): 2.0,
+    ("surface", "zeta_kappa_sigma"): 1.5,
+    ("operating", "pressure_scale"): 1.1,
+}
 
 
 # --- running designs -----------------------------------------------------------------
@@ -291,7 +304,13 @@ def _predict_all(study: Study, label: str, x: np.ndarray) -> np.ndarray:
 
 
 def ga_repeat(
-    coefs: list[np.ndarray], lower, upper, population: int, generations: int, seed: int
+    coefs: list[np.ndarray],
+    lower,
+    upper,
+    population: int,
+    generations: int,
+    seed: int,
+    constraints: list[tuple[np.ndarray, str, float]] = (),
 ) -> tuple[np.ndarray, np.ndarray]:
     """One NSGA-II run (pymoo) on quadratic surfaces.
 
@@ -303,11 +322,15 @@ def ga_repeat(
         The design box.
     population, generations, seed : int
         NSGA-II settings.
+    constraints : list of (coef, sense, bound)
+        Inequalities on fitted surfaces (``sense`` ``'<='`` or ``'>='``), handed to pymoo
+        as ``G <= 0`` (:meth:`~ringlube.study_settings.Constraint.violation`).
 
     Returns
     -------
     X, F : ndarray
-        Designs and objectives of its final non-dominated set.
+        Designs and objectives of its final non-dominated set; only designs that satisfy
+        every constraint on the surfaces (no rows if none does).
 
     Example
     -------
@@ -318,20 +341,36 @@ def ga_repeat(
     from pymoo.core.problem import Problem
     from pymoo.optimize import minimize
 
+    from .study_settings import Constraint
     from .surrogate import QuadraticSurface
 
     lower, upper = np.asarray(lower, float), np.asarray(upper, float)
     surfs = [QuadraticSurface(lower, upper, np.asarray(c)) for c in coefs]
+    cons = [
+        (QuadraticSurface(lower, upper, np.asarray(c)), Constraint("", sense, bound), bound)
+        for c, sense, bound in constraints
+    ]
+
+    def violations(x):
+        return np.column_stack([c.violation(f(x), b) for f, c, b in cons])
 
     class Surrogate(Problem):
         def __init__(self):
-            super().__init__(n_var=len(lower), n_obj=len(surfs), xl=lower, xu=upper)
+            super().__init__(n_var=len(lower), n_obj=len(surfs), n_ieq_constr=len(cons), xl=lower, xu=upper)
 
         def _evaluate(self, x, out, *args, **kwargs):
             out["F"] = np.column_stack([f(x) for f in surfs])
+            if cons:
+                out["G"] = violations(x)
 
     res = minimize(Surrogate(), NSGA2(pop_size=population), ("n_gen", generations), seed=seed, verbose=False)
-    return np.atleast_2d(res.X), np.atleast_2d(res.F)
+    if res.X is None:
+        return np.zeros((0, len(lower))), np.zeros((0, len(surfs)))
+    x, f = np.atleast_2d(res.X), np.atleast_2d(res.F)
+    if cons:  # pymoo returns the least infeasible design when none is feasible
+        ok = np.all(violations(x) <= 0, axis=1)
+        x, f = x[ok], f[ok]
+    return x, f
 
 
 def nondominated(f: np.ndarray) -> np.ndarray:
@@ -377,7 +416,81 @@ def hypervolume(f: np.ndarray, ref: np.ndarray, lo: np.ndarray) -> float:
     require("pymoo", "hypervolumes")
     from pymoo.indicators.hv import HV
 
+    if len(f) == 0:
+        return 0.0
     return float(HV(ref_point=np.ones(len(ref)))((f - lo) / (ref - lo)))
+
+
+def constraint_bounds(study: Study, label: str) -> list[tuple]:
+    """The constraints of a case with their bounds in the result's unit.
+
+    A bound ``reference`` is the reference design's true-model value on the same case (for
+    the scene, its weighted mean), so the reference must have been re-simulated
+    (:func:`check_designs` with ``which=("reference",)``).
+
+    Parameters
+    ----------
+    study : Study
+    label : str
+        Case label or ``scene``.
+
+    Returns
+    -------
+    list of (Constraint, int, float)
+        Each constraint, its column in the outputs, its bound.
+
+    Raises
+    ------
+    RinglubeError
+        The bound is the reference design's value and its run failed.
+
+    Example
+    -------
+    >>> constraint_bounds(study, "cold")                     # doctest: +SKIP
+    [(Constraint(name='oil_to_chamber', sense='<=', value=None), 5, 0.0123)]
+    """
+    s = study.s
+    out = []
+    for k in s.parsed_constraints:
+        j = s.outputs.index(k.name)
+        bound = k.value
+        if k.uses_reference:
+            ref = study.cases[label].reference
+            bound = float(ref.f_true[0, j]) if ref is not None else float("nan")
+            if not np.isfinite(bound):
+                raise RinglubeError(
+                    f"case '{label}': constraint '{k}': the reference design's run failed "
+                    f"({ref.errors[0] if ref is not None else 'not run'}), so it bounds nothing"
+                )
+        out.append((k, j, float(bound)))
+    return out
+
+
+def feasibility(study: Study, label: str, values: np.ndarray) -> np.ndarray:
+    """Which designs satisfy every constraint of a case (by the values given).
+
+    Parameters
+    ----------
+    study : Study
+    label : str
+    values : ndarray, shape (k, len(outputs))
+        Results of the designs (true model or surfaces); NaN counts as infeasible.
+
+    Returns
+    -------
+    ndarray of bool, shape (k,)
+
+    Example
+    -------
+    >>> feasibility(study, "cold", study.cases["cold"].chosen.f_true)   # doctest: +SKIP
+    array([ True,  True, False,  True])
+    """
+    values = np.atleast_2d(values)
+    ok = np.ones(len(values), bool)
+    for k, j, b in constraint_bounds(study, label):
+        with np.errstate(invalid="ignore"):
+            ok &= np.isfinite(values[:, j]) & (np.asarray(k.violation(values[:, j], b)) <= 0)
+    return ok
 
 
 def optimise(study: Study, ex: Executor, progress: bool = True) -> None:
@@ -402,9 +515,12 @@ def optimise(study: Study, ex: Executor, progress: bool = True) -> None:
     tasks, where = [], []
     for label, c in study.cases.items():
         coefs = [np.asarray(c.surfaces[o].coef) for o in s.objectives]
+        cons = [
+            (np.asarray(c.surfaces[k.name].coef), k.sense, b) for k, _, b in constraint_bounds(study, label)
+        ]
         for r in range(s.repeats):
             if r not in c.repeats:
-                tasks.append((coefs, s.lower, s.upper, s.population, s.generations, s.seed + 1000 * r))
+                tasks.append((coefs, s.lower, s.upper, s.population, s.generations, s.seed + 1000 * r, cons))
                 where.append((label, r))
     bar = tqdm(total=len(tasks), desc="NSGA-II repeats", disable=not progress or not tasks)
 
@@ -419,10 +535,15 @@ def optimise(study: Study, ex: Executor, progress: bool = True) -> None:
     finally:
         bar.close()
         study.save()
-    for c in study.cases.values():
+    for label, c in study.cases.items():
         reps = [c.repeats[r] for r in range(s.repeats)]
         xs = np.vstack([x for x, _ in reps])
         fs = np.vstack([f for _, f in reps])
+        if len(fs) == 0:
+            raise RinglubeError(
+                f"case '{label}': no design satisfies the constraints "
+                f"({'; '.join(s.constraints)}) on the fitted surfaces in {s.repeats} NSGA-II repeats"
+            )
         keep = nondominated(fs)
         fx, ff = xs[keep], fs[keep]
         lo, ref = ff.min(0), ff.max(0) + 0.1 * (ff.max(0) - ff.min(0) + 1e-12)
@@ -462,7 +583,7 @@ def choose_designs(study: Study) -> dict[str, tuple[list[str], np.ndarray]]:
     return out
 
 
-def check_designs(study: Study, ex: Executor) -> None:
+def check_designs(study: Study, ex: Executor, which: tuple[str, ...] = ("chosen", "reference")) -> None:
     """Re-simulate the chosen designs (and the reference design) with the true model.
 
     For the scene, each design runs on every base deck and the results are weighted.
@@ -470,8 +591,10 @@ def check_designs(study: Study, ex: Executor) -> None:
     Parameters
     ----------
     study : Study
-        With fronts.
+        With fronts (with surfaces only for ``which=("reference",)``).
     ex : Executor
+    which : tuple of str
+        ``chosen`` and/or ``reference``.
 
     Example
     -------
@@ -479,15 +602,16 @@ def check_designs(study: Study, ex: Executor) -> None:
     """
     s = study.s
     bases = dict(zip(s.labels, _bases(s)))
-    chosen = choose_designs(study)
     ref = None if s.reference is None else np.array([s.reference])
     if ref is None:
         for c in study.cases.values():
             c.reference = None
     jobs = []  # (label, key, names, xs)
-    for label, (names, xs) in chosen.items():
-        jobs.append((label, "chosen", names, xs))
-        if ref is not None:
+    if "chosen" in which:
+        for label, (names, xs) in choose_designs(study).items():
+            jobs.append((label, "chosen", names, xs))
+    if ref is not None and "reference" in which:
+        for label in study.cases:
             jobs.append((label, "reference", ["reference"], ref))
     tasks, where = [], []
     for j, (label, _, _, xs) in enumerate(jobs):
@@ -522,12 +646,102 @@ def check_designs(study: Study, ex: Executor) -> None:
         )
 
 
+def _uncertain_inputs(study: Study, label: str) -> list[tuple[str, str, float]]:
+    """The :data:`UNCERTAIN` inputs that apply to a case: ``supply_film`` only when every
+    base deck of the case has a starved inlet; none that is a design variable."""
+    s = study.s
+    decks = [d for lb, d in zip(s.labels, s.cases) if lb == label or label not in s.labels]
+    bases = [Case.from_namelist(d) for d in decks]
+    out = []
+    for (group, name), factor in UNCERTAIN.items():
+        if (group, name) in s.groups_names:
+            continue
+        if name == "supply_film" and not all(b.value("physics", "inlet") == "starved" for b in bases):
+            continue
+        out.append((group, name, factor))
+    return out
+
+
+def _varied(base: Case, group: str, name: str, factor: float) -> Case:
+    """``base`` with ``&group name`` multiplied by ``factor`` (calibrated values included)."""
+    case = base.inline_calibration()
+    return case.with_(group, **{name: float(case.value(group, name)) * factor})
+
+
+def how_sure(study: Study, ex: Executor) -> None:
+    """Extra true-model runs of the chosen designs (and the reference): at the
+    ``'accurate'`` preset, and with each :data:`UNCERTAIN` input multiplied and divided by
+    its factor, one at a time. Stored as :class:`~ringlube.study_store.Sure` per case.
+
+    Costs (chosen designs + reference) x (1 + 2 x inputs) runs per base deck.
+
+    Parameters
+    ----------
+    study : Study
+        With the chosen designs re-simulated.
+    ex : Executor
+
+    Example
+    -------
+    >>> how_sure(study, Executor(serial=True)); study.cases["cold"].sure.inputs   # doctest: +SKIP
+    ['surface:zeta_kappa_sigma', 'operating:pressure_scale']
+    """
+    s = study.s
+    bases = dict(zip(s.labels, _bases(s)))
+    w = dict(zip(s.labels, np.array(s.weights) / sum(s.weights)))
+    plans = {}  # label -> (names, xs, nominal, inputs)
+    tasks, where = [], []
+    for label, c in study.cases.items():
+        checked = [ch for ch in (c.chosen, c.reference) if ch is not None]
+        names = [n for ch in checked for n in ch.names]
+        xs = np.vstack([ch.x for ch in checked])
+        nominal = np.vstack([ch.f_true for ch in checked])
+        inputs = _uncertain_inputs(study, label)
+        plans[label] = (names, xs, nominal, inputs)
+        variants = [("accurate", None)] + [
+            (f"{g}:{n}:{side}", (g, n, f if side == "high" else 1.0 / f))
+            for g, n, f in inputs
+            for side in ("low", "high")
+        ]
+        for vname, change in variants:
+            for bl in [label] if label in bases else s.labels:
+                base = bases[bl]
+                case = base.with_("numerics", preset="accurate") if change is None else _varied(base, *change)
+                tasks.append((case, s.groups_names, xs, list(s.outputs)))
+                where.append((label, vname, bl))
+    results: dict[tuple, np.ndarray] = {}
+    ex.map(_run_designs, tasks, lambda i, res: results.__setitem__(where[i], res[0]))
+
+    def value(label, vname):
+        if label in bases:
+            return results[(label, vname, label)]
+        return sum(w[bl] * results[(label, vname, bl)] for bl in s.labels)
+
+    presets = {str(b.value("numerics", "preset")) for b in bases.values()}
+    for label, (names, xs, nominal, inputs) in plans.items():
+        k = len(names)
+        shape = (len(inputs), k, len(s.outputs))
+        study.cases[label].sure = Sure(
+            names,
+            xs,
+            nominal,
+            ", ".join(sorted(presets)),
+            value(label, "accurate"),
+            [f"{g}:{n}" for g, n, _ in inputs],
+            [f for _, _, f in inputs],
+            np.array([value(label, f"{g}:{n}:low") for g, n, _ in inputs]).reshape(shape),
+            np.array([value(label, f"{g}:{n}:high") for g, n, _ in inputs]).reshape(shape),
+        )
+
+
 def direct(study: Study, ex: Executor, progress: bool = True) -> None:
     """NSGA-II on the true model (no surrogate); compared with the surrogate front.
 
     A design the kernel rejects gets :data:`FAILED_PENALTY` for every objective; a design
-    that failed or did not converge violates the problem's one constraint, so pymoo ranks
-    it below every converged design and never returns it in the front. Every evaluated
+    that failed or did not converge violates the problem's first constraint, so pymoo ranks
+    it below every converged design and never returns it in the front. The study's
+    ``constraints`` follow as further inequalities on the true results (pymoo's ``G <= 0``),
+    so the direct front holds only designs that satisfy them. Every evaluated
     generation is checkpointed in the study file (``cases/LABEL/direct_generations``); an
     interrupted run resumes by replaying the same seeded NSGA-II over the stored
     generations, so it re-runs none of them.
@@ -556,16 +770,20 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
     from tqdm.auto import tqdm
 
     s = study.s
+    names = direct_outputs(s)
+    m = len(s.objectives)
 
     class TrueModel(Problem):
-        """The kernel itself as the pymoo problem, for one case (its base deck); one
-        inequality constraint: 0 for a converged run, 1 for a failed or unconverged one."""
+        """The kernel itself as the pymoo problem, for one case (its base deck); inequality
+        constraints: 0 for a converged run, 1 for a failed or unconverged one; then the
+        study's constraints."""
 
         def __init__(self, label, base, bar):
+            self.limits = constraint_bounds(study, label)
             super().__init__(
                 n_var=len(s.variables),
                 n_obj=len(s.objectives),
-                n_ieq_constr=1,
+                n_ieq_constr=1 + len(self.limits),
                 xl=np.array(s.lower),
                 xu=np.array(s.upper),
             )
@@ -583,12 +801,17 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
                 study.save(force=False)
             self.generation += 1
             self.bar.update(len(x))
-            out["F"] = np.where(gen.failed[:, None], FAILED_PENALTY, gen.f)
-            out["G"] = np.where(gen.converged & ~gen.failed, 0.0, 1.0)[:, None]
+            out["F"] = np.where(gen.failed[:, None], FAILED_PENALTY, gen.f[:, :m])
+            ok = gen.converged & ~gen.failed
+            g = [np.where(ok, 0.0, 1.0)]
+            for k, _, b in self.limits:
+                y = gen.f[:, names.index(k.name)]
+                g.append(np.where(ok, np.nan_to_num(k.violation(y, b), nan=1.0), 1.0))
+            out["G"] = np.column_stack(g)
 
         def _run(self, x) -> DirectGeneration:
             chunks = np.array_split(np.arange(len(x)), max(1, len(x) // s.batch))
-            f = np.empty((len(x), len(s.objectives)))
+            f = np.empty((len(x), len(names)))
             converged, failed = np.zeros(len(x), bool), np.zeros(len(x), bool)
 
             def put(i, res):
@@ -598,7 +821,7 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
                 failed[chunks[i]] = [bool(e) for e in errors]
 
             t0 = time.perf_counter()
-            ex.map(_run_designs, [(self.base, s.groups_names, x[c], list(s.objectives)) for c in chunks], put)
+            ex.map(_run_designs, [(self.base, s.groups_names, x[c], names) for c in chunks], put)
             return DirectGeneration(np.array(x), f, converged, failed, time.perf_counter() - t0)
 
     for label, base in zip(s.labels, _bases(s)):
@@ -623,8 +846,11 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
             bar.close()
             study.save()
         gens = study.cases[label].direct_generations
-        if res.F is None:
-            raise RinglubeError(f"case '{label}': no design of the direct NSGA-II converged")
+        if res.F is None or (s.constraints and np.atleast_2d(res.G).max() > 0):
+            raise RinglubeError(
+                f"case '{label}': no design of the direct NSGA-II converged"
+                + (f" and satisfied the constraints ({'; '.join(s.constraints)})" if s.constraints else "")
+            )
         fd = np.atleast_2d(res.F)
         fs = np.asarray(study.cases[label].front.f)
         both = np.vstack([fd, fs])
@@ -643,6 +869,27 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
             int(sum((~g.converged & ~g.failed).sum() for g in gens)),
         )
         study.save()
+
+
+def direct_outputs(s: StudySettings) -> list[str]:
+    """Results the direct NSGA-II records per design: the objectives, then the constrained
+    results that are not objectives.
+
+    Parameters
+    ----------
+    s : StudySettings
+
+    Returns
+    -------
+    list of str
+
+    Example
+    -------
+    >>> direct_outputs(StudySettings("s", [], [], [], [], [], [], ["energy_loss"],
+    ...                              constraints=["fmep <= 3", "energy_loss <= 2"]))
+    ['energy_loss', 'fmep']
+    """
+    return s.direct_outputs()
 
 
 # --- the whole study -----------------------------------------------------------------
@@ -755,15 +1002,22 @@ def _pipeline(
             fit_surfaces(study)
             study.stages.add("fitted")
             study.save()
+        if _reference_stale(study):  # before the GA: a constraint may be bounded by it
+            check_designs(study, ex, which=("reference",))
+            for c in study.cases.values():
+                c.sure = None
+            study.save()
         optimise(study, ex, progress=progress)
         study.stages.add("optimised")
-        if (
-            "checked" not in study.stages
-            or any(c.chosen is None for c in study.cases.values())
-            or _reference_stale(study)
-        ):
-            check_designs(study, ex)
+        if "checked" not in study.stages or any(c.chosen is None for c in study.cases.values()):
+            check_designs(study, ex, which=("chosen",))
+            for c in study.cases.values():
+                c.sure = None
             study.stages.add("checked")
+            study.save()
+        if any(c.sure is None for c in study.cases.values()):
+            how_sure(study, ex)
+            study.stages.add("sure")
             study.save()
         if with_direct:
             direct(study, ex, progress=progress)
@@ -777,6 +1031,8 @@ def _reference_stale(study: Study) -> bool:
     """Is a stored reference check missing or for another reference than the deck's now?"""
     ref = study.s.reference
     for c in study.cases.values():
+        if ref is not None and c.reference is None:
+            return True
         have = None if c.reference is None else np.asarray(c.reference.x)[0].tolist()
         if have != (None if ref is None else list(ref)):
             return True

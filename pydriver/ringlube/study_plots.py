@@ -1,8 +1,9 @@
 """Figures of a design study, drawn from plain arrays (no study object needed).
 
 - :func:`fit_figure`: surface against simulation per objective (study Fig 9);
-- :func:`tradeoff_figure`: energy loss against mixed share of every case's Pareto set, the
-  chosen designs and the reference design marked and named (Fig 10);
+- :func:`tradeoff_figure`: one objective against another of every case's Pareto set, the
+  chosen designs and the reference design marked and named in the legend (Fig 10);
+- :func:`parallel_figure`: parallel coordinates of three or more objectives;
 - :func:`map_figure`: an objective over each pair of variables, the others at mid-range,
   chosen and reference designs marked (Figs 4 and 7).
 
@@ -33,6 +34,7 @@ __all__ = [
     "fit_figure",
     "map_figure",
     "tradeoff_figure",
+    "parallel_figure",
     "save",
     "CONSTANT_RTOL",
 ]
@@ -102,9 +104,9 @@ class TradeoffSeries:
     Attributes
     ----------
     label : str
-    front : ndarray, shape (k, 2)
-        Mixed share and energy loss of its Pareto set.
-    points : list of (name, mixed share, energy loss, style)
+    front : ndarray, shape (k, 2) (or (k, m) for :func:`parallel_figure`)
+        The objectives drawn of its Pareto set.
+    points : list of (name, x, y, style) (or (name, values, style))
         Designs re-simulated with the true model.
 
     Example
@@ -337,16 +339,41 @@ def _tags(marks: Sequence[Mark]) -> list[str]:
     return out
 
 
-def tradeoff_figure(series: Sequence[TradeoffSeries], xlabel: str, ylabel: str) -> plt.Figure:
-    """Energy loss against mixed share: every case's Pareto set, designs marked and named.
+#: Markers of the chosen designs on the trade-off figures, in the order of their names
+#: (the reference design is a star).
+_DESIGN_MARKERS = ("o", "s", "^", "v", "D", "P", "h", "X", "<", ">")
 
-    The legend sits outside the axes, so it never hides points.
+
+def _design_marker(name: str, names: Sequence[str], style: str) -> dict:
+    if style == "reference":
+        return dict(marker="*", s=190, edgecolor="k", linewidth=0.8)
+    i = list(names).index(name) if name in names else 0
+    return dict(marker=_DESIGN_MARKERS[i % len(_DESIGN_MARKERS)], s=55, edgecolor="k", linewidth=0.8)
+
+
+def tradeoff_figure(
+    series: Sequence[TradeoffSeries],
+    xlabel: str,
+    ylabel: str,
+    title: str | None = None,
+    limits: Sequence[tuple[str, float, str]] = (),
+) -> plt.Figure:
+    """One objective against another: every case's Pareto set, the chosen and reference
+    designs marked.
+
+    Each design has its own marker (colour: its case) and is named in the legend, which
+    sits outside the axes: no text label on the axes, so no label hides a point or
+    another label however close the designs are.
 
     Parameters
     ----------
     series : sequence of TradeoffSeries
     xlabel, ylabel : str
         Axis labels with units.
+    title : str, optional
+    limits : sequence of (axis, value, label)
+        Constraint bounds on a drawn objective (``axis`` ``'x'`` or ``'y'``), drawn as
+        dashed lines named in the legend.
 
     Returns
     -------
@@ -360,36 +387,85 @@ def tradeoff_figure(series: Sequence[TradeoffSeries], xlabel: str, ylabel: str) 
     fig, ax = plt.subplots(figsize=(8.5, 5), layout="constrained")
     for sr in series:
         sc = ax.scatter(
-            sr.front[:, 0], sr.front[:, 1], s=7, alpha=0.55, label=f"{sr.label}: Pareto set (surrogate)"
+            sr.front[:, 0], sr.front[:, 1], s=7, alpha=0.45, label=f"{sr.label}: Pareto set (surrogate)"
         )
         colour = sc.get_facecolor()[0]
-        for style in ("chosen", "reference"):
-            pts = [p for p in sr.points if p[3] == style]
-            if not pts:
-                continue
-            kw = dict(_MARKERS[style], color=colour, edgecolor="k")
+        names = [p[0] for p in sr.points if p[3] == "chosen"]
+        for name, px, py, style in sr.points:
             ax.scatter(
-                [p[1] for p in pts],
-                [p[2] for p in pts],
+                [px],
+                [py],
                 zorder=3,
-                label=f"{sr.label}: {style} design{'s' if len(pts) > 1 else ''} (true model)",
-                **kw,
+                color=colour,
+                label=f"{sr.label}: {name} (true model)",
+                **_design_marker(name, names, style),
             )
-        names = [p[0] for p in sr.points]
-        xy = np.array([[p[1], p[2]] for p in sr.points]).reshape(-1, 2)
-        for group in _coincident(xy):
-            text = " = ".join(names[i] for i in group)
-            ax.annotate(
-                f"{text} ({sr.label})" if len(series) > 1 else text,
-                tuple(xy[group[0]]),
-                fontsize=7,
-                xytext=(5, 4),
-                textcoords="offset points",
-                bbox=dict(boxstyle="round,pad=0.1", fc="w", alpha=0.7, lw=0),
-            )
+    for k, (axis, value, text) in enumerate(limits):
+        line = ax.axvline if axis == "x" else ax.axhline
+        line(value, color="0.3", ls=("--", ":", "-.")[k % 3], lw=1, label=text)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
-    ax.set_title("trade-off: energy loss against share of the cycle in mixed lubrication", fontsize=10)
+    ax.set_title(title or f"trade-off: {ylabel} against {xlabel}", fontsize=10)
+    return fig
+
+
+def parallel_figure(
+    series: Sequence[TradeoffSeries], labels: Sequence[str], title: str = "Pareto set"
+) -> plt.Figure:
+    """Parallel coordinates of three or more objectives: each Pareto design a thin line,
+    each chosen and reference design a thick one named in the legend (outside the axes).
+
+    ``front`` of each series has one column per objective, and each point is
+    ``(name, values, style)``; every axis is scaled from the best (0) to the worst (1) value
+    of the case's Pareto set and chosen designs, with that range written under it (a
+    reference design outside the range is drawn beyond 0 or 1).
+
+    Parameters
+    ----------
+    series : sequence of TradeoffSeries
+    labels : sequence of str
+        Objectives with units.
+    title : str
+
+    Returns
+    -------
+    Figure
+
+    Example
+    -------
+    >>> fig = parallel_figure([TradeoffSeries("c", np.eye(3), [("knee", np.ones(3) / 3, "chosen")])],
+    ...                       ["a", "b", "c"])
+    """
+    m = len(labels)
+    fig, axs = plt.subplots(
+        len(series), 1, figsize=(1.9 * m + 4, 3.6 * len(series)), layout="constrained", squeeze=False
+    )
+    xs = np.arange(m)
+    for ax, sr in zip(axs[:, 0], series):
+        pts = np.array([p[1] for p in sr.points if p[2] == "chosen"]).reshape(-1, m)
+        allv = np.vstack([sr.front, pts])  # the reference may lie far off: drawn beyond 0..1
+        lo, hi = np.nanmin(allv, 0), np.nanmax(allv, 0)
+        span = np.where(hi > lo, hi - lo, np.maximum(np.abs(hi), 1e-300))
+        for row in (sr.front - lo) / span:
+            ax.plot(xs, row, color="0.6", lw=0.6, alpha=0.5)
+        names = [p[0] for p in sr.points if p[2] == "chosen"]
+        for k, (name, values, style) in enumerate(sr.points):
+            mk = _design_marker(name, names, style)
+            ax.plot(
+                xs,
+                (np.asarray(values) - lo) / span,
+                lw=2.2,
+                color=f"C{k}",
+                marker=mk["marker"],
+                markersize=9 if style == "reference" else 6,
+                markeredgecolor="k",
+                label=f"{name} (true model)",
+            )
+        ax.set_xticks(xs, [f"{lab}\n{a:.4g} to {b:.4g}" for lab, a, b in zip(labels, lo, hi)], fontsize=8)
+        ax.set_ylabel("Pareto set: best (0) to worst (1)")
+        ax.grid(alpha=0.3, axis="x")
+        ax.set_title(f"{title} ({sr.label}): Pareto designs thin, chosen designs thick", fontsize=10)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
     return fig

@@ -27,7 +27,11 @@ __all__ = [
     "write_report",
     "write_pareto_csv",
     "format_design",
+    "result_display",
+    "how_sure_lines",
     "study_figures",
+    "tradeoff_stems",
+    "tradeoff_figures",
     "write_outputs",
 ]
 
@@ -59,9 +63,35 @@ def format_design(study: Study, x) -> str:
     return ", ".join(parts)
 
 
+def result_display(name: str) -> tuple[str, float]:
+    """Unit a result is shown in and the factor from its stored unit: lengths (stored in
+    metres, e.g. ``min_film``) in µm, every other result in its own unit.
+
+    Parameters
+    ----------
+    name : str
+        A result (:func:`~ringlube.study_settings.output_units`).
+
+    Returns
+    -------
+    unit : str
+    scale : float
+
+    Example
+    -------
+    >>> result_display("min_film"), result_display("energy_loss")
+    (('µm', 1000000.0), ('J', 1.0))
+    """
+    unit = output_units()[name]
+    return ("µm", 1e6) if unit == "m" else (unit, 1.0)
+
+
 def _values(names, values) -> str:
-    units = output_units()
-    return ", ".join(f"{o} {v:.4g} {units[o]}" for o, v in zip(names, values))
+    out = []
+    for o, v in zip(names, values):
+        unit, k = result_display(o)
+        out.append(f"{o} {v * k:.4g} {unit}")
+    return ", ".join(out)
 
 
 def _failed_line(c) -> str:
@@ -99,6 +129,8 @@ def summary(study: Study) -> str:
         f"study '{s.name}': {s.samples} samples ({s.sampler}) x {len(s.labels)} cases; "
         f"true-model runs executed now: {study.runs_executed}"
     ]
+    if s.constraints:
+        lines.append(f"constraints: {'; '.join(s.constraints)} (feasibility below by the true model)")
     for label, c in study.cases.items():
         lines.append(f"[{label}]")
         lines.append(_failed_line(c))
@@ -132,6 +164,7 @@ def summary(study: Study) -> str:
                     + "  (surrogate error "
                     + ", ".join(f"{err[j]:+.1%}" for j in cols)
                     + ")"
+                    + (f"; {_feasible_text(study, label, ft)}" if s.constraints else "")
                 )
         d = c.direct
         if d is not None:
@@ -198,30 +231,52 @@ def write_pareto_csv(study: Study, out: str | os.PathLike) -> list[Path]:
     return files
 
 
-def _design_table(study: Study, ch: Checked) -> list[str]:
-    s, units = study.s, output_units()
+def _feasible_text(study: Study, label: str, ft: np.ndarray) -> str:
+    """'feasible' or which constraints the true results violate."""
+    from .study import constraint_bounds
+
+    bad = []
+    for k, j, b in constraint_bounds(study, label):
+        unit, scale = result_display(k.name)
+        if not np.isfinite(ft[j]) or k.violation(ft[j], b) > 0:
+            rel = ">" if k.sense == "<=" else "<"
+            bad.append(f"{k.name} {ft[j] * scale:.6g} {rel} {b * scale:.6g} {unit}")
+    return "feasible" if not bad else "INFEASIBLE: " + "; ".join(bad)
+
+
+def _design_table(study: Study, ch: Checked, label: str = "") -> list[str]:
+    s = study.s
     heads = [display(v, u, lo, hi)[0] for v, u, lo, hi in zip(s.variables, s.units, s.lower, s.upper)]
     scales = [display(v, u, lo, hi)[1] for v, u, lo, hi in zip(s.variables, s.units, s.lower, s.upper)]
+    shown = [result_display(o) for o in s.outputs]
+    cons = bool(s.constraints)
     rows = [
         "| design | "
         + " | ".join(heads)
         + " | "
-        + " | ".join(f"{o} [{units[o]}]" for o in study.s.outputs)
-        + " | surrogate error |",
-        "|" + "---|" * (2 + len(heads) + len(study.s.outputs)),
+        + " | ".join(f"{o} [{u}]" for o, (u, _) in zip(s.outputs, shown))
+        + " | surrogate error |"
+        + (" constraints (true model) |" if cons else ""),
+        "|" + "---|" * (2 + len(heads) + len(s.outputs) + cons),
     ]
-    cols = [study.s.outputs.index(o) for o in s.objectives]
+    cols = [s.outputs.index(o) for o in s.objectives]
     for n, x, ft, err, e, ok in zip(ch.names, ch.x, ch.f_true, ch.rel_error, ch.errors, ch.converged):
         xs = " | ".join(f"{xi * k:.4g}" for xi, k in zip(x, scales))
         if e:
-            rows.append(f"| {n} | {xs} | " + " | ".join("failed" for _ in study.s.outputs) + f" | {e} |")
+            rows.append(
+                f"| {n} | {xs} | "
+                + " | ".join("failed" for _ in s.outputs)
+                + f" | {e} |"
+                + (" failed |" if cons else "")
+            )
             continue
         rows.append(
             f"| {n}{'' if ok else f' ({NOT_CONVERGED})'} | {xs} | "
-            + " | ".join(f"{v:.4g}" for v in ft)
+            + " | ".join(f"{v * k:.4g}" for v, (_, k) in zip(ft, shown))
             + " | "
             + ", ".join(f"{s.objectives[k]} {err[j]:+.1%}" for k, j in enumerate(cols))
             + " |"
+            + (f" {_feasible_text(study, label, ft)} |" if cons else "")
         )
     return rows
 
@@ -256,9 +311,27 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
         f"{', '.join(f'{o} [{units[o]}]' for o in s.objectives)}; quadratic surfaces, "
         f"NSGA-II {s.population} x {s.generations} x {s.repeats} repeats, seed {s.seed}.",
         "",
-        "## Design variables",
-        "",
     ]
+    if s.constraints:
+        L += [
+            "## Constraints",
+            "",
+            "Every design of the Pareto sets satisfies these on the fitted surfaces (pymoo's "
+            "constraint handling, `G <= 0`); the chosen designs are re-simulated and marked "
+            "feasible or not by the true model. `reference` is the reference design's "
+            "true-model value on the same case.",
+            "",
+            "| constraint | case | bound |",
+            "|---|---|---|",
+        ]
+        from .study import constraint_bounds
+
+        for label in study.cases:
+            for k, _, b in constraint_bounds(study, label):
+                unit, scale = result_display(k.name)
+                L.append(f"| `{k}` | {label} | {k.sense} {b * scale:.4g} {unit} |")
+        L.append("")
+    L += ["## Design variables", ""]
     has_ref = s.reference is not None
     L += [
         "| variable | unit | lower | upper |" + (" reference |" if has_ref else ""),
@@ -303,12 +376,13 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
         "|---|---|---|---|---|---|",
     ]
     for label, c in study.cases.items():
-        for o in s.objectives:
+        for o in [*s.objectives, *(k.name for k in s.parsed_constraints if k.name not in s.objectives)]:
             sf = c.surfaces.get(o)
             if sf:
+                unit, k = result_display(o)
                 L.append(
                     f"| {label} | {o} | {sf.r2:.4f} | {sf.r2_adj:.4f} | "
-                    f"{sf.cv_rmse:.4g} {units[o]} | {sf.cv_rel:.2%} |"
+                    f"{sf.cv_rmse * k:.4g} {unit} | {sf.cv_rel:.2%} |"
                 )
     L += [
         "",
@@ -338,9 +412,9 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
         if c.chosen is None:
             continue
         L += ["", f"### {label}", ""]
-        L += _design_table(study, c.chosen)
+        L += _design_table(study, c.chosen, label)
         if c.reference is not None:
-            L += _design_table(study, c.reference)[2:]
+            L += _design_table(study, c.reference, label)[2:]
             inside = all(lo <= v <= hi for v, lo, hi in zip(s.reference, s.lower, s.upper))
             if not inside:
                 L += [
@@ -348,14 +422,16 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
                     "The reference design lies outside the design box: its surrogate "
                     "values are extrapolated.",
                 ]
+    L += how_sure_lines(study)
     direct = [(label, c.direct) for label, c in study.cases.items() if c.direct is not None]
     if direct:
         L += [
             "",
             "## NSGA-II on the true model (--direct)",
             "",
-            "A run that failed or did not converge violates the direct NSGA-II's constraint: "
-            "it is ranked below every converged design and never in its front.",
+            "A run that failed or did not converge violates the direct NSGA-II's first constraint: "
+            "it is ranked below every converged design and never in its front"
+            + ("; the study's constraints follow on the true results." if s.constraints else "."),
             "",
             "| case | runs | failed | not converged | wall time [s] | hypervolume direct / surrogate | "
             "IGD surrogate->direct, direct->surrogate |",
@@ -371,6 +447,134 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
         L += ["", "## Figures", ""]
         L += [f"![{f.stem}]({f.name})" for f in figures]
     return write_text(out / "report.md", "\n".join(L) + "\n", [study.path])
+
+
+def _on_bounds(study: Study, x: np.ndarray, rtol: float = 1e-3) -> list[str]:
+    """The variables of design ``x`` within ``rtol`` of the box's width from a bound."""
+    s, out = study.s, []
+    for v, u, lo, hi, xi in zip(s.variables, s.units, s.lower, s.upper, x):
+        label, k = display(v, u, lo, hi)
+        unit = label.partition(" [")[2][:-1]
+        for side, b in (("lower", lo), ("upper", hi)):
+            if abs(xi - b) <= rtol * (hi - lo):
+                out.append(f"{v} at its {side} bound ({b * k:.4g} {unit})".replace(" )", ")"))
+    return out
+
+
+def _ranking(values: np.ndarray) -> list[int]:
+    return [int(i) for i in np.argsort(values, kind="stable")]
+
+
+def how_sure_lines(study: Study) -> list[str]:
+    """The "How sure is this answer" section of ``report.md``.
+
+    Four parts: the film model's numerical error at the preset used (the chosen designs
+    re-run at preset ``'accurate'``), whether each case is calibrated (a ``&calibration``
+    file), which chosen designs sit on a bound of the design box, and a one-at-a-time
+    sensitivity of the chosen designs to the uncertain inputs
+    (:data:`ringlube.study.UNCERTAIN`) with whether the ranking of the designs changes.
+
+    Parameters
+    ----------
+    study : Study
+        With :func:`ringlube.study.how_sure` done.
+
+    Returns
+    -------
+    list of str
+        Markdown lines.
+
+    Example
+    -------
+    >>> "## How sure is this answer" in how_sure_lines(study)   # doctest: +SKIP
+    True
+    """
+    from .case import Case
+
+    s = study.s
+    shown = [o for o in s.outputs if o in s.objectives or o in {k.name for k in s.parsed_constraints}]
+    cols = [s.outputs.index(o) for o in shown]
+    L = ["", "## How sure is this answer", ""]
+    sures = [(label, c.sure) for label, c in study.cases.items() if c.sure is not None]
+    if not sures:
+        return L + ["Not assessed (the study stopped before its designs were re-simulated)."]
+    preset = sures[0][1].preset
+    L += [
+        "### Numerical error of the film model",
+        "",
+        f"The study ran at `&numerics preset = '{preset}'`. The chosen designs re-run at preset "
+        "'accurate' (explicit `&numerics` values of the base decks kept) differ by "
+        "(study - accurate) / |accurate|:",
+        "",
+        "| case | design | " + " | ".join(shown) + " |",
+        "|" + "---|" * (2 + len(shown)),
+    ]
+    for label, su in sures:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rel = (su.nominal - su.accurate) / np.abs(su.accurate)
+        for n, r in zip(su.names, rel):
+            L.append(f"| {label} | {n} | " + " | ".join(f"{r[j]:+.2%}" for j in cols) + " |")
+    if "accurate" in preset:
+        L += ["", "The study already ran at preset 'accurate': these differences are zero by construction."]
+    L += ["", "### Calibration", ""]
+    for label, deck in zip(s.labels, s.cases):
+        cal = Case.from_namelist(deck).get("calibration", "file")
+        L.append(
+            f"- {label}: calibrated (`&calibration file = '{cal}'`)"
+            if cal
+            else f"- {label}: **not calibrated** (no `&calibration` file): zeta_kappa_sigma and "
+            "pressure_scale are the deck's or the kernel's defaults, not fitted to a measurement"
+        )
+    L += ["", "### Designs on a bound of the design box", ""]
+    on = []
+    for label, c in study.cases.items():
+        if c.chosen is not None:
+            for n, x in zip(c.chosen.names, c.chosen.x):
+                where = _on_bounds(study, x)
+                if where:
+                    on.append(f"- {label}, {n}: {', '.join(where)}")
+    L += on or ["None: every chosen design lies more than 0.1 % of the box's width inside each bound."]
+    if on:
+        L += ["", "A design on a bound may improve beyond it: widen the box if that is allowed."]
+    L += ["", "### Sensitivity to the uncertain inputs", ""]
+    for label, su in sures:
+        if not su.inputs:
+            L += [f"{label}: no uncertain input applies.", ""]
+            continue
+        L += [
+            f"{label}: each input divided and multiplied by its factor, one at a time; change of "
+            "each result relative to the nominal re-simulation.",
+            "",
+            "| input | factor | design | " + " | ".join(f"{o} (/, x)" for o in shown) + " |",
+            "|" + "---|" * (3 + len(shown)),
+        ]
+        changed = []
+        with np.errstate(divide="ignore", invalid="ignore"):
+            for i, (inp, fac) in enumerate(zip(su.inputs, su.factors)):
+                lo = (su.low[i] - su.nominal) / np.abs(su.nominal)
+                hi = (su.high[i] - su.nominal) / np.abs(su.nominal)
+                for d, n in enumerate(su.names):
+                    L.append(
+                        f"| `{inp}` | {fac:g} | {n} | "
+                        + " | ".join(f"{lo[d, j]:+.1%}, {hi[d, j]:+.1%}" for j in cols)
+                        + " |"
+                    )
+                for o in s.objectives:
+                    j = s.outputs.index(o)
+                    base = _ranking(su.nominal[:, j])
+                    for side, v in (("/", su.low[i]), ("x", su.high[i])):
+                        if _ranking(v[:, j]) != base:
+                            order = " < ".join(su.names[q] for q in _ranking(v[:, j]))
+                            changed.append(f"by {o} with {inp} {side} {fac:g}: {order}")
+        L.append("")
+        if changed:
+            L += [f"The ranking of the designs of {label} **changes**:"] + [f"- {c}" for c in changed]
+        else:
+            L.append(
+                f"The ranking of the designs of {label} by each objective is the same under every variation."
+            )
+        L.append("")
+    return L
 
 
 def write_outputs(study: Study, out: str | os.PathLike, figures: bool = True) -> list[Path]:
@@ -462,33 +666,97 @@ def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
             files += sp.save(
                 sp.map_figure(f"{o} ({label})", f"{o} [{units[o]}]", f, axes, marks), out, f"map_{label}_{o}"
             )
-    series = []
-    ie, im = study.s.outputs.index("energy_loss"), study.s.outputs.index("mixed_share")
+    files += tradeoff_figures(study, out)
+    return files
+
+
+def tradeoff_stems(objectives: list[str]) -> list[str]:
+    """File names (without suffix) of the trade-off figures of a study's objectives: one
+    ``tradeoff_A_vs_B`` per pair (B on the horizontal axis), and ``tradeoff_parallel`` for
+    three or more objectives.
+
+    Parameters
+    ----------
+    objectives : list of str
+
+    Returns
+    -------
+    list of str
+
+    Example
+    -------
+    >>> tradeoff_stems(["energy_loss", "oil_to_chamber"])
+    ['tradeoff_energy_loss_vs_oil_to_chamber']
+    >>> len(tradeoff_stems(["a", "b", "c"]))
+    4
+    """
+    import itertools
+
+    stems = [f"tradeoff_{a}_vs_{b}" for a, b in itertools.combinations(objectives, 2)]
+    return stems + (["tradeoff_parallel"] if len(objectives) >= 3 else [])
+
+
+def tradeoff_figures(study: Study, out: str | os.PathLike) -> list[Path]:
+    """The trade-off figures of the objectives the study minimised (:func:`tradeoff_stems`):
+    the Pareto sets as the GA found them on the surfaces, the chosen and reference designs
+    as re-simulated by the true model.
+
+    Parameters
+    ----------
+    study : Study
+    out : path
+
+    Returns
+    -------
+    list of Path
+
+    Example
+    -------
+    >>> tradeoff_figures(study, "out/s")                         # doctest: +SKIP
+    """
+    import itertools
+
+    from . import study_plots as sp
+    from .study import constraint_bounds
+
+    s = study.s
+    cols = [s.outputs.index(o) for o in s.objectives]
+    shown = [result_display(o) for o in s.objectives]
+    labels = [f"{o.replace('_', ' ')} [{u}]" for o, (u, _) in zip(s.objectives, shown)]
+    scale = np.array([k for _, k in shown])
+    fronts, designs = {}, {}
     for label, c in study.cases.items():
         if c.front is None:
             continue
-        pred = _predict(study, label, c.front.x)
-        front = np.column_stack([pred[:, im], pred[:, ie]])
-        for j, o in enumerate(s.objectives):  # the GA's own values where it has them
-            if o == "mixed_share":
-                front[:, 0] = c.front.f[:, j]
-            if o == "energy_loss":
-                front[:, 1] = c.front.f[:, j]
-        points = []
-        for ch, style in ((c.chosen, "chosen"), (c.reference, "reference")):
-            if ch is not None:
-                points += [
-                    (n, ft[im], ft[ie], style)
-                    for n, ft in zip(ch.names, ch.f_true)
-                    if np.isfinite(ft[[im, ie]]).all()
-                ]
-        series.append(sp.TradeoffSeries(label, front, points))
-    if series:
-        files += sp.save(
-            sp.tradeoff_figure(
-                series, f"mixed share [{units['mixed_share']}]", f"energy loss [{units['energy_loss']}/cycle]"
-            ),
-            out,
-            "tradeoff",
-        )
+        fronts[label] = np.asarray(c.front.f) * scale
+        designs[label] = [
+            (n, ft[cols] * scale, style)
+            for ch, style in ((c.chosen, "chosen"), (c.reference, "reference"))
+            if ch is not None
+            for n, ft in zip(ch.names, ch.f_true)
+            if np.isfinite(ft[cols]).all()
+        ]
+    if not fronts:
+        return []
+    files = []
+    stems = tradeoff_stems(list(s.objectives))
+    for (a, b), stem in zip(itertools.combinations(range(len(s.objectives)), 2), stems):
+        series = [
+            sp.TradeoffSeries(
+                label, fronts[label][:, [b, a]], [(n, v[b], v[a], st) for n, v, st in designs[label]]
+            )
+            for label in fronts
+        ]
+        title = f"trade-off: {s.objectives[a]} against {s.objectives[b]} (both minimised)"
+        limits = [
+            ("x" if k.name == s.objectives[b] else "y", bound * shown[idx][1], f"{label}: {k} (constraint)")
+            for label in fronts
+            for k, _, bound in constraint_bounds(study, label)
+            for idx in (a, b)
+            if k.name == s.objectives[idx]
+        ]
+        files += sp.save(sp.tradeoff_figure(series, labels[b], labels[a], title, limits), out, stem)
+    if len(s.objectives) >= 3:
+        series = [sp.TradeoffSeries(label, fronts[label], designs[label]) for label in fronts]
+        files += sp.save(sp.parallel_figure(series, labels, "objectives of the Pareto set"), out, stems[-1])
     return files

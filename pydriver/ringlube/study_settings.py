@@ -17,6 +17,8 @@ import os
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from .case import Case
 from .errors import InputError
 
@@ -32,6 +34,8 @@ __all__ = [
     "split_variable",
     "input_files",
     "display",
+    "Constraint",
+    "parse_constraint",
 ]
 
 #: Default bounds (SI) of the four ring design variables of the source study (SPEC 11/12),
@@ -129,7 +133,11 @@ def _produces(case: Case, requires: str) -> bool:
 
 
 def output_units() -> dict[str, str]:
-    """Scalar results a study records for every design, with their units.
+    """Scalar results a study may record for a design, with their units.
+
+    The objective results first (:data:`OUTPUTS`, then those only some film models
+    produce), then every other scalar of the kernel's result table (a constraint may name
+    any of them, e.g. ``friction_power``).
 
     Returns
     -------
@@ -138,10 +146,117 @@ def output_units() -> dict[str, str]:
 
     Example
     -------
-    >>> output_units()["energy_loss"]
-    'J'
+    >>> output_units()["energy_loss"], output_units()["fmep"]
+    ('J', 'kPa')
     """
-    return dict(_model_units())
+    from .tables import SCALARS
+
+    return {**_model_units(), **{k: v.unit for k, v in SCALARS.items()}}
+
+
+@dataclasses.dataclass(frozen=True)
+class Constraint:
+    """One ``&study constraints`` entry: ``NAME <= VALUE``, ``NAME >= VALUE`` or
+    ``NAME <= reference`` (the reference design's true-model value on the same case).
+
+    Attributes
+    ----------
+    name : str
+        A scalar result (:func:`output_units`).
+    sense : str
+        ``'<='`` or ``'>='``.
+    value : float or None
+        The bound in the result's unit, or None for ``reference``.
+
+    Example
+    -------
+    >>> c = parse_constraint("oil_to_chamber <= reference")
+    >>> c.uses_reference, c.violation(3.0, 2.0)
+    (True, 0.5)
+    """
+
+    name: str
+    sense: str
+    value: float | None
+
+    @property
+    def uses_reference(self) -> bool:
+        """Is the bound the reference design's value?"""
+        return self.value is None
+
+    def __str__(self) -> str:
+        rhs = "reference" if self.value is None else f"{self.value:g}"
+        return f"{self.name} {self.sense} {rhs}"
+
+    def violation(self, y, bound: float):
+        """pymoo's inequality ``g <= 0``: ``(y - bound) / scale`` for ``<=`` (negated for
+        ``>=``), scaled by ``|bound|`` (1 if the bound is 0) so constraints of different
+        units weigh alike.
+
+        Parameters
+        ----------
+        y : float or ndarray
+            The result.
+        bound : float
+            The bound (:attr:`value`, or the reference's value).
+
+        Returns
+        -------
+        float or ndarray
+            <= 0 where satisfied.
+
+        Example
+        -------
+        >>> parse_constraint("min_film >= 1e-6").violation(0.5e-6, 1e-6)
+        0.5
+        """
+        scale = abs(bound) if bound != 0 else 1.0
+        g = (np.asarray(y, float) - bound) / scale
+        g = g if self.sense == "<=" else -g
+        return float(g) if np.ndim(g) == 0 else g
+
+
+def parse_constraint(text: str) -> Constraint:
+    """Parse ``'NAME <= VALUE'``, ``'NAME >= VALUE'``, ``'NAME <= reference'``.
+
+    Parameters
+    ----------
+    text : str
+        One entry of ``&study constraints``; VALUE in the result's unit
+        (:func:`output_units`).
+
+    Returns
+    -------
+    Constraint
+
+    Raises
+    ------
+    ValueError
+        Saying what is wrong (the caller names file, group and variable).
+
+    Example
+    -------
+    >>> str(parse_constraint(" fmep<=10 "))
+    'fmep <= 10'
+    """
+    import re
+
+    m = re.fullmatch(r"\s*([A-Za-z_]\w*)\s*(<=|>=)\s*(\S+)\s*", str(text))
+    if not m:
+        raise ValueError(f"'{text}' is not 'NAME <= VALUE', 'NAME >= VALUE' or 'NAME <= reference'")
+    name, sense, rhs = m.group(1).lower(), m.group(2), m.group(3)
+    units = output_units()
+    if name not in units:
+        raise ValueError(f"'{text}': unknown result '{name}' (known: {', '.join(units)})")
+    if rhs.lower() == "reference":
+        return Constraint(name, sense, None)
+    try:
+        value = float(rhs.lower().replace("d", "e"))
+    except ValueError:
+        raise ValueError(f"'{text}': '{rhs}' is neither a number nor 'reference'") from None
+    if not math.isfinite(value):
+        raise ValueError(f"'{text}': the bound must be a finite number")
+    return Constraint(name, sense, value)
 
 
 #: Names of the scalar results a study records for every design (in this order).
@@ -344,10 +459,36 @@ class StudySettings:
     #: film models produce (e.g. ``oil_to_chamber`` with a starved inlet)
     outputs: list[str] = dataclasses.field(default_factory=lambda: list(OUTPUTS))
     reference: list[float] | None = None
+    #: ``&study constraints``, normalised (``'oil_to_chamber <= reference'``)
+    constraints: list[str] = dataclasses.field(default_factory=list)
     deck_text: str = ""
     source: str = ""
     inputs: dict[str, str] = dataclasses.field(default_factory=dict)
     units: list[str] = dataclasses.field(default_factory=list)
+
+    @property
+    def parsed_constraints(self) -> list[Constraint]:
+        """The constraints as :class:`Constraint` records.
+
+        Example
+        -------
+        >>> StudySettings("s", [], [], [], [], [], [], [],
+        ...               constraints=["fmep <= 3"]).parsed_constraints[0].value
+        3.0
+        """
+        return [parse_constraint(c) for c in self.constraints]
+
+    def direct_outputs(self) -> list[str]:
+        """Results the direct NSGA-II records per design: the objectives, then the
+        constrained results that are not objectives.
+
+        Example
+        -------
+        >>> StudySettings("s", [], [], [], [], [], [], ["energy_loss"],
+        ...               constraints=["fmep <= 3"]).direct_outputs()
+        ['energy_loss', 'fmep']
+        """
+        return list(dict.fromkeys([*self.objectives, *(c.name for c in self.parsed_constraints)]))
 
     @property
     def groups_names(self) -> list[tuple[str, str]]:
@@ -371,7 +512,9 @@ class StudySettings:
         Returns
         -------
         str
-            JSON of the cases, labels, variables, bounds, objectives, sampler, samples, seed.
+            JSON of the cases, labels, variables, bounds, objectives, recorded results
+            (``outputs``: a constraint on a result not recorded before needs new runs),
+            sampler, samples, seed.
 
         Example
         -------
@@ -390,6 +533,7 @@ class StudySettings:
                     "lower",
                     "upper",
                     "objectives",
+                    "outputs",
                     "sampler",
                     "samples",
                     "seed",
@@ -400,7 +544,8 @@ class StudySettings:
     def derived_key(self, label: str, direct: bool = False) -> str:
         """What must match for results derived from the runs of one case to be kept on resume.
 
-        The fit and GA settings shape every surface and front; the weights and ``scene``
+        The fit and GA settings and the constraints (and the reference design when a
+        constraint is bounded by it) shape every surface and front; the weights and ``scene``
         also shape the weighted scene (``label == 'scene'``); the direct NSGA-II sizes shape
         the direct comparison (``direct=True``). A stored result whose key differs is
         recomputed from the runs (which are kept).
@@ -423,7 +568,9 @@ class StudySettings:
         >>> '"weights"' in s.derived_key("scene"), '"weights"' in s.derived_key("a")
         (True, False)
         """
-        names = ["surrogate", "folds", "population", "generations", "repeats"]
+        names = ["surrogate", "folds", "population", "generations", "repeats", "constraints"]
+        if any(c.uses_reference for c in self.parsed_constraints):
+            names.append("reference")
         if label == "scene":
             names += ["weights", "scene"]
         if direct:
@@ -588,7 +735,19 @@ def read_study(path: str | os.PathLike) -> StudySettings:
         if len(reference) != len(variables):
             chk.bad("reference", f"one value per variable ({len(variables)})")
 
-    units = output_units()
+    constraints = []
+    for text in chk.words("constraints", _as_list(s.get("constraints", []))):
+        try:
+            c = parse_constraint(text)
+        except ValueError as exc:
+            chk.bad("constraints", str(exc))
+        if c.uses_reference and reference is None:
+            chk.bad("constraints", f"'{text}' is bounded by the reference design: give &study reference")
+        constraints.append(str(c))
+    if len(set(constraints)) != len(constraints):
+        chk.bad("constraints", "a constraint is given twice")
+
+    units = _model_units()
     for o in objectives:
         if o not in units:
             chk.bad("objectives", f"unknown objective '{o}' (known: {', '.join(units)})")
@@ -623,6 +782,7 @@ def read_study(path: str | os.PathLike) -> StudySettings:
         sampler=sampler,
         surrogate=surrogate,
         reference=reference,
+        constraints=constraints,
         **({"scene": s["scene"]} if "scene" in s else {}),
         **ints,
         deck_text=path.read_text(errors="replace"),
@@ -638,14 +798,17 @@ def read_study(path: str | os.PathLike) -> StudySettings:
     st.inputs, st.units = _check_cases(chk, st, pairs)
     from .tables import SCALARS
 
-    for o in objectives:
+    for var, o in [("objectives", o) for o in objectives] + [
+        ("constraints", c.name) for c in st.parsed_constraints
+    ]:
         req = SCALARS[o].requires if o in SCALARS else ""
         if req and o not in st.outputs:
             need = {"jfo": "cavitation = 'jfo'", "starved": "inlet = 'starved'"}[req]
             for deck in cases:
                 if not _produces(Case.from_namelist(deck), req):
-                    chk.bad("objectives", f"'{o}' needs &physics {need} in every base deck ({deck} has not)")
-            st.outputs.append(o)
+                    chk.bad(var, f"'{o}' needs &physics {need} in every base deck ({deck} has not)")
+        if o not in st.outputs:
+            st.outputs.append(o)  # constrained results are recorded (and fitted) too
     return st
 
 

@@ -39,6 +39,7 @@ __all__ = [
     "Checked",
     "Direct",
     "DirectGeneration",
+    "Sure",
     "FORMAT",
     "FORMAT_VERSION",
 ]
@@ -273,8 +274,10 @@ class DirectGeneration:
     ----------
     x : ndarray, shape (k, d)
         The designs pymoo asked for.
-    f : ndarray, shape (k, len(objectives))
-        Their true objectives (NaN where the run failed).
+    f : ndarray, shape (k, len(direct_outputs))
+        Their true objectives, then the constrained results that are not objectives
+        (:meth:`~ringlube.study_settings.StudySettings.direct_outputs`; NaN where the run
+        failed).
     converged, failed : ndarray of bool, shape (k,)
         Whether each run converged, and whether the kernel rejected the design.
     wall_s : float
@@ -295,6 +298,46 @@ class DirectGeneration:
 
 
 @dataclasses.dataclass
+class Sure:
+    """How sure the chosen designs are: extra true-model runs of them (and the reference).
+
+    Attributes
+    ----------
+    names : list of str
+        The designs (the chosen ones, then ``reference``).
+    x : ndarray, shape (k, d)
+    nominal : ndarray, shape (k, len(outputs))
+        Their results as re-simulated (the study's preset, nominal inputs).
+    preset : str
+        The ``&numerics preset`` of the base decks.
+    accurate : ndarray, shape (k, len(outputs))
+        The same designs at preset ``'accurate'``.
+    inputs : list of str
+        Uncertain inputs varied one at a time (``group:name``).
+    factors : list of float
+        Each input is multiplied and divided by its factor.
+    low, high : ndarray, shape (len(inputs), k, len(outputs))
+        Results with the input divided / multiplied by its factor.
+
+    Example
+    -------
+    >>> Sure(["knee"], np.zeros((1, 1)), np.ones((1, 2)), "fast", np.ones((1, 2)), [], [],
+    ...      np.zeros((0, 1, 2)), np.zeros((0, 1, 2))).preset
+    'fast'
+    """
+
+    names: list[str]
+    x: np.ndarray
+    nominal: np.ndarray
+    preset: str
+    accurate: np.ndarray
+    inputs: list[str]
+    factors: list[float]
+    low: np.ndarray
+    high: np.ndarray
+
+
+@dataclasses.dataclass
 class CaseState:
     """Everything a study computed for one case (or the weighted scene).
 
@@ -312,6 +355,7 @@ class CaseState:
     reference: Checked | None = None
     direct: Direct | None = None
     direct_generations: list[DirectGeneration] = dataclasses.field(default_factory=list)
+    sure: Sure | None = None
 
 
 class Study:
@@ -332,7 +376,7 @@ class Study:
         Per case label (and ``scene``).
     stages : set of str
         Finished stages (``sampled``, ``ran``, ``fitted``, ``optimised``, ``checked``,
-        ``direct``).
+        ``sure``, ``direct``).
     runs_executed : int
         True-model runs made by this process.
 
@@ -499,8 +543,9 @@ class Study:
             )
         if _text(f.attrs["key"]) != s.key():
             raise InputError(
-                f"{path}: exists and belongs to a study with other samples, cases, "
-                "variables or objectives; use another --out folder"
+                f"{path}: exists and belongs to a study with other samples, cases, variables, "
+                "objectives or recorded results (a constraint on a result not recorded before); "
+                "use another --out folder"
             )
         started = json.loads(_text(f.attrs["inputs"]))
         changed = [p for p in sorted(set(started) | set(s.inputs)) if started.get(p) != s.inputs.get(p)]
@@ -645,12 +690,24 @@ def _write_case(g: h5py.Group, c: CaseState, s: StudySettings) -> None:
             _put(cg, "rel_error", ch.rel_error, list(s.outputs), ["1"] * len(s.outputs))
             cg.create_dataset("converged", data=ch.converged)
             _put_strings(cg, "errors", ch.errors)
+    if c.sure is not None:
+        su = c.sure
+        sg = g.create_group("sure")
+        _put_strings(sg, "names", su.names)
+        _put_strings(sg, "inputs", su.inputs)
+        _put(sg, "x", su.x, s.variables, s.units)
+        _put(sg, "nominal", su.nominal, list(s.outputs), out_units)
+        _put(sg, "accurate", su.accurate, list(s.outputs), out_units)
+        _put(sg, "factors", np.asarray(su.factors, float), su.inputs)
+        _put(sg, "low", su.low, list(s.outputs), out_units)
+        _put(sg, "high", su.high, list(s.outputs), out_units)
+        sg.attrs["preset"] = su.preset
     for k, gen in enumerate(c.direct_generations):
         gg = g.create_group(f"direct_generations/g{k}")
         gg.attrs["key"] = s.derived_key(g.name.rsplit("/", 1)[-1], direct=True)
         gg.attrs["wall_s"] = gen.wall_s
         _put(gg, "x", gen.x, s.variables, s.units)
-        _put(gg, "f", gen.f, s.objectives, obj_units)
+        _put(gg, "f", gen.f, s.direct_outputs(), [units[o] for o in s.direct_outputs()])
         gg.create_dataset("converged", data=gen.converged)
         gg.create_dataset("failed", data=gen.failed)
     if c.direct is not None:
@@ -712,6 +769,19 @@ def _read_case(g: h5py.Group, s: StudySettings) -> CaseState:
                     _strings(cg["errors"]),
                 ),
             )
+    if "sure" in g:
+        sg = g["sure"]
+        c.sure = Sure(
+            _strings(sg["names"]),
+            sg["x"][()],
+            sg["nominal"][()],
+            _text(sg.attrs["preset"]),
+            sg["accurate"][()],
+            _strings(sg["inputs"]),
+            [float(v) for v in sg["factors"][()]],
+            sg["low"][()],
+            sg["high"][()],
+        )
     direct_key = s.derived_key(g.name.rsplit("/", 1)[-1], direct=True)
     if "direct" in g and _text(g["direct"].attrs.get("key", "")) == direct_key:  # else redone
         dg = g["direct"]

@@ -108,6 +108,12 @@ def test_own_engine_walkthrough(tmp_path, monkeypatch, capsys):
     report = (root / "study" / "report.md").read_text()
     assert "objectives (minimised): energy_loss [J], oil_to_chamber [mm^3]" in report
     assert "| reference | 1.2 | 8 |" in report
+    assert "`oil_to_chamber <= reference`" in report and "## How sure is this answer" in report
+    assert "rated: **not calibrated**" in report  # the page says so
+    assert (
+        root / "study" / "tradeoff_energy_loss_vs_oil_to_chamber.png"
+    ).is_file()  # the name the page gives
+    assert "tradeoff_energy_loss_vs_oil_to_chamber.png" in page
     header = (root / "study" / "pareto_rated.csv").read_text().splitlines()[0]
     assert header.startswith("width [m],crown_height [m],")
     # the reference row is the deck's own ring, run as it stands

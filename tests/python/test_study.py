@@ -97,7 +97,13 @@ def test_small_study_end_to_end(tmp_path):
     f = study.cases["cold"].front.f
     dominated = [(np.all(f <= fi, axis=1) & np.any(f < fi, axis=1)).any() for fi in f]
     assert not any(dominated)
-    assert (tmp_path / "out" / "tradeoff.png").stat().st_size > 1000
+    for stem in (
+        "energy_loss_vs_mixed_share",
+        "energy_loss_vs_ring_mass",
+        "mixed_share_vs_ring_mass",
+        "parallel",
+    ):
+        assert (tmp_path / "out" / f"tradeoff_{stem}.png").stat().st_size > 1000
     assert (tmp_path / "out" / "fit_cold.png").stat().st_size > 1000
 
 

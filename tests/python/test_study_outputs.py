@@ -39,7 +39,8 @@ def study(tmp_path_factory):
 
 def test_tradeoff_is_drawn_without_ring_mass_and_names_designs(study):
     st, out = study
-    assert (out / "tradeoff.png").stat().st_size > 1000
+    assert (out / "tradeoff_energy_loss_vs_mixed_share.png").stat().st_size > 1000
+    assert not list(out.glob("tradeoff_*ring_mass*"))
     assert (out / "report.md").is_file()
 
 
@@ -63,8 +64,11 @@ def test_tradeoff_figure_plots_the_given_points():
     )
     ax = fig.axes[0]
     np.testing.assert_array_equal(ax.collections[0].get_offsets(), front)
-    texts = sorted(t.get_text() for t in ax.texts)
-    assert texts == ["knee", "min a = min b", "reference"]  # coincident designs share a label
+    assert not ax.texts  # designs are named in the legend: no label can overlap another
+    entries = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert entries[1:] == [f"cold: {n} (true model)" for n in ("knee", "min a", "min b", "reference")]
+    markers = [c.get_paths()[0].vertices.tobytes() for c in ax.collections[1:]]
+    assert len(set(markers)) == 4  # coincident designs stay apart by their markers
     fig.canvas.draw()
     legend = ax.get_legend().get_window_extent()
     assert legend.x0 >= ax.get_window_extent().x1  # outside: hides no point
@@ -141,6 +145,6 @@ def test_report_names_chosen_and_reference_designs(study):
         "width [mm]",
         "crown offset [µm]",
         "energy_loss [J]",
-        "![tradeoff](tradeoff.png)",
+        "![tradeoff_energy_loss_vs_mixed_share](tradeoff_energy_loss_vs_mixed_share.png)",
     ):
         assert piece in text, piece
