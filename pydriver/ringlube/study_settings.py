@@ -124,11 +124,13 @@ def _model_units() -> dict[str, str]:
 
 
 def _produces(case: Case, requires: str) -> bool:
-    """Does a run of ``case`` produce results that need ``requires`` ('jfo', 'starved')?"""
+    """Does a run of ``case`` produce results that need ``requires`` ('jfo', 'starved', 'gas')?"""
     if requires == "jfo":
         return case.value("physics", "cavitation") == "jfo"
     if requires == "starved":
         return case.value("physics", "inlet") == "starved"
+    if requires == "gas":
+        return case.value("physics", "ring_pack") == "gas"
     return True
 
 
@@ -803,7 +805,9 @@ def read_study(path: str | os.PathLike) -> StudySettings:
     ]:
         req = SCALARS[o].requires if o in SCALARS else ""
         if req and o not in st.outputs:
-            need = {"jfo": "cavitation = 'jfo'", "starved": "inlet = 'starved'"}[req]
+            need = {"jfo": "cavitation = 'jfo'", "starved": "inlet = 'starved'", "gas": "ring_pack = 'gas'"}[
+                req
+            ]
             for deck in cases:
                 if not _produces(Case.from_namelist(deck), req):
                     chk.bad(var, f"'{o}' needs &physics {need} in every base deck ({deck} has not)")

@@ -41,7 +41,8 @@ def deck(tmp_path, name="k", extra="", objectives="'energy_loss', 'mixed_share'"
 @pytest.mark.parametrize(
     "constraints, why",
     [
-        ("'blowby <= 10'", "unknown result 'blowby'"),
+        ("'leakage <= 10'", "unknown result 'leakage'"),
+        ("'blowby <= 10'", "needs &physics ring_pack = 'gas'"),
         ("'energy_loss < 2'", "is not 'NAME <= VALUE'"),
         ("'energy_loss <= two'", "'two' is neither a number nor 'reference'"),
         ("'energy_loss <= 2', 'energy_loss<=2'", "given twice"),
