@@ -361,6 +361,11 @@ contains
   !> (both ends at p_cav): Couette shear scaled by the film fraction `h_c / h`, h_c the
   !> gap at the upstream rupture node (the oil passes the ruptured zone as streamers of
   !> total thickness h_c). Boundary: `tau0 A_a + s W_a`, opposing the motion.
+  !>
+  !> A lifted ring (h0 at h0_ceiling: the film carries more than the load at every
+  !> separation) has no friction: its friction is taken in the limit of unbounded
+  !> separation, where the shear of the oil its gap holds (content / h^2) and the contact
+  !> vanish, so that no answer depends on the numerical bound (docs/model.md, "Lift-off").
   pure subroutine film_friction(c, f, u, fv, fb)
     type(case_type), intent(in) :: c
     type(film_type), intent(in) :: f
@@ -372,6 +377,8 @@ contains
 
     n = f%n
     fv = 0.0_dp
+    fb = 0.0_dp
+    if (f%h0 >= c%h0_ceiling) return
     if (f%jfo) then
       do i = 1, n - 1
         fv = fv + jfo_shear(i) * f%dx
