@@ -236,6 +236,30 @@ def test_trailing_gas_cold_energy_converges_in_nodes():
     assert fine.energy_loss == pytest.approx(coarse.energy_loss, rel=0.02)
 
 
+@pytest.mark.xfail(strict=True, reason="issue 16 item 2: step-size bistability, not fixed")
+@pytest.mark.parametrize(
+    "physics",
+    [
+        {"cavitation": "jfo", "cavity_pressure": "trailing_gas"},
+        {"cavitation": "jfo", "inlet": "starved"},
+    ],
+    ids=["trailing_gas", "starved"],
+)
+def test_default_preset_takes_the_branch_of_the_converged_run(physics):
+    """The 'default' preset (51 nodes, 2 deg) within 0.5 % in energy of 'accurate' (201 nodes,
+    0.25 deg; 0.04 % / -0.3 % from the 801-node, 0.125-deg reference) on the cold deck. It is
+    not: two branches exist and the crank step picks one. 'trailing_gas': after TDC firing
+    the chamber gas in the open cavity blows through the face at 0.5 deg and below (0.426 J)
+    but the film seals the face at 1-2 deg (0.74-0.78 J). Starved: the intake-stroke applied
+    load (elastic plus chamber pressure) is 0.45 % below the load of a face open to the
+    crankcase gas; the film holds within that margin at 0.5 deg and below, and at 2 deg the
+    face opens and the ring lifts off for 26.7 % of the cycle (2.216 against 2.870 J)
+    (docs/performance.md, "Step-size bistability")."""
+    case = Case.from_namelist(COLD).with_physics(**physics)
+    default, accurate = (ringlube.run(case.with_numerics(preset=p)) for p in ("default", "accurate"))
+    assert default.energy_loss == pytest.approx(accurate.energy_loss, rel=5e-3)
+
+
 def test_lifted_ring_energy_does_not_depend_on_the_ceiling():
     """Where the film carries more than the load at every h0 (the intake stroke of the 3000
     r/min half-load deck, starved) h0 is held at h0_ceiling and the ring is lifted: its
