@@ -378,7 +378,8 @@ contains
     n = f%n
     fv = 0.0_dp
     fb = 0.0_dp
-    if (f%h0 >= c%h0_ceiling) return
+    ! (the root finder works on ln h0: exp(log(h0_ceiling)) may be an ulp below the bound)
+    if (f%h0 >= c%h0_ceiling * (1.0_dp - 1e-12_dp)) return
     if (f%jfo) then
       do i = 1, n - 1
         fv = fv + jfo_shear(i) * f%dx
