@@ -166,7 +166,13 @@ class ValidationData:
     turned into Markdown by :func:`render_validation` (issue 19: compute apart from render).
 
     Numbers only: ``results`` and the other run results are :class:`ringlube.result.Result`
-    objects of the shipped decks; the tables are lists of plain rows.
+    objects of the shipped decks; the tables are lists of plain rows (see each field).
+
+    Examples
+    --------
+    >>> data = compute_validation(".")  # doctest: +SKIP
+    >>> data.results["cold"].energy_loss  # doctest: +SKIP
+    1.83...
     """
 
     #: shipped decks {'cold', 'hot'}: path and case
@@ -279,6 +285,12 @@ def compute_validation(root: str | os.PathLike = ".") -> ValidationData:
     ------
     InputError
         If a shipped deck or the targets file is bad, or the cold deck names no calibration.
+
+    Examples
+    --------
+    >>> data = compute_validation(".")  # doctest: +SKIP
+    >>> data.same  # the calibration re-run reproduces the shipped file  # doctest: +SKIP
+    True
     """
     root = Path(root)
     decks = {
@@ -436,7 +448,23 @@ def validate(root: str | os.PathLike = ".", out: str | os.PathLike = "docs") -> 
 
 
 def render_validation(data: ValidationData) -> str:
-    """The Markdown of ``docs/validation.md`` from computed data (no run, no file)."""
+    """The Markdown of ``docs/validation.md`` from computed data (no run, no file).
+
+    Parameters
+    ----------
+    data : ValidationData
+        What :func:`compute_validation` returned (``seconds`` set by the caller).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> text = render_validation(compute_validation("."))  # doctest: +SKIP
+    >>> text.splitlines()[0]  # doctest: +SKIP
+    '# Validation against the source study (Table 2)'
+    """
     cases, results = data.cases, data.results
     md: list[str] = []
     md += [
