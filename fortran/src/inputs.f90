@@ -121,7 +121,7 @@ module ringlube_inputs
     input_spec('physics', 'inlet', kind_choice, 'flooded', 0.0_dp, 0.0_dp, '', 'flooded|starved', &
       "leading edge fully flooded, or fed by the liner oil film (needs cavitation = 'jfo')"), &
     input_spec('physics', 'ring_pack', kind_choice, 'none', 0.0_dp, 0.0_dp, '', 'none|gas', &
-  "'none': chamber above and behind the ring, crankcase below; 'gas': docs/ring_pack.md (not coupled)"), &
+  "'none': chamber above and behind the ring, crankcase below; 'gas': ring-pack gas (ring_pack.md)"), &
     input_spec('ring_pack', 'gas_temperature', kind_real, '450', 200.0_dp, 2000.0_dp, 'K', '', &
       'temperature of the isothermal gas in the groove and on the second land'), &
     input_spec('ring_pack', 'gamma', kind_real, '1.3', 1.01_dp, 1.67_dp, '1', '', &

@@ -91,6 +91,9 @@ module ringlube_ring_pack
     !> 2^max_halvings sub-steps per crank step. adaptive = .false.: one sub-step per call.
     real(dp) :: pressure_rtol = 3e-2_dp
     real(dp) :: travel_fraction = 0.3_dp
+    !> An accepted sub-step that used at most this share of its allowed change (of
+    !> pressure_rtol, travel_fraction) lets the next one be twice as long (huge: always).
+    real(dp) :: grow_share = 0.5_dp
     integer :: max_halvings = 20
     logical :: adaptive = .true.
   end type ring_pack_params
@@ -316,7 +319,7 @@ contains
     type(ring_pack_step_out), intent(out) :: out
     type(error_type), allocatable, intent(out) :: err
     type(ring_pack_state) :: trial
-    real(dp) :: t, h, hmin, q(4), lift_time, against, pa, pb, blowback, gross
+    real(dp) :: t, h, hmin, q(4), lift_time, against, pa, pb, blowback, gross, used
     integer :: lift_offs, flutter
     logical :: ok, accept
     real(dp) :: mass(4)
@@ -336,10 +339,13 @@ contains
       call substep(par, trial, pa, pb, p4, f_f, a_p, h, q, lift_time, lift_offs, flutter, &
                    against, ok)
       accept = ok
+      used = 0.0_dp
       if (accept .and. par%adaptive) then
-        accept = abs(trial%p3 - st%p3) <= par%pressure_rtol * max(trial%p3, st%p3) &
-                 .and. abs(trial%p2 - st%p2) <= par%pressure_rtol * max(trial%p2, st%p2) &
-                 .and. abs(trial%x - st%x) <= par%travel_fraction * par%groove_clearance
+        ! share of the allowed change the sub-step used (pressures, travel)
+        used = max(abs(trial%p3 - st%p3) / (par%pressure_rtol * max(trial%p3, st%p3)), &
+                   abs(trial%p2 - st%p2) / (par%pressure_rtol * max(trial%p2, st%p2)), &
+                   abs(trial%x - st%x) / (par%travel_fraction * par%groove_clearance))
+        accept = used <= 1.0_dp
       end if
       if (.not. accept .and. h > hmin * 1.5_dp .and. (par%adaptive .or. .not. ok)) then
         h = 0.5_dp * h
@@ -361,7 +367,10 @@ contains
       out%flutter_events = out%flutter_events + flutter
       out%substeps = out%substeps + 1
       st%h_next = h
-      if (par%adaptive .and. accept) h = 2.0_dp * h
+      ! the next sub-step twice as long only if this one used at most half the allowance
+      ! (the change grows about in proportion to the sub-step): growing after every accepted
+      ! sub-step would have every other one rejected where the allowance binds
+      if (par%adaptive .and. accept .and. used <= par%grow_share) h = 2.0_dp * h
     end do
     if (par%adaptive) st%h_next = min(h, dt)
     out%top_gap_flow = mass(1) / dt

@@ -2,8 +2,8 @@
 !> cycle with the shipped 4000 r/min full-load trace at 4000 and 12,000 r/min, friction 0, 10
 !> and 20 N, crank step 0.5 deg (or the argument); prints the cycle quantities of
 !> docs/ring_pack.md and the CPU time per cycle. Run from the source folder:
-!> `build/bench_ring_pack [DPSI_DEG [PRESSURE_RTOL]]` (PRESSURE_RTOL also sets travel_fraction
-!> to 10 times it; 1 or more: no sub-steps).
+!> `build/bench_ring_pack [DPSI_DEG [PRESSURE_RTOL [GROW_SHARE]]]` (PRESSURE_RTOL also sets travel_fraction
+!> to 10 times it; 1 or more: no sub-steps; 0: the defaults; GROW_SHARE: ring_pack_params grow_share).
 program bench_ring_pack
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type
@@ -18,7 +18,7 @@ program bench_ring_pack
   type(ring_pack_cycle_out) :: cyc
   type(error_type), allocatable :: err
   real(dp), allocatable :: tpsi(:), tp(:), p1(:), ap(:), ff(:)
-  real(dp) :: rpm, w, dpsi, fr, t0, t1, charge, u, rtol
+  real(dp) :: rpm, w, dpsi, fr, t0, t1, charge, u, rtol, grow
   integer :: k, n, i, j
   character(len=32) :: arg
   character(len=*), parameter :: fmt = '(f7.0, f5.0, f14.3, f10.3, f9.3, f13.3, f7.2, '// &
@@ -37,6 +37,11 @@ program bench_ring_pack
     call get_command_argument(2, arg)
     read (arg, *) rtol
   end if
+  grow = -1
+  if (command_argument_count() >= 3) then
+    call get_command_argument(3, arg)
+    read (arg, *) grow
+  end if
   n = nint(720 / dpsi)
   allocate (p1(0:n - 1), ap(0:n - 1), ff(0:n - 1))
   ! the charge: swept volume at 0.1 MPa and 300 K [mg]
@@ -52,6 +57,7 @@ program bench_ring_pack
       if (rtol > 0) par%pressure_rtol = rtol
       if (rtol > 0) par%travel_fraction = 10 * rtol
       if (rtol >= 1) par%adaptive = .false.
+      if (grow > 0) par%grow_share = grow
       w = rpm * 2 * pi / 60
       do k = 0, n - 1
         p1(k) = gas_pressure(tpsi, tp, k * dpsi, c%crankcase_pressure)
