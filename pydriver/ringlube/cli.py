@@ -336,8 +336,9 @@ def _parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_run)
     p = sub.add_parser(
         "plot",
-        help="friction and film plots of one or more results",
-        description="Friction and film plots (PNG and PDF) of result files.",
+        help="friction, film and gas-pressure plots of one or more results",
+        description="Friction, film and gas-pressure plots (PNG and PDF) of result files, and the "
+        "inlet, liner-film and ring-pack plots of the results that have them.",
     )
     p.add_argument("results", nargs="+", help="result files (HDF5) to overlay")
     p.add_argument("-o", "--output", default=".", help="output folder")

@@ -63,7 +63,9 @@ def test_starved_first_cycle_is_periodic_and_right(deck):
     ref = ringlube.run(case.with_numerics(warmup_deg=720, cycle_tol=1e-9, max_cycles=20))
     tol = case.value("numerics", "cycle_tol")
     assert r.periodic and r.cycles_run == 1
-    assert ref.periodic and ref.cycles_run > 2
+    # (the reference repeats to 1e-9 within its long warm-up and one or two cycles since the
+    # liner film has no cell-aliasing spikes, issue 18; it took 3 or more before)
+    assert ref.periodic
     assert r.energy_loss == pytest.approx(ref.energy_loss, rel=tol)
     assert r.oil_to_chamber == pytest.approx(ref.oil_to_chamber, rel=tol)
     film, film_ref = r.liner["liner_oil_film"], ref.liner["liner_oil_film"]
