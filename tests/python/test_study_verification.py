@@ -46,7 +46,29 @@ def test_direct_nsga2_never_ranks_an_unconverged_run(tmp_path, monkeypatch):
     d = study.cases["cold"].direct
     assert d.unconverged > 0
     assert np.all(d.x[:, 1] <= OFFSET_LIMIT), "an unconverged design is in the direct front"
-    assert "not converged: never in its front" in summary(study)
+    assert "not converged, 0 lifted off the liner: never in its front" in summary(study)
+
+
+def test_direct_nsga2_never_ranks_a_lifted_run(tmp_path, monkeypatch):
+    """Issue 16/18: a design that lifts the ring off the liner is ranked below every design
+    that does not (the tests' stand-in lifts designs with a large crown offset)."""
+    real = study_mod._run_designs
+
+    def some_lifted(base, variables, x, outputs):
+        values, converged, errors = real(base, variables, x, outputs)
+        values[:, list(outputs).index("liner_lift_share")] = np.where(
+            np.asarray(x)[:, 1] > OFFSET_LIMIT, 5.0, 0.0
+        )
+        return values, converged, errors
+
+    monkeypatch.setattr(study_mod, "_run_designs", some_lifted)
+    study = run_study(
+        write(tmp_path), tmp_path / "out", serial=True, with_direct=True, progress=False, figures=False
+    )
+    d = study.cases["cold"].direct
+    assert d.lifted > 0 and d.unconverged == 0
+    assert np.all(d.x[:, 1] <= OFFSET_LIMIT), "a lifted design is in the direct front"
+    assert f"{d.lifted} lifted off the liner: never in its front" in summary(study)
 
 
 def test_unconverged_recheck_is_marked_in_summary_and_report(tmp_path):
