@@ -160,7 +160,7 @@ def test_liner_and_supply_figures(cold, tmp_path):
 
     r = ringlube.run(cold.with_physics(cavitation="jfo", inlet="starved").with_numerics(**FAST))
     files = plot_results([r], tmp_path, formats=("png",))
-    assert {f.stem.rsplit("_", 1)[1] for f in files} == {"friction", "film", "supply", "liner"}
+    assert {f.stem.rsplit("_", 1)[1] for f in files} == {"friction", "film", "supply", "liner", "gas"}
     fig = liner_figure([r])
     np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), r.liner["liner_oil_film"] * 1e6)
     fig = supply_figure([r])
