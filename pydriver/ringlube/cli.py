@@ -8,6 +8,7 @@ converge exits 3; Ctrl-C exits 130.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -491,6 +492,10 @@ def main(argv: list[str] | None = None) -> int:
     except RinglubeError as exc:
         print(f"ringlube: error: {_one_line(exc)}", file=sys.stderr)
         return exc.code
+    except BrokenPipeError:  # the reader of our output left (`ringlube show DECK | head`)
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # no second error when Python flushes at exit
+        return 141  # as a command ended by SIGPIPE
     except OSError as exc:  # the file system said no (permissions, disk full, ...)
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
         print(f"ringlube: error: {where}{exc.strerror or exc}", file=sys.stderr)
