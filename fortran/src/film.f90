@@ -49,6 +49,9 @@ module ringlube_film
     logical :: jfo = .false.
     real(dp), allocatable :: theta(:), content_old(:), pc(:)
     real(dp) :: q_left = 0.0_dp, q_right = 0.0_dp, dt = 0.0_dp
+    !> the face is partly filled across its width at a gas pressure above the leading edge's,
+    !> whose meniscus is then at the leading edge (ringlube_jfo, jfo_solve_connected)
+    logical :: blown = .false.
     !> starved inlet: oil available to the leading edge over the step [m^2] and the distance
     !> the ring moves in it [m] (set by the caller); the fill the inlet admitted
     logical :: starved = .false.
@@ -247,8 +250,10 @@ contains
       if (f%starved .or. trailing_gas) then
         call jfo_solve_connected(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, &
                 tl, tr, c%cavitation_pressure, trailing_gas, f%starved, f%pc, f%p, f%theta, iters, &
-                                 outer, info, f%q_left, f%q_right, cap_left=ql, cap_right=qr)
+                                 outer, info, f%q_left, f%q_right, cap_left=ql, cap_right=qr, &
+                                 blown=f%blown)
       else
+        f%blown = .false.
         f%pc = c%cavitation_pressure
         call jfo_solve(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, tl, tr, &
                        f%pc, f%p, f%theta, iters, info, f%q_left, f%q_right)
@@ -311,13 +316,27 @@ contains
   end subroutine update_viscosity
 
   !> The loads of a solved film: W_h (trapezoidal rule) and the asperity load and area.
+  !> A blown face (the gas in it reaching the leading edge, see film_type) has its meniscus at
+  !> the leading edge: the gas pressure acts up to the edge, so the leading edge's interval
+  !> carries the pressure of its interior node, not the mean with the edge's lower gas pressure
+  !> (whose share, (p_gas - p_edge) dx / 2, is a cell-size error).
   pure subroutine film_loads(c, f)
     type(case_type), intent(in) :: c
     type(film_type), intent(inout) :: f
     integer :: n
+    real(dp) :: pl, pr
     n = f%n
     if (c%roelands .and. maxval(f%p) > roelands_p_max) f%flags = ior(f%flags, flag_piezo)
-    f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
+    pl = f%p(1)
+    pr = f%p(n)
+    if (f%jfo .and. f%blown) then
+      if (f%lead_left) then
+        pl = max(pl, f%p(2))
+      else
+        pr = max(pr, f%p(n - 1))
+      end if
+    end if
+    f%wh = f%circ * f%dx * (sum(f%p(2:n - 1)) + 0.5_dp * (pl + pr))
     if (c%asperity_contact) then
       call asperity_contact(f%h, f%h0, f%dx, c%width, f%circ, f%sigma, c%zeta_kappa_sigma, &
                             c%sigma_over_kappa, f%e_reduced, c%gt_functions == 'fit', &

@@ -76,11 +76,12 @@ def test_supply_film_to_zero_never_breaks_the_run(cold):
     """Less oil supplied: less oil carried to the chamber, a thinner film over the upstrokes,
     and never a NaN (flags instead)."""
     starved = cold.with_physics(cavitation="jfo", inlet="starved").with_numerics(**FAST)
-    results = ringlube.run_many(
-        [starved.with_("lubricant", supply_film=f) for f in (20e-6, 5e-6, 2e-6, 0.5e-6, 0.0)],
-        workers=2,
-        progress=False,
-    )
+    cases = [starved.with_("lubricant", supply_film=f) for f in (20e-6, 5e-6, 2e-6, 0.5e-6, 0.0)]
+    # with no supply the oil of the start-up film in the gap still reaches the chamber, less by
+    # a factor 1e-7 every 10 cycles (4.7e-11 mm3 at the 10th: a blown face pushes it out of the
+    # leading edge ahead of the ring, docs/model.md "Blown face"); 20 cycles leave 4e-18 mm3
+    cases[-1] = cases[-1].with_numerics(max_cycles=20)
+    results = ringlube.run_many(cases, workers=2, progress=False)
     for r in results:
         for name in ("h0", "friction", "power_loss", "inlet_fill", "oil_bank"):
             assert np.isfinite(getattr(r, name)).all(), name
@@ -222,18 +223,18 @@ def test_starved_hot_energy_converges_in_the_crank_step():
         assert runs[1].energy_loss == pytest.approx(runs[0].energy_loss, rel=0.02), supply
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="known limitation (docs/performance.md, 'Film models'): with 'trailing_gas' the "
-    "expansion stroke's film is a boundary layer at the leading edge, about h^2 dp/(6 eta U) = "
-    "8 um long, between the crankcase pressure and the chamber gas in the open cavity; 201 and "
-    "401 nodes (5 and 2.5 um cells) do not resolve it and the cold energy moves by 19 %",
-)
 def test_trailing_gas_cold_energy_converges_in_nodes():
-    """Doubling the nodes must not change the trailing-gas energy by more than 2 %."""
+    """Doubling the nodes must not change the trailing-gas energy by more than 2 % (issue 16:
+    0.72 / 0.59 J at 201 / 401 nodes). On the expansion stroke the chamber gas in the open
+    cavity reaches the leading edge (the face is partly filled across its width, a blown face):
+    the oil entering there was blown back out over one cell at a rate k dp/dx, so the face's
+    fill, its shear and the load of the edge cell scaled with the cell size. The leading edge
+    of a blown face admits gas only and its meniscus is at the edge (docs/model.md, "Blown
+    face")."""
     case = Case.from_namelist(COLD).with_physics(cavitation="jfo", cavity_pressure="trailing_gas")
     case = case.with_numerics(dpsi_deg=0.25)
     coarse, fine = (ringlube.run(case.with_numerics(nodes=n)) for n in (201, 401))
+    assert coarse.converged and fine.converged
     assert fine.energy_loss == pytest.approx(coarse.energy_loss, rel=0.02)
 
 
