@@ -2,9 +2,15 @@
 !> over the liner position z (m, from the top ring's position at TDC, positive towards the
 !> crankcase), and the exchanges of oil volume with the ring as strips of liner.
 !>
-!> Oil is held as a thickness per cell, uniform within the cell. Every operation moves a
+!> Oil is held as a volume per cell (reported as the cell's mean thickness), spread evenly over
+!> the part of the cell it occupies, [lo, hi]: the whole cell at first; an edge that takes
+!> the oil of a strip covering one end of that part leaves the rest. Every operation moves a
 !> volume per unit circumference (m^2) between a strip [za, zb] of liner and somewhere else,
-!> computed from the overlap of the strip with each cell, so the sums balance to round-off.
+!> computed from the overlap of the strip with the occupied part of each cell, so the sums
+!> balance to round-off, and an edge sweeping over a cell in two crank steps, [a, b] then
+!> [b, c], takes all its oil. (With the oil uniform over the whole cell, a cell split f, 1 - f
+!> between the two steps kept f (1 - f) of its oil: a spike of up to a quarter of the film at
+!> every step's boundary on the liner, issue 18.)
 module ringlube_liner
   use ringlube_kinds, only: dp
   implicit none
@@ -17,7 +23,9 @@ module ringlube_liner
     real(dp) :: z0 = 0.0_dp          !< m, left end of cell 1
     real(dp) :: dz = 0.0_dp          !< m, cell length
     integer :: nz = 0
-    real(dp), allocatable :: h(:)    !< m, film thickness of each cell
+    real(dp), allocatable :: h(:)    !< m, film thickness of each cell (mean over the cell)
+    real(dp), allocatable :: lo(:)   !< m, the oil of a cell lies evenly on [lo, hi]
+    real(dp), allocatable :: hi(:)
   end type liner_type
 
 contains
@@ -26,11 +34,14 @@ contains
   pure subroutine liner_init(lin, zmin, zmax, dz, h_init)
     type(liner_type), intent(out) :: lin
     real(dp), intent(in) :: zmin, zmax, dz, h_init
+    integer :: i
     lin%nz = max(1, ceiling((zmax - zmin) / dz))
     lin%z0 = zmin
     lin%dz = (zmax - zmin) / lin%nz
     allocate (lin%h(lin%nz))
     lin%h = h_init
+    lin%lo = [(lin%z0 + (i - 1) * lin%dz, i=1, lin%nz)]
+    lin%hi = lin%lo + lin%dz
   end subroutine liner_init
 
   !> Cell centres [m].
@@ -58,6 +69,21 @@ contains
     overlap = min(lin%dz, max(0.0_dp, min(zb, c1) - max(za, c0)))
   end function overlap
 
+  !> Share of the oil of cell i that lies on [za, zb] (za <= zb): the overlap of the strip
+  !> with the part of the cell the oil occupies, over that part's length.
+  pure real(dp) function share_in(lin, i, za, zb)
+    type(liner_type), intent(in) :: lin
+    integer, intent(in) :: i
+    real(dp), intent(in) :: za, zb
+    real(dp) :: length
+    length = lin%hi(i) - lin%lo(i)
+    if (length > 0.0_dp) then
+      share_in = min(1.0_dp, max(0.0_dp, min(zb, lin%hi(i)) - max(za, lin%lo(i))) / length)
+    else
+      share_in = merge(1.0_dp, 0.0_dp, lin%lo(i) >= za .and. lin%lo(i) <= zb)
+    end if
+  end function share_in
+
   !> Cells that [za, zb] can touch.
   pure subroutine cell_range(lin, za, zb, i0, i1)
     type(liner_type), intent(in) :: lin
@@ -75,7 +101,7 @@ contains
     v = 0.0_dp
     call cell_range(lin, za, zb, i0, i1)
     do i = i0, i1
-      v = v + lin%h(i) * overlap(lin, i, min(za, zb), max(za, zb))
+      v = v + lin%h(i) * lin%dz * share_in(lin, i, min(za, zb), max(za, zb))
     end do
   end function strip_volume
 
@@ -84,15 +110,24 @@ contains
     type(liner_type), intent(inout) :: lin
     real(dp), intent(in) :: za, zb
     real(dp), intent(out) :: v
-    real(dp) :: o
+    real(dp) :: f, a, b
     integer :: i, i0, i1
     v = 0.0_dp
+    a = min(za, zb)
+    b = max(za, zb)
     call cell_range(lin, za, zb, i0, i1)
     do i = i0, i1
-      o = overlap(lin, i, min(za, zb), max(za, zb))
-      if (o <= 0.0_dp) cycle
-      v = v + lin%h(i) * o
-      lin%h(i) = lin%h(i) * (1.0_dp - o / lin%dz)
+      f = share_in(lin, i, a, b)
+      if (f <= 0.0_dp) cycle
+      v = v + lin%h(i) * lin%dz * f
+      if (f >= 1.0_dp) then
+        lin%h(i) = 0.0_dp
+      else
+        lin%h(i) = lin%h(i) * (1.0_dp - f)
+        ! the oil left lies beyond the strip (a strip inside the part: left as it was)
+        if (a <= lin%lo(i)) lin%lo(i) = b
+        if (b >= lin%hi(i)) lin%hi(i) = a
+      end if
     end do
   end subroutine strip_take
 
@@ -102,7 +137,7 @@ contains
     type(liner_type), intent(inout) :: lin
     real(dp), intent(in) :: za, zb, v
     real(dp), intent(out) :: taken
-    real(dp) :: o, avail, share
+    real(dp) :: f, avail, share
     integer :: i, i0, i1
     taken = 0.0_dp
     avail = strip_volume(lin, za, zb)
@@ -110,10 +145,10 @@ contains
     share = min(1.0_dp, v / avail)
     call cell_range(lin, za, zb, i0, i1)
     do i = i0, i1
-      o = overlap(lin, i, min(za, zb), max(za, zb))
-      if (o <= 0.0_dp) cycle
-      taken = taken + share * lin%h(i) * o
-      lin%h(i) = lin%h(i) * (1.0_dp - share * o / lin%dz)
+      f = share_in(lin, i, min(za, zb), max(za, zb))
+      if (f <= 0.0_dp) cycle
+      taken = taken + share * lin%h(i) * lin%dz * f
+      lin%h(i) = lin%h(i) * (1.0_dp - share * f)
     end do
   end subroutine strip_draw
 
@@ -133,6 +168,7 @@ contains
     end do
     if (length <= 0.0_dp) then
       i = min(max(1, floor((0.5_dp * (za + zb) - lin%z0) / lin%dz) + 1), lin%nz)
+      call occupy(lin, i, lin%z0 + (i - 1) * lin%dz, lin%z0 + i * lin%dz)
       lin%h(i) = lin%h(i) + v / lin%dz
       put = v
       return
@@ -140,10 +176,27 @@ contains
     do i = i0, i1
       o = overlap(lin, i, min(za, zb), max(za, zb))
       if (o <= 0.0_dp) cycle
+      call occupy(lin, i, max(min(za, zb), lin%z0 + (i - 1) * lin%dz), &
+                  min(max(za, zb), lin%z0 + i * lin%dz))
       lin%h(i) = lin%h(i) + v * (o / length) / lin%dz
       put = put + v * (o / length)
     end do
   end subroutine strip_put
+
+  !> Where the oil of cell i lies after oil is put on [a, b] of it: on [a, b] if the cell was
+  !> empty, else spread over the span of both.
+  pure subroutine occupy(lin, i, a, b)
+    type(liner_type), intent(inout) :: lin
+    integer, intent(in) :: i
+    real(dp), intent(in) :: a, b
+    if (lin%h(i) > 0.0_dp) then
+      lin%lo(i) = min(lin%lo(i), a)
+      lin%hi(i) = max(lin%hi(i), b)
+    else
+      lin%lo(i) = a
+      lin%hi(i) = b
+    end if
+  end subroutine occupy
 
   !> Set the film on the strip to thickness hf; returns the volumes removed and added [m^2].
   pure subroutine strip_set(lin, za, zb, hf, removed, added)

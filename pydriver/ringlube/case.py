@@ -11,6 +11,7 @@ paths against the working directory.
 from __future__ import annotations
 
 import contextlib
+import decimal
 import html
 import numbers
 import os
@@ -33,6 +34,38 @@ __all__ = [
     "SourceEngineDefaultWarning",
     "kernel_case",
 ]
+
+
+def _plain_number(group: str, name: str, value: Any) -> Any:
+    """A number of another type as a plain float (``Decimal``, ``Fraction``, a float
+    subclass), and a whole float given to an integer input as an int; other values as given.
+
+    Raises
+    ------
+    InputError
+        For a fractional number given to an integer input (the message names it).
+
+    Examples
+    --------
+    >>> import decimal
+    >>> _plain_number("ring", "width", decimal.Decimal("1.1e-3"))
+    0.0011
+    >>> _plain_number("numerics", "nodes", 41.0)
+    41
+    """
+    if isinstance(value, bool) or not isinstance(value, (numbers.Real, decimal.Decimal)):
+        return value
+    if isinstance(value, int):
+        return value
+    value = float(value)  # Decimal, Fraction: numbers, not strings
+    from .tables import INPUTS
+
+    spec = INPUTS.get((group, name))
+    if spec is not None and spec.kind == "integer":
+        if not value.is_integer():
+            raise InputError(f"&{group} {name}: {value!r} is not a whole number (an integer input)")
+        value = int(value)
+    return value
 
 
 def _groups() -> tuple[str, ...]:
@@ -290,8 +323,7 @@ class Case:
                 value = value.item()
             if isinstance(value, os.PathLike):
                 value = os.fspath(value)
-            if isinstance(value, numbers.Real) and not isinstance(value, (bool, int)):
-                value = float(value)  # Decimal, Fraction: numbers, not strings
+            value = _plain_number(group, name, value)
             if (
                 record
                 and (group, name) in _PATH_VARS

@@ -8,6 +8,7 @@ converge exits 3; Ctrl-C exits 130.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -336,8 +337,9 @@ def _parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_run)
     p = sub.add_parser(
         "plot",
-        help="friction and film plots of one or more results",
-        description="Friction and film plots (PNG and PDF) of result files.",
+        help="friction, film and gas-pressure plots of one or more results",
+        description="Friction, film and gas-pressure plots (PNG and PDF) of result files, and the "
+        "inlet, liner-film and ring-pack plots of the results that have them.",
     )
     p.add_argument("results", nargs="+", help="result files (HDF5) to overlay")
     p.add_argument("-o", "--output", default=".", help="output folder")
@@ -490,6 +492,10 @@ def main(argv: list[str] | None = None) -> int:
     except RinglubeError as exc:
         print(f"ringlube: error: {_one_line(exc)}", file=sys.stderr)
         return exc.code
+    except BrokenPipeError:  # the reader of our output left (`ringlube show DECK | head`)
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # no second error when Python flushes at exit
+        return 141  # as a command ended by SIGPIPE
     except OSError as exc:  # the file system said no (permissions, disk full, ...)
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
         print(f"ringlube: error: {where}{exc.strerror or exc}", file=sys.stderr)

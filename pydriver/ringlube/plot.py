@@ -122,7 +122,12 @@ def friction_figure(results: Sequence[CycleResult]) -> plt.Figure:
             label=f"{_label(r, i)}: boundary",
         )
     ax.axhline(0, color="k", lw=0.6)
-    ax.set_ylabel("friction on the ring [N]")
+    ax.set_ylabel("friction on the ring [N]\n(positive: towards the crankcase)")
+    ax.set_title(
+        "Friction on the ring, positive towards the crankcase (it opposes the ring's motion:\n"
+        "positive on upstrokes, negative on downstrokes)",
+        fontsize=9,
+    )
     _crank_axis(ax)
     ax.legend(fontsize=7, ncol=1 if len(results) == 1 else 2, loc="lower left")
     return fig
@@ -314,7 +319,8 @@ def ring_pack_figure(results: Sequence[CycleResult]) -> plt.Figure:
 
 
 def liner_figure(results: Sequence[CycleResult]) -> plt.Figure:
-    """The oil film on the liner along the stroke at the end of the cycle (starved inlet).
+    """The oil film on the liner along the stroke at the end of the reported cycle (crank
+    angle 720 deg, firing TDC: the ring at the top of its travel), starved inlet.
 
     Parameters
     ----------
@@ -344,6 +350,11 @@ def liner_figure(results: Sequence[CycleResult]) -> plt.Figure:
         )
     ax.set_xlabel("liner position from the top ring at TDC [mm] (towards the crankcase)")
     ax.set_ylabel(r"oil film on the liner [$\mu$m]")
+    ax.set_title(
+        "Oil film on the liner at the end of the cycle (crank angle 720 deg, TDC: the ring at\n"
+        "the top of its travel; the film left by the exhaust upstroke and the lower rings)",
+        fontsize=9,
+    )
     ax.set_ylim(bottom=0)
     if ax.lines:
         ax.legend(fontsize=8, loc="upper right")
@@ -359,7 +370,8 @@ def plot_results(
 ) -> list[Path]:
     """Write the friction and film figures for one or several (overlaid) results, and for
     results of the mass-conserving film the inlet fill and wetted width, with a starved
-    inlet the liner oil film, and with the ring pack its pressures, lift and gas flows.
+    inlet the liner oil film, with the ring pack its pressures, lift and gas flows, and the
+    gas pressure each run used (its trace times ``pressure_scale``).
 
     Parameters
     ----------
@@ -384,7 +396,7 @@ def plot_results(
     >>> import ringlube, tempfile
     >>> r = ringlube.run(ringlube.Case(name="r").with_numerics(preset="fast"))
     >>> [p.name for p in plot_results([r], tempfile.mkdtemp(), formats=("png",))]
-    ['r_friction.png', 'r_film.png']
+    ['r_friction.png', 'r_film.png', 'r_gas.png']
     """
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
@@ -397,6 +409,7 @@ def plot_results(
         kinds.append(("liner", liner_figure))
     if any("groove_pressure" in r.series for r in results):
         kinds.append(("ring_pack", ring_pack_figure))
+    kinds.append(("gas", _gas_of_results))
     for kind, _ in kinds:  # every name checked before the first figure is written
         for fmt in formats:
             check_output(outdir / f"{stem}_{kind}.{fmt}", inputs)
@@ -407,6 +420,11 @@ def plot_results(
             files.append(save_figure(fig, path, inputs, dpi=150, metadata=_METADATA[fmt]))
         plt.close(fig)
     return files
+
+
+def _gas_of_results(results: Sequence[CycleResult]) -> plt.Figure:
+    """The gas pressure of each result over its cycle (:func:`gas_figure`)."""
+    return gas_figure({_label(r, i): (r.crank_angle_deg, r.gas_pressure) for i, r in enumerate(results)})
 
 
 def gas_figure(traces: dict[str, tuple[np.ndarray, np.ndarray]]) -> plt.Figure:

@@ -44,6 +44,42 @@ class BatchError(RinglubeError):
         self.code = max(e.code for e in errors.values())
 
 
+def _trace_arrays(trace) -> tuple[np.ndarray, np.ndarray]:
+    """The (crank angle, pressure) pair of ``run(trace=...)`` as two 1-D float arrays of one
+    length (at least 2), else an :class:`InputError` naming the argument and the lengths.
+
+    Examples
+    --------
+    >>> _trace_arrays(([0.0, 720.0], [1e5, 1e5]))[1]
+    array([100000., 100000.])
+    >>> _trace_arrays(([0.0, 360.0, 720.0], [1e5, 1e5]))
+    Traceback (most recent call last):
+    ...
+    ringlube.errors.InputError: trace: crank angle has 3 values but pressure 2; give one pressure per angle
+    """
+    try:
+        psi, p = trace
+    except (TypeError, ValueError):
+        raise InputError("trace: expected a pair (crank angle [deg], pressure [Pa]) of arrays") from None
+    arrays = []
+    for what, a in (("crank angle", psi), ("pressure", p)):
+        try:
+            a = np.asarray(a, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"trace: {what} must be numbers: {exc}") from None
+        if a.ndim != 1:
+            raise InputError(f"trace: {what} must be one-dimensional, got shape {a.shape}")
+        arrays.append(np.ascontiguousarray(a))
+    psi, p = arrays
+    if len(psi) != len(p):
+        raise InputError(
+            f"trace: crank angle has {len(psi)} values but pressure {len(p)}; give one pressure per angle"
+        )
+    if len(psi) < 2:
+        raise InputError(f"trace: {len(psi)} points; a trace needs at least 2 (crank angle, pressure) points")
+    return psi, p
+
+
 def run(
     case: Case | str | os.PathLike,
     *,
@@ -104,7 +140,7 @@ def run(
         out = os.fsencode(output)
     with kernel_case(case, load_trace=trace is None) as k:
         if trace is not None:
-            psi, p = (np.ascontiguousarray(a, dtype=float) for a in trace)
+            psi, p = _trace_arrays(trace)
             code, message = _kernel.rl_set_trace(k.handle, psi, p)
             if code:
                 raise error_for(code, _text(message))

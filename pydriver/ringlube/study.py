@@ -739,7 +739,9 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
 
     A design the kernel rejects gets :data:`FAILED_PENALTY` for every objective; a design
     that failed or did not converge violates the problem's first constraint, so pymoo ranks
-    it below every converged design and never returns it in the front. The study's
+    it below every converged design and never returns it in the front; so does, by less, a
+    design that lifts the ring off the liner (``liner_lift_share`` > 0: by its share / 200,
+    so less lift ranks higher among such designs). The study's
     ``constraints`` follow as further inequalities on the true results (pymoo's ``G <= 0``),
     so the direct front holds only designs that satisfy them. Every evaluated
     generation is checkpointed in the study file (``cases/LABEL/direct_generations``); an
@@ -772,6 +774,7 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
     s = study.s
     names = direct_outputs(s)
     m = len(s.objectives)
+    lift_col = names.index("liner_lift_share")
 
     class TrueModel(Problem):
         """The kernel itself as the pymoo problem, for one case (its base deck); inequality
@@ -803,7 +806,8 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
             self.bar.update(len(x))
             out["F"] = np.where(gen.failed[:, None], FAILED_PENALTY, gen.f[:, :m])
             ok = gen.converged & ~gen.failed
-            g = [np.where(ok, 0.0, 1.0)]
+            lift = np.nan_to_num(gen.f[:, names.index("liner_lift_share")], nan=0.0).clip(0.0, 100.0)
+            g = [np.where(ok, lift / 200.0, 1.0)]
             for k, _, b in self.limits:
                 y = gen.f[:, names.index(k.name)]
                 g.append(np.where(ok, np.nan_to_num(k.violation(y, b), nan=1.0), 1.0))
@@ -848,7 +852,8 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
         gens = study.cases[label].direct_generations
         if res.F is None or (s.constraints and np.atleast_2d(res.G).max() > 0):
             raise RinglubeError(
-                f"case '{label}': no design of the direct NSGA-II converged"
+                f"case '{label}': no design of the direct NSGA-II converged without lifting "
+                "the ring off the liner"
                 + (f" and satisfied the constraints ({'; '.join(s.constraints)})" if s.constraints else "")
             )
         fd = np.atleast_2d(res.F)
@@ -867,6 +872,7 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
             float(IGD(fs / scale)(fd / scale)),
             int(sum(g.failed.sum() for g in gens)),
             int(sum((~g.converged & ~g.failed).sum() for g in gens)),
+            int(sum((g.converged & ~g.failed & (g.f[:, lift_col] > 0)).sum() for g in gens)),
         )
         study.save()
 
@@ -887,7 +893,7 @@ def direct_outputs(s: StudySettings) -> list[str]:
     -------
     >>> direct_outputs(StudySettings("s", [], [], [], [], [], [], ["energy_loss"],
     ...                              constraints=["fmep <= 3", "energy_loss <= 2"]))
-    ['energy_loss', 'fmep']
+    ['energy_loss', 'fmep', 'liner_lift_share']
     """
     return s.direct_outputs()
 

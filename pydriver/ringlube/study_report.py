@@ -20,8 +20,16 @@ from .study_store import Checked, Study
 #: How a re-checked design whose true-model run did not converge is marked (its numbers are
 #: the last cycle's, not a verified periodic result).
 NOT_CONVERGED = "NOT CONVERGED, not verified"
+#: Mark of a design whose true-model run lifted the ring off the liner at some crank steps
+#: (``liner_lift_share`` > 0: the film carried no load there and the results at those steps
+#: rest on the lift-off model, issue 16): reported, never ranked as a good design.
+LIFTED = "LIFTED OFF the liner, not a good design"
+#: Pareto CSV column marking designs the surfaces predict to lift off the liner.
+LIFTED_COLUMN = "lifted off the liner (surrogate)"
 
 __all__ = [
+    "LIFTED",
+    "LIFTED_COLUMN",
     "NOT_CONVERGED",
     "summary",
     "write_report",
@@ -157,9 +165,11 @@ def summary(study: Study) -> str:
                 if e:
                     lines.append(f"  {n:18s} {format_design(study, x)} -> failed: {e}")
                     continue
+                lift = _lift_mark(study, ft)
                 lines.append(
                     f"  {n:18s} {format_design(study, x)} -> "
                     + ("" if ok else f"{NOT_CONVERGED}: ")
+                    + (f"{lift}: " if lift else "")
                     + _values(s.objectives, ft[cols])
                     + "  (surrogate error "
                     + ", ".join(f"{err[j]:+.1%}" for j in cols)
@@ -170,7 +180,8 @@ def summary(study: Study) -> str:
         if d is not None:
             lines.append(
                 f"  direct NSGA-II: {d.runs} true-model runs ({d.failed} failed, "
-                f"{d.unconverged} not converged: never in its front) in "
+                f"{d.unconverged} not converged, {d.lifted} lifted off the liner: never in its "
+                "front) in "
                 f"{d.wall_s:.1f} s; hypervolume direct {d.hv_direct:.3f} vs surrogate "
                 f"front {d.hv_surrogate:.3f} (normalised, common reference); IGD "
                 f"surrogate->direct {d.igd_surrogate_to_direct:.3f}, direct->surrogate "
@@ -195,7 +206,9 @@ def write_pareto_csv(study: Study, out: str | os.PathLike) -> list[Path]:
     """Write each case's Pareto set as ``OUT/pareto_LABEL.csv``.
 
     Columns: the variables (SI), then every result as the surfaces predict it; the header
-    gives each column's unit, e.g. ``width [m]``, ``energy_loss [J]``.
+    gives each column's unit, e.g. ``width [m]``, ``energy_loss [J]``. The last column,
+    :data:`LIFTED_COLUMN`, is ``yes`` where the surfaces predict the ring to lift off the
+    liner (``liner_lift_share`` above its surface's cross-validation error), else ``no``.
 
     Parameters
     ----------
@@ -224,11 +237,48 @@ def write_pareto_csv(study: Study, out: str | os.PathLike) -> list[Path]:
             w.writerow(
                 [f"{v} [{u}]" if u else v for v, u in zip(s.variables, s.units)]
                 + [f"{o} [{units[o]}] (surrogate)" for o in study.s.outputs]
+                + [LIFTED_COLUMN]
             )
-            for x, y in zip(c.front.x, pred):
-                w.writerow([repr(float(v)) for v in (*x, *y)])
+            lifted = _predicted_lift(study, label, pred)
+            for x, y, up in zip(c.front.x, pred, lifted):
+                w.writerow([repr(float(v)) for v in (*x, *y)] + ["yes" if up else "no"])
         files.append(path)
     return files
+
+
+def _predicted_lift(study: Study, label: str, pred: np.ndarray) -> np.ndarray:
+    """Designs whose predicted ``liner_lift_share`` exceeds its surface's CV error (a
+    quadratic surface of a share that is mostly 0 is not exactly 0 anywhere)."""
+    outputs = list(study.s.outputs)
+    if "liner_lift_share" not in outputs:
+        return np.zeros(len(pred), bool)
+    sf = study.cases[label].surfaces.get("liner_lift_share")
+    noise = float(sf.cv_rmse) if sf is not None and np.isfinite(sf.cv_rmse) else 0.0
+    return pred[:, outputs.index("liner_lift_share")] > max(noise, 0.0)
+
+
+def lift_share(study: Study, values: np.ndarray) -> float:
+    """The ``liner_lift_share`` [%] among a design's results (0 if the study does not record
+    it or the value is not a number).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> st = SimpleNamespace(s=SimpleNamespace(outputs=["energy_loss", "liner_lift_share"]))
+    >>> lift_share(st, np.array([1.5, 2.5])), lift_share(st, np.array([1.5, np.nan]))
+    (2.5, 0.0)
+    """
+    outputs = list(study.s.outputs)
+    if "liner_lift_share" not in outputs:
+        return 0.0
+    v = float(values[outputs.index("liner_lift_share")])
+    return v if np.isfinite(v) and v > 0 else 0.0
+
+
+def _lift_mark(study: Study, values: np.ndarray) -> str:
+    """'' or the lift-off mark with the share of the cycle lifted."""
+    share = lift_share(study, values)
+    return f"{LIFTED} ({share:.3g} % of the cycle)" if share > 0 else ""
 
 
 def _feasible_text(study: Study, label: str, ft: np.ndarray) -> str:
@@ -270,8 +320,9 @@ def _design_table(study: Study, ch: Checked, label: str = "") -> list[str]:
                 + (" failed |" if cons else "")
             )
             continue
+        marks = ([] if ok else [NOT_CONVERGED]) + ([_lift_mark(study, ft)] if lift_share(study, ft) else [])
         rows.append(
-            f"| {n}{'' if ok else f' ({NOT_CONVERGED})'} | {xs} | "
+            f"| {n}{''.join(f' ({m})' for m in marks)} | {xs} | "
             + " | ".join(f"{v * k:.4g}" for v, (_, k) in zip(ft, shown))
             + " | "
             + ", ".join(f"{s.objectives[k]} {err[j]:+.1%}" for k, j in enumerate(cols))
@@ -406,7 +457,11 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
         + (", and the reference design of the study deck" if s.reference is not None else "")
         + ". Results from the true model; surrogate error = (surface - true) / |true|. "
         f"A design marked '{NOT_CONVERGED}' did not reach a periodic cycle: its numbers are "
-        "the last cycle's and confirm nothing.",
+        f"the last cycle's and confirm nothing. A design marked '{LIFTED}' lifted the ring off "
+        "the liner for the share of the cycle given (`liner_lift_share`: the film carried no "
+        "load at those crank steps, which the model bounds by `h0_ceiling`): its numbers rest "
+        "on that lift-off and it is not a design to choose. The Pareto CSV files mark the "
+        f"designs the surfaces predict to lift off (column '{LIFTED_COLUMN}').",
     ]
     for label, c in study.cases.items():
         if c.chosen is None:
@@ -430,16 +485,17 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
             "## NSGA-II on the true model (--direct)",
             "",
             "A run that failed or did not converge violates the direct NSGA-II's first constraint: "
-            "it is ranked below every converged design and never in its front"
+            "it is ranked below every converged design and never in its front; so does, by its "
+            "share of the cycle, a run that lifted the ring off the liner (`liner_lift_share` > 0)"
             + ("; the study's constraints follow on the true results." if s.constraints else "."),
             "",
-            "| case | runs | failed | not converged | wall time [s] | hypervolume direct / surrogate | "
-            "IGD surrogate->direct, direct->surrogate |",
-            "|---|---|---|---|---|---|---|",
+            "| case | runs | failed | not converged | lifted off the liner | wall time [s] | "
+            "hypervolume direct / surrogate | IGD surrogate->direct, direct->surrogate |",
+            "|---|---|---|---|---|---|---|---|",
         ]
         for label, d in direct:
             L.append(
-                f"| {label} | {d.runs} | {d.failed} | {d.unconverged} | {d.wall_s:.1f} | "
+                f"| {label} | {d.runs} | {d.failed} | {d.unconverged} | {d.lifted} | {d.wall_s:.1f} | "
                 f"{d.hv_direct:.3f} / {d.hv_surrogate:.3f} | "
                 f"{d.igd_surrogate_to_direct:.3f}, {d.igd_direct_to_surrogate:.3f} |"
             )

@@ -482,15 +482,18 @@ class StudySettings:
 
     def direct_outputs(self) -> list[str]:
         """Results the direct NSGA-II records per design: the objectives, then the
-        constrained results that are not objectives.
+        constrained results that are not objectives, then ``liner_lift_share`` (a design that
+        lifts the ring off the liner is ranked below every design that does not).
 
         Example
         -------
         >>> StudySettings("s", [], [], [], [], [], [], ["energy_loss"],
         ...               constraints=["fmep <= 3"]).direct_outputs()
-        ['energy_loss', 'fmep']
+        ['energy_loss', 'fmep', 'liner_lift_share']
         """
-        return list(dict.fromkeys([*self.objectives, *(c.name for c in self.parsed_constraints)]))
+        return list(
+            dict.fromkeys([*self.objectives, *(c.name for c in self.parsed_constraints), "liner_lift_share"])
+        )
 
     @property
     def groups_names(self) -> list[tuple[str, str]]:
@@ -578,7 +581,10 @@ class StudySettings:
         if direct:
             names += ["direct_population", "direct_generations"]
         d = dataclasses.asdict(self)
-        return json.dumps({k: d[k] for k in names})
+        key = {k: d[k] for k in names}
+        if direct:  # what the direct NSGA-II records and ranks (checkpoints before it: redone)
+            key["direct_outputs"] = self.direct_outputs()
+        return json.dumps(key)
 
     def to_json(self) -> str:
         """The settings as JSON (stored in the study file).

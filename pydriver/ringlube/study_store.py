@@ -241,8 +241,9 @@ class Direct:
     ----------
     x, f : ndarray
         The direct front (true objectives).
-    runs, failed : int
-        True-model runs made and how many of them failed.
+    runs, failed, unconverged, lifted : int
+        True-model runs made, how many of them failed, did not converge, or converged with
+        the ring lifted off the liner at some crank steps (never in the front).
     wall_s : float
         Wall time.
     hv_direct, hv_surrogate, igd_surrogate_to_direct, igd_direct_to_surrogate : float
@@ -264,6 +265,7 @@ class Direct:
     igd_direct_to_surrogate: float
     failed: int = 0
     unconverged: int = 0
+    lifted: int = 0
 
 
 @dataclasses.dataclass

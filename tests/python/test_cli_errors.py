@@ -272,3 +272,28 @@ def test_dask_study_is_quiet_and_interrupts_in_one_line(tmp_path):
     ]
     with h5py.File(out / "c.h5") as f:
         assert 0 < f["cases/cold/runs/done"][()].sum() < 2048
+
+
+def test_output_piped_into_head_ends_quietly():
+    """`ringlube show DECK --set | head -1` printed 'ringlube: error: Broken pipe' when the
+    reader left before the output was written (forced here: the reader exits at once, the
+    command writes unbuffered after a second)."""
+    import subprocess
+    import sys
+
+    from conftest import COLD
+
+    code = (
+        "import sys, time; time.sleep(1); from ringlube.cli import main; "
+        "sys.exit(main(['show', sys.argv[1]]))"
+    )
+    p = subprocess.run(
+        f"'{sys.executable}' -u -c \"{code}\" '{COLD}' | true; echo ${{PIPESTATUS[0]}}",
+        shell=True,
+        executable="/bin/bash",
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert p.stdout.strip() == "141", (p.stdout, p.stderr)
+    assert p.stderr == "", p.stderr

@@ -63,7 +63,9 @@ def test_starved_first_cycle_is_periodic_and_right(deck):
     ref = ringlube.run(case.with_numerics(warmup_deg=720, cycle_tol=1e-9, max_cycles=20))
     tol = case.value("numerics", "cycle_tol")
     assert r.periodic and r.cycles_run == 1
-    assert ref.periodic and ref.cycles_run > 2
+    # (the reference repeats to 1e-9 within its long warm-up and one or two cycles since the
+    # liner film has no cell-aliasing spikes, issue 18; it took 3 or more before)
+    assert ref.periodic
     assert r.energy_loss == pytest.approx(ref.energy_loss, rel=tol)
     assert r.oil_to_chamber == pytest.approx(ref.oil_to_chamber, rel=tol)
     film, film_ref = r.liner["liner_oil_film"], ref.liner["liner_oil_film"]
@@ -159,7 +161,7 @@ def test_liner_and_supply_figures(cold, tmp_path):
 
     r = ringlube.run(cold.with_physics(cavitation="jfo", inlet="starved").with_numerics(**FAST))
     files = plot_results([r], tmp_path, formats=("png",))
-    assert {f.stem.rsplit("_", 1)[1] for f in files} == {"friction", "film", "supply", "liner"}
+    assert {f.stem.rsplit("_", 1)[1] for f in files} == {"friction", "film", "supply", "liner", "gas"}
     fig = liner_figure([r])
     np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), r.liner["liner_oil_film"] * 1e6)
     fig = supply_figure([r])

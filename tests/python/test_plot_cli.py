@@ -17,7 +17,7 @@ def test_plot_files_and_data(quick_case, tmp_path):
     b = ringlube.run(quick_case.with_ring(crown_offset=-60e-6))
     b.label = "offset -60 um"
     files = plot_results([a, b], tmp_path)
-    assert {f.suffix for f in files} == {".png", ".pdf"} and len(files) == 4
+    assert {f.suffix for f in files} == {".png", ".pdf"} and len(files) == 6
     for f in files:
         assert f.stat().st_size > 1000
     fig = friction_figure([a, b])
@@ -39,6 +39,22 @@ def test_cli_run_and_plot(tmp_path, capsys):
     assert "energy loss" in capsys.readouterr().out
     assert main(["plot", str(out), "-o", str(tmp_path / "plots")]) == 0
     assert (tmp_path / "plots" / "r_friction.png").stat().st_size > 1000
+    assert (tmp_path / "plots" / "r_gas.png").stat().st_size > 1000  # issue 18: the gas pressure
+
+
+def test_figures_state_sign_and_time(quick_case, tmp_path):
+    """Issue 18: the friction plot states its sign convention, the liner film plot when in the
+    cycle the film is taken, and the gas figure of a result draws the pressure it ran with."""
+    from ringlube.plot import _gas_of_results, liner_figure
+
+    r = ringlube.run(quick_case.with_operating(pressure_scale=1.1))
+    fig = friction_figure([r])
+    assert "positive towards the crankcase" in fig.axes[0].get_title()
+    gas = _gas_of_results([r]).axes[0].lines[0]
+    np.testing.assert_array_equal(gas.get_xdata(), r.crank_angle_deg)
+    np.testing.assert_array_equal(gas.get_ydata(), r.gas_pressure / 1e5)
+    starved = ringlube.run(quick_case.with_physics(cavitation="jfo", inlet="starved"))
+    assert "720 deg" in liner_figure([starved]).axes[0].get_title()
 
 
 def test_cli_bad_input_exit_code(tmp_path, capsys):

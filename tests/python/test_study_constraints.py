@@ -133,7 +133,7 @@ def test_direct_front_satisfies_the_constraints_by_the_true_model(constrained):
     assert conv.all()
     assert np.all(values[:, 0] <= _reference_friction(study)) and np.all(values[:, 1] >= 0.7e-6)
     gen = study.cases["cold"].direct_generations[0]
-    assert gen.f.shape[1] == 4  # the objectives, then the two constrained results
+    assert gen.f.shape[1] == 5  # the objectives, the two constrained results, liner_lift_share
 
 
 def test_resume_with_changed_constraints_recomputes_the_front(constrained):

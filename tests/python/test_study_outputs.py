@@ -12,7 +12,7 @@ import pytest
 from ringlube.case import Case
 from ringlube.study import run_study
 from ringlube.study_plots import Axis, Mark, TradeoffSeries, map_figure, tradeoff_figure
-from ringlube.study_report import summary
+from ringlube.study_report import LIFTED_COLUMN, summary
 from ringlube.study_settings import OUTPUTS, display, output_units, variable_unit
 
 from conftest import INPUTS
@@ -128,8 +128,10 @@ def test_pareto_csv_has_units_and_the_front(study):
     with open(out / "pareto_cold.csv") as fh:
         rows = list(csv.reader(fh))
     units = output_units()
-    assert rows[0] == ["width [m]", "crown_offset [m]"] + [f"{o} [{units[o]}] (surrogate)" for o in OUTPUTS]
-    values = np.array(rows[1:], float)
+    results = [f"{o} [{units[o]}] (surrogate)" for o in OUTPUTS]
+    assert rows[0] == ["width [m]", "crown_offset [m]", *results, LIFTED_COLUMN]
+    assert {r[-1] for r in rows[1:]} <= {"yes", "no"}
+    values = np.array([r[:-1] for r in rows[1:]], float)
     front = st.cases["cold"].front
     np.testing.assert_array_equal(values[:, :2], front.x)
     np.testing.assert_array_equal(values[:, 2:4], front.f)  # energy_loss, mixed_share

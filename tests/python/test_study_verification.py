@@ -46,7 +46,29 @@ def test_direct_nsga2_never_ranks_an_unconverged_run(tmp_path, monkeypatch):
     d = study.cases["cold"].direct
     assert d.unconverged > 0
     assert np.all(d.x[:, 1] <= OFFSET_LIMIT), "an unconverged design is in the direct front"
-    assert "not converged: never in its front" in summary(study)
+    assert "not converged, 0 lifted off the liner: never in its front" in summary(study)
+
+
+def test_direct_nsga2_never_ranks_a_lifted_run(tmp_path, monkeypatch):
+    """Issue 16/18: a design that lifts the ring off the liner is ranked below every design
+    that does not (the tests' stand-in lifts designs with a large crown offset)."""
+    real = study_mod._run_designs
+
+    def some_lifted(base, variables, x, outputs):
+        values, converged, errors = real(base, variables, x, outputs)
+        values[:, list(outputs).index("liner_lift_share")] = np.where(
+            np.asarray(x)[:, 1] > OFFSET_LIMIT, 5.0, 0.0
+        )
+        return values, converged, errors
+
+    monkeypatch.setattr(study_mod, "_run_designs", some_lifted)
+    study = run_study(
+        write(tmp_path), tmp_path / "out", serial=True, with_direct=True, progress=False, figures=False
+    )
+    d = study.cases["cold"].direct
+    assert d.lifted > 0 and d.unconverged == 0
+    assert np.all(d.x[:, 1] <= OFFSET_LIMIT), "a lifted design is in the direct front"
+    assert f"{d.lifted} lifted off the liner: never in its front" in summary(study)
 
 
 def test_unconverged_recheck_is_marked_in_summary_and_report(tmp_path):
@@ -96,3 +118,43 @@ def test_direct_nsga2_resumes_from_its_last_generation(tmp_path, monkeypatch):
     np.testing.assert_array_equal(a.x, b.x)
     np.testing.assert_array_equal(a.f, b.f)
     assert a.runs == b.runs == sum(all_rows)
+
+
+def test_lifted_design_is_marked_in_summary_report_and_pareto_csv(tmp_path, monkeypatch):
+    """Issue 16/18: a design whose true-model run lifted the ring off the liner (liner_lift_share
+    > 0) is marked like an unconverged one, never shown as a good design; the Pareto CSV marks
+    the designs the surfaces predict to lift off."""
+    import csv
+
+    import ringlube.study_report as report_mod
+    from ringlube.study_report import LIFTED, LIFTED_COLUMN, write_pareto_csv
+
+    study = run_study(
+        write(tmp_path, generations=1), tmp_path / "out", serial=True, progress=False, figures=False
+    )
+    chosen = study.cases["cold"].chosen
+    j = list(study.s.outputs).index("liner_lift_share")
+    chosen.f_true[:, j] = 0.0
+    chosen.f_true[0, j] = 12.5
+    text = summary(study)
+    marked = [line for line in text.splitlines() if LIFTED in line]
+    assert len(marked) == 1 and marked[0].strip().startswith(chosen.names[0])
+    assert "12.5 % of the cycle" in marked[0]
+    report = write_report(study, tmp_path / "out").read_text()
+    assert f"| {chosen.names[0]} ({LIFTED} (12.5 % of the cycle)) |" in report
+    assert f"| {chosen.names[1]} |" in report
+    # the CSV: a design predicted to lift off (above the surface's CV error) is marked
+    real = report_mod._predict
+
+    def lifting(st, label, x):
+        pred = real(st, label, x)
+        pred[:, j] = 0.0
+        pred[0, j] = 50.0
+        return pred
+
+    monkeypatch.setattr(report_mod, "_predict", lifting)
+    (path,) = write_pareto_csv(study, tmp_path / "out")
+    with open(path) as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0][-1] == LIFTED_COLUMN
+    assert [r[-1] for r in rows[1:]] == ["yes"] + ["no"] * (len(rows) - 2)
