@@ -9,7 +9,8 @@ from conftest import MODULE_LABELS, ROOT
 
 def _ctest_labels() -> set[str]:
     text = (ROOT / "tests" / "fortran" / "tests.cmake").read_text()
-    found = re.findall(r'LABELS "([a-z_;]+)"', text) + re.findall(r'set\(ringlube_labels_\w+ "([^"]+)"\)', text)
+    found = re.findall(r'LABELS "([a-z_;]+)"', text)
+    found += re.findall(r'set\(ringlube_labels_\w+ "([^"]+)"\)', text)
     return {label for labels in found for label in labels.split(";")}
 
 
