@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import re
 
-from conftest import MODULE_LABELS, ROOT
+from conftest import MODULE_LABELS, ROOT, SLOW
 
 
 def _ctest_labels() -> set[str]:
@@ -28,3 +28,10 @@ def test_markers_are_the_ctest_labels():
 def test_every_test_module_has_labels():
     modules = {p.stem for p in (ROOT / "tests" / "python").glob("test_*.py")}
     assert modules == set(MODULE_LABELS), modules ^ set(MODULE_LABELS)
+
+
+def test_slow_tests_exist():
+    """Every name of conftest.SLOW is a test function (a renamed test would lose its label)."""
+    text = "".join(p.read_text() for p in (ROOT / "tests" / "python").glob("test_*.py"))
+    missing = [n for n in SLOW if f"def {n.split('[')[0]}(" not in text]
+    assert not missing, missing
