@@ -11,8 +11,7 @@ VENV ?= .venv
 APT_PACKAGES := gfortran cmake ninja-build libhdf5-dev hdf5-tools liblapack-dev libblas-dev
 DEFAULT_DECK := inputs/crf450r_4000rpm_full_cold.nml
 DEFAULT_STUDY := inputs/study_default.nml
-# Fortran checked by fprettify (settings: .fprettify.rc). Not yet the files the lead is
-# rewriting in the JFO integration; lead: format them after it and empty this list.
+# Fortran checked by fprettify (settings: .fprettify.rc): every file.
 FORTRAN_FORMATTED := $(wildcard fortran/src/*.f90 fortran/app/*.f90 fortran/f2py/*.f90 \
                        tests/fortran/*.f90 tests/bench/*.f90)
 
@@ -86,8 +85,7 @@ run: setup
 	$(VENV)/bin/ringlube optimise $(DEFAULT_STUDY) --direct
 
 # ruff and fprettify come with the `test` extra (pinned there: a formatter's output
-# changes between versions). ruff's settings, and the Python files it does not format yet,
-# are in pyproject.toml.
+# changes between versions). ruff's settings are in pyproject.toml.
 lint: python
 	$(VENV)/bin/ruff check pydriver tests
 	$(VENV)/bin/ruff format --check pydriver tests

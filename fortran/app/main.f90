@@ -9,7 +9,7 @@ program ringlube_solve
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, rl_input_error, rl_not_converged, rl_runtime_error
   use ringlube_case, only: case_type, composite_sigma
-  use ringlube_input, only: read_deck
+  use ringlube_deck, only: read_deck
   use ringlube_cycle, only: solve_cycle
   use ringlube_results, only: result_type, scalar_value, n_scalars, summary_text
   use ringlube_hdf5_output, only: write_result

@@ -12,7 +12,7 @@ module ringlube_api
   use ringlube_case, only: case_type, case_access, access_set, access_get, validate_case, &
                            real_text
   use ringlube_inputs, only: inputs, n_inputs, find_input, presets, n_presets, kind_int, kind_real
-  use ringlube_input, only: read_deck_text
+  use ringlube_deck, only: read_deck_text
   use ringlube_gas, only: check_pressure_trace
   use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
                               n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, &

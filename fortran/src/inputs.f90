@@ -1,7 +1,7 @@
 !> The one table of every input variable: group, name, kind, default, plausible range,
 !> unit and a one-line description; and the numerics presets.
 !>
-!> This table drives the deck reader (ringlube_input), the defaults and range checks of a
+!> This table drives the deck reader (ringlube_deck), the defaults and range checks of a
 !> case (ringlube_case), the Python package (exported through the f2py layer) and the
 !> input table of docs/model.md (generated from it). A variable is added here and in the
 !> storage binding `case_access` of ringlube_case, nowhere else.

@@ -18,7 +18,8 @@ the mixed-share quantum (one crank step) go to the one whose continuous inputs l
 closest to their nominal values (0.04 and 1.0).
 The hot case is never used: it is the prediction the validation checks.
 
-The mixed share is a count of crank steps, a step function of the inputs; the fit is
+The mixed share varies continuously with the inputs (a crossing of lambda = 4 inside a crank
+step counts the part of the step below it) but only piecewise smoothly; the fit is
 therefore nested: for a pressure scale, zeta_kappa_sigma is solved by Brent's method for
 the energy target (energy is continuous and increasing in it); the pressure scale is then
 found by bisection on the mixed share (increasing in it).

@@ -283,7 +283,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
 
 def _cmd_readings(args: argparse.Namespace) -> int:
-    from .readings import run_args
+    from .readings_cli import run_args
 
     return run_args(args)
 
@@ -432,7 +432,7 @@ def _parser() -> argparse.ArgumentParser:
         description="Fit every reading (film model x contact area x tension unit) to the cold "
         "Table 2 case and the published trends; write docs/readings.md.",
     )
-    from .readings import add_arguments as readings_arguments
+    from .readings_cli import add_arguments as readings_arguments
 
     readings_arguments(p)
     p.set_defaults(func=_cmd_readings)

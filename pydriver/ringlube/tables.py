@@ -26,6 +26,7 @@ __all__ = [
     "INT_SERIES",
     "SCALARS",
     "FLAG_BITS",
+    "FLAGS",
     "LINER",
     "GROUPS",
     "table_text",
@@ -174,6 +175,9 @@ SCALARS: dict[str, FieldSpec]
 FLAG_BITS: dict[int, str]
 LINER: dict[str, FieldSpec]
 INPUTS, PRESETS, SERIES, INT_SERIES, SCALARS, FLAG_BITS, LINER = _load()
+#: the bit of each ``/cycle/flags`` condition by its name in the kernel's table, e.g.
+#: ``FLAGS["h0_ceiling"]`` (lift-off)
+FLAGS: dict[str, int] = {name: int(b) for b, name, _ in _rows("flags")}
 
 #: Namelist groups of a deck, in table order.
 GROUPS: tuple[str, ...] = tuple(dict.fromkeys(g for g, _ in INPUTS))

@@ -16,7 +16,7 @@ program bench_kernel
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type
   use ringlube_case, only: case_type, elastic_pressure
-  use ringlube_input, only: read_deck_text, dirname
+  use ringlube_deck, only: read_deck_text, dirname
   use ringlube_cycle, only: solve_cycle
   use ringlube_results, only: result_type
   use ringlube_tridiag, only: thomas

@@ -6,7 +6,7 @@ program test_cycle
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type
   use ringlube_case, only: case_type, default_case, composite_sigma, elastic_pressure
-  use ringlube_input, only: finish_case
+  use ringlube_deck, only: finish_case
   use ringlube_cycle, only: solve_cycle
   use ringlube_results, only: result_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite

@@ -24,9 +24,11 @@ program test_film_edges
   c%asperity_contact = .false.
   c%cavitation_pressure = 0.0_dp
   c%crankcase_pressure = 1e5_dp
-  call slider_reforms_at_the_trailing_edge()
-  call huge_supply_equals_flooded_and_gas_only_interval()
-  call trailing_edge_draws_at_most_the_oil_behind()
+  if (run_case('slider_reforms_at_the_trailing_edge')) call slider_reforms_at_the_trailing_edge()
+  if (run_case('huge_supply_equals_flooded_and_gas_only_interval')) &
+    call huge_supply_equals_flooded_and_gas_only_interval()
+  if (run_case('trailing_edge_draws_at_most_the_oil_behind')) &
+    call trailing_edge_draws_at_most_the_oil_behind()
   call report('test_film_edges')
 
 contains

@@ -105,45 +105,24 @@ program test_jfo
   use jfo_reference, only: elrod_solve
   use ringlube_check
   use squeeze_exact
+  use slider_closed_form, only: b, xs, h0, eta, kk, ns, hz, j2, j3
   implicit none
-  ! the ring of tests/fortran/test_reynolds.f90
-  real(dp), parameter :: b = 1e-3_dp, crown = 10e-6_dp, xs = -38e-6_dp, h0 = 1e-6_dp
-  real(dp), parameter :: eta = 0.01_dp, kk = crown / (0.5_dp * b)**2
-  integer, parameter :: ns(4) = [51, 101, 201, 401]
 
-  call case_flooded_slider()
-  call case_trailing_gas()
-  call case_starved()
-  call case_squeeze()
-  call case_transient()
-  call case_connectivity_rule()
-  call case_enclosed_cavity()
-  call case_guard()
-  call case_inflow_cap()
-  call case_bad_input()
+  if (run_case('flooded_slider')) call case_flooded_slider()
+  if (run_case('trailing_gas')) call case_trailing_gas()
+  if (run_case('starved')) call case_starved()
+  if (run_case('squeeze')) call case_squeeze()
+  if (run_case('transient')) call case_transient()
+  if (run_case('connectivity_rule')) call case_connectivity_rule()
+  if (run_case('enclosed_cavity')) call case_enclosed_cavity()
+  if (run_case('guard')) call case_guard()
+  if (run_case('inflow_cap')) call case_inflow_cap()
+  if (run_case('bad_input')) call case_bad_input()
   call report('test_jfo')
 
 contains
 
-  ! ------------------------------------------------------------------ geometry and closed forms
-  elemental real(dp) function hz(z)
-    real(dp), intent(in) :: z
-    hz = h0 + kk * z * z
-  end function hz
-
-  !> int dz/h^2, int dz/h^3 for h = h0 + kk z^2
-  elemental real(dp) function j1(z)
-    real(dp), intent(in) :: z
-    j1 = atan(z * sqrt(kk / h0)) / sqrt(h0 * kk)
-  end function j1
-  elemental real(dp) function j2(z)
-    real(dp), intent(in) :: z
-    j2 = z / (2 * h0 * hz(z)) + j1(z) / (2 * h0)
-  end function j2
-  elemental real(dp) function j3(z)
-    real(dp), intent(in) :: z
-    j3 = z / (4 * h0 * hz(z)**2) + 3 * j2(z) / (4 * h0)
-  end function j3
+  ! ------------------------------------------------------------------ closed forms
 
   !> Full-film pressure for U > 0 from a point zc where p = pc0 and the flux is -(U/2) hc:
   !> k p' = (U/2)(hc - h)  ->  p = pc0 + 6 eta U [hc (J3(z) - J3(zc)) - (J2(z) - J2(zc))].

@@ -5,7 +5,8 @@ program test_results
   use ringlube_kinds, only: dp
   use ringlube_results, only: result_type, allocate_result, series_ptr, int_series_ptr, &
                               liner_ptr, scalar_value, n_series, n_int_series, n_liner, &
-                              n_scalars, scalar_spec, series_spec, derive_results, summary_text
+                              n_scalars, scalar_spec, series_spec, derive_results, summary_text, &
+                              flag_ceiling, flag_load
   use ringlube_check
   implicit none
   type(result_type), target :: r
@@ -73,7 +74,7 @@ program test_results
   r%cycles_computed = 4.25_dp
   r%oil_to_chamber = 0.3_dp
   r%oil_balance_error = 1e-9_dp
-  r%flags = [0, 2, 0, 0, 4, 0, 0]
+  r%flags = [0, flag_ceiling, 0, 0, flag_load, 0, 0]   ! one step lifted off, two flagged
   r%blowby = 2.5_dp
   r%blowby_mass = 1.5_dp
   r%blowback_mass = 5.0_dp

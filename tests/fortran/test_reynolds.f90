@@ -5,61 +5,46 @@ program test_reynolds
   use ringlube_kinds, only: dp
   use ringlube_reynolds, only: reynolds_solve
   use ringlube_check
+  use slider_closed_form, only: b, xs, h0, eta, kk, ns, hz, j2, j3
   implicit none
-  real(dp), parameter :: b = 1e-3_dp, crown = 10e-6_dp, xs = -38e-6_dp, h0 = 1e-6_dp
-  real(dp), parameter :: eta = 0.01_dp, kk = crown / (0.5_dp * b)**2
-  integer, parameter :: ns(4) = [51, 101, 201, 401]
-  real(dp) :: err_ff(4), err_sq(4), err_rey(4), xc_exact, order
-  integer :: i
-  character(len=80) :: what
+  real(dp) :: xc_exact
 
   xc_exact = rupture_point(10.0_dp, 2e5_dp, 0.0_dp)
-  do i = 1, size(ns)
-    err_ff(i) = case_full_film(ns(i))
-    err_sq(i) = case_squeeze(ns(i))
-    err_rey(i) = case_reynolds(ns(i))
-  end do
-  write (*, '(a)') '    N   full film    squeeze   reynolds (max |p - p_exact| / max p_exact)'
-  do i = 1, size(ns)
-    write (*, '(i5, 3es11.3)') ns(i), err_ff(i), err_sq(i), err_rey(i)
-  end do
-  do i = 2, size(ns)
-    order = log(err_ff(i - 1) / err_ff(i)) / log(2.0_dp)
-    write (what, '(a, i0, a, f5.2)') 'full film second order, N=', ns(i), ': order ', order
-    call check(order > 1.9_dp, trim(what))
-    order = log(err_sq(i - 1) / err_sq(i)) / log(2.0_dp)
-    write (what, '(a, i0, a, f5.2)') 'squeeze second order, N=', ns(i), ': order ', order
-    call check(order > 1.9_dp, trim(what))
-    order = log(err_rey(i - 1) / err_rey(i)) / log(2.0_dp)
-    write (what, '(a, i0, a, f5.2)') 'rupture case converges at least first order, N=', ns(i), &
-      ': order ', order
-    call check(order > 0.9_dp, trim(what))
-  end do
-  call check(err_ff(4) < 1e-4_dp .and. err_sq(4) < 1e-4_dp .and. err_rey(4) < 1e-3_dp, &
-             'absolute accuracy at N=401')
-  call case_ambient_kkt()
+  if (run_case('convergence_order')) call convergence_order()
+  if (run_case('ambient_kkt')) call case_ambient_kkt()
   call report('test_reynolds')
 
 contains
 
-  elemental real(dp) function hz(z)
-    real(dp), intent(in) :: z
-    hz = h0 + kk * z * z
-  end function hz
-
-  !> int dz / h^2 and int dz / h^3 (antiderivatives), h = h0 + k z^2.
-  elemental real(dp) function j1(z)
-    real(dp), intent(in) :: z
-    j1 = atan(z * sqrt(kk / h0)) / sqrt(h0 * kk)
-  end function j1
-  elemental real(dp) function j2(z)
-    real(dp), intent(in) :: z
-    j2 = z / (2 * h0 * hz(z)) + j1(z) / (2 * h0)
-  end function j2
-  elemental real(dp) function j3(z)
-    real(dp), intent(in) :: z
-    j3 = z / (4 * h0 * hz(z)**2) + 3 * j2(z) / (4 * h0)
-  end function j3
+  !> Full film, pure squeeze and the rupture case against their closed forms, N = ns.
+  subroutine convergence_order()
+    real(dp) :: err_ff(4), err_sq(4), err_rey(4), order
+    integer :: i
+    character(len=80) :: what
+    do i = 1, size(ns)
+      err_ff(i) = case_full_film(ns(i))
+      err_sq(i) = case_squeeze(ns(i))
+      err_rey(i) = case_reynolds(ns(i))
+    end do
+    write (*, '(a)') '    N   full film    squeeze   reynolds (max |p - p_exact| / max p_exact)'
+    do i = 1, size(ns)
+      write (*, '(i5, 3es11.3)') ns(i), err_ff(i), err_sq(i), err_rey(i)
+    end do
+    do i = 2, size(ns)
+      order = log(err_ff(i - 1) / err_ff(i)) / log(2.0_dp)
+      write (what, '(a, i0, a, f5.2)') 'full film second order, N=', ns(i), ': order ', order
+      call check(order > 1.9_dp, trim(what))
+      order = log(err_sq(i - 1) / err_sq(i)) / log(2.0_dp)
+      write (what, '(a, i0, a, f5.2)') 'squeeze second order, N=', ns(i), ': order ', order
+      call check(order > 1.9_dp, trim(what))
+      order = log(err_rey(i - 1) / err_rey(i)) / log(2.0_dp)
+      write (what, '(a, i0, a, f5.2)') 'rupture case converges at least first order, N=', ns(i), &
+        ': order ', order
+      call check(order > 0.9_dp, trim(what))
+    end do
+    call check(err_ff(4) < 1e-4_dp .and. err_sq(4) < 1e-4_dp .and. err_rey(4) < 1e-3_dp, &
+               'absolute accuracy at N=401')
+  end subroutine convergence_order
 
   subroutine grid(n, x, hmid, kmid, dx)
     integer, intent(in) :: n

@@ -1,14 +1,54 @@
 # ctest suite of the Fortran kernel (included from the root CMakeLists.txt).
-# Every test has LABELS (listed at the end; README "Tests"): select with `ctest -L numerics`,
+# Every test has LABELS (listed below; README "Tests"): select with `ctest -L numerics`,
 # leave out with `ctest -LE slow`, pick by name with `ctest -R jfo`.
-add_library(ringlube_check STATIC ${CMAKE_CURRENT_LIST_DIR}/check.f90)
+#
+# One ctest per case: a test program guards each case with `if (run_case('name')) call ...`
+# (tests/fortran/check.f90) and is registered here once per such line as `program/name`
+# (`ctest -R jfo/squeeze`; `build/test_jfo squeeze` runs it by hand), so a new case needs
+# no edit here. A program without run_case lines is one ctest named after it.
+add_library(ringlube_check STATIC ${CMAKE_CURRENT_LIST_DIR}/check.f90
+  ${CMAKE_CURRENT_LIST_DIR}/slider_closed_form.f90)
 target_link_libraries(ringlube_check PUBLIC ringlube_kernel)
+
+#: labels of each program's tests. unit: one module or function against an exact or
+#: independent answer; numerics: discretisation order, solver convergence and whole-cycle
+#: consistency; cli: runs ringlube-solve; io: files (HDF5, temporary files, output checks);
+#: slow: over 1 s alone on the reference 2-core machine (`ctest -LE slow` for a quick pass);
+#: known_limitation: expected failures (WILL_FAIL) that document what the model does not do.
+set(ringlube_labels_tridiag "unit")
+set(ringlube_labels_tridiag_fixed "unit")
+set(ringlube_labels_liner "unit")
+set(ringlube_labels_results "unit")
+set(ringlube_labels_greenwood_tripp "unit;numerics")
+set(ringlube_labels_physics_basics "unit;numerics")
+set(ringlube_labels_mixed_share "unit;numerics")
+set(ringlube_labels_reynolds "numerics")
+set(ringlube_labels_cycle "numerics")
+set(ringlube_labels_time_order "numerics")
+set(ringlube_labels_film_viscosity "numerics")
+set(ringlube_labels_film_edges "numerics")
+set(ringlube_labels_jfo "numerics;slow")
+set(ringlube_labels_ring_pack "unit;numerics;slow")
 
 foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner jfo time_order
     mixed_share film_viscosity film_edges results ring_pack)
-  add_executable(test_${t} ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
+  set(src ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
+  add_executable(test_${t} ${src})
   target_link_libraries(test_${t} PRIVATE ringlube_check ringlube_io ${LAPACK_LIBRARIES})
-  add_test(NAME ${t} COMMAND test_${t} WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${src})
+  file(STRINGS ${src} case_lines REGEX "run_case\\('[A-Za-z0-9_]+'\\)")
+  set(names "")
+  foreach(line IN LISTS case_lines)
+    string(REGEX MATCH "run_case\\('([A-Za-z0-9_]+)'\\)" unused "${line}")
+    list(APPEND names ${t}/${CMAKE_MATCH_1})
+    add_test(NAME ${t}/${CMAKE_MATCH_1} COMMAND test_${t} ${CMAKE_MATCH_1}
+      WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+  endforeach()
+  if(NOT names)
+    set(names ${t})
+    add_test(NAME ${t} COMMAND test_${t} WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+  endif()
+  set_tests_properties(${names} PROPERTIES LABELS "${ringlube_labels_${t}}")
 endforeach()
 
 # the independent Elrod relaxation used by test_jfo and by the (not run) benchmark bench_jfo
@@ -42,16 +82,7 @@ add_test(NAME study_trend_crown_height
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
 set_tests_properties(study_trend_crown_height PROPERTIES WILL_FAIL TRUE)
 
-# Labels. unit: one module or function against an exact or independent answer;
-# numerics: discretisation order, solver convergence and whole-cycle consistency;
-# cli: runs ringlube-solve; io: files (HDF5, temporary files, output checks);
-# slow: over 1 s alone on the reference 2-core machine (`ctest -LE slow` for a quick pass);
-# known_limitation: expected failures (WILL_FAIL) that document what the model does not do.
-set_tests_properties(tridiag tridiag_fixed liner results PROPERTIES LABELS "unit")
-set_tests_properties(greenwood_tripp physics_basics mixed_share PROPERTIES LABELS "unit;numerics")
-set_tests_properties(reynolds cycle time_order film_viscosity film_edges PROPERTIES LABELS "numerics")
-set_tests_properties(jfo PROPERTIES LABELS "numerics;slow")
-set_tests_properties(ring_pack PROPERTIES LABELS "unit;numerics;slow")
+# Labels of the remaining tests (the meanings are listed above).
 set_tests_properties(bad_decks solve_shipped_deck PROPERTIES LABELS "cli;io")
 set_tests_properties(concurrent_output PROPERTIES LABELS "cli;io;slow")
 set_tests_properties(hdf5_output PROPERTIES LABELS "unit;io")

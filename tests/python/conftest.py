@@ -31,3 +31,85 @@ def quick_case():
     import ringlube
 
     return ringlube.Case.from_namelist(COLD).with_numerics(nodes=41, dpsi_deg=2.0)
+
+
+#: the ctest labels (tests/fortran/tests.cmake, registered as markers in pyproject.toml) of
+#: each test module; besides these, a test that uses the `solver` fixture is `cli`, a strict
+#: xfail is `known_limitation` and the tests of SLOW are `slow`. Select with
+#: `pytest -m numerics`, `pytest -m "not slow"`.
+MODULE_LABELS = {
+    "test_batch_and_deck_edge_cases": ("unit", "io"),
+    "test_case": ("unit",),
+    "test_case_api": ("unit",),
+    "test_cli_errors": ("cli",),
+    "test_convergence": ("numerics",),
+    "test_convergence_progress": ("numerics",),
+    "test_docs": ("unit",),
+    "test_docstrings": ("unit",),
+    "test_gas": ("unit",),
+    "test_gas_model": ("unit", "numerics"),
+    "test_hdf5_layout": ("io",),
+    "test_implausible_inputs": ("numerics",),
+    "test_input_mistakes": ("unit",),
+    "test_oil_supply": ("numerics",),
+    "test_markers": ("unit",),
+    "test_output_safety": ("io",),
+    "test_own_engine_walkthrough": ("cli",),
+    "test_packaging": ("io",),
+    "test_plot_cli": ("cli", "io"),
+    "test_readings": ("numerics",),
+    "test_ring_pack_cycle": ("numerics",),
+    "test_run": ("numerics",),
+    "test_scheduler_connection": ("unit",),
+    "test_stability": ("numerics",),
+    "test_study": ("numerics",),
+    "test_study_constraints": ("unit",),
+    "test_study_docstrings": ("unit",),
+    "test_study_mistakes_and_interruptions": ("io",),
+    "test_study_outputs": ("io",),
+    "test_study_resume": ("io",),
+    "test_study_verification": ("numerics",),
+    "test_validation": ("numerics",),
+}
+
+
+#: tests over 2 s on the 2-core machine shared by five jobs (about 1 s alone, the ctest `slow`),
+#: measured with `pytest --durations=0 --durations-min=1` (call or fixture set-up); `slow`
+SLOW = {
+    "test_small_study_end_to_end",
+    "test_dask_study_is_quiet_and_interrupts_in_one_line",
+    "test_starved_hot_energy_converges_in_the_crank_step",
+    "test_dask_cluster_matches_serial_and_survives_a_killed_worker",
+    "test_own_engine_walkthrough",
+    "test_study_trades_friction_against_oil_transport",
+    "test_tradeoff_is_drawn_without_ring_mass_and_names_designs",
+    "test_tradeoff_files_follow_the_objectives",
+    "test_resume_after_changed_weights_recomputes_the_scene",
+    "test_docstring_examples_run[gas]",
+    "test_sigterm_during_cluster_start_ends_quietly",
+    "test_constraint_binds_the_surrogate_front",
+    "test_deck_over_64_kib_is_kept_whole",
+    "test_shipped_calibration_is_the_declared_fit",
+    "test_imep_of_the_written_trace_is_the_target",
+    "test_damped_rule_that_does_not_contract_ends_flagged",
+    "test_real_process_prints_one_line",
+    "test_figure_beside_the_trace",
+    "test_direct_nsga2_resumes_from_its_last_generation",
+    "test_unreachable_scheduler_is_one_error",
+}
+
+
+def pytest_collection_modifyitems(config, items):
+    """Give every test the markers of its module, `cli` and `known_limitation` (see
+    MODULE_LABELS)."""
+    for item in items:
+        labels = set(MODULE_LABELS.get(item.module.__name__.rpartition(".")[2], ()))
+        if item.name in SLOW:
+            labels.add("slow")
+        if "solver" in getattr(item, "fixturenames", ()):
+            labels.add("cli")
+        xfail = item.get_closest_marker("xfail")
+        if xfail is not None and xfail.kwargs.get("strict", False):
+            labels.add("known_limitation")
+        for label in sorted(labels):
+            item.add_marker(label)

@@ -9,7 +9,7 @@ import shlex
 import numpy as np
 import pytest
 
-from ringlube import gas
+from ringlube import gas, gas_model
 from ringlube.cli import main
 
 from conftest import INPUTS
@@ -62,7 +62,7 @@ def test_closed_cycle_obeys_the_first_law():
     assert q == pytest.approx(
         m.heat_fraction * mass / (1 + m.air_fuel_ratio) * m.lower_heating_value, rel=1e-12
     )
-    p = gas._closed_cycle(m, fine, q)
+    p = gas_model._closed_cycle(m, fine, q)
     v = _volume(fine, **OWN)
     work = np.trapezoid(p, v)
     internal = (p[-1] * v[-1] - p[0] * v[0]) / (m.gamma - 1)

@@ -13,6 +13,7 @@ import pytest
 import ringlube
 from ringlube import Case
 from ringlube.study_settings import DESIGN_RANGES
+from ringlube.tables import FLAGS
 
 from conftest import COLD
 
@@ -35,8 +36,8 @@ def test_oil_balance_closes_over_the_cycle(cold, cavity):
     assert (r.wetted_width >= 0).all() and (r.wetted_width <= cold["ring", "width"] + 1e-12).all()
     assert (r.oil_bank >= 0).all() and (r.oil_left >= 0).all()
     assert r.liner["liner_oil_film"].min() >= 0
-    assert not (r.flags & 64).any(), "the inlet drew more oil than there was"
-    assert r.converged and not (r.flags & 16).any(), "every step's connectivity loop settles"
+    assert not (r.flags & FLAGS["inlet_overdraw"]).any(), "the inlet drew more oil than there was"
+    assert r.converged and not (r.flags & FLAGS["cavitation"]).any(), "every step's connectivity loop settles"
 
 
 @pytest.mark.parametrize("deck", ["cold", "hot"])
@@ -46,7 +47,7 @@ def test_trailing_gas_connectivity_settles(deck):
     deck before)."""
     case = Case.from_namelist(COLD.with_name(f"crf450r_4000rpm_full_{deck}.nml"))
     r = ringlube.run(case.with_physics(cavitation="jfo", cavity_pressure="trailing_gas"))
-    assert r.converged and not (r.flags & 16).any()
+    assert r.converged and not (r.flags & FLAGS["cavitation"]).any()
 
 
 @pytest.mark.parametrize("deck", ["cold", "hot"])
@@ -272,13 +273,13 @@ def test_lifted_ring_energy_does_not_depend_on_the_ceiling():
     case = Case.from_namelist(COLD.with_name("crf450r_3000rpm_half_cold.nml"))
     case = case.with_physics(cavitation="jfo", inlet="starved").with_("lubricant", supply_film=5e-6)
     runs = [ringlube.run(case.with_numerics(h0_ceiling=c)) for c in (1e-4, 1e-3, 1e-2)]
-    lifted = [int(((r.flags & 2) > 0).sum()) for r in runs]
+    lifted = [int(((r.flags & FLAGS["h0_ceiling"]) > 0).sum()) for r in runs]
     assert lifted[0] > 100 and lifted[0] == lifted[1] == lifted[2], lifted
     for r in runs[:2]:
         assert r.energy_loss == pytest.approx(runs[2].energy_loss, rel=1e-3)
         assert r.oil_to_chamber == pytest.approx(runs[2].oil_to_chamber, rel=1e-3)
     for r in runs:
-        assert (r.friction[(r.flags & 2) > 0] == 0).all()
+        assert (r.friction[(r.flags & FLAGS["h0_ceiling"]) > 0] == 0).all()
 
 
 def test_connectivity_cycles_of_five_sets_end():
@@ -317,6 +318,6 @@ def test_damped_rule_that_does_not_contract_ends_flagged(cold):
     r = ringlube.run(case)
     steps = r.crank_angle_deg.size * r.cycles_computed
     assert r.total_film_solves < 500 * steps, r.total_film_solves / steps
-    assert not r.converged and ((r.flags & 4) > 0).any()
+    assert not r.converged and ((r.flags & FLAGS["load"]) > 0).any()
     ok = ringlube.run(case.with_numerics(damping=0.005))
     assert ok.total_film_solves < 100 * steps

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import ringlube
-from ringlube import readings as rd
+from ringlube import readings as rd, readings_fit as rf, readings_report as rr
 from ringlube.validate import TRENDS, trend_verdicts
 
 NAMES = [name for name, _, _ in TRENDS]
@@ -76,7 +76,7 @@ def test_minimise_recovers_a_bounded_least_squares_minimum():
         d = U - u0
         return np.c_[d[:, 0] + 0.5 * d[:, 1], np.sinh(d[:, 1]), 2 * d[:, 2] + d[:, 0] ** 2, d.sum(1)]
 
-    m = rd.minimise(batch, rd.start_design(3), budget=60)
+    m = rf.minimise(batch, rf.start_design(3), budget=60)
     assert np.max(np.abs(m.u - u0)) < 5e-3
     assert m.score < 1e-2
 
@@ -87,7 +87,7 @@ def test_minimise_stops_at_a_bound_and_reports_the_outward_gradient():
     def batch(U):
         return np.c_[U[:, 0] - 1.4, 3 * (U[:, 1] - 0.5)]
 
-    m = rd.minimise(batch, rd.start_design(2), budget=40)
+    m = rf.minimise(batch, rf.start_design(2), budget=40)
     assert m.u[0] > 1 - rd.AT_BOUND and abs(m.u[1] - 0.5) < 5e-3
     assert m.gradient[0] < 0  # d(score^2/2)/du < 0 at the upper bound: would fall beyond it
 
@@ -120,7 +120,7 @@ def test_fit_reading_recovers_known_inputs(monkeypatch):
     monkeypatch.setattr(rd, "_run_batch", _synthetic(truth, t))
     ring = {"width": 1.004e-3, "crown_height": 9.31e-6, "crown_offset": -38.3e-6, "tension": 8.0}
     case = ringlube.Case({"ring": ring})
-    row = rd.fit_reading(rd.Reading("JFO flooded", "lumped", "N/m"), case, case, t, budget=40)
+    row = rf.fit_reading(rd.Reading("JFO flooded", "lumped", "N/m"), case, case, t, budget=40)
     for p in row["params"]:
         assert abs(p.normalised(row["cold"].inputs[p.name]) - p.normalised(truth[p.name])) < 5e-3, p.name
     assert all(row["cold"].verdicts.values()) and not any(row["cold"].measures.values())
@@ -166,9 +166,9 @@ def test_bound_sides_give_the_outward_derivative():
     def batch(U):
         return np.c_[U[:, 0] - 1.4, 3 * (U[:, 1] + 0.3)]
 
-    m = rd.minimise(batch, rd.start_design(2), budget=40)
+    m = rf.minimise(batch, rf.start_design(2), budget=40)
     params = [rd.Param("a", "x:a", 0.0, 1.0), rd.Param("b", "x:b", 0.0, 1.0)]
-    sides = rd._bound_sides({"params": params, "min": m})
+    sides = rf._bound_sides({"params": params, "min": m})
     assert [(p.name, side) for p, side, _ in sides] == [("a", "upper"), ("b", "lower")]
     assert all(g < 0 for _, _, g in sides)
 
@@ -179,15 +179,15 @@ def test_a_bound_that_stops_the_fit_is_reported_and_relaxed(monkeypatch, tmp_pat
     truth = {"zeta_kappa_sigma": 0.15, "pressure_scale": 1.0}
     t = {"energy_loss": 1.92, "mixed_share": 8.47}
     monkeypatch.setattr(rd, "_run_batch", _synthetic(truth, t))
-    out = rd.calibrate_readings(
+    out = rf.calibrate_readings(
         rd.select_readings(["jfo/lumped/N/m"]), budget=40, workers=1, relax=1, progress=False
     )
     (row,), (relaxed,) = out["rows"], out["relaxed"]
     zks = [p for p in row["params"] if p.name == "zeta_kappa_sigma"][0]
     assert row["cold"].inputs["zeta_kappa_sigma"] > zks.hi - rd.AT_BOUND * (zks.hi - zks.lo)
-    assert [(p.name, side) for p, side, g in rd._bound_sides(row) if g < 0] == [("zeta_kappa_sigma", "upper")]
+    assert [(p.name, side) for p, side, g in rf._bound_sides(row) if g < 0] == [("zeta_kappa_sigma", "upper")]
     assert relaxed["cold"].inputs["zeta_kappa_sigma"] == pytest.approx(0.15, rel=0.02)
     assert relaxed["min"].score < 0.1 < row["min"].score
-    text = rd.write_readings(out, tmp_path / "r.md", "test", 0.0).read_text()
+    text = rr.write_readings(out, tmp_path / "r.md", "test", 0.0).read_text()
     assert "| jfo/lumped/N/m | zeta_kappa_sigma | upper (0.1) |" in text and "| yes |" in text
     assert "Outside the physical range" in text

@@ -9,7 +9,7 @@
 !> Steps: scan the text into items; add the items of the `&calibration file`; check that
 !> no variable is given twice; let the overrides replace items; apply a preset; assign the
 !> items through the table; resolve paths; check the whole case and load the gas trace.
-module ringlube_input
+module ringlube_deck
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, default_case, apply_preset, case_access, access_set, &
@@ -354,4 +354,4 @@ contains
     end if
     c%gas_p = c%pressure_scale * c%gas_p
   end subroutine finish_case
-end module ringlube_input
+end module ringlube_deck

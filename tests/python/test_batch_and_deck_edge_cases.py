@@ -1,6 +1,6 @@
-"""Defects an independent hostile review of this session's rework found (issue 12), each
-reproduced before its fix: data loss, interpreter crashes and wrong answers in the batch
-call, silent name errors, quadratic deck reading, and misleading messages."""
+"""Edge cases of the batch call and of deck reading (found in issue 12, each reproduced
+before its fix): data loss, interpreter crashes and wrong answers in the batch call, silent
+name errors, quadratic deck reading, and misleading messages."""
 
 from __future__ import annotations
 
