@@ -51,14 +51,16 @@ MODULE_LABELS = {
     "test_hdf5_layout": ("io",),
     "test_implausible_inputs": ("numerics",),
     "test_input_mistakes": ("unit",),
-    "test_oil_supply": ("numerics",),
+    "test_liner_film": ("numerics",),
     "test_markers": ("unit",),
+    "test_oil_supply": ("numerics",),
     "test_output_safety": ("io",),
     "test_own_engine_walkthrough": ("cli",),
     "test_packaging": ("io",),
     "test_plot_cli": ("cli", "io"),
     "test_readings": ("numerics",),
     "test_ring_pack_cycle": ("numerics",),
+    "test_ring_pack_study": ("numerics",),
     "test_run": ("numerics",),
     "test_scheduler_connection": ("unit",),
     "test_stability": ("numerics",),
@@ -69,7 +71,9 @@ MODULE_LABELS = {
     "test_study_outputs": ("io",),
     "test_study_resume": ("io",),
     "test_study_verification": ("numerics",),
+    "test_unclear_inputs": ("unit",),
     "test_validation": ("numerics",),
+    "test_validation_sections": ("numerics",),
 }
 
 
