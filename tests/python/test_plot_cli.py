@@ -2,13 +2,22 @@
 
 from __future__ import annotations
 
+import matplotlib.pyplot as plt
 import numpy as np
+import pytest
 
 import ringlube
 from ringlube.cli import main
 from ringlube.plot import film_figure, friction_figure, plot_results
 
 from conftest import COLD
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    """The figure builders return open pyplot figures; close them after each test."""
+    yield
+    plt.close("all")
 
 
 def test_plot_files_and_data(quick_case, tmp_path):
