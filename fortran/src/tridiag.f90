@@ -28,39 +28,6 @@ contains
     end if
   end subroutine thomas
 
-  pure subroutine sweep(a, b, c, d, x, info, cp)
-    real(dp), intent(in) :: a(:), b(:), c(:), d(:)
-    real(dp), intent(out) :: x(:)
-    integer, intent(out) :: info
-    real(dp), intent(inout) :: cp(:)
-    real(dp) :: m
-    integer :: i, n
-    n = size(b)
-    info = 0
-    if (b(1) == 0.0_dp) then
-      info = 1
-      x = 0.0_dp
-      return
-    end if
-    m = 1.0_dp / b(1)
-    cp(1) = c(1) * m
-    x(1) = d(1) * m
-    do i = 2, n
-      m = b(i) - a(i) * cp(i - 1)
-      if (m == 0.0_dp) then
-        info = i
-        x = 0.0_dp
-        return
-      end if
-      m = 1.0_dp / m
-      cp(i) = c(i) * m
-      x(i) = (d(i) - a(i) * x(i - 1)) * m
-    end do
-    do i = n - 1, 1, -1
-      x(i) = x(i) - cp(i) * x(i + 1)
-    end do
-  end subroutine sweep
-
   !> The Thomas algorithm with some unknowns fixed: rows with `fixed(i)` read
   !> `x(i) = value` (as if a(i) = c(i) = 0, b(i) = 1, d(i) = value), the other rows as in
   !> `thomas`. The fixed rows cost no division and the system needs no copy with those
@@ -71,41 +38,49 @@ contains
     real(dp), intent(out) :: x(:)
     integer, intent(out) :: info
     real(dp), intent(inout) :: work(:)
-    real(dp) :: m
+    call sweep(a, b, c, d, x, info, work, fixed, value)
+  end subroutine thomas_fixed
+
+  !> The one elimination of `thomas` and `thomas_fixed`: forward sweep with the modified
+  !> upper diagonal in `cp` and the modified right-hand side in `x`, then back
+  !> substitution. Rows with `fixed(i)` (when given) are `x(i) = value`.
+  pure subroutine sweep(a, b, c, d, x, info, cp, fixed, value)
+    real(dp), intent(in) :: a(:), b(:), c(:), d(:)
+    real(dp), intent(out) :: x(:)
+    integer, intent(out) :: info
+    real(dp), intent(inout) :: cp(:)
+    logical, intent(in), optional :: fixed(:)
+    real(dp), intent(in), optional :: value
+    real(dp) :: m, r
     integer :: i, n
     n = size(b)
     info = 0
-    if (fixed(1)) then
-      work(1) = 0.0_dp
-      x(1) = value
-    else
-      if (b(1) == 0.0_dp) then
-        info = 1
-        x = 0.0_dp
-        return
+    do i = 1, n
+      if (present(fixed)) then
+        if (fixed(i)) then
+          cp(i) = 0.0_dp
+          x(i) = value
+          cycle
+        end if
       end if
-      m = 1.0_dp / b(1)
-      work(1) = c(1) * m
-      x(1) = d(1) * m
-    end if
-    do i = 2, n
-      if (fixed(i)) then
-        work(i) = 0.0_dp
-        x(i) = value
-        cycle
+      if (i == 1) then
+        m = b(1)
+        r = d(1)
+      else
+        m = b(i) - a(i) * cp(i - 1)
+        r = d(i) - a(i) * x(i - 1)
       end if
-      m = b(i) - a(i) * work(i - 1)
       if (m == 0.0_dp) then
         info = i
         x = 0.0_dp
         return
       end if
       m = 1.0_dp / m
-      work(i) = c(i) * m
-      x(i) = (d(i) - a(i) * x(i - 1)) * m
+      cp(i) = c(i) * m
+      x(i) = r * m
     end do
     do i = n - 1, 1, -1
-      x(i) = x(i) - work(i) * x(i + 1)
+      x(i) = x(i) - cp(i) * x(i + 1)
     end do
-  end subroutine thomas_fixed
+  end subroutine sweep
 end module ringlube_tridiag
