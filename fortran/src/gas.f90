@@ -56,12 +56,7 @@ contains
     seen_header = .false.
     pos = 1
     do while (pos <= len(text))
-      eol = index(text(pos:), new_line('a'))
-      if (eol == 0) then
-        eol = len(text) + 1
-      else
-        eol = pos + eol - 1
-      end if
+      eol = field_end(text, pos, new_line('a'))
       line = trim(adjustl(text(pos:eol - 1)))
       if (len(line) > 0) then
         if (line(len(line):len(line)) == achar(13)) line = line(1:len(line) - 1)
@@ -145,12 +140,7 @@ contains
     is_header = .false.
     i0 = 1
     do
-      i1 = index(line(i0:), ',')
-      if (i1 == 0) then
-        i1 = len(line) + 1
-      else
-        i1 = i0 + i1 - 1
-      end if
+      i1 = field_end(line, i0, ',')
       f = trim(adjustl(line(i0:i1 - 1)))
       if (len(f) == 0) return
       if (scan(f(1:1), '0123456789+-.') /= 0) return
@@ -160,6 +150,19 @@ contains
     end do
     is_header = .true.
   end function is_header
+
+  !> Where the field of `text` that starts at `from` ends: the index of the next `sep` at or
+  !> after `from`, or len(text) + 1 when there is none (lines of a file, fields of a line).
+  pure integer function field_end(text, from, sep) result(i)
+    character(len=*), intent(in) :: text, sep
+    integer, intent(in) :: from
+    i = index(text(from:), sep)
+    if (i == 0) then
+      i = len(text) + 1
+    else
+      i = from + i - 1
+    end if
+  end function field_end
 
   !> nan, inf or infinity (any case, optional sign, nan(...) included): what C's strtod
   !> would read as a non-finite number.

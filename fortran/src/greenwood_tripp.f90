@@ -148,20 +148,22 @@ contains
   !> Power-law fit of F_2 (ringlube's own coefficients, see module doc).
   elemental real(dp) function f2_fit(lambda)
     real(dp), intent(in) :: lambda
-    if (lambda < 4.0_dp) then
-      f2_fit = 2.5441e-4_dp * (4.0_dp - max(lambda, 0.0_dp))**5.0886_dp
-    else
-      f2_fit = 0.0_dp
-    end if
+    f2_fit = power_fit(lambda, 2.5441e-4_dp, 5.0886_dp)
   end function f2_fit
 
   !> Literature power-law fit of F_5/2.
   elemental real(dp) function f52_fit(lambda)
     real(dp), intent(in) :: lambda
-    if (lambda < 4.0_dp) then
-      f52_fit = 4.4068e-5_dp * (4.0_dp - max(lambda, 0.0_dp))**6.804_dp
-    else
-      f52_fit = 0.0_dp
-    end if
+    f52_fit = power_fit(lambda, 4.4068e-5_dp, 6.804_dp)
   end function f52_fit
+
+  !> The form of both fits: k (4 - lambda)^e below lambda = 4 (lambda < 0 taken as 0), zero above.
+  elemental real(dp) function power_fit(lambda, k, e) result(f)
+    real(dp), intent(in) :: lambda, k, e
+    if (lambda < 4.0_dp) then
+      f = k * (4.0_dp - max(lambda, 0.0_dp))**e
+    else
+      f = 0.0_dp
+    end if
+  end function power_fit
 end module ringlube_greenwood_tripp
