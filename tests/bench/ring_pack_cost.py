@@ -1,5 +1,5 @@
 """Benchmark (not a test): the ring pack's cost, ms per computed cycle of ringlube-solve with
-&physics ring_pack = 'none' and 'gas' on the 4000 r/min decks, Swift-Stieber and starved JFO
+&physics ring_pack = 'none' and 'gas' on the 4000 r/min decks, Swift-Stieber, flooded and starved JFO
 (best of 5; the kernel's own run_time_s / cycles_computed), and ms per run. Run from the project folder:
 
     .venv/bin/python tests/bench/ring_pack_cost.py [build/ringlube-solve]
@@ -16,7 +16,11 @@ ROOT = Path(__file__).resolve().parents[2]
 S = sys.argv[1] if len(sys.argv) > 1 else str(ROOT / "build" / "ringlube-solve")
 tmp = Path(tempfile.mkdtemp())
 for deck in ("4000rpm_full_cold", "4000rpm_full_hot"):
-    for model, phys in (("swift_stieber", ""), ("jfo starved", "cavitation='jfo', inlet='starved',")):
+    for model, phys in (
+        ("swift_stieber", ""),
+        ("jfo flooded", "cavitation='jfo',"),
+        ("jfo starved", "cavitation='jfo', inlet='starved',"),
+    ):
         best = {}
         for rp in ("none", "gas"):
             txt = (ROOT / "inputs" / f"crf450r_{deck}.nml").read_text()
