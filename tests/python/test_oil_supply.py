@@ -324,6 +324,16 @@ def test_oil_balance_at_round_off_on_coarse_grids(cold, nodes):
     assert r.oil_balance_error <= 1e-12, r.oil_balance_error
 
 
+def test_oil_balance_at_round_off_at_the_design_corner(cold):
+    """Issue 20 item 10: the corner of the study's ranges (width 1.34 mm, crown 13 um, offset
+    -54 um), starved trailing gas, closed the oil balance only to 2.6e-6; with the caps inside
+    the solve at both edges it closes to round-off."""
+    case = cold.with_physics(cavitation="jfo", inlet="starved", cavity_pressure="trailing_gas")
+    r = ringlube.run(case.with_ring(width=1.34e-3, crown_height=13e-6, crown_offset=-54e-6))
+    assert r.converged
+    assert r.oil_balance_error <= 1e-12, r.oil_balance_error
+
+
 def test_damped_rule_that_does_not_contract_ends_flagged(cold):
     """Issue 20 item 8: with damping 0.999 the study's damped rule overshoots and oscillates;
     a starved run then spent max_load_iterations (2000) film solves at every step (over 100 s).
