@@ -652,7 +652,7 @@ contains
     real(dp), intent(in), optional :: cap_left, cap_right
     logical, intent(out), optional :: blown
     real(dp) :: pcn(size(pc)), th(size(theta)), hist(size(pc), 16)
-    logical :: bl, bln, hist_bl(16)
+    logical :: bl, bln, hist_bl(16), final
     real(dp) :: tl, tr
     integer :: k, kmax, it, i, j
 
@@ -670,7 +670,10 @@ contains
     ! first guess from the warm-start fill only (its pressures may belong to another pc)
     call jfo_cavity_pressure(th, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pc, &
                              blown=bl)
-    do k = 1, kmax
+    ! final: the set of a cycle, solved once more and kept whatever the solve's state
+    final = .false.
+    do k = 1, kmax + 1
+      if (k > kmax .and. .not. final) exit
       outer = k
       tl = theta_left
       tr = theta_right
@@ -681,6 +684,7 @@ contains
                      theta, it, info, q_left, q_right, tol, max_iter, cap_left=cap_left, &
                      cap_right=cap_right)
       iterations = iterations + it
+      if (final) return
       if (info /= JFO_OK .and. info /= JFO_DRY) return
      call jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pcn, p, &
                                bln)
@@ -695,19 +699,11 @@ contains
             pc = max(pc, hist(:, i))
             bl = bl .or. hist_bl(i)
           end do
-          tl = theta_left
-          tr = theta_right
-          if (bl .and. u > 0.0_dp) tr = 0.0_dp
-          if (bl .and. u < 0.0_dp) tl = 0.0_dp
-          if (present(blown)) blown = bl
-          call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, tl, tr, pc, p, &
-                         theta, it, info, q_left, q_right, tol, max_iter, cap_left=cap_left, &
-                         cap_right=cap_right)
-          iterations = iterations + it
-          outer = k + 1
-          return
+          final = .true.
+          exit
         end if
       end do
+      if (final) cycle
       ! hist(:, 1) the set just solved with, hist(:, 2) the one before, ...
       hist(:, 2:) = hist(:, 1:size(hist, 2) - 1)
       hist_bl(2:) = hist_bl(1:size(hist_bl) - 1)

@@ -42,6 +42,12 @@ VARIANTS = [
     ("jfo_flooded", "crf450r_4000rpm_full_cold.nml", "cavitation = 'jfo'"),
     ("jfo_starved", "crf450r_4000rpm_full_cold.nml", "cavitation = 'jfo', inlet = 'starved'"),
     ("trailing_gas", "crf450r_4000rpm_full_cold.nml", "cavitation = 'jfo', cavity_pressure = 'trailing_gas'"),
+    (
+        "starved_trailing_gas_hot",
+        "crf450r_4000rpm_full_hot.nml",
+        "cavitation = 'jfo', inlet = 'starved', cavity_pressure = 'trailing_gas'",
+    ),
+    ("starved_half_hot", "crf450r_3000rpm_half_hot.nml", "cavitation = 'jfo', inlet = 'starved'"),
 ]
 
 
