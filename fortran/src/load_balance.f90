@@ -117,11 +117,7 @@ contains
     guess = predictor(mem)
     mem%trials = 0
     guess = min(max(guess, c%h0_floor), c%h0_ceiling)
-    if (c%h0_update == 'damped') then
-      call damped(c, lp, g, mem, guess, h0out, flags, resid)
-    else
-      call safeguarded(c, lp, g, mem, guess, h0out, flags, resid)
-    end if
+    call find_h0(c, lp, g, mem, guess, h0out, flags, resid)
     mem%h(3) = mem%h(2)
     mem%h(2) = mem%h(1)
     mem%h(1) = h0out
@@ -185,54 +181,9 @@ contains
     mem%trials = mem%trials + 1
   end function residual
 
-  !> The source study's rule h0 <- (1 + beta_d chi) h0, chi = (W - F)/max(W, F).
-  subroutine damped(c, lp, g, mem, guess, h0out, flags, resid)
-    type(case_type), intent(in) :: c
-    type(load_problem), intent(in) :: lp
-    type(film_type), intent(inout) :: g
-    type(balance_memory), intent(inout) :: mem
-    real(dp), intent(in) :: guess
-    real(dp), intent(out) :: h0out, resid
-    integer, intent(out) :: flags
-    real(dp) :: h, w, chi, best, best_before
-    integer :: it
-    h = guess
-    flags = flag_load
-    best = huge(1.0_dp)
-    best_before = huge(1.0_dp)
-    do it = 1, c%max_load_iterations
-      resid = residual(c, lp, g, mem, h)
-      if (abs(resid) <= c%load_tol) then
-        flags = 0
-        exit
-      end if
-      ! a rule that no longer contracts (a damping near 1 overshoots and oscillates) ends,
-      ! flagged, when the best residual of the last `stall_window` trials is not 1 % below
-      ! the best before them, instead of spending max_load_iterations at every step
-      best = min(best, abs(resid))
-      if (mod(it, stall_window) == 0) then
-        if (best > 0.99_dp * best_before) exit
-        best_before = best
-      end if
-      w = g%wh + g%wa
-      chi = (w - lp%load) / max(w, lp%load)
-      if (h <= c%h0_floor .and. chi < 0.0_dp) then
-        flags = flag_floor
-        exit
-      end if
-      if (h >= c%h0_ceiling .and. chi > 0.0_dp) then
-        flags = flag_ceiling
-        exit
-      end if
-      if (it == c%max_load_iterations) exit
-      h = min(max((1.0_dp + c%damping * chi) * h, c%h0_floor), c%h0_ceiling)
-    end do
-    flags = ior(flags, g%flags)
-    h0out = h
-  end subroutine damped
-
-  !> Safeguarded secant (Brent's method) on y = ln h0 inside an expanding bracket.
-  subroutine safeguarded(c, lp, g, mem, guess, h0out, flags, resid)
+  !> h0 from `guess` by the rule of `&numerics h0_update`: the source study's damped rule or a
+  !> safeguarded secant (Brent's method) on y = ln h0 inside an expanding bracket.
+  subroutine find_h0(c, lp, g, mem, guess, h0out, flags, resid)
     type(case_type), intent(in) :: c
     type(load_problem), intent(in) :: lp
     type(film_type), intent(inout) :: g
@@ -243,6 +194,10 @@ contains
     real(dp) :: ya, yb, ga, gb, dy, ylo, yhi
     integer :: it
 
+    if (c%h0_update == 'damped') then
+      call damped()
+      return
+    end if
     flags = 0
     ylo = log(c%h0_floor)
     yhi = log(c%h0_ceiling)
@@ -288,6 +243,45 @@ contains
     call brent(ya, yb, ga, gb)
 
   contains
+
+    !> The source study's rule h0 <- (1 + beta_d chi) h0, chi = (W - F)/max(W, F).
+    subroutine damped()
+      real(dp) :: h, w, chi, best, best_before
+      integer :: it
+      h = guess
+      flags = flag_load
+      best = huge(1.0_dp)
+      best_before = huge(1.0_dp)
+      do it = 1, c%max_load_iterations
+        resid = residual(c, lp, g, mem, h)
+        if (abs(resid) <= c%load_tol) then
+          flags = 0
+          exit
+        end if
+        ! a rule that no longer contracts (a damping near 1 overshoots and oscillates) ends,
+        ! flagged, when the best residual of the last `stall_window` trials is not 1 % below
+        ! the best before them, instead of spending max_load_iterations at every step
+        best = min(best, abs(resid))
+        if (mod(it, stall_window) == 0) then
+          if (best > 0.99_dp * best_before) exit
+          best_before = best
+        end if
+        w = g%wh + g%wa
+        chi = (w - lp%load) / max(w, lp%load)
+        if (h <= c%h0_floor .and. chi < 0.0_dp) then
+          flags = flag_floor
+          exit
+        end if
+        if (h >= c%h0_ceiling .and. chi > 0.0_dp) then
+          flags = flag_ceiling
+          exit
+        end if
+        if (it == c%max_load_iterations) exit
+        h = min(max((1.0_dp + c%damping * chi) * h, c%h0_floor), c%h0_ceiling)
+      end do
+      flags = ior(flags, g%flags)
+      h0out = h
+    end subroutine damped
 
     subroutine finish(h, r)
       real(dp), intent(in) :: h, r
@@ -360,5 +354,5 @@ contains
       end do
       call finish(exp(b), fb)
     end subroutine brent
-  end subroutine safeguarded
+  end subroutine find_h0
 end module ringlube_load_balance
