@@ -156,15 +156,9 @@ contains
     ! above 100 MPa it starts from the isoviscous film (eta at p = 0) instead: from a
     ! high-pressure state the iteration can land on a second, high-pressure branch and make
     ! W(h0) jump, which the load balance cannot bracket.
-    if (maxval(f%p) > 1e8_dp) then
-      f%p = 0.0_dp
-      f%eta = f%eta_e
-    end if
-    if (.not. c%roelands) f%eta = f%eta_e
+    call start_viscosity(c, f)
     do it = 1, c%max_pressure_iterations
-      f%etamid = 0.5_dp * (f%eta(1:n - 1) + f%eta(2:n))
-      f%kmid = f%hmid**3 / (6.0_dp * f%etamid)
-      f%pold = f%p
+      call conductance(f, 6.0_dp)
       call reynolds_solve(f%dx, f%kmid, f%hmid, u, sq, pl, pr, c%cavitation_pressure, f%p, &
                           f%active, iters, info, f%work)
       f%reynolds_solves = f%reynolds_solves + iters
@@ -238,15 +232,9 @@ contains
     end if
     f%cap_left = ql
     f%cap_right = qr
-    if (maxval(f%p) > 1e8_dp) then
-      f%p = 0.0_dp
-      f%eta = f%eta_e
-    end if
-    if (.not. c%roelands) f%eta = f%eta_e
+    call start_viscosity(c, f)
     do it = 1, c%max_pressure_iterations
-      f%etamid = 0.5_dp * (f%eta(1:n - 1) + f%eta(2:n))
-      f%kmid = f%hmid**3 / (12.0_dp * f%etamid)
-      f%pold = f%p
+      call conductance(f, 12.0_dp)
       if (f%starved .or. trailing_gas) then
         call jfo_solve_connected(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, &
                 tl, tr, c%cavitation_pressure, trailing_gas, f%starved, f%pc, f%p, f%theta, iters, &
@@ -286,6 +274,31 @@ contains
     p = c%crankcase_pressure
     if (f%p_lower >= 0.0_dp) p = f%p_lower
   end function lower_edge_pressure
+
+  !> The viscosity the pressure-viscosity loop of either film model starts from: the previous
+  !> trial's, or the isoviscous film's (eta at p = 0) after a trial above 100 MPa or without
+  !> Roelands.
+  pure subroutine start_viscosity(c, f)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(inout) :: f
+    if (maxval(f%p) > 1e8_dp) then
+      f%p = 0.0_dp
+      f%eta = f%eta_e
+    end if
+    if (.not. c%roelands) f%eta = f%eta_e
+  end subroutine start_viscosity
+
+  !> Face conductances kmid = hmid^3 / (factor eta_mid) for the next solve (factor 6 in the
+  !> Swift-Stieber film's form, 12 in the JFO solve's), the pressure kept as the old one.
+  pure subroutine conductance(f, factor)
+    type(film_type), intent(inout) :: f
+    real(dp), intent(in) :: factor
+    integer :: n
+    n = f%n
+    f%etamid = 0.5_dp * (f%eta(1:n - 1) + f%eta(2:n))
+    f%kmid = f%hmid**3 / (factor * f%etamid)
+    f%pold = f%p
+  end subroutine conductance
 
   !> One step of the pressure-viscosity loop of either film model, after a solve: the
   !> viscosity of the new pressure (once per node and iteration; only where the pressure

@@ -167,18 +167,13 @@ contains
   function ring_pack_params_from_case(c) result(par)
     type(case_type), intent(in) :: c
     type(ring_pack_params) :: par
-    par%gas_temperature = c%gas_temperature
-    par%gamma = c%gamma
-    par%gas_viscosity = c%gas_viscosity
-    par%discharge_coefficient = c%discharge_coefficient
-    par%top_gap_area = c%top_gap_area
-    par%second_gap_area = c%second_gap_area
-    par%groove_clearance = c%groove_clearance
-    par%groove_volume = c%groove_volume
-    par%land_volume = c%land_volume
-    par%circumference = 2.0_dp * pi * c%bore_radius
-    par%radial_depth = c%radial_depth
-    par%ring_mass = ring_mass(c)
+    par = ring_pack_params(gas_temperature=c%gas_temperature, gamma=c%gamma, &
+                           gas_viscosity=c%gas_viscosity, &
+                           discharge_coefficient=c%discharge_coefficient, &
+                           top_gap_area=c%top_gap_area, second_gap_area=c%second_gap_area, &
+                           groove_clearance=c%groove_clearance, groove_volume=c%groove_volume, &
+                           land_volume=c%land_volume, circumference=2.0_dp * pi * c%bore_radius, &
+                           radial_depth=c%radial_depth, ring_mass=ring_mass(c))
   end function ring_pack_params_from_case
 
   !> A starting state: groove at the chamber pressure, land at the crankcase pressure,
