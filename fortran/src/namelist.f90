@@ -88,12 +88,7 @@ contains
         return
       end if
       pos = pos + 1
-      start = pos
-      do while (pos <= n)
-        if (.not. is_ident(text(pos:pos))) exit
-        pos = pos + 1
-      end do
-      group = lower(text(start:pos - 1))
+      group = identifier()
       gline = line
       if (len(group) == 0) then
         call fail('"&" not followed by a group name')
@@ -101,6 +96,17 @@ contains
         call fail('"&end" without an open group')
       end if
     end subroutine read_group
+
+    !> The identifier at pos (lower case; empty if none), pos moved past it.
+    function identifier() result(word)
+      character(len=:), allocatable :: word
+      start = pos
+      do while (pos <= n)
+        if (.not. is_ident(text(pos:pos))) exit
+        pos = pos + 1
+      end do
+      word = lower(text(start:pos - 1))
+    end function identifier
 
     !> Is the group closed at pos ("/" or "&end", consumed)? An end of text or another
     !> group before that is an error.
@@ -132,12 +138,7 @@ contains
         call fail('&'//group//': expected a variable name, found "'//snippet()//'"')
         return
       end if
-      start = pos
-      do while (pos <= n)
-        if (.not. is_ident(text(pos:pos))) exit
-        pos = pos + 1
-      end do
-      name = lower(text(start:pos - 1))
+      name = identifier()
       call skip_space()
       if (pos > n) then
         call fail('&'//group//' '//name//': expected "=" after the name')
