@@ -40,36 +40,27 @@ contains
   !> `p_left`, `p_right` the Dirichlet values at x = -b/2 and x = +b/2. `active` (in/out)
   !> is the cavitated set, used as the warm start. `info`: 0 converged, 1 active-set loop
   !> did not settle, 2 singular system. `work`: optional scratch (reynolds_work_init(n)).
-  pure subroutine reynolds_solve(dx, kmid, hmid, u, sq, p_left, p_right, p_cav, p, active, &
-                                 iterations, info, work)
+  pure recursive subroutine reynolds_solve(dx, kmid, hmid, u, sq, p_left, p_right, p_cav, p, &
+                                           active, iterations, info, work)
     real(dp), intent(in) :: dx, kmid(:), hmid(:), u, sq, p_left, p_right, p_cav
     real(dp), intent(out) :: p(:)
     logical, intent(inout) :: active(:)
     integer, intent(out) :: iterations, info
     type(reynolds_work), intent(inout), optional :: work
     type(reynolds_work) :: local
-    if (present(work)) then
-      call solve(dx, kmid, hmid, u, sq, p_left, p_right, p_cav, p, active, iterations, info, work)
-    else
-      call reynolds_work_init(local, size(p))
-      call solve(dx, kmid, hmid, u, sq, p_left, p_right, p_cav, p, active, iterations, info, local)
-    end if
-  end subroutine reynolds_solve
-
-  pure subroutine solve(dx, kmid, hmid, u, sq, p_left, p_right, p_cav, p, active, &
-                        iterations, info, w)
-    real(dp), intent(in) :: dx, kmid(:), hmid(:), u, sq, p_left, p_right, p_cav
-    real(dp), intent(out) :: p(:)
-    logical, intent(inout) :: active(:)
-    integer, intent(out) :: iterations, info
-    type(reynolds_work), intent(inout) :: w
     real(dp) :: mu, scale, pscale
     integer :: i, n, it, tinfo
     logical :: changed
 
+    if (.not. present(work)) then
+      call reynolds_work_init(local, size(p))
+      call reynolds_solve(dx, kmid, hmid, u, sq, p_left, p_right, p_cav, p, active, iterations, &
+                          info, local)
+      return
+    end if
     n = size(p)
     info = 0
-    associate (a0 => w%a0, b0 => w%b0, c0 => w%c0, r => w%r)
+    associate (a0 => work%a0, b0 => work%b0, c0 => work%c0, r => work%r)
       a0(1) = 0.0_dp; b0(1) = 1.0_dp; c0(1) = 0.0_dp; r(1) = p_left
       a0(n) = 0.0_dp; b0(n) = 1.0_dp; c0(n) = 0.0_dp; r(n) = p_right
       do i = 2, n - 1
@@ -85,7 +76,7 @@ contains
       do it = 1, n + 1
         iterations = it
         ! the cavitated nodes are held at p_cav
-        call thomas_fixed(a0(1:n), b0(1:n), c0(1:n), r(1:n), active, p_cav, p, tinfo, w%cp)
+        call thomas_fixed(a0(1:n), b0(1:n), c0(1:n), r(1:n), active, p_cav, p, tinfo, work%cp)
         if (tinfo /= 0) then
           info = 2
           return
@@ -108,5 +99,5 @@ contains
       end do
       info = 1
     end associate
-  end subroutine solve
+  end subroutine reynolds_solve
 end module ringlube_reynolds
