@@ -15,7 +15,8 @@ module ringlube_film
   use ringlube_contact, only: asperity_contact
   use ringlube_reynolds, only: reynolds_solve, reynolds_work, reynolds_work_init
   use ringlube_results, only: flag_viscosity, flag_cavitation, flag_piezo, flag_overdraw
-  use ringlube_jfo, only: jfo_solve, jfo_solve_connected, JFO_OK
+  use ringlube_jfo, only: jfo_solve, JFO_OK
+  use ringlube_jfo_connect, only: jfo_solve_connected
   use ringlube_oil_supply, only: inlet_fill
   implicit none
   private

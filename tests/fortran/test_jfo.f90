@@ -101,6 +101,7 @@ end module squeeze_exact
 program test_jfo
   use ringlube_kinds, only: dp, pi
   use ringlube_jfo
+  use ringlube_jfo_connect
   use ringlube_reynolds, only: reynolds_solve
   use jfo_reference, only: elrod_solve
   use ringlube_check

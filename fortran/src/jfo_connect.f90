@@ -1,0 +1,205 @@
+!> The connectivity rule of the mass-conserving film (SPEC section 13): which cavities are
+!> open to an edge's gas and at which pressure (`jfo_cavity_pressure`), and the JFO solve of
+!> ringlube_jfo inside the outer loop that makes the cavity pressures and the solution agree
+!> (`jfo_solve_connected`). Details and verification: docs/film_model.md.
+module ringlube_jfo_connect
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use ringlube_kinds, only: dp
+  use ringlube_jfo, only: jfo_solve, JFO_OK, JFO_DRY, JFO_CONNECTIVITY, JFO_BAD_INPUT
+  implicit none
+  private
+  public :: jfo_solve_connected, jfo_cavity_pressure
+
+  !> outer solves of the connectivity loop before it ends flagged (a warm start needs 1-2)
+  integer, parameter :: default_max_outer = 200
+
+contains
+
+  !> Cavity pressure per node by the connectivity rule of SPEC section 13.
+  !>
+  !> Cavities are the runs of interior nodes with theta < 1. An edge is open to its gas when
+  !> it is the trailing edge and trailing_gas is set, or the leading edge and leading_gas is set
+  !> (leading: the crankcase edge, right, when u > 0, the chamber edge, left, when u < 0; when
+  !> u = 0 an edge is open if either flag is set). The zone open to an edge's gas is the run of
+  !> theta < 1 nodes next to that edge (the cavity reaching the trailing edge; the partly filled
+  !> inlet zone of a starved film); when p is given it also takes in the full nodes next to the
+  !> run, or next to an edge that is a gas interface (it admits gas, theta(1) or theta(n) < 1,
+  !> or it is the trailing edge with trailing_gas), whose pressure is below
+  !> that gas pressure: a meniscus is in pressure equilibrium with the gas behind it, so a film
+  !> below the gas pressure cannot touch the gas. The zone sits at max(p_gas, p_cav); a zone
+  !> spanning the face (partly filled across its width) at the higher of the two gas pressures;
+  !> every other node (full film, enclosed cavities) at p_cav.
+  !> blown (out, optional): the face is partly filled across its width at a level above the
+  !> leading edge's gas pressure, so that the gas in it blows out through the leading edge
+  !> (see jfo_solve_connected).
+  pure subroutine jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, &
+                                      leading_gas, pc, p, blown)
+    real(dp), intent(in) :: theta(:), u, p_left, p_right, p_cav
+    logical, intent(in) :: trailing_gas, leading_gas
+    real(dp), intent(out) :: pc(:)
+    real(dp), intent(in), optional :: p(:)
+    logical, intent(out), optional :: blown
+    integer :: n, il, ir
+    logical :: open_left, open_right, gas_left, gas_right
+    real(dp) :: lev_l, lev_r
+
+    n = size(theta)
+    pc = p_cav
+    if (present(blown)) blown = .false.
+    if (u > 0.0_dp) then
+      open_left = trailing_gas
+      open_right = leading_gas
+    else if (u < 0.0_dp) then
+      open_left = leading_gas
+      open_right = trailing_gas
+    else
+      open_left = trailing_gas .or. leading_gas
+      open_right = open_left
+    end if
+    ! an edge is a gas interface (film below its pressure next to it joins its gas) when it
+    ! admits gas (fill < 1: a starved inlet) or it is the trailing edge with trailing_gas
+    gas_left = theta(1) < 1.0_dp .or. (trailing_gas .and. u >= 0.0_dp)
+    gas_right = theta(n) < 1.0_dp .or. (trailing_gas .and. u <= 0.0_dp)
+    lev_l = max(p_left, p_cav)
+    lev_r = max(p_right, p_cav)
+    ! il: last node of the zone open at the left edge (1: none); ir: first of the right one (n)
+    il = 1
+    if (open_left) then
+      if (theta(2) < 1.0_dp .or. (present(p) .and. gas_left)) then
+        do while (il < n - 1)
+          if (.not. in_zone(il + 1, lev_l)) exit
+          il = il + 1
+        end do
+      end if
+    end if
+    ir = n
+    if (open_right) then
+      if (theta(n - 1) < 1.0_dp .or. (present(p) .and. gas_right)) then
+        do while (ir > 2)
+          if (.not. in_zone(ir - 1, lev_r)) exit
+          ir = ir - 1
+        end do
+      end if
+    end if
+    if (il >= ir - 1 .and. all(theta(2:n - 1) < 1.0_dp)) then
+      ! the face is partly filled across its width: open to the higher of the two gas pressures
+      pc(2:n - 1) = max(lev_l, lev_r)
+      if (present(blown)) then
+        if (u > 0.0_dp) blown = max(lev_l, lev_r) > p_right
+        if (u < 0.0_dp) blown = max(lev_l, lev_r) > p_left
+      end if
+    else
+      ! each open zone at its own gas pressure; where they overlap through full film below
+      ! both gas pressures (not a partly filled face), at the lower one
+      pc(2:il) = lev_l
+      pc(ir:n - 1) = lev_r
+      if (il >= ir) pc(ir:il) = min(lev_l, lev_r)
+    end if
+
+  contains
+
+    pure logical function in_zone(i, level)
+      integer, intent(in) :: i
+      real(dp), intent(in) :: level
+      in_zone = theta(i) < 1.0_dp
+      if (present(p)) in_zone = in_zone .or. p(i) <= level
+    end function in_zone
+  end subroutine jfo_cavity_pressure
+
+  !> jfo_solve inside the outer loop of the connectivity rule: pc from the warm-start theta,
+  !> solve, recompute pc from the new theta, repeat until pc no longer changes, or until it
+  !> alternates between two sets (a meniscus between two nodes): then the larger pc of the two
+  !> at every node and one more solve (docs/film_model.md).
+  !>
+  !> A face partly filled across its width at a gas pressure above the leading edge's (the
+  !> trailing gas reaching the leading edge: `blown`) has its meniscus at the leading edge, where
+  !> the gas blows out: the leading edge then admits gas only (its fill 0), so that the oil in
+  !> the face is what Couette transport leaves there, whatever the grid. Without this the oil
+  !> entering at the leading edge is blown back out over one cell at a rate k dp/dx, so the
+  !> face's fill, its shear and the energy scaled with the cell size (issue 16).
+  !>
+  !> Arguments as jfo_solve, plus p_cav, trailing_gas, leading_gas (see jfo_cavity_pressure);
+  !> pc (out) the cavity pressures of the solution; outer (out) the number of solves;
+  !> iterations (out) the Newton iterations summed over them; blown (out, optional) the state
+  !> above. info JFO_CONNECTIVITY if the
+  !> loop did not settle in max_outer solves (default 200; a warm start needs 1-2).
+  pure subroutine jfo_solve_connected(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
+                                      theta_left, theta_right, p_cav, trailing_gas, leading_gas, &
+                                      pc, p, theta, iterations, outer, info, q_left, q_right, tol, &
+                                      max_iter, max_outer, cap_left, cap_right, blown)
+    real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
+    real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, p_cav
+    logical, intent(in) :: trailing_gas, leading_gas
+    real(dp), intent(out) :: pc(:)
+    real(dp), intent(inout) :: p(:), theta(:)
+    integer, intent(out) :: iterations, outer, info
+    real(dp), intent(out), optional :: q_left, q_right
+    real(dp), intent(in), optional :: tol
+    integer, intent(in), optional :: max_iter, max_outer
+    real(dp), intent(in), optional :: cap_left, cap_right
+    logical, intent(out), optional :: blown
+    real(dp) :: pcn(size(pc)), th(size(theta)), hist(size(pc), 16)
+    logical :: bl, bln, hist_bl(16), final
+    real(dp) :: tl, tr
+    integer :: k, kmax, it, i, j
+
+    kmax = default_max_outer
+    if (present(max_outer)) kmax = max_outer
+    iterations = 0
+    outer = 0
+    if (present(blown)) blown = .false.
+    if (size(pc) /= size(h) .or. size(theta) /= size(h)) then
+      info = JFO_BAD_INPUT
+      return
+    end if
+    th = theta
+    where (.not. ieee_is_finite(th)) th = 1.0_dp
+    ! first guess from the warm-start fill only (its pressures may belong to another pc)
+    call jfo_cavity_pressure(th, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pc, &
+                             blown=bl)
+    ! final: the set of a cycle, solved once more and kept whatever the solve's state
+    final = .false.
+    do k = 1, kmax + 1
+      if (k > kmax .and. .not. final) exit
+      outer = k
+      tl = theta_left
+      tr = theta_right
+      if (bl .and. u > 0.0_dp) tr = 0.0_dp
+      if (bl .and. u < 0.0_dp) tl = 0.0_dp
+      if (present(blown)) blown = bl
+      call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, tl, tr, pc, p, &
+                     theta, it, info, q_left, q_right, tol, max_iter, cap_left=cap_left, &
+                     cap_right=cap_right)
+      iterations = iterations + it
+      if (final) return
+      if (info /= JFO_OK .and. info /= JFO_DRY) return
+     call jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pcn, p, &
+                               bln)
+      if (all(pcn == pc) .and. (bln .eqv. bl)) return
+      ! a cycle: pcn equals one of the last 16 sets (a two-cycle is a meniscus between two
+      ! nodes: a node joined to the gas-connected zone rises above the gas pressure, left out
+      ! of it falls below). No fixed point exists on this grid; the nodes are taken as
+      ! connected (the largest pc of the sets in the cycle) and solved once more.
+      do j = 1, min(k - 1, size(hist, 2))
+        if (all(pcn == hist(:, j)) .and. (bln .eqv. hist_bl(j))) then
+          do i = 1, j
+            pc = max(pc, hist(:, i))
+            bl = bl .or. hist_bl(i)
+          end do
+          final = .true.
+          exit
+        end if
+      end do
+      if (final) cycle
+      ! hist(:, 1) the set just solved with, hist(:, 2) the one before, ...
+      hist(:, 2:) = hist(:, 1:size(hist, 2) - 1)
+      hist_bl(2:) = hist_bl(1:size(hist_bl) - 1)
+      hist(:, 1) = pc
+      hist_bl(1) = bl
+      pc = pcn
+      bl = bln
+    end do
+    info = JFO_CONNECTIVITY
+
+  end subroutine jfo_solve_connected
+end module ringlube_jfo_connect
