@@ -1,0 +1,105 @@
+!> The mass-conserving film (SPEC section 13) at the trial h0 in f%h: the JFO solve of
+!> ringlube_jfo (and its connectivity rule) inside the pressure-viscosity loop.
+module ringlube_film_jfo
+  use ringlube_kinds, only: dp
+  use ringlube_case, only: case_type
+  use ringlube_results, only: flag_cavitation, flag_overdraw
+  use ringlube_jfo, only: jfo_solve, JFO_OK
+  use ringlube_jfo_connect, only: jfo_solve_connected
+  use ringlube_oil_supply, only: inlet_fill
+  use ringlube_film_state, only: film_type, lower_edge_pressure, start_viscosity, conductance, &
+                                 update_viscosity, film_loads
+  implicit none
+  private
+  public :: jfo_evaluate
+
+contains
+
+  !> The mass-conserving film at the trial h0 in f%h (SPEC 13): the JFO solve of
+  !> ringlube_jfo inside the same pressure-viscosity loop as the Swift-Stieber film. Both
+  !> edges are liquid boundaries held at their gas pressures; the content theta h of the last
+  !> accepted step gives the time term (backward Euler on the content, whatever the
+  !> time_scheme of the squeeze term of the Swift-Stieber film). The leading edge admits oil of
+  !> fill 1 (flooded) or, starved, the fill the available oil gives (`inlet_fill`); the
+  !> trailing edge admits oil of fill 1 (pushed back in by its gas pressure). Starved, the net
+  !> oil entering through either edge over the step is capped at the oil there (the leading
+  !> edge's strip and bank, the liner film just behind the trailing edge: `f%available`,
+  !> `f%behind`), inside the solve; beyond the cap the edge admits gas. 'trailing_gas' puts a
+  !> cavity reaching the trailing edge at that edge's gas pressure; a starved inlet's partly
+  !> filled zone is at the leading edge's gas pressure (the connectivity rule of ringlube_jfo).
+  pure subroutine jfo_evaluate(c, f, u, p_chamber, w_tol)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(inout) :: f
+    real(dp), intent(in) :: u, p_chamber, w_tol
+    real(dp) :: pl, pr, tl, tr, v_in, h_le, qlead, qtrail, ql, qr
+    integer :: it, iters, outer, info, n
+    logical :: settled
+    logical :: trailing_gas
+
+    n = f%n
+    pl = p_chamber
+    pr = lower_edge_pressure(c, f)
+    trailing_gas = c%cavity_pressure == 'trailing_gas'
+    if (f%lead_left) then
+      h_le = f%hmid(1)
+    else
+      h_le = f%hmid(n - 1)
+    end if
+    f%theta_in = 1.0_dp
+    qlead = huge(1.0_dp)
+    qtrail = huge(1.0_dp)
+    if (f%starved) then
+      f%theta_in = inlet_fill(f%available, h_le, f%ds)
+      ! each edge admits at most the oil there over the step
+      if (f%dt > 0.0_dp) then
+        qlead = max(f%available, 0.0_dp) / f%dt
+        qtrail = max(f%behind, 0.0_dp) / f%dt
+      end if
+    end if
+    if (f%lead_left) then
+      tl = f%theta_in
+      tr = 1.0_dp
+      ql = qlead
+      qr = qtrail
+    else
+      tl = 1.0_dp
+      tr = f%theta_in
+      ql = qtrail
+      qr = qlead
+    end if
+    f%cap_left = ql
+    f%cap_right = qr
+    call start_viscosity(c, f)
+    do it = 1, c%max_pressure_iterations
+      call conductance(f, 12.0_dp)
+      if (f%starved .or. trailing_gas) then
+        call jfo_solve_connected(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, &
+                tl, tr, c%cavitation_pressure, trailing_gas, f%starved, f%pc, f%p, f%theta, iters, &
+                                 outer, info, f%q_left, f%q_right, cap_left=ql, cap_right=qr, &
+                                 blown=f%blown)
+      else
+        f%blown = .false.
+        f%pc = c%cavitation_pressure
+        call jfo_solve(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, tl, tr, &
+                       f%pc, f%p, f%theta, iters, info, f%q_left, f%q_right)
+      end if
+      f%reynolds_solves = f%reynolds_solves + iters
+      if (info /= JFO_OK) f%flags = ior(f%flags, flag_cavitation)
+      if (.not. c%roelands) exit
+      call update_viscosity(c, f, w_tol, it, settled)
+      if (settled) exit
+    end do
+    if (f%starved) then
+      ! oil entering through the leading edge over the step must be oil that is there (the
+      ! cap inside the solve ensures it; a solve that ended unconverged may not)
+      if (f%lead_left) then
+        v_in = f%q_left * f%dt
+      else
+        v_in = -f%q_right * f%dt
+      end if
+      if (v_in > f%available * (1.0_dp + 1e-9_dp) + 1e-30_dp) f%flags = ior(f%flags, flag_overdraw)
+    end if
+
+    call film_loads(c, f)
+  end subroutine jfo_evaluate
+end module ringlube_film_jfo

@@ -1,0 +1,192 @@
+!> The film's state at one crank step (its grid, profile and the warm starts of either film
+!> model), its setup, and what both film models share: the gas pressure at the lower edge, the
+!> pressure-viscosity loop's start and step, and the loads of a solved film.
+module ringlube_film_state
+  use ringlube_kinds, only: dp, pi
+  use ringlube_case, only: case_type, composite_sigma, reduced_modulus, ring_profile
+  use ringlube_viscosity, only: roelands_law, roelands_law_at, roelands_eta
+  use ringlube_contact, only: asperity_contact
+  use ringlube_reynolds, only: reynolds_work, reynolds_work_init
+  use ringlube_results, only: flag_viscosity, flag_piezo
+  implicit none
+  private
+  public :: film_type, film_setup, lower_edge_pressure, start_viscosity, conductance, &
+            update_viscosity, film_loads
+
+  !> Roelands is evaluated with the pressure clipped here [Pa]. Ring pressures are far
+  !> lower; only trial films far below the load-balance root reach it, where an unclipped
+  !> pressure-viscosity iteration runs away to overflow.
+  real(dp), parameter, public :: roelands_p_max = 1e9_dp
+
+  !> Workspace of the film at one crank step.
+  type :: film_type
+    integer :: n = 0
+    real(dp) :: dx = 0.0_dp, circ = 0.0_dp, sigma = 0.0_dp, e_reduced = 0.0_dp, eta_e = 0.0_dp
+    real(dp), allocatable :: x(:), s(:), smid(:), h(:), hmid(:), p(:), eta(:), kmid(:), etamid(:)
+    logical, allocatable :: active(:)
+    !> scratch of the Reynolds solver, and the pressure and viscosity of the last iteration
+    type(reynolds_work) :: work
+    real(dp), allocatable :: pold(:), eta_new(:)
+    logical :: lead_left = .true.          !< leading edge is the chamber edge (x = -b/2)
+    logical :: trailing_cavitated = .false.  !< Reynolds outlet: trailing edge at p_cav
+    !> Roelands' law at the film temperature of the run
+    type(roelands_law) :: law
+    ! state of the last evaluation
+    real(dp) :: h0 = -1.0_dp, wh = 0.0_dp, wa = 0.0_dp, aa = 0.0_dp
+    integer :: flags = 0
+    integer :: evaluations = 0             !< film solves (load-balance trials)
+    integer :: reynolds_solves = 0         !< Reynolds solves (incl. pressure-viscosity loop)
+    ! the mass-conserving (JFO) film: fill, its content at the last accepted step, the
+    ! cavity pressures, and the oil fluxes through the first and last interior faces
+    logical :: jfo = .false.
+    real(dp), allocatable :: theta(:), content_old(:), pc(:)
+    real(dp) :: q_left = 0.0_dp, q_right = 0.0_dp, dt = 0.0_dp
+    !> the face is partly filled across its width at a gas pressure above the leading edge's,
+    !> whose meniscus is then at the leading edge (ringlube_jfo, jfo_solve_connected)
+    logical :: blown = .false.
+    !> starved inlet: oil available to the leading edge over the step [m^2] and the distance
+    !> the ring moves in it [m] (set by the caller); the fill the inlet admitted
+    logical :: starved = .false.
+    real(dp) :: available = 0.0_dp, ds = 0.0_dp, theta_in = 1.0_dp
+    !> starved: oil on the liner just behind the trailing edge that it may draw back over the
+    !> step [m^2]; the caps on the inflow through the left and right edge faces [m^2/s]
+    real(dp) :: behind = 0.0_dp, cap_left = huge(1.0_dp), cap_right = huge(1.0_dp)
+    !> the gas around the ring (SPEC 14, set by the caller with ring_pack = 'gas'): the
+    !> pressure behind the ring (its gas load) and at its lower (crankcase) edge [Pa];
+    !> negative: the chamber pressure behind it and the crankcase pressure below it
+    real(dp) :: p_back = -1.0_dp, p_lower = -1.0_dp
+  end type film_type
+
+contains
+
+  !> Build the grid and the profile of a case.
+  pure subroutine film_setup(c, f)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(out) :: f
+    integer :: i, n
+    real(dp) :: hb
+    n = c%nodes
+    f%n = n
+    hb = 0.5_dp * c%width
+    f%dx = c%width / (n - 1)
+    f%circ = 2.0_dp * pi * c%bore_radius
+    f%sigma = composite_sigma(c)
+    f%e_reduced = reduced_modulus(c)
+    f%law = roelands_law_at(c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta)
+    f%eta_e = roelands_eta(f%law, 0.0_dp)
+    allocate (f%x(n), f%s(n), f%h(n), f%p(n), f%eta(n), f%active(n))
+    allocate (f%smid(n - 1), f%hmid(n - 1), f%kmid(n - 1), f%etamid(n - 1), f%pold(n), f%eta_new(n))
+    call reynolds_work_init(f%work, n)
+    do i = 1, n
+      f%x(i) = -hb + (i - 1) * f%dx
+    end do
+    f%x(n) = hb
+    f%s = ring_profile(f%x, c%width, c%crown_height, c%crown_offset)
+  f%smid = ring_profile(0.5_dp * (f%x(1:n - 1) + f%x(2:n)), c%width, c%crown_height, c%crown_offset)
+    f%p = c%crankcase_pressure
+    f%eta = f%eta_e
+    ! the viscosity of the pressure held (see film_evaluate)
+    if (c%roelands) f%eta = roelands_eta(f%law, c%crankcase_pressure)
+    f%active = .false.
+    f%jfo = c%cavitation == 'jfo'
+    f%starved = c%inlet == 'starved'
+    allocate (f%theta(n), f%content_old(n), f%pc(n))
+    f%theta = 1.0_dp
+    f%pc = c%cavitation_pressure
+    f%content_old = f%s   ! a full film at h0 = 0: the caller sets it at the first h0
+  end subroutine film_setup
+
+  !> Gas pressure at the ring's lower (crankcase) edge [Pa]: the land pressure with the ring
+  !> pack, else the crankcase pressure.
+  pure real(dp) function lower_edge_pressure(c, f) result(p)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(in) :: f
+    p = c%crankcase_pressure
+    if (f%p_lower >= 0.0_dp) p = f%p_lower
+  end function lower_edge_pressure
+
+  !> The viscosity the pressure-viscosity loop of either film model starts from: the previous
+  !> trial's, or the isoviscous film's (eta at p = 0) after a trial above 100 MPa or without
+  !> Roelands.
+  pure subroutine start_viscosity(c, f)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(inout) :: f
+    if (maxval(f%p) > 1e8_dp) then
+      f%p = 0.0_dp
+      f%eta = f%eta_e
+    end if
+    if (.not. c%roelands) f%eta = f%eta_e
+  end subroutine start_viscosity
+
+  !> Face conductances kmid = hmid^3 / (factor eta_mid) for the next solve (factor 6 in the
+  !> Swift-Stieber film's form, 12 in the JFO solve's), the pressure kept as the old one.
+  pure subroutine conductance(f, factor)
+    type(film_type), intent(inout) :: f
+    real(dp), intent(in) :: factor
+    integer :: n
+    n = f%n
+    f%etamid = 0.5_dp * (f%eta(1:n - 1) + f%eta(2:n))
+    f%kmid = f%hmid**3 / (factor * f%etamid)
+    f%pold = f%p
+  end subroutine conductance
+
+  !> One step of the pressure-viscosity loop of either film model, after a solve: the
+  !> viscosity of the new pressure (once per node and iteration; only where the pressure
+  !> changed, e.g. not in a cavity held at its pressure), kept for the next iteration or the
+  !> next trial. `done` when the loop may stop (see film_evaluate); flags a loop that reaches
+  !> max_pressure_iterations.
+  pure subroutine update_viscosity(c, f, w_tol, it, done)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(inout) :: f
+    real(dp), intent(in) :: w_tol
+    integer, intent(in) :: it
+    logical, intent(out) :: done
+    real(dp) :: dvisc
+    integer :: i, n
+    n = f%n
+    dvisc = 0.0_dp
+    do i = 1, n
+      if (f%p(i) /= f%pold(i)) then
+        f%eta_new(i) = roelands_eta(f%law, min(max(f%p(i), 0.0_dp), roelands_p_max))
+        dvisc = max(dvisc, abs(f%eta_new(i) - f%eta(i)) / f%eta(i))
+        f%eta(i) = f%eta_new(i)
+      end if
+    end do
+    f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
+    done = dvisc * abs(f%wh) <= 0.1_dp * w_tol
+    if (.not. done) done = sum(abs(f%p - f%pold)) <= c%pressure_tol * sum(abs(f%p))
+    if (.not. done .and. it == c%max_pressure_iterations) f%flags = ior(f%flags, flag_viscosity)
+  end subroutine update_viscosity
+
+  !> The loads of a solved film: W_h (trapezoidal rule) and the asperity load and area.
+  !> A blown face (the gas in it reaching the leading edge, see film_type) has its meniscus at
+  !> the leading edge: the gas pressure acts up to the edge, so the leading edge's interval
+  !> carries the pressure of its interior node, not the mean with the edge's lower gas pressure
+  !> (whose share, (p_gas - p_edge) dx / 2, is a cell-size error).
+  pure subroutine film_loads(c, f)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(inout) :: f
+    integer :: n
+    real(dp) :: pl, pr
+    n = f%n
+    if (c%roelands .and. maxval(f%p) > roelands_p_max) f%flags = ior(f%flags, flag_piezo)
+    pl = f%p(1)
+    pr = f%p(n)
+    if (f%jfo .and. f%blown) then
+      if (f%lead_left) then
+        pl = max(pl, f%p(2))
+      else
+        pr = max(pr, f%p(n - 1))
+      end if
+    end if
+    f%wh = f%circ * f%dx * (sum(f%p(2:n - 1)) + 0.5_dp * (pl + pr))
+    if (c%asperity_contact) then
+      call asperity_contact(f%h, f%h0, f%dx, c%width, f%circ, f%sigma, c%zeta_kappa_sigma, &
+                            c%sigma_over_kappa, f%e_reduced, c%gt_functions == 'fit', &
+                            c%contact_area == 'lumped', f%wa, f%aa)
+    else
+      f%wa = 0.0_dp
+      f%aa = 0.0_dp
+    end if
+  end subroutine film_loads
+end module ringlube_film_state
