@@ -7,9 +7,10 @@ module ringlube_cycle
   use ringlube_kinematics, only: deg2rad, piston_position, piston_acceleration
   use ringlube_gas, only: gas_pressure
   use ringlube_ring_pack, only: ring_pack_params, ring_pack_state, ring_pack_step_out, &
-                                ring_pack_totals, ring_pack_cycle_out, ring_pack_params_from_case, &
-                                ring_pack_init, ring_pack_step, ring_pack_accumulate, &
-                                ring_pack_finish, ring_pack_cycle, ring_pack_gas_mass
+                                ring_pack_params_from_case, ring_pack_init, ring_pack_step, &
+                                ring_pack_gas_mass
+  use ringlube_ring_pack_cycle, only: ring_pack_totals, ring_pack_cycle_out, ring_pack_accumulate, &
+                                      ring_pack_finish, ring_pack_cycle
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_results, only: result_type, allocate_result, flag_ceiling, derive_results
   use ringlube_oil_supply, only: supply_type, supply_setup, inlet_available, trailing_available, &

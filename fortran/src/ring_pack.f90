@@ -19,7 +19,7 @@
 !>     call ring_pack_init(st, p1_start, p4)    ! once (or keep st from the last cycle)
 !>     ! every crank step:
 !>     call ring_pack_step(par, st, p1_old, p1_new, p4, f_f, a_p, dt, out, err)
-!>     call ring_pack_accumulate(tot, out, dt)       ! cycle quantities
+!>     call ring_pack_accumulate(tot, out, dt)       ! cycle quantities (ringlube_ring_pack_cycle)
 !>     ! st%p2: back pressure of the ring (its gas load p2 b l), p1 its upper edge,
 !>     ! st%p3 its lower edge; st%x lift, st%flank which flank it rests on.
 !>
@@ -52,22 +52,14 @@ module ringlube_ring_pack
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type, fatal_error, rl_not_converged
   use ringlube_case, only: case_type, ring_mass
+  use ringlube_ring_pack_flow, only: gas_constant, orifice_linear, orifice_consts, &
+                                     orifice_constants, orifice_eval, orifice_flow, channel_flow, &
+                                     orifice_psi
   implicit none
   private
-  public :: ring_pack_params, ring_pack_state, ring_pack_step_out, ring_pack_totals, &
-            ring_pack_cycle_out
-  public :: ring_pack_params_from_case, ring_pack_init, ring_pack_step, ring_pack_accumulate, &
-            ring_pack_finish, ring_pack_cycle, ring_pack_gas_mass
-  public :: orifice_flow, channel_flow, orifice_psi, ring_gas_force
-
-  !> Gas constant of air and burnt gas [J/(kg K)] (SPEC 14).
-  real(dp), parameter, public :: gas_constant = 287.0_dp
-  !> Standard state of the blowby volume flow: 101325 Pa, 293.15 K.
-  real(dp), parameter, public :: std_pressure = 101325.0_dp, std_temperature = 293.15_dp
-  !> Below a pressure difference of this fraction of the upstream pressure the orifice's
-  !> Psi(r) is replaced by the straight line from Psi(1 - orifice_linear) to 0 at r = 1
-  !> (the exact Psi has an infinite slope there; Newton's method needs a finite one).
-  real(dp), parameter, public :: orifice_linear = 1e-4_dp
+  public :: ring_pack_params, ring_pack_state, ring_pack_step_out
+  public :: ring_pack_params_from_case, ring_pack_init, ring_pack_step, ring_pack_gas_mass
+  public :: orifice_flow, channel_flow, orifice_psi, ring_gas_force, gas_constant, orifice_linear
 
   !> Which flank the ring rests on.
   integer, parameter, public :: flank_none = 0, flank_lower = 1, flank_upper = 2
@@ -127,40 +119,6 @@ module ringlube_ring_pack
     logical :: on_lower = .false., on_upper = .false.  !< at the end of the step
   end type ring_pack_step_out
 
-  !> Sums over a cycle (ring_pack_accumulate), turned into SPEC 14's cycle quantities by
-  !> ring_pack_finish.
-  type :: ring_pack_totals
-    real(dp) :: time = 0.0_dp, blowby_mass = 0.0_dp, blowback_mass = 0.0_dp, &
-                inflow_mass = 0.0_dp, gross_mass = 0.0_dp, lift_time = 0.0_dp, &
-                lift_time_against_gas = 0.0_dp
-    integer :: flutter_events = 0, lift_offs = 0
-    real(dp) :: stored_start = -1.0_dp  !< m2 + m3 at the start (set by the caller) [kg]
-  end type ring_pack_totals
-
-  !> One periodic cycle (ring_pack_cycle): per crank step (at its end) and totals.
-  type :: ring_pack_cycle_out
-    real(dp), allocatable :: p2(:), p3(:), x(:), top_gap_flow(:), second_gap_flow(:), &
-                             upper_channel_flow(:), lower_channel_flow(:)
-    real(dp) :: blowby_l_min = 0.0_dp, blowby_mg_per_cycle = 0.0_dp, &
-                blowback_mg_per_cycle = 0.0_dp, ring_lift_share_pct = 0.0_dp, &
-                gas_balance_error = 0.0_dp
-    !> Share of the cycle the ring is off its lower flank while the chamber pressure exceeds
-    !> the land pressure (lift against the gas: inertia or friction beat the gas force) [%].
-    real(dp) :: lift_against_gas_pct = 0.0_dp
-    !> Net inflow minus outflow of spaces 2+3 over the cycle relative to the gross flow
-    !> (zero when periodic).
-    real(dp) :: periodicity_error = 0.0_dp
-    integer :: flutter_events = 0, cycles_run = 0, substeps = 0
-    logical :: converged = .false.
-  end type ring_pack_cycle_out
-
-  !> Constants of the orifice law for one gamma: 2 g/(g-1), 2/g, (g+1)/g, r*, Psi(r*) and
-  !> Psi where it turns straight.
-  type :: orifice_consts
-    real(dp) :: k = 0.0_dp, e1 = 0.0_dp, e2 = 0.0_dp, rc = 0.0_dp, psi_c = 0.0_dp, &
-                psi_lin = 0.0_dp
-  end type orifice_consts
-
 contains
 
   !> Parameters from a case (&ring_pack, the ring's geometry and mass).
@@ -196,107 +154,6 @@ contains
     m = (st%p2 * par%groove_volume + st%p3 * par%land_volume) &
         / (gas_constant * par%gas_temperature)
   end function ring_pack_gas_mass
-
-  !> The orifice's flow function: Psi(r) = sqrt(2 g/(g-1) (r^(2/g) - r^((g+1)/g))) for
-  !> r = p_d/p_u above the critical ratio (2/(g+1))^(g/(g-1)), Psi(r*) below it (choked).
-  pure real(dp) function orifice_psi(r, gamma) result(psi)
-    real(dp), intent(in) :: r, gamma
-    real(dp) :: rr
-    rr = max(r, (2.0_dp / (gamma + 1.0_dp))**(gamma / (gamma - 1.0_dp)))
-    rr = min(rr, 1.0_dp)
-    psi = sqrt(max(0.0_dp, 2.0_dp * gamma / (gamma - 1.0_dp) &
-                   * (rr**(2.0_dp / gamma) - rr**((gamma + 1.0_dp) / gamma))))
-  end function orifice_psi
-
-  !> Isentropic orifice flow from a to b [kg/s] (negative from b to a):
-  !> C_d A p_u / sqrt(R T) Psi(p_d/p_u) (SPEC 14), with Psi straight within
-  !> `orifice_linear` of r = 1. Optional derivatives with respect to p_a and p_b.
-  pure subroutine orifice_flow(cd_area, pa, pb, temperature, gamma, q, dq_dpa, dq_dpb)
-    real(dp), intent(in) :: cd_area, pa, pb, temperature, gamma
-    real(dp), intent(out) :: q
-    real(dp), intent(out), optional :: dq_dpa, dq_dpb
-    real(dp) :: da, db
-    call orifice_eval(orifice_constants(gamma), cd_area / sqrt(gas_constant * temperature), &
-                      pa, pb, q, da, db)
-    if (present(dq_dpa)) dq_dpa = da
-    if (present(dq_dpb)) dq_dpb = db
-  end subroutine orifice_flow
-
-  !> The gamma-dependent constants of the orifice law.
-  pure function orifice_constants(gamma) result(oc)
-    real(dp), intent(in) :: gamma
-    type(orifice_consts) :: oc
-    oc%k = 2.0_dp * gamma / (gamma - 1.0_dp)
-    oc%e1 = 2.0_dp / gamma
-    oc%e2 = (gamma + 1.0_dp) / gamma
-    oc%rc = (2.0_dp / (gamma + 1.0_dp))**(gamma / (gamma - 1.0_dp))
-    oc%psi_c = orifice_psi(oc%rc, gamma)
-    oc%psi_lin = orifice_psi(1.0_dp - orifice_linear, gamma)
-  end function orifice_constants
-
-  !> orifice_flow with the constants at hand; c = C_d A / sqrt(R T).
-  pure subroutine orifice_eval(oc, c, pa, pb, q, dq_dpa, dq_dpb)
-    type(orifice_consts), intent(in) :: oc
-    real(dp), intent(in) :: c, pa, pb
-    real(dp), intent(out) :: q, dq_dpa, dq_dpb
-    real(dp) :: pu, pd, r, psi, dpsi, sgn, dq_pu, dq_pd, lr, ra, rb
-    if (pa >= pb) then
-      pu = pa
-      pd = pb
-      sgn = 1.0_dp
-    else
-      pu = pb
-      pd = pa
-      sgn = -1.0_dp
-    end if
-    if (pu <= 0.0_dp .or. c <= 0.0_dp) then
-      q = 0.0_dp
-      dq_dpa = 0.0_dp
-      dq_dpb = 0.0_dp
-      return
-    end if
-    r = pd / pu
-    if (r <= oc%rc) then
-      psi = oc%psi_c
-      dpsi = 0.0_dp
-    else if (r < 1.0_dp - orifice_linear) then
-      ! Psi = sqrt(k (r^e1 - r^e2)), dPsi/dr = k (e1 r^e1 - e2 r^e2) / (2 r Psi)
-      lr = log(r)
-      ra = exp(oc%e1 * lr)
-      rb = exp(oc%e2 * lr)
-      psi = sqrt(max(0.0_dp, oc%k * (ra - rb)))
-      dpsi = 0.0_dp
-      if (psi > 0.0_dp) dpsi = 0.5_dp * oc%k * (oc%e1 * ra - oc%e2 * rb) / (r * psi)
-    else
-      psi = oc%psi_lin * (1.0_dp - r) / orifice_linear
-      dpsi = -oc%psi_lin / orifice_linear
-    end if
-    q = sgn * c * pu * psi
-    ! q = c pu Psi(pd/pu): d/dpu = c (Psi - r Psi'), d/dpd = c Psi'
-    dq_pu = c * (psi - r * dpsi)
-    dq_pd = c * dpsi
-    if (sgn > 0.0_dp) then
-      dq_dpa = dq_pu
-      dq_dpb = dq_pd
-    else
-      dq_dpa = -dq_pd
-      dq_dpb = -dq_pu
-    end if
-  end subroutine orifice_eval
-
-  !> Laminar isothermal channel flow from a to b [kg/s] through a gap g of length w and
-  !> width l: l g^3 (p_a^2 - p_b^2) / (24 mu R T w) (SPEC 14); derivatives optional.
-  pure subroutine channel_flow(width, gap, length, viscosity, temperature, pa, pb, q, &
-                               dq_dpa, dq_dpb)
-    real(dp), intent(in) :: width, gap, length, viscosity, temperature, pa, pb
-    real(dp), intent(out) :: q
-    real(dp), intent(out), optional :: dq_dpa, dq_dpb
-    real(dp) :: k
-    k = width * max(gap, 0.0_dp)**3 / (24.0_dp * viscosity * gas_constant * temperature * length)
-    q = k * (pa**2 - pb**2)
-    if (present(dq_dpa)) dq_dpa = 2.0_dp * k * pa
-    if (present(dq_dpb)) dq_dpb = -2.0_dp * k * pb
-  end subroutine channel_flow
 
   !> Gas force on the ring, positive towards the chamber [N]: l d ((p3 + p2)/2 - (p1 + p2)/2).
   pure real(dp) function ring_gas_force(par, p1, p3) result(f)
@@ -592,98 +449,4 @@ contains
     end function rnorm
   end subroutine gas_backward_euler
 
-  !> Add one step's output to a cycle's sums.
-  pure subroutine ring_pack_accumulate(tot, out, dt)
-    type(ring_pack_totals), intent(inout) :: tot
-    type(ring_pack_step_out), intent(in) :: out
-    real(dp), intent(in) :: dt
-    tot%time = tot%time + dt
-    tot%blowby_mass = tot%blowby_mass + out%second_gap_flow * dt
-    tot%blowback_mass = tot%blowback_mass + out%blowback_mass
-    tot%inflow_mass = tot%inflow_mass + (out%top_gap_flow + out%upper_channel_flow) * dt
-    tot%gross_mass = tot%gross_mass + out%gross_mass
-    tot%lift_time = tot%lift_time + out%lift_time
-    tot%lift_time_against_gas = tot%lift_time_against_gas + out%lift_time_against_gas
-    tot%flutter_events = tot%flutter_events + out%flutter_events
-    tot%lift_offs = tot%lift_offs + out%lift_offs
-  end subroutine ring_pack_accumulate
-
-  !> SPEC 14's cycle quantities from a cycle's sums; stored_end = m2 + m3 at the end, and
-  !> tot%stored_start must hold m2 + m3 at the start.
-  pure subroutine ring_pack_finish(tot, stored_end, cyc)
-    type(ring_pack_totals), intent(in) :: tot
-    real(dp), intent(in) :: stored_end
-    type(ring_pack_cycle_out), intent(inout) :: cyc
-    real(dp) :: gross
-    gross = max(tot%gross_mass, tiny(1.0_dp))
-    cyc%blowby_mg_per_cycle = 1e6_dp * tot%blowby_mass
-    cyc%blowby_l_min = tot%blowby_mass / tot%time * gas_constant * std_temperature &
-                       / std_pressure * 6e4_dp
-    cyc%blowback_mg_per_cycle = 1e6_dp * tot%blowback_mass
-    cyc%ring_lift_share_pct = 100.0_dp * tot%lift_time / tot%time
-    cyc%lift_against_gas_pct = 100.0_dp * tot%lift_time_against_gas / tot%time
-    cyc%flutter_events = tot%flutter_events
-    cyc%gas_balance_error = abs((stored_end - tot%stored_start) &
-                                - (tot%inflow_mass - tot%blowby_mass)) / gross
-    cyc%periodicity_error = abs(tot%inflow_mass - tot%blowby_mass) / gross
-  end subroutine ring_pack_finish
-
-  !> Run the gas network over whole cycles with prescribed p1, a_p and f_f at the crank
-  !> angles psi_k = k dpsi_deg, k = 0 .. n-1 (periodic, n = 720/dpsi_deg; a_p and f_f on
-  !> ring_pack_step's axis), until the state at psi = 0 repeats within `tol` (pressures
-  !> relative to the largest chamber pressure, lift relative to the clearance) or
-  !> max_cycles. st: the start (ring_pack_init if its p2 is not positive), then the state
-  !> at the end. cyc: the last cycle.
-  subroutine ring_pack_cycle(par, p1, a_p, f_f, dpsi_deg, speed_rpm, p4, st, cyc, err, &
-                             max_cycles, tol)
-    type(ring_pack_params), intent(in) :: par
-    real(dp), intent(in) :: p1(0:), a_p(0:), f_f(0:), dpsi_deg, speed_rpm, p4
-    type(ring_pack_state), intent(inout) :: st
-    type(ring_pack_cycle_out), intent(out) :: cyc
-    type(error_type), allocatable, intent(out) :: err
-    integer, intent(in), optional :: max_cycles
-    real(dp), intent(in), optional :: tol
-    type(ring_pack_step_out) :: out
-    type(ring_pack_totals) :: tot
-    type(ring_pack_state) :: st0
-    real(dp) :: dt, tol_, pmax
-    integer :: n, k, kn, icyc, ncyc
-    n = size(p1)
-    ncyc = 200
-    if (present(max_cycles)) ncyc = max_cycles
-    tol_ = 1e-9_dp
-    if (present(tol)) tol_ = tol
-    dt = dpsi_deg / (6.0_dp * speed_rpm)
-    pmax = maxval(p1)
-    if (st%p2 <= 0.0_dp) call ring_pack_init(st, p1(0), p4)
-    allocate (cyc%p2(n), cyc%p3(n), cyc%x(n), cyc%top_gap_flow(n), cyc%second_gap_flow(n), &
-              cyc%upper_channel_flow(n), cyc%lower_channel_flow(n))
-    do icyc = 1, ncyc
-      st0 = st
-      tot = ring_pack_totals()
-      tot%stored_start = ring_pack_gas_mass(par, st)
-      cyc%substeps = 0
-      do k = 0, n - 1
-        kn = mod(k + 1, n)
-        call ring_pack_step(par, st, p1(k), p1(kn), p4, 0.5_dp * (f_f(k) + f_f(kn)), &
-                            0.5_dp * (a_p(k) + a_p(kn)), dt, out, err)
-        if (allocated(err)) return
-        call ring_pack_accumulate(tot, out, dt)
-        cyc%substeps = cyc%substeps + out%substeps
-        cyc%p2(k + 1) = st%p2
-        cyc%p3(k + 1) = st%p3
-        cyc%x(k + 1) = st%x
-        cyc%top_gap_flow(k + 1) = out%top_gap_flow
-        cyc%second_gap_flow(k + 1) = out%second_gap_flow
-        cyc%upper_channel_flow(k + 1) = out%upper_channel_flow
-        cyc%lower_channel_flow(k + 1) = out%lower_channel_flow
-      end do
-      call ring_pack_finish(tot, ring_pack_gas_mass(par, st), cyc)
-      cyc%cycles_run = icyc
-      cyc%converged = abs(st%p2 - st0%p2) <= tol_ * pmax .and. abs(st%p3 - st0%p3) <= tol_ * pmax &
-                      .and. abs(st%x - st0%x) <= tol_ * par%groove_clearance &
-                      .and. st%flank == st0%flank
-      if (cyc%converged) exit
-    end do
-  end subroutine ring_pack_cycle
 end module ringlube_ring_pack

@@ -11,6 +11,7 @@ program bench_ring_pack
   use ringlube_gas, only: read_pressure_csv, gas_pressure
   use ringlube_kinematics, only: sliding_speed, piston_acceleration, deg2rad
   use ringlube_ring_pack
+  use ringlube_ring_pack_cycle
   implicit none
   type(case_type) :: c
   type(ring_pack_params) :: par

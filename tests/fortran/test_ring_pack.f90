@@ -11,6 +11,7 @@ program test_ring_pack
   use ringlube_gas, only: read_pressure_csv, gas_pressure
   use ringlube_kinematics, only: sliding_speed, piston_acceleration, deg2rad
   use ringlube_ring_pack
+  use ringlube_ring_pack_cycle
   use ringlube_check
   implicit none
   real(dp), parameter :: rgas = 287.0_dp

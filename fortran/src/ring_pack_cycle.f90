@@ -1,0 +1,142 @@
+!> The ring pack over a cycle (SPEC 14): a cycle's sums of the steps of ringlube_ring_pack,
+!> SPEC 14's cycle quantities from them (blowby, blowback, ring lift share, flutter events,
+!> gas balance), and the gas network alone run to its periodic state under prescribed
+!> chamber pressure, piston acceleration and friction.
+module ringlube_ring_pack_cycle
+  use ringlube_kinds, only: dp
+  use ringlube_error, only: error_type
+  use ringlube_ring_pack_flow, only: gas_constant
+  use ringlube_ring_pack, only: ring_pack_params, ring_pack_state, ring_pack_step_out, &
+                                ring_pack_init, ring_pack_step, ring_pack_gas_mass
+  implicit none
+  private
+  public :: ring_pack_totals, ring_pack_cycle_out, ring_pack_accumulate, ring_pack_finish, &
+            ring_pack_cycle
+
+  !> Standard state of the blowby volume flow: 101325 Pa, 293.15 K.
+  real(dp), parameter, public :: std_pressure = 101325.0_dp, std_temperature = 293.15_dp
+
+  !> Sums over a cycle (ring_pack_accumulate), turned into SPEC 14's cycle quantities by
+  !> ring_pack_finish.
+  type :: ring_pack_totals
+    real(dp) :: time = 0.0_dp, blowby_mass = 0.0_dp, blowback_mass = 0.0_dp, &
+                inflow_mass = 0.0_dp, gross_mass = 0.0_dp, lift_time = 0.0_dp, &
+                lift_time_against_gas = 0.0_dp
+    integer :: flutter_events = 0, lift_offs = 0
+    real(dp) :: stored_start = -1.0_dp  !< m2 + m3 at the start (set by the caller) [kg]
+  end type ring_pack_totals
+
+  !> One periodic cycle (ring_pack_cycle): per crank step (at its end) and totals.
+  type :: ring_pack_cycle_out
+    real(dp), allocatable :: p2(:), p3(:), x(:), top_gap_flow(:), second_gap_flow(:), &
+                             upper_channel_flow(:), lower_channel_flow(:)
+    real(dp) :: blowby_l_min = 0.0_dp, blowby_mg_per_cycle = 0.0_dp, &
+                blowback_mg_per_cycle = 0.0_dp, ring_lift_share_pct = 0.0_dp, &
+                gas_balance_error = 0.0_dp
+    !> Share of the cycle the ring is off its lower flank while the chamber pressure exceeds
+    !> the land pressure (lift against the gas: inertia or friction beat the gas force) [%].
+    real(dp) :: lift_against_gas_pct = 0.0_dp
+    !> Net inflow minus outflow of spaces 2+3 over the cycle relative to the gross flow
+    !> (zero when periodic).
+    real(dp) :: periodicity_error = 0.0_dp
+    integer :: flutter_events = 0, cycles_run = 0, substeps = 0
+    logical :: converged = .false.
+  end type ring_pack_cycle_out
+
+contains
+
+  !> Add one step's output to a cycle's sums.
+  pure subroutine ring_pack_accumulate(tot, out, dt)
+    type(ring_pack_totals), intent(inout) :: tot
+    type(ring_pack_step_out), intent(in) :: out
+    real(dp), intent(in) :: dt
+    tot%time = tot%time + dt
+    tot%blowby_mass = tot%blowby_mass + out%second_gap_flow * dt
+    tot%blowback_mass = tot%blowback_mass + out%blowback_mass
+    tot%inflow_mass = tot%inflow_mass + (out%top_gap_flow + out%upper_channel_flow) * dt
+    tot%gross_mass = tot%gross_mass + out%gross_mass
+    tot%lift_time = tot%lift_time + out%lift_time
+    tot%lift_time_against_gas = tot%lift_time_against_gas + out%lift_time_against_gas
+    tot%flutter_events = tot%flutter_events + out%flutter_events
+    tot%lift_offs = tot%lift_offs + out%lift_offs
+  end subroutine ring_pack_accumulate
+
+  !> SPEC 14's cycle quantities from a cycle's sums; stored_end = m2 + m3 at the end, and
+  !> tot%stored_start must hold m2 + m3 at the start.
+  pure subroutine ring_pack_finish(tot, stored_end, cyc)
+    type(ring_pack_totals), intent(in) :: tot
+    real(dp), intent(in) :: stored_end
+    type(ring_pack_cycle_out), intent(inout) :: cyc
+    real(dp) :: gross
+    gross = max(tot%gross_mass, tiny(1.0_dp))
+    cyc%blowby_mg_per_cycle = 1e6_dp * tot%blowby_mass
+    cyc%blowby_l_min = tot%blowby_mass / tot%time * gas_constant * std_temperature &
+                       / std_pressure * 6e4_dp
+    cyc%blowback_mg_per_cycle = 1e6_dp * tot%blowback_mass
+    cyc%ring_lift_share_pct = 100.0_dp * tot%lift_time / tot%time
+    cyc%lift_against_gas_pct = 100.0_dp * tot%lift_time_against_gas / tot%time
+    cyc%flutter_events = tot%flutter_events
+    cyc%gas_balance_error = abs((stored_end - tot%stored_start) &
+                                - (tot%inflow_mass - tot%blowby_mass)) / gross
+    cyc%periodicity_error = abs(tot%inflow_mass - tot%blowby_mass) / gross
+  end subroutine ring_pack_finish
+
+  !> Run the gas network over whole cycles with prescribed p1, a_p and f_f at the crank
+  !> angles psi_k = k dpsi_deg, k = 0 .. n-1 (periodic, n = 720/dpsi_deg; a_p and f_f on
+  !> ring_pack_step's axis), until the state at psi = 0 repeats within `tol` (pressures
+  !> relative to the largest chamber pressure, lift relative to the clearance) or
+  !> max_cycles. st: the start (ring_pack_init if its p2 is not positive), then the state
+  !> at the end. cyc: the last cycle.
+  subroutine ring_pack_cycle(par, p1, a_p, f_f, dpsi_deg, speed_rpm, p4, st, cyc, err, &
+                             max_cycles, tol)
+    type(ring_pack_params), intent(in) :: par
+    real(dp), intent(in) :: p1(0:), a_p(0:), f_f(0:), dpsi_deg, speed_rpm, p4
+    type(ring_pack_state), intent(inout) :: st
+    type(ring_pack_cycle_out), intent(out) :: cyc
+    type(error_type), allocatable, intent(out) :: err
+    integer, intent(in), optional :: max_cycles
+    real(dp), intent(in), optional :: tol
+    type(ring_pack_step_out) :: out
+    type(ring_pack_totals) :: tot
+    type(ring_pack_state) :: st0
+    real(dp) :: dt, tol_, pmax
+    integer :: n, k, kn, icyc, ncyc
+    n = size(p1)
+    ncyc = 200
+    if (present(max_cycles)) ncyc = max_cycles
+    tol_ = 1e-9_dp
+    if (present(tol)) tol_ = tol
+    dt = dpsi_deg / (6.0_dp * speed_rpm)
+    pmax = maxval(p1)
+    if (st%p2 <= 0.0_dp) call ring_pack_init(st, p1(0), p4)
+    allocate (cyc%p2(n), cyc%p3(n), cyc%x(n), cyc%top_gap_flow(n), cyc%second_gap_flow(n), &
+              cyc%upper_channel_flow(n), cyc%lower_channel_flow(n))
+    do icyc = 1, ncyc
+      st0 = st
+      tot = ring_pack_totals()
+      tot%stored_start = ring_pack_gas_mass(par, st)
+      cyc%substeps = 0
+      do k = 0, n - 1
+        kn = mod(k + 1, n)
+        call ring_pack_step(par, st, p1(k), p1(kn), p4, 0.5_dp * (f_f(k) + f_f(kn)), &
+                            0.5_dp * (a_p(k) + a_p(kn)), dt, out, err)
+        if (allocated(err)) return
+        call ring_pack_accumulate(tot, out, dt)
+        cyc%substeps = cyc%substeps + out%substeps
+        cyc%p2(k + 1) = st%p2
+        cyc%p3(k + 1) = st%p3
+        cyc%x(k + 1) = st%x
+        cyc%top_gap_flow(k + 1) = out%top_gap_flow
+        cyc%second_gap_flow(k + 1) = out%second_gap_flow
+        cyc%upper_channel_flow(k + 1) = out%upper_channel_flow
+        cyc%lower_channel_flow(k + 1) = out%lower_channel_flow
+      end do
+      call ring_pack_finish(tot, ring_pack_gas_mass(par, st), cyc)
+      cyc%cycles_run = icyc
+      cyc%converged = abs(st%p2 - st0%p2) <= tol_ * pmax .and. abs(st%p3 - st0%p3) <= tol_ * pmax &
+                      .and. abs(st%x - st0%x) <= tol_ * par%groove_clearance &
+                      .and. st%flank == st0%flank
+      if (cyc%converged) exit
+    end do
+  end subroutine ring_pack_cycle
+end module ringlube_ring_pack_cycle
