@@ -11,7 +11,8 @@ program ringlube_solve
   use ringlube_case, only: case_type, composite_sigma
   use ringlube_deck, only: read_deck
   use ringlube_cycle, only: solve_cycle
-  use ringlube_results, only: result_type, scalar_value, n_scalars, summary_text
+  use ringlube_results, only: result_type, scalar_value, n_scalars
+  use ringlube_results_summary, only: summary_text
   use ringlube_hdf5_output, only: write_result
   use ringlube_output_path, only: check_output
   use ringlube_version, only: package_version

@@ -282,7 +282,7 @@ end subroutine rl_run_batch
 !> (the first and last line) left out when blank. `n` is the text's length.
 subroutine rl_summary(nc, scalars, starved, gas, title, written, text, n)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
-  use ringlube_results, only: summary_text
+  use ringlube_results_summary, only: summary_text
   implicit none
   integer(c_int), intent(in) :: nc, starved, gas
   real(c_double), intent(in) :: scalars(nc)

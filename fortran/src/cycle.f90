@@ -55,7 +55,7 @@ contains
     real(dp) :: stored0, gap0, energy_prev, change_map, change_energy, warmup
     real(dp), allocatable :: map_prev(:)
     type(load_problem) :: lp
-    integer :: extra_evaluations, extra_solves
+    integer :: extra_film_solves, extra_solves
     ! the ring pack (SPEC 14): parameters, state (now, at the start of the cycle, on the copy
     ! that solves psi = 720), the last step, the cycle's sums; the friction of the last step
     logical :: gas_pack
@@ -85,7 +85,7 @@ contains
     h0_init = min(max(h0_init, c%h0_floor), c%h0_ceiling)
     call start_history(mem, h0_init)
     h0_start = h0_init
-    extra_evaluations = 0
+    extra_film_solves = 0
     extra_solves = 0
     f%dt = ctx%dt
     ! the mass-conserving film starts full; the starved inlet from the supply film everywhere
@@ -156,7 +156,7 @@ contains
         g%p_lower = gst%p3
       end if
       call balance(c, ctx, g, gmem, 0.0_dp, h0_end, flags, resid, lp)
-      extra_evaluations = extra_evaluations + g%evaluations - f%evaluations
+      extra_film_solves = extra_film_solves + g%film_solves - f%film_solves
       extra_solves = extra_solves + g%reynolds_solves - f%reynolds_solves
       res%cycle_change = abs(h0_end - h0_start) / h0_start
       if (f%starved) then
@@ -208,7 +208,7 @@ contains
     res%mixed_share = mixed_share(res%h0 / sigma)
     res%min_film = minval(res%lambda_min) * sigma
     res%max_friction = maxval(abs(res%friction))
-    res%evaluations = f%evaluations + extra_evaluations
+    res%total_film_solves = f%film_solves + extra_film_solves
     res%reynolds_solves = f%reynolds_solves + extra_solves
     res%cycles_computed = res%cycles_run + (warmup + c%dpsi_deg * res%cycles_run) / 720.0_dp
     ! a step held at h0_ceiling is an answer of the model (the film carries more than the load
@@ -330,7 +330,7 @@ contains
       type(load_problem) :: lp
       integer :: flags, nev
       psi = (k - 1) * c%dpsi_deg
-      nev = f%evaluations
+      nev = f%film_solves
       call advance(psi, h0out, flags, resid, lp, vin, vout)
       call film_friction(c, f, lp%u, fv, fb)
       res%crank_angle_deg(k) = psi
@@ -347,7 +347,7 @@ contains
       res%power_loss(k) = abs((fv + fb) * lp%u)
       res%load_residual(k) = resid
       res%flags(k) = flags
-      res%iterations(k) = f%evaluations - nev
+      res%film_solves(k) = f%film_solves - nev
       if (f%jfo) then
         res%inlet_fill(k) = f%theta_in
         ! the control volumes of full nodes: dx inside, dx/2 at an edge

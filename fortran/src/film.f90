@@ -5,7 +5,7 @@
 !> What the load balance (ringlube_load_balance) uses of a film model, and all a second
 !> model has to provide: `film_evaluate` at a trial h0 (given 2 dh0/dt, the sliding speed,
 !> the chamber pressure and the load tolerance in N), leaving `wh`, `wa`, `aa`, `flags`,
-!> `h0` and the counters `evaluations` and `reynolds_solves` set; `film_friction` at the
+!> `h0` and the counters `film_solves` and `reynolds_solves` set; `film_friction` at the
 !> accepted h0; `lead_left` set by the caller from the sign of u. Everything else in
 !> film_type is this model's own state (warm starts of the next trial and step).
 module ringlube_film
@@ -43,7 +43,7 @@ contains
     real(dp), intent(in) :: h0, sq, u, p_chamber, w_tol
     f%h0 = h0
     f%flags = 0
-    f%evaluations = f%evaluations + 1
+    f%film_solves = f%film_solves + 1
     f%h = h0 + f%s
     f%hmid = h0 + f%smid
     if (f%jfo) then

@@ -34,7 +34,7 @@ module ringlube_film_state
     ! state of the last evaluation
     real(dp) :: h0 = -1.0_dp, wh = 0.0_dp, wa = 0.0_dp, aa = 0.0_dp
     integer :: flags = 0
-    integer :: evaluations = 0             !< film solves (load-balance trials)
+    integer :: film_solves = 0             !< film solves (load-balance trials)
     integer :: reynolds_solves = 0         !< Reynolds solves (incl. pressure-viscosity loop)
     ! the mass-conserving (JFO) film: fill, its content at the last accepted step, the
     ! cavity pressures, and the oil fluxes through the first and last interior faces

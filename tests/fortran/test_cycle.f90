@@ -35,7 +35,7 @@ program test_cycle
   call check(dh5 <= 5e-5_dp .and. dh5 < 0.1_dp * dh, 'h0 difference shrinks with load_tol')
   call check(de5 <= 2e-5_dp, 'energy difference shrinks with load_tol')
   write (*, '(a, 2i8)') 'film solves per cycle, safeguarded / damped: ', &
-    sum(rs%iterations), sum(rd%iterations)
+    sum(rs%film_solves), sum(rd%film_solves)
   call report('test_cycle')
 
 contains

@@ -5,8 +5,9 @@ program test_results
   use ringlube_kinds, only: dp
   use ringlube_results, only: result_type, allocate_result, series_ptr, int_series_ptr, &
                               liner_ptr, scalar_value, n_series, n_int_series, n_liner, &
-                              n_scalars, scalar_spec, series_spec, derive_results, summary_text, &
+                              n_scalars, scalar_spec, series_spec, derive_results, &
                               flag_ceiling, flag_load
+  use ringlube_results_summary, only: summary_text
   use ringlube_check
   implicit none
   type(result_type), target :: r
@@ -43,7 +44,7 @@ program test_results
     call check(size(ip) == m .and. all(ip == 0), 'integer series allocated, zeros')
     ip = i
   end do
-  call check(all(r%flags == 1) .and. all(r%iterations == 2), 'integer series by row')
+  call check(all(r%flags == 1) .and. all(r%film_solves == 2), 'integer series by row')
   ! the liner film: empty until a starved run sets it; then by row
   do i = 1, n_liner
     p => liner_ptr(r, i)
@@ -69,7 +70,7 @@ program test_results
   r%cycle_change = 1e-4_dp
   r%sigma = 4e-7_dp
   r%run_time = 0.5_dp
-  r%evaluations = 11
+  r%total_film_solves = 11
   r%reynolds_solves = 12
   r%cycles_computed = 4.25_dp
   r%oil_to_chamber = 0.3_dp
