@@ -34,6 +34,7 @@ module ringlube_jfo
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_kinds, only: dp
   use ringlube_tridiag, only: thomas
+  use ringlube_jfo_system, only: jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel
   implicit none
   private
   public :: jfo_solve, jfo_film_volume
@@ -93,9 +94,10 @@ contains
   !> liner film behind a trailing edge): `F_in = min(F_in, cap)`, a kink like the others of
   !> the residual; beyond it the edge admits gas. Both edges are treated alike, whichever
   !> leads; the Newton solve and the Gauss-Seidel fallback apply the same caps.
-  pure subroutine jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
-                            theta_right, pc, p, theta, iterations, info, q_left, q_right, tol, &
-                            max_iter, guard, newton, sweeps, cap_left, cap_right)
+  pure recursive subroutine jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
+                                      theta_left, theta_right, pc, p, theta, iterations, info, &
+                                      q_left, q_right, tol, max_iter, guard, newton, sweeps, &
+                                      cap_left, cap_right, work)
     real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
     real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, pc(:)
     real(dp), intent(inout) :: p(:), theta(:)
@@ -106,14 +108,22 @@ contains
     logical, intent(in), optional :: guard, newton
     integer, intent(out), optional :: sweeps
     real(dp), intent(in), optional :: cap_left, cap_right
+    type(jfo_system), intent(inout), optional :: work
+    type(jfo_system) :: local
     real(dp) :: v(size(h)), vt(size(h)), vbest(size(h)), dv(size(h)), r(size(h)), rt(size(h))
-    real(dp) :: ca(size(h)), kd(size(h)), fl(size(h)), pn(size(h)), tn(size(h)), ps(size(h))
+    real(dp) :: fl(size(h)), pn(size(h)), tn(size(h))
     real(dp) :: dfpl(size(h)), dfpr(size(h)), dftl(size(h)), dftr(size(h))
     real(dp) :: jl(size(h)), jd(size(h)), ju(size(h)), tw(size(h))
-    real(dp) :: a, w, rtol, f0, ft, fbest, t, rscale, rmax, fhist(nonmonotone), qcl, qcr
+    real(dp) :: rtol, f0, ft, fbest, t, rscale, rmax, fhist(nonmonotone), qcl, qcr
     integer :: n, i, it, itmax, tinfo, nls, nsweep, stall, nfall
     logical :: use_guard, use_newton, accepted, jac_ok
 
+    if (.not. present(work)) then
+      call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
+                     theta_right, pc, p, theta, iterations, info, q_left, q_right, tol, max_iter, &
+                     guard, newton, sweeps, cap_left, cap_right, local)
+      return
+    end if
     n = size(h)
     iterations = 0
     nsweep = 0
@@ -139,20 +149,8 @@ contains
     qcr = huge(1.0_dp)
     if (present(cap_right)) qcr = max(cap_right, 0.0_dp)
 
-    a = -0.5_dp * u
-    w = 0.0_dp
-    if (dt > 0.0_dp) w = dx / dt
-    ca(1:n - 1) = a * hmid
-    kd(1:n - 1) = kmid / dx
-    ca(n) = 0.0_dp
-    kd(n) = 0.0_dp
-    ! pressure per unit v on the full side: the ratio of a node's fill and pressure diagonals,
-    ! so that both sides of the kink weigh alike
-    ps = 1.0_dp
-    do i = 2, n - 1
-      t = w * h(i) + abs(ca(i)) + abs(ca(i - 1))
-      if (t > 0.0_dp .and. kd(i - 1) + kd(i) > 0.0_dp) ps(i) = t / (kd(i - 1) + kd(i))
-    end do
+    call jfo_system_setup(work, dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
+                          theta_left, theta_right, pc, qcl, qcr)
 
     ! warm start: v = (p - pc)/ps on full nodes, theta - 1 on cavity nodes; not finite -> 0
     v = 0.0_dp
@@ -160,14 +158,14 @@ contains
       if (theta(i) < 1.0_dp) then
         v(i) = theta(i) - 1.0_dp
       else
-        v(i) = max(p(i) - pc(i), 0.0_dp) / ps(i)
+        v(i) = max(p(i) - pc(i), 0.0_dp) / work%ps(i)
       end if
       if (.not. ieee_is_finite(v(i))) v(i) = 0.0_dp
     end do
 
     ! jac_ok: jl, jd, ju hold the Jacobian at v (the residual of an accepted step is evaluated
     ! with it, so the next iteration need not evaluate the residual again)
-    call residual(v, r, rscale, use_newton, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+   call jfo_residual(work, v, r, rscale, use_newton, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
     jac_ok = use_newton
     f0 = sumsq(r)
     vbest = v
@@ -180,13 +178,13 @@ contains
       if (rmax <= rtol * rscale .or. it == itmax) exit
       iterations = it + 1
       if (.not. use_newton) then
-        call gauss_seidel(v, 1, nsweep)
-        call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+        call jfo_gauss_seidel(work, v, 1, nsweep)
+      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
         f0 = sumsq(r)
         cycle
       end if
       if (.not. jac_ok) &
-        call residual(v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
       jac_ok = .false.
       dv(2:n - 1) = -r(2:n - 1)
       ! the M-matrix sign pattern holds by construction (upwinding); a violation (a degenerate
@@ -211,7 +209,7 @@ contains
         t = 1.0_dp
         do nls = 0, 30
           vt = v + t * dv
-          call residual(vt, rt, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+     call jfo_residual(work, vt, rt, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
           ft = sumsq(rt)
           if (.not. use_guard .or. it < free_steps &
               .or. ft <= (1.0_dp - 1e-4_dp * t) * maxval(fhist)) then
@@ -235,10 +233,10 @@ contains
         ! gs_budget in all: where neither converges, as in a few extreme starved designs, a
         ! solve must still end at the iteration cap, flagged, after O(n) work)
         if (nsweep < gs_budget) &
-          call gauss_seidel(v, min(gs_sweeps * 2**min(nfall, 4), gs_budget - nsweep), nsweep)
+       call jfo_gauss_seidel(work, v, min(gs_sweeps * 2**min(nfall, 4), gs_budget - nsweep), nsweep)
         nfall = nfall + 1
         jac_ok = .false.
-        call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
         f0 = sumsq(r)
         fhist = f0
         stall = 0
@@ -252,28 +250,28 @@ contains
         .and. maxval(abs(r(2:n - 1))) > polish_tol * rscale) then
       ! within the tolerance but above round-off (a damped or Gauss-Seidel last step): one more
       ! Newton step on this piece, kept if it helps, so that the oil balance closes to round-off
-      call residual(v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+      call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
       dv(2:n - 1) = -r(2:n - 1)
       call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo)
       if (tinfo == 0) then
         dv(2:n - 1) = vt(2:n - 1)
         vt = v
         vt(2:n - 1) = v(2:n - 1) + dv(2:n - 1)
-        call residual(vt, rt, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+    call jfo_residual(work, vt, rt, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
         if (sumsq(rt) < f0) then
           v = vt
           r = rt
           iterations = iterations + 1
         end if
       end if
-      call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
     end if
     if (present(sweeps)) sweeps = nsweep
     if (maxval(abs(r(2:n - 1))) > rtol * rscale) then
       if (info == JFO_OK) info = JFO_NOT_CONVERGED
       if (fbest < f0) then
         v = vbest
-        call residual(v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
       end if
     end if
 
@@ -292,230 +290,6 @@ contains
       sumsq = sum(x(2:n - 1)**2)
     end function sumsq
 
-    !> Node states pn, tn from x, face fluxes fl, the residual of the interior finite volumes
-    !> and the scale of its terms; with jac also the Jacobian rows jl, jd, ju on this piece.
-    !> Face f (nodes f, f+1): F = a theta_up hmid - g theta_P, g = kmid (p(f+1) - p(f))/dx, the
-    !> Couette content upwind by the sign of a, the pressure-driven content upwind by the sign of g
-    !> (full film: theta_P = 1; a cavity pushed out by a higher pressure carries oil fraction
-    !> theta, the rest is gas).
-    pure subroutine residual(x, res, scale, jac, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-      real(dp), intent(in) :: x(:)
-      real(dp), intent(out) :: res(:), scale
-      logical, intent(in) :: jac
-      real(dp), intent(inout) :: pn(:), tn(:), fl(:), dfpl(:), dfpr(:), dftl(:), dftr(:)
-      real(dp), intent(inout) :: jl(:), jd(:), ju(:)
-      real(dp) :: g, tp, s
-      integer :: j
-      pn(1) = p_left
-      pn(n) = p_right
-      tn(1) = theta_left
-      tn(n) = theta_right
-      do j = 2, n - 1
-        pn(j) = node_p(j, x(j))
-        tn(j) = node_t(x(j))
-      end do
-      do j = 1, n - 1
-        g = kd(j) * (pn(j + 1) - pn(j))
-        dftl(j) = 0.0_dp
-        dftr(j) = 0.0_dp
-        if (g <= 0.0_dp) then
-          tp = tn(j)
-          dftl(j) = -g
-        else
-          tp = tn(j + 1)
-          dftr(j) = -g
-        end if
-        if (a > 0.0_dp) then
-          fl(j) = ca(j) * tn(j) - g * tp
-          dftl(j) = dftl(j) + ca(j)
-        else
-          fl(j) = ca(j) * tn(j + 1) - g * tp
-          dftr(j) = dftr(j) + ca(j)
-        end if
-        dfpl(j) = kd(j) * tp
-        dfpr(j) = -kd(j) * tp
-      end do
-      ! oil entering through an edge face is capped at the oil there: beyond it the edge
-      ! admits gas; the capped flux does not depend on the interior nodes
-      if (fl(1) > qcl) then
-        fl(1) = qcl
-        dfpr(1) = 0.0_dp
-        dftr(1) = 0.0_dp
-      end if
-      if (-fl(n - 1) > qcr) then
-        fl(n - 1) = -qcr
-        dfpl(n - 1) = 0.0_dp
-        dftl(n - 1) = 0.0_dp
-      end if
-      scale = tiny(1.0_dp)
-      res(1) = 0.0_dp
-      res(n) = 0.0_dp
-      do j = 2, n - 1
-        res(j) = w * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
-        s = w * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
-            + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
-        scale = max(scale, s)
-      end do
-      if (.not. jac) return
-      do j = 2, n - 1
-        if (x(j) >= 0.0_dp) then
-          jd(j) = (dfpl(j) - dfpr(j - 1)) * ps(j)
-        else
-          jd(j) = w * h(j) + dftl(j) - dftr(j - 1)
-        end if
-        if (j < n - 1) then
-          if (x(j + 1) >= 0.0_dp) then
-            ju(j) = dfpr(j) * ps(j + 1)
-          else
-            ju(j) = dftr(j)
-          end if
-        else
-          ju(j) = 0.0_dp
-        end if
-        if (j > 2) then
-          if (x(j - 1) >= 0.0_dp) then
-            jl(j) = -dfpl(j - 1) * ps(j - 1)
-          else
-            jl(j) = -dftl(j - 1)
-          end if
-        else
-          jl(j) = 0.0_dp
-        end if
-      end do
-    end subroutine residual
-
-    !> Projected Gauss-Seidel on v: each node solves its own equation (monotone in v(j)) with
-    !> the neighbours fixed and the upwind choices of the current state, sweeping downstream.
-    !> The edge caps apply as in the residual: at a node next to an edge, if the inflow through
-    !> the edge face of the update exceeds the cap, the node is solved again with that face
-    !> carrying the cap (a constant).
-    pure subroutine gauss_seidel(x, nsw, nsweep)
-      real(dp), intent(inout) :: x(:)
-      integer, intent(in) :: nsw
-      integer, intent(inout) :: nsweep
-      integer :: s, k, j, j0, j1, step
-      real(dp) :: pl, pr, tl, tr
-      logical :: capl, capr, again
-      if (a >= 0.0_dp) then
-        j0 = 2; j1 = n - 1; step = 1
-      else
-        j0 = n - 1; j1 = 2; step = -1
-      end if
-      do s = 1, nsw
-        nsweep = nsweep + 1
-        do k = j0, j1, step
-          j = k
-          pl = node_p(j - 1, x(j - 1))
-          tl = node_t(x(j - 1))
-          if (j == 2) then
-            pl = p_left
-            tl = theta_left
-          end if
-          pr = node_p(j + 1, x(j + 1))
-          tr = node_t(x(j + 1))
-          if (j == n - 1) then
-            pr = p_right
-            tr = theta_right
-          end if
-          capl = .false.
-          capr = .false.
-          do
-            call node_update(j, pl, pr, tl, tr, capl, capr, x(j))
-            again = .false.
-            if (j == 2 .and. .not. capl) then
-              if (face_flux(1, pl, node_p(j, x(j)), tl, node_t(x(j))) > qcl) capl = .true.
-              again = capl
-            end if
-            if (j == n - 1 .and. .not. capr) then
-              if (-face_flux(j, node_p(j, x(j)), pr, node_t(x(j)), tr) > qcr) capr = .true.
-              again = again .or. capr
-            end if
-            if (.not. again) exit
-          end do
-        end do
-      end do
-    end subroutine gauss_seidel
-
-    !> Pressure and fill of node j at the universal variable xj (p = pc + ps max(v, 0),
-    !> theta = 1 + min(v, 0)).
-    pure real(dp) function node_p(j, xj)
-      integer, intent(in) :: j
-      real(dp), intent(in) :: xj
-      node_p = pc(j) + ps(j) * max(xj, 0.0_dp)
-    end function node_p
-
-    pure real(dp) function node_t(xj)
-      real(dp), intent(in) :: xj
-      node_t = 1.0_dp + min(xj, 0.0_dp)
-    end function node_t
-
-    !> Flux through face f (nodes f, f+1) as in the residual.
-    pure real(dp) function face_flux(f, p0, p1, t0, t1)
-      integer, intent(in) :: f
-      real(dp), intent(in) :: p0, p1, t0, t1
-      real(dp) :: g
-      g = kd(f) * (p1 - p0)
-      face_flux = -g * merge(t0, t1, g <= 0.0_dp)
-      if (a > 0.0_dp) then
-        face_flux = face_flux + ca(f) * t0
-      else
-        face_flux = face_flux + ca(f) * t1
-      end if
-    end function face_flux
-
-    !> Node j's own equation with its neighbours (pl, tl), (pr, tr) fixed; with capl (capr)
-    !> the left (right) face carries the constant inflow qcl (qcr).
-    pure subroutine node_update(j, pl, pr, tl, tr, capl, capr, xj)
-      integer, intent(in) :: j
-      real(dp), intent(in) :: pl, pr, tl, tr
-      logical, intent(in) :: capl, capr
-      real(dp), intent(out) :: xj
-      real(dp) :: r0, dpr, dth, gl, gr, cl, cr, pj, rj, fl0, fr0
-      integer :: q
-      ! fluxes with p(j) = pc(j), theta(j) = 1 (v = 0): F(j) - F(j-1)
-      gl = kd(j - 1) * (pc(j) - pl)
-      gr = kd(j) * (pr - pc(j))
-      cl = ca(j - 1) * tl
-      cr = ca(j) * tr
-      if (a > 0.0_dp) cr = ca(j)
-      if (a < 0.0_dp) cl = ca(j - 1)
-      fr0 = cr - gr * merge(1.0_dp, tr, gr <= 0.0_dp)
-      fl0 = cl - gl * merge(tl, 1.0_dp, gl <= 0.0_dp)
-      if (capl) fl0 = qcl
-      if (capr) fr0 = -qcr
-      r0 = w * (h(j) - content_old(j)) + fr0 - fl0
-      if (r0 < 0.0_dp) then
-        ! full film, p(j) > pc(j): R(p) is piecewise linear, increasing and convex in p
-        ! (the pressure-driven content switches to theta = 1 once p(j) passes a neighbour),
-        ! so Newton from p = pc reaches its root without overshoot in at most 3 steps
-        pj = pc(j)
-        rj = r0
-        do q = 1, 4
-          dpr = 0.0_dp
-          if (.not. capr) dpr = dpr + kd(j) * merge(tr, 1.0_dp, pr > pj)
-          if (.not. capl) dpr = dpr + kd(j - 1) * merge(tl, 1.0_dp, pl > pj)
-          if (.not. dpr > 0.0_dp) exit
-          pj = pj - rj / dpr
-          fr0 = cr - kd(j) * (pr - pj) * merge(tr, 1.0_dp, pr > pj)
-          fl0 = cl - kd(j - 1) * (pj - pl) * merge(tl, 1.0_dp, pl > pj)
-          if (capl) fl0 = qcl
-          if (capr) fr0 = -qcr
-          rj = w * (h(j) - content_old(j)) + fr0 - fl0
-          if (rj >= 0.0_dp) exit
-        end do
-        xj = (pj - pc(j)) / ps(j)
-      else
-        ! cavity: theta(j) from the balance at p(j) = pc(j)
-        dth = w * h(j)
-        if (.not. capr) dth = dth + max(ca(j), 0.0_dp) - min(gr, 0.0_dp)
-        if (.not. capl) dth = dth - min(ca(j - 1), 0.0_dp) + max(gl, 0.0_dp)
-        if (dth > 0.0_dp) then
-          xj = -r0 / dth
-        else
-          xj = 0.0_dp
-        end if
-      end if
-    end subroutine node_update
   end subroutine jfo_solve
 
   !> Oil volume per unit circumference held by the interior finite volumes (m^2): the quantity

@@ -6,6 +6,7 @@ module ringlube_jfo_connect
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_kinds, only: dp
   use ringlube_jfo, only: jfo_solve, JFO_OK, JFO_DRY, JFO_CONNECTIVITY, JFO_BAD_INPUT
+  use ringlube_jfo_system, only: jfo_system
   implicit none
   private
   public :: jfo_solve_connected, jfo_cavity_pressure
@@ -126,7 +127,7 @@ contains
   pure subroutine jfo_solve_connected(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
                                       theta_left, theta_right, p_cav, trailing_gas, leading_gas, &
                                       pc, p, theta, iterations, outer, info, q_left, q_right, tol, &
-                                      max_iter, max_outer, cap_left, cap_right, blown)
+                                      max_iter, max_outer, cap_left, cap_right, blown, work)
     real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
     real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, p_cav
     logical, intent(in) :: trailing_gas, leading_gas
@@ -138,6 +139,8 @@ contains
     integer, intent(in), optional :: max_iter, max_outer
     real(dp), intent(in), optional :: cap_left, cap_right
     logical, intent(out), optional :: blown
+    !> jfo_solve's system, kept between calls (optional)
+    type(jfo_system), intent(inout), optional :: work
     real(dp) :: pcn(size(pc)), th(size(theta)), hist(size(pc), 16)
     logical :: bl, bln, hist_bl(16), final
     real(dp) :: tl, tr
@@ -169,7 +172,7 @@ contains
       if (present(blown)) blown = bl
       call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, tl, tr, pc, p, &
                      theta, it, info, q_left, q_right, tol, max_iter, cap_left=cap_left, &
-                     cap_right=cap_right)
+                     cap_right=cap_right, work=work)
       iterations = iterations + it
       if (final) return
       if (info /= JFO_OK .and. info /= JFO_DRY) return

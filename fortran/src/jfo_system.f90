@@ -1,0 +1,312 @@
+!> The discretised system of one time step of the mass-conserving film (ringlube_jfo): the
+!> face coefficients of the upwind finite-volume scheme, its residual and Jacobian at a state
+!> of the universal variable v, and the projected Gauss-Seidel sweeps of the fallback. The
+!> scheme and the method are described in ringlube_jfo and docs/film_model.md.
+module ringlube_jfo_system
+  use ringlube_kinds, only: dp
+  implicit none
+  private
+  public :: jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel
+
+  !> One step's system: n nodes; a = -U/2 the Couette speed of the content; w = dx/dt (0 for a
+  !> steady solve); ca = a hmid and kd = kmid/dx per face; ps the pressure per unit v of each
+  !> node's full side; the gap, the content of the last step and the cavity pressure per node;
+  !> the edges' pressures and fills; qcl, qcr the caps on the inflow through the edge faces.
+  type :: jfo_system
+    integer :: n = 0
+    real(dp) :: a = 0.0_dp, w = 0.0_dp
+    real(dp) :: p_left = 0.0_dp, p_right = 0.0_dp, theta_left = 1.0_dp, theta_right = 1.0_dp
+    real(dp) :: qcl = huge(1.0_dp), qcr = huge(1.0_dp)
+    real(dp), allocatable :: ca(:), kd(:), ps(:), h(:), content_old(:), pc(:)
+  end type jfo_system
+
+contains
+
+  !> The discretised system of one jfo_solve call (arguments as jfo_solve; qcl, qcr the caps),
+  !> in sys's arrays (allocated once for a film's n nodes and kept: jfo_solve's `work`).
+  pure subroutine jfo_system_setup(sys, dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
+                                   theta_left, theta_right, pc, qcl, qcr)
+    type(jfo_system), intent(inout) :: sys
+    real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
+    real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, pc(:), qcl, qcr
+    real(dp) :: t
+    integer :: i, n
+    n = size(h)
+    sys%n = n
+    sys%h = h
+    sys%content_old = content_old
+    sys%pc = pc
+    sys%p_left = p_left
+    sys%p_right = p_right
+    sys%theta_left = theta_left
+    sys%theta_right = theta_right
+    sys%qcl = qcl
+    sys%qcr = qcr
+    if (allocated(sys%ca)) then
+      if (size(sys%ca) /= n) deallocate (sys%ca, sys%kd, sys%ps)
+    end if
+    if (.not. allocated(sys%ca)) allocate (sys%ca(n), sys%kd(n), sys%ps(n))
+    associate (a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, ps => sys%ps)
+      a = -0.5_dp * u
+      w = 0.0_dp
+      if (dt > 0.0_dp) w = dx / dt
+      ca(1:n - 1) = a * hmid
+      kd(1:n - 1) = kmid / dx
+      ca(n) = 0.0_dp
+      kd(n) = 0.0_dp
+      ! pressure per unit v on the full side: the ratio of a node's fill and pressure diagonals,
+      ! so that both sides of the kink weigh alike
+      ps = 1.0_dp
+      do i = 2, n - 1
+        t = w * h(i) + abs(ca(i)) + abs(ca(i - 1))
+        if (t > 0.0_dp .and. kd(i - 1) + kd(i) > 0.0_dp) ps(i) = t / (kd(i - 1) + kd(i))
+      end do
+    end associate
+  end subroutine jfo_system_setup
+
+  !> Node states pn, tn from x, face fluxes fl, the residual of the interior finite volumes
+  !> and the scale of its terms; with jac also the Jacobian rows jl, jd, ju on this piece.
+  !> Face f (nodes f, f+1): F = a theta_up hmid - g theta_P, g = kmid (p(f+1) - p(f))/dx, the
+  !> Couette content upwind by the sign of a, the pressure-driven content upwind by the sign of g
+  !> (full film: theta_P = 1; a cavity pushed out by a higher pressure carries oil fraction
+  !> theta, the rest is gas).
+  pure subroutine jfo_residual(sys, x, res, scale, jac, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+    type(jfo_system), intent(in) :: sys
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: res(:), scale
+    logical, intent(in) :: jac
+    real(dp), intent(inout) :: pn(:), tn(:), fl(:), dfpl(:), dfpr(:), dftl(:), dftr(:)
+    real(dp), intent(inout) :: jl(:), jd(:), ju(:)
+    real(dp) :: g, tp, s
+    integer :: j
+    associate (n => sys%n, a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, ps => sys%ps, h => sys%h, &
+               content_old => sys%content_old, p_left => sys%p_left, p_right => sys%p_right, &
+               theta_left => sys%theta_left, theta_right => sys%theta_right, qcl => sys%qcl, &
+               qcr => sys%qcr)
+      pn(1) = p_left
+      pn(n) = p_right
+      tn(1) = theta_left
+      tn(n) = theta_right
+      do j = 2, n - 1
+        pn(j) = node_p(sys, j, x(j))
+        tn(j) = node_t(x(j))
+      end do
+      do j = 1, n - 1
+        g = kd(j) * (pn(j + 1) - pn(j))
+        dftl(j) = 0.0_dp
+        dftr(j) = 0.0_dp
+        if (g <= 0.0_dp) then
+          tp = tn(j)
+          dftl(j) = -g
+        else
+          tp = tn(j + 1)
+          dftr(j) = -g
+        end if
+        if (a > 0.0_dp) then
+          fl(j) = ca(j) * tn(j) - g * tp
+          dftl(j) = dftl(j) + ca(j)
+        else
+          fl(j) = ca(j) * tn(j + 1) - g * tp
+          dftr(j) = dftr(j) + ca(j)
+        end if
+        dfpl(j) = kd(j) * tp
+        dfpr(j) = -kd(j) * tp
+      end do
+      ! oil entering through an edge face is capped at the oil there: beyond it the edge
+      ! admits gas; the capped flux does not depend on the interior nodes
+      if (fl(1) > qcl) then
+        fl(1) = qcl
+        dfpr(1) = 0.0_dp
+        dftr(1) = 0.0_dp
+      end if
+      if (-fl(n - 1) > qcr) then
+        fl(n - 1) = -qcr
+        dfpl(n - 1) = 0.0_dp
+        dftl(n - 1) = 0.0_dp
+      end if
+      scale = tiny(1.0_dp)
+      res(1) = 0.0_dp
+      res(n) = 0.0_dp
+      do j = 2, n - 1
+        res(j) = w * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
+        s = w * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
+            + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
+        scale = max(scale, s)
+      end do
+      if (.not. jac) return
+      do j = 2, n - 1
+        if (x(j) >= 0.0_dp) then
+          jd(j) = (dfpl(j) - dfpr(j - 1)) * ps(j)
+        else
+          jd(j) = w * h(j) + dftl(j) - dftr(j - 1)
+        end if
+        if (j < n - 1) then
+          if (x(j + 1) >= 0.0_dp) then
+            ju(j) = dfpr(j) * ps(j + 1)
+          else
+            ju(j) = dftr(j)
+          end if
+        else
+          ju(j) = 0.0_dp
+        end if
+        if (j > 2) then
+          if (x(j - 1) >= 0.0_dp) then
+            jl(j) = -dfpl(j - 1) * ps(j - 1)
+          else
+            jl(j) = -dftl(j - 1)
+          end if
+        else
+          jl(j) = 0.0_dp
+        end if
+      end do
+    end associate
+  end subroutine jfo_residual
+
+  !> Projected Gauss-Seidel on v: each node solves its own equation (monotone in v(j)) with
+  !> the neighbours fixed and the upwind choices of the current state, sweeping downstream.
+  !> The edge caps apply as in the residual: at a node next to an edge, if the inflow through
+  !> the edge face of the update exceeds the cap, the node is solved again with that face
+  !> carrying the cap (a constant).
+  pure subroutine jfo_gauss_seidel(sys, x, nsw, nsweep)
+    type(jfo_system), intent(in) :: sys
+    real(dp), intent(inout) :: x(:)
+    integer, intent(in) :: nsw
+    integer, intent(inout) :: nsweep
+    integer :: s, k, j, j0, j1, step
+    real(dp) :: pl, pr, tl, tr
+    logical :: capl, capr, again
+    associate (n => sys%n, a => sys%a, p_left => sys%p_left, p_right => sys%p_right, &
+               theta_left => sys%theta_left, theta_right => sys%theta_right, qcl => sys%qcl, &
+               qcr => sys%qcr)
+      if (a >= 0.0_dp) then
+        j0 = 2; j1 = n - 1; step = 1
+      else
+        j0 = n - 1; j1 = 2; step = -1
+      end if
+      do s = 1, nsw
+        nsweep = nsweep + 1
+        do k = j0, j1, step
+          j = k
+          pl = node_p(sys, j - 1, x(j - 1))
+          tl = node_t(x(j - 1))
+          if (j == 2) then
+            pl = p_left
+            tl = theta_left
+          end if
+          pr = node_p(sys, j + 1, x(j + 1))
+          tr = node_t(x(j + 1))
+          if (j == n - 1) then
+            pr = p_right
+            tr = theta_right
+          end if
+          capl = .false.
+          capr = .false.
+          do
+            call node_update(sys, j, pl, pr, tl, tr, capl, capr, x(j))
+            again = .false.
+            if (j == 2 .and. .not. capl) then
+              if (face_flux(sys, 1, pl, node_p(sys, j, x(j)), tl, node_t(x(j))) > qcl) capl = .true.
+              again = capl
+            end if
+            if (j == n - 1 .and. .not. capr) then
+             if (-face_flux(sys, j, node_p(sys, j, x(j)), pr, node_t(x(j)), tr) > qcr) capr = .true.
+              again = again .or. capr
+            end if
+            if (.not. again) exit
+          end do
+        end do
+      end do
+    end associate
+  end subroutine jfo_gauss_seidel
+
+  !> Pressure and fill of node j at the universal variable xj (p = pc + ps max(v, 0),
+  !> theta = 1 + min(v, 0)).
+  pure real(dp) function node_p(sys, j, xj)
+    type(jfo_system), intent(in) :: sys
+    integer, intent(in) :: j
+    real(dp), intent(in) :: xj
+    associate (ps => sys%ps, pc => sys%pc)
+      node_p = pc(j) + ps(j) * max(xj, 0.0_dp)
+    end associate
+  end function node_p
+
+  pure real(dp) function node_t(xj)
+    real(dp), intent(in) :: xj
+    node_t = 1.0_dp + min(xj, 0.0_dp)
+  end function node_t
+
+  !> Flux through face f (nodes f, f+1) as in the residual.
+  pure real(dp) function face_flux(sys, f, p0, p1, t0, t1)
+    type(jfo_system), intent(in) :: sys
+    integer, intent(in) :: f
+    real(dp), intent(in) :: p0, p1, t0, t1
+    real(dp) :: g
+    associate (a => sys%a, ca => sys%ca, kd => sys%kd)
+      g = kd(f) * (p1 - p0)
+      face_flux = -g * merge(t0, t1, g <= 0.0_dp)
+      if (a > 0.0_dp) then
+        face_flux = face_flux + ca(f) * t0
+      else
+        face_flux = face_flux + ca(f) * t1
+      end if
+    end associate
+  end function face_flux
+
+  !> Node j's own equation with its neighbours (pl, tl), (pr, tr) fixed; with capl (capr)
+  !> the left (right) face carries the constant inflow qcl (qcr).
+  pure subroutine node_update(sys, j, pl, pr, tl, tr, capl, capr, xj)
+    type(jfo_system), intent(in) :: sys
+    integer, intent(in) :: j
+    real(dp), intent(in) :: pl, pr, tl, tr
+    logical, intent(in) :: capl, capr
+    real(dp), intent(out) :: xj
+    real(dp) :: r0, dpr, dth, gl, gr, cl, cr, pj, rj, fl0, fr0
+    integer :: q
+    associate (a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, ps => sys%ps, pc => sys%pc, h => sys%h, &
+               content_old => sys%content_old, qcl => sys%qcl, qcr => sys%qcr)
+      ! fluxes with p(j) = pc(j), theta(j) = 1 (v = 0): F(j) - F(j-1)
+      gl = kd(j - 1) * (pc(j) - pl)
+      gr = kd(j) * (pr - pc(j))
+      cl = ca(j - 1) * tl
+      cr = ca(j) * tr
+      if (a > 0.0_dp) cr = ca(j)
+      if (a < 0.0_dp) cl = ca(j - 1)
+      fr0 = cr - gr * merge(1.0_dp, tr, gr <= 0.0_dp)
+      fl0 = cl - gl * merge(tl, 1.0_dp, gl <= 0.0_dp)
+      if (capl) fl0 = qcl
+      if (capr) fr0 = -qcr
+      r0 = w * (h(j) - content_old(j)) + fr0 - fl0
+      if (r0 < 0.0_dp) then
+        ! full film, p(j) > pc(j): R(p) is piecewise linear, increasing and convex in p
+        ! (the pressure-driven content switches to theta = 1 once p(j) passes a neighbour),
+        ! so Newton from p = pc reaches its root without overshoot in at most 3 steps
+        pj = pc(j)
+        rj = r0
+        do q = 1, 4
+          dpr = 0.0_dp
+          if (.not. capr) dpr = dpr + kd(j) * merge(tr, 1.0_dp, pr > pj)
+          if (.not. capl) dpr = dpr + kd(j - 1) * merge(tl, 1.0_dp, pl > pj)
+          if (.not. dpr > 0.0_dp) exit
+          pj = pj - rj / dpr
+          fr0 = cr - kd(j) * (pr - pj) * merge(tr, 1.0_dp, pr > pj)
+          fl0 = cl - kd(j - 1) * (pj - pl) * merge(tl, 1.0_dp, pl > pj)
+          if (capl) fl0 = qcl
+          if (capr) fr0 = -qcr
+          rj = w * (h(j) - content_old(j)) + fr0 - fl0
+          if (rj >= 0.0_dp) exit
+        end do
+        xj = (pj - pc(j)) / ps(j)
+      else
+        ! cavity: theta(j) from the balance at p(j) = pc(j)
+        dth = w * h(j)
+        if (.not. capr) dth = dth + max(ca(j), 0.0_dp) - min(gr, 0.0_dp)
+        if (.not. capl) dth = dth - min(ca(j - 1), 0.0_dp) + max(gl, 0.0_dp)
+        if (dth > 0.0_dp) then
+          xj = -r0 / dth
+        else
+          xj = 0.0_dp
+        end if
+      end if
+    end associate
+  end subroutine node_update
+end module ringlube_jfo_system
