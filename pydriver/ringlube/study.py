@@ -1,7 +1,7 @@
 """Design optimisation (SPEC section 12): sample -> run -> fit -> NSGA-II -> check.
 
 The pipeline of ``ringlube optimise``. Its pieces live in their own modules:
-:mod:`ringlube.study_settings` (the ``&study`` deck), :mod:`ringlube.study_store` (typed
+:mod:`ringlube.study_deck` (the ``&study`` deck), :mod:`ringlube.study_store` (typed
 state and the HDF5 study file), :mod:`ringlube.executor` (serial, processes or Dask),
 :mod:`ringlube.surrogate` (quadratic surfaces), :mod:`ringlube.study_plots` (figures from
 plain arrays) and :mod:`ringlube.study_report` (summary, report.md, Pareto CSV, figures).
@@ -24,7 +24,8 @@ from .case import Case
 from .errors import InputError, RinglubeError
 from .executor import Executor, require
 from .outputs import check_output
-from .study_settings import StudySettings, read_study
+from .study_deck import read_study
+from .study_settings import StudySettings
 from .study_store import CaseState, Checked, Direct, DirectGeneration, Front, Runs, Study, Sure, Surface
 
 __all__ = [
@@ -324,7 +325,7 @@ def ga_repeat(
         NSGA-II settings.
     constraints : list of (coef, sense, bound)
         Inequalities on fitted surfaces (``sense`` ``'<='`` or ``'>='``), handed to pymoo
-        as ``G <= 0`` (:meth:`~ringlube.study_settings.Constraint.violation`).
+        as ``G <= 0`` (:meth:`~ringlube.study_constraints.Constraint.violation`).
 
     Returns
     -------
@@ -341,7 +342,7 @@ def ga_repeat(
     from pymoo.core.problem import Problem
     from pymoo.optimize import minimize
 
-    from .study_settings import Constraint
+    from .study_constraints import Constraint
     from .surrogate import QuadraticSurface
 
     lower, upper = np.asarray(lower, float), np.asarray(upper, float)

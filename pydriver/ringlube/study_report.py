@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from .outputs import atomic_path, write_text
-from .study_settings import display, output_units
 from .study_store import Checked, Study
+from .study_variables import display, output_units
 
 #: How a re-checked design whose true-model run did not converge is marked (its numbers are
 #: the last cycle's, not a verified periodic result).
@@ -78,7 +78,7 @@ def result_display(name: str) -> tuple[str, float]:
     Parameters
     ----------
     name : str
-        A result (:func:`~ringlube.study_settings.output_units`).
+        A result (:func:`~ringlube.study_variables.output_units`).
 
     Returns
     -------

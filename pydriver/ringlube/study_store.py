@@ -28,7 +28,8 @@ import h5py
 import numpy as np
 
 from .errors import InputError, RinglubeError
-from .study_settings import OUTPUTS, StudySettings, output_units
+from .study_settings import StudySettings
+from .study_variables import OUTPUTS, output_units
 
 __all__ = [
     "Study",
@@ -58,7 +59,7 @@ class Runs:
     Attributes
     ----------
     outputs : ndarray, shape (n, len(OUTPUTS))
-        Every scalar result (:data:`~ringlube.study_settings.OUTPUTS`); NaN until run or
+        Every scalar result (:data:`~ringlube.study_variables.OUTPUTS`); NaN until run or
         when the run failed.
     done, converged, failed : ndarray of bool, shape (n,)
         Run (or failed), converged, failed with an error (an invalid design).

@@ -24,7 +24,7 @@ from .errors import InputError
 from .outputs import check_output, save_figure, write_text
 from .plot import gas_figure, plot_results, save_metadata
 from .solve import run, run_many
-from .study_settings import DESIGN_RANGES
+from .study_variables import DESIGN_RANGES
 
 __all__ = [
     "PUBLISHED",

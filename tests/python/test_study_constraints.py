@@ -14,8 +14,9 @@ from ringlube.case import Case
 from ringlube.errors import InputError
 from ringlube.solve import run_designs
 from ringlube.study import UNCERTAIN, feasibility, run_study, surfaces_of
+from ringlube.study_constraints import parse_constraint
+from ringlube.study_deck import read_study
 from ringlube.study_report import tradeoff_stems
-from ringlube.study_settings import parse_constraint, read_study
 
 from conftest import INPUTS
 

@@ -11,7 +11,10 @@ import pytest
 
 MODULES = [
     "ringlube.executor",
+    "ringlube.study_variables",
+    "ringlube.study_constraints",
     "ringlube.study_settings",
+    "ringlube.study_deck",
     "ringlube.study_store",
     "ringlube.study",
     "ringlube.study_plots",

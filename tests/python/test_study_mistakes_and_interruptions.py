@@ -16,8 +16,9 @@ from ringlube import InputError, RinglubeError
 from ringlube.case import Case
 from ringlube.executor import Executor
 from ringlube.study import _run_designs, run_study, sample
-from ringlube.study_settings import OUTPUTS, read_study
+from ringlube.study_deck import read_study
 from ringlube.study_store import Study
+from ringlube.study_variables import OUTPUTS
 
 from conftest import INPUTS
 
