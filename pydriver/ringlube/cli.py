@@ -292,7 +292,7 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
     import signal
 
     from .study import run_study
-    from .study_report import summary
+    from .study_summary import summary
 
     def terminate(signum, frame):  # a batch system's SIGTERM: save finished runs, then stop
         raise KeyboardInterrupt(f"signal {signum}")

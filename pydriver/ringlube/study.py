@@ -4,7 +4,8 @@ The pipeline of ``ringlube optimise``. Its pieces live in their own modules:
 :mod:`ringlube.study_deck` (the ``&study`` deck), :mod:`ringlube.study_store` (typed
 state and the HDF5 study file), :mod:`ringlube.executor` (serial, processes or Dask),
 :mod:`ringlube.surrogate` (quadratic surfaces), :mod:`ringlube.study_plots` (figures from
-plain arrays) and :mod:`ringlube.study_report` (summary, report.md, Pareto CSV, figures).
+plain arrays) and :mod:`ringlube.study_summary`, :mod:`ringlube.study_report`, :mod:`ringlube.study_pareto`
+and :mod:`ringlube.study_figures` (summary, report.md, Pareto CSV, figures).
 
 Every finished piece of work is checkpointed, so an interrupted study started again with
 the same command resumes and re-runs nothing that finished. A design the kernel rejects

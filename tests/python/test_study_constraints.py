@@ -16,7 +16,7 @@ from ringlube.solve import run_designs
 from ringlube.study import UNCERTAIN, feasibility, run_study, surfaces_of
 from ringlube.study_constraints import parse_constraint
 from ringlube.study_deck import read_study
-from ringlube.study_report import tradeoff_stems
+from ringlube.study_figures import tradeoff_stems
 
 from conftest import INPUTS
 
@@ -256,7 +256,7 @@ def test_constraint_bound_on_a_drawn_objective_is_a_line():
 
 
 def test_summary_gives_constraints_and_feasibility(constrained):
-    from ringlube.study_report import summary
+    from ringlube.study_summary import summary
 
     text = summary(constrained[0])
     assert "constraints: max_friction <= reference; min_film >= 7e-07" in text

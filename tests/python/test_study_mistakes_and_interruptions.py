@@ -184,7 +184,7 @@ def test_invalid_designs_are_recorded_and_the_study_goes_on(tmp_path):
     assert r.done.all() and np.isnan(r.outputs[r.failed]).all()
     assert all("crown_offset" in r.errors[i] for i in np.flatnonzero(expect))
     assert study.cases["cold"].surfaces["energy_loss"].n == int((~expect & r.converged).sum())
-    from ringlube.study_report import summary
+    from ringlube.study_summary import summary
 
     text = summary(study)
     assert f"{int(expect.sum())} failed (invalid designs)" in text

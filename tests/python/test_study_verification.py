@@ -8,7 +8,9 @@ import pytest
 
 import ringlube.study as study_mod
 from ringlube.study import run_study
-from ringlube.study_report import NOT_CONVERGED, summary, write_report
+from ringlube.study_format import NOT_CONVERGED
+from ringlube.study_report import write_report
+from ringlube.study_summary import summary
 
 from conftest import COLD
 
@@ -126,8 +128,9 @@ def test_lifted_design_is_marked_in_summary_report_and_pareto_csv(tmp_path, monk
     the designs the surfaces predict to lift off."""
     import csv
 
-    import ringlube.study_report as report_mod
-    from ringlube.study_report import LIFTED, LIFTED_COLUMN, write_pareto_csv
+    import ringlube.study_pareto as pareto_mod
+    from ringlube.study_format import LIFTED, LIFTED_COLUMN
+    from ringlube.study_pareto import write_pareto_csv
 
     study = run_study(
         write(tmp_path, generations=1), tmp_path / "out", serial=True, progress=False, figures=False
@@ -144,7 +147,7 @@ def test_lifted_design_is_marked_in_summary_report_and_pareto_csv(tmp_path, monk
     assert f"| {chosen.names[0]} ({LIFTED} (12.5 % of the cycle)) |" in report
     assert f"| {chosen.names[1]} |" in report
     # the CSV: a design predicted to lift off (above the surface's CV error) is marked
-    real = report_mod._predict
+    real = pareto_mod._predict
 
     def lifting(st, label, x):
         pred = real(st, label, x)
@@ -152,7 +155,7 @@ def test_lifted_design_is_marked_in_summary_report_and_pareto_csv(tmp_path, monk
         pred[0, j] = 50.0
         return pred
 
-    monkeypatch.setattr(report_mod, "_predict", lifting)
+    monkeypatch.setattr(pareto_mod, "_predict", lifting)
     (path,) = write_pareto_csv(study, tmp_path / "out")
     with open(path) as fh:
         rows = list(csv.reader(fh))
