@@ -1,11 +1,12 @@
 """Design optimisation (SPEC section 12): sample -> run -> fit -> NSGA-II -> check.
 
 The pipeline of ``ringlube optimise``. Its pieces live in their own modules:
-:mod:`ringlube.study_deck` (the ``&study`` deck), :mod:`ringlube.study_store` (typed
-state and the HDF5 study file), :mod:`ringlube.executor` (serial, processes or Dask),
-:mod:`ringlube.surrogate` (quadratic surfaces), :mod:`ringlube.study_plots` (figures from
-plain arrays) and :mod:`ringlube.study_summary`, :mod:`ringlube.study_report`, :mod:`ringlube.study_pareto`
-and :mod:`ringlube.study_figures` (summary, report.md, Pareto CSV, figures).
+:mod:`ringlube.study_deck` (the ``&study`` deck), :mod:`ringlube.study_state` (typed state),
+:mod:`ringlube.study_store` (the HDF5 study file), :mod:`ringlube.executor` (serial,
+processes or Dask), :mod:`ringlube.surrogate` (quadratic surfaces),
+:mod:`ringlube.study_plots` (figures from plain arrays), and :mod:`ringlube.study_summary`,
+:mod:`ringlube.study_report`, :mod:`ringlube.study_pareto` and :mod:`ringlube.study_figures`
+(summary, report.md, Pareto CSV, figures).
 
 Every finished piece of work is checkpointed, so an interrupted study started again with
 the same command resumes and re-runs nothing that finished. A design the kernel rejects
@@ -27,7 +28,8 @@ from .executor import Executor, require
 from .outputs import check_output
 from .study_deck import read_study
 from .study_settings import StudySettings
-from .study_store import CaseState, Checked, Direct, DirectGeneration, Front, Runs, Study, Sure, Surface
+from .study_state import CaseState, Checked, Direct, DirectGeneration, Front, Runs, Sure, Surface
+from .study_store import Study
 
 __all__ = [
     "StudySettings",
@@ -673,7 +675,7 @@ def _varied(base: Case, group: str, name: str, factor: float) -> Case:
 def how_sure(study: Study, ex: Executor) -> None:
     """Extra true-model runs of the chosen designs (and the reference): at the
     ``'accurate'`` preset, and with each :data:`UNCERTAIN` input multiplied and divided by
-    its factor, one at a time. Stored as :class:`~ringlube.study_store.Sure` per case.
+    its factor, one at a time. Stored as :class:`~ringlube.study_state.Sure` per case.
 
     Costs (chosen designs + reference) x (1 + 2 x inputs) runs per base deck.
 

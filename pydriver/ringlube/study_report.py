@@ -25,7 +25,8 @@ from .study_format import (
     result_display,
 )
 from .study_pareto import write_pareto_csv
-from .study_store import Checked, Study
+from .study_state import Checked
+from .study_store import Study
 from .study_variables import display, output_units
 
 __all__ = ["write_report", "how_sure_lines", "write_outputs"]

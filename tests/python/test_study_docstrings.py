@@ -15,6 +15,8 @@ MODULES = [
     "ringlube.study_constraints",
     "ringlube.study_settings",
     "ringlube.study_deck",
+    "ringlube.study_state",
+    "ringlube.study_layout",
     "ringlube.study_store",
     "ringlube.study",
     "ringlube.study_plots",
