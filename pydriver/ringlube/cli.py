@@ -193,7 +193,8 @@ def _gas_options(message: str) -> str:
 
 
 def _cmd_show(args: argparse.Namespace) -> int:
-    from .case import Case, _format
+    from .case import Case
+    from .case_text import _format
 
     case = Case.from_namelist(args.deck)
     rows = case.effective_inputs()
@@ -213,7 +214,7 @@ def _one_line_warnings() -> None:
     """Source-engine-default warnings as one line on stderr: ``ringlube: warning: ...``."""
     import warnings
 
-    from .case import SourceEngineDefaultWarning
+    from .case_origins import SourceEngineDefaultWarning
 
     show = warnings.showwarning
     if getattr(show, "_ringlube", False):
