@@ -4,12 +4,17 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .errors import RinglubeError
 from .study_variables import output_units
 
-__all__ = ["Constraint", "parse_constraint"]
+if TYPE_CHECKING:
+    from .study_store import Study
+
+__all__ = ["Constraint", "parse_constraint", "constraint_bounds", "feasibility"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -115,3 +120,75 @@ def parse_constraint(text: str) -> Constraint:
     if not math.isfinite(value):
         raise ValueError(f"'{text}': the bound must be a finite number")
     return Constraint(name, sense, value)
+
+
+def constraint_bounds(study: Study, label: str) -> list[tuple]:
+    """The constraints of a case with their bounds in the result's unit.
+
+    A bound ``reference`` is the reference design's true-model value on the same case (for
+    the scene, its weighted mean), so the reference must have been re-simulated
+    (:func:`check_designs` with ``which=("reference",)``).
+
+    Parameters
+    ----------
+    study : Study
+    label : str
+        Case label or ``scene``.
+
+    Returns
+    -------
+    list of (Constraint, int, float)
+        Each constraint, its column in the outputs, its bound.
+
+    Raises
+    ------
+    RinglubeError
+        The bound is the reference design's value and its run failed.
+
+    Example
+    -------
+    >>> constraint_bounds(study, "cold")                     # doctest: +SKIP
+    [(Constraint(name='oil_to_chamber', sense='<=', value=None), 5, 0.0123)]
+    """
+    s = study.s
+    out = []
+    for k in s.parsed_constraints:
+        j = s.outputs.index(k.name)
+        bound = k.value
+        if k.uses_reference:
+            ref = study.cases[label].reference
+            bound = float(ref.f_true[0, j]) if ref is not None else float("nan")
+            if not np.isfinite(bound):
+                raise RinglubeError(
+                    f"case '{label}': constraint '{k}': the reference design's run failed "
+                    f"({ref.errors[0] if ref is not None else 'not run'}), so it bounds nothing"
+                )
+        out.append((k, j, float(bound)))
+    return out
+
+
+def feasibility(study: Study, label: str, values: np.ndarray) -> np.ndarray:
+    """Which designs satisfy every constraint of a case (by the values given).
+
+    Parameters
+    ----------
+    study : Study
+    label : str
+    values : ndarray, shape (k, len(outputs))
+        Results of the designs (true model or surfaces); NaN counts as infeasible.
+
+    Returns
+    -------
+    ndarray of bool, shape (k,)
+
+    Example
+    -------
+    >>> feasibility(study, "cold", study.cases["cold"].chosen.f_true)   # doctest: +SKIP
+    array([ True,  True, False,  True])
+    """
+    values = np.atleast_2d(values)
+    ok = np.ones(len(values), bool)
+    for k, j, b in constraint_bounds(study, label):
+        with np.errstate(invalid="ignore"):
+            ok &= np.isfinite(values[:, j]) & (np.asarray(k.violation(values[:, j], b)) <= 0)
+    return ok

@@ -8,8 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
+from .study_constraints import constraint_bounds
 from .study_format import result_display
 from .study_store import Study
+from .study_surfaces import surfaces_of
 from .study_variables import display, output_units
 
 __all__ = ["study_figures", "tradeoff_stems", "tradeoff_figures"]
@@ -32,7 +34,6 @@ def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
     >>> study_figures(study, "out/s")                          # doctest: +SKIP
     """
     from . import study_plots as sp
-    from .study import surfaces_of
 
     s, out = study.s, Path(out)
     units = output_units()
@@ -126,7 +127,6 @@ def tradeoff_figures(study: Study, out: str | os.PathLike) -> list[Path]:
     import itertools
 
     from . import study_plots as sp
-    from .study import constraint_bounds
 
     s = study.s
     cols = [s.outputs.index(o) for o in s.objectives]

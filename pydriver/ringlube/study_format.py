@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .study_constraints import constraint_bounds
 from .study_store import Study
 from .study_variables import display, output_units
 
@@ -116,8 +117,6 @@ def _lift_mark(study: Study, values: np.ndarray) -> str:
 
 def _feasible_text(study: Study, label: str, ft: np.ndarray) -> str:
     """'feasible' or which constraints the true results violate."""
-    from .study import constraint_bounds
-
     bad = []
     for k, j, b in constraint_bounds(study, label):
         unit, scale = result_display(k.name)

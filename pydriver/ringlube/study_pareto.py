@@ -11,16 +11,10 @@ import numpy as np
 from .outputs import atomic_path
 from .study_format import LIFTED_COLUMN
 from .study_store import Study
+from .study_surfaces import predict
 from .study_variables import output_units
 
 __all__ = ["write_pareto_csv"]
-
-
-def _predict(study: Study, label: str, x: np.ndarray) -> np.ndarray:
-    """Every recorded result at the designs ``x`` as the case's surfaces predict it."""
-    from .study import surfaces_of
-
-    return np.column_stack([f(x) for f in surfaces_of(study, label, list(study.s.outputs))])
 
 
 def write_pareto_csv(study: Study, out: str | os.PathLike) -> list[Path]:
@@ -49,7 +43,7 @@ def write_pareto_csv(study: Study, out: str | os.PathLike) -> list[Path]:
     for label, c in study.cases.items():
         if c.front is None:
             continue
-        pred = _predict(study, label, c.front.x)
+        pred = predict(study, label, c.front.x)
         for j, o in enumerate(s.objectives):  # the GA's own values of its objectives
             pred[:, study.s.outputs.index(o)] = c.front.f[:, j]
         path = Path(out) / f"pareto_{label}.csv"

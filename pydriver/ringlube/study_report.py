@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from .outputs import write_text
+from .study_constraints import constraint_bounds
 from .study_figures import study_figures
 from .study_format import (
     LIFTED,
@@ -113,8 +114,6 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
             "| constraint | case | bound |",
             "|---|---|---|",
         ]
-        from .study import constraint_bounds
-
         for label in study.cases:
             for k, _, b in constraint_bounds(study, label):
                 unit, scale = result_display(k.name)
@@ -266,12 +265,12 @@ def how_sure_lines(study: Study) -> list[str]:
     re-run at preset ``'accurate'``), whether each case is calibrated (a ``&calibration``
     file), which chosen designs sit on a bound of the design box, and a one-at-a-time
     sensitivity of the chosen designs to the uncertain inputs
-    (:data:`ringlube.study.UNCERTAIN`) with whether the ranking of the designs changes.
+    (:data:`ringlube.study_sure.UNCERTAIN`) with whether the ranking of the designs changes.
 
     Parameters
     ----------
     study : Study
-        With :func:`ringlube.study.how_sure` done.
+        With :func:`ringlube.study_sure.how_sure` done.
 
     Returns
     -------

@@ -13,10 +13,12 @@ import ringlube
 from ringlube.case import Case
 from ringlube.errors import InputError
 from ringlube.solve import run_designs
-from ringlube.study import UNCERTAIN, feasibility, run_study, surfaces_of
-from ringlube.study_constraints import parse_constraint
+from ringlube.study import run_study
+from ringlube.study_constraints import feasibility, parse_constraint
 from ringlube.study_deck import read_study
 from ringlube.study_figures import tradeoff_stems
+from ringlube.study_sure import UNCERTAIN
+from ringlube.study_surfaces import surfaces_of
 
 from conftest import INPUTS
 

@@ -15,8 +15,9 @@ import ringlube
 from ringlube import InputError, RinglubeError
 from ringlube.case import Case
 from ringlube.executor import Executor
-from ringlube.study import _run_designs, run_study, sample
+from ringlube.study import run_study
 from ringlube.study_deck import read_study
+from ringlube.study_runs import _run_designs, sample
 from ringlube.study_store import Study
 from ringlube.study_variables import OUTPUTS
 
