@@ -51,7 +51,8 @@ def kernel_case(case: Case, load_trace: bool = True, warn: bool = True) -> Itera
         Read the gas-pressure file (else only check it exists).
     warn : bool
         Warn if source-engine defaults fill part of the case's engine geometry or ring
-        (:class:`SourceEngineDefaultWarning`), once the kernel has accepted the case.
+        (:class:`~ringlube.case_origins.SourceEngineDefaultWarning`), once the kernel has
+        accepted the case.
 
     Examples
     --------

@@ -1,6 +1,7 @@
 """Where the inputs of a case come from: deck, calibration file, Python, numerics preset or
-the kernel's default (:meth:`Case.origins`, :meth:`Case.effective_inputs`), and the source
-engine's defaults filling part of a case's own engine (:class:`SourceEngineDefaultWarning`).
+the kernel's default (:meth:`~ringlube.case.Case.origins`,
+:meth:`~ringlube.case.Case.effective_inputs`), and the source engine's defaults filling part of
+a case's own engine (:class:`SourceEngineDefaultWarning`).
 
 The methods are those of :class:`ringlube.case.Case` (through :class:`_InputOrigins`).
 """

@@ -127,7 +127,7 @@ def constraint_bounds(study: Study, label: str) -> list[tuple]:
 
     A bound ``reference`` is the reference design's true-model value on the same case (for
     the scene, its weighted mean), so the reference must have been re-simulated
-    (:func:`check_designs` with ``which=("reference",)``).
+    (:func:`~ringlube.study_check.check_designs` with ``which=("reference",)``).
 
     Parameters
     ----------

@@ -22,7 +22,8 @@ def render_validation(data: ValidationData) -> str:
     Parameters
     ----------
     data : ValidationData
-        What :func:`compute_validation` returned (``seconds`` set by the caller).
+        What :func:`~ringlube.validate_compute.compute_validation` returned (``seconds`` set
+        by the caller).
 
     Returns
     -------
