@@ -10,7 +10,8 @@ The pipeline reads case -> run -> (sample -> fit -> optimise) -> plot:
 
 from . import gas
 from ._version import __version__
-from .case import GROUPS, Case, SourceEngineDefaultWarning
+from .case import GROUPS, Case
+from .case_origins import SourceEngineDefaultWarning
 from .errors import InputError, NotConvergedError, RinglubeError
 from .result import Comparison, CycleResult, compare, load
 from .solve import BatchError, run, run_designs, run_many

@@ -10,62 +10,20 @@ paths against the working directory.
 
 from __future__ import annotations
 
-import contextlib
-import decimal
 import html
-import numbers
 import os
 import re
-import warnings
-from collections.abc import Iterator
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import Any
 
 import f90nml
 
+from .case_kernel import _text, kernel_case
+from .case_origins import _InputOrigins
+from .case_text import _format, _plain_number, _serialise
 from .errors import InputError, error_for
 
-__all__ = [
-    "Case",
-    "EffectiveInput",
-    "GROUPS",
-    "KernelCase",
-    "SOURCE_ENGINE_INPUTS",
-    "SourceEngineDefaultWarning",
-    "kernel_case",
-]
-
-
-def _plain_number(group: str, name: str, value: Any) -> Any:
-    """A number of another type as a plain float (``Decimal``, ``Fraction``, a float
-    subclass), and a whole float given to an integer input as an int; other values as given.
-
-    Raises
-    ------
-    InputError
-        For a fractional number given to an integer input (the message names it).
-
-    Examples
-    --------
-    >>> import decimal
-    >>> _plain_number("ring", "width", decimal.Decimal("1.1e-3"))
-    0.0011
-    >>> _plain_number("numerics", "nodes", 41.0)
-    41
-    """
-    if isinstance(value, bool) or not isinstance(value, (numbers.Real, decimal.Decimal)):
-        return value
-    if isinstance(value, int):
-        return value
-    value = float(value)  # Decimal, Fraction: numbers, not strings
-    from .tables import INPUTS
-
-    spec = INPUTS.get((group, name))
-    if spec is not None and spec.kind == "integer":
-        if not value.is_integer():
-            raise InputError(f"&{group} {name}: {value!r} is not a whole number (an integer input)")
-        value = int(value)
-    return value
+__all__ = ["Case", "GROUPS"]
 
 
 def _groups() -> tuple[str, ...]:
@@ -76,65 +34,11 @@ def _groups() -> tuple[str, ...]:
 
 #: Namelist groups of a deck (from the kernel's input table; set at the end of the module).
 GROUPS: tuple[str, ...] = ()
-
-#: Inputs whose defaults describe the source study's engine (Honda CRF450R: crank, conrod,
-#: 96 mm bore) and its optimum top ring (face width, crown, tension, and a radial depth sized
-#: for that bore). A case that sets some of these but not all gets the rest from that engine,
-#: and :class:`SourceEngineDefaultWarning` says so. Not counted: the ring's density and
-#: ``tension_unit`` (a material and a convention, not the engine), the operating point,
-#: lubricant and surfaces (the study's, but not engine geometry; see docs/own_engine.md).
-SOURCE_ENGINE_INPUTS: tuple[tuple[str, str], ...] = (
-    ("engine", "crank_radius"),
-    ("engine", "conrod_length"),
-    ("engine", "bore_radius"),
-    ("ring", "width"),
-    ("ring", "crown_height"),
-    ("ring", "crown_offset"),
-    ("ring", "tension"),
-    ("ring", "radial_depth"),
-)
-
-
-class SourceEngineDefaultWarning(UserWarning):
-    """The source engine's (CRF450R) defaults fill engine-geometry or ring inputs of a case
-    that sets some of its own (see :data:`SOURCE_ENGINE_INPUTS`).
-
-    Examples
-    --------
-    >>> import warnings
-    >>> with warnings.catch_warnings(record=True) as w:
-    ...     warnings.simplefilter("always")
-    ...     Case({"engine": {"bore_radius": 43e-3}}).with_numerics(dpsi_deg=2.0).validate()
-    360
-    >>> w[0].category.__name__, str(w[0].message).split(":")[0]
-    ('SourceEngineDefaultWarning', "case 'case'")
-    """
-
-
-class EffectiveInput(NamedTuple):
-    """One input as the kernel uses it, and where its value came from.
-
-    ``origin`` is 'deck', 'calibration file', 'Python' (changed on the Case), "preset 'NAME'"
-    (set by the numerics preset) or 'default' (the kernel's table).
-
-    Examples
-    --------
-    >>> EffectiveInput("ring", "width", 1e-3, "m", "deck").origin
-    'deck'
-    """
-
-    group: str
-    name: str
-    value: Any
-    unit: str
-    origin: str
-
-
 _PATH_VARS = {("operating", "pressure_file"), ("output", "file"), ("calibration", "file")}
 _NAME = re.compile(r"[a-z_][a-z0-9_]*")
 
 
-class Case:
+class Case(_InputOrigins):
     """One operating point and ring design, held as a namelist.
 
     Values are addressed by group and variable, ``case["ring", "width"]``; anything not
@@ -400,128 +304,6 @@ class Case:
     def _count(self) -> int:
         return sum(len(v) for v in self._nml.values())
 
-    # where the values come from -------------------------------------------------------
-    def _calibration_keys(self) -> set[tuple[str, str]]:
-        path = self.get("calibration", "file")
-        if not path:
-            return set()
-        try:
-            nml = f90nml.read(path)
-        except Exception:  # the kernel reports an unreadable calibration file
-            return set()
-        return {(g.lower(), n.lower()) for g, values in nml.items() for n in values}
-
-    def origins(self) -> dict[tuple[str, str], str]:
-        """Where each input's value comes from: 'deck', 'calibration file', 'Python',
-        "preset 'NAME'" or 'default', for every input of the kernel's table.
-
-        Examples
-        --------
-        >>> o = Case.from_namelist("inputs/crf450r_4000rpm_full_cold.nml").with_ring(width=1.1e-3).origins()
-        >>> o["ring", "width"], o["ring", "crown_height"], o["surface", "zeta_kappa_sigma"]
-        ('Python', 'deck', 'calibration file')
-        >>> o["numerics", "nodes"], o["lubricant", "supply_film"]
-        ("preset 'default'", 'default')
-        """
-        from .tables import INPUTS, PRESETS
-
-        calibration = self._calibration_keys()
-        preset = str(self.get("numerics", "preset", "default")).lower()
-        preset_values = PRESETS.get(preset, PRESETS["default"])
-        out = {}
-        for group, name in INPUTS:
-            key = (group, name)
-            if key in self._changed:
-                out[key] = "Python"
-            elif name in self._nml.get(group, {}):
-                out[key] = "deck"
-            elif key in calibration:
-                out[key] = "calibration file"
-            elif group == "numerics" and name in preset_values:
-                out[key] = f"preset '{preset}'"
-            else:
-                out[key] = "default"
-        return out
-
-    def effective_inputs(self) -> list[EffectiveInput]:
-        """Every input of the kernel's table as the kernel reads this case, with its unit and
-        where it came from (see :meth:`origins`).
-
-        Returns
-        -------
-        list of EffectiveInput
-
-        Raises
-        ------
-        InputError
-            If the kernel rejects the case.
-
-        Examples
-        --------
-        >>> rows = Case.from_namelist("inputs/crf450r_4000rpm_full_cold.nml").effective_inputs()
-        >>> [r for r in rows if r.name == "crown_offset"][0]
-        EffectiveInput(group='ring', name='crown_offset', value=-3.83e-05, unit='m', origin='deck')
-        """
-        from . import _kernel
-        from .tables import INPUTS, _value
-
-        origins = self.origins()
-        rows = []
-        with kernel_case(self, load_trace=False, warn=False) as k:
-            for (group, name), spec in INPUTS.items():
-                text, code, message = _kernel.rl_get(k.handle, group.encode(), name.encode())
-                if code:
-                    raise error_for(code, _text(message))
-                rows.append(
-                    EffectiveInput(
-                        group, name, _value(spec.kind, _text(text)), spec.unit, origins[group, name]
-                    )
-                )
-        return rows
-
-    def source_engine_defaults(self) -> tuple[list[tuple[str, str]], list[tuple[str, str]]]:
-        """(inputs of :data:`SOURCE_ENGINE_INPUTS` this case sets, those left to the source
-        engine's defaults); a warning is due when both are non-empty.
-
-        Examples
-        --------
-        >>> own, filled = Case({"engine": {"bore_radius": 43e-3}}).source_engine_defaults()
-        >>> own, filled[:2]
-        ([('engine', 'bore_radius')], [('engine', 'crank_radius'), ('engine', 'conrod_length')])
-        """
-        calibration = self._calibration_keys() if self.get("calibration", "file") else set()
-        own, filled = [], []
-        for group, name in SOURCE_ENGINE_INPUTS:
-            is_set = name in self._nml.get(group, {}) or (group, name) in calibration
-            (own if is_set else filled).append((group, name))
-        return own, filled
-
-    def warn_source_defaults(self, stacklevel: int = 2) -> str:
-        """Warn (:class:`SourceEngineDefaultWarning`) if the source engine's defaults fill
-        some engine-geometry or ring inputs of this case while it sets others; returns the
-        message ('' when none is due).
-
-        Parameters
-        ----------
-        stacklevel : int
-            As for :func:`warnings.warn`.
-
-        Examples
-        --------
-        >>> Case().warn_source_defaults()   # nothing set: the source engine, knowingly
-        ''
-        """
-        own, filled = self.source_engine_defaults()
-        if not (own and filled):
-            return ""
-        where = self.source or f"case {self.name!r}"
-        message = (
-            f"{where}: the source engine's (CRF450R) defaults fill {_names(filled)} "
-            f"while the case sets {_names(own)}; set them for your engine (docs/own_engine.md)"
-        )
-        warnings.warn(message, SourceEngineDefaultWarning, stacklevel=stacklevel + 1)
-        return message
-
     # variants -------------------------------------------------------------------------
     def copy(self) -> Case:
         """An independent copy (values are immutable scalars, so copying groups suffices)."""
@@ -594,105 +376,6 @@ class Case:
             overrides = _serialise(changed) if changed else ""
             return self._text, str(self.source), self._base or "", overrides, label
         return self.to_namelist(), f"<case {self.name}>", os.getcwd(), "", label
-
-
-def _format(value: Any) -> str:
-    if isinstance(value, bool):
-        return ".true." if value else ".false."
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        return repr(value) if value == value else "nan"
-    if isinstance(value, (list, tuple)):
-        return ", ".join(_format(v) for v in value)
-    s = str(value)
-    return "'" + s.replace("'", "''") + "'"
-
-
-def _serialise(groups) -> str:
-    out = []
-    for group, values in groups.items():
-        out.append(f"&{group}")
-        for name, value in values.items():
-            out.append(f"    {name} = {_format(value)}")
-        out.append("/")
-    return "\n".join(out) + "\n"
-
-
-def _text(message) -> str:
-    if isinstance(message, bytes):
-        message = message.decode("utf-8", errors="replace")
-    return str(message).rstrip("\0 ").strip()
-
-
-def _arg(s: str) -> bytes:
-    """A string argument for the f2py layer (UTF-8 bytes; f2py would refuse non-ASCII;
-    bytes of a path that are not UTF-8 go through unchanged)."""
-    return s.encode("utf-8", "surrogateescape")
-
-
-class KernelCase(NamedTuple):
-    """A case parsed by the kernel: its handle, crank steps and liner cells of a run.
-
-    Examples
-    --------
-    >>> KernelCase(1, 720, 0).nsteps
-    720
-    """
-
-    handle: int
-    nsteps: int
-    nliner: int
-
-
-@contextlib.contextmanager
-def kernel_case(case: Case, load_trace: bool = True, warn: bool = True) -> Iterator[KernelCase]:
-    """Context manager: the case parsed by the kernel (a :class:`KernelCase`).
-
-    Parameters
-    ----------
-    case : Case
-    load_trace : bool
-        Read the gas-pressure file (else only check it exists).
-    warn : bool
-        Warn if source-engine defaults fill part of the case's engine geometry or ring
-        (:class:`SourceEngineDefaultWarning`), once the kernel has accepted the case.
-
-    Examples
-    --------
-    >>> with kernel_case(Case().with_numerics(dpsi_deg=2.0)) as k:
-    ...     k.nsteps
-    360
-
-    Raises
-    ------
-    InputError
-        If the kernel rejects the case (its message names file, line, group, variable).
-    """
-    from . import _kernel
-
-    text, name, base, overrides, overrides_name = case.kernel_inputs()
-    if base and not base.endswith("/"):
-        base += "/"
-    handle, nsteps, nliner, code, message = _kernel.rl_open(
-        _arg(text), _arg(name), _arg(base), _arg(overrides), _arg(overrides_name), 1 if load_trace else 0
-    )
-    if code:
-        raise error_for(code, _text(message))
-    if warn:
-        case.warn_source_defaults(stacklevel=4)
-    try:
-        yield KernelCase(int(handle), int(nsteps), int(nliner))
-    finally:
-        _kernel.rl_close(handle)
-
-
-def _names(keys: list[tuple[str, str]]) -> str:
-    """'&engine a, b; &ring c' from [(group, name), ...]."""
-    by_group: dict[str, list[str]] = {}
-    for group, name in keys:
-        by_group.setdefault(group, []).append(name)
-    return "; ".join(f"&{g} {', '.join(n)}" for g, n in by_group.items())
 
 
 def _with_group(group: str):

@@ -205,7 +205,8 @@ def read_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
         Naming the file and line of a bad row (the rules of the deck's pressure_file).
     """
     from . import _kernel
-    from .case import Case, kernel_case
+    from .case import Case
+    from .case_kernel import kernel_case
 
     case = Case(name=f"trace {Path(path).name}").set(
         "operating", pressure_file=str(Path(path).resolve()), pressure_scale=1.0

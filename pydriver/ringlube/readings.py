@@ -17,7 +17,7 @@ Score. One residual vector per point, every entry in units of the goal of issue 
   the wrong way weighs as much as a 5 % energy error.
 
 The score is the root-sum-square of that vector; the discrete yes/no verdicts
-(:func:`ringlube.validate.trend_verdicts`) are reported beside it but not optimised (they are
+(:func:`ringlube.validate_compute.trend_verdicts`) are reported beside it but not optimised (they are
 not smooth). Each point costs one base run and the trend sweeps of :data:`SWEEP_POINTS`.
 
 Optimiser (:func:`ringlube.readings_fit.minimise`): a 9-point coarse design of the
@@ -40,7 +40,7 @@ import numpy as np
 from .calibrate import BOUNDS
 from .case import Case
 from .errors import InputError
-from .validate import READINGS, TRENDS, trend_verdicts
+from .validate_compute import READINGS, TRENDS, trend_verdicts
 
 __all__ = [
     "SUPPLY_BOUNDS",
@@ -70,7 +70,7 @@ RELAXED_BOUNDS = {
 GOAL = {"energy_loss": 0.05, "mixed_share": 1.5}
 #: Points of each cold trend sweep (the offset verdict compares the two ends only).
 SWEEP_POINTS = {"tension": 5, "crown_height": 5, "crown_offset": 2, "width": 5}
-#: The ring variables swept (order of :data:`ringlube.validate.TRENDS`).
+#: The ring variables swept (order of :data:`ringlube.validate_compute.TRENDS`).
 RING = tuple(name for name, _, _ in TRENDS)
 #: A trend measure where a sweep point failed (the whole energy the wrong way).
 FAILED_MEASURE = 1.0
@@ -90,7 +90,7 @@ _OUTPUTS = ["energy_loss", "mixed_share"]
 
 @dataclasses.dataclass(frozen=True)
 class Reading:
-    """One reading: film model (a key of :data:`ringlube.validate.READINGS`), contact area
+    """One reading: film model (a key of :data:`ringlube.validate_compute.READINGS`), contact area
     ('lumped' / 'local') and tension unit ('N/m' / 'N').
 
     Parameters
@@ -244,7 +244,7 @@ def trend_measures(sweeps: dict) -> dict[str, float]:
     * crown_offset (negative better): how much the most negative end exceeds the most positive;
     * width (interior optimum): how much the lowest interior point exceeds the lower end.
 
-    Each is zero exactly when :func:`ringlube.validate.trend_verdicts` says yes, except on
+    Each is zero exactly when :func:`ringlube.validate_compute.trend_verdicts` says yes, except on
     exact ties (equal energies), where the verdict, a strict comparison, says no and the
     measure is zero; a sweep with a failed point (NaN) measures :data:`FAILED_MEASURE`.
 

@@ -31,7 +31,7 @@ from .readings import (
     evaluate,
     residuals,
 )
-from .validate import READINGS
+from .validate_compute import READINGS
 
 __all__ = ["Minimum", "start_design", "minimise", "fit_reading", "calibrate_readings"]
 

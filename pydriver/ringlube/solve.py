@@ -9,7 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .case import Case, _text, kernel_case
+from .case import Case
+from .case_kernel import _text, kernel_case
 from .errors import InputError, NotConvergedError, RinglubeError, error_for
 from .result import CycleResult
 from .tables import INT_SERIES, LINER, SCALARS, SERIES

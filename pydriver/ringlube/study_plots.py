@@ -7,7 +7,7 @@
 - :func:`map_figure`: an objective over each pair of variables, the others at mid-range,
   chosen and reference designs marked (Figs 4 and 7).
 
-:func:`ringlube.study_report.study_figures` turns a study into these inputs.
+:func:`ringlube.study_figures.study_figures` turns a study into these inputs.
 """
 
 from __future__ import annotations

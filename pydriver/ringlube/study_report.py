@@ -1,297 +1,36 @@
-"""What a finished design study says: a text summary, ``report.md``, Pareto CSV files and
-the figures (drawn by :mod:`ringlube.study_plots` from plain arrays taken from the study).
+"""The report of a finished design study: ``report.md`` (settings, runs, fits, Pareto
+sets, chosen designs, how sure the answer is, figures), and every output file written at once
+(:func:`write_outputs`: the figures of :mod:`ringlube.study_figures`, the Pareto CSV files of
+:mod:`ringlube.study_pareto` and the report).
 
-Every number carries its unit; designs are shown in the units of :func:`display`
-(lengths in mm or µm, tension in the base decks' ``&ring tension_unit``).
+Every number carries its unit (:mod:`ringlube.study_format`).
 """
 
 from __future__ import annotations
 
-import csv
 import os
 from pathlib import Path
 
 import numpy as np
 
-from .outputs import atomic_path, write_text
-from .study_settings import display, output_units
-from .study_store import Checked, Study
+from .outputs import write_text
+from .study_constraints import constraint_bounds
+from .study_figures import study_figures
+from .study_format import (
+    LIFTED,
+    LIFTED_COLUMN,
+    NOT_CONVERGED,
+    _feasible_text,
+    _lift_mark,
+    lift_share,
+    result_display,
+)
+from .study_pareto import write_pareto_csv
+from .study_state import Checked
+from .study_store import Study
+from .study_variables import display, output_units
 
-#: How a re-checked design whose true-model run did not converge is marked (its numbers are
-#: the last cycle's, not a verified periodic result).
-NOT_CONVERGED = "NOT CONVERGED, not verified"
-#: Mark of a design whose true-model run lifted the ring off the liner at some crank steps
-#: (``liner_lift_share`` > 0: the film carried no load there and the results at those steps
-#: rest on the lift-off model, issue 16): reported, never ranked as a good design.
-LIFTED = "LIFTED OFF the liner, not a good design"
-#: Pareto CSV column marking designs the surfaces predict to lift off the liner.
-LIFTED_COLUMN = "lifted off the liner (surrogate)"
-
-__all__ = [
-    "LIFTED",
-    "LIFTED_COLUMN",
-    "NOT_CONVERGED",
-    "summary",
-    "write_report",
-    "write_pareto_csv",
-    "format_design",
-    "result_display",
-    "how_sure_lines",
-    "study_figures",
-    "tradeoff_stems",
-    "tradeoff_figures",
-    "write_outputs",
-]
-
-
-def format_design(study: Study, x) -> str:
-    """A design as text in display units, e.g. ``width 1.004 mm, tension 8 N/m``.
-
-    Parameters
-    ----------
-    study : Study
-    x : array_like
-        One value per variable (SI).
-
-    Returns
-    -------
-    str
-
-    Example
-    -------
-    >>> format_design(study, [1.004e-3, 9.31e-6, -38.3e-6, 8.0])    # doctest: +SKIP
-    'width 1.004 mm, crown height 9.31 µm, crown offset -38.3 µm, tension 8 N/m'
-    """
-    s = study.s
-    parts = []
-    for v, u, lo, hi, xi in zip(s.variables, s.units, s.lower, s.upper, x):
-        label, scale = display(v, u, lo, hi)
-        name, _, unit = label.partition(" [")
-        parts.append(f"{name} {xi * scale:.4g}" + (f" {unit[:-1]}" if unit else ""))
-    return ", ".join(parts)
-
-
-def result_display(name: str) -> tuple[str, float]:
-    """Unit a result is shown in and the factor from its stored unit: lengths (stored in
-    metres, e.g. ``min_film``) in µm, every other result in its own unit.
-
-    Parameters
-    ----------
-    name : str
-        A result (:func:`~ringlube.study_settings.output_units`).
-
-    Returns
-    -------
-    unit : str
-    scale : float
-
-    Example
-    -------
-    >>> result_display("min_film"), result_display("energy_loss")
-    (('µm', 1000000.0), ('J', 1.0))
-    """
-    unit = output_units()[name]
-    return ("µm", 1e6) if unit == "m" else (unit, 1.0)
-
-
-def _values(names, values) -> str:
-    out = []
-    for o, v in zip(names, values):
-        unit, k = result_display(o)
-        out.append(f"{o} {v * k:.4g} {unit}")
-    return ", ".join(out)
-
-
-def _failed_line(c) -> str:
-    r = c.runs
-    n_failed = int(r.failed.sum())
-    line = (
-        f"  true-model runs: {int(r.done.sum())} done, "
-        f"{int((r.done & ~r.converged & ~r.failed).sum())} not converged, "
-        f"{n_failed} failed (invalid designs); {r.wall_s:.1f} s"
-    )
-    if n_failed:
-        i = int(np.flatnonzero(r.failed)[0])
-        line += f"\n  first failed: sample {i}: {r.errors[i]}"
-    return line
-
-
-def summary(study: Study) -> str:
-    """The study in a few lines per case, every number with its unit.
-
-    Parameters
-    ----------
-    study : Study
-
-    Returns
-    -------
-    str
-
-    Example
-    -------
-    >>> print(summary(study))                                # doctest: +SKIP
-    """
-    s = study.s
-    units = output_units()
-    lines = [
-        f"study '{s.name}': {s.samples} samples ({s.sampler}) x {len(s.labels)} cases; "
-        f"true-model runs executed now: {study.runs_executed}"
-    ]
-    if s.constraints:
-        lines.append(f"constraints: {'; '.join(s.constraints)} (feasibility below by the true model)")
-    for label, c in study.cases.items():
-        lines.append(f"[{label}]")
-        lines.append(_failed_line(c))
-        for o in s.objectives:
-            sf = c.surfaces.get(o)
-            if sf:
-                lines.append(
-                    f"  surface {o:12s} R2 {sf.r2:.4f}  adj {sf.r2_adj:.4f}  "
-                    f"{s.folds}-fold CV rmse {sf.cv_rmse:.4g} {units[o]} "
-                    f"({sf.cv_rel:.2%})"
-                )
-        fr = c.front
-        if fr is not None:
-            lines.append(
-                f"  Pareto set: {len(fr.f)} designs from {s.repeats} NSGA-II repeats; "
-                f"hypervolume of a single repeat / merged: mean {fr.hv_ratio_mean:.3f}, "
-                f"min {fr.hv_ratio_min:.3f}"
-            )
-        for ch in (c.chosen, c.reference):
-            if ch is None:
-                continue
-            for n, x, ft, err, e, ok in zip(ch.names, ch.x, ch.f_true, ch.rel_error, ch.errors, ch.converged):
-                cols = [study.s.outputs.index(o) for o in s.objectives]
-                if e:
-                    lines.append(f"  {n:18s} {format_design(study, x)} -> failed: {e}")
-                    continue
-                lift = _lift_mark(study, ft)
-                lines.append(
-                    f"  {n:18s} {format_design(study, x)} -> "
-                    + ("" if ok else f"{NOT_CONVERGED}: ")
-                    + (f"{lift}: " if lift else "")
-                    + _values(s.objectives, ft[cols])
-                    + "  (surrogate error "
-                    + ", ".join(f"{err[j]:+.1%}" for j in cols)
-                    + ")"
-                    + (f"; {_feasible_text(study, label, ft)}" if s.constraints else "")
-                )
-        d = c.direct
-        if d is not None:
-            lines.append(
-                f"  direct NSGA-II: {d.runs} true-model runs ({d.failed} failed, "
-                f"{d.unconverged} not converged, {d.lifted} lifted off the liner: never in its "
-                "front) in "
-                f"{d.wall_s:.1f} s; hypervolume direct {d.hv_direct:.3f} vs surrogate "
-                f"front {d.hv_surrogate:.3f} (normalised, common reference); IGD "
-                f"surrogate->direct {d.igd_surrogate_to_direct:.3f}, direct->surrogate "
-                f"{d.igd_direct_to_surrogate:.3f} (normalised objectives)"
-            )
-    return "\n".join(lines)
-
-
-def _predict(study: Study, label: str, x: np.ndarray) -> np.ndarray:
-    from .surrogate import QuadraticSurface
-
-    s, c = study.s, study.cases[label]
-    return np.column_stack(
-        [
-            QuadraticSurface(np.array(s.lower), np.array(s.upper), np.asarray(c.surfaces[o].coef))(x)
-            for o in study.s.outputs
-        ]
-    )
-
-
-def write_pareto_csv(study: Study, out: str | os.PathLike) -> list[Path]:
-    """Write each case's Pareto set as ``OUT/pareto_LABEL.csv``.
-
-    Columns: the variables (SI), then every result as the surfaces predict it; the header
-    gives each column's unit, e.g. ``width [m]``, ``energy_loss [J]``. The last column,
-    :data:`LIFTED_COLUMN`, is ``yes`` where the surfaces predict the ring to lift off the
-    liner (``liner_lift_share`` above its surface's cross-validation error), else ``no``.
-
-    Parameters
-    ----------
-    study : Study
-    out : path
-
-    Returns
-    -------
-    list of Path
-
-    Example
-    -------
-    >>> write_pareto_csv(study, "out/s")                     # doctest: +SKIP
-    """
-    s, units = study.s, output_units()
-    files = []
-    for label, c in study.cases.items():
-        if c.front is None:
-            continue
-        pred = _predict(study, label, c.front.x)
-        for j, o in enumerate(s.objectives):  # the GA's own values of its objectives
-            pred[:, study.s.outputs.index(o)] = c.front.f[:, j]
-        path = Path(out) / f"pareto_{label}.csv"
-        with atomic_path(path, [study.path]) as tmp, open(tmp, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(
-                [f"{v} [{u}]" if u else v for v, u in zip(s.variables, s.units)]
-                + [f"{o} [{units[o]}] (surrogate)" for o in study.s.outputs]
-                + [LIFTED_COLUMN]
-            )
-            lifted = _predicted_lift(study, label, pred)
-            for x, y, up in zip(c.front.x, pred, lifted):
-                w.writerow([repr(float(v)) for v in (*x, *y)] + ["yes" if up else "no"])
-        files.append(path)
-    return files
-
-
-def _predicted_lift(study: Study, label: str, pred: np.ndarray) -> np.ndarray:
-    """Designs whose predicted ``liner_lift_share`` exceeds its surface's CV error (a
-    quadratic surface of a share that is mostly 0 is not exactly 0 anywhere)."""
-    outputs = list(study.s.outputs)
-    if "liner_lift_share" not in outputs:
-        return np.zeros(len(pred), bool)
-    sf = study.cases[label].surfaces.get("liner_lift_share")
-    noise = float(sf.cv_rmse) if sf is not None and np.isfinite(sf.cv_rmse) else 0.0
-    return pred[:, outputs.index("liner_lift_share")] > max(noise, 0.0)
-
-
-def lift_share(study: Study, values: np.ndarray) -> float:
-    """The ``liner_lift_share`` [%] among a design's results (0 if the study does not record
-    it or the value is not a number).
-
-    Examples
-    --------
-    >>> from types import SimpleNamespace
-    >>> st = SimpleNamespace(s=SimpleNamespace(outputs=["energy_loss", "liner_lift_share"]))
-    >>> lift_share(st, np.array([1.5, 2.5])), lift_share(st, np.array([1.5, np.nan]))
-    (2.5, 0.0)
-    """
-    outputs = list(study.s.outputs)
-    if "liner_lift_share" not in outputs:
-        return 0.0
-    v = float(values[outputs.index("liner_lift_share")])
-    return v if np.isfinite(v) and v > 0 else 0.0
-
-
-def _lift_mark(study: Study, values: np.ndarray) -> str:
-    """'' or the lift-off mark with the share of the cycle lifted."""
-    share = lift_share(study, values)
-    return f"{LIFTED} ({share:.3g} % of the cycle)" if share > 0 else ""
-
-
-def _feasible_text(study: Study, label: str, ft: np.ndarray) -> str:
-    """'feasible' or which constraints the true results violate."""
-    from .study import constraint_bounds
-
-    bad = []
-    for k, j, b in constraint_bounds(study, label):
-        unit, scale = result_display(k.name)
-        if not np.isfinite(ft[j]) or k.violation(ft[j], b) > 0:
-            rel = ">" if k.sense == "<=" else "<"
-            bad.append(f"{k.name} {ft[j] * scale:.6g} {rel} {b * scale:.6g} {unit}")
-    return "feasible" if not bad else "INFEASIBLE: " + "; ".join(bad)
+__all__ = ["write_report", "how_sure_lines", "write_outputs"]
 
 
 def _design_table(study: Study, ch: Checked, label: str = "") -> list[str]:
@@ -375,8 +114,6 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
             "| constraint | case | bound |",
             "|---|---|---|",
         ]
-        from .study import constraint_bounds
-
         for label in study.cases:
             for k, _, b in constraint_bounds(study, label):
                 unit, scale = result_display(k.name)
@@ -528,12 +265,12 @@ def how_sure_lines(study: Study) -> list[str]:
     re-run at preset ``'accurate'``), whether each case is calibrated (a ``&calibration``
     file), which chosen designs sit on a bound of the design box, and a one-at-a-time
     sensitivity of the chosen designs to the uncertain inputs
-    (:data:`ringlube.study.UNCERTAIN`) with whether the ranking of the designs changes.
+    (:data:`ringlube.study_sure.UNCERTAIN`) with whether the ranking of the designs changes.
 
     Parameters
     ----------
     study : Study
-        With :func:`ringlube.study.how_sure` done.
+        With :func:`ringlube.study_sure.how_sure` done.
 
     Returns
     -------
@@ -660,159 +397,4 @@ def write_outputs(study: Study, out: str | os.PathLike, figures: bool = True) ->
         files += study_figures(study, out)
     files += write_pareto_csv(study, out)
     files.append(write_report(study, out, [f for f in files if f.suffix == ".png"]))
-    return files
-
-
-def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
-    """The study's figures, drawn from plain arrays (see :mod:`ringlube.study_plots`).
-
-    Parameters
-    ----------
-    study : Study
-    out : path
-
-    Returns
-    -------
-    list of Path
-
-    Example
-    -------
-    >>> study_figures(study, "out/s")                          # doctest: +SKIP
-    """
-    from . import study_plots as sp
-    from .surrogate import QuadraticSurface
-
-    s, out = study.s, Path(out)
-    units = output_units()
-    axes = [
-        sp.Axis(*display(v, u, lo, hi), lo, hi)
-        for v, u, lo, hi in zip(s.variables, s.units, s.lower, s.upper)
-    ]
-    files = []
-    marks_all = {}
-    for label, c in study.cases.items():
-        if not c.surfaces:
-            continue
-        ok = c.runs.usable()
-        x = study.x[ok]
-        panels: list = []
-        for o in s.objectives:
-            sf = c.surfaces[o]
-            f = QuadraticSurface(np.array(s.lower), np.array(s.upper), np.asarray(sf.coef))
-            panels.append(
-                sp.FitPanel(
-                    o,
-                    units[o],
-                    c.runs.outputs[ok, study.s.outputs.index(o)],
-                    f(x),
-                    sf.r2,
-                    sf.r2_adj,
-                    sf.cv_rel,
-                )
-            )
-        files += sp.save(sp.fit_figure(label, panels, s.folds), out, f"fit_{label}")
-        marks = []
-        for key, style in (("chosen", "chosen"), ("reference", "reference")):
-            ch = getattr(c, key)
-            if ch is not None:
-                marks += [sp.Mark(n, xi, style) for n, xi in zip(ch.names, ch.x)]
-        marks_all[label] = marks
-        for o in s.objectives:
-            f = QuadraticSurface(np.array(s.lower), np.array(s.upper), np.asarray(c.surfaces[o].coef))
-            files += sp.save(
-                sp.map_figure(f"{o} ({label})", f"{o} [{units[o]}]", f, axes, marks), out, f"map_{label}_{o}"
-            )
-    files += tradeoff_figures(study, out)
-    return files
-
-
-def tradeoff_stems(objectives: list[str]) -> list[str]:
-    """File names (without suffix) of the trade-off figures of a study's objectives: one
-    ``tradeoff_A_vs_B`` per pair (B on the horizontal axis), and ``tradeoff_parallel`` for
-    three or more objectives.
-
-    Parameters
-    ----------
-    objectives : list of str
-
-    Returns
-    -------
-    list of str
-
-    Example
-    -------
-    >>> tradeoff_stems(["energy_loss", "oil_to_chamber"])
-    ['tradeoff_energy_loss_vs_oil_to_chamber']
-    >>> len(tradeoff_stems(["a", "b", "c"]))
-    4
-    """
-    import itertools
-
-    stems = [f"tradeoff_{a}_vs_{b}" for a, b in itertools.combinations(objectives, 2)]
-    return stems + (["tradeoff_parallel"] if len(objectives) >= 3 else [])
-
-
-def tradeoff_figures(study: Study, out: str | os.PathLike) -> list[Path]:
-    """The trade-off figures of the objectives the study minimised (:func:`tradeoff_stems`):
-    the Pareto sets as the GA found them on the surfaces, the chosen and reference designs
-    as re-simulated by the true model.
-
-    Parameters
-    ----------
-    study : Study
-    out : path
-
-    Returns
-    -------
-    list of Path
-
-    Example
-    -------
-    >>> tradeoff_figures(study, "out/s")                         # doctest: +SKIP
-    """
-    import itertools
-
-    from . import study_plots as sp
-    from .study import constraint_bounds
-
-    s = study.s
-    cols = [s.outputs.index(o) for o in s.objectives]
-    shown = [result_display(o) for o in s.objectives]
-    labels = [f"{o.replace('_', ' ')} [{u}]" for o, (u, _) in zip(s.objectives, shown)]
-    scale = np.array([k for _, k in shown])
-    fronts, designs = {}, {}
-    for label, c in study.cases.items():
-        if c.front is None:
-            continue
-        fronts[label] = np.asarray(c.front.f) * scale
-        designs[label] = [
-            (n, ft[cols] * scale, style)
-            for ch, style in ((c.chosen, "chosen"), (c.reference, "reference"))
-            if ch is not None
-            for n, ft in zip(ch.names, ch.f_true)
-            if np.isfinite(ft[cols]).all()
-        ]
-    if not fronts:
-        return []
-    files = []
-    stems = tradeoff_stems(list(s.objectives))
-    for (a, b), stem in zip(itertools.combinations(range(len(s.objectives)), 2), stems):
-        series = [
-            sp.TradeoffSeries(
-                label, fronts[label][:, [b, a]], [(n, v[b], v[a], st) for n, v, st in designs[label]]
-            )
-            for label in fronts
-        ]
-        title = f"trade-off: {s.objectives[a]} against {s.objectives[b]} (both minimised)"
-        limits = [
-            ("x" if k.name == s.objectives[b] else "y", bound * shown[idx][1], f"{label}: {k} (constraint)")
-            for label in fronts
-            for k, _, bound in constraint_bounds(study, label)
-            for idx in (a, b)
-            if k.name == s.objectives[idx]
-        ]
-        files += sp.save(sp.tradeoff_figure(series, labels[b], labels[a], title, limits), out, stem)
-    if len(s.objectives) >= 3:
-        series = [sp.TradeoffSeries(label, fronts[label], designs[label]) for label in fronts]
-        files += sp.save(sp.parallel_figure(series, labels, "objectives of the Pareto set"), out, stems[-1])
     return files

@@ -214,7 +214,7 @@ def test_help_shows_every_default(command, capsys):
     with pytest.raises(SystemExit):
         main([command, "--help"])
     text = " ".join(capsys.readouterr().out.split())
-    from ringlube.cli import _parser
+    from ringlube.cli_parser import _parser
 
     sub = next(a for a in _parser()._actions if a.dest == "command").choices[command]
     for action in sub._actions:
@@ -226,7 +226,7 @@ def test_help_shows_every_default(command, capsys):
 
 
 def test_convergence_default_folder_is_the_documented_one():
-    from ringlube.cli import _parser
+    from ringlube.cli_parser import _parser
 
     sub = next(a for a in _parser()._actions if a.dest == "command").choices["convergence"]
     out = next(a for a in sub._actions if a.dest == "out")

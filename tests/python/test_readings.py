@@ -7,7 +7,7 @@ import pytest
 
 import ringlube
 from ringlube import readings as rd, readings_fit as rf, readings_report as rr
-from ringlube.validate import TRENDS, trend_verdicts
+from ringlube.validate_compute import TRENDS, trend_verdicts
 
 NAMES = [name for name, _, _ in TRENDS]
 

@@ -15,7 +15,11 @@ import pytest
 
 import ringlube
 from ringlube.case import Case
-from ringlube.study import Executor, Study, read_study, run_samples, run_study, sample
+from ringlube.executor import Executor
+from ringlube.study import run_study
+from ringlube.study_deck import read_study
+from ringlube.study_runs import run_samples, sample
+from ringlube.study_store import Study
 from ringlube.surrogate import fit_quadratic, quadratic_features
 
 from conftest import INPUTS

@@ -13,9 +13,12 @@ import ringlube
 from ringlube.case import Case
 from ringlube.errors import InputError
 from ringlube.solve import run_designs
-from ringlube.study import UNCERTAIN, feasibility, run_study, surfaces_of
-from ringlube.study_report import tradeoff_stems
-from ringlube.study_settings import parse_constraint, read_study
+from ringlube.study import run_study
+from ringlube.study_constraints import feasibility, parse_constraint
+from ringlube.study_deck import read_study
+from ringlube.study_figures import tradeoff_stems
+from ringlube.study_sure import UNCERTAIN
+from ringlube.study_surfaces import surfaces_of
 
 from conftest import INPUTS
 
@@ -255,7 +258,7 @@ def test_constraint_bound_on_a_drawn_objective_is_a_line():
 
 
 def test_summary_gives_constraints_and_feasibility(constrained):
-    from ringlube.study_report import summary
+    from ringlube.study_summary import summary
 
     text = summary(constrained[0])
     assert "constraints: max_friction <= reference; min_film >= 7e-07" in text

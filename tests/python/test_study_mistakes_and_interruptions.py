@@ -15,9 +15,11 @@ import ringlube
 from ringlube import InputError, RinglubeError
 from ringlube.case import Case
 from ringlube.executor import Executor
-from ringlube.study import _run_designs, run_study, sample
-from ringlube.study_settings import OUTPUTS, read_study
+from ringlube.study import run_study
+from ringlube.study_deck import read_study
+from ringlube.study_runs import _run_designs, sample
 from ringlube.study_store import Study
+from ringlube.study_variables import OUTPUTS
 
 from conftest import INPUTS
 
@@ -183,7 +185,7 @@ def test_invalid_designs_are_recorded_and_the_study_goes_on(tmp_path):
     assert r.done.all() and np.isnan(r.outputs[r.failed]).all()
     assert all("crown_offset" in r.errors[i] for i in np.flatnonzero(expect))
     assert study.cases["cold"].surfaces["energy_loss"].n == int((~expect & r.converged).sum())
-    from ringlube.study_report import summary
+    from ringlube.study_summary import summary
 
     text = summary(study)
     assert f"{int(expect.sum())} failed (invalid designs)" in text

@@ -11,9 +11,10 @@ import pytest
 
 from ringlube.case import Case
 from ringlube.study import run_study
+from ringlube.study_format import LIFTED_COLUMN
 from ringlube.study_plots import Axis, Mark, TradeoffSeries, map_figure, tradeoff_figure
-from ringlube.study_report import LIFTED_COLUMN, summary
-from ringlube.study_settings import OUTPUTS, display, output_units, variable_unit
+from ringlube.study_summary import summary
+from ringlube.study_variables import OUTPUTS, display, output_units, variable_unit
 
 from conftest import INPUTS
 

@@ -6,9 +6,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import ringlube.study as study_mod
+import ringlube.study_runs as runs_mod
 from ringlube.study import run_study
-from ringlube.study_report import NOT_CONVERGED, summary, write_report
+from ringlube.study_format import NOT_CONVERGED
+from ringlube.study_report import write_report
+from ringlube.study_summary import summary
 
 from conftest import COLD
 
@@ -39,7 +41,7 @@ def some_unconverged(real):
 
 
 def test_direct_nsga2_never_ranks_an_unconverged_run(tmp_path, monkeypatch):
-    monkeypatch.setattr(study_mod, "_run_designs", some_unconverged(study_mod._run_designs))
+    monkeypatch.setattr(runs_mod, "_run_designs", some_unconverged(runs_mod._run_designs))
     study = run_study(
         write(tmp_path), tmp_path / "out", serial=True, with_direct=True, progress=False, figures=False
     )
@@ -52,7 +54,7 @@ def test_direct_nsga2_never_ranks_an_unconverged_run(tmp_path, monkeypatch):
 def test_direct_nsga2_never_ranks_a_lifted_run(tmp_path, monkeypatch):
     """Issue 16/18: a design that lifts the ring off the liner is ranked below every design
     that does not (the tests' stand-in lifts designs with a large crown offset)."""
-    real = study_mod._run_designs
+    real = runs_mod._run_designs
 
     def some_lifted(base, variables, x, outputs):
         values, converged, errors = real(base, variables, x, outputs)
@@ -61,7 +63,7 @@ def test_direct_nsga2_never_ranks_a_lifted_run(tmp_path, monkeypatch):
         )
         return values, converged, errors
 
-    monkeypatch.setattr(study_mod, "_run_designs", some_lifted)
+    monkeypatch.setattr(runs_mod, "_run_designs", some_lifted)
     study = run_study(
         write(tmp_path), tmp_path / "out", serial=True, with_direct=True, progress=False, figures=False
     )
@@ -87,7 +89,7 @@ def test_unconverged_recheck_is_marked_in_summary_and_report(tmp_path):
 
 
 def test_direct_nsga2_resumes_from_its_last_generation(tmp_path, monkeypatch):
-    real = study_mod._run_designs
+    real = runs_mod._run_designs
     deck = write(tmp_path)
     run_study(deck, tmp_path / "out", serial=True, progress=False, figures=False)
     fresh_deck = write(tmp_path, name="fresh")
@@ -100,7 +102,7 @@ def test_direct_nsga2_resumes_from_its_last_generation(tmp_path, monkeypatch):
         rows.append(len(x))
         return real(base, variables, x, outputs)
 
-    monkeypatch.setattr(study_mod, "_run_designs", counting)
+    monkeypatch.setattr(runs_mod, "_run_designs", counting)
     stop_at = None
     fresh = run_study(
         fresh_deck, tmp_path / "fresh", serial=True, with_direct=True, progress=False, figures=False
@@ -126,8 +128,9 @@ def test_lifted_design_is_marked_in_summary_report_and_pareto_csv(tmp_path, monk
     the designs the surfaces predict to lift off."""
     import csv
 
-    import ringlube.study_report as report_mod
-    from ringlube.study_report import LIFTED, LIFTED_COLUMN, write_pareto_csv
+    import ringlube.study_pareto as pareto_mod
+    from ringlube.study_format import LIFTED, LIFTED_COLUMN
+    from ringlube.study_pareto import write_pareto_csv
 
     study = run_study(
         write(tmp_path, generations=1), tmp_path / "out", serial=True, progress=False, figures=False
@@ -144,7 +147,7 @@ def test_lifted_design_is_marked_in_summary_report_and_pareto_csv(tmp_path, monk
     assert f"| {chosen.names[0]} ({LIFTED} (12.5 % of the cycle)) |" in report
     assert f"| {chosen.names[1]} |" in report
     # the CSV: a design predicted to lift off (above the surface's CV error) is marked
-    real = report_mod._predict
+    real = pareto_mod.predict
 
     def lifting(st, label, x):
         pred = real(st, label, x)
@@ -152,7 +155,7 @@ def test_lifted_design_is_marked_in_summary_report_and_pareto_csv(tmp_path, monk
         pred[0, j] = 50.0
         return pred
 
-    monkeypatch.setattr(report_mod, "_predict", lifting)
+    monkeypatch.setattr(pareto_mod, "predict", lifting)
     (path,) = write_pareto_csv(study, tmp_path / "out")
     with open(path) as fh:
         rows = list(csv.reader(fh))

@@ -13,7 +13,7 @@ import pytest
 import ringlube
 from ringlube import Case
 from ringlube.calibrate import calibrate
-from ringlube.validate import PUBLISHED, trend_sweeps, trend_verdicts
+from ringlube.validate_compute import PUBLISHED, trend_sweeps, trend_verdicts
 
 from conftest import INPUTS
 

@@ -1,0 +1,84 @@
+"""A case handed to the kernel: parsed in memory by the kernel's own reader (:func:`kernel_case`)."""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Iterator
+from typing import TYPE_CHECKING, NamedTuple
+
+from .errors import error_for
+
+if TYPE_CHECKING:
+    from .case import Case
+
+__all__ = ["KernelCase", "kernel_case"]
+
+
+def _text(message) -> str:
+    if isinstance(message, bytes):
+        message = message.decode("utf-8", errors="replace")
+    return str(message).rstrip("\0 ").strip()
+
+
+def _arg(s: str) -> bytes:
+    """A string argument for the f2py layer (UTF-8 bytes; f2py would refuse non-ASCII;
+    bytes of a path that are not UTF-8 go through unchanged)."""
+    return s.encode("utf-8", "surrogateescape")
+
+
+class KernelCase(NamedTuple):
+    """A case parsed by the kernel: its handle, crank steps and liner cells of a run.
+
+    Examples
+    --------
+    >>> KernelCase(1, 720, 0).nsteps
+    720
+    """
+
+    handle: int
+    nsteps: int
+    nliner: int
+
+
+@contextlib.contextmanager
+def kernel_case(case: Case, load_trace: bool = True, warn: bool = True) -> Iterator[KernelCase]:
+    """Context manager: the case parsed by the kernel (a :class:`KernelCase`).
+
+    Parameters
+    ----------
+    case : Case
+    load_trace : bool
+        Read the gas-pressure file (else only check it exists).
+    warn : bool
+        Warn if source-engine defaults fill part of the case's engine geometry or ring
+        (:class:`~ringlube.case_origins.SourceEngineDefaultWarning`), once the kernel has
+        accepted the case.
+
+    Examples
+    --------
+    >>> from ringlube import Case
+    >>> with kernel_case(Case().with_numerics(dpsi_deg=2.0)) as k:
+    ...     k.nsteps
+    360
+
+    Raises
+    ------
+    InputError
+        If the kernel rejects the case (its message names file, line, group, variable).
+    """
+    from . import _kernel
+
+    text, name, base, overrides, overrides_name = case.kernel_inputs()
+    if base and not base.endswith("/"):
+        base += "/"
+    handle, nsteps, nliner, code, message = _kernel.rl_open(
+        _arg(text), _arg(name), _arg(base), _arg(overrides), _arg(overrides_name), 1 if load_trace else 0
+    )
+    if code:
+        raise error_for(code, _text(message))
+    if warn:
+        case.warn_source_defaults(stacklevel=4)
+    try:
+        yield KernelCase(int(handle), int(nsteps), int(nliner))
+    finally:
+        _kernel.rl_close(handle)

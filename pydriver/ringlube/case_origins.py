@@ -1,0 +1,210 @@
+"""Where the inputs of a case come from: deck, calibration file, Python, numerics preset or
+the kernel's default (:meth:`~ringlube.case.Case.origins`,
+:meth:`~ringlube.case.Case.effective_inputs`), and the source engine's defaults filling part of
+a case's own engine (:class:`SourceEngineDefaultWarning`).
+
+The methods are those of :class:`ringlube.case.Case` (through :class:`_InputOrigins`).
+"""
+
+from __future__ import annotations
+
+import warnings
+from typing import Any, NamedTuple
+
+import f90nml
+
+from .case_kernel import _text, kernel_case
+from .errors import error_for
+
+__all__ = ["EffectiveInput", "SOURCE_ENGINE_INPUTS", "SourceEngineDefaultWarning"]
+
+#: Inputs whose defaults describe the source study's engine (Honda CRF450R: crank, conrod,
+#: 96 mm bore) and its optimum top ring (face width, crown, tension, and a radial depth sized
+#: for that bore). A case that sets some of these but not all gets the rest from that engine,
+#: and :class:`SourceEngineDefaultWarning` says so. Not counted: the ring's density and
+#: ``tension_unit`` (a material and a convention, not the engine), the operating point,
+#: lubricant and surfaces (the study's, but not engine geometry; see docs/own_engine.md).
+SOURCE_ENGINE_INPUTS: tuple[tuple[str, str], ...] = (
+    ("engine", "crank_radius"),
+    ("engine", "conrod_length"),
+    ("engine", "bore_radius"),
+    ("ring", "width"),
+    ("ring", "crown_height"),
+    ("ring", "crown_offset"),
+    ("ring", "tension"),
+    ("ring", "radial_depth"),
+)
+
+
+class SourceEngineDefaultWarning(UserWarning):
+    """The source engine's (CRF450R) defaults fill engine-geometry or ring inputs of a case
+    that sets some of its own (see :data:`SOURCE_ENGINE_INPUTS`).
+
+    Examples
+    --------
+    >>> import warnings
+    >>> from ringlube import Case
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     Case({"engine": {"bore_radius": 43e-3}}).with_numerics(dpsi_deg=2.0).validate()
+    360
+    >>> w[0].category.__name__, str(w[0].message).split(":")[0]
+    ('SourceEngineDefaultWarning', "case 'case'")
+    """
+
+
+class EffectiveInput(NamedTuple):
+    """One input as the kernel uses it, and where its value came from.
+
+    ``origin`` is 'deck', 'calibration file', 'Python' (changed on the Case), "preset 'NAME'"
+    (set by the numerics preset) or 'default' (the kernel's table).
+
+    Examples
+    --------
+    >>> EffectiveInput("ring", "width", 1e-3, "m", "deck").origin
+    'deck'
+    """
+
+    group: str
+    name: str
+    value: Any
+    unit: str
+    origin: str
+
+
+def _names(keys: list[tuple[str, str]]) -> str:
+    """'&engine a, b; &ring c' from [(group, name), ...]."""
+    by_group: dict[str, list[str]] = {}
+    for group, name in keys:
+        by_group.setdefault(group, []).append(name)
+    return "; ".join(f"&{g} {', '.join(n)}" for g, n in by_group.items())
+
+
+class _InputOrigins:
+    """Methods of :class:`~ringlube.case.Case`: where each input's value comes from."""
+
+    # where the values come from -------------------------------------------------------
+    def _calibration_keys(self) -> set[tuple[str, str]]:
+        path = self.get("calibration", "file")
+        if not path:
+            return set()
+        try:
+            nml = f90nml.read(path)
+        except Exception:  # the kernel reports an unreadable calibration file
+            return set()
+        return {(g.lower(), n.lower()) for g, values in nml.items() for n in values}
+
+    def origins(self) -> dict[tuple[str, str], str]:
+        """Where each input's value comes from: 'deck', 'calibration file', 'Python',
+        "preset 'NAME'" or 'default', for every input of the kernel's table.
+
+        Examples
+        --------
+        >>> from ringlube import Case
+        >>> o = Case.from_namelist("inputs/crf450r_4000rpm_full_cold.nml").with_ring(width=1.1e-3).origins()
+        >>> o["ring", "width"], o["ring", "crown_height"], o["surface", "zeta_kappa_sigma"]
+        ('Python', 'deck', 'calibration file')
+        >>> o["numerics", "nodes"], o["lubricant", "supply_film"]
+        ("preset 'default'", 'default')
+        """
+        from .tables import INPUTS, PRESETS
+
+        calibration = self._calibration_keys()
+        preset = str(self.get("numerics", "preset", "default")).lower()
+        preset_values = PRESETS.get(preset, PRESETS["default"])
+        out = {}
+        for group, name in INPUTS:
+            key = (group, name)
+            if key in self._changed:
+                out[key] = "Python"
+            elif name in self._nml.get(group, {}):
+                out[key] = "deck"
+            elif key in calibration:
+                out[key] = "calibration file"
+            elif group == "numerics" and name in preset_values:
+                out[key] = f"preset '{preset}'"
+            else:
+                out[key] = "default"
+        return out
+
+    def effective_inputs(self) -> list[EffectiveInput]:
+        """Every input of the kernel's table as the kernel reads this case, with its unit and
+        where it came from (see :meth:`origins`).
+
+        Returns
+        -------
+        list of EffectiveInput
+
+        Raises
+        ------
+        InputError
+            If the kernel rejects the case.
+
+        Examples
+        --------
+        >>> from ringlube import Case
+        >>> rows = Case.from_namelist("inputs/crf450r_4000rpm_full_cold.nml").effective_inputs()
+        >>> [r for r in rows if r.name == "crown_offset"][0]
+        EffectiveInput(group='ring', name='crown_offset', value=-3.83e-05, unit='m', origin='deck')
+        """
+        from . import _kernel
+        from .tables import INPUTS, _value
+
+        origins = self.origins()
+        rows = []
+        with kernel_case(self, load_trace=False, warn=False) as k:
+            for (group, name), spec in INPUTS.items():
+                text, code, message = _kernel.rl_get(k.handle, group.encode(), name.encode())
+                if code:
+                    raise error_for(code, _text(message))
+                rows.append(
+                    EffectiveInput(
+                        group, name, _value(spec.kind, _text(text)), spec.unit, origins[group, name]
+                    )
+                )
+        return rows
+
+    def source_engine_defaults(self) -> tuple[list[tuple[str, str]], list[tuple[str, str]]]:
+        """(inputs of :data:`SOURCE_ENGINE_INPUTS` this case sets, those left to the source
+        engine's defaults); a warning is due when both are non-empty.
+
+        Examples
+        --------
+        >>> from ringlube import Case
+        >>> own, filled = Case({"engine": {"bore_radius": 43e-3}}).source_engine_defaults()
+        >>> own, filled[:2]
+        ([('engine', 'bore_radius')], [('engine', 'crank_radius'), ('engine', 'conrod_length')])
+        """
+        calibration = self._calibration_keys() if self.get("calibration", "file") else set()
+        own, filled = [], []
+        for group, name in SOURCE_ENGINE_INPUTS:
+            is_set = name in self._nml.get(group, {}) or (group, name) in calibration
+            (own if is_set else filled).append((group, name))
+        return own, filled
+
+    def warn_source_defaults(self, stacklevel: int = 2) -> str:
+        """Warn (:class:`SourceEngineDefaultWarning`) if the source engine's defaults fill
+        some engine-geometry or ring inputs of this case while it sets others; returns the
+        message ('' when none is due).
+
+        Parameters
+        ----------
+        stacklevel : int
+            As for :func:`warnings.warn`.
+
+        Examples
+        --------
+        >>> from ringlube import Case
+        >>> Case().warn_source_defaults()   # nothing set: the source engine, knowingly
+        ''
+        """
+        own, filled = self.source_engine_defaults()
+        if not (own and filled):
+            return ""
+        where = self.source or f"case {self.name!r}"
+        message = (
+            f"{where}: the source engine's (CRF450R) defaults fill {_names(filled)} "
+            f"while the case sets {_names(own)}; set them for your engine (docs/own_engine.md)"
+        )
+        warnings.warn(message, SourceEngineDefaultWarning, stacklevel=stacklevel + 1)
+        return message

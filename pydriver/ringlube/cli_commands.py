@@ -1,0 +1,260 @@
+"""The subcommands of the ``ringlube`` command: one ``_cmd_NAME(args)`` each, returning the
+exit status (the parser is :mod:`ringlube.cli_parser`, the command :mod:`ringlube.cli`)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from .errors import InputError, RinglubeError
+
+__all__: list[str] = []
+
+
+def _output_file(option: str, out: Path, inputs: list[Path]) -> Path:
+    """Check a result file to be written: a new path or a regular file, not an input."""
+    from .outputs import check_output
+
+    return check_output(out, inputs, option)
+
+
+def _output_folder(option: str, out: Path) -> Path:
+    if out.exists() and not out.is_dir():
+        raise InputError(f"{option} {out}: exists and is not a folder")
+    return out
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from .case import Case
+    from .solve import run
+
+    case = Case.from_namelist(args.deck)
+    out = (
+        Path(args.output)
+        if args.output
+        else Path(case.get("output", "file") or Path(args.deck).with_suffix(".h5"))
+    )
+    inputs = [
+        Path(args.deck),
+        *(Path(p) for p in (case.get("operating", "pressure_file"), case.get("calibration", "file")) if p),
+    ]
+    _output_file("-o" if args.output else f"{args.deck}: &output file", out, inputs)
+    result = run(case, output=out)
+    if not args.quiet:
+        from ._version import __version__
+
+        print(result.summary(title=f"ringlube {__version__}: {args.deck}", written=str(out)))
+    return 0 if result.converged else 3
+
+
+def _load(path: str):
+    """A result file, or one line saying what is wrong with it."""
+    import h5py
+
+    from .result import load
+
+    p = Path(path)
+    if not p.exists():
+        raise InputError(f"{p}: file not found")
+    if not p.is_file():
+        raise InputError(f"{p}: not a file")
+    if not h5py.is_hdf5(p):
+        raise InputError(f"{p}: not an HDF5 result file (a deck? run it first: ringlube run {p})")
+    try:
+        return load(p)
+    except RinglubeError:
+        raise
+    except (OSError, KeyError, ValueError, TypeError) as exc:
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise InputError(f"{p}: not a readable ringlube result ({reason})") from None
+
+
+def _cmd_plot(args: argparse.Namespace) -> int:
+    from .plot import plot_results
+
+    out = _output_folder("-o", Path(args.output))
+    labels = args.labels.split(",") if args.labels else []
+    for label in labels:
+        if not label or "/" in label or "\\" in label:
+            raise InputError(
+                f"--labels: '{label}' must be a non-empty name without '/' (it names the figure files)"
+            )
+    if len(labels) > len(args.results):
+        raise InputError(f"--labels: {len(labels)} labels for {len(args.results)} result files")
+    results = [_load(p) for p in args.results]
+    for r, label in zip(results, labels):
+        r.label = label
+    for r in results:
+        if "/" in r.label or "\\" in r.label:
+            raise InputError(f"result label '{r.label}' contains '/'; give --labels")
+    for f in plot_results(results, out, inputs=[Path(p) for p in args.results]):
+        print(f"written {f}")
+    return 0
+
+
+def _cmd_gas(args: argparse.Namespace) -> int:
+    from . import gas
+
+    given = {f: getattr(args, f) for f in gas.OPTIONS if hasattr(args, f)}
+    args.output, args.name = getattr(args, "output", None), getattr(args, "name", None)
+    args.names = getattr(args, "names", [])
+    if args.output is None:
+        if given:
+            option = gas.OPTIONS[next(iter(given))][0]
+            raise InputError(f"gas: {option} describes your own engine; give -o FILE.csv, the trace to write")
+        _output_folder("--out", Path(args.out))
+        unknown = [n for n in args.names if n not in gas.PRESETS]
+        if unknown:
+            raise InputError(
+                f"gas: unknown trace {', '.join(unknown)} (known: {', '.join(sorted(gas.PRESETS))}; "
+                "for your own engine: ringlube gas -o FILE.csv --bore ... , see ringlube gas --help)"
+            )
+        gas.main(["--out", args.out, *args.names])
+        return 0
+    if args.names:
+        raise InputError(f"gas: -o writes one trace of your own engine; drop {' '.join(args.names)}")
+    missing = [gas.OPTIONS[f][0] for f in _GAS_REQUIRED if f not in given]
+    if missing:
+        raise InputError(f"gas: -o {args.output}: give {', '.join(missing)} (your engine's, in SI units)")
+    out = Path(args.output)
+    if out.suffix.lower() != ".csv":
+        raise InputError(f"gas: -o {out}: the trace is a CSV file; name it *.csv")
+    if out.exists() and not out.is_file():
+        raise InputError(f"gas: -o {out}: exists and is not a regular file")
+    if given["crank_radius"] <= 0:  # --stroke, named with its own value
+        raise InputError(f"gas: --stroke: must be a positive number, not {given['crank_radius']:g}")
+    given["crank_radius"] = given["crank_radius"] / 2
+    try:
+        model = gas.GasModel(**given)
+        files = gas.write_trace(model, out, name=args.name, figures=not args.no_figure)
+    except ValueError as exc:
+        raise InputError(f"gas: {_gas_options(str(exc))}") from None
+    psi, p = gas.read_csv(out)  # as the kernel reads it
+    print(f"written {', '.join(map(str, files))}\n{out}: {gas.describe(model, psi, p)}")
+    speed = f"speed_rpm = {model.speed_rpm:g}, " if model.speed_rpm else ""
+    print(
+        f"deck lines: &engine crank_radius = {model.crank_radius:g}, conrod_length = "
+        f"{model.conrod_length:g}, bore_radius = {model.bore / 2:g} / "
+        f"&operating {speed}pressure_file = '{out.name}' /"
+    )
+    return 0
+
+
+# what `ringlube gas -o` needs: the engine's own geometry (no source-engine defaults)
+_GAS_REQUIRED = ("bore", "crank_radius", "conrod_length", "compression_ratio")
+
+
+def _gas_options(message: str) -> str:
+    """A GasModel message with its parameter names replaced by the command's options."""
+    from .gas import OPTIONS
+
+    names, _, why = message.partition(": ")
+    opts = [OPTIONS[n.strip()][0] if n.strip() in OPTIONS else n for n in names.split(",")]
+    return f"{', '.join(opts)}: {why}" if why else message
+
+
+def _cmd_show(args: argparse.Namespace) -> int:
+    from .case import Case
+    from .case_text import _format
+
+    case = Case.from_namelist(args.deck)
+    rows = case.effective_inputs()
+    tension_unit = next(r.value for r in rows if r.name == "tension_unit")
+    if args.set:
+        rows = [r for r in rows if r.origin not in ("default",) and not r.origin.startswith("preset")]
+    print(f"{args.deck}: effective inputs (from: deck, calibration file, preset, default)")
+    print(f"{'group':<12}{'variable':<25}{'from':<18}value [unit]")
+    for r in rows:
+        unit = {"1": "", "(unit)": f"[{tension_unit}]"}.get(r.unit, f"[{r.unit}]" if r.unit else "")
+        print(f"{'&' + r.group:<12}{r.name:<25}{r.origin:<18}{_format(r.value)} {unit}".rstrip())
+    case.warn_source_defaults()
+    return 0
+
+
+def _cmd_convergence(args: argparse.Namespace) -> int:
+    from .convergence import convergence_study, write_report
+
+    _output_folder("--out", Path(args.out))
+    command = "ringlube convergence " + " ".join(
+        [*args.decks, *(["--quick"] if args.quick else []), "--out", args.out]
+    )
+    from .outputs import check_output
+
+    for deck in args.decks:  # every output checked before the first (long) run
+        for suffix in ("md", "csv", "png"):
+            check_output(Path(args.out) / f"convergence_{Path(deck).stem}.{suffix}", args.decks, "--out")
+    for deck in args.decks:
+        reference, rows = convergence_study(deck, quick=args.quick, repeats=args.repeats)
+        for f in write_report(deck, reference, rows, args.out, command):
+            print(f"written {f}")
+    return 0
+
+
+def _cmd_calibrate(args: argparse.Namespace) -> int:
+    from .calibrate import calibrate, cold_targets, correlation, strip_calibrated, write_calibration
+    from .case import Case
+    from .outputs import check_output
+    from .targets import DEFAULT_TARGETS
+
+    target_deck, _ = cold_targets(args.targets)
+    case = Case.from_namelist(args.deck)
+    # the calibration file the deck includes is not read by the fit (it is what is written)
+    trace = case.value("operating", "pressure_file")
+    inputs = [args.deck, args.targets or DEFAULT_TARGETS, target_deck, trace]
+    check_output(args.out, inputs, "--out")  # before the ~300 runs, not after
+    fit, fits = calibrate(args.deck, targets=args.targets)
+    base = strip_calibrated(Case.from_namelist(args.deck))
+    jac, corr = correlation(base, fit)
+    path = write_calibration(args.out, fit, fits, jac, corr, args.deck)
+    t = fit.targets
+    print(
+        f"chosen: {fit.values()}\n  energy {fit.energy_loss:.4f} J (target "
+        f"{t['energy_loss']:g} J), mixed {fit.mixed_share:.3f} % (target {t['mixed_share']:g} %), "
+        f"correlation of fitted inputs {corr:+.3f}"
+    )
+    print(f"written {path}")
+    return 0
+
+
+def _cmd_validate(args: argparse.Namespace) -> int:
+    from .validate import validate
+
+    _output_folder("--out", Path(args.out))
+    print(f"written {validate(args.root, args.out)}")
+    return 0
+
+
+def _cmd_readings(args: argparse.Namespace) -> int:
+    from .readings_cli import run_args
+
+    return run_args(args)
+
+
+def _cmd_optimise(args: argparse.Namespace) -> int:
+    import signal
+
+    from .study import run_study
+    from .study_summary import summary
+
+    def terminate(signum, frame):  # a batch system's SIGTERM: save finished runs, then stop
+        raise KeyboardInterrupt(f"signal {signum}")
+
+    if args.scheduler is not None and not args.scheduler.strip():
+        raise InputError("--scheduler '': empty address (omit --scheduler for a local cluster)")
+    if args.out is not None:
+        _output_folder("--out", Path(args.out))
+    signal.signal(signal.SIGTERM, terminate)
+    args.interrupt_note = "; finished work is saved (run the same command to resume)"
+    study = run_study(
+        args.study,
+        args.out,
+        scheduler=args.scheduler,
+        workers=args.workers,
+        serial=args.serial,
+        with_direct=args.direct,
+        progress=not args.quiet,
+    )
+    if not args.quiet:
+        print(summary(study))
+    print(f"written {study.path}, report.md, Pareto CSV and figures in {study.path.parent}")
+    return 0

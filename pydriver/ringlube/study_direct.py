@@ -1,0 +1,187 @@
+"""NSGA-II on the true model (``ringlube optimise --direct``), compared with the surrogate front."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from . import study_runs
+from .errors import RinglubeError
+from .executor import Executor, require
+from .study_constraints import constraint_bounds
+from .study_optimise import hypervolume
+from .study_runs import _bases
+from .study_settings import StudySettings
+from .study_state import Direct, DirectGeneration
+from .study_store import Study
+
+__all__ = ["direct", "direct_outputs", "FAILED_PENALTY"]
+
+#: Objective value given to a design the kernel rejects during the direct NSGA-II (the GA
+#: needs a finite number; any valid design is far better).
+FAILED_PENALTY = 1e10
+
+
+def direct(study: Study, ex: Executor, progress: bool = True) -> None:
+    """NSGA-II on the true model (no surrogate); compared with the surrogate front.
+
+    A design the kernel rejects gets :data:`FAILED_PENALTY` for every objective; a design
+    that failed or did not converge violates the problem's first constraint, so pymoo ranks
+    it below every converged design and never returns it in the front; so does, by less, a
+    design that lifts the ring off the liner (``liner_lift_share`` > 0: by its share / 200,
+    so less lift ranks higher among such designs). The study's
+    ``constraints`` follow as further inequalities on the true results (pymoo's ``G <= 0``),
+    so the direct front holds only designs that satisfy them. Every evaluated
+    generation is checkpointed in the study file (``cases/LABEL/direct_generations``); an
+    interrupted run resumes by replaying the same seeded NSGA-II over the stored
+    generations, so it re-runs none of them.
+
+    Parameters
+    ----------
+    study : Study
+        With fronts.
+    ex : Executor
+    progress : bool
+
+    Raises
+    ------
+    RinglubeError
+        No design of the direct NSGA-II converged.
+
+    Example
+    -------
+    >>> direct(study, Executor(serial=True), progress=False)   # doctest: +SKIP
+    """
+    require("pymoo", "NSGA-II")
+    from pymoo.algorithms.moo.nsga2 import NSGA2
+    from pymoo.core.problem import Problem
+    from pymoo.indicators.igd import IGD
+    from pymoo.optimize import minimize
+    from tqdm.auto import tqdm
+
+    s = study.s
+    names = direct_outputs(s)
+    m = len(s.objectives)
+    lift_col = names.index("liner_lift_share")
+
+    class TrueModel(Problem):
+        """The kernel itself as the pymoo problem, for one case (its base deck); inequality
+        constraints: 0 for a converged run, 1 for a failed or unconverged one; then the
+        study's constraints."""
+
+        def __init__(self, label, base, bar):
+            self.limits = constraint_bounds(study, label)
+            super().__init__(
+                n_var=len(s.variables),
+                n_obj=len(s.objectives),
+                n_ieq_constr=1 + len(self.limits),
+                xl=np.array(s.lower),
+                xu=np.array(s.upper),
+            )
+            self.label, self.base, self.bar = label, base, bar
+            self.generation = 0
+
+        def _evaluate(self, x, out, *args, **kwargs):
+            done = study.cases[self.label].direct_generations
+            if self.generation < len(done) and np.array_equal(done[self.generation].x, x):
+                gen = done[self.generation]  # run before an interruption: replayed, not re-run
+            else:
+                del done[self.generation :]
+                gen = self._run(x)
+                done.append(gen)
+                study.save(force=False)
+            self.generation += 1
+            self.bar.update(len(x))
+            out["F"] = np.where(gen.failed[:, None], FAILED_PENALTY, gen.f[:, :m])
+            ok = gen.converged & ~gen.failed
+            lift = np.nan_to_num(gen.f[:, names.index("liner_lift_share")], nan=0.0).clip(0.0, 100.0)
+            g = [np.where(ok, lift / 200.0, 1.0)]
+            for k, _, b in self.limits:
+                y = gen.f[:, names.index(k.name)]
+                g.append(np.where(ok, np.nan_to_num(k.violation(y, b), nan=1.0), 1.0))
+            out["G"] = np.column_stack(g)
+
+        def _run(self, x) -> DirectGeneration:
+            chunks = np.array_split(np.arange(len(x)), max(1, len(x) // s.batch))
+            f = np.empty((len(x), len(names)))
+            converged, failed = np.zeros(len(x), bool), np.zeros(len(x), bool)
+
+            def put(i, res):
+                values, conv, errors = res
+                f[chunks[i]] = values
+                converged[chunks[i]] = conv
+                failed[chunks[i]] = [bool(e) for e in errors]
+
+            t0 = time.perf_counter()
+            ex.map(study_runs._run_designs, [(self.base, s.groups_names, x[c], names) for c in chunks], put)
+            return DirectGeneration(np.array(x), f, converged, failed, time.perf_counter() - t0)
+
+    for label, base in zip(s.labels, _bases(s)):
+        if study.cases[label].direct is not None:
+            continue
+        bar = tqdm(
+            total=s.direct_population * s.direct_generations,
+            unit="run",
+            desc=f"direct NSGA-II ({label})",
+            disable=not progress,
+        )
+        problem = TrueModel(label, base, bar)
+        try:
+            res = minimize(
+                problem,
+                NSGA2(pop_size=s.direct_population),
+                ("n_gen", s.direct_generations),
+                seed=s.seed,
+                verbose=False,
+            )
+        finally:
+            bar.close()
+            study.save()
+        gens = study.cases[label].direct_generations
+        if res.F is None or (s.constraints and np.atleast_2d(res.G).max() > 0):
+            raise RinglubeError(
+                f"case '{label}': no design of the direct NSGA-II converged without lifting "
+                "the ring off the liner"
+                + (f" and satisfied the constraints ({'; '.join(s.constraints)})" if s.constraints else "")
+            )
+        fd = np.atleast_2d(res.F)
+        fs = np.asarray(study.cases[label].front.f)
+        both = np.vstack([fd, fs])
+        lo, ref = both.min(0), both.max(0) + 0.1 * (both.max(0) - both.min(0) + 1e-12)
+        scale = ref - lo
+        study.cases[label].direct = Direct(
+            np.atleast_2d(res.X),
+            fd,
+            sum(len(g.x) for g in gens),
+            sum(g.wall_s for g in gens),
+            hypervolume(fd, ref, lo),
+            hypervolume(fs, ref, lo),
+            float(IGD(fd / scale)(fs / scale)),
+            float(IGD(fs / scale)(fd / scale)),
+            int(sum(g.failed.sum() for g in gens)),
+            int(sum((~g.converged & ~g.failed).sum() for g in gens)),
+            int(sum((g.converged & ~g.failed & (g.f[:, lift_col] > 0)).sum() for g in gens)),
+        )
+        study.save()
+
+
+def direct_outputs(s: StudySettings) -> list[str]:
+    """Results the direct NSGA-II records per design: the objectives, then the constrained
+    results that are not objectives.
+
+    Parameters
+    ----------
+    s : StudySettings
+
+    Returns
+    -------
+    list of str
+
+    Example
+    -------
+    >>> direct_outputs(StudySettings("s", [], [], [], [], [], [], ["energy_loss"],
+    ...                              constraints=["fmep <= 3", "energy_loss <= 2"]))
+    ['energy_loss', 'fmep', 'liner_lift_share']
+    """
+    return s.direct_outputs()

@@ -1,0 +1,171 @@
+"""The figures of a design study: the study turned into the plain arrays that
+:mod:`ringlube.study_plots` draws (fits, response maps, trade-offs)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from .study_constraints import constraint_bounds
+from .study_format import result_display
+from .study_store import Study
+from .study_surfaces import surfaces_of
+from .study_variables import display, output_units
+
+__all__ = ["study_figures", "tradeoff_stems", "tradeoff_figures"]
+
+
+def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
+    """The study's figures, drawn from plain arrays (see :mod:`ringlube.study_plots`).
+
+    Parameters
+    ----------
+    study : Study
+    out : path
+
+    Returns
+    -------
+    list of Path
+
+    Example
+    -------
+    >>> study_figures(study, "out/s")                          # doctest: +SKIP
+    """
+    from . import study_plots as sp
+
+    s, out = study.s, Path(out)
+    units = output_units()
+    axes = [
+        sp.Axis(*display(v, u, lo, hi), lo, hi)
+        for v, u, lo, hi in zip(s.variables, s.units, s.lower, s.upper)
+    ]
+    files = []
+    marks_all = {}
+    for label, c in study.cases.items():
+        if not c.surfaces:
+            continue
+        ok = c.runs.usable()
+        x = study.x[ok]
+        panels: list = []
+        surfaces = dict(zip(s.objectives, surfaces_of(study, label)))
+        for o in s.objectives:
+            sf, f = c.surfaces[o], surfaces[o]
+            panels.append(
+                sp.FitPanel(
+                    o,
+                    units[o],
+                    c.runs.outputs[ok, study.s.outputs.index(o)],
+                    f(x),
+                    sf.r2,
+                    sf.r2_adj,
+                    sf.cv_rel,
+                )
+            )
+        files += sp.save(sp.fit_figure(label, panels, s.folds), out, f"fit_{label}")
+        marks = []
+        for key, style in (("chosen", "chosen"), ("reference", "reference")):
+            ch = getattr(c, key)
+            if ch is not None:
+                marks += [sp.Mark(n, xi, style) for n, xi in zip(ch.names, ch.x)]
+        marks_all[label] = marks
+        for o in s.objectives:
+            files += sp.save(
+                sp.map_figure(f"{o} ({label})", f"{o} [{units[o]}]", surfaces[o], axes, marks),
+                out,
+                f"map_{label}_{o}",
+            )
+    files += tradeoff_figures(study, out)
+    return files
+
+
+def tradeoff_stems(objectives: list[str]) -> list[str]:
+    """File names (without suffix) of the trade-off figures of a study's objectives: one
+    ``tradeoff_A_vs_B`` per pair (B on the horizontal axis), and ``tradeoff_parallel`` for
+    three or more objectives.
+
+    Parameters
+    ----------
+    objectives : list of str
+
+    Returns
+    -------
+    list of str
+
+    Example
+    -------
+    >>> tradeoff_stems(["energy_loss", "oil_to_chamber"])
+    ['tradeoff_energy_loss_vs_oil_to_chamber']
+    >>> len(tradeoff_stems(["a", "b", "c"]))
+    4
+    """
+    import itertools
+
+    stems = [f"tradeoff_{a}_vs_{b}" for a, b in itertools.combinations(objectives, 2)]
+    return stems + (["tradeoff_parallel"] if len(objectives) >= 3 else [])
+
+
+def tradeoff_figures(study: Study, out: str | os.PathLike) -> list[Path]:
+    """The trade-off figures of the objectives the study minimised (:func:`tradeoff_stems`):
+    the Pareto sets as the GA found them on the surfaces, the chosen and reference designs
+    as re-simulated by the true model.
+
+    Parameters
+    ----------
+    study : Study
+    out : path
+
+    Returns
+    -------
+    list of Path
+
+    Example
+    -------
+    >>> tradeoff_figures(study, "out/s")                         # doctest: +SKIP
+    """
+    import itertools
+
+    from . import study_plots as sp
+
+    s = study.s
+    cols = [s.outputs.index(o) for o in s.objectives]
+    shown = [result_display(o) for o in s.objectives]
+    labels = [f"{o.replace('_', ' ')} [{u}]" for o, (u, _) in zip(s.objectives, shown)]
+    scale = np.array([k for _, k in shown])
+    fronts, designs = {}, {}
+    for label, c in study.cases.items():
+        if c.front is None:
+            continue
+        fronts[label] = np.asarray(c.front.f) * scale
+        designs[label] = [
+            (n, ft[cols] * scale, style)
+            for ch, style in ((c.chosen, "chosen"), (c.reference, "reference"))
+            if ch is not None
+            for n, ft in zip(ch.names, ch.f_true)
+            if np.isfinite(ft[cols]).all()
+        ]
+    if not fronts:
+        return []
+    files = []
+    stems = tradeoff_stems(list(s.objectives))
+    for (a, b), stem in zip(itertools.combinations(range(len(s.objectives)), 2), stems):
+        series = [
+            sp.TradeoffSeries(
+                label, fronts[label][:, [b, a]], [(n, v[b], v[a], st) for n, v, st in designs[label]]
+            )
+            for label in fronts
+        ]
+        title = f"trade-off: {s.objectives[a]} against {s.objectives[b]} (both minimised)"
+        limits = [
+            ("x" if k.name == s.objectives[b] else "y", bound * shown[idx][1], f"{label}: {k} (constraint)")
+            for label in fronts
+            for k, _, bound in constraint_bounds(study, label)
+            for idx in (a, b)
+            if k.name == s.objectives[idx]
+        ]
+        files += sp.save(sp.tradeoff_figure(series, labels[b], labels[a], title, limits), out, stem)
+    if len(s.objectives) >= 3:
+        series = [sp.TradeoffSeries(label, fronts[label], designs[label]) for label in fronts]
+        files += sp.save(sp.parallel_figure(series, labels, "objectives of the Pareto set"), out, stems[-1])
+    return files

@@ -1,0 +1,126 @@
+"""How a study's designs and results are shown: display units, marks and feasibility.
+
+Every number carries its unit; designs are shown in the units of
+:func:`~ringlube.study_variables.display` (lengths in mm or µm, tension in the base decks'
+``&ring tension_unit``). A re-checked design that did not converge or lifted the ring off the
+liner is marked (:data:`NOT_CONVERGED`, :data:`LIFTED`), never shown as a good design.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .study_constraints import constraint_bounds
+from .study_store import Study
+from .study_variables import display, output_units
+
+#: How a re-checked design whose true-model run did not converge is marked (its numbers are
+#: the last cycle's, not a verified periodic result).
+NOT_CONVERGED = "NOT CONVERGED, not verified"
+#: Mark of a design whose true-model run lifted the ring off the liner at some crank steps
+#: (``liner_lift_share`` > 0: the film carried no load there and the results at those steps
+#: rest on the lift-off model, issue 16): reported, never ranked as a good design.
+LIFTED = "LIFTED OFF the liner, not a good design"
+#: Pareto CSV column marking designs the surfaces predict to lift off the liner.
+LIFTED_COLUMN = "lifted off the liner (surrogate)"
+
+__all__ = [
+    "LIFTED",
+    "LIFTED_COLUMN",
+    "NOT_CONVERGED",
+    "format_design",
+    "result_display",
+]
+
+
+def format_design(study: Study, x) -> str:
+    """A design as text in display units, e.g. ``width 1.004 mm, tension 8 N/m``.
+
+    Parameters
+    ----------
+    study : Study
+    x : array_like
+        One value per variable (SI).
+
+    Returns
+    -------
+    str
+
+    Example
+    -------
+    >>> format_design(study, [1.004e-3, 9.31e-6, -38.3e-6, 8.0])    # doctest: +SKIP
+    'width 1.004 mm, crown height 9.31 µm, crown offset -38.3 µm, tension 8 N/m'
+    """
+    s = study.s
+    parts = []
+    for v, u, lo, hi, xi in zip(s.variables, s.units, s.lower, s.upper, x):
+        label, scale = display(v, u, lo, hi)
+        name, _, unit = label.partition(" [")
+        parts.append(f"{name} {xi * scale:.4g}" + (f" {unit[:-1]}" if unit else ""))
+    return ", ".join(parts)
+
+
+def result_display(name: str) -> tuple[str, float]:
+    """Unit a result is shown in and the factor from its stored unit: lengths (stored in
+    metres, e.g. ``min_film``) in µm, every other result in its own unit.
+
+    Parameters
+    ----------
+    name : str
+        A result (:func:`~ringlube.study_variables.output_units`).
+
+    Returns
+    -------
+    unit : str
+    scale : float
+
+    Example
+    -------
+    >>> result_display("min_film"), result_display("energy_loss")
+    (('µm', 1000000.0), ('J', 1.0))
+    """
+    unit = output_units()[name]
+    return ("µm", 1e6) if unit == "m" else (unit, 1.0)
+
+
+def _values(names, values) -> str:
+    out = []
+    for o, v in zip(names, values):
+        unit, k = result_display(o)
+        out.append(f"{o} {v * k:.4g} {unit}")
+    return ", ".join(out)
+
+
+def lift_share(study: Study, values: np.ndarray) -> float:
+    """The ``liner_lift_share`` [%] among a design's results (0 if the study does not record
+    it or the value is not a number).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> st = SimpleNamespace(s=SimpleNamespace(outputs=["energy_loss", "liner_lift_share"]))
+    >>> lift_share(st, np.array([1.5, 2.5])), lift_share(st, np.array([1.5, np.nan]))
+    (2.5, 0.0)
+    """
+    outputs = list(study.s.outputs)
+    if "liner_lift_share" not in outputs:
+        return 0.0
+    v = float(values[outputs.index("liner_lift_share")])
+    return v if np.isfinite(v) and v > 0 else 0.0
+
+
+def _lift_mark(study: Study, values: np.ndarray) -> str:
+    """'' or the lift-off mark with the share of the cycle lifted."""
+    share = lift_share(study, values)
+    return f"{LIFTED} ({share:.3g} % of the cycle)" if share > 0 else ""
+
+
+def _feasible_text(study: Study, label: str, ft: np.ndarray) -> str:
+    """'feasible' or which constraints the true results violate."""
+    bad = []
+    for k, j, b in constraint_bounds(study, label):
+        unit, scale = result_display(k.name)
+        if not np.isfinite(ft[j]) or k.violation(ft[j], b) > 0:
+            rel = ">" if k.sense == "<=" else "<"
+            bad.append(f"{k.name} {ft[j] * scale:.6g} {rel} {b * scale:.6g} {unit}")
+    return "feasible" if not bad else "INFEASIBLE: " + "; ".join(bad)
