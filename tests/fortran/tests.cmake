@@ -7,7 +7,8 @@
 # (`ctest -R jfo/squeeze`; `build/test_jfo squeeze` runs it by hand), so a new case needs
 # no edit here. A program without run_case lines is one ctest named after it.
 add_library(ringlube_check STATIC ${CMAKE_CURRENT_LIST_DIR}/check.f90
-  ${CMAKE_CURRENT_LIST_DIR}/slider_closed_form.f90)
+  ${CMAKE_CURRENT_LIST_DIR}/slider_closed_form.f90 ${CMAKE_CURRENT_LIST_DIR}/jfo_test_tools.f90
+  ${CMAKE_CURRENT_LIST_DIR}/squeeze_exact.f90)
 target_link_libraries(ringlube_check PUBLIC ringlube_kernel)
 
 #: labels of each program's tests. unit: one module or function against an exact or
@@ -28,9 +29,11 @@ set(ringlube_labels_time_order "numerics")
 set(ringlube_labels_film_viscosity "numerics")
 set(ringlube_labels_film_edges "numerics")
 set(ringlube_labels_jfo "numerics;slow")
+set(ringlube_labels_jfo_connect "numerics")
 set(ringlube_labels_ring_pack "unit;numerics;slow")
 
-foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner jfo time_order
+foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner jfo jfo_connect
+    time_order
     mixed_share film_viscosity film_edges results ring_pack)
   set(src ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
   add_executable(test_${t} ${src})
