@@ -30,11 +30,12 @@ set(ringlube_labels_film_viscosity "numerics")
 set(ringlube_labels_film_edges "numerics")
 set(ringlube_labels_jfo "numerics;slow")
 set(ringlube_labels_jfo_connect "numerics")
-set(ringlube_labels_ring_pack "unit;numerics;slow")
+set(ringlube_labels_ring_pack "unit;numerics")
+set(ringlube_labels_ring_pack_cycle "numerics")
 
 foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner jfo jfo_connect
     time_order
-    mixed_share film_viscosity film_edges results ring_pack)
+    mixed_share film_viscosity film_edges results ring_pack ring_pack_cycle)
   set(src ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
   add_executable(test_${t} ${src})
   target_link_libraries(test_${t} PRIVATE ringlube_check ringlube_io ${LAPACK_LIBRARIES})
