@@ -161,11 +161,8 @@ contains
         return
       end if
       start = pos
-      do while (pos <= n)
-        if (is_sep(text(pos:pos))) exit
-        pos = pos + 1
-      end do
-      value = text(start:pos - 1)
+      value = token(pos)
+      pos = pos + len(value)
       if (len(value) == 0) call fail('&'//group//' '//name//': missing value')
     end subroutine read_value
 
