@@ -59,7 +59,9 @@ def _parser() -> argparse.ArgumentParser:
     ap = _Parser(prog="ringlube", description="Piston ring mixed-lubrication solver and design optimiser.")
     ap.add_argument("--version", action="version", version=f"ringlube {__version__}")
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=_Parser)
-    p = sub.add_parser(
+    p = _command(
+        sub,
+        _cmd_run,
         "run",
         help="run one deck (same numbers as ringlube-solve)",
         description="Run one deck and write its result (HDF5).",
@@ -69,8 +71,9 @@ def _parser() -> argparse.ArgumentParser:
         "-o", "--output", help="result file (default: the deck's &output file, else the deck's name with .h5)"
     )
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
-    p.set_defaults(func=_cmd_run)
-    p = sub.add_parser(
+    p = _command(
+        sub,
+        _cmd_plot,
         "plot",
         help="friction, film and gas-pressure plots of one or more results",
         description="Friction, film and gas-pressure plots (PNG and PDF) of result files, and the "
@@ -79,8 +82,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("results", nargs="+", help="result files (HDF5) to overlay")
     p.add_argument("-o", "--output", default=".", help="output folder")
     p.add_argument("--labels", help="comma-separated legend labels (default: file names)")
-    p.set_defaults(func=_cmd_plot)
-    p = sub.add_parser(
+    p = _command(
+        sub,
+        _cmd_gas,
         "gas",
         help="a gas-pressure trace for your engine, or the shipped ones",
         description="Without -o: regenerate the shipped synthetic traces (CSV) in --out. With -o "
@@ -116,8 +120,9 @@ def _parser() -> argparse.ArgumentParser:
             metavar="X",
             help=f"{help_text} ({shown})",
         )
-    p.set_defaults(func=_cmd_gas)
-    p = sub.add_parser(
+    p = _command(
+        sub,
+        _cmd_show,
         "show",
         help="the effective inputs of a deck and where each came from",
         description="Print every input of a deck as the kernel reads it, with where its value came "
@@ -126,8 +131,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     p.add_argument("deck", help="the case deck (namelist)")
     p.add_argument("--set", action="store_true", help="only the inputs the deck or its calibration file set")
-    p.set_defaults(func=_cmd_show)
-    p = sub.add_parser(
+    p = _command(
+        sub,
+        _cmd_convergence,
         "convergence",
         help="speed against accuracy over numerical settings",
         description="Speed against accuracy over numerical settings.",
@@ -136,8 +142,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default="docs/convergence", help="output folder")
     p.add_argument("--quick", action="store_true", help="shorter ladders (no 801/1601 nodes)")
     p.add_argument("--repeats", type=_positive_int, default=3, help="timing repeats per setting (best kept)")
-    p.set_defaults(func=_cmd_convergence)
-    p = sub.add_parser(
+    p = _command(
+        sub,
+        _cmd_calibrate,
         "calibrate",
         help="fit the uncertain inputs to the cold Table 2 case",
         description="Fit the uncertain inputs to the cold Table 2 case.",
@@ -152,16 +159,18 @@ def _parser() -> argparse.ArgumentParser:
         help="CSV of measured or published results (condition 'cold' is fitted; "
         "default: inputs/targets_table2.csv, Table 2 of the study)",
     )
-    p.set_defaults(func=_cmd_calibrate)
-    p = sub.add_parser(
+    p = _command(
+        sub,
+        _cmd_validate,
         "validate",
         help="regenerate docs/validation.md against Table 2",
         description="Regenerate docs/validation.md against the study's Table 2.",
     )
     p.add_argument("--root", default=".", help="project folder (with inputs/)")
     p.add_argument("--out", default="docs", help="output folder")
-    p.set_defaults(func=_cmd_validate)
-    p = sub.add_parser(
+    p = _command(
+        sub,
+        _cmd_readings,
         "readings",
         help="calibrate every reading of the open modelling choices (cold only)",
         description="Fit every reading (film model x contact area x tension unit) to the cold "
@@ -170,8 +179,9 @@ def _parser() -> argparse.ArgumentParser:
     from .readings_cli import add_arguments as readings_arguments
 
     readings_arguments(p)
-    p.set_defaults(func=_cmd_readings)
-    p = sub.add_parser(
+    p = _command(
+        sub,
+        _cmd_optimise,
         "optimise",
         help="DOE, quadratic surfaces and NSGA-II from a &study deck",
         description="Design study from a &study deck: sample, run, fit, NSGA-II, "
@@ -197,5 +207,12 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument(
         "-q", "--quiet", action="store_true", help="no progress bars or summary (the files are still written)"
     )
-    p.set_defaults(func=_cmd_optimise)
     return ap
+
+
+def _command(sub, func, name: str, **kwargs) -> argparse.ArgumentParser:
+    """A subcommand `name` of `sub` run by `func` (add_parser's keyword arguments: help,
+    description, ...)."""
+    p = sub.add_parser(name, **kwargs)
+    p.set_defaults(func=func)
+    return p
