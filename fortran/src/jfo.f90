@@ -37,7 +37,7 @@ module ringlube_jfo
   use ringlube_jfo_system, only: jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel
   implicit none
   private
-  public :: jfo_solve, jfo_film_volume
+  public :: jfo_solve, jfo_film_volume, jfo_options
   public :: JFO_OK, JFO_NOT_CONVERGED, JFO_SINGULAR, JFO_DRY, JFO_CONNECTIVITY, JFO_BAD_INPUT
 
   !> info codes of jfo_solve / jfo_solve_connected
@@ -51,10 +51,21 @@ module ringlube_jfo
   !> inconsistent sizes, n < 3 or dx <= 0; p and theta untouched
   integer, parameter :: JFO_BAD_INPUT = 5
 
-  real(dp), parameter :: default_tol = 1e-11_dp
+  !> Options of a solve (the defaults are the film's): tol the residual tolerance relative to
+  !> the largest flux term of a node; max_iter the Newton iterations (newton = .false.: the
+  !> Gauss-Seidel sweeps); max_outer the solves of jfo_solve_connected's outer loop; guard =
+  !> .false. switches the anti-cycling guard off and newton = .false. uses the Gauss-Seidel
+  !> fallback alone (both for the tests and the benchmark).
+  type :: jfo_options
+    real(dp) :: tol = 1e-11_dp
+    integer :: max_iter = 200
+    integer :: max_outer = 200
+    logical :: guard = .true.
+    logical :: newton = .true.
+  end type jfo_options
+
   !> residual (relative to the same scale) below which a converged state is left as it is
   real(dp), parameter :: polish_tol = 1e-14_dp
-  integer, parameter :: default_max_iter = 200
   !> Newton steps taken in full before the guard (Armijo backtracking, Gauss-Seidel) engages:
   !> the merit ||R|| of a semismooth Newton step need not fall even when the step is right,
   !> and a step moves a cavity boundary by a few nodes, so on fine grids a warm start needs
@@ -91,27 +102,24 @@ contains
   !> p(n) = p_right, theta(1) = theta_left, theta(n) = theta_right.
   !> q_left, q_right: oil flux (m^2/s, positive towards +x) through the first and last interior
   !> faces, so that `jfo_film_volume` after - before = dt (q_left - q_right) to the tolerance.
-  !> tol: residual tolerance relative to the largest flux term of a node (default 1e-11);
-  !> max_iter: Newton iterations (default 200); guard = .false. switches the anti-cycling guard off
-  !> (tests); newton = .false. uses only projected Gauss-Seidel sweeps, max_iter of them (the
-  !> fallback, for tests and the benchmark); sweeps (out): Gauss-Seidel sweeps spent.
+  !> options (jfo_options): tolerance, iteration cap, guard, Newton or the fallback alone;
+  !> sweeps (out): Gauss-Seidel sweeps spent.
   !> cap_left, cap_right (m^2/s, default none): the oil entering the gap through the left
   !> (right) edge face is at most this (the oil there: a starved inlet's strip and bank, the
   !> liner film behind a trailing edge): `F_in = min(F_in, cap)`, a kink like the others of
   !> the residual; beyond it the edge admits gas. Both edges are treated alike, whichever
   !> leads; the Newton solve and the Gauss-Seidel fallback apply the same caps.
+  !> work (jfo_system): the step's system, kept by a caller between solves (else a local one).
   pure recursive subroutine jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
                                       theta_left, theta_right, pc, p, theta, iterations, info, &
-                                      q_left, q_right, tol, max_iter, guard, newton, sweeps, &
+                                      q_left, q_right, options, sweeps, &
                                       cap_left, cap_right, work)
     real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
     real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, pc(:)
     real(dp), intent(inout) :: p(:), theta(:)
     integer, intent(out) :: iterations, info
     real(dp), intent(out), optional :: q_left, q_right
-    real(dp), intent(in), optional :: tol
-    integer, intent(in), optional :: max_iter
-    logical, intent(in), optional :: guard, newton
+    type(jfo_options), intent(in), optional :: options
     integer, intent(out), optional :: sweeps
     real(dp), intent(in), optional :: cap_left, cap_right
     type(jfo_system), intent(inout), optional :: work
@@ -123,11 +131,12 @@ contains
     real(dp) :: rtol, f0, ft, fbest, t, rscale, rmax, fhist(nonmonotone), qcl, qcr
     integer :: n, i, it, itmax, tinfo, nls, nsweep, stall, nfall
     logical :: use_guard, use_newton, accepted, jac_ok
+    type(jfo_options) :: opt
 
     if (.not. present(work)) then
       call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
-                     theta_right, pc, p, theta, iterations, info, q_left, q_right, tol, max_iter, &
-                     guard, newton, sweeps, cap_left, cap_right, local)
+                     theta_right, pc, p, theta, iterations, info, q_left, q_right, options, &
+                     sweeps, cap_left, cap_right, local)
       return
     end if
     n = size(h)
@@ -142,14 +151,11 @@ contains
       return
     end if
     info = JFO_OK
-    rtol = default_tol
-    if (present(tol)) rtol = tol
-    itmax = default_max_iter
-    if (present(max_iter)) itmax = max_iter
-    use_guard = .true.
-    if (present(guard)) use_guard = guard
-    use_newton = .true.
-    if (present(newton)) use_newton = newton
+    if (present(options)) opt = options
+    rtol = opt%tol
+    itmax = opt%max_iter
+    use_guard = opt%guard
+    use_newton = opt%newton
     qcl = huge(1.0_dp)
     if (present(cap_left)) qcl = max(cap_left, 0.0_dp)
     qcr = huge(1.0_dp)

@@ -5,14 +5,13 @@
 module ringlube_jfo_connect
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_kinds, only: dp
-  use ringlube_jfo, only: jfo_solve, JFO_OK, JFO_DRY, JFO_CONNECTIVITY, JFO_BAD_INPUT
+  use ringlube_jfo, only: jfo_solve, jfo_options, JFO_OK, JFO_DRY, JFO_CONNECTIVITY, JFO_BAD_INPUT
   use ringlube_jfo_system, only: jfo_system
   implicit none
   private
   public :: jfo_solve_connected, jfo_cavity_pressure
 
-  !> outer solves of the connectivity loop before it ends flagged (a warm start needs 1-2)
-  integer, parameter :: default_max_outer = 200
+  type(jfo_options), parameter :: jfo_options_default = jfo_options()
 
 contains
 
@@ -126,8 +125,8 @@ contains
   !> loop did not settle in max_outer solves (default 200; a warm start needs 1-2).
   pure subroutine jfo_solve_connected(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
                                       theta_left, theta_right, p_cav, trailing_gas, leading_gas, &
-                                      pc, p, theta, iterations, outer, info, q_left, q_right, tol, &
-                                      max_iter, max_outer, cap_left, cap_right, blown, work)
+                                      pc, p, theta, iterations, outer, info, q_left, q_right, &
+                                      options, cap_left, cap_right, blown, work)
     real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
     real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, p_cav
     logical, intent(in) :: trailing_gas, leading_gas
@@ -135,8 +134,7 @@ contains
     real(dp), intent(inout) :: p(:), theta(:)
     integer, intent(out) :: iterations, outer, info
     real(dp), intent(out), optional :: q_left, q_right
-    real(dp), intent(in), optional :: tol
-    integer, intent(in), optional :: max_iter, max_outer
+    type(jfo_options), intent(in), optional :: options
     real(dp), intent(in), optional :: cap_left, cap_right
     logical, intent(out), optional :: blown
     !> jfo_solve's system, kept between calls (optional)
@@ -146,8 +144,8 @@ contains
     real(dp) :: tl, tr
     integer :: k, kmax, it, i, j
 
-    kmax = default_max_outer
-    if (present(max_outer)) kmax = max_outer
+    kmax = jfo_options_default%max_outer
+    if (present(options)) kmax = options%max_outer
     iterations = 0
     outer = 0
     if (present(blown)) blown = .false.
@@ -171,7 +169,7 @@ contains
       if (bl .and. u < 0.0_dp) tl = 0.0_dp
       if (present(blown)) blown = bl
       call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, tl, tr, pc, p, &
-                     theta, it, info, q_left, q_right, tol, max_iter, cap_left=cap_left, &
+                     theta, it, info, q_left, q_right, options, cap_left=cap_left, &
                      cap_right=cap_right, work=work)
       iterations = iterations + it
       if (final) return

@@ -370,7 +370,7 @@ contains
     p = 1e5_dp
     th = 1.0_dp
     call jfo_solve(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 1e5_dp, 1e5_dp, 1.0_dp, 1.0_dp, pc, &
-                   p, th, it, info, newton=.false., max_iter=2000000, sweeps=sw)
+                  p, th, it, info, options=jfo_options(newton=.false., max_iter=2000000), sweeps=sw)
     write (*, '(a, i0, a, es10.3)') '7. Gauss-Seidel fallback alone: ', sw, &
       ' sweeps, max |p - p_newton|/max p = ', maxval(abs(p - p0)) / maxval(p0)
     call check(info == JFO_OK .and. maxval(abs(p - p0)) <= 1e-8_dp * maxval(p0) &
@@ -405,7 +405,7 @@ contains
       p = p0
       th = t0
       call jfo_solve(dx, hh, hmm, km, u, dtr, cold, pl, pr, tinl, tinr, pc, p, th, it, info, &
-                     guard=.false., max_iter=200)
+                     options=jfo_options(guard=.false., max_iter=200))
       if (info /= JFO_OK) nfail_plain = nfail_plain + 1
       pg = p0
       tg = t0
@@ -418,7 +418,7 @@ contains
       p = p0
       th = t0
       call jfo_solve(dx, hh, hmm, km, u, dtr, cold, pl, pr, tinl, tinr, pc, p, th, it, info, &
-                     max_iter=1)
+                     options=jfo_options(max_iter=1))
       if (info == JFO_NOT_CONVERGED .and. all(abs(p) < huge(1.0_dp)) &
           .and. all(p(2:n - 1) >= pc(2:n - 1)) &
           .and. all(th >= 0.0_dp .and. th <= 1.0_dp)) nflagged = nflagged + 1

@@ -294,7 +294,7 @@ contains
     pb = 1e5_dp
     tb = 1.0_dp
     call jfo_solve(dx, h, hmid, kmid, u, dt, 0.6_dp * h, 3e5_dp, 1e5_dp, 0.5_dp, 1.0_dp, pc, pb, &
-                   tb, it, info, ql, qr, cap_left=qcap, newton=.false., max_iter=2000000)
+         tb, it, info, ql, qr, cap_left=qcap, options=jfo_options(newton=.false., max_iter=2000000))
     write (*, '(a, i0, a, es10.3)') '   Gauss-Seidel alone with the cap: ', it, &
       ' sweeps, max |dp|/max p ', maxval(abs(pb - p)) / maxval(p)
     call check(info == JFO_OK .and. maxval(abs(pb - p)) <= 1e-8_dp * maxval(p) &
