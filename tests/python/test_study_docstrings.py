@@ -15,6 +15,7 @@ MODULES = [
     "ringlube.study_constraints",
     "ringlube.study_settings",
     "ringlube.study_deck",
+    "ringlube.study_h5",
     "ringlube.study_state",
     "ringlube.study_layout",
     "ringlube.study_store",
