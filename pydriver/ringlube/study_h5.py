@@ -1,7 +1,9 @@
-"""HDF5 pieces of a study file: labelled matrices and UTF-8 strings.
+"""HDF5 pieces of a study file shared by its records: labelled matrices and UTF-8 strings.
 
-:mod:`ringlube.study_layout` writes a case's state with them and
-:class:`~ringlube.study_store.Study` the file's attributes and samples.
+Every record of :mod:`ringlube.study_state` and :mod:`ringlube.study_state_checks` writes
+itself with these in ``to_h5`` and reads itself back in ``from_h5``;
+:mod:`ringlube.study_layout` composes them into a case and
+:class:`~ringlube.study_store.Study` writes the file's attributes and samples with them.
 """
 
 from __future__ import annotations

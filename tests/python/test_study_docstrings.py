@@ -17,6 +17,7 @@ MODULES = [
     "ringlube.study_deck",
     "ringlube.study_h5",
     "ringlube.study_state",
+    "ringlube.study_state_checks",
     "ringlube.study_layout",
     "ringlube.study_store",
     "ringlube.study_runs",
