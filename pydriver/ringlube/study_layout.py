@@ -4,8 +4,8 @@ Layout (format ``ringlube-study`` version 2, documented in docs/optimisation.md)
 matrix carries ``columns`` and ``units`` attributes (UTF-8 strings), e.g.
 ``/cases/cold/outputs`` has ``columns = energy_loss, mixed_share, ...`` and
 ``units = J, %, ...``. A case group holds one group per record, each written and read by the
-record itself (``to_h5``/``from_h5`` of :mod:`ringlube.study_state` and
-:mod:`ringlube.study_state_checks`):
+record itself (``to_h5``/``from_h5`` of :mod:`ringlube.study_state`,
+:mod:`ringlube.study_state_checks` and :class:`~ringlube.surrogate.QuadraticSurface`):
 ``runs``, ``surface/RESULT``, ``repeats/rK/{x,f}``, ``front``, ``chosen``, ``reference``,
 ``sure``, ``direct_generations/gK`` and ``direct`` (the last two with the ``key`` of the
 direct settings they were computed with).
@@ -17,9 +17,10 @@ import h5py
 
 from .study_h5 import put, text
 from .study_settings import StudySettings
-from .study_state import CaseState, Front, Runs, Surface
+from .study_state import CaseState, Front, Runs
 from .study_state_checks import Checked, Direct, DirectGeneration, Sure
 from .study_variables import output_units
+from .surrogate import QuadraticSurface
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "write_case", "read_case"]
 
@@ -98,7 +99,7 @@ def read_case(g: h5py.Group, s: StudySettings) -> CaseState:
         raise ValueError(f"{g.name}/runs has the wrong shape")
     c = CaseState(runs)
     for o, sg in g.get("surface", {}).items():
-        c.surfaces[o] = Surface.from_h5(sg)
+        c.surfaces[o] = QuadraticSurface.from_h5(sg, s.lower, s.upper)
     for name, rg in g.get("repeats", {}).items():
         c.repeats[int(name[1:])] = (rg["x"][()], rg["f"][()])
     if "front" in g:

@@ -1,7 +1,7 @@
 """The state of a design study as typed records.
 
 Per case (base deck label, or ``scene``) a :class:`CaseState`: the true-model :class:`Runs`,
-the fitted :class:`Surface` of each result, the GA repeats, the
+the fitted :class:`~ringlube.surrogate.QuadraticSurface` of each result, the GA repeats, the
 merged :class:`Front`, and the records of the true-model checks
 (:mod:`ringlube.study_state_checks`: the chosen and reference designs re-simulated, how sure
 the answer is, the direct NSGA-II and its checkpoints). Each record writes itself into an
@@ -21,9 +21,9 @@ from .study_h5 import put, put_strings, strings
 from .study_settings import StudySettings
 from .study_state_checks import Checked, Direct, DirectGeneration, Sure
 from .study_variables import OUTPUTS, output_units
-from .surrogate import term_names
+from .surrogate import QuadraticSurface
 
-__all__ = ["CaseState", "Runs", "Surface", "Front"]
+__all__ = ["CaseState", "Runs", "Front"]
 
 
 @dataclasses.dataclass
@@ -126,7 +126,7 @@ class Runs:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Runs:
-        """The runs as :meth:`to_h5` wrote it.
+        """The runs as written by :meth:`to_h5`.
 
         Parameters
         ----------
@@ -147,79 +147,6 @@ class Runs:
             group["failed"][()].astype(bool),
             strings(group["errors"]),
             float(group.attrs["wall_s"]),
-        )
-
-
-@dataclasses.dataclass
-class Surface:
-    """A fitted quadratic surface of one result (coefficients over the scaled variables).
-
-    Attributes
-    ----------
-    coef : ndarray
-        Coefficients of :func:`~ringlube.surrogate.quadratic_features`.
-    r2, r2_adj, cv_rmse, cv_rel : float
-        Goodness of fit; k-fold cross-validated RMSE (result's unit) and relative to mean |y|.
-    n : int
-        Samples fitted.
-
-    Example
-    -------
-    >>> Surface(np.zeros(3), 1.0, 1.0, 0.0, 0.0, 10).n
-    10
-    """
-
-    coef: np.ndarray
-    r2: float
-    r2_adj: float
-    cv_rmse: float
-    cv_rel: float
-    n: int
-
-    def to_h5(self, group: h5py.Group, variables: list[str], unit: str) -> None:
-        """Write the fit into ``group``: ``coef`` (columns: the terms) and attributes.
-
-        Parameters
-        ----------
-        group : h5py.Group
-            An empty group (``/cases/LABEL/surface/RESULT``).
-        variables : list of str
-            The design variables (the names of the terms).
-        unit : str
-            Unit of the fitted result.
-
-        Example
-        -------
-        >>> with h5py.File("x.h5", "w", driver="core", backing_store=False) as f:
-        ...     Surface(np.zeros(3), 1.0, 1.0, 0.0, 0.0, 10).to_h5(f.create_group("s"), ["w"], "J")
-        ...     Surface.from_h5(f["s"]).n
-        10
-        """
-        put(group, "coef", self.coef, term_names(variables))
-        for k in ("r2", "r2_adj", "cv_rmse", "cv_rel", "n"):
-            group.attrs[k] = getattr(self, k)
-        group.attrs["unit"] = unit
-
-    @classmethod
-    def from_h5(cls, group: h5py.Group) -> Surface:
-        """The fit as :meth:`to_h5` wrote it.
-
-        Parameters
-        ----------
-        group : h5py.Group
-
-        Returns
-        -------
-        Surface
-
-        Example
-        -------
-        >>> Surface.from_h5(f["cases/cold/surface/energy_loss"])  # doctest: +SKIP
-        """
-        return cls(
-            group["coef"][()],
-            *(float(group.attrs[k]) for k in ("r2", "r2_adj", "cv_rmse", "cv_rel")),
-            int(group.attrs["n"]),
         )
 
 
@@ -286,7 +213,7 @@ class Front:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Front:
-        """The front as :meth:`to_h5` wrote it.
+        """The front as written by :meth:`to_h5`.
 
         Parameters
         ----------
@@ -323,7 +250,7 @@ class CaseState:
     """
 
     runs: Runs
-    surfaces: dict[str, Surface] = dataclasses.field(default_factory=dict)
+    surfaces: dict[str, QuadraticSurface] = dataclasses.field(default_factory=dict)
     repeats: dict[int, tuple[np.ndarray, np.ndarray]] = dataclasses.field(default_factory=dict)
     front: Front | None = None
     chosen: Checked | None = None

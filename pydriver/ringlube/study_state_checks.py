@@ -106,7 +106,7 @@ class Checked:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Checked:
-        """The re-simulated designs as :meth:`to_h5` wrote it.
+        """The re-simulated designs as written by :meth:`to_h5`.
 
         Parameters
         ----------
@@ -195,7 +195,7 @@ class Direct:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Direct:
-        """The direct comparison as :meth:`to_h5` wrote it (missing figures: their defaults).
+        """The direct comparison as written by :meth:`to_h5` (attributes it lacks: their defaults).
 
         Parameters
         ----------
@@ -278,7 +278,7 @@ class DirectGeneration:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> DirectGeneration:
-        """The generation as :meth:`to_h5` wrote it.
+        """The generation as written by :meth:`to_h5`.
 
         Parameters
         ----------
@@ -375,7 +375,7 @@ class Sure:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Sure:
-        """The extra runs as :meth:`to_h5` wrote it.
+        """The extra runs as written by :meth:`to_h5`.
 
         Parameters
         ----------
