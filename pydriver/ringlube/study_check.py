@@ -8,7 +8,7 @@ from . import study_runs
 from .executor import Executor
 from .study_optimise import choose_designs
 from .study_runs import _bases
-from .study_state import Checked
+from .study_state_checks import Checked
 from .study_store import Study
 from .study_surfaces import predict
 

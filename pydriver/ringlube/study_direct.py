@@ -13,7 +13,7 @@ from .study_constraints import constraint_bounds
 from .study_optimise import hypervolume
 from .study_runs import _bases
 from .study_settings import StudySettings
-from .study_state import Direct, DirectGeneration
+from .study_state_checks import Direct, DirectGeneration
 from .study_store import Study
 
 __all__ = ["direct", "direct_outputs", "FAILED_PENALTY"]

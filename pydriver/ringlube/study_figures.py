@@ -11,7 +11,6 @@ import numpy as np
 from .study_constraints import constraint_bounds
 from .study_format import result_display
 from .study_store import Study
-from .study_surfaces import surfaces_of
 from .study_variables import display, output_units
 
 __all__ = ["study_figures", "tradeoff_stems", "tradeoff_figures"]
@@ -49,15 +48,14 @@ def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
         ok = c.runs.usable()
         x = study.x[ok]
         panels: list = []
-        surfaces = dict(zip(s.objectives, surfaces_of(study, label)))
         for o in s.objectives:
-            sf, f = c.surfaces[o], surfaces[o]
+            sf = c.surfaces[o]
             panels.append(
                 sp.FitPanel(
                     o,
                     units[o],
                     c.runs.outputs[ok, study.s.outputs.index(o)],
-                    f(x),
+                    sf(x),
                     sf.r2,
                     sf.r2_adj,
                     sf.cv_rel,
@@ -72,7 +70,7 @@ def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
         marks_all[label] = marks
         for o in s.objectives:
             files += sp.save(
-                sp.map_figure(f"{o} ({label})", f"{o} [{units[o]}]", surfaces[o], axes, marks),
+                sp.map_figure(f"{o} ({label})", f"{o} [{units[o]}]", c.surfaces[o], axes, marks),
                 out,
                 f"map_{label}_{o}",
             )

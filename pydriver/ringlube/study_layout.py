@@ -1,212 +1,121 @@
-"""The HDF5 layout of a study file: its format, and a case's state written and read.
+"""The HDF5 layout of a study file: its format, and a case's state composed of its records.
 
 Layout (format ``ringlube-study`` version 2, documented in docs/optimisation.md): every
 matrix carries ``columns`` and ``units`` attributes (UTF-8 strings), e.g.
 ``/cases/cold/outputs`` has ``columns = energy_loss, mixed_share, ...`` and
-``units = J, %, ...``.
+``units = J, %, ...``. A case group holds one group per record, each written and read by the
+record itself (``to_h5``/``from_h5`` of :mod:`ringlube.study_state`,
+:mod:`ringlube.study_state_checks` and :class:`~ringlube.surrogate.QuadraticSurface`):
+``runs``, ``surface/RESULT``, ``repeats/rK/{x,f}``, ``front``, ``chosen``, ``reference``,
+``sure``, ``direct_generations/gK`` and ``direct`` (the last two with the ``key`` of the
+direct settings they were computed with).
 """
 
 from __future__ import annotations
 
-import dataclasses
-from typing import Any
-
 import h5py
-import numpy as np
 
+from .study_h5 import put, text
 from .study_settings import StudySettings
-from .study_state import CaseState, Checked, Direct, DirectGeneration, Front, Runs, Sure, Surface
+from .study_state import CaseState, Front, Runs
+from .study_state_checks import Checked, Direct, DirectGeneration, Sure
 from .study_variables import output_units
+from .surrogate import QuadraticSurface
 
-__all__ = ["FORMAT", "FORMAT_VERSION"]
+__all__ = ["FORMAT", "FORMAT_VERSION", "write_case", "read_case"]
 
 #: ``format`` attribute of a study file.
 FORMAT = "ringlube-study"
 #: Layout version (1: before column labels, typed records and failed runs).
 FORMAT_VERSION = 2
-_STR = h5py.string_dtype("utf-8")
 
 
-def _text(value: Any) -> str:
-    if isinstance(value, (bytes, np.bytes_)):
-        return bytes(value).decode(errors="replace")
-    return str(value)
+def write_case(g: h5py.Group, c: CaseState, s: StudySettings) -> None:
+    """Write a case's state into its (empty) group ``/cases/LABEL``, record by record.
 
+    Parameters
+    ----------
+    g : h5py.Group
+        The case's group; its name ends with the case label.
+    c : CaseState
+    s : StudySettings
 
-def _put(
-    parent: h5py.Group, name: str, data: Any, columns: list[str] | None = None, units: list[str] | None = None
-) -> h5py.Dataset:
-    d = parent.create_dataset(name, data=np.asarray(data))
-    if columns is not None:
-        d.attrs.create("columns", np.array(columns, dtype=object), dtype=_STR)
-    if units is not None:
-        d.attrs.create("units", np.array(units, dtype=object), dtype=_STR)
-    return d
-
-
-def _put_strings(parent: h5py.Group, name: str, values: list[str]) -> None:
-    parent.create_dataset(name, data=np.array(values, dtype=object), dtype=_STR)
-
-
-def _strings(d: h5py.Dataset) -> list[str]:
-    return [_text(v) for v in d[()]]
-
-
-def _write_case(g: h5py.Group, c: CaseState, s: StudySettings) -> None:
+    Example
+    -------
+    >>> write_case(f.require_group("cases/cold"), study.cases["cold"], study.s)  # doctest: +SKIP
+    """
     units = output_units()
-    out_units = [units[o] for o in s.outputs]
-    obj_units = [units[o] for o in s.objectives]
-    r = g.create_group("runs")
-    _put(r, "outputs", c.runs.outputs, list(s.outputs), out_units)
-    for k in ("done", "converged", "failed"):
-        r.create_dataset(k, data=getattr(c.runs, k))
-    _put_strings(r, "errors", c.runs.errors)
-    r.attrs["wall_s"] = c.runs.wall_s
+    c.runs.to_h5(g.create_group("runs"), s)
     for o, sf in c.surfaces.items():
-        sg = g.create_group(f"surface/{o}")
-        from .surrogate import term_names
-
-        _put(sg, "coef", sf.coef, term_names(s.variables))
-        for k in ("r2", "r2_adj", "cv_rmse", "cv_rel", "n"):
-            sg.attrs[k] = getattr(sf, k)
-        sg.attrs["unit"] = units[o]
+        sf.to_h5(g.create_group(f"surface/{o}"), s.variables, units[o])
+    obj_units = [units[o] for o in s.objectives]
     for rep, (x, fv) in c.repeats.items():
-        _put(g, f"repeats/r{rep}/x", x, s.variables, s.units)
-        _put(g, f"repeats/r{rep}/f", fv, s.objectives, obj_units)
+        put(g, f"repeats/r{rep}/x", x, s.variables, s.units)
+        put(g, f"repeats/r{rep}/f", fv, s.objectives, obj_units)
     if c.front is not None:
-        fg = g.create_group("front")
-        fr = c.front
-        _put(fg, "x", fr.x, s.variables, s.units)
-        _put(fg, "f", fr.f, s.objectives, obj_units)
-        _put(fg, "hv_repeats", fr.hv_repeats)
-        _put(fg, "ref", fr.ref, s.objectives, obj_units)
-        _put(fg, "lo", fr.lo, s.objectives, obj_units)
-        for k in ("hv", "hv_ratio_mean", "hv_ratio_min"):
-            fg.attrs[k] = getattr(fr, k)
+        c.front.to_h5(g.create_group("front"), s)
     for key in ("chosen", "reference"):
         ch: Checked | None = getattr(c, key)
         if ch is not None:
-            cg = g.create_group(key)
-            _put_strings(cg, "names", ch.names)
-            _put(cg, "x", ch.x, s.variables, s.units)
-            _put(cg, "f_true", ch.f_true, list(s.outputs), out_units)
-            _put(cg, "f_surrogate", ch.f_surrogate, list(s.outputs), out_units)
-            _put(cg, "rel_error", ch.rel_error, list(s.outputs), ["1"] * len(s.outputs))
-            cg.create_dataset("converged", data=ch.converged)
-            _put_strings(cg, "errors", ch.errors)
+            ch.to_h5(g.create_group(key), s)
     if c.sure is not None:
-        su = c.sure
-        sg = g.create_group("sure")
-        _put_strings(sg, "names", su.names)
-        _put_strings(sg, "inputs", su.inputs)
-        _put(sg, "x", su.x, s.variables, s.units)
-        _put(sg, "nominal", su.nominal, list(s.outputs), out_units)
-        _put(sg, "accurate", su.accurate, list(s.outputs), out_units)
-        _put(sg, "factors", np.asarray(su.factors, float), su.inputs)
-        _put(sg, "low", su.low, list(s.outputs), out_units)
-        _put(sg, "high", su.high, list(s.outputs), out_units)
-        sg.attrs["preset"] = su.preset
+        c.sure.to_h5(g.create_group("sure"), s)
+    direct_key = s.derived_key(g.name.rsplit("/", 1)[-1], direct=True)
     for k, gen in enumerate(c.direct_generations):
         gg = g.create_group(f"direct_generations/g{k}")
-        gg.attrs["key"] = s.derived_key(g.name.rsplit("/", 1)[-1], direct=True)
-        gg.attrs["wall_s"] = gen.wall_s
-        _put(gg, "x", gen.x, s.variables, s.units)
-        _put(gg, "f", gen.f, s.direct_outputs(), [units[o] for o in s.direct_outputs()])
-        gg.create_dataset("converged", data=gen.converged)
-        gg.create_dataset("failed", data=gen.failed)
+        gg.attrs["key"] = direct_key
+        gen.to_h5(gg, s)
     if c.direct is not None:
         dg = g.create_group("direct")
-        dg.attrs["key"] = s.derived_key(g.name.rsplit("/", 1)[-1], direct=True)
-        _put(dg, "x", c.direct.x, s.variables, s.units)
-        _put(dg, "f", c.direct.f, s.objectives, obj_units)
-        for fld in dataclasses.fields(Direct):
-            if fld.name not in ("x", "f"):
-                dg.attrs[fld.name] = getattr(c.direct, fld.name)
+        dg.attrs["key"] = direct_key
+        c.direct.to_h5(dg, s)
 
 
-def _read_case(g: h5py.Group, s: StudySettings) -> CaseState:
-    r = g["runs"]
-    n = s.samples
-    runs = Runs(
-        r["outputs"][()],
-        r["done"][()].astype(bool),
-        r["converged"][()].astype(bool),
-        r["failed"][()].astype(bool),
-        _strings(r["errors"]),
-        float(r.attrs["wall_s"]),
-    )
-    if runs.outputs.shape != (n, len(s.outputs)) or runs.done.shape != (n,):
+def read_case(g: h5py.Group, s: StudySettings) -> CaseState:
+    """A case's state as :func:`write_case` wrote it (direct results of other settings dropped).
+
+    Parameters
+    ----------
+    g : h5py.Group
+        The case's group ``/cases/LABEL``.
+    s : StudySettings
+        The study's settings now.
+
+    Returns
+    -------
+    CaseState
+
+    Raises
+    ------
+    ValueError
+        The runs do not match the settings' samples and results.
+
+    Example
+    -------
+    >>> c = read_case(f["cases/cold"], study.s)                    # doctest: +SKIP
+    """
+    runs = Runs.from_h5(g["runs"])
+    if runs.outputs.shape != (s.samples, len(s.outputs)) or runs.done.shape != (s.samples,):
         raise ValueError(f"{g.name}/runs has the wrong shape")
     c = CaseState(runs)
     for o, sg in g.get("surface", {}).items():
-        c.surfaces[o] = Surface(
-            sg["coef"][()],
-            *(float(sg.attrs[k]) for k in ("r2", "r2_adj", "cv_rmse", "cv_rel")),
-            int(sg.attrs["n"]),
-        )
+        c.surfaces[o] = QuadraticSurface.from_h5(sg, s.lower, s.upper)
     for name, rg in g.get("repeats", {}).items():
         c.repeats[int(name[1:])] = (rg["x"][()], rg["f"][()])
     if "front" in g:
-        fg = g["front"]
-        c.front = Front(
-            fg["x"][()],
-            fg["f"][()],
-            float(fg.attrs["hv"]),
-            fg["hv_repeats"][()],
-            float(fg.attrs["hv_ratio_mean"]),
-            float(fg.attrs["hv_ratio_min"]),
-            fg["ref"][()],
-            fg["lo"][()],
-        )
+        c.front = Front.from_h5(g["front"])
     for key in ("chosen", "reference"):
         if key in g:
-            cg = g[key]
-            setattr(
-                c,
-                key,
-                Checked(
-                    _strings(cg["names"]),
-                    cg["x"][()],
-                    cg["f_true"][()],
-                    cg["f_surrogate"][()],
-                    cg["converged"][()].astype(bool),
-                    _strings(cg["errors"]),
-                ),
-            )
+            setattr(c, key, Checked.from_h5(g[key]))
     if "sure" in g:
-        sg = g["sure"]
-        c.sure = Sure(
-            _strings(sg["names"]),
-            sg["x"][()],
-            sg["nominal"][()],
-            _text(sg.attrs["preset"]),
-            sg["accurate"][()],
-            _strings(sg["inputs"]),
-            [float(v) for v in sg["factors"][()]],
-            sg["low"][()],
-            sg["high"][()],
-        )
+        c.sure = Sure.from_h5(g["sure"])
     direct_key = s.derived_key(g.name.rsplit("/", 1)[-1], direct=True)
-    if "direct" in g and _text(g["direct"].attrs.get("key", "")) == direct_key:  # else redone
-        dg = g["direct"]
-        kw = {
-            fld.name: dg.attrs.get(fld.name, fld.default)
-            for fld in dataclasses.fields(Direct)
-            if fld.name not in ("x", "f")
-        }
-        c.direct = Direct(dg["x"][()], dg["f"][()], **kw)
+    if "direct" in g and text(g["direct"].attrs.get("key", "")) == direct_key:  # else redone
+        c.direct = Direct.from_h5(g["direct"])
     gens = g.get("direct_generations", {})
     for k in range(len(gens)):
         gg = gens[f"g{k}"]
-        if _text(gg.attrs.get("key", "")) != direct_key:
+        if text(gg.attrs.get("key", "")) != direct_key:
             break  # checkpoints of other direct settings: redone
-        c.direct_generations.append(
-            DirectGeneration(
-                gg["x"][()],
-                gg["f"][()],
-                gg["converged"][()].astype(bool),
-                gg["failed"][()].astype(bool),
-                float(gg.attrs["wall_s"]),
-            )
-        )
+        c.direct_generations.append(DirectGeneration.from_h5(gg))
     return c

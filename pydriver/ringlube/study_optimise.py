@@ -10,30 +10,31 @@ from .executor import Executor, require
 from .study_constraints import constraint_bounds
 from .study_state import Front
 from .study_store import Study
+from .surrogate import QuadraticSurface
 
 __all__ = ["ga_repeat", "nondominated", "hypervolume", "optimise", "choose_designs"]
 
 
 def ga_repeat(
-    coefs: list[np.ndarray],
+    surfaces: list[QuadraticSurface],
     lower,
     upper,
     population: int,
     generations: int,
     seed: int,
-    constraints: list[tuple[np.ndarray, str, float]] = (),
+    constraints: list[tuple[QuadraticSurface, str, float]] = (),
 ) -> tuple[np.ndarray, np.ndarray]:
     """One NSGA-II run (pymoo) on quadratic surfaces.
 
     Parameters
     ----------
-    coefs : list of ndarray
-        Surface coefficients, one per objective.
+    surfaces : list of QuadraticSurface
+        The fitted surfaces, one per objective.
     lower, upper : array_like
         The design box.
     population, generations, seed : int
         NSGA-II settings.
-    constraints : list of (coef, sense, bound)
+    constraints : list of (surface, sense, bound)
         Inequalities on fitted surfaces (``sense`` ``'<='`` or ``'>='``), handed to pymoo
         as ``G <= 0`` (:meth:`~ringlube.study_constraints.Constraint.violation`).
 
@@ -45,7 +46,8 @@ def ga_repeat(
 
     Example
     -------
-    >>> X, F = ga_repeat([np.ones(6)], [0, 0], [1, 1], 8, 2, 1)   # doctest: +SKIP
+    >>> energy = QuadraticSurface(np.zeros(2), np.ones(2), np.ones(6))
+    >>> X, F = ga_repeat([energy], [0, 0], [1, 1], 8, 2, 1)   # doctest: +SKIP
     """
     require("pymoo", "NSGA-II")
     from pymoo.algorithms.moo.nsga2 import NSGA2
@@ -53,14 +55,10 @@ def ga_repeat(
     from pymoo.optimize import minimize
 
     from .study_constraints import Constraint
-    from .surrogate import QuadraticSurface
 
     lower, upper = np.asarray(lower, float), np.asarray(upper, float)
-    surfs = [QuadraticSurface(lower, upper, np.asarray(c)) for c in coefs]
-    cons = [
-        (QuadraticSurface(lower, upper, np.asarray(c)), Constraint("", sense, bound), bound)
-        for c, sense, bound in constraints
-    ]
+    surfs = list(surfaces)
+    cons = [(f, Constraint("", sense, bound), bound) for f, sense, bound in constraints]
 
     def violations(x):
         return np.column_stack([c.violation(f(x), b) for f, c, b in cons])
@@ -153,13 +151,11 @@ def optimise(study: Study, ex: Executor, progress: bool = True) -> None:
     s = study.s
     tasks, where = [], []
     for label, c in study.cases.items():
-        coefs = [np.asarray(c.surfaces[o].coef) for o in s.objectives]
-        cons = [
-            (np.asarray(c.surfaces[k.name].coef), k.sense, b) for k, _, b in constraint_bounds(study, label)
-        ]
+        surfs = [c.surfaces[o] for o in s.objectives]
+        cons = [(c.surfaces[k.name], k.sense, b) for k, _, b in constraint_bounds(study, label)]
         for r in range(s.repeats):
             if r not in c.repeats:
-                tasks.append((coefs, s.lower, s.upper, s.population, s.generations, s.seed + 1000 * r, cons))
+                tasks.append((surfs, s.lower, s.upper, s.population, s.generations, s.seed + 1000 * r, cons))
                 where.append((label, r))
     bar = tqdm(total=len(tasks), desc="NSGA-II repeats", disable=not progress or not tasks)
 

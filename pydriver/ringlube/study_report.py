@@ -26,7 +26,7 @@ from .study_format import (
     result_display,
 )
 from .study_pareto import write_pareto_csv
-from .study_state import Checked
+from .study_state_checks import Checked
 from .study_store import Study
 from .study_variables import display, output_units
 

@@ -1,31 +1,29 @@
 """The state of a design study as typed records.
 
 Per case (base deck label, or ``scene``) a :class:`CaseState`: the true-model :class:`Runs`,
-the fitted :class:`Surface` of each result, the GA repeats, the merged :class:`Front`, the
-chosen and reference designs re-simulated (:class:`Checked`), how sure the answer is
-(:class:`Sure`) and the :class:`Direct` comparison with its checkpoints
-(:class:`DirectGeneration`). :class:`~ringlube.study_store.Study` holds them and
-:mod:`ringlube.study_layout` stores them.
+the fitted :class:`~ringlube.surrogate.QuadraticSurface` of each result, the GA repeats, the
+merged :class:`Front`, and the records of the true-model checks
+(:mod:`ringlube.study_state_checks`: the chosen and reference designs re-simulated, how sure
+the answer is, the direct NSGA-II and its checkpoints). Each record writes itself into an
+HDF5 group (``to_h5``) and reads itself back (``from_h5``) beside its fields;
+:mod:`ringlube.study_layout` composes them into a case of the study file and
+:class:`~ringlube.study_store.Study` holds them.
 """
 
 from __future__ import annotations
 
 import dataclasses
 
+import h5py
 import numpy as np
 
-from .study_variables import OUTPUTS
+from .study_h5 import put, put_strings, strings
+from .study_settings import StudySettings
+from .study_state_checks import Checked, Direct, DirectGeneration, Sure
+from .study_variables import OUTPUTS, output_units
+from .surrogate import QuadraticSurface
 
-__all__ = [
-    "CaseState",
-    "Runs",
-    "Surface",
-    "Front",
-    "Checked",
-    "Direct",
-    "DirectGeneration",
-    "Sure",
-]
+__all__ = ["CaseState", "Runs", "Front"]
 
 
 @dataclasses.dataclass
@@ -100,32 +98,56 @@ class Runs:
         """
         return self.done & self.converged & ~self.failed
 
+    def to_h5(self, group: h5py.Group, s: StudySettings) -> None:
+        """Write the runs into ``group``, every matrix labelled (``columns``, ``units``).
 
-@dataclasses.dataclass
-class Surface:
-    """A fitted quadratic surface of one result (coefficients over the scaled variables).
+        Parameters
+        ----------
+        group : h5py.Group
+            An empty group (``/cases/LABEL/runs``).
+        s : StudySettings
+            The study's settings (the labels and units of the columns).
 
-    Attributes
-    ----------
-    coef : ndarray
-        Coefficients of :func:`~ringlube.surrogate.quadratic_features`.
-    r2, r2_adj, cv_rmse, cv_rel : float
-        Goodness of fit; k-fold cross-validated RMSE (result's unit) and relative to mean |y|.
-    n : int
-        Samples fitted.
+        Example
+        -------
+        >>> s = StudySettings("s", ["a.nml"], ["c"], [1.0], ["width"], [0.0], [1.0],
+        ...                   ["energy_loss"], units=["m"])
+        >>> with h5py.File("x.h5", "w", driver="core", backing_store=False) as f:
+        ...     Runs.empty(2).to_h5(f.create_group("runs"), s)
+        ...     Runs.from_h5(f["runs"]).done.tolist()
+        [False, False]
+        """
+        units = output_units()
+        put(group, "outputs", self.outputs, list(s.outputs), [units[o] for o in s.outputs])
+        for k in ("done", "converged", "failed"):
+            group.create_dataset(k, data=getattr(self, k))
+        put_strings(group, "errors", self.errors)
+        group.attrs["wall_s"] = self.wall_s
 
-    Example
-    -------
-    >>> Surface(np.zeros(3), 1.0, 1.0, 0.0, 0.0, 10).n
-    10
-    """
+    @classmethod
+    def from_h5(cls, group: h5py.Group) -> Runs:
+        """The runs as written by :meth:`to_h5`.
 
-    coef: np.ndarray
-    r2: float
-    r2_adj: float
-    cv_rmse: float
-    cv_rel: float
-    n: int
+        Parameters
+        ----------
+        group : h5py.Group
+
+        Returns
+        -------
+        Runs
+
+        Example
+        -------
+        >>> Runs.from_h5(f["cases/cold/runs"])  # doctest: +SKIP
+        """
+        return cls(
+            group["outputs"][()],
+            group["done"][()].astype(bool),
+            group["converged"][()].astype(bool),
+            group["failed"][()].astype(bool),
+            strings(group["errors"]),
+            float(group.attrs["wall_s"]),
+        )
 
 
 @dataclasses.dataclass
@@ -159,161 +181,62 @@ class Front:
     ref: np.ndarray
     lo: np.ndarray
 
+    def to_h5(self, group: h5py.Group, s: StudySettings) -> None:
+        """Write the front into ``group``, every matrix labelled (``columns``, ``units``).
 
-@dataclasses.dataclass
-class Checked:
-    """Designs re-simulated with the true model, beside the surfaces' predictions.
-
-    Attributes
-    ----------
-    names : list of str
-        What each design is (``min energy_loss``, ``knee``, ``reference``).
-    x : ndarray, shape (k, d)
-        The designs.
-    f_true, f_surrogate : ndarray, shape (k, len(OUTPUTS))
-        Every result from the true model (NaN if it failed) and from the surfaces.
-    converged : ndarray of bool
-        Whether each true-model run converged.
-    errors : list of str
-        Error of each failed run ("" otherwise).
-
-    Example
-    -------
-    >>> c = Checked(["knee"], np.zeros((1, 1)), np.ones((1, 5)), np.ones((1, 5)) * 1.5,
-    ...             np.ones(1, bool), [""])
-    >>> float(c.rel_error[0, 0])
-    0.5
-    """
-
-    names: list[str]
-    x: np.ndarray
-    f_true: np.ndarray
-    f_surrogate: np.ndarray
-    converged: np.ndarray
-    errors: list[str]
-
-    @property
-    def rel_error(self) -> np.ndarray:
-        """Surrogate error relative to the true model, ``(surrogate - true) / |true|``.
-
-        Returns
-        -------
-        ndarray
+        Parameters
+        ----------
+        group : h5py.Group
+            An empty group (``/cases/LABEL/front``).
+        s : StudySettings
+            The study's settings (the labels and units of the columns).
 
         Example
         -------
-        >>> Checked([], np.zeros((0, 1)), np.ones((0, 5)), np.ones((0, 5)), np.ones(0, bool),
-        ...         []).rel_error.shape
-        (0, 5)
+        >>> s = StudySettings("s", ["a.nml"], ["c"], [1.0], ["width"], [0.0], [1.0],
+        ...                   ["energy_loss"], units=["m"])
+        >>> with h5py.File("x.h5", "w", driver="core", backing_store=False) as f:
+        ...     Front(np.zeros((1, 1)), np.zeros((1, 1)), 1.0, np.ones(1), 1.0, 1.0, np.ones(1),
+        ...           np.zeros(1)).to_h5(f.create_group("front"), s)
+        ...     Front.from_h5(f["front"]).hv
+        1.0
         """
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return (self.f_surrogate - self.f_true) / np.abs(self.f_true)
+        units = output_units()
+        obj_units = [units[o] for o in s.objectives]
+        put(group, "x", self.x, s.variables, s.units)
+        put(group, "f", self.f, s.objectives, obj_units)
+        put(group, "hv_repeats", self.hv_repeats)
+        put(group, "ref", self.ref, s.objectives, obj_units)
+        put(group, "lo", self.lo, s.objectives, obj_units)
+        for k in ("hv", "hv_ratio_mean", "hv_ratio_min"):
+            group.attrs[k] = getattr(self, k)
 
+    @classmethod
+    def from_h5(cls, group: h5py.Group) -> Front:
+        """The front as written by :meth:`to_h5`.
 
-@dataclasses.dataclass
-class Direct:
-    """NSGA-II on the true model and its comparison with the surrogate front.
+        Parameters
+        ----------
+        group : h5py.Group
 
-    Attributes
-    ----------
-    x, f : ndarray
-        The direct front (true objectives).
-    runs, failed, unconverged, lifted : int
-        True-model runs made, how many of them failed, did not converge, or converged with
-        the ring lifted off the liner at some crank steps (never in the front).
-    wall_s : float
-        Wall time.
-    hv_direct, hv_surrogate, igd_surrogate_to_direct, igd_direct_to_surrogate : float
-        Hypervolumes (common reference) and IGDs in normalised objectives.
+        Returns
+        -------
+        Front
 
-    Example
-    -------
-    >>> Direct(np.zeros((1, 1)), np.zeros((1, 1)), 8, 0.1, 0.5, 0.5, 0.0, 0.0).failed
-    0
-    """
-
-    x: np.ndarray
-    f: np.ndarray
-    runs: int
-    wall_s: float
-    hv_direct: float
-    hv_surrogate: float
-    igd_surrogate_to_direct: float
-    igd_direct_to_surrogate: float
-    failed: int = 0
-    unconverged: int = 0
-    lifted: int = 0
-
-
-@dataclasses.dataclass
-class DirectGeneration:
-    """One generation of the direct NSGA-II, as evaluated (its checkpoint).
-
-    Attributes
-    ----------
-    x : ndarray, shape (k, d)
-        The designs pymoo asked for.
-    f : ndarray, shape (k, len(direct_outputs))
-        Their true objectives, then the constrained results that are not objectives
-        (:meth:`~ringlube.study_settings.StudySettings.direct_outputs`; NaN where the run
-        failed).
-    converged, failed : ndarray of bool, shape (k,)
-        Whether each run converged, and whether the kernel rejected the design.
-    wall_s : float
-        Wall time of the generation's runs.
-
-    Example
-    -------
-    >>> DirectGeneration(np.zeros((2, 1)), np.ones((2, 1)), np.ones(2, bool),
-    ...                  np.zeros(2, bool), 0.1).x.shape
-    (2, 1)
-    """
-
-    x: np.ndarray
-    f: np.ndarray
-    converged: np.ndarray
-    failed: np.ndarray
-    wall_s: float = 0.0
-
-
-@dataclasses.dataclass
-class Sure:
-    """How sure the chosen designs are: extra true-model runs of them (and the reference).
-
-    Attributes
-    ----------
-    names : list of str
-        The designs (the chosen ones, then ``reference``).
-    x : ndarray, shape (k, d)
-    nominal : ndarray, shape (k, len(outputs))
-        Their results as re-simulated (the study's preset, nominal inputs).
-    preset : str
-        The ``&numerics preset`` of the base decks.
-    accurate : ndarray, shape (k, len(outputs))
-        The same designs at preset ``'accurate'``.
-    inputs : list of str
-        Uncertain inputs varied one at a time (``group:name``).
-    factors : list of float
-        Each input is multiplied and divided by its factor.
-    low, high : ndarray, shape (len(inputs), k, len(outputs))
-        Results with the input divided / multiplied by its factor.
-
-    Example
-    -------
-    >>> Sure(["knee"], np.zeros((1, 1)), np.ones((1, 2)), "fast", np.ones((1, 2)), [], [],
-    ...      np.zeros((0, 1, 2)), np.zeros((0, 1, 2))).preset
-    'fast'
-    """
-
-    names: list[str]
-    x: np.ndarray
-    nominal: np.ndarray
-    preset: str
-    accurate: np.ndarray
-    inputs: list[str]
-    factors: list[float]
-    low: np.ndarray
-    high: np.ndarray
+        Example
+        -------
+        >>> Front.from_h5(f["cases/cold/front"])  # doctest: +SKIP
+        """
+        return cls(
+            group["x"][()],
+            group["f"][()],
+            float(group.attrs["hv"]),
+            group["hv_repeats"][()],
+            float(group.attrs["hv_ratio_mean"]),
+            float(group.attrs["hv_ratio_min"]),
+            group["ref"][()],
+            group["lo"][()],
+        )
 
 
 @dataclasses.dataclass
@@ -327,7 +250,7 @@ class CaseState:
     """
 
     runs: Runs
-    surfaces: dict[str, Surface] = dataclasses.field(default_factory=dict)
+    surfaces: dict[str, QuadraticSurface] = dataclasses.field(default_factory=dict)
     repeats: dict[int, tuple[np.ndarray, np.ndarray]] = dataclasses.field(default_factory=dict)
     front: Front | None = None
     chosen: Checked | None = None

@@ -20,7 +20,8 @@ import h5py
 import numpy as np
 
 from .errors import InputError, RinglubeError
-from .study_layout import FORMAT, FORMAT_VERSION, _put, _read_case, _text, _write_case
+from .study_h5 import put, text
+from .study_layout import FORMAT, FORMAT_VERSION, read_case, write_case
 from .study_settings import StudySettings
 from .study_state import CaseState
 
@@ -199,7 +200,7 @@ class Study:
 
     def _read(self, f: h5py.File) -> None:
         path, s = self.path, self.s
-        if _text(f.attrs.get("format", "")) != FORMAT:
+        if text(f.attrs.get("format", "")) != FORMAT:
             raise InputError(
                 f"{path}: not a ringlube study file (no format attribute, or "
                 "written by an older ringlube); remove it or use another --out"
@@ -210,13 +211,13 @@ class Study:
                 f"{path}: study file layout {version}, this ringlube reads "
                 f"{FORMAT_VERSION}; use another --out"
             )
-        if _text(f.attrs["key"]) != s.key():
+        if text(f.attrs["key"]) != s.key():
             raise InputError(
                 f"{path}: exists and belongs to a study with other samples, cases, variables, "
                 "objectives or recorded results (a constraint on a result not recorded before); "
                 "use another --out folder"
             )
-        started = json.loads(_text(f.attrs["inputs"]))
+        started = json.loads(text(f.attrs["inputs"]))
         changed = [p for p in sorted(set(started) | set(s.inputs)) if started.get(p) != s.inputs.get(p)]
         if changed:
             raise InputError(
@@ -224,7 +225,7 @@ class Study:
                 "(edited since); resuming would mix two models in one surface fit. "
                 "Use another --out (or remove the file to start afresh)"
             )
-        self.stages = set(json.loads(_text(f.attrs["stages"])))
+        self.stages = set(json.loads(text(f.attrs["stages"])))
         if "samples/x" in f:
             self.x = f["samples/x"][()]
             if self.x.shape != (s.samples, len(s.variables)):
@@ -232,10 +233,10 @@ class Study:
         for label in [*s.labels, "scene"]:
             if f"cases/{label}/runs" in f:
                 g = f[f"cases/{label}"]
-                if _text(g.attrs.get("derived_key", "")) == s.derived_key(label):
-                    self.cases[label] = _read_case(g, s)
+                if text(g.attrs.get("derived_key", "")) == s.derived_key(label):
+                    self.cases[label] = read_case(g, s)
                 elif label != "scene":  # runs kept; what was derived from them is redone
-                    self.cases[label] = CaseState(_read_case(g, s).runs)
+                    self.cases[label] = CaseState(read_case(g, s).runs)
                 # a scene of other weights: recomputed from the cases' runs
 
     # --- writing -----------------------------------------------------------------------
@@ -283,10 +284,10 @@ class Study:
         f.attrs["stages"] = json.dumps(sorted(self.stages))
         f.attrs["ringlube_version"] = __version__
         if self.x is not None:
-            d = _put(f, "samples/x", self.x, s.variables, s.units)
+            d = put(f, "samples/x", self.x, s.variables, s.units)
             d.attrs["lower"] = s.lower
             d.attrs["upper"] = s.upper
         for label, c in self.cases.items():
             g = f.require_group(f"cases/{label}")
             g.attrs["derived_key"] = s.derived_key(label)
-            _write_case(g, c, s)
+            write_case(g, c, s)

@@ -9,7 +9,7 @@ from . import study_runs
 from .case import Case
 from .executor import Executor
 from .study_runs import _bases
-from .study_state import Sure
+from .study_state_checks import Sure
 from .study_store import Study
 
 __all__ = ["how_sure", "UNCERTAIN"]

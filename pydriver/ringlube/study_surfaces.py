@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import RinglubeError
-from .study_state import Surface
 from .study_store import Study
 
 __all__ = ["fit_surfaces", "surfaces_of", "predict"]
@@ -44,8 +43,8 @@ def fit_surfaces(study: Study) -> None:
         for j, o in enumerate(s.outputs):
             y = c.runs.outputs[ok, j]
             surf = fit_quadratic(x, y, s.lower, s.upper)
-            rmse, rel = cross_validate(x, y, s.lower, s.upper, k=s.folds, seed=s.seed)
-            c.surfaces[o] = Surface(surf.coef, surf.r2, surf.r2_adj, rmse, rel, len(y))
+            surf.cv_rmse, surf.cv_rel = cross_validate(x, y, s.lower, s.upper, k=s.folds, seed=s.seed)
+            c.surfaces[o] = surf
 
 
 def surfaces_of(study: Study, label: str, names: list[str] | None = None) -> list:
@@ -68,14 +67,8 @@ def surfaces_of(study: Study, label: str, names: list[str] | None = None) -> lis
     >>> energy, = surfaces_of(study, "cold", ["energy_loss"])   # doctest: +SKIP
     >>> energy(study.x[:3])                                    # doctest: +SKIP
     """
-    from .surrogate import QuadraticSurface
-
-    s = study.s
     c = study.cases[label]
-    return [
-        QuadraticSurface(np.array(s.lower), np.array(s.upper), np.asarray(c.surfaces[o].coef))
-        for o in (names or s.objectives)
-    ]
+    return [c.surfaces[o] for o in (names or study.s.objectives)]
 
 
 def predict(study: Study, label: str, x: np.ndarray) -> np.ndarray:

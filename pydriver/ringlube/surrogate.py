@@ -1,12 +1,19 @@
-"""Quadratic response surfaces fitted by LAPACK least squares (SPEC section 12, step 2)."""
+"""Quadratic response surfaces fitted by LAPACK least squares (SPEC section 12, step 2).
+
+:class:`QuadraticSurface` is both the callable surface and the record a study stores of it
+(:meth:`QuadraticSurface.to_h5`, :meth:`QuadraticSurface.from_h5`).
+"""
 
 from __future__ import annotations
 
 import dataclasses
 import itertools
 
+import h5py
 import numpy as np
 import scipy.linalg
+
+from .study_h5 import put
 
 __all__ = [
     "QuadraticSurface",
@@ -100,6 +107,11 @@ class QuadraticSurface:
         The box the variables are scaled over.
     coef : ndarray
         Coefficients of :func:`quadratic_features`.
+    r2, r2_adj, cv_rmse, cv_rel : float
+        Goodness of fit; k-fold cross-validated RMSE (the result's unit) and relative to the
+        mean |y| (NaN until :func:`cross_validate` is run by the study).
+    n : int
+        Samples fitted.
 
     Example
     -------
@@ -115,6 +127,7 @@ class QuadraticSurface:
     r2_adj: float = np.nan
     cv_rmse: float = np.nan
     cv_rel: float = np.nan
+    n: int = 0
 
     def scale(self, x: np.ndarray) -> np.ndarray:
         """Variables scaled to [-1, 1] over the box.
@@ -137,6 +150,59 @@ class QuadraticSurface:
     def __call__(self, x: np.ndarray) -> np.ndarray:
         """The surface at designs ``x`` (rows)."""
         return quadratic_features(self.scale(x)) @ self.coef
+
+    def to_h5(self, group: h5py.Group, variables: list[str], unit: str) -> None:
+        """Write the fit into ``group``: ``coef`` (columns: :func:`term_names`) and attributes.
+
+        The box is not written: it is the study's (:meth:`from_h5` takes it back).
+
+        Parameters
+        ----------
+        group : h5py.Group
+            An empty group (``/cases/LABEL/surface/RESULT``).
+        variables : list of str
+            The design variables (the names of the terms).
+        unit : str
+            Unit of the fitted result.
+
+        Example
+        -------
+        >>> s = QuadraticSurface(np.zeros(1), np.ones(1), np.array([1.0, 2.0, 0.0]), n=5)
+        >>> with h5py.File("x.h5", "w", driver="core", backing_store=False) as f:
+        ...     s.to_h5(f.create_group("surface/energy_loss"), ["width"], "J")
+        ...     QuadraticSurface.from_h5(f["surface/energy_loss"], [0.0], [1.0])(np.ones((1, 1)))
+        array([3.])
+        """
+        put(group, "coef", self.coef, term_names(variables))
+        for k in ("r2", "r2_adj", "cv_rmse", "cv_rel", "n"):
+            group.attrs[k] = getattr(self, k)
+        group.attrs["unit"] = unit
+
+    @classmethod
+    def from_h5(cls, group: h5py.Group, lower, upper) -> QuadraticSurface:
+        """The surface :meth:`to_h5` wrote, over the box ``[lower, upper]``.
+
+        Parameters
+        ----------
+        group : h5py.Group
+        lower, upper : array_like
+            The study's design box.
+
+        Returns
+        -------
+        QuadraticSurface
+
+        Example
+        -------
+        >>> QuadraticSurface.from_h5(f["cases/cold/surface/energy_loss"], s.lower, s.upper)  # doctest: +SKIP
+        """
+        return cls(
+            np.asarray(lower, float),
+            np.asarray(upper, float),
+            group["coef"][()],
+            *(float(group.attrs[k]) for k in ("r2", "r2_adj", "cv_rmse", "cv_rel")),
+            int(group.attrs["n"]),
+        )
 
 
 def fit_quadratic(x: np.ndarray, y: np.ndarray, lower, upper) -> QuadraticSurface:
@@ -170,6 +236,7 @@ def fit_quadratic(x: np.ndarray, y: np.ndarray, lower, upper) -> QuadraticSurfac
     ss_res = float(resid @ resid)
     ss_tot = float(((y - y.mean()) ** 2).sum())
     n, p = a.shape
+    surf.n = n
     surf.r2 = 1 - ss_res / ss_tot if ss_tot > 0 else 1.0
     surf.r2_adj = 1 - (1 - surf.r2) * (n - 1) / (n - p) if n > p else np.nan
     return surf
