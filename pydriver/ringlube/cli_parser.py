@@ -131,24 +131,12 @@ def _parser() -> argparse.ArgumentParser:
     )
     p.add_argument("deck", help="the case deck (namelist)")
     p.add_argument("--set", action="store_true", help="only the inputs the deck or its calibration file set")
-    p = _command(
-        sub,
-        _cmd_convergence,
-        "convergence",
-        help="speed against accuracy over numerical settings",
-        description="Speed against accuracy over numerical settings.",
-    )
+    p = _command(sub, _cmd_convergence, "convergence", "speed against accuracy over numerical settings")
     p.add_argument("decks", nargs="+", help="case decks")
     p.add_argument("--out", default="docs/convergence", help="output folder")
     p.add_argument("--quick", action="store_true", help="shorter ladders (no 801/1601 nodes)")
     p.add_argument("--repeats", type=_positive_int, default=3, help="timing repeats per setting (best kept)")
-    p = _command(
-        sub,
-        _cmd_calibrate,
-        "calibrate",
-        help="fit the uncertain inputs to the cold Table 2 case",
-        description="Fit the uncertain inputs to the cold Table 2 case.",
-    )
+    p = _command(sub, _cmd_calibrate, "calibrate", "fit the uncertain inputs to the cold Table 2 case")
     p.add_argument(
         "deck", nargs="?", default="inputs/crf450r_4000rpm_full_cold.nml", help="the cold case deck"
     )
@@ -210,9 +198,12 @@ def _parser() -> argparse.ArgumentParser:
     return ap
 
 
-def _command(sub, func, name: str, **kwargs) -> argparse.ArgumentParser:
+def _command(sub, func, name: str, help: str | None = None, **kwargs) -> argparse.ArgumentParser:
     """A subcommand `name` of `sub` run by `func` (add_parser's keyword arguments: help,
-    description, ...)."""
+    description, ...; without a description, `help` as a sentence)."""
+    if help is not None:
+        kwargs["help"] = help
+        kwargs.setdefault("description", help[0].upper() + help[1:] + ".")
     p = sub.add_parser(name, **kwargs)
     p.set_defaults(func=func)
     return p
