@@ -7,15 +7,16 @@ import pytest
 
 import ringlube
 from ringlube import readings as rd, readings_fit as rf, readings_report as rr
-from ringlube.validate_compute import TRENDS, trend_verdicts
+from ringlube.trends import FAILED_MEASURE, TRENDS, trend_measures, trend_verdicts
 
-NAMES = [name for name, _, _ in TRENDS]
+NAMES = [t.name for t in TRENDS]
 
 
 def _sweeps(rng, shape: str) -> dict:
     """Random sweeps of every trend (no ties): 'random', 'rising' or 'falling' energies."""
     out = {}
-    for name, (lo, hi), _ in TRENDS:
+    for t in TRENDS:
+        name, (lo, hi) = t.name, t.range
         n = rd.SWEEP_POINTS[name] if rng.random() < 0.5 else 5
         e = 1.0 + rng.random(n)
         if shape == "rising":
@@ -32,7 +33,7 @@ def test_trend_measure_is_zero_exactly_when_the_verdict_holds():
     for k in range(3000):
         sweeps = _sweeps(rng, ("random", "rising", "falling")[k % 3])
         verdicts = trend_verdicts(sweeps)
-        measures = rd.trend_measures(sweeps)
+        measures = trend_measures(sweeps)
         for name in NAMES:
             m = measures[name]
             assert m >= 0.0
@@ -44,20 +45,18 @@ def test_trend_measure_is_zero_exactly_when_the_verdict_holds():
 def test_trend_measure_values_by_hand():
     x5 = np.linspace(0, 1, 5)
     # tension should rise: one fall of 0.5 over a mean energy of 2.5 -> 0.2
-    m = rd.trend_measures({"tension": (x5, [1.0, 2.0, 3.0, 2.5, 4.0])})["tension"]
+    m = trend_measures({"tension": (x5, [1.0, 2.0, 3.0, 2.5, 4.0])})["tension"]
     assert m == pytest.approx(0.5 / 2.5)
     # crown height should fall: two rises of 1, mean 2 -> 1
-    m = rd.trend_measures({"crown_height": (x5, [3.0, 1.0, 2.0, 1.5, 2.5])})["crown_height"]
+    m = trend_measures({"crown_height": (x5, [3.0, 1.0, 2.0, 1.5, 2.5])})["crown_height"]
     assert m == pytest.approx(2.0 / 2.0)
     # offset: negative end 3, positive end 1 -> (3 - 1) / 2
-    assert rd.trend_measures({"crown_offset": (x5[[0, -1]], [3.0, 1.0])})["crown_offset"] == pytest.approx(
-        1.0
-    )
+    assert trend_measures({"crown_offset": (x5[[0, -1]], [3.0, 1.0])})["crown_offset"] == pytest.approx(1.0)
     # width: monotonic rise, lowest interior 2 over lower end 1, mean 3 -> 1/3
-    assert rd.trend_measures({"width": (x5, [1.0, 2.0, 3.0, 4.0, 5.0])})["width"] == pytest.approx(1 / 3)
+    assert trend_measures({"width": (x5, [1.0, 2.0, 3.0, 4.0, 5.0])})["width"] == pytest.approx(1 / 3)
     # a failed point: the whole energy the wrong way, and the verdict says no
     bad = {n: (x5, [1.0, np.nan, 0.5, 0.4, 0.3]) for n in NAMES}
-    assert set(rd.trend_measures(bad).values()) == {rd.FAILED_MEASURE}
+    assert set(trend_measures(bad).values()) == {FAILED_MEASURE}
     assert not any(rd._verdicts(bad).values())
 
 
