@@ -20,10 +20,11 @@ The score is the root-sum-square of that vector; the discrete yes/no verdicts
 (:func:`ringlube.trends.trend_verdicts`) are reported beside it but not optimised (they are
 not smooth). Each point costs one base run and the trend sweeps of :data:`SWEEP_POINTS`.
 
-Optimiser (:func:`ringlube.readings_fit.minimise`): a 9-point coarse design of the
-(normalised) input box, then ``scipy.optimize.least_squares`` (trust-region reflective,
-bounded) from its best point, with a forward-difference Jacobian whose steps are run as one
-batch; every point evaluated is kept and the best one is the fit. Each reading is one task;
+Optimiser: the one calibrator, :func:`ringlube.calibrator.calibrate_inputs` (method
+'least_squares', called by :func:`ringlube.readings_fit.fit_reading`): a 9-point coarse
+design of the (normalised) input box, then ``scipy.optimize.least_squares`` (trust-region
+reflective, bounded) from its best point, with a forward-difference Jacobian whose steps are
+run as one batch; every point evaluated is kept and the best one is the fit. Each reading is one task;
 readings run in parallel worker processes, and each point's runs go to the kernel as one
 ``run_designs`` batch (:func:`evaluate`). The report is :mod:`ringlube.readings_report`, the
 command (``ringlube readings``) :mod:`ringlube.readings_cli`.
@@ -38,6 +39,7 @@ import math
 import numpy as np
 
 from .calibrate import BOUNDS
+from .calibrator import Param
 from .case import Case
 from .errors import InputError
 from .trends import TRENDS, trend_measures, trend_verdicts
@@ -49,7 +51,6 @@ __all__ = [
     "GOAL",
     "SWEEP_POINTS",
     "Reading",
-    "Param",
     "all_readings",
     "select_readings",
     "residuals",
@@ -176,47 +177,6 @@ def select_readings(patterns: list[str] | None) -> list[Reading]:
             )
         chosen += [r for r in hit if r not in chosen]
     return chosen
-
-
-@dataclasses.dataclass(frozen=True)
-class Param:
-    """A fitted input: its kernel key ('group:name'), bounds and scale.
-
-    Parameters
-    ----------
-    name : str
-        Variable name.
-    key : str
-        'group:name' for :func:`ringlube.run_designs`.
-    lo, hi : float
-        Bounds.
-    log : bool
-        Normalise on a log scale.
-
-    Examples
-    --------
-    >>> p = Param("supply_film", "lubricant:supply_film", 1e-7, 1e-5, log=True)
-    >>> round(p.physical(0.5) * 1e6, 6), p.normalised(1e-5)
-    (1.0, 1.0)
-    """
-
-    name: str
-    key: str
-    lo: float
-    hi: float
-    log: bool = False
-
-    def physical(self, u: float) -> float:
-        """The value at normalised position ``u`` in [0, 1]."""
-        if self.log:
-            return float(math.exp(math.log(self.lo) + u * (math.log(self.hi) - math.log(self.lo))))
-        return float(self.lo + u * (self.hi - self.lo))
-
-    def normalised(self, x: float) -> float:
-        """The normalised position of value ``x``."""
-        if self.log:
-            return (math.log(x) - math.log(self.lo)) / (math.log(self.hi) - math.log(self.lo))
-        return (x - self.lo) / (self.hi - self.lo)
 
 
 def _params(reading: Reading, bounds: dict | None = None) -> list[Param]:

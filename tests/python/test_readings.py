@@ -1,4 +1,4 @@
-"""ringlube readings (issue 9): the continuous trend measures, the optimiser, the command."""
+"""ringlube readings (issue 9): the continuous trend measures, the calibrator, the command."""
 
 from __future__ import annotations
 
@@ -7,6 +7,7 @@ import pytest
 
 import ringlube
 from ringlube import readings as rd, readings_fit as rf, readings_report as rr
+from ringlube.calibrator import Param, calibrate_inputs, start_design
 from ringlube.trends import FAILED_MEASURE, TRENDS, trend_measures, trend_verdicts
 
 NAMES = [t.name for t in TRENDS]
@@ -67,7 +68,7 @@ def test_residuals_are_in_units_of_the_goal():
     assert np.all(rd.residuals(float("nan"), 1.0, {"width": 0.0}, t) == rd.FAILED_RESIDUAL)
 
 
-def test_minimise_recovers_a_bounded_least_squares_minimum():
+def test_calibrator_recovers_a_bounded_least_squares_minimum():
     """Three inputs, four residuals with a known zero at (0.2, 0.65, 0.9)."""
     u0 = np.array([0.2, 0.65, 0.9])
 
@@ -75,20 +76,20 @@ def test_minimise_recovers_a_bounded_least_squares_minimum():
         d = U - u0
         return np.c_[d[:, 0] + 0.5 * d[:, 1], np.sinh(d[:, 1]), 2 * d[:, 2] + d[:, 0] ** 2, d.sum(1)]
 
-    m = rf.minimise(batch, rf.start_design(3), budget=60)
+    m = calibrate_inputs(batch, start=start_design(3), budget=60)
     assert np.max(np.abs(m.u - u0)) < 5e-3
     assert m.score < 1e-2
 
 
-def test_minimise_stops_at_a_bound_and_reports_the_outward_gradient():
+def test_calibrator_stops_at_a_bound_and_reports_the_outward_gradient():
     """The unconstrained minimum lies beyond u = 1: the fit ends there, the score falls outward."""
 
     def batch(U):
         return np.c_[U[:, 0] - 1.4, 3 * (U[:, 1] - 0.5)]
 
-    m = rf.minimise(batch, rf.start_design(2), budget=40)
+    m = calibrate_inputs(batch, start=start_design(2), budget=40)
     assert m.u[0] > 1 - rd.AT_BOUND and abs(m.u[1] - 0.5) < 5e-3
-    assert m.gradient[0] < 0  # d(score^2/2)/du < 0 at the upper bound: would fall beyond it
+    assert m.grad[0] < 0  # d(score^2/2)/du < 0 at the upper bound: would fall beyond it
 
 
 def _synthetic(truth: dict, t: dict):
@@ -124,7 +125,7 @@ def test_fit_reading_recovers_known_inputs(monkeypatch):
         assert abs(p.normalised(row["cold"].inputs[p.name]) - p.normalised(truth[p.name])) < 5e-3, p.name
     assert all(row["cold"].verdicts.values()) and not any(row["cold"].measures.values())
     assert row["min"].score < 0.05
-    assert row["runs"] == (row["min"].evaluations + 1) * (1 + sum(rd.SWEEP_POINTS.values()))
+    assert row["runs"] == (row["min"].nfev + 1) * (1 + sum(rd.SWEEP_POINTS.values()))
 
 
 def test_select_readings():
@@ -165,8 +166,8 @@ def test_bound_sides_give_the_outward_derivative():
     def batch(U):
         return np.c_[U[:, 0] - 1.4, 3 * (U[:, 1] + 0.3)]
 
-    m = rf.minimise(batch, rf.start_design(2), budget=40)
-    params = [rd.Param("a", "x:a", 0.0, 1.0), rd.Param("b", "x:b", 0.0, 1.0)]
+    m = calibrate_inputs(batch, start=start_design(2), budget=40)
+    params = [Param("a", "x:a", 0.0, 1.0), Param("b", "x:b", 0.0, 1.0)]
     sides = rf._bound_sides({"params": params, "min": m})
     assert [(p.name, side) for p, side, _ in sides] == [("a", "upper"), ("b", "lower")]
     assert all(g < 0 for _, _, g in sides)
