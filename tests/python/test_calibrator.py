@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.optimize import OptimizeResult
 
-from ringlube import readings as rd, trends, validate_compute as vc
+from ringlube import calibrate as cal, readings as rd, trends, validate_compute as vc
 from ringlube.calibrator import Param, calibrate_inputs, start_design
 
 FIELDS = ("x", "u", "fun", "score", "nfev", "nit", "status", "message", "success", "active_mask")
@@ -49,6 +49,11 @@ def test_bracket_ends_on_a_bound_when_a_target_is_out_of_reach():
     assert not r.within_bounds and r.status == 2 and "bound" in r.message
     with pytest.raises(ValueError, match="unknown calibration method"):
         calibrate_inputs(lambda x: x, p, "nelder-mead")
+
+
+def test_calibrate_and_readings_fit_the_same_inputs_on_the_same_bounds():
+    assert [(p.name, p.lo, p.hi) for p in cal.PARAMS] == [(k, *cal.BOUNDS[k]) for k in cal.BOUNDS]
+    assert rd._params(rd.Reading("JFO flooded", "lumped", "N/m")) == cal.PARAMS
 
 
 def test_one_table_of_trends():
