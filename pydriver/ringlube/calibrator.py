@@ -147,7 +147,7 @@ def calibrate_inputs(
     >>> g = lambda x: (x[0] + x[1] - 1.0, x[1] - 0.25)
     >>> r = calibrate_inputs(g, [Param("a", "", 0, 1), Param("b", "", 0, 1)], "bracket")
     >>> np.round(r.x, 3).tolist(), r.nfev, r.active_mask.tolist()
-    ([0.75, 0.25], 9, [0, 0])
+    ([0.75, 0.25], 82, [0, 0])
     """
     if method == "least_squares":
         return _least_squares(fun, params, **options)
