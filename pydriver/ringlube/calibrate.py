@@ -22,7 +22,9 @@ The mixed share varies continuously with the inputs (a crossing of lambda = 4 in
 step counts the part of the step below it) but only piecewise smoothly; the fit is
 therefore nested: for a pressure scale, zeta_kappa_sigma is solved by Brent's method for
 the energy target (energy is continuous and increasing in it); the pressure scale is then
-found by bisection on the mixed share (increasing in it).
+found by bisection on the mixed share (increasing in it). That is method 'bracket' of the one
+calibrator, :func:`ringlube.calibrator.calibrate_inputs` (``ringlube readings`` uses its
+method 'least_squares'); each :class:`Fit` keeps its :class:`scipy.optimize.OptimizeResult`.
 """
 
 from __future__ import annotations
@@ -34,20 +36,36 @@ import os
 from pathlib import Path
 
 import numpy as np
-from scipy.optimize import brentq
 
+from .calibrator import Param, calibrate_inputs
 from .case import Case
 from .errors import InputError
 from .outputs import write_text
 from .solve import run
 
-__all__ = ["FITTED", "BOUNDS", "NOMINAL", "DISCRETE", "Fit", "calibrate", "write_calibration", "cold_targets"]
+__all__ = [
+    "FITTED",
+    "BOUNDS",
+    "NOMINAL",
+    "PARAMS",
+    "DISCRETE",
+    "Fit",
+    "calibrate",
+    "write_calibration",
+    "cold_targets",
+]
 
 #: The two target quantities of the fit (read from the targets file).
 FITTED = ("energy_loss", "mixed_share")
 #: Declared bounds of the fitted inputs.
 BOUNDS = {"zeta_kappa_sigma": (0.02, 0.10), "pressure_scale": (0.8, 1.2)}
 NOMINAL = {"zeta_kappa_sigma": 0.04, "pressure_scale": 1.0}
+#: The fitted inputs with their bounds, in the order of :data:`FITTED` (the first is solved for
+#: the energy, the second for the mixed share).
+PARAMS = [
+    Param("zeta_kappa_sigma", "surface:zeta_kappa_sigma", *BOUNDS["zeta_kappa_sigma"]),
+    Param("pressure_scale", "operating:pressure_scale", *BOUNDS["pressure_scale"]),
+]
 #: Discrete options: (group, variable) -> choices.
 DISCRETE = {
     ("ring", "tension_unit"): ("N", "N/m"),
@@ -118,6 +136,8 @@ class Fit:
     runs: int
     within_bounds: bool
     targets: dict = dataclasses.field(default_factory=dict)
+    #: what :func:`ringlube.calibrator.calibrate_inputs` returned
+    result: object = dataclasses.field(default=None, compare=False, repr=False)
 
     @property
     def residual(self) -> float:
@@ -157,57 +177,30 @@ def strip_calibrated(case: Case) -> Case:
 
 
 def fit_options(base: Case, options: dict, targets: dict) -> Fit:
-    """Nested fit of the two continuous inputs for one combination of options."""
-    runs = 0
+    """Nested fit of the two continuous inputs for one combination of options (the one
+    calibrator, :func:`ringlube.calibrator.calibrate_inputs`, method 'bracket')."""
+    results: dict[tuple, object] = {}
 
-    def result(zks: float, scale: float):
-        nonlocal runs
-        runs += 1
-        return run(apply(base, options, zks, scale))
+    def misfits(x) -> tuple[float, float]:
+        r = results[x] = run(apply(base, options, *x))
+        return r.energy_loss - targets["energy_loss"], r.mixed_share - targets["mixed_share"]
 
-    zlo, zhi = BOUNDS["zeta_kappa_sigma"]
-
-    def zks_for(scale: float) -> tuple[float, object]:
-        f = lambda z: result(z, scale).energy_loss - targets["energy_loss"]  # noqa: E731
-        flo, fhi = f(zlo), f(zhi)
-        if flo > 0:
-            return zlo, result(zlo, scale)
-        if fhi < 0:
-            return zhi, result(zhi, scale)
-        z = brentq(f, zlo, zhi, xtol=1e-5, rtol=1e-6)
-        return z, result(z, scale)
-
-    slo, shi = BOUNDS["pressure_scale"]
-    z_lo, r_lo = zks_for(slo)
-    z_hi, r_hi = zks_for(shi)
-    target = targets["mixed_share"]
-    if r_lo.mixed_share >= target:
-        z, r, s = z_lo, r_lo, slo
-    elif r_hi.mixed_share <= target:
-        z, r, s = z_hi, r_hi, shi
-    else:
-        # bisection on the mixed share; keep the bracket point closest to the target
-        a, b = slo, shi
-        best = min(
-            (
-                (abs(r_lo.mixed_share - target), slo, z_lo, r_lo),
-                (abs(r_hi.mixed_share - target), shi, z_hi, r_hi),
-            ),
-            key=lambda t: t[0],
-        )
-        for _ in range(12):
-            m = 0.5 * (a + b)
-            zm, rm = zks_for(m)
-            cand = (abs(rm.mixed_share - target), m, zm, rm)
-            if cand[0] < best[0] or (cand[0] == best[0] and abs(m - 1) < abs(best[1] - 1)):
-                best = cand
-            if rm.mixed_share < target:
-                a = m
-            else:
-                b = m
-        _, s, z, r = best
-    within = (zlo < z < zhi) and (slo < s < shi)
-    return Fit(dict(options), float(z), float(s), r.energy_loss, r.mixed_share, runs, within, dict(targets))
+    sol = calibrate_inputs(
+        misfits, PARAMS, "bracket", xtol=1e-5, rtol=1e-6, nominal=NOMINAL["pressure_scale"]
+    )
+    z, s = sol.x
+    r = results[(z, s)]
+    return Fit(
+        dict(options),
+        float(z),
+        float(s),
+        r.energy_loss,
+        r.mixed_share,
+        sol.nfev,
+        sol.within_bounds,
+        dict(targets),
+        sol,
+    )
 
 
 def calibrate(

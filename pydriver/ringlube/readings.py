@@ -12,18 +12,19 @@ Score. One residual vector per point, every entry in units of the goal of issue 
 
 * the cold energy's relative error over 5 % (:data:`GOAL`),
 * the cold mixed share's error over 1.5 points,
-* for each published trend, its continuous measure (:func:`trend_measures`, a fraction of the
-  energy by which the sweep goes the wrong way) over the same 5 %: a sweep 5 % of the energy
-  the wrong way weighs as much as a 5 % energy error.
+* for each published trend, its continuous measure (:func:`ringlube.trends.trend_measures`, a
+  fraction of the energy by which the sweep goes the wrong way) over the same 5 %: a sweep 5 %
+  of the energy the wrong way weighs as much as a 5 % energy error.
 
 The score is the root-sum-square of that vector; the discrete yes/no verdicts
-(:func:`ringlube.validate_compute.trend_verdicts`) are reported beside it but not optimised (they are
+(:func:`ringlube.trends.trend_verdicts`) are reported beside it but not optimised (they are
 not smooth). Each point costs one base run and the trend sweeps of :data:`SWEEP_POINTS`.
 
-Optimiser (:func:`ringlube.readings_fit.minimise`): a 9-point coarse design of the
-(normalised) input box, then ``scipy.optimize.least_squares`` (trust-region reflective,
-bounded) from its best point, with a forward-difference Jacobian whose steps are run as one
-batch; every point evaluated is kept and the best one is the fit. Each reading is one task;
+Optimiser: the one calibrator, :func:`ringlube.calibrator.calibrate_inputs` (method
+'least_squares', called by :func:`ringlube.readings_fit.fit_reading`): a 9-point coarse
+design of the (normalised) input box, then ``scipy.optimize.least_squares`` (trust-region
+reflective, bounded) from its best point, with a forward-difference Jacobian whose steps are
+run as one batch; every point evaluated is kept and the best one is the fit. Each reading is one task;
 readings run in parallel worker processes, and each point's runs go to the kernel as one
 ``run_designs`` batch (:func:`evaluate`). The report is :mod:`ringlube.readings_report`, the
 command (``ringlube readings``) :mod:`ringlube.readings_cli`.
@@ -38,9 +39,11 @@ import math
 import numpy as np
 
 from .calibrate import BOUNDS
+from .calibrator import Param
 from .case import Case
 from .errors import InputError
-from .validate_compute import READINGS, TRENDS, trend_verdicts
+from .trends import TRENDS, trend_measures, trend_verdicts
+from .validate_compute import READINGS
 
 __all__ = [
     "SUPPLY_BOUNDS",
@@ -48,10 +51,8 @@ __all__ = [
     "GOAL",
     "SWEEP_POINTS",
     "Reading",
-    "Param",
     "all_readings",
     "select_readings",
-    "trend_measures",
     "residuals",
     "Point",
     "evaluate",
@@ -68,12 +69,10 @@ RELAXED_BOUNDS = {
 }
 #: The goal of issue 9: cold energy within 5 % (relative) and mixed share within 1.5 points.
 GOAL = {"energy_loss": 0.05, "mixed_share": 1.5}
-#: Points of each cold trend sweep (the offset verdict compares the two ends only).
-SWEEP_POINTS = {"tension": 5, "crown_height": 5, "crown_offset": 2, "width": 5}
-#: The ring variables swept (order of :data:`ringlube.validate_compute.TRENDS`).
-RING = tuple(name for name, _, _ in TRENDS)
-#: A trend measure where a sweep point failed (the whole energy the wrong way).
-FAILED_MEASURE = 1.0
+#: Points of each cold trend sweep (:attr:`ringlube.trends.Trend.points`).
+SWEEP_POINTS = {t.name: t.points for t in TRENDS}
+#: The ring variables swept (order of :data:`ringlube.trends.TRENDS`).
+RING = tuple(t.name for t in TRENDS)
 #: Residual entries of a point whose base run failed.
 FAILED_RESIDUAL = 100.0
 #: A normalised input closer than this to 0 or 1 counts as on its bound.
@@ -180,47 +179,6 @@ def select_readings(patterns: list[str] | None) -> list[Reading]:
     return chosen
 
 
-@dataclasses.dataclass(frozen=True)
-class Param:
-    """A fitted input: its kernel key ('group:name'), bounds and scale.
-
-    Parameters
-    ----------
-    name : str
-        Variable name.
-    key : str
-        'group:name' for :func:`ringlube.run_designs`.
-    lo, hi : float
-        Bounds.
-    log : bool
-        Normalise on a log scale.
-
-    Examples
-    --------
-    >>> p = Param("supply_film", "lubricant:supply_film", 1e-7, 1e-5, log=True)
-    >>> round(p.physical(0.5) * 1e6, 6), p.normalised(1e-5)
-    (1.0, 1.0)
-    """
-
-    name: str
-    key: str
-    lo: float
-    hi: float
-    log: bool = False
-
-    def physical(self, u: float) -> float:
-        """The value at normalised position ``u`` in [0, 1]."""
-        if self.log:
-            return float(math.exp(math.log(self.lo) + u * (math.log(self.hi) - math.log(self.lo))))
-        return float(self.lo + u * (self.hi - self.lo))
-
-    def normalised(self, x: float) -> float:
-        """The normalised position of value ``x``."""
-        if self.log:
-            return (math.log(x) - math.log(self.lo)) / (math.log(self.hi) - math.log(self.lo))
-        return (x - self.lo) / (self.hi - self.lo)
-
-
 def _params(reading: Reading, bounds: dict | None = None) -> list[Param]:
     b = {**BOUNDS, "supply_film": SUPPLY_BOUNDS, **(bounds or {})}
     ps = [
@@ -235,60 +193,9 @@ def _params(reading: Reading, bounds: dict | None = None) -> list[Param]:
 # --- the score ------------------------------------------------------------------------------
 
 
-def trend_measures(sweeps: dict) -> dict[str, float]:
-    """A continuous measure of each published trend: 0 where the trend appears, else the
-    fraction of the sweep's mean energy by which it goes the wrong way.
-
-    * tension (energy rises): the sum of the falls between neighbouring points;
-    * crown_height (energy falls): the sum of the rises;
-    * crown_offset (negative better): how much the most negative end exceeds the most positive;
-    * width (interior optimum): how much the lowest interior point exceeds the lower end.
-
-    Each is zero exactly when :func:`ringlube.validate_compute.trend_verdicts` says yes, except on
-    exact ties (equal energies), where the verdict, a strict comparison, says no and the
-    measure is zero; a sweep with a failed point (NaN) measures :data:`FAILED_MEASURE`.
-
-    Parameters
-    ----------
-    sweeps : dict of str to (ndarray, ndarray)
-        For each trend variable, its values and the energy losses.
-
-    Returns
-    -------
-    dict of str to float
-
-    Examples
-    --------
-    >>> x = np.linspace(0, 1, 5)
-    >>> m = trend_measures({"tension": (x, [1, 2, 3, 2.5, 4.0]), "crown_height": (x, [4, 3, 2, 1, 0.5]),
-    ...                     "crown_offset": (x[[0, -1]], [1.0, 2.0]), "width": (x, [2, 1, 2, 3, 4.0])})
-    >>> {k: round(v, 4) for k, v in m.items()}
-    {'tension': 0.2, 'crown_height': 0.0, 'crown_offset': 0.0, 'width': 0.0}
-    """
-    out = {}
-    for name, (_, e) in sweeps.items():
-        e = np.asarray(e, float)
-        if not np.all(np.isfinite(e)) or len(e) < 2:
-            out[name] = FAILED_MEASURE
-            continue
-        d = np.diff(e)
-        if name == "tension":
-            wrong = np.sum(np.maximum(0.0, -d))
-        elif name == "crown_height":
-            wrong = np.sum(np.maximum(0.0, d))
-        elif name == "crown_offset":
-            wrong = max(0.0, e[0] - e[-1])
-        elif name == "width":
-            wrong = max(0.0, np.min(e[1:-1]) - min(e[0], e[-1])) if len(e) > 2 else abs(d[0])
-        else:
-            raise KeyError(f"no published trend '{name}'")
-        out[name] = float(wrong / np.mean(np.abs(e)))
-    return out
-
-
 def _verdicts(sweeps: dict) -> dict[str, bool]:
     """The discrete verdicts; a sweep with a failed point says no."""
-    v = trend_verdicts(sweeps)
+    v = trend_verdicts(sweeps)  # every trend swept
     return {k: bool(v[k] and np.all(np.isfinite(sweeps[k][1]))) for k in v}
 
 
@@ -379,7 +286,7 @@ class Point:
 
 
 def _sweep_values() -> dict[str, np.ndarray]:
-    return {name: np.linspace(lo, hi, SWEEP_POINTS[name]) for name, (lo, hi), _ in TRENDS}
+    return {t.name: np.linspace(*t.range, t.points) for t in TRENDS}
 
 
 def evaluate(case: Case, params: list[Param], U: np.ndarray, ring0: dict, sweeps: bool = True) -> list[Point]:

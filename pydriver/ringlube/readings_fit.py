@@ -1,28 +1,26 @@
-"""The optimiser of ``ringlube readings`` and the fit of every reading (issue 9).
+"""The fit of every reading of ``ringlube readings`` (issue 9).
 
-:func:`minimise` is the optimiser of the readings' score (:mod:`ringlube.readings`): a
-9-point coarse design of the normalised input box, then ``scipy.optimize.least_squares``
-(trust-region reflective, bounded) from its best point, with a forward-difference Jacobian
-whose steps are run as one batch; every point evaluated is kept and the best one is the fit.
-:func:`fit_reading` fits one reading on the cold case and predicts hot;
-:func:`calibrate_readings` fits every reading in parallel worker processes.
+:func:`fit_reading` fits one reading on the cold case with the one calibrator,
+:func:`ringlube.calibrator.calibrate_inputs` (method 'least_squares': a 9-point coarse design
+of the normalised input box, then ``scipy.optimize.least_squares`` from its best point) on the
+readings' score (:mod:`ringlube.readings`), and predicts hot; :func:`calibrate_readings` fits
+every reading in parallel worker processes.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import time
 
 import numpy as np
 
 from .calibrate import cold_targets
+from .calibrator import Param, calibrate_inputs, start_design
 from .case import Case
 from .readings import (
     AT_BOUND,
     EVALS,
     RELAXED_BOUNDS,
     STEP,
-    Param,
     Point,
     Reading,
     _params,
@@ -33,164 +31,7 @@ from .readings import (
 )
 from .validate_compute import READINGS
 
-__all__ = ["Minimum", "start_design", "minimise", "fit_reading", "calibrate_readings"]
-
-
-# --- the optimiser --------------------------------------------------------------------------
-
-
-class _Budget(Exception):
-    """The evaluation budget is spent."""
-
-
-@dataclasses.dataclass
-class Minimum:
-    """What :func:`minimise` found.
-
-    Parameters
-    ----------
-    u : ndarray
-        Best normalised point.
-    residuals : ndarray
-        Its residual vector.
-    evaluations : int
-        Points evaluated (start design, optimiser, Jacobians, the gradient at the end).
-    gradient : ndarray
-        d(score^2 / 2)/du at ``u`` (one-sided forward differences pointing inside the box).
-    status : str
-        How the optimiser stopped.
-
-    Examples
-    --------
-    >>> Minimum(np.zeros(1), np.array([3.0, 4.0]), 1, np.zeros(1), "").score
-    5.0
-    """
-
-    u: np.ndarray
-    residuals: np.ndarray
-    evaluations: int
-    gradient: np.ndarray
-    status: str
-
-    @property
-    def score(self) -> float:
-        """Root-sum-square of the residuals."""
-        return float(np.sqrt(np.sum(self.residuals**2)))
-
-
-def start_design(d: int) -> np.ndarray:
-    """The coarse start design in the unit box: a 3 x 3 grid of cell centres (d = 2), else the
-    2^d corners of the inner half-box plus its centre.
-
-    Parameters
-    ----------
-    d : int
-        Number of inputs.
-
-    Returns
-    -------
-    ndarray, shape (k, d)
-
-    Examples
-    --------
-    >>> start_design(2).shape, start_design(3).shape
-    ((9, 2), (9, 3))
-    """
-    import itertools
-
-    if d <= 2:
-        return np.array(list(itertools.product([1 / 6, 0.5, 5 / 6], repeat=d)))
-    return np.array(list(itertools.product([0.25, 0.75], repeat=d)) + [[0.5] * d])
-
-
-def minimise(batch, start: np.ndarray, budget: int, step: float = STEP, tol: float = 1e-3) -> Minimum:
-    """Bounded least squares in the unit box from the best point of a start design.
-
-    Parameters
-    ----------
-    batch : callable
-        ``batch(U)`` with ``U`` of shape (k, d) in [0, 1]^d returns the residual vectors,
-        shape (k, m), finite.
-    start : ndarray, shape (k, d)
-        Start design (evaluated first, in one batch).
-    budget : int
-        Most points evaluated before the optimiser stops (the start design and the final
-        gradient's ``d`` points come on top of it when it is smaller).
-    step : float
-        Forward-difference step of the Jacobian (pointing inside the box).
-    tol : float
-        ``xtol`` of :func:`scipy.optimize.least_squares` (in the normalised inputs).
-
-    Returns
-    -------
-    Minimum
-        The best point evaluated.
-
-    Examples
-    --------
-    >>> f = lambda U: np.c_[U[:, 0] - 0.3, 2 * (U[:, 1] - 0.7)]
-    >>> m = minimise(f, start_design(2), budget=40)
-    >>> np.round(m.u, 3).tolist(), m.score < 1e-6
-    ([0.3, 0.7], True)
-    """
-    from scipy.optimize import least_squares
-
-    start = np.atleast_2d(np.asarray(start, float))
-    d = start.shape[1]
-    cache: dict[tuple, np.ndarray] = {}
-    count = [0]
-
-    def key(u) -> tuple:
-        return tuple(np.round(np.asarray(u, float), 12))
-
-    def run(U, limit: bool = True) -> np.ndarray:
-        U = np.clip(np.atleast_2d(np.asarray(U, float)), 0.0, 1.0)
-        todo = []
-        for u in U:
-            if key(u) not in cache and key(u) not in {key(t) for t in todo}:
-                todo.append(u)
-        if todo:
-            if limit and count[0] + len(todo) > max(budget, len(start)):
-                raise _Budget
-            R = np.asarray(batch(np.array(todo)), float)
-            count[0] += len(todo)
-            for u, r in zip(todo, R):
-                cache[key(u)] = r
-        return np.array([cache[key(u)] for u in U])
-
-    def fun(u):
-        return run(u)[0]
-
-    def jac(u, limit: bool = True):
-        u = np.clip(np.asarray(u, float), 0.0, 1.0)
-        h = np.where(u + step <= 1.0, step, -step)
-        R = run(np.vstack([u] + [u + h[i] * np.eye(d)[i] for i in range(d)]), limit)
-        return ((R[1:] - R[0]) / h[:, None]).T
-
-    run(start, limit=False)
-    best = min(cache, key=lambda k: float(np.sum(cache[k] ** 2)))
-    status = "start design only"
-    if budget > len(start):
-        try:
-            sol = least_squares(
-                fun,
-                np.clip(np.array(best), 1e-9, 1 - 1e-9),
-                jac=jac,
-                bounds=(0.0, 1.0),
-                method="trf",
-                xtol=tol,
-                ftol=1e-6,
-                gtol=1e-8,
-                max_nfev=budget,
-            )
-            status = sol.message
-        except _Budget:
-            status = f"evaluation budget ({budget}) spent"
-    best = min(cache, key=lambda k: float(np.sum(cache[k] ** 2)))
-    u = np.array(best)
-    J = jac(u, limit=False)
-    r = cache[best]
-    return Minimum(u, r, count[0], J.T @ r, status)
+__all__ = ["fit_reading", "calibrate_readings"]
 
 
 def fit_reading(
@@ -221,7 +62,8 @@ def fit_reading(
     Returns
     -------
     dict
-        'reading', 'params', 'min' (:class:`Minimum`), 'cold' and 'hot' (:class:`Point`),
+        'reading', 'params', 'min' (the :class:`scipy.optimize.OptimizeResult` of
+        :func:`ringlube.calibrator.calibrate_inputs`), 'cold' and 'hot' (:class:`Point`),
         'runs', 'seconds'.
 
     Examples
@@ -244,7 +86,7 @@ def fit_reading(
         s = np.array([[min(1.0, max(0.0, p.normalised(start[p.name]))) for p in params]])
     else:
         s = start_design(len(params))
-    m = minimise(batch, s, budget)
+    m = calibrate_inputs(batch, params, "least_squares", start=s, budget=budget, step=STEP)
     best = seen[tuple(np.round(m.u, 12))]
     hot_pt = evaluate(h, params, m.u[None], ring0)[0]
     runs = sum(p.runs for p in seen.values()) + hot_pt.runs
@@ -336,7 +178,7 @@ def calibrate_readings(
         if progress:
             print(
                 f"[{len(rows)}/{len(tasks)}] {row['reading'].id}: score {row['min'].score:.3g}, "
-                f"{row['runs']} runs, {row['seconds']:.0f} s ({row['min'].status})",
+                f"{row['runs']} runs, {row['seconds']:.0f} s ({row['min'].message})",
                 flush=True,
             )
 
@@ -392,7 +234,7 @@ def _bound_sides(row: dict) -> list[tuple[Param, str, float]]:
     """(param, 'lower'/'upper', outward derivative of score^2/2) of each input on a bound."""
     m = row["min"]
     out = []
-    for p, u, g in zip(row["params"], m.u, m.gradient):
+    for p, u, g in zip(row["params"], m.u, m.grad):
         if u <= AT_BOUND:
             out.append((p, "lower", float(-g)))  # outward = decreasing u
         elif u >= 1 - AT_BOUND:

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from .calibrate import BOUNDS
+from .calibrator import Param
 from .outputs import write_text
 from .readings import (
     GOAL,
@@ -18,7 +19,6 @@ from .readings import (
     STEP,
     SUPPLY_BOUNDS,
     SWEEP_POINTS,
-    Param,
     Point,
 )
 from .readings_fit import _bound_sides, _on_bound
@@ -72,12 +72,12 @@ def _within(pt: Point, t: dict) -> bool:
     )
 
 
-def _stop(status: str) -> str:
-    """A short word for how the optimiser stopped."""
+def _stop(message: str) -> str:
+    """A short word for how the optimiser stopped (from its message)."""
     for word in ("budget", "xtol", "ftol", "gtol"):
-        if word in status:
+        if word in message:
             return word
-    return status.split()[0] if status else "-"
+    return message.split()[0] if message else "-"
 
 
 def _ids(rows: list[dict]) -> str:
@@ -168,7 +168,7 @@ def write_readings(out: dict, path: str | os.PathLike, command: str, seconds: fl
         md.append(
             f"| {i} | {r['reading'].id} | {' | '.join(ins)} | {bnd} | {_table2(c, t)} | "
             f"{_table2(h, th)} | {'y' if c.converged else 'n'}/{'y' if h.converged else 'n'} | "
-            f"{m.score:.3g} | {_stop(m.status)} | {m.evaluations} | {r['runs']} |"
+            f"{m.score:.3g} | {_stop(m.message)} | {m.nfev} | {r['runs']} |"
         )
     md += [
         "",

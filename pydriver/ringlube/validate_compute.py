@@ -21,7 +21,7 @@ from .calibrate import calibrate, correlation, strip_calibrated
 from .case import Case
 from .errors import InputError
 from .solve import run, run_many
-from .study_variables import DESIGN_RANGES
+from .trends import TRENDS, trend_verdicts
 
 __all__ = [
     "PUBLISHED",
@@ -64,17 +64,6 @@ OPTIONS = [
     ("physics", "roelands", {True: False, False: True}),
     ("physics", "squeeze", {True: False, False: True}),
 ]
-#: The study's stated trends: variable, range, what the study says.
-TRENDS = [
-    ("tension", DESIGN_RANGES["tension"], "energy loss rises with tension"),
-    ("crown_height", DESIGN_RANGES["crown_height"], "energy loss falls as crown height rises"),
-    (
-        "crown_offset",
-        DESIGN_RANGES["crown_offset"],
-        "a negative offset gives lower energy loss than a positive one",
-    ),
-    ("width", DESIGN_RANGES["width"], "energy loss has an interior optimum in width"),
-]
 #: The film models of SPEC 13, read one at a time (the other open choices crossed with them).
 READINGS = {
     "Swift-Stieber (the study)": {},
@@ -107,10 +96,10 @@ def reading_rows(cases: dict[str, Case], points: int = 5) -> list[dict]:
                 rows.append({"film": film, "area": area, "unit": unit})
                 plan.append((len(rows) - 1, "cold", None, None, c["cold"]))
                 plan.append((len(rows) - 1, "hot", None, None, c["hot"]))
-                for name, (lo, hi), _ in TRENDS:
-                    for x in np.linspace(lo, hi, points):
+                for t in TRENDS:
+                    for x in np.linspace(*t.range, points):
                         plan.append(
-                            (len(rows) - 1, "sweep", name, x, c["cold"].with_ring(**{name: float(x)}))
+                            (len(rows) - 1, "sweep", t.name, x, c["cold"].with_ring(**{t.name: float(x)}))
                         )
     results = run_many([p[-1] for p in plan], workers=os.cpu_count() or 1, progress=False, on_error="return")
     sweeps: dict[int, dict] = {}
@@ -133,26 +122,11 @@ def _value(case: Case, group: str, name: str, calibration: Case):
 
 def trend_sweeps(case: Case, points: int = 9) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     out = {}
-    for name, (lo, hi), _ in TRENDS:
-        xs = np.linspace(lo, hi, points)
-        rs = run_many([case.with_ring(**{name: float(x)}) for x in xs], workers=1, progress=False)
-        out[name] = (xs, np.array([r.energy_loss for r in rs]))
+    for t in TRENDS:
+        xs = np.linspace(*t.range, points)
+        rs = run_many([case.with_ring(**{t.name: float(x)}) for x in xs], workers=1, progress=False)
+        out[t.name] = (xs, np.array([r.energy_loss for r in rs]))
     return out
-
-
-def trend_verdicts(sweeps: dict) -> dict[str, bool]:
-    """Does ringlube agree with each stated trend (on one sweep)?"""
-    v = {}
-    x, e = sweeps["tension"]
-    v["tension"] = bool(np.all(np.diff(e) > 0))
-    x, e = sweeps["crown_height"]
-    v["crown_height"] = bool(np.all(np.diff(e) < 0))
-    x, e = sweeps["crown_offset"]
-    v["crown_offset"] = bool(e[0] < e[-1])
-    x, e = sweeps["width"]
-    i = int(np.argmin(e))
-    v["width"] = 0 < i < len(e) - 1
-    return v
 
 
 @dataclass

@@ -11,7 +11,8 @@ import numpy as np
 
 from .calibrate import BOUNDS
 from .case import Case
-from .validate_compute import PUBLISHED, SUPPLY_FILMS, TRENDS, ValidationData
+from .trends import TRENDS
+from .validate_compute import PUBLISHED, SUPPLY_FILMS, ValidationData
 
 __all__ = ["render_validation"]
 
@@ -183,12 +184,13 @@ def render_validation(data: ValidationData) -> str:
             "| variable | values | energy loss | study says | ringlube agrees |",
             "|---|---|---|---|---|",
         ]
-        for name, _, says in TRENDS:
-            xs, e = data.sweeps[k][name]
-            scale = 1e6 if name != "tension" else 1.0
+        for t in TRENDS:
+            xs, e = data.sweeps[k][t.name]
+            scale = 1e6 if t.name != "tension" else 1.0
             md.append(
-                f"| {name} | {xs[0] * scale:g} .. {xs[-1] * scale:g} | "
-                f"{' '.join(f'{v:.3f}' for v in e)} | {says} | {'yes' if data.verdicts[k][name] else 'NO'} |"
+                f"| {t.name} | {xs[0] * scale:g} .. {xs[-1] * scale:g} | "
+                f"{' '.join(f'{v:.3f}' for v in e)} | {t.says} | "
+                f"{'yes' if data.verdicts[k][t.name] else 'NO'} |"
             )
         md.append("")
     md += [
@@ -241,7 +243,7 @@ def render_validation(data: ValidationData) -> str:
             f"({(c.energy_loss / pub['cold']['energy_loss'] - 1):+.0%}) | {c.mixed_share:.2f} | "
             f"{h.energy_loss:.3f} ({(h.energy_loss / pub['hot']['energy_loss'] - 1):+.0%}) | "
             f"{h.mixed_share:.2f} | "
-            + " | ".join("yes" if v[n] else "no" for n, _, _ in TRENDS)
+            + " | ".join("yes" if v[t.name] else "no" for t in TRENDS)
             + f" | {sum(v.values())}/4 | {int(c.converged) + int(h.converged)}/2 |"
         )
     md += [

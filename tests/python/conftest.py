@@ -39,6 +39,7 @@ def quick_case():
 #: `pytest -m numerics`, `pytest -m "not slow"`.
 MODULE_LABELS = {
     "test_batch_and_deck_edge_cases": ("unit", "io"),
+    "test_calibrator": ("unit",),
     "test_case": ("unit",),
     "test_case_api": ("unit",),
     "test_cli_errors": ("cli",),

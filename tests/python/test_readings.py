@@ -1,4 +1,4 @@
-"""ringlube readings (issue 9): the continuous trend measures, the optimiser, the command."""
+"""ringlube readings (issue 9): the continuous trend measures, the calibrator, the command."""
 
 from __future__ import annotations
 
@@ -7,15 +7,17 @@ import pytest
 
 import ringlube
 from ringlube import readings as rd, readings_fit as rf, readings_report as rr
-from ringlube.validate_compute import TRENDS, trend_verdicts
+from ringlube.calibrator import Param, calibrate_inputs, start_design
+from ringlube.trends import FAILED_MEASURE, TRENDS, trend_measures, trend_verdicts
 
-NAMES = [name for name, _, _ in TRENDS]
+NAMES = [t.name for t in TRENDS]
 
 
 def _sweeps(rng, shape: str) -> dict:
     """Random sweeps of every trend (no ties): 'random', 'rising' or 'falling' energies."""
     out = {}
-    for name, (lo, hi), _ in TRENDS:
+    for t in TRENDS:
+        name, (lo, hi) = t.name, t.range
         n = rd.SWEEP_POINTS[name] if rng.random() < 0.5 else 5
         e = 1.0 + rng.random(n)
         if shape == "rising":
@@ -32,7 +34,7 @@ def test_trend_measure_is_zero_exactly_when_the_verdict_holds():
     for k in range(3000):
         sweeps = _sweeps(rng, ("random", "rising", "falling")[k % 3])
         verdicts = trend_verdicts(sweeps)
-        measures = rd.trend_measures(sweeps)
+        measures = trend_measures(sweeps)
         for name in NAMES:
             m = measures[name]
             assert m >= 0.0
@@ -44,20 +46,18 @@ def test_trend_measure_is_zero_exactly_when_the_verdict_holds():
 def test_trend_measure_values_by_hand():
     x5 = np.linspace(0, 1, 5)
     # tension should rise: one fall of 0.5 over a mean energy of 2.5 -> 0.2
-    m = rd.trend_measures({"tension": (x5, [1.0, 2.0, 3.0, 2.5, 4.0])})["tension"]
+    m = trend_measures({"tension": (x5, [1.0, 2.0, 3.0, 2.5, 4.0])})["tension"]
     assert m == pytest.approx(0.5 / 2.5)
     # crown height should fall: two rises of 1, mean 2 -> 1
-    m = rd.trend_measures({"crown_height": (x5, [3.0, 1.0, 2.0, 1.5, 2.5])})["crown_height"]
+    m = trend_measures({"crown_height": (x5, [3.0, 1.0, 2.0, 1.5, 2.5])})["crown_height"]
     assert m == pytest.approx(2.0 / 2.0)
     # offset: negative end 3, positive end 1 -> (3 - 1) / 2
-    assert rd.trend_measures({"crown_offset": (x5[[0, -1]], [3.0, 1.0])})["crown_offset"] == pytest.approx(
-        1.0
-    )
+    assert trend_measures({"crown_offset": (x5[[0, -1]], [3.0, 1.0])})["crown_offset"] == pytest.approx(1.0)
     # width: monotonic rise, lowest interior 2 over lower end 1, mean 3 -> 1/3
-    assert rd.trend_measures({"width": (x5, [1.0, 2.0, 3.0, 4.0, 5.0])})["width"] == pytest.approx(1 / 3)
+    assert trend_measures({"width": (x5, [1.0, 2.0, 3.0, 4.0, 5.0])})["width"] == pytest.approx(1 / 3)
     # a failed point: the whole energy the wrong way, and the verdict says no
     bad = {n: (x5, [1.0, np.nan, 0.5, 0.4, 0.3]) for n in NAMES}
-    assert set(rd.trend_measures(bad).values()) == {rd.FAILED_MEASURE}
+    assert set(trend_measures(bad).values()) == {FAILED_MEASURE}
     assert not any(rd._verdicts(bad).values())
 
 
@@ -68,7 +68,7 @@ def test_residuals_are_in_units_of_the_goal():
     assert np.all(rd.residuals(float("nan"), 1.0, {"width": 0.0}, t) == rd.FAILED_RESIDUAL)
 
 
-def test_minimise_recovers_a_bounded_least_squares_minimum():
+def test_calibrator_recovers_a_bounded_least_squares_minimum():
     """Three inputs, four residuals with a known zero at (0.2, 0.65, 0.9)."""
     u0 = np.array([0.2, 0.65, 0.9])
 
@@ -76,20 +76,20 @@ def test_minimise_recovers_a_bounded_least_squares_minimum():
         d = U - u0
         return np.c_[d[:, 0] + 0.5 * d[:, 1], np.sinh(d[:, 1]), 2 * d[:, 2] + d[:, 0] ** 2, d.sum(1)]
 
-    m = rf.minimise(batch, rf.start_design(3), budget=60)
+    m = calibrate_inputs(batch, start=start_design(3), budget=60)
     assert np.max(np.abs(m.u - u0)) < 5e-3
     assert m.score < 1e-2
 
 
-def test_minimise_stops_at_a_bound_and_reports_the_outward_gradient():
+def test_calibrator_stops_at_a_bound_and_reports_the_outward_gradient():
     """The unconstrained minimum lies beyond u = 1: the fit ends there, the score falls outward."""
 
     def batch(U):
         return np.c_[U[:, 0] - 1.4, 3 * (U[:, 1] - 0.5)]
 
-    m = rf.minimise(batch, rf.start_design(2), budget=40)
+    m = calibrate_inputs(batch, start=start_design(2), budget=40)
     assert m.u[0] > 1 - rd.AT_BOUND and abs(m.u[1] - 0.5) < 5e-3
-    assert m.gradient[0] < 0  # d(score^2/2)/du < 0 at the upper bound: would fall beyond it
+    assert m.grad[0] < 0  # d(score^2/2)/du < 0 at the upper bound: would fall beyond it
 
 
 def _synthetic(truth: dict, t: dict):
@@ -125,7 +125,7 @@ def test_fit_reading_recovers_known_inputs(monkeypatch):
         assert abs(p.normalised(row["cold"].inputs[p.name]) - p.normalised(truth[p.name])) < 5e-3, p.name
     assert all(row["cold"].verdicts.values()) and not any(row["cold"].measures.values())
     assert row["min"].score < 0.05
-    assert row["runs"] == (row["min"].evaluations + 1) * (1 + sum(rd.SWEEP_POINTS.values()))
+    assert row["runs"] == (row["min"].nfev + 1) * (1 + sum(rd.SWEEP_POINTS.values()))
 
 
 def test_select_readings():
@@ -166,8 +166,8 @@ def test_bound_sides_give_the_outward_derivative():
     def batch(U):
         return np.c_[U[:, 0] - 1.4, 3 * (U[:, 1] + 0.3)]
 
-    m = rf.minimise(batch, rf.start_design(2), budget=40)
-    params = [rd.Param("a", "x:a", 0.0, 1.0), rd.Param("b", "x:b", 0.0, 1.0)]
+    m = calibrate_inputs(batch, start=start_design(2), budget=40)
+    params = [Param("a", "x:a", 0.0, 1.0), Param("b", "x:b", 0.0, 1.0)]
     sides = rf._bound_sides({"params": params, "min": m})
     assert [(p.name, side) for p, side, _ in sides] == [("a", "upper"), ("b", "lower")]
     assert all(g < 0 for _, _, g in sides)

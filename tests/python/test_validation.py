@@ -13,7 +13,8 @@ import pytest
 import ringlube
 from ringlube import Case
 from ringlube.calibrate import calibrate
-from ringlube.validate_compute import PUBLISHED, trend_sweeps, trend_verdicts
+from ringlube.trends import trend_verdicts
+from ringlube.validate_compute import PUBLISHED, trend_sweeps
 
 from conftest import INPUTS
 
