@@ -11,8 +11,6 @@ module ringlube_jfo_connect
   private
   public :: jfo_solve_connected, jfo_cavity_pressure
 
-  type(jfo_options), parameter :: jfo_options_default = jfo_options()
-
 contains
 
   !> Cavity pressure per node by the connectivity rule of SPEC section 13.
@@ -143,9 +141,10 @@ contains
     logical :: bl, bln, hist_bl(16), final
     real(dp) :: tl, tr
     integer :: k, kmax, it, i, j
+    type(jfo_options) :: opt
 
-    kmax = jfo_options_default%max_outer
-    if (present(options)) kmax = options%max_outer
+    if (present(options)) opt = options
+    kmax = opt%max_outer
     iterations = 0
     outer = 0
     if (present(blown)) blown = .false.
