@@ -325,3 +325,89 @@ subroutine rl_greenwood_tripp(n, lam, f2, f52, fit)
     f52 = f52_exact(lam)
   end if
 end subroutine rl_greenwood_tripp
+
+!> Number of items of namelist text (see `rl_items`); `lists` nonzero lets a variable take
+!> a list of values. An error of the text comes back as (code, message) with n = 0.
+subroutine rl_items_count(text, name, lists, n, code, message)
+  use, intrinsic :: iso_c_binding, only: c_int
+  use ringlube_error, only: error_type
+  use ringlube_namelist, only: nml_item, scan_namelist
+  implicit none
+  character(len=*), intent(in) :: text, name
+  integer(c_int), intent(in) :: lists
+  integer(c_int), intent(out) :: n, code
+  character(len=4096), intent(out) :: message
+  type(nml_item), allocatable :: items(:)
+  type(error_type), allocatable :: err
+  integer :: m
+  n = 0
+  code = 0
+  message = ''
+  call scan_namelist(text, name, items, m, err, lists=lists /= 0)
+  if (allocated(err)) then
+    code = err%code
+    message = err%message
+    return
+  end if
+  n = m
+end subroutine rl_items_count
+
+!> The items of namelist text as the kernel's scanner reads them (`name` names the text in
+!> messages): for item i its group and variable (lower case), its value as written (quotes
+!> removed, doubled quotes undone; `vlen(i)` bytes of `values(i)`), the line it is on, its
+!> position in its variable's list (`indices`, 1 for a scalar), whether it was quoted and
+!> the line its group opens on. `n` comes from `rl_items_count`.
+subroutine rl_items(text, name, lists, n, groups, names, values, vlen, lines, indices, &
+                    quoted, group_lines, code, message)
+  use, intrinsic :: iso_c_binding, only: c_int
+  use ringlube_error, only: error_type, rl_runtime_error
+  use ringlube_namelist, only: nml_item, scan_namelist
+  implicit none
+  character(len=*), intent(in) :: text, name
+  integer(c_int), intent(in) :: lists, n
+  character(len=64), intent(out) :: groups(n), names(n)
+  character(len=2048), intent(out) :: values(n)
+  integer(c_int), intent(out) :: vlen(n), lines(n), indices(n), quoted(n), group_lines(n)
+  integer(c_int), intent(out) :: code
+  character(len=4096), intent(out) :: message
+  type(nml_item), allocatable :: items(:)
+  type(error_type), allocatable :: err
+  integer :: m, i
+  groups = ''
+  names = ''
+  values = ''
+  vlen = 0
+  lines = 0
+  indices = 0
+  quoted = 0
+  group_lines = 0
+  code = 0
+  message = ''
+  call scan_namelist(text, name, items, m, err, lists=lists /= 0)
+  if (allocated(err)) then
+    code = err%code
+    message = err%message
+    return
+  end if
+  if (m /= n) then
+    code = rl_runtime_error
+    message = 'rl_items: number of items differs from rl_items_count''s'
+    return
+  end if
+  do i = 1, m
+    if (len(items(i)%value) > len(values(i)) .or. len(items(i)%name) > len(names(i)) .or. &
+        len(items(i)%group) > len(groups(i))) then
+      code = rl_runtime_error
+      message = name//': &'//items(i)%group//' '//items(i)%name//': value too long'
+      return
+    end if
+    groups(i) = items(i)%group
+    names(i) = items(i)%name
+    values(i) = items(i)%value
+    vlen(i) = len(items(i)%value)
+    lines(i) = items(i)%line
+    indices(i) = items(i)%index
+    quoted(i) = merge(1, 0, items(i)%quoted)
+    group_lines(i) = items(i)%group_line
+  end do
+end subroutine rl_items

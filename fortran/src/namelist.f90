@@ -6,7 +6,12 @@
 !> deck into (group, variable, value, line) items itself, so that every error can name
 !> the file, the group, the variable and the line. Syntax: `&group name = value, ... /`
 !> (or `&end`), `!` comments, values quoted with ' or " (doubled quotes escape), one
-!> value per variable.
+!> value per variable. A caller that allows lists (`lists = .true.`, the `&study` decks)
+!> also gets `name = v1, v2, ...` (values separated by commas or blanks, over several
+!> lines if need be) as one item per value, numbered by `index`; kernel decks are scanned
+!> without, so a list for a kernel scalar is an error naming file:line, group and variable.
+!> Not supported (an error, never a silent reinterpretation): array indices `name(i)`,
+!> repeat counts `3*1.0` and null values.
 module ringlube_namelist
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_textio, only: itoa
@@ -20,6 +25,8 @@ module ringlube_namelist
     character(len=:), allocatable :: file   !< the file the item was read from
     integer :: line = 0
     logical :: quoted = .false.
+    integer :: index = 1       !< position of the value in its variable's list (1: first)
+    integer :: group_line = 0  !< line on which the item's group opens
   end type nml_item
 
 contains
@@ -36,16 +43,21 @@ contains
   end function lower
 
   !> Scan the deck text (lines separated by new_line('a')) into items. `path` is used
-  !> in messages only.
-  subroutine scan_namelist(text, path, items, nitems, err)
+  !> in messages only. With `lists = .true.` a variable may take a list of values (one
+  !> item per value); without, a second value is an error.
+  subroutine scan_namelist(text, path, items, nitems, err, lists)
     character(len=*), intent(in) :: text, path
     type(nml_item), allocatable, intent(out) :: items(:)
     integer, intent(out) :: nitems
     type(error_type), allocatable, intent(out) :: err
-    integer :: pos, n, line, start, gline
+    logical, intent(in), optional :: lists
+    integer :: pos, n, line, start, gline, idx
     character(len=:), allocatable :: group, name, value
-    logical :: quoted
+    logical :: quoted, more, allow_lists
     character(len=1) :: q
+
+    allow_lists = .false.
+    if (present(lists)) allow_lists = lists
 
     n = len(text)
     pos = 1
@@ -69,11 +81,16 @@ contains
         if (allocated(err)) return
         call read_name()
         if (allocated(err)) return
-        call read_value()
-        if (allocated(err)) return
-        call add(group, name, value, quoted)
-        call check_follower()
-        if (allocated(err)) return
+        idx = 0
+        values_of_name: do
+          call read_value()
+          if (allocated(err)) return
+          idx = idx + 1
+          call add(group, name, value, quoted)
+          call check_follower()
+          if (allocated(err)) return
+          if (.not. more) exit values_of_name
+        end do values_of_name
       end do items_of_group
     end do groups
 
@@ -201,8 +218,9 @@ contains
     end subroutine read_quoted
 
     !> After a value: an optional comma, then a name followed by "=", "/" or "&end"
-    !> (anything else is a second value, which is an error).
+    !> (anything else is a further value: `more` with lists, else an error).
     subroutine check_follower()
+      more = .false.
       call skip_space()
       if (pos <= n) then
         if (text(pos:pos) == ',') pos = pos + 1
@@ -216,18 +234,24 @@ contains
           pos = pos + 1
         end do
         call skip_space()
-        if (pos > n) then
-          call fail('&'//group//' '//name//': malformed value "'//value//' ' &
-                    //token(start)//'" (one value per variable)')
-          return
-        end if
-        if (text(pos:pos) /= '=') then
-          call fail('&'//group//' '//name//': malformed value "'//value//' ' &
-                    //token(start)//'" (one value per variable)')
-          return
+        if (pos <= n) then
+          if (text(pos:pos) == '=') then
+            pos = start
+            return
+          end if
         end if
         pos = start
+        if (allow_lists) then
+          more = .true.
+          return
+        end if
+        call fail('&'//group//' '//name//': malformed value "'//value//' ' &
+                  //token(start)//'" (one value per variable)')
       else if (text(pos:pos) /= '/' .and. text(pos:pos) /= '&') then
+        if (allow_lists .and. text(pos:pos) /= '(' .and. text(pos:pos) /= '=') then
+          more = .true.
+          return
+        end if
         call fail('&'//group//' '//name//': malformed value "'//value// &
                   snippet()//'"')
       end if
@@ -313,6 +337,8 @@ contains
       items(nitems)%line = line
       items(nitems)%quoted = qt
       items(nitems)%file = path
+      items(nitems)%index = idx
+      items(nitems)%group_line = gline
     end subroutine add
 
     subroutine fail(msg)

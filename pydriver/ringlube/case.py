@@ -5,7 +5,9 @@ resolved against; the kernel parses it once with the same reader as ``ringlube-s
 A case read from a file keeps the file's text, so kernel messages name the real file and
 line; values changed in Python travel as overrides that replace the deck's (messages about
 them name ``<case NAME: changed in Python>``). A case built in Python resolves relative
-paths against the working directory.
+paths against the working directory. The values a case shows (``case[group, name]``) are
+the deck's items as the kernel's scanner reads them (:mod:`ringlube.deck_items`): one
+reader, no second namelist parser.
 """
 
 from __future__ import annotations
@@ -16,11 +18,10 @@ import re
 from pathlib import Path
 from typing import Any
 
-import f90nml
-
 from .case_kernel import _text, kernel_case
 from .case_origins import _InputOrigins
 from .case_text import _format, _plain_number, _serialise
+from .deck_items import items, python_value
 from .errors import InputError, error_for
 
 __all__ = ["Case", "GROUPS"]
@@ -70,7 +71,7 @@ class Case(_InputOrigins):
         self.name = name
         #: The deck this case was read from (named in error messages), if any.
         self.source = str(source) if source is not None else None
-        self._nml = f90nml.Namelist()
+        self._nml: dict[str, dict[str, Any]] = {}  # the values set: {group: {name: value}}
         self._text: str | None = None  # the deck file's text, if read from one
         self._base: str | None = None  # folder of relative paths in _text
         self._changed: dict[tuple[str, str], Any] = {}
@@ -117,13 +118,9 @@ class Case(_InputOrigins):
         case._text = text
         case._base = str(path.resolve().parent)
         with kernel_case(case, load_trace=False, warn=False):
-            pass  # the kernel's reader first: it rejects what f90nml would reinterpret
-        try:
-            nml = f90nml.reads(text.removeprefix("\ufeff"))  # a byte-order mark is not the deck
-        except Exception as exc:  # f90nml raises several types for bad syntax
-            raise InputError(f"{path}: cannot parse namelist: {exc}") from exc
-        for group, values in nml.items():
-            case._set(group, dict(values), record=False)
+            pass  # the kernel's reader first: every error names file:line, group and variable
+        for item in items(text, str(path)):  # the same scanner: values as written
+            case._set(item.group, {item.name: python_value(item)}, record=False)
         for group, var in _PATH_VARS:
             value = case.get(group, var)
             if value and not os.path.isabs(value):
@@ -217,8 +214,7 @@ class Case(_InputOrigins):
         group = str(group).lower()
         if group not in GROUPS:
             raise InputError(f"unknown namelist group &{group} (known: {', '.join(GROUPS)})")
-        if group not in self._nml:
-            self._nml[group] = f90nml.Namelist()
+        self._nml.setdefault(group, {})
         for name, value in values.items():
             name = str(name).lower()
             if not _NAME.fullmatch(name):
@@ -311,9 +307,7 @@ class Case(_InputOrigins):
         new.name, new.source = self.name, self.source
         new._text, new._base = self._text, self._base
         new._changed = dict(self._changed)
-        new._nml = f90nml.Namelist()
-        for group, values in self._nml.items():
-            new._nml[group] = f90nml.Namelist(values)
+        new._nml = {group: dict(values) for group, values in self._nml.items()}
         return new
 
     def with_(self, group: str, **values: Any) -> Case:

@@ -11,10 +11,9 @@ from __future__ import annotations
 import warnings
 from typing import Any, NamedTuple
 
-import f90nml
-
 from .case_kernel import _text, kernel_case
-from .errors import error_for
+from .deck_items import items
+from .errors import InputError, error_for
 
 __all__ = ["EffectiveInput", "SOURCE_ENGINE_INPUTS", "SourceEngineDefaultWarning"]
 
@@ -89,10 +88,11 @@ class _InputOrigins:
         if not path:
             return set()
         try:
-            nml = f90nml.read(path)
-        except Exception:  # the kernel reports an unreadable calibration file
+            with open(path, "rb") as fh:
+                text = fh.read().decode("utf-8", "surrogateescape")
+            return {(i.group, i.name) for i in items(text, str(path))}
+        except (OSError, InputError):  # the kernel reports an unreadable calibration file
             return set()
-        return {(g.lower(), n.lower()) for g, values in nml.items() for n in values}
 
     def origins(self) -> dict[tuple[str, str], str]:
         """Where each input's value comes from: 'deck', 'calibration file', 'Python',

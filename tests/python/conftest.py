@@ -44,6 +44,7 @@ MODULE_LABELS = {
     "test_case_api": ("unit",),
     "test_cli_errors": ("cli",),
     "test_convergence": ("numerics",),
+    "test_deck_items": ("unit", "io"),
     "test_convergence_progress": ("numerics",),
     "test_docs": ("unit",),
     "test_docstrings": ("unit",),

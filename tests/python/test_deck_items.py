@@ -1,0 +1,116 @@
+"""One deck parser (issue 19, item 3): the kernel's scanner exported as ``rl_items``
+(:mod:`ringlube.deck_items`) reads kernel decks, calibration files and ``&study`` decks."""
+
+from __future__ import annotations
+
+import pytest
+
+import ringlube
+from ringlube import InputError
+from ringlube.case_text import _format
+from ringlube.deck_items import items, python_value
+
+from conftest import COLD, INPUTS
+
+KERNEL_DECKS = sorted(p for p in INPUTS.glob("*.nml") if not p.name.startswith("study_"))
+STUDY_DECKS = sorted(INPUTS.glob("study_*.nml"))
+
+
+def _as_text(its) -> str:
+    """Items written back as a deck (one group block per group opening)."""
+    out, opened = [], None
+    for it in its:
+        if (it.group, it.group_line) != opened:
+            if opened:
+                out.append("/")
+            out.append(f"&{it.group}")
+            opened = (it.group, it.group_line)
+        value = "'" + it.value.replace("'", "''") + "'" if it.quoted else it.value
+        out.append(f"  {it.name} = {value}" if it.index == 1 else f"    {value}")
+    return "\n".join([*out, "/", ""])
+
+
+def _key(its):
+    return [(i.group, i.name, i.value, i.index, i.quoted) for i in its]
+
+
+@pytest.mark.parametrize("deck", KERNEL_DECKS + STUDY_DECKS, ids=lambda p: p.name)
+def test_rl_items_round_trips_every_shipped_deck(deck):
+    lists = deck.name.startswith("study_")
+    first = items(deck.read_text(), str(deck), lists=lists)
+    again = items(_as_text(first), "again.nml", lists=lists)
+    assert first and _key(again) == _key(first)
+    text = deck.read_text().splitlines()
+    for it in first:  # each item's line holds its value (as written, quoted or not)
+        written = _format(it.value) if it.quoted else it.value
+        assert written.replace("''", "'") in text[it.line - 1].replace("''", "'"), (it, text[it.line - 1])
+
+
+def test_round_tripped_deck_reads_to_the_same_case(tmp_path):
+    first = items(COLD.read_text(), str(COLD))
+    copy = tmp_path / COLD.name
+    copy.write_text(_as_text(first))
+    (tmp_path / "calibration.nml").write_text((INPUTS / "calibration.nml").read_text())
+    (tmp_path / "pressure").symlink_to(INPUTS / "pressure")
+    a, b = ringlube.Case.from_namelist(COLD), ringlube.Case.from_namelist(copy)
+    paths = {("operating", "pressure_file"), ("output", "file"), ("calibration", "file")}
+    assert [r[:3] for r in a.effective_inputs() if r[:2] not in paths] == [
+        r[:3] for r in b.effective_inputs() if r[:2] not in paths
+    ]
+
+
+def test_values_keep_their_quotes_blanks_and_lines():
+    text = "! c\n&study name = 'it''s ', w = 1, 2.5,\n   3d0 ! three\n s = .true. /\n"
+    its = items(text, "s.nml", lists=True)
+    assert [(i.name, i.value, i.line, i.index) for i in its] == [
+        ("name", "it's ", 2, 1),
+        ("w", "1", 2, 1),
+        ("w", "2.5", 2, 2),
+        ("w", "3d0", 3, 3),
+        ("s", ".true.", 4, 1),
+    ]
+    assert [python_value(i) for i in its] == ["it's ", 1, 2.5, 3.0, True]
+    assert {i.group_line for i in its} == {2}
+
+
+@pytest.mark.parametrize(
+    "line", ["width = 1.0e-3, 1.2e-3", "width = 1.0e-3 1.2e-3", "width = 1.0e-3,\n  1.2e-3"]
+)
+def test_a_list_for_a_kernel_scalar_is_refused(tmp_path, line):
+    deck = tmp_path / "d.nml"
+    deck.write_text(f"&engine\n  crank_radius = 31.5e-3\n/\n&ring\n  {line}\n/\n")
+    with pytest.raises(
+        InputError, match=r"d\.nml:[56]: &ring width: malformed value .*one value per variable"
+    ):
+        ringlube.Case.from_namelist(deck)
+    with pytest.raises(InputError, match=r"d\.nml:[56]: &ring width: .*one value per variable"):
+        items(deck.read_text(), str(deck))
+    assert [i.value for i in items(deck.read_text(), str(deck), lists=True)][-2:] == ["1.0e-3", "1.2e-3"]
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("&study lower(1) = 3 /", r's\.nml:1: &study lower: expected "=" after the name'),
+        ("&study cases = 'a.nml\n/", r"s\.nml:1: &study cases: unterminated string"),
+        ("&study samples = 3\n", r"s\.nml:2: &study \(opened on line 1\) is not closed"),
+    ],
+)
+def test_scanner_errors_name_file_line_group_and_variable(text, message):
+    with pytest.raises(InputError, match=message):
+        items(text, "s.nml", lists=True)
+
+
+def test_case_values_come_from_the_scanner():
+    case = ringlube.Case.from_namelist(COLD)
+    first = items(COLD.read_text(), str(COLD))
+    for it in first:
+        if (it.group, it.name) in {
+            ("operating", "pressure_file"),
+            ("output", "file"),
+            ("calibration", "file"),
+        }:
+            assert case[it.group, it.name].endswith(it.value)  # paths are made absolute
+        else:
+            assert case[it.group, it.name] == python_value(it)
+            assert type(case[it.group, it.name]) is type(python_value(it))
