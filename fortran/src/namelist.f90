@@ -235,7 +235,8 @@ contains
         end do
         call skip_space()
         if (pos <= n) then
-          if (text(pos:pos) == '=') then
+          ! a name: "name =" (with lists also "name(", which read_name then refuses)
+          if (text(pos:pos) == '=' .or. (allow_lists .and. text(pos:pos) == '(')) then
             pos = start
             return
           end if

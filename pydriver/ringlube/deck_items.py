@@ -142,6 +142,15 @@ def python_value(item: Item) -> Any:
     a logical (``.true.``, ``T``, ``.f.``, as the kernel reads them) -> bool, a whole number
     -> int, else float (``d`` exponents read as ``e``).
 
+    Parameters
+    ----------
+    item : Item
+        One value of a deck.
+
+    Returns
+    -------
+    str, bool, int or float
+
     Raises
     ------
     ValueError

@@ -1,6 +1,7 @@
-"""Regenerate the sections of the docs that are generated from the kernel's tables.
+"""Regenerate the sections of the docs that are generated from the kernel's tables
+(docs/model.md) and from the ``&study`` table (docs/optimisation.md).
 
-python -m ringlube.docgen [docs/model.md ...]
+python -m ringlube.docgen [docs/model.md docs/optimisation.md ...]
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ def main(argv: list[str] | None = None) -> int:
     Parameters
     ----------
     argv : list of str, optional
-        Markdown files (default: docs/model.md).
+        Markdown files (default: docs/model.md and docs/optimisation.md).
 
     Returns
     -------
@@ -29,7 +30,7 @@ def main(argv: list[str] | None = None) -> int:
     docs/model.md: current
     0
     """
-    for doc in (argv if argv is not None else sys.argv[1:]) or ["docs/model.md"]:
+    for doc in (argv if argv is not None else sys.argv[1:]) or ["docs/model.md", "docs/optimisation.md"]:
         print(f"{doc}: {'current' if update_doc(doc) else 'regenerated'}")
     return 0
 

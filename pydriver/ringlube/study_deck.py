@@ -9,8 +9,6 @@ traces) so that a study is never resumed on changed inputs.
 
 from __future__ import annotations
 
-import dataclasses
-import math
 import os
 from pathlib import Path
 from typing import Any
@@ -19,6 +17,7 @@ from .case import Case
 from .errors import InputError
 from .study_constraints import parse_constraint
 from .study_settings import StudySettings
+from .study_table import MAX_SAMPLES, STUDY, study_values
 from .study_variables import (
     DEFAULT_GROUP,
     DESIGN_RANGES,
@@ -34,62 +33,23 @@ from .study_variables import (
 
 __all__ = ["read_study", "MAX_SAMPLES"]
 
-#: Most samples a study may ask for. The study file holds every sample and is rewritten at
-#: each checkpoint, and a run takes about 40 ms on one core: 10**6 samples are about
-#: 11 hours of runs per case on 2 cores, already far more than a quadratic surface needs.
-MAX_SAMPLES = 1_000_000
-#: Largest seed (the GA repeats use ``seed + 1000 r``, which must stay below 2**32).
-MAX_SEED = 2**31 - 1
-_SAMPLERS = ("sobol", "lhs")
-_SURROGATES = ("quadratic",)
-_INT_KEYS = {
-    "samples": 1,
-    "population": 1,
-    "generations": 1,
-    "repeats": 1,
-    "seed": 0,
-    "folds": 2,
-    "direct_population": 1,
-    "direct_generations": 1,
-    "batch": 1,
-}
 
-
-def _as_list(v) -> list:
-    return list(v) if isinstance(v, (list, tuple)) else [v]
+def _given(s: dict, name: str) -> Any:
+    """The value of ``&study name``: the deck's, else the table's default."""
+    return s[name] if name in s else STUDY[name].default
 
 
 class _Checker:
-    def __init__(self, path: Path):
+    """Errors naming the deck, the line of the variable (when the deck gives it), ``&study``
+    and the variable."""
+
+    def __init__(self, path: Path, lines: dict[str, int]):
         self.path = path
+        self.lines = lines
 
     def bad(self, var: str, why: str):
-        raise InputError(f"{self.path}: &study {var}: {why}")
-
-    def integer(self, var: str, v: Any, lo: int, hi: int | None = None, why: str = "") -> int:
-        if isinstance(v, bool) or not isinstance(v, int):
-            self.bad(var, f"must be a whole number, got {v!r}")
-        if v < lo:
-            self.bad(var, f"must be at least {lo}, got {v}")
-        if hi is not None and v > hi:
-            self.bad(var, f"must be at most {hi:,}, got {v:,}" + (f" ({why})" if why else ""))
-        return v
-
-    def reals(self, var: str, values: list) -> list[float]:
-        out = []
-        for v in values:
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                self.bad(var, f"must be numbers, got {v!r}")
-            if not math.isfinite(v):
-                self.bad(var, f"must be finite numbers, got {v}")
-            out.append(float(v))
-        return out
-
-    def words(self, var: str, values: list) -> list[str]:
-        for v in values:
-            if not isinstance(v, str) or not v.strip():
-                self.bad(var, f"must be quoted names, got {v!r}")
-        return [v.strip() for v in values]
+        where = f"{self.path}:{self.lines[var]}" if var in self.lines else str(self.path)
+        raise InputError(f"{where}: &study {var}: {why}")
 
     def plain_name(self, var: str, v: str, what: str) -> None:
         if not v or any(ch in v for ch in "/\\") or v.startswith(".") or v.strip() != v:
@@ -130,40 +90,20 @@ def read_study(path: str | os.PathLike) -> StudySettings:
     path = Path(path)
     if not path.is_file():
         raise InputError(f"{path}: file not found" if not path.exists() else f"{path}: not a file")
-    nml = _parse(path)
-    if "study" not in nml:
-        raise InputError(f"{path}: no &study group")
-    if not isinstance(nml["study"], dict):
-        raise InputError(f"{path}: {len(nml['study'])} &study groups; a study deck has one")
-    s = dict(nml["study"])
-    chk = _Checker(path)
-    twice = _given_twice(path.read_text(errors="replace"))
-    if twice:
-        chk.bad(twice, "given twice; keep one")
-    known = {f.name for f in dataclasses.fields(StudySettings)} - {"deck_text", "source", "inputs", "units"}
-    for k in s:
-        if k not in known:
-            chk.bad(k, f"unknown variable (known: {', '.join(sorted(known))})")
-
-    if "cases" not in s:
-        chk.bad("cases", "required (one or more base decks)")
-    cases = [str((path.parent / c).resolve()) for c in chk.words("cases", _as_list(s["cases"]))]
-    labels = chk.words("labels", _as_list(s.get("labels", [Path(c).stem for c in cases])))
-    weights = chk.reals("weights", _as_list(s.get("weights", [1.0] * len(cases))))
-    variables = chk.words("variables", _as_list(s.get("variables", list(DESIGN_RANGES))))
-    objectives = chk.words(
-        "objectives", _as_list(s.get("objectives", ["energy_loss", "mixed_share", "ring_mass"]))
-    )
-    ints = {k: chk.integer(k, s[k], lo) for k, lo in _INT_KEYS.items() if k in s}
-    for k in ("sampler", "surrogate"):
-        if k in s:
-            chk.words(k, [s[k]])
-    if "scene" in s and not isinstance(s["scene"], bool):
-        chk.bad("scene", f"must be .true. or .false., got {s['scene']!r}")
+    text = path.read_bytes().decode("utf-8", "surrogateescape")
+    s, lines = study_values(path, text)  # the kernel's scanner, typed by the &study table
+    chk = _Checker(path, lines)
+    for row in STUDY.values():
+        if row.required and row.name not in s:
+            chk.bad(row.name, "required (one or more base decks)")
+    cases = [str((path.parent / c).resolve()) for c in s["cases"]]
+    labels = s.get("labels", [Path(c).stem for c in cases])
+    weights = s.get("weights", [1.0] * len(cases))
+    variables = s.get("variables", list(DESIGN_RANGES))
+    objectives = list(_given(s, "objectives"))
+    ints = {k: s[k] for k, row in STUDY.items() if row.kind == "integer" and k in s}
 
     name = s.get("name", path.stem)
-    if not isinstance(name, str):
-        chk.bad("name", f"must be a quoted name, got {name!r}")
     chk.plain_name("name", name, "the study file")
     for label in labels:
         chk.plain_name("labels", label, "a group of the study file and its figures")
@@ -191,14 +131,13 @@ def read_study(path: str | os.PathLike) -> StudySettings:
     lower, upper = _bounds(chk, s, variables, pairs)
     if any(lo >= hi for lo, hi in zip(lower, upper)):
         chk.bad("upper", "each upper bound must exceed its lower bound")
-    reference = None
-    if "reference" in s:
-        reference = chk.reals("reference", _as_list(s["reference"]))
+    reference = s.get("reference")
+    if reference is not None:
         if len(reference) != len(variables):
             chk.bad("reference", f"one value per variable ({len(variables)})")
 
     constraints = []
-    for text in chk.words("constraints", _as_list(s.get("constraints", []))):
+    for text in _given(s, "constraints"):
         try:
             c = parse_constraint(text)
         except ValueError as exc:
@@ -215,22 +154,7 @@ def read_study(path: str | os.PathLike) -> StudySettings:
             chk.bad("objectives", f"unknown objective '{o}' (known: {', '.join(units)})")
     if not objectives or len(set(objectives)) != len(objectives):
         chk.bad("objectives", "one or more distinct objectives")
-    sampler = s.get("sampler", "sobol")
-    if sampler not in _SAMPLERS:
-        chk.bad("sampler", f"must be one of {', '.join(map(repr, _SAMPLERS))}, got {sampler!r}")
-    surrogate = s.get("surrogate", "quadratic")
-    if surrogate not in _SURROGATES:
-        chk.bad("surrogate", f"must be 'quadratic', got {surrogate!r}")
-    if "samples" in ints:
-        chk.integer(
-            "samples",
-            ints["samples"],
-            1,
-            MAX_SAMPLES,
-            "the study file holds every sample; 10**6 runs are about 11 hours per case on 2 cores",
-        )
-    if "seed" in ints:
-        chk.integer("seed", ints["seed"], 0, MAX_SEED)
+    sampler, surrogate = _given(s, "sampler"), _given(s, "surrogate")
 
     st = StudySettings(
         name=name,
@@ -247,7 +171,7 @@ def read_study(path: str | os.PathLike) -> StudySettings:
         constraints=constraints,
         **({"scene": s["scene"]} if "scene" in s else {}),
         **ints,
-        deck_text=path.read_text(errors="replace"),
+        deck_text=path.read_text(errors="replace"),  # as stored in study files so far
         source=str(path),
     )
     nterms = 1 + 2 * len(variables) + len(variables) * (len(variables) - 1) // 2
@@ -276,47 +200,6 @@ def read_study(path: str | os.PathLike) -> StudySettings:
     return st
 
 
-def _parse(path: Path):
-    """The namelist file read by f90nml, or one line saying why not."""
-    import contextlib
-    import io
-
-    import f90nml
-
-    try:
-        with contextlib.redirect_stdout(io.StringIO()):  # f90nml prints its state on some errors
-            return f90nml.read(path)
-    except Exception as exc:  # f90nml raises several types for bad syntax
-        lines = str(exc).strip().splitlines()
-        why = lines[0] if lines else f"{type(exc).__name__} (an unterminated string or a stray character?)"
-        raise InputError(f"{path}: cannot parse namelist: {why}") from None
-
-
-def _given_twice(text: str) -> str:
-    """The first variable assigned twice in the ``&study`` group of ``text`` ('' if none).
-
-    Strings and ``!`` comments are skipped; ``name(i) =`` counts per index.
-
-    Example
-    -------
-    >>> _given_twice("&study samples = 16, samples = 32 /")
-    'samples'
-    >>> _given_twice("&study name = 'a=b', lower(1) = 1, lower(2) = 2 /")
-    ''
-    """
-    import re
-
-    code = re.sub(r"'(?:[^']|'')*'|\"(?:[^\"]|\"\")*\"|![^\n]*", " ", text)
-    group = re.search(r"&study\b(.*?)(?:/|&end\b|$)", code, flags=re.IGNORECASE | re.DOTALL)
-    seen = set()
-    for m in re.finditer(r"([A-Za-z_]\w*)\s*(\([^)]*\))?\s*=", group.group(1) if group else ""):
-        key = (m.group(1).lower(), (m.group(2) or "").replace(" ", ""))
-        if key in seen:
-            return m.group(1).lower()
-        seen.add(key)
-    return ""
-
-
 def _bounds(
     chk: _Checker, s: dict, variables: list[str], pairs: list[tuple[str, str]]
 ) -> tuple[list[float], list[float]]:
@@ -327,8 +210,7 @@ def _bounds(
             f"required when '{given[0]}' is given (one bound per variable)",
         )
     if given:
-        lower = chk.reals("lower", _as_list(s["lower"]))
-        upper = chk.reals("upper", _as_list(s["upper"]))
+        lower, upper = s["lower"], s["upper"]
         if not (len(lower) == len(upper) == len(variables)):
             chk.bad("lower", f"one lower and one upper bound per variable ({len(variables)})")
         return lower, upper

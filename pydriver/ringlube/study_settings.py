@@ -1,4 +1,5 @@
-"""The settings of a design study: what a ``&study`` deck says, checked.
+"""The settings of a design study: what a ``&study`` deck says, checked (the variables, their
+types, defaults and ranges: the ``&study`` table, :data:`ringlube.study_table.STUDY`).
 
 :class:`StudySettings` holds them (read by :func:`ringlube.study_deck.read_study`) and gives
 the keys that decide what a resumed study keeps.
@@ -10,6 +11,7 @@ import dataclasses
 import json
 
 from .study_constraints import Constraint, parse_constraint
+from .study_table import STUDY
 from .study_variables import OUTPUTS, split_variable
 
 __all__ = ["StudySettings"]
@@ -49,18 +51,20 @@ class StudySettings:
     lower: list[float]
     upper: list[float]
     objectives: list[str]
-    sampler: str = "sobol"
-    samples: int = 10001
-    surrogate: str = "quadratic"
-    population: int = 200
-    generations: int = 200
-    repeats: int = 20
-    seed: int = 1
-    scene: bool = False
-    folds: int = 5
-    direct_population: int = 200  # the study's own NSGA-II size (affordable since issue 11)
-    direct_generations: int = 200
-    batch: int = 16
+    # defaults: the &study table (ringlube.study_table.STUDY), their one home; the direct
+    # NSGA-II's default is the source study's own size (affordable since issue 11)
+    sampler: str = STUDY["sampler"].default
+    samples: int = STUDY["samples"].default
+    surrogate: str = STUDY["surrogate"].default
+    population: int = STUDY["population"].default
+    generations: int = STUDY["generations"].default
+    repeats: int = STUDY["repeats"].default
+    seed: int = STUDY["seed"].default
+    scene: bool = STUDY["scene"].default
+    folds: int = STUDY["folds"].default
+    direct_population: int = STUDY["direct_population"].default
+    direct_generations: int = STUDY["direct_generations"].default
+    batch: int = STUDY["batch"].default
     #: results recorded for every design: :data:`~ringlube.study_variables.OUTPUTS` plus the
     #: objectives only some film models produce (e.g. ``oil_to_chamber`` with a starved inlet)
     outputs: list[str] = dataclasses.field(default_factory=lambda: list(OUTPUTS))

@@ -254,22 +254,43 @@ def results_markdown() -> str:
     return "\n".join(lines)
 
 
-_MARK = "<!-- {} {} (generated from the kernel's tables: python -m ringlube.docgen) -->"
+_MARK = "<!-- {} {} (generated from {}: python -m ringlube.docgen) -->"
+
+
+def _study_markdown() -> str:
+    from .study_table import study_markdown
+
+    return study_markdown()
+
+
+#: The generated sections of the docs: name -> (where the text comes from, its maker).
+_SECTIONS = {
+    "inputs": ("the kernel's tables", inputs_markdown),
+    "results": ("the kernel's tables", results_markdown),
+    "study": ("the &study table", _study_markdown),
+}
 
 
 def update_doc(path: str, write: bool = True) -> bool:
-    """Replace the generated sections of a Markdown file; returns True if it was current."""
+    """Replace the generated sections of a Markdown file (those it marks: the kernel's input
+    and result tables, the ``&study`` table); returns True if it was current."""
     from pathlib import Path
 
     p = Path(path)
     text = p.read_text(encoding="utf-8")
     new = text
-    for name, make in (("inputs", inputs_markdown), ("results", results_markdown)):
-        begin, end = _MARK.format("BEGIN", name), _MARK.format("END", name)
+    found = []
+    for name, (source, make) in _SECTIONS.items():
+        begin, end = _MARK.format("BEGIN", name, source), _MARK.format("END", name, source)
+        if begin not in new and end not in new:
+            continue
         if begin not in new or end not in new:
-            raise ValueError(f"{path}: no '{begin}' ... '{end}' section")
+            raise ValueError(f"{path}: '{begin}' without its '{end}' (or the other way round)")
         a, b = new.index(begin) + len(begin), new.index(end)
         new = new[:a] + "\n" + make() + "\n" + new[b:]
+        found.append(name)
+    if not found:
+        raise ValueError(f"{path}: no generated section (known: {', '.join(_SECTIONS)})")
     if write and new != text:
         p.write_text(new, encoding="utf-8")
     return new == text

@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import pytest
 
 import ringlube
@@ -114,3 +116,61 @@ def test_case_values_come_from_the_scanner():
         else:
             assert case[it.group, it.name] == python_value(it)
             assert type(case[it.group, it.name]) is type(python_value(it))
+
+
+# --- &study decks through the same scanner ----------------------------------------------
+
+
+def _study(tmp_path, body: str):
+    path = tmp_path / "s.nml"
+    path.write_text(f"! a study\n&study\n  cases = '{COLD}'\n{body}/\n")
+    return path
+
+
+@pytest.mark.parametrize(
+    "body, message",
+    [
+        ("  samples = 64.5\n", r"s\.nml:4: &study samples: must be a whole number, got 64\.5"),
+        ("  samples = 'many'\n", r"s\.nml:4: &study samples: must be a whole number, got 'many'"),
+        ("  samples = 0\n", r"s\.nml:4: &study samples: must be at least 1, got 0"),
+        ("  samples = 2000000\n", r"s\.nml:4: &study samples: must be at most 1,000,000"),
+        ("  seed = 1, 2\n", r"s\.nml:4: &study seed: takes one value, got 2"),
+        ("  sampler = 'halton'\n", r"s\.nml:4: &study sampler: must be one of 'sobol', 'lhs'"),
+        ("  labels = cold\n", r"s\.nml:4: &study labels: must be quoted names, got cold"),
+        ("  weights = 1.0,\n    nan\n", r"s\.nml:5: &study weights: must be finite numbers, got nan"),
+        ("  scene = 'yes'\n", r"s\.nml:4: &study scene: must be \.true\. or \.false\."),
+        ("  sampels = 64\n", r"s\.nml:4: &study sampels: unknown variable \(known: "),
+        ("  folds = 1\n", r"s\.nml:4: &study folds: must be at least 2, got 1"),
+        ("  labels = 'a', 'b'\n", r"s\.nml:4: &study labels: one distinct label per case \(1 cases\)"),
+        ("  lower(1) = 1e-3\n", r"s\.nml:4: &study lower: expected \"=\" after the name"),
+        ("  name = 'x'\n/\n&ring width = 1e-3\n", r"s\.nml:6: &ring: not a group of a study deck"),
+    ],
+)
+def test_study_errors_carry_file_line_group_and_variable(tmp_path, body, message):
+    from ringlube.study_deck import read_study
+
+    with pytest.raises(InputError, match=message) as exc:
+        read_study(_study(tmp_path, body))
+    assert "\n" not in str(exc.value)
+
+
+def test_study_table_drives_the_settings_and_the_docs():
+    from ringlube.study_settings import StudySettings
+    from ringlube.study_table import STUDY, study_markdown
+
+    fields = {f.name: f for f in dataclasses.fields(StudySettings)}
+    for row in STUDY.values():
+        assert row.name in fields  # every &study variable is a setting
+        if row.kind in ("integer", "choice", "logical"):
+            assert fields[row.name].default == row.default
+    assert all(f"| `{name}` |" in study_markdown() for name in STUDY)
+
+
+def test_optimisation_md_study_table_is_current():
+    from ringlube.tables import update_doc
+
+    from conftest import ROOT
+
+    assert update_doc(ROOT / "docs" / "optimisation.md", write=False), (
+        "docs/optimisation.md is stale: run `.venv/bin/python -m ringlube.docgen`"
+    )
