@@ -353,20 +353,22 @@ subroutine rl_items_count(text, name, lists, n, code, message)
 end subroutine rl_items_count
 
 !> The items of namelist text as the kernel's scanner reads them (`name` names the text in
-!> messages): for item i its group and variable (lower case), its value as written (quotes
-!> removed, doubled quotes undone; `vlen(i)` bytes of `values(i)`), the line it is on, its
-!> position in its variable's list (`indices`, 1 for a scalar), whether it was quoted and
-!> the line its group opens on. `n` comes from `rl_items_count`.
+!> messages): for item i its group and variable (lower case, at most 64 bytes), its value as
+!> written (quotes removed, doubled quotes undone; `vlen(i)` bytes of `values(i)`, at most
+!> 4096), the line it is on, its position in its variable's list (`indices`, 1 for a
+!> scalar), whether it was quoted and the line its group opens on. `n` comes from
+!> `rl_items_count`; a longer value or name is an input error naming file:line.
 subroutine rl_items(text, name, lists, n, groups, names, values, vlen, lines, indices, &
                     quoted, group_lines, code, message)
   use, intrinsic :: iso_c_binding, only: c_int
-  use ringlube_error, only: error_type, rl_runtime_error
+  use ringlube_error, only: error_type, rl_runtime_error, rl_input_error
   use ringlube_namelist, only: nml_item, scan_namelist
+  use ringlube_textio, only: itoa
   implicit none
   character(len=*), intent(in) :: text, name
   integer(c_int), intent(in) :: lists, n
   character(len=64), intent(out) :: groups(n), names(n)
-  character(len=2048), intent(out) :: values(n)
+  character(len=4096), intent(out) :: values(n)
   integer(c_int), intent(out) :: vlen(n), lines(n), indices(n), quoted(n), group_lines(n)
   integer(c_int), intent(out) :: code
   character(len=4096), intent(out) :: message
@@ -397,8 +399,10 @@ subroutine rl_items(text, name, lists, n, groups, names, values, vlen, lines, in
   do i = 1, m
     if (len(items(i)%value) > len(values(i)) .or. len(items(i)%name) > len(names(i)) .or. &
         len(items(i)%group) > len(groups(i))) then
-      code = rl_runtime_error
-      message = name//': &'//items(i)%group//' '//items(i)%name//': value too long'
+      code = rl_input_error
+      message = name//':'//itoa(items(i)%line)//': &'//items(i)%group//' '//items(i)%name// &
+                ': longer than '//itoa(len(values(i)))//' bytes (a value) or '// &
+                itoa(len(names(i)))//' (a group or variable name)'
       return
     end if
     groups(i) = items(i)%group

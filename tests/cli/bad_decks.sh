@@ -38,6 +38,9 @@ expect_error unknown_variable '&ring widht: unknown variable' "$base
 &ring widht = 1e-3 /"
 expect_error unknown_group 'unknown namelist group &rings' "$base
 &rings width = 1e-3 /"
+expect_error list_for_a_scalar 'list_for_a_scalar.nml:4: &ring width: malformed value "1e-3 1.2e-3" \(one value per variable\)' "$base
+&ring crown_height = 9.31e-6,
+  width = 1e-3, 1.2e-3 /"
 expect_error malformed_number '&ring width: malformed number "1.0.0e-3"' "$base
 &ring width = 1.0.0e-3 /"
 expect_error malformed_word '&ring tension: malformed number "eight"' "$base

@@ -174,3 +174,9 @@ def test_optimisation_md_study_table_is_current():
     assert update_doc(ROOT / "docs" / "optimisation.md", write=False), (
         "docs/optimisation.md is stale: run `.venv/bin/python -m ringlube.docgen`"
     )
+
+
+def test_a_value_too_long_for_rl_items_is_an_input_error():
+    with pytest.raises(InputError, match=r"s\.nml:2: &study name: longer than 4096 bytes"):
+        items("&study\n name = '" + "x" * 5000 + "' /", "s.nml", lists=True)
+    assert items("&study name = '" + "x" * 4096 + "' /", "s.nml", lists=True)[0].value == "x" * 4096
