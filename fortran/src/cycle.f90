@@ -14,7 +14,7 @@ module ringlube_cycle
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_results, only: result_type, allocate_result, flag_ceiling, derive_results
   use ringlube_oil_supply, only: supply_type, supply_setup, inlet_available, trailing_available, &
-                                 supply_step, &
+                                 supply_step, supply_reverse, supply_reverses, &
                                  supply_reset_counters, supply_stored, supply_to_chamber
   use ringlube_liner, only: liner_positions
   use ringlube_film, only: film_type, film_setup, film_friction
@@ -53,7 +53,7 @@ contains
     integer :: m, k, icycle, flags
     real(dp) :: sigma, h0_init, h0_start, h0, h0_end, resid, s_prev, vin, vout
     real(dp) :: stored0, gap0, energy_prev, change_map, change_energy, warmup
-    real(dp), allocatable :: map_prev(:)
+    real(dp), allocatable :: map_prev(:), map_prev2(:)
     type(load_problem) :: lp
     integer :: extra_film_solves, extra_solves
     ! the ring pack (SPEC 14): parameters, state (now, at the start of the cycle, on the copy
@@ -123,6 +123,7 @@ contains
         call supply_reset_counters(sup)
         gap0 = gap_volume()
         stored0 = supply_stored(sup) + gap0
+        if (allocated(map_prev)) map_prev2 = map_prev
         map_prev = sup%liner%h
       end if
       if (gas_pack) then
@@ -163,6 +164,10 @@ contains
         ! periodic when the liner film and the energy repeat (h0 at psi = 0 carries a slowly
         ! decaying mode of the film collected again at the end of the next downstroke)
         change_map = sum(abs(sup%liner%h - map_prev)) / max(sum(abs(sup%liner%h)), tiny(1.0_dp))
+        ! or a two-cycle: the film left just after BDC alternating between two cycles (the
+        ! energy still repeats within cycle_tol; docs/model.md, "Periodicity")
+        if (allocated(map_prev2)) change_map = min(change_map, sum(abs(sup%liner%h - map_prev2)) &
+                                                   / max(sum(abs(sup%liner%h)), tiny(1.0_dp)))
         change_energy = abs(sum(res%power_loss) * ctx%dt - energy_prev) &
                         / max(sum(res%power_loss) * ctx%dt, tiny(1.0_dp))
         energy_prev = sum(res%power_loss) * ctx%dt
@@ -253,13 +258,23 @@ contains
       real(dp), intent(in) :: psi
       real(dp) :: s
       integer :: dir
+      type(supply_type) :: rev
       if (.not. ff%starved) return
       s = position(psi)
       dir = motion(s)
       if (dir == 0) dir = sup%direction
       ff%ds = s - s_prev
-      ff%available = inlet_available(sup, s_prev, s, dir)
-      ff%behind = trailing_available(sup, s_prev, s, dir)
+      if (supply_reverses(sup, dir)) then
+        ! a reversal changes the liner first (the bank left on it, the lower rings' film):
+        ! what the edges may draw on is on that liner (supply_step makes the same change)
+        rev = sup
+        call supply_reverse(rev, s_prev, dir)
+        ff%available = inlet_available(rev, s_prev, s, dir)
+        ff%behind = trailing_available(rev, s_prev, s, dir)
+      else
+        ff%available = inlet_available(sup, s_prev, s, dir)
+        ff%behind = trailing_available(sup, s_prev, s, dir)
+      end if
     end subroutine prepare
 
     !> Solve the step to psi and carry the film content and the oil supply forward.

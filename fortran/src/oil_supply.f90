@@ -15,6 +15,7 @@ module ringlube_oil_supply
   implicit none
   private
 public :: supply_type, supply_setup, inlet_available, trailing_available, inlet_fill, supply_step, &
+            supply_reverse, supply_reverses, &
             supply_reset_counters, supply_stored, supply_to_chamber
 
   !> State and counters of the oil supply (volumes per unit circumference, m^2).
@@ -98,6 +99,46 @@ contains
     end if
   end function inlet_fill
 
+  !> Does a step in direction dir reverse the sliding direction of the last one?
+  pure logical function supply_reverses(sup, dir)
+    type(supply_type), intent(in) :: sup
+    integer, intent(in) :: dir
+    supply_reverses = dir /= 0 .and. sup%direction /= 0 .and. dir /= sup%direction
+  end function supply_reverses
+
+  !> The liner at a reversal of the sliding direction (a step from s_prev in direction dir
+  !> that reverses the last one; nothing otherwise): the bank stays on the liner just beyond
+  !> the old leading edge, and at the start of an upstroke the lower rings replace the
+  !> downstroke film where they reach. The direction itself is left to supply_step.
+  pure subroutine supply_reverse(sup, s_prev, dir)
+    type(supply_type), intent(inout) :: sup
+    real(dp), intent(in) :: s_prev
+    integer, intent(in) :: dir
+    real(dp) :: put, zl, removed, added, edge
+    if (.not. supply_reverses(sup, dir)) return
+    ! reversal: the bank stays on the liner just beyond the old leading edge
+    edge = leading_edge(sup, s_prev, sup%direction)
+    call strip_put(sup%liner, edge, edge + sign(sup%liner%dz, real(sup%direction, dp)), &
+                   sup%bank, put)
+    sup%overdrawn = sup%overdrawn + (sup%bank - put)   ! off the grid: cannot happen
+    sup%bank = 0.0_dp
+    if (dir < 0) then
+      ! start of an upstroke: where the lower rings reach (z >= lower_limit) they took the
+      ! downstroke film down and laid theirs (not under the face, which holds the gap)
+      zl = s_prev - sup%half_width
+      if (zl > sup%lower_limit) then
+        call strip_set(sup%liner, sup%lower_limit, zl, sup%supply_film, removed, added)
+        sup%taken_down = sup%taken_down + removed
+        sup%supplied = sup%supplied + added
+      end if
+      zl = max(sup%lower_limit, s_prev + sup%half_width)
+      call strip_set(sup%liner, zl, sup%liner%z0 + sup%liner%nz * sup%liner%dz, &
+                     sup%supply_film, removed, added)
+      sup%taken_down = sup%taken_down + removed
+      sup%supplied = sup%supplied + added
+    end if
+  end subroutine supply_reverse
+
   !> The exchanges of one crank step from s_prev to s with sliding direction dir (sign of U;
   !> 0 at a dead centre): `v_in` oil entered the gap through the leading edge (negative:
   !> pushed out ahead), `v_out` oil left it through the trailing edge (negative: drawn back from
@@ -108,30 +149,8 @@ contains
     type(supply_type), intent(inout) :: sup
     real(dp), intent(in) :: s_prev, s, v_in, v_out
     integer, intent(in) :: dir
-    real(dp) :: swept, put, zl, removed, added, edge
-    if (dir /= 0 .and. sup%direction /= 0 .and. dir /= sup%direction) then
-      ! reversal: the bank stays on the liner just beyond the old leading edge
-      edge = leading_edge(sup, s_prev, sup%direction)
-      call strip_put(sup%liner, edge, edge + sign(sup%liner%dz, real(sup%direction, dp)), &
-                     sup%bank, put)
-      sup%overdrawn = sup%overdrawn + (sup%bank - put)   ! off the grid: cannot happen
-      sup%bank = 0.0_dp
-      if (dir < 0) then
-        ! start of an upstroke: where the lower rings reach (z >= lower_limit) they took the
-        ! downstroke film down and laid theirs (not under the face, which holds the gap)
-        zl = s_prev - sup%half_width
-        if (zl > sup%lower_limit) then
-          call strip_set(sup%liner, sup%lower_limit, zl, sup%supply_film, removed, added)
-          sup%taken_down = sup%taken_down + removed
-          sup%supplied = sup%supplied + added
-        end if
-        zl = max(sup%lower_limit, s_prev + sup%half_width)
-        call strip_set(sup%liner, zl, sup%liner%z0 + sup%liner%nz * sup%liner%dz, &
-                       sup%supply_film, removed, added)
-        sup%taken_down = sup%taken_down + removed
-        sup%supplied = sup%supplied + added
-      end if
-    end if
+    real(dp) :: swept, put, edge
+    call supply_reverse(sup, s_prev, dir)
     if (dir /= 0) sup%direction = dir
     if (sup%direction == 0) return
     ! the leading edge's strip: its oil entered the gap or joined the bank
