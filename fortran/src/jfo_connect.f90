@@ -111,10 +111,14 @@ contains
   !>
   !> A face partly filled across its width at a gas pressure above the leading edge's (the
   !> trailing gas reaching the leading edge: `blown`) has its meniscus at the leading edge, where
-  !> the gas blows out: the leading edge then admits gas only (its fill 0), so that the oil in
-  !> the face is what Couette transport leaves there, whatever the grid. Without this the oil
-  !> entering at the leading edge is blown back out over one cell at a rate k dp/dx, so the
-  !> face's fill, its shear and the energy scaled with the cell size (issue 16).
+  !> the gas blows out. Flooded, the leading edge then admits gas only (its fill 0), so that the
+  !> oil in the face is what Couette transport leaves there, whatever the grid. Starved
+  !> (leading_gas), the edge is held at the face's gas level and admits its fill theta_left or
+  !> theta_right: the liner's oil enters by Couette transport alone (no pressure-driven flux
+  !> over the edge's cell), so a blown face can take in oil again (admitting gas only, it
+  !> stayed dry for whole strokes). Without either the oil entering at the leading edge is blown
+  !> back out over one cell at a rate k dp/dx, so the face's fill, its shear and the energy
+  !> scaled with the cell size (issue 16).
   !>
   !> Arguments as jfo_solve, plus p_cav, trailing_gas, leading_gas (see jfo_cavity_pressure);
   !> pc (out) the cavity pressures of the solution; outer (out) the number of solves;
@@ -139,12 +143,13 @@ contains
     type(jfo_system), intent(inout), optional :: work
     real(dp) :: pcn(size(pc)), th(size(theta)), hist(size(pc), 16)
     logical :: bl, bln, hist_bl(16), final
-    real(dp) :: tl, tr
-    integer :: k, kmax, it, i, j
+    real(dp) :: tl, tr, pl, pr
+    integer :: k, kmax, it, i, j, n
     type(jfo_options) :: opt
 
     if (present(options)) opt = options
     kmax = opt%max_outer
+    n = size(h)
     iterations = 0
     outer = 0
     if (present(blown)) blown = .false.
@@ -164,10 +169,17 @@ contains
       outer = k
       tl = theta_left
       tr = theta_right
-      if (bl .and. u > 0.0_dp) tr = 0.0_dp
-      if (bl .and. u < 0.0_dp) tl = 0.0_dp
+      pl = p_left
+      pr = p_right
+      if (bl .and. leading_gas) then
+        if (u > 0.0_dp) pr = maxval(pc(2:n - 1))
+        if (u < 0.0_dp) pl = maxval(pc(2:n - 1))
+      else
+        if (bl .and. u > 0.0_dp) tr = 0.0_dp
+        if (bl .and. u < 0.0_dp) tl = 0.0_dp
+      end if
       if (present(blown)) blown = bl
-      call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, tl, tr, pc, p, &
+      call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, pl, pr, tl, tr, pc, p, &
                      theta, it, info, q_left, q_right, options, cap_left=cap_left, &
                      cap_right=cap_right, work=work)
       iterations = iterations + it

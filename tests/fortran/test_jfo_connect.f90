@@ -2,7 +2,8 @@
 !> against exact and independent answers (docs/film_model.md, "Verification"):
 !>  5. starved inlet (closed form), theta_in -> 0 thins the film;
 !>  6. the cavity-pressure connectivity rule: trailing gas (closed form), leading gas, enclosed;
-!>  8. the inflow cap of the leading edge (the oil there) against a fill found by bisection.
+!>  8. the inflow cap of the leading edge (the oil there) against a fill found by bisection;
+!>  9. the leading edge of a blown face: starved, Couette inflow of its fill; flooded, gas only.
 !> (Items 1-4 and 7: test_jfo.)
 program test_jfo_connect
   use ringlube_kinds, only: dp, pi
@@ -18,6 +19,7 @@ program test_jfo_connect
   if (run_case('connectivity_rule')) call case_connectivity_rule()
   if (run_case('enclosed_cavity')) call case_enclosed_cavity()
   if (run_case('inflow_cap')) call case_inflow_cap()
+  if (run_case('blown_face')) call case_blown_face()
   call report('test_jfo_connect')
 
 contains
@@ -308,4 +310,42 @@ contains
                    tb, it, info, ql, qr, cap_left=2.0_dp * q0)
     call check_close(ql, q0, 1e-12_dp, 'inflow cap: a cap above the inflow is inactive')
   end subroutine case_inflow_cap
+
+  ! ------------------------------------------------------------------ 9. blown face
+  !> A face partly filled across its width with the trailing gas (5 bar) above the leading
+  !> edge's (1 bar) is blown (docs/model.md, "Blown face"). Starved, the leading edge sits in
+  !> the face's gas and admits the liner's oil by Couette transport alone: the inflow is
+  !> theta_in U h_le / 2 (h_le the gap of the edge's cell) on every grid (no pressure-driven term over the edge's cell, which
+  !> scaled with 1/dx). Flooded, the leading edge admits gas only.
+  subroutine case_blown_face()
+    real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:)
+    real(dp), parameter :: u = 10.0_dp, tin = 0.1_dp, dt = 1e-5_dp, pt = 5e5_dp, pl = 1e5_dp
+    real(dp) :: dx, ql, qr, q_exact
+    integer :: k, n, it, outer, info
+    logical :: blown
+    write (*, '(a)') '9. blown face: the leading edge of a face open to the trailing gas'
+    do k = 1, size(ns)
+      n = ns(k)
+      call grid(n, x, h, hmid, kmid, dx)
+      allocate (p(n), th(n), pc(n))
+      p = 0.0_dp
+      th = 0.05_dp
+      call jfo_solve_connected(dx, h, hmid, kmid, u, dt, 0.05_dp * h, pt, pl, 1.0_dp, tin, &
+                               0.0_dp, .true., .true., pc, p, th, it, outer, info, ql, qr, &
+                               blown=blown)
+      q_exact = -0.5_dp * u * tin * hmid(n - 1)
+      write (*, '(a, i4, a, l1, a, es12.5, a, es12.5)') '  N=', n, ' blown ', blown, &
+        '  starved inflow ', -qr, '  theta_in U h_le / 2 ', -q_exact
+      call check(info == JFO_OK .and. blown, 'blown face: solved, blown')
+      call check_close(qr, q_exact, 1e-9_dp, 'blown face, starved: Couette inflow of its fill')
+      p = 0.0_dp
+      th = 0.05_dp
+      call jfo_solve_connected(dx, h, hmid, kmid, u, dt, 0.05_dp * h, pt, pl, 1.0_dp, 1.0_dp, &
+                               0.0_dp, .true., .false., pc, p, th, it, outer, info, ql, qr, &
+                               blown=blown)
+      call check(info == JFO_OK .and. blown, 'blown face, flooded: solved, blown')
+      call check(qr >= 0.0_dp, 'blown face, flooded: the leading edge admits gas only')
+      deallocate (p, th, pc)
+    end do
+  end subroutine case_blown_face
 end program test_jfo_connect

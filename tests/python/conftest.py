@@ -11,6 +11,7 @@ ROOT = Path(__file__).resolve().parents[2]
 INPUTS = ROOT / "inputs"
 DECKS = sorted(INPUTS.glob("crf450r_*.nml"))
 COLD = INPUTS / "crf450r_4000rpm_full_cold.nml"
+HOT = INPUTS / "crf450r_4000rpm_full_hot.nml"
 
 
 @pytest.fixture(scope="session")

@@ -15,7 +15,7 @@ from ringlube import Case
 from ringlube.study_variables import DESIGN_RANGES
 from ringlube.tables import FLAGS
 
-from conftest import COLD
+from conftest import COLD, HOT
 
 FAST = {"preset": "fast"}
 
@@ -28,10 +28,14 @@ def cold() -> Case:
 @pytest.mark.parametrize("cavity", ["vapour", "trailing_gas"])
 def test_oil_balance_closes_over_the_cycle(cold, cavity):
     """Oil in (supply film laid) = oil out (to the chamber, taken down) + change of the oil
-    stored on the liner, in the bank and in the gap: to round-off, not to a tolerance."""
+    stored on the liner, in the bank and in the gap: to round-off, not to a tolerance. The
+    bank left above the ring at TDC is behind its trailing edge on the next downstroke: a
+    'vapour' cavity (0 Pa) next to that edge draws it back in, so none reaches the chamber;
+    a cavity open to the chamber's gas ('trailing_gas') does not, and the rest counts."""
     r = ringlube.run(cold.with_physics(cavitation="jfo", inlet="starved", cavity_pressure=cavity))
     assert r.oil_balance_error <= 1e-10, r.oil_balance_error
-    assert r.oil_to_chamber > 0 and np.isfinite(r.oil_to_chamber)
+    assert np.isfinite(r.oil_to_chamber)
+    assert (r.oil_to_chamber > 0) == (cavity == "trailing_gas"), r.oil_to_chamber
     assert (r.inlet_fill >= 0).all() and (r.inlet_fill <= 1).all()
     assert (r.wetted_width >= 0).all() and (r.wetted_width <= cold["ring", "width"] + 1e-12).all()
     assert (r.oil_bank >= 0).all() and (r.oil_left >= 0).all()
@@ -314,12 +318,16 @@ def test_connectivity_cycles_of_five_sets_end():
     assert r.reynolds_solves < 10 * r.total_film_solves, (r.reynolds_solves, r.total_film_solves)
 
 
+@pytest.mark.parametrize("cavity", ["vapour", "trailing_gas"])
 @pytest.mark.parametrize("nodes", [6, 11])
-def test_oil_balance_at_round_off_on_coarse_grids(cold, nodes):
+def test_oil_balance_at_round_off_on_coarse_grids(cold, nodes, cavity):
     """Issue 20 item 10: starved trailing-gas runs on coarse grids closed the oil balance only
     to 6e-5 (6 nodes) and 2e-6 (11 nodes); with the caps inside the solve at both edges, the
-    Gauss-Seidel fallback applying them too, it closes to round-off."""
-    case = cold.with_physics(cavitation="jfo", inlet="starved", cavity_pressure="trailing_gas")
+    Gauss-Seidel fallback applying them too, it closes to round-off. At a reversal the liner
+    changes first (the bank left on it, the lower rings' film): the oil the edges may draw
+    on in that step is on the changed liner (1e-4 at 11 nodes, 'vapour', when the inlet's cap
+    was taken from the liner before the change)."""
+    case = cold.with_physics(cavitation="jfo", inlet="starved", cavity_pressure=cavity)
     r = ringlube.run(case.with_numerics(nodes=nodes))
     assert r.oil_balance_error <= 1e-12, r.oil_balance_error
 
@@ -348,3 +356,18 @@ def test_damped_rule_that_does_not_contract_ends_flagged(cold):
     assert not r.converged and ((r.flags & FLAGS["load"]) > 0).any()
     ok = ringlube.run(case.with_numerics(damping=0.005))
     assert ok.total_film_solves < 100 * steps
+
+
+@pytest.mark.parametrize("deck", ["cold", "hot"])
+def test_starved_ring_pack_default_preset_takes_the_branch_of_the_converged_run(deck):
+    """Starved, with the ring pack's gas: 'default' (51 nodes, 2 deg) within 2 % in energy of
+    'accurate' (201 nodes, 0.25 deg), both periodic. On the exhaust stroke the land pressure
+    exceeds the chamber's and the face is blown; its leading edge admitted gas only, so at 0.5
+    deg and below the face stayed dry for the whole stroke, pushed the liner's oil ahead to the
+    chamber (19 mm3 a cycle) and never repeated (cold 1.56 J against 2.86 J at 2 deg). It now
+    admits the liner's oil by Couette transport (docs/model.md, "Blown face")."""
+    case = Case.from_namelist(COLD if deck == "cold" else HOT)
+    case = case.with_physics(cavitation="jfo", inlet="starved", ring_pack="gas")
+    default, accurate = (ringlube.run(case.with_numerics(preset=p)) for p in ("default", "accurate"))
+    assert default.converged and accurate.converged
+    assert default.energy_loss == pytest.approx(accurate.energy_loss, rel=0.02)
