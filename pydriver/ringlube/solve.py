@@ -145,21 +145,19 @@ def run(
             code, message = _kernel.rl_set_trace(k.handle, psi, p)
             if code:
                 raise error_for(code, _text(message))
-        series, iseries, scalars, produced, liner, code, message = _kernel.rl_run(
-            k.handle, out, k.nsteps, len(SERIES), len(INT_SERIES), len(SCALARS), k.nliner
+        series, iseries, scalars, liner, models, code, message = _kernel.rl_run(
+            k.handle, out, k.nsteps, len(SERIES), len(INT_SERIES), len(SCALARS), len(LINER), k.nliner
         )
         if code:
             raise error_for(code, _text(message))
         pressure_file, _, _ = _kernel.rl_get(k.handle, b"operating", b"pressure_file")
         calibration_file, _, _ = _kernel.rl_get(k.handle, b"calibration", b"file")
         deck = _kernel.rl_deck_text(k.handle, _kernel.rl_deck_length(k.handle))
-    made = {"": True, "jfo": bool(produced[0]), "starved": bool(produced[1]), "gas": bool(produced[2])}
-    data = {
-        k: np.ascontiguousarray(series[:, j]) for j, (k, s) in enumerate(SERIES.items()) if made[s.requires]
-    }
-    data.update({k: np.ascontiguousarray(iseries[:, j]) for j, k in enumerate(INT_SERIES)})
-    scal = {k: float(v) for (k, s), v in zip(SCALARS.items(), scalars) if made[s.requires]}
-    lin = {k: np.ascontiguousarray(liner[:, j]) for j, k in enumerate(LINER)} if made["starved"] else {}
+    # the rows of the tables the run produced: those whose `requires` the kernel names
+    made = {"", *_text(models).split()}
+    data = {**_columns(SERIES, series, made), **_columns(INT_SERIES, iseries, made)}
+    scal = {k: float(v) for (k, s), v in zip(SCALARS.items(), scalars) if s.requires in made}
+    lin = _columns(LINER, liner, made)
     name = case.kernel_inputs()[1]
     result = CycleResult(
         data,
@@ -178,6 +176,13 @@ def run(
             f"({result.cycles_run} cycles, change {result.cycle_change:.2e})"
         )
     return result
+
+
+def _columns(table: dict, values: np.ndarray, made: set[str]) -> dict[str, np.ndarray]:
+    """The columns of `values` (one a row of `table`) that the run produced, by short name."""
+    return {
+        k: np.ascontiguousarray(values[:, j]) for j, (k, s) in enumerate(table.items()) if s.requires in made
+    }
 
 
 def run_designs(
