@@ -297,11 +297,11 @@ contains
     integer, intent(in) :: n
     character(len=:), allocatable :: t
     integer :: i
-    t = 'short'//tab//'stored'//tab//'unit'//tab//'integer'//tab//'long_name'// &
+    t = 'short'//tab//'stored'//tab//'unit'//tab//'kind'//tab//'long_name'// &
         tab//'requires'//tab//'objective'//nl
     do i = 1, n
       t = t//trim(spec(i)%short)//tab//trim(spec(i)%stored)//tab//trim(spec(i)%unit) &
-          //tab//merge('1', '0', spec(i)%kind /= 'real')//tab//trim(spec(i)%long_name)// &
+          //tab//trim(spec(i)%kind)//tab//trim(spec(i)%long_name)// &
           tab//trim(spec(i)%requires)//tab//merge('1', '0', spec(i)%objective)//nl
     end do
   end function fields

@@ -108,11 +108,7 @@ class CycleResult:
         if name in d.get("series", {}):
             return d["series"][name]
         if name in d.get("scalars", {}):
-            value = d["scalars"][name]
-            spec = SCALARS[name]
-            if name in ("converged", "periodic"):
-                return bool(value)
-            return int(value) if spec.integer else float(value)
+            return SCALARS[name].value(d["scalars"][name])
         raise AttributeError(name)
 
     def __dir__(self):

@@ -273,7 +273,7 @@ def run_designs(
             errors[i] = _text(messages[i]) or f"design {i}: error code {int(code)}"
             continue
         values[i] = out[i, cols]
-        converged[i] = out[i, names.index("converged")] > 0.5
+        converged[i] = SCALARS["converged"].value(out[i, names.index("converged")])
     return values, converged, errors
 
 

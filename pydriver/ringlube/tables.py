@@ -82,23 +82,35 @@ class InputSpec:
 @dataclasses.dataclass(frozen=True)
 class FieldSpec:
     """One result quantity: ``short`` name (Python, studies), ``stored`` name (HDF5),
-    ``unit``, ``integer`` (integer-valued), ``long_name`` and ``requires`` ('' always
-    produced, 'jfo' only by the mass-conserving film, 'starved' only with a starved inlet) and
-    ``objective`` (a design quantity a study records and may optimise).
+    ``unit``, ``kind`` ('real'; 'integer', a count, or 'logical', 1 or 0: whole numbers,
+    stored as integers), ``long_name`` and ``requires`` ('' always produced, 'jfo' only by
+    the mass-conserving film, 'starved' only with a starved inlet, 'gas' only with the ring
+    pack) and ``objective`` (a design quantity a study records and may optimise).
 
     Examples
     --------
-    >>> SERIES["h0"].stored, SCALARS["oil_to_chamber"].requires
-    ('h0_m', 'starved')
+    >>> SERIES["h0"].stored, SCALARS["oil_to_chamber"].requires, SCALARS["converged"].kind
+    ('h0_m', 'starved', 'logical')
     """
 
     short: str
     stored: str
     unit: str
-    integer: bool
+    kind: str
     long_name: str
     requires: str = ""
     objective: bool = False
+
+    def value(self, x: float):
+        """A stored number as this quantity's Python value: bool for 'logical', int for
+        'integer', float for 'real'.
+
+        >>> SCALARS["converged"].value(1.0), SCALARS["cycles_run"].value(3.0)
+        (True, 3)
+        """
+        if self.kind == "logical":
+            return bool(x)
+        return int(x) if self.kind == "integer" else float(x)
 
 
 def table_text(which: str) -> str:
@@ -153,7 +165,7 @@ def _load():
         presets.setdefault(preset, {})[name] = _value(kind, value)
 
     def fields(which):
-        return {r[0]: FieldSpec(r[0], r[1], r[2], r[3] == "1", r[4], r[5], r[6] == "1") for r in _rows(which)}
+        return {r[0]: FieldSpec(r[0], r[1], r[2], r[3], r[4], r[5], r[6] == "1") for r in _rows(which)}
 
     flags = {int(b): desc for b, _, desc in _rows("flags")}
     return (
