@@ -16,7 +16,7 @@ module ringlube_api
   use ringlube_gas, only: check_pressure_trace
   use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
                               n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, &
-                              field_spec, liner_spec, n_liner, sc_run_time
+                              field_spec, liner_spec, n_liner, sc_run_time, models, n_models
   use ringlube_hdf5_output, only: write_result
   use ringlube_output_path, only: check_output
   use ringlube_cycle, only: solve_cycle, liner_cells
@@ -252,7 +252,7 @@ contains
   end subroutine api_set_trace
 
   !> A table as tab-separated text with a header line: 'inputs', 'presets', 'series',
-  !> 'int_series', 'scalars' or 'flags' ('' for an unknown name).
+  !> 'int_series', 'scalars', 'liner', 'flags' or 'models' ('' for an unknown name).
   function api_table(which) result(t)
     character(len=*), intent(in) :: which
     character(len=:), allocatable :: t
@@ -288,6 +288,12 @@ contains
       do i = 1, n_flags
         t = t//itoa(flag_bits(i)%bit)//tab//trim(flag_bits(i)%name)//tab// &
             trim(flag_bits(i)%description)//nl
+      end do
+    case ('models')
+      t = 'name'//tab//'group'//tab//'variable'//tab//'value'//nl
+      do i = 1, n_models
+        t = t//trim(models(i)%name)//tab//trim(models(i)%group)//tab// &
+            trim(models(i)%variable)//tab//trim(models(i)%value)//nl
       end do
     end select
   end function api_table

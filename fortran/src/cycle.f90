@@ -13,22 +13,22 @@ module ringlube_cycle
                                       ring_pack_finish, ring_pack_cycle
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_results, only: result_type, allocate_result, allocate_liner, flag_ceiling, &
-                              derive_results, truth, s_crank_angle_deg, s_sliding_speed, s_h0, &
-                              s_lambda_min, s_gas_pressure, s_applied_load, s_hydrodynamic_load, &
-                              s_asperity_load, s_viscous_friction, s_boundary_friction, &
-                              s_friction, s_power_loss, s_load_residual, s_inlet_fill, &
-                              s_wetted_width, s_oil_left, s_oil_bank, s_groove_pressure, &
-                              s_land_pressure, s_ring_lift, s_top_gap_flow, s_second_gap_flow, &
-                              si_flags, si_film_solves, sc_sigma, sc_ring_mass, sc_cycles_run, &
-                              sc_cycle_change, sc_periodic, sc_converged, sc_blowby, &
-                              sc_blowby_mass, sc_blowback_mass, sc_ring_lift_share, &
-                              sc_flutter_events, sc_gas_balance_error, sc_energy_loss, &
-                              sc_mixed_share, sc_min_film, sc_max_friction, sc_total_film_solves, &
-                              sc_reynolds_solves, sc_cycles_computed, sc_oil_balance_error, &
-                              sc_oil_to_chamber, l_liner_position, l_liner_oil_film
+                              derive_results, truth, m_jfo, m_starved, m_gas, s_crank_angle_deg, &
+                              s_sliding_speed, s_h0, s_lambda_min, s_gas_pressure, &
+                              s_applied_load, s_hydrodynamic_load, s_asperity_load, &
+                              s_viscous_friction, s_boundary_friction, s_friction, s_power_loss, &
+                              s_load_residual, s_inlet_fill, s_wetted_width, s_oil_left, &
+                              s_oil_bank, s_groove_pressure, s_land_pressure, s_ring_lift, &
+                              s_top_gap_flow, s_second_gap_flow, si_flags, si_film_solves, &
+                              sc_sigma, sc_ring_mass, sc_cycles_run, sc_cycle_change, &
+                              sc_periodic, sc_converged, sc_blowby, sc_blowby_mass, &
+                              sc_blowback_mass, sc_ring_lift_share, sc_flutter_events, &
+                              sc_gas_balance_error, sc_energy_loss, sc_mixed_share, sc_min_film, &
+                              sc_max_friction, sc_total_film_solves, sc_reynolds_solves, &
+                              sc_cycles_computed, sc_oil_balance_error, sc_oil_to_chamber, &
+                              l_liner_position, l_liner_oil_film
   use ringlube_oil_supply, only: supply_type, supply_setup, inlet_available, trailing_available, &
-                                 supply_step, &
-                                 supply_reset_counters, supply_stored, supply_to_chamber
+                                supply_step, supply_reset_counters, supply_stored, supply_to_chamber
   use ringlube_liner, only: liner_positions
   use ringlube_film, only: film_type, film_setup, film_friction
   use ringlube_load_balance, only: step_context, load_problem, balance_memory, balance, &
@@ -205,7 +205,7 @@ contains
       if (allocated(err)) return
     end do
     if (gas_pack) then
-      res%has_ring_pack = .true.
+      res%made(m_gas) = .true.
       res%scalars(sc_blowby) = rcyc%blowby_l_min
       res%scalars(sc_blowby_mass) = rcyc%blowby_mg_per_cycle
       res%scalars(sc_blowback_mass) = rcyc%blowback_mg_per_cycle
@@ -213,8 +213,8 @@ contains
       res%scalars(sc_flutter_events) = rcyc%flutter_events
       res%scalars(sc_gas_balance_error) = rcyc%gas_balance_error
     end if
-    res%has_jfo = f%jfo
-    res%has_starved = f%starved
+    res%made(m_jfo) = f%jfo
+    res%made(m_starved) = f%starved
     if (f%starved) then
       call allocate_liner(res, sup%liner%nz)
       res%liner(:, l_liner_position) = liner_positions(sup%liner)

@@ -36,7 +36,7 @@ module ringlube_hdf5_output
                              kind_logical
   use ringlube_results, only: result_type, scalar_spec, n_scalars, series_spec, n_series, &
                               int_series_spec, n_int_series, flag_description, liner_spec, &
-                              n_liner, produced, si_flags
+                              n_liner, produced, si_flags, m_starved
   use ringlube_version, only: package_version
   use ringlube_textio, only: utf8_clean
   use ringlube_fsys, only: make_temp_file, rename_file, remove_file, dir_name, last_errno, &
@@ -196,7 +196,7 @@ contains
     end do
     ! the liner film at the end of the cycle (starved inlet): its position (the first row
     ! of the table) is the scale
-    if (res%has_starved .and. ok) then
+    if (res%made(m_starved) .and. ok) then
       call h5gcreate_f(fid, 'liner', lid, herr)
       call opened(herr, 'group /liner', lid, k_group)
       do i = 1, n_liner

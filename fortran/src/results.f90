@@ -13,7 +13,7 @@ module ringlube_results
   public :: result_type, field_spec, flag_spec, series_spec, n_series, int_series_spec, &
             n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, allocate_result, &
             allocate_liner, flag_description, liner_spec, n_liner, produced, produced_models, &
-            derive_results, truth, is_true
+            derive_results, truth, is_true, model_spec, models, n_models
 
   !> Per-step flag bits (dataset `/cycle/flags`).
   integer, parameter, public :: flag_floor = 1        !< h0 held at h0_floor
@@ -39,6 +39,13 @@ module ringlube_results
     !> a design quantity a study records for every design (and may optimise)
     logical :: objective = .false.
   end type field_spec
+
+  !> An optional model: the results whose `requires` is `name` exist when the input
+  !> &`group` `variable` is `value`.
+  type :: model_spec
+    character(len=8) :: name = ''
+    character(len=12) :: group = '', variable = '', value = ''
+  end type model_spec
 
   !> One flag bit.
   type :: flag_spec
@@ -164,6 +171,13 @@ module ringlube_results
       'oil film thickness on the liner', 'starved') &
   ]
 
+  !> The models a result may require (the `requires` of the tables above).
+  type(model_spec), parameter :: models(*) = [ &
+    model_spec('jfo', 'physics', 'cavitation', 'jfo'), &
+    model_spec('starved', 'physics', 'inlet', 'starved'), &
+    model_spec('gas', 'physics', 'ring_pack', 'gas') &
+  ]
+
   !> Meaning of the bits of /cycle/flags.
   type(flag_spec), parameter :: flag_bits(*) = [ &
     flag_spec(flag_floor, 'h0_floor', 'h0 at h0_floor'), &
@@ -177,14 +191,15 @@ module ringlube_results
   !&>
 
   integer, parameter :: n_series = size(series_spec), n_int_series = size(int_series_spec), &
-                n_scalars = size(scalar_spec), n_flags = size(flag_bits), n_liner = size(liner_spec)
+             n_scalars = size(scalar_spec), n_flags = size(flag_bits), n_liner = size(liner_spec), &
+                        n_models = size(models)
 
   !> the implied-do index of `row` (Fortran wants its type declared)
   integer :: k_row
   !> row(k) = k for the rows of every table: row(0), where findloc found no row of the
   !> name, is out of bounds, so a misspelt name below does not compile
   integer, parameter :: row(*) = [(k_row, k_row=1, max(n_series, n_int_series, n_scalars, &
-                                                       n_liner))]
+                                                       n_liner, n_models))]
 
   ! The columns kernel code sets its results in, found by name in the tables when compiling:
   ! s_NAME the real series NAME (a row of `series_spec`), si_ the integer series, sc_ the
@@ -251,6 +266,11 @@ module ringlube_results
   integer, parameter, public :: &
     l_liner_position = row(findloc(liner_spec%short, 'liner_position', dim=1)), &
     l_liner_oil_film = row(findloc(liner_spec%short, 'liner_oil_film', dim=1))
+  !> The models (`models`).
+  integer, parameter, public :: &
+    m_jfo = row(findloc(models%name, 'jfo', dim=1)), &
+    m_starved = row(findloc(models%name, 'starved', dim=1)), &
+    m_gas = row(findloc(models%name, 'gas', dim=1))
   !&>
 
   !> Results of one run: the reported (last) cycle and its summary, each table's values by
@@ -267,8 +287,8 @@ module ringlube_results
     !> liner(j, i): row i of `liner_spec` at liner cell j (the liner film at the end of the
     !> reported cycle; no cells without a starved inlet)
     real(dp), allocatable :: liner(:, :)
-    !> which optional results the run produced ('jfo', 'starved', 'gas')
-    logical :: has_jfo = .false., has_starved = .false., has_ring_pack = .false.
+    !> made(i): the run produced the results that require model i of `models`
+    logical :: made(n_models) = .false.
   end type result_type
 
 contains
@@ -313,25 +333,24 @@ contains
   function produced_models(res) result(t)
     type(result_type), intent(in) :: res
     character(len=:), allocatable :: t
-    character(len=*), parameter :: models(*) = [character(len=7) :: 'jfo', 'starved', 'gas']
     integer :: i
     t = ''
-    do i = 1, size(models)
-      if (produced(res, models(i))) t = t//' '//trim(models(i))
+    do i = 1, n_models
+      if (res%made(i)) t = t//' '//trim(models(i)%name)
     end do
     t = trim(adjustl(t))
   end function produced_models
 
-  !> Did the run produce a result that `requires` this model ('' always)?
+  !> Did the run produce a result that `requires` this model ('' always, an unknown model
+  !> never)?
   pure logical function produced(res, requires)
     type(result_type), intent(in) :: res
     character(len=*), intent(in) :: requires
-    select case (trim(requires))
-    case ('jfo'); produced = res%has_jfo
-    case ('starved'); produced = res%has_starved
-    case ('gas'); produced = res%has_ring_pack
-    case default; produced = .true.
-    end select
+    integer :: i
+    produced = len_trim(requires) == 0
+    if (produced) return
+    i = findloc(models%name, requires, dim=1)
+    if (i > 0) produced = res%made(i)
   end function produced
 
   !> The results engineers quote, from the cycle's (called at the end of a run): mean

@@ -13,7 +13,7 @@ from .case import Case
 from .case_kernel import _text, kernel_case
 from .errors import InputError, NotConvergedError, RinglubeError, error_for
 from .result import CycleResult
-from .tables import INT_SERIES, LINER, SCALARS, SERIES
+from .tables import INT_SERIES, LINER, MODELS, SCALARS, SERIES
 
 __all__ = ["run", "run_many", "run_designs", "BatchError"]
 
@@ -228,11 +228,10 @@ def run_designs(
     unknown = [o for o in outputs if o not in SCALARS]
     if unknown:
         raise InputError(f"unknown outputs {unknown} (known: {', '.join(SCALARS)})")
-    need = {"jfo": ("cavitation", "jfo"), "starved": ("inlet", "starved"), "gas": ("ring_pack", "gas")}
     for o in outputs:  # a result the case's film model does not produce is refused, not 0.0
-        req = need.get(SCALARS[o].requires)
-        if req and case.value("physics", req[0]) != req[1]:
-            raise InputError(f"run_designs: {o} needs &physics {req[0]} = '{req[1]}' in the case")
+        m = MODELS.get(SCALARS[o].requires)
+        if m and case.value(m.group, m.variable) != m.value:
+            raise InputError(f"run_designs: {o} needs &{m.group} {m.variable} = '{m.value}' in the case")
     keys = []
     for v in variables:
         group, _, name = str(v).rpartition(":")

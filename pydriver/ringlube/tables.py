@@ -28,6 +28,8 @@ __all__ = [
     "FLAG_BITS",
     "FLAGS",
     "LINER",
+    "ModelSpec",
+    "MODELS",
     "GROUPS",
     "table_text",
 ]
@@ -113,13 +115,31 @@ class FieldSpec:
         return int(x) if self.kind == "integer" else float(x)
 
 
+@dataclasses.dataclass(frozen=True)
+class ModelSpec:
+    """An optional model: the results whose ``requires`` is ``name`` exist when the input
+    ``&group variable`` is ``value``.
+
+    Examples
+    --------
+    >>> m = MODELS["starved"]
+    >>> m.group, m.variable, m.value
+    ('physics', 'inlet', 'starved')
+    """
+
+    name: str
+    group: str
+    variable: str
+    value: str
+
+
 def table_text(which: str) -> str:
     """The kernel's table ``which`` as tab-separated text (header line first).
 
     Parameters
     ----------
     which : str
-        'inputs', 'presets', 'series', 'int_series', 'scalars', 'flags' or 'liner'.
+        'inputs', 'presets', 'series', 'int_series', 'scalars', 'flags', 'liner' or 'models'.
 
     Returns
     -------
@@ -190,6 +210,8 @@ INPUTS, PRESETS, SERIES, INT_SERIES, SCALARS, FLAG_BITS, LINER = _load()
 #: the bit of each ``/cycle/flags`` condition by its name in the kernel's table, e.g.
 #: ``FLAGS["h0_ceiling"]`` (lift-off)
 FLAGS: dict[str, int] = {name: int(b) for b, name, _ in _rows("flags")}
+#: the optional models by the name results give in ``requires``: which input selects each
+MODELS: dict[str, ModelSpec] = {r[0]: ModelSpec(*r) for r in _rows("models")}
 
 #: Namelist groups of a deck, in table order.
 GROUPS: tuple[str, ...] = tuple(dict.fromkeys(g for g, _ in INPUTS))
@@ -239,12 +261,7 @@ def inputs_markdown() -> str:
 
 def results_markdown() -> str:
     """The result table of docs/model.md (generated from the kernel's tables)."""
-    note = {
-        "": "",
-        "jfo": " (`cavitation = 'jfo'` only)",
-        "starved": " (`inlet = 'starved'` only)",
-        "gas": " (`ring_pack = 'gas'` only)",
-    }
+    note = {"": "", **{m.name: f" (`{m.variable} = '{m.value}'` only)" for m in MODELS.values()}}
     lines = ["| where | HDF5 name | Python name | unit | meaning |", "|---|---|---|---|---|"]
 
     def row(where: str, s: FieldSpec, python: str) -> None:

@@ -11,7 +11,8 @@ program test_results
                               si_film_solves, sc_energy_loss, sc_ring_mass, sc_converged, &
                               sc_oil_to_chamber, sc_friction_power, sc_fmep, &
                               sc_oil_to_chamber_rate, sc_flagged_steps, sc_liner_lift_share, &
-                              sc_blowby, sc_min_film, l_liner_position, l_liner_oil_film
+                              sc_blowby, sc_min_film, l_liner_position, l_liner_oil_film, &
+                              models, m_jfo, m_gas
   use ringlube_results_summary, only: summary_text
   use ringlube_check
   implicit none
@@ -44,6 +45,10 @@ program test_results
              .and. liner_spec(l_liner_oil_film)%short == 'liner_oil_film', &
              'liner rows, the position (the scale) first')
   call check(scalar_spec(sc_converged)%kind == 'logical', 'converged is a logical')
+  call requires_models(series_spec)
+  call requires_models(int_series_spec)
+  call requires_models(scalar_spec)
+  call requires_models(liner_spec)
 
   ! storage: one column a row, m zeros; an empty liner film until a starved run sets it
   call allocate_result(r, m)
@@ -68,8 +73,8 @@ program test_results
   ! the models a run produced
   call check(produced(r, '') .and. .not. produced(r, 'starved'), 'produced: always, not starved')
   call check(produced_models(r) == '', 'no optional results')
-  r%has_jfo = .true.
-  r%has_ring_pack = .true.
+  r%made(m_jfo) = .true.
+  r%made(m_gas) = .true.
   call check(produced_models(r) == 'jfo gas', 'models named: '//produced_models(r))
 
   ! the derived results
@@ -123,4 +128,14 @@ contains
                  table//': '//trim(spec(k)%short)//' named once')
     end do
   end subroutine names_unique
+
+  !> Every row of `spec` requires no model or one of `models`.
+  subroutine requires_models(spec)
+    type(field_spec), intent(in) :: spec(:)
+    integer :: k
+    do k = 1, size(spec)
+      call check(spec(k)%requires == '' .or. any(models%name == spec(k)%requires), &
+                 trim(spec(k)%short)//': requires a known model')
+    end do
+  end subroutine requires_models
 end program test_results
