@@ -191,8 +191,8 @@ module ringlube_results
   !&>
 
   integer, parameter :: n_series = size(series_spec), n_int_series = size(int_series_spec), &
-             n_scalars = size(scalar_spec), n_flags = size(flag_bits), n_liner = size(liner_spec), &
-                        n_models = size(models)
+                        n_scalars = size(scalar_spec), n_liner = size(liner_spec), &
+                        n_flags = size(flag_bits), n_models = size(models)
 
   !> the implied-do index of `row` (Fortran wants its type declared)
   integer :: k_row

@@ -36,7 +36,8 @@ program test_results
   ! the index constants are the rows of their names (found by name when compiling)
   call check(series_spec(s_crank_angle_deg)%short == 'crank_angle_deg' .and. s_crank_angle_deg &
              == 1, 'the crank angle, the dimension scale, is the first series')
-  call check(series_spec(s_h0)%short == 'h0' .and. s_second_gap_flow == n_series, 'series rows')
+  call check(series_spec(s_h0)%short == 'h0' .and. &
+             series_spec(s_second_gap_flow)%short == 'second_gap_flow', 'series rows')
   call check(int_series_spec(si_flags)%short == 'flags' .and. &
              int_series_spec(si_film_solves)%short == 'film_solves', 'integer series rows')
   call check(scalar_spec(sc_ring_mass)%short == 'ring_mass' .and. &
