@@ -11,7 +11,8 @@ program ringlube_solve
   use ringlube_case, only: case_type, composite_sigma
   use ringlube_deck, only: read_deck
   use ringlube_cycle, only: solve_cycle
-  use ringlube_results, only: result_type, scalar_value, n_scalars
+  use ringlube_results, only: result_type, produced, scalar_spec, n_scalars, is_true, &
+                              sc_run_time, sc_converged
   use ringlube_results_summary, only: summary_text
   use ringlube_hdf5_output, only: write_result
   use ringlube_output_path, only: check_output
@@ -30,7 +31,7 @@ program ringlube_solve
                                                     'the calibration file']
   character(len=4096) :: arg
   integer :: i, nargs
-  real(dp) :: v(n_scalars)
+  logical :: made(n_scalars)
   integer(int64) :: t0, t1, rate
   real(dp) :: runtime
   logical :: quiet
@@ -84,20 +85,19 @@ program ringlube_solve
   call system_clock(t1)
   if (allocated(err)) call die(err%message, err%code)
   runtime = real(t1 - t0, dp) / real(rate, dp)
-  res%run_time = runtime
+  res%scalars(sc_run_time) = runtime
 
   call write_result(out, c, res, err, inputs, input_labels)
   if (allocated(err)) call die(err%message, err%code)
 
   if (.not. quiet) then
     do i = 1, n_scalars
-      v(i) = scalar_value(res, i)
+      made(i) = produced(res, scalar_spec(i)%requires)
     end do
-    summary = summary_text(v, res%has_starved, 'ringlube '//package_version//': '//deck, out, &
-                           res%has_ring_pack)
+    summary = summary_text(res%scalars, made, 'ringlube '//package_version//': '//deck, out)
     write (output_unit, '(a)', advance='no') summary
   end if
-  if (.not. res%converged) then
+  if (.not. is_true(res, sc_converged)) then
     write (error_unit, '(a)') 'ringlube-solve: warning: the run did not converge; '// &
       'result written with converged = 0'
     stop rl_not_converged, quiet = .true.

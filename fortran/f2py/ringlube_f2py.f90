@@ -165,40 +165,39 @@ subroutine rl_set_trace(handle, n, psi, p, code, message)
   end if
 end subroutine rl_set_trace
 
-!> Run the case. Columns of `series`, `iseries` and `scalars` follow the tables 'series',
-!> 'int_series' and 'scalars'; `produced` (0/1) says which optional results the run made
-!> (1: the mass-conserving film, 2: the starved inlet); `liner` (nliner, 2): position and
-!> oil film of the liner at the end of the reported cycle (starved inlet). With a
-!> non-empty `out_path` the kernel also writes the result there (HDF5, atomically; the
-!> path is checked before the run).
-subroutine rl_run(handle, out_path, nsteps, ns, ni, nc, nliner, series, iseries, scalars, &
-                  produced, liner, code, message)
+!> Run the case. Columns of `series`, `iseries`, `scalars` and `liner` are the rows of the
+!> tables 'series', 'int_series', 'scalars' and 'liner' (the liner film at the end of the
+!> reported cycle, nliner cells: a starved inlet); `made` names the models whose results
+!> the run produced (the `requires` of the rows it has, blank-separated). With a non-empty
+!> `out_path` the kernel also writes the result there (HDF5, atomically; the path is
+!> checked before the run).
+subroutine rl_run(handle, out_path, nsteps, ns, ni, nc, nl, nliner, series, iseries, scalars, &
+                  liner, made, code, message)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
   use ringlube_error, only: error_type, rl_runtime_error
   use ringlube_api, only: api_run
   use ringlube_results, only: result_type, n_series, n_int_series, n_scalars, n_liner, &
-                              series_ptr, int_series_ptr, liner_ptr, scalar_value
+                              produced_models
   implicit none
-  integer(c_int), intent(in) :: handle, nsteps, ns, ni, nc, nliner
+  integer(c_int), intent(in) :: handle, nsteps, ns, ni, nc, nl, nliner
   character(len=*), intent(in) :: out_path
   real(c_double), intent(out) :: series(nsteps, ns)
   integer(c_int), intent(out) :: iseries(nsteps, ni)
   real(c_double), intent(out) :: scalars(nc)
-  integer(c_int), intent(out) :: produced(3)
-  real(c_double), intent(out) :: liner(nliner, 2)
+  real(c_double), intent(out) :: liner(nliner, nl)
+  character(len=64), intent(out) :: made
   integer(c_int), intent(out) :: code
   character(len=4096), intent(out) :: message
-  type(result_type), target :: r
+  type(result_type) :: r
   type(error_type), allocatable :: err
-  integer :: j
   series = 0.0_c_double
   iseries = 0
   scalars = 0.0_c_double
-  produced = 0
   liner = 0.0_c_double
+  made = ''
   code = 0
   message = ''
-  if (ns /= n_series .or. ni /= n_int_series .or. nc /= n_scalars .or. n_liner /= 2) then
+  if (ns /= n_series .or. ni /= n_int_series .or. nc /= n_scalars .or. nl /= n_liner) then
     code = rl_runtime_error
     message = 'rl_run: result table sizes differ from the caller''s'
     return
@@ -209,29 +208,16 @@ subroutine rl_run(handle, out_path, nsteps, ns, ni, nc, nliner, series, iseries,
     message = err%message
     return
   end if
-  if (r%nsteps /= nsteps) then
+  if (r%nsteps /= nsteps .or. size(r%liner, 1) /= nliner) then
     code = rl_runtime_error
-    message = 'rl_run: number of crank steps differs from rl_open''s'
+    message = 'rl_run: number of crank steps or liner cells differs from rl_open''s'
     return
   end if
-  do j = 1, n_series
-    series(:, j) = series_ptr(r, j)
-  end do
-  do j = 1, n_int_series
-    iseries(:, j) = int_series_ptr(r, j)
-  end do
-  do j = 1, n_scalars
-    scalars(j) = scalar_value(r, j)
-  end do
-  produced = [merge(1, 0, r%has_jfo), merge(1, 0, r%has_starved), merge(1, 0, r%has_ring_pack)]
-  if (size(r%liner_z) == nliner) then
-    do j = 1, n_liner
-      liner(:, j) = liner_ptr(r, j)
-    end do
-  else if (r%has_starved) then
-    code = rl_runtime_error
-    message = 'rl_run: liner cells differ from rl_open''s'
-  end if
+  series = r%series
+  iseries = r%int_series
+  scalars = r%scalars
+  liner = r%liner
+  made = produced_models(r)
 end subroutine rl_run
 
 !> Run `nd` designs of one case: row i of `x` gives the values of the variables named in
@@ -278,19 +264,25 @@ subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes, messages)
 end subroutine rl_run_batch
 
 !> The summary `ringlube-solve` prints, from the scalar results `scalars` (table
-!> 'scalars'); `starved` (`gas`) nonzero for a run with a starved inlet (the ring pack); `title` and `written`
+!> 'scalars') of which the run produced those with `made` nonzero; `title` and `written`
 !> (the first and last line) left out when blank. `n` is the text's length.
-subroutine rl_summary(nc, scalars, starved, gas, title, written, text, n)
+subroutine rl_summary(nc, scalars, made, title, written, text, n)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
+  use ringlube_results, only: n_scalars
   use ringlube_results_summary, only: summary_text
   implicit none
-  integer(c_int), intent(in) :: nc, starved, gas
+  integer(c_int), intent(in) :: nc
   real(c_double), intent(in) :: scalars(nc)
+  integer(c_int), intent(in) :: made(nc)
   character(len=*), intent(in) :: title, written
   character(len=8192), intent(out) :: text
   integer(c_int), intent(out) :: n
   character(len=:), allocatable :: t
-  t = summary_text(scalars, starved /= 0, title, written, gas /= 0)
+  if (nc /= n_scalars) then
+    t = 'rl_summary: scalar table size differs from the caller''s'
+  else
+    t = summary_text(scalars, made /= 0, title, written)
+  end if
   n = min(len(t), len(text))
   text = t
 end subroutine rl_summary

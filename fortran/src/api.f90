@@ -16,7 +16,7 @@ module ringlube_api
   use ringlube_gas, only: check_pressure_trace
   use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
                               n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, &
-                              field_spec, scalar_value, liner_spec, n_liner
+                              field_spec, liner_spec, n_liner, sc_run_time, models, n_models
   use ringlube_hdf5_output, only: write_result
   use ringlube_output_path, only: check_output
   use ringlube_cycle, only: solve_cycle, liner_cells
@@ -104,7 +104,7 @@ contains
     end if
   end subroutine api_trace
 
-  !> Run the case; `res%run_time` is the kernel time. With a non-blank `out_path` the
+  !> Run the case; its scalar `run_time` is the kernel time. With a non-blank `out_path` the
   !> result is also written there (HDF5, atomically); the path is checked before the run
   !> (not one of the run's inputs, see `check_output`).
   subroutine api_run(handle, res, err, out_path)
@@ -128,7 +128,7 @@ contains
       call system_clock(t0, rate)
       call solve_cycle(c, res, err)
       call system_clock(t1)
-      res%run_time = real(t1 - t0, dp) / real(rate, dp)
+      res%scalars(sc_run_time) = real(t1 - t0, dp) / real(rate, dp)
       if (allocated(err) .or. .not. to_file) return
       call write_result(out_path, c, res, err, [c%calibration_file], [input_labels(3)])
     end associate
@@ -146,7 +146,7 @@ contains
     type(case_type) :: c
     type(result_type) :: res
     character(len=:), allocatable :: text, why
-    integer :: j, k, i
+    integer :: j, k
     integer(int64) :: t0, t1, rate
     scalars = 0.0_dp
     if (.not. check_handle(handle, err)) return
@@ -188,10 +188,8 @@ contains
     call solve_cycle(c, res, err)
     call system_clock(t1)
     if (allocated(err)) return
-    res%run_time = real(t1 - t0, dp) / real(rate, dp)
-    do i = 1, n_scalars
-      scalars(i) = scalar_value(res, i)
-    end do
+    res%scalars(sc_run_time) = real(t1 - t0, dp) / real(rate, dp)
+    scalars = res%scalars
   end subroutine api_run_design
 
   !> The effective value of `&group name` as deck text.
@@ -254,7 +252,7 @@ contains
   end subroutine api_set_trace
 
   !> A table as tab-separated text with a header line: 'inputs', 'presets', 'series',
-  !> 'int_series', 'scalars' or 'flags' ('' for an unknown name).
+  !> 'int_series', 'scalars', 'liner', 'flags' or 'models' ('' for an unknown name).
   function api_table(which) result(t)
     character(len=*), intent(in) :: which
     character(len=:), allocatable :: t
@@ -291,6 +289,12 @@ contains
         t = t//itoa(flag_bits(i)%bit)//tab//trim(flag_bits(i)%name)//tab// &
             trim(flag_bits(i)%description)//nl
       end do
+    case ('models')
+      t = 'name'//tab//'group'//tab//'variable'//tab//'value'//nl
+      do i = 1, n_models
+        t = t//trim(models(i)%name)//tab//trim(models(i)%group)//tab// &
+            trim(models(i)%variable)//tab//trim(models(i)%value)//nl
+      end do
     end select
   end function api_table
 
@@ -299,11 +303,11 @@ contains
     integer, intent(in) :: n
     character(len=:), allocatable :: t
     integer :: i
-    t = 'short'//tab//'stored'//tab//'unit'//tab//'integer'//tab//'long_name'// &
+    t = 'short'//tab//'stored'//tab//'unit'//tab//'kind'//tab//'long_name'// &
         tab//'requires'//tab//'objective'//nl
     do i = 1, n
       t = t//trim(spec(i)%short)//tab//trim(spec(i)%stored)//tab//trim(spec(i)%unit) &
-          //tab//merge('1', '0', spec(i)%integer_valued)//tab//trim(spec(i)%long_name)// &
+          //tab//trim(spec(i)%kind)//tab//trim(spec(i)%long_name)// &
           tab//trim(spec(i)%requires)//tab//merge('1', '0', spec(i)%objective)//nl
     end do
   end function fields

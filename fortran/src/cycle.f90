@@ -12,9 +12,10 @@ module ringlube_cycle
   use ringlube_ring_pack_cycle, only: ring_pack_totals, ring_pack_cycle_out, ring_pack_accumulate, &
                                       ring_pack_finish, ring_pack_cycle
   use ringlube_greenwood_tripp, only: gt_init
-  use ringlube_results, only: result_type, allocate_result, flag_ceiling, derive_results
-  use ringlube_oil_supply, only: supply_type, supply_setup, inlet_available, trailing_available, &
-                                 supply_step, supply_reverse, supply_reverses, &
+  ! the results' table: result_type and the column constants s_* (series), si_* (integer
+  ! series), sc_* (scalars), l_* (liner) and m_* (models)
+  use ringlube_results
+  use ringlube_oil_supply, only: supply_type, supply_setup, supply_edges, supply_step, &
                                  supply_reset_counters, supply_stored, supply_to_chamber
   use ringlube_liner, only: liner_positions
   use ringlube_film, only: film_type, film_setup, film_friction
@@ -50,7 +51,8 @@ contains
     type(balance_memory) :: mem, gmem
     type(step_context) :: ctx
     type(supply_type) :: sup
-    integer :: m, k, icycle, flags
+    integer :: m, k, icycle, flags, cycles_run
+    logical :: periodic, finite
     real(dp) :: sigma, h0_init, h0_start, h0, h0_end, resid, s_prev, vin, vout
     real(dp) :: stored0, gap0, energy_prev, change_map, change_energy, warmup
     real(dp), allocatable :: map_prev(:), map_prev2(:)
@@ -77,8 +79,8 @@ contains
     ctx%dt = deg2rad(c%dpsi_deg) / ctx%omega
     ctx%p_e = elastic_pressure(c)
     sigma = f%sigma
-    res%sigma = sigma
-    res%ring_mass = ring_mass(c)
+    res%scalars(sc_sigma) = sigma
+    res%scalars(sc_ring_mass) = ring_mass(c) * 1e3_dp   ! stored in g
 
     h0_init = 4.0_dp * sigma
     if (c%h0_initial > 0.0_dp) h0_init = c%h0_initial
@@ -117,8 +119,10 @@ contains
       return
     end if
     energy_prev = -1.0_dp
+    periodic = .false.
+    cycles_run = 0
     do icycle = 1, c%max_cycles
-      res%cycles_run = icycle
+      cycles_run = icycle
       if (f%starved) then
         call supply_reset_counters(sup)
         gap0 = gap_volume()
@@ -159,7 +163,7 @@ contains
       call balance(c, ctx, g, gmem, 0.0_dp, h0_end, flags, resid, lp)
       extra_film_solves = extra_film_solves + g%film_solves - f%film_solves
       extra_solves = extra_solves + g%reynolds_solves - f%reynolds_solves
-      res%cycle_change = abs(h0_end - h0_start) / h0_start
+      res%scalars(sc_cycle_change) = abs(h0_end - h0_start) / h0_start
       if (f%starved) then
         ! periodic when the liner film and the energy repeat (h0 at psi = 0 carries a slowly
         ! decaying mode of the film collected again at the end of the next downstroke)
@@ -168,21 +172,21 @@ contains
         ! energy still repeats within cycle_tol; docs/model.md, "Periodicity")
         if (allocated(map_prev2)) change_map = min(change_map, sum(abs(sup%liner%h - map_prev2)) &
                                                    / max(sum(abs(sup%liner%h)), tiny(1.0_dp)))
-        change_energy = abs(sum(res%power_loss) * ctx%dt - energy_prev) &
-                        / max(sum(res%power_loss) * ctx%dt, tiny(1.0_dp))
-        energy_prev = sum(res%power_loss) * ctx%dt
+        change_energy = abs(sum(res%series(:, s_power_loss)) * ctx%dt - energy_prev) &
+                        / max(sum(res%series(:, s_power_loss)) * ctx%dt, tiny(1.0_dp))
+        energy_prev = sum(res%series(:, s_power_loss)) * ctx%dt
         call oil_balance()
         ! the first cycle has no energy to compare with: the ring's state instead, h0 and the
         ! oil in the gap at its start and end
-        if (icycle == 1) change_energy = max(res%cycle_change, abs(gap_volume() - gap0) / &
-                                             max(gap0, tiny(1.0_dp)))
+        if (icycle == 1) change_energy = max(res%scalars(sc_cycle_change), &
+                                             abs(gap_volume() - gap0) / max(gap0, tiny(1.0_dp)))
         if (change_map <= c%cycle_tol .and. change_energy <= c%cycle_tol .and. &
             rp_change <= c%cycle_tol) then
-          res%periodic = .true.
+          periodic = .true.
           exit
         end if
-      else if (res%cycle_change <= c%cycle_tol .and. rp_change <= c%cycle_tol) then
-        res%periodic = .true.
+      else if (res%scalars(sc_cycle_change) <= c%cycle_tol .and. rp_change <= c%cycle_tol) then
+        periodic = .true.
         exit
       end if
       ! the first cycle not periodic: the next starts the ring pack from its periodic state
@@ -194,38 +198,45 @@ contains
       if (allocated(err)) return
     end do
     if (gas_pack) then
-      res%has_ring_pack = .true.
-      res%blowby = rcyc%blowby_l_min
-      res%blowby_mass = rcyc%blowby_mg_per_cycle
-      res%blowback_mass = rcyc%blowback_mg_per_cycle
-      res%ring_lift_share = rcyc%ring_lift_share_pct
-      res%flutter_events = rcyc%flutter_events
-      res%gas_balance_error = rcyc%gas_balance_error
+      res%made(m_gas) = .true.
+      res%scalars(sc_blowby) = rcyc%blowby_l_min
+      res%scalars(sc_blowby_mass) = rcyc%blowby_mg_per_cycle
+      res%scalars(sc_blowback_mass) = rcyc%blowback_mg_per_cycle
+      res%scalars(sc_ring_lift_share) = rcyc%ring_lift_share_pct
+      res%scalars(sc_flutter_events) = rcyc%flutter_events
+      res%scalars(sc_gas_balance_error) = rcyc%gas_balance_error
     end if
-    res%has_jfo = f%jfo
-    res%has_starved = f%starved
+    res%made(m_jfo) = f%jfo
+    res%made(m_starved) = f%starved
     if (f%starved) then
-      res%liner_z = liner_positions(sup%liner)
-      res%liner_h = sup%liner%h
+      call allocate_liner(res, sup%liner%nz)
+      res%liner(:, l_liner_position) = liner_positions(sup%liner)
+      res%liner(:, l_liner_oil_film) = sup%liner%h
     end if
 
-    res%energy_loss = sum(res%power_loss) * ctx%dt
-    res%mixed_share = mixed_share(res%h0 / sigma)
-    res%min_film = minval(res%lambda_min) * sigma
-    res%max_friction = maxval(abs(res%friction))
-    res%total_film_solves = f%film_solves + extra_film_solves
-    res%reynolds_solves = f%reynolds_solves + extra_solves
-    res%cycles_computed = res%cycles_run + (warmup + c%dpsi_deg * res%cycles_run) / 720.0_dp
-    ! a step held at h0_ceiling is an answer of the model (the film carries more than the load
-    ! at every h0: the ring lifts off), flagged but not a failure; every other flag is
-    res%converged = res%periodic .and. all(iand(res%flags, not(flag_ceiling)) == 0)
+    associate (v => res%scalars, power_loss => res%series(:, s_power_loss), &
+               h0s => res%series(:, s_h0), friction => res%series(:, s_friction))
+      v(sc_energy_loss) = sum(power_loss) * ctx%dt
+      v(sc_mixed_share) = mixed_share(h0s / sigma)
+      v(sc_min_film) = minval(res%series(:, s_lambda_min)) * sigma
+      v(sc_max_friction) = maxval(abs(friction))
+      v(sc_total_film_solves) = f%film_solves + extra_film_solves
+      v(sc_reynolds_solves) = f%reynolds_solves + extra_solves
+      v(sc_cycles_run) = cycles_run
+      v(sc_cycles_computed) = cycles_run + (warmup + c%dpsi_deg * cycles_run) / 720.0_dp
+      v(sc_periodic) = truth(periodic)
+      ! a step held at h0_ceiling is an answer of the model (the film carries more than the
+      ! load at every h0: the ring lifts off), flagged but not a failure; every other flag is
+      v(sc_converged) = truth(periodic .and. &
+                              all(iand(res%int_series(:, si_flags), not(flag_ceiling)) == 0))
+      k = findloc(ieee_is_finite(friction) .and. ieee_is_finite(h0s), .false., dim=1)
+      finite = k == 0 .and. all(ieee_is_finite(power_loss)) .and. ieee_is_finite(v(sc_energy_loss))
+    end associate
     call derive_results(res, c%speed_rpm, pi * c%bore_radius**2 * 2.0_dp * c%crank_radius, &
                         c%oil_density)
-    if (.not. (all(ieee_is_finite(res%friction)) .and. all(ieee_is_finite(res%h0)) .and. &
-               all(ieee_is_finite(res%power_loss)) .and. ieee_is_finite(res%energy_loss))) then
+    if (.not. finite) then
       ! every input lies in its plausible range, so a non-finite film comes from a
       ! combination of inputs the model cannot describe: report it as an input problem
-      k = findloc(ieee_is_finite(res%friction) .and. ieee_is_finite(res%h0), .false., dim=1)
       call fatal_error(err, c%deck_path//': these inputs give a non-finite film solution'// &
              ' (first at crank angle '//trim(adjustl(angle_text(max(k, 1))))//' deg): check the'// &
                        ' operating point, ring and surface values together', rl_input_error)
@@ -258,23 +269,12 @@ contains
       real(dp), intent(in) :: psi
       real(dp) :: s
       integer :: dir
-      type(supply_type) :: rev
       if (.not. ff%starved) return
       s = position(psi)
       dir = motion(s)
       if (dir == 0) dir = sup%direction
       ff%ds = s - s_prev
-      if (supply_reverses(sup, dir)) then
-        ! a reversal changes the liner first (the bank left on it, the lower rings' film):
-        ! what the edges may draw on is on that liner (supply_step makes the same change)
-        rev = sup
-        call supply_reverse(rev, s_prev, dir)
-        ff%available = inlet_available(rev, s_prev, s, dir)
-        ff%behind = trailing_available(rev, s_prev, s, dir)
-      else
-        ff%available = inlet_available(sup, s_prev, s, dir)
-        ff%behind = trailing_available(sup, s_prev, s, dir)
-      end if
+      call supply_edges(sup, s_prev, s, dir, ff%available, ff%behind)
     end subroutine prepare
 
     !> Solve the step to psi and carry the film content and the oil supply forward.
@@ -326,9 +326,10 @@ contains
       stored1 = supply_stored(sup) + gap_volume()
       scale = max(sup%supplied, sup%taken_down + sup%to_chamber, abs(stored1 - stored0), &
                   1e-3_dp * stored0, tiny(1.0_dp))
-      res%oil_balance_error = abs((stored1 - stored0) - (sup%supplied - sup%to_chamber - &
-                                                         sup%taken_down)) / scale
-      res%oil_to_chamber = sup%to_chamber * f%circ * 1e9_dp
+      res%scalars(sc_oil_balance_error) = abs((stored1 - stored0) - (sup%supplied - &
+                                                                     sup%to_chamber - &
+                                                                     sup%taken_down)) / scale
+      res%scalars(sc_oil_to_chamber) = sup%to_chamber * f%circ * 1e9_dp
     end subroutine oil_balance
 
     function angle_text(kk) result(t)
@@ -348,38 +349,39 @@ contains
       nev = f%film_solves
       call advance(psi, h0out, flags, resid, lp, vin, vout)
       call film_friction(c, f, lp%u, fv, fb)
-      res%crank_angle_deg(k) = psi
-      res%sliding_speed(k) = lp%u
-      res%h0(k) = h0out
-      res%lambda_min(k) = minval(f%h) / sigma
-      res%gas_pressure(k) = lp%pg
-      res%applied_load(k) = lp%load
-      res%hydrodynamic_load(k) = f%wh
-      res%asperity_load(k) = f%wa
-      res%viscous_friction(k) = fv
-      res%boundary_friction(k) = fb
-      res%friction(k) = fv + fb
-      res%power_loss(k) = abs((fv + fb) * lp%u)
-      res%load_residual(k) = resid
-      res%flags(k) = flags
-      res%film_solves(k) = f%film_solves - nev
+      res%series(k, s_crank_angle_deg) = psi
+      res%series(k, s_sliding_speed) = lp%u
+      res%series(k, s_h0) = h0out
+      res%series(k, s_lambda_min) = minval(f%h) / sigma
+      res%series(k, s_gas_pressure) = lp%pg
+      res%series(k, s_applied_load) = lp%load
+      res%series(k, s_hydrodynamic_load) = f%wh
+      res%series(k, s_asperity_load) = f%wa
+      res%series(k, s_viscous_friction) = fv
+      res%series(k, s_boundary_friction) = fb
+      res%series(k, s_friction) = fv + fb
+      res%series(k, s_power_loss) = abs((fv + fb) * lp%u)
+      res%series(k, s_load_residual) = resid
+      res%int_series(k, si_flags) = flags
+      res%int_series(k, si_film_solves) = f%film_solves - nev
       if (f%jfo) then
-        res%inlet_fill(k) = f%theta_in
+        res%series(k, s_inlet_fill) = f%theta_in
         ! the control volumes of full nodes: dx inside, dx/2 at an edge
-        res%wetted_width(k) = f%dx * (count(f%theta(2:f%n - 1) >= 1.0_dp - 1e-9_dp) + 0.5_dp * &
-                                      count([f%theta(1), f%theta(f%n)] >= 1.0_dp - 1e-9_dp))
-        res%oil_left(k) = 0.0_dp
-        if (abs(f%ds) > 0.0_dp) res%oil_left(k) = max(vout, 0.0_dp) / abs(f%ds)
+        res%series(k, s_wetted_width) = f%dx * (count(f%theta(2:f%n - 1) >= 1.0_dp - 1e-9_dp) &
+                                                + 0.5_dp * count([f%theta(1), f%theta(f%n)] &
+                                                                 >= 1.0_dp - 1e-9_dp))
+        res%series(k, s_oil_left) = 0.0_dp
+        if (abs(f%ds) > 0.0_dp) res%series(k, s_oil_left) = max(vout, 0.0_dp) / abs(f%ds)
         if (.not. f%starved .and. abs(lp%u) > 0.0_dp) &
-          res%oil_left(k) = max(vout, 0.0_dp) / (abs(lp%u) * ctx%dt)
+          res%series(k, s_oil_left) = max(vout, 0.0_dp) / (abs(lp%u) * ctx%dt)
       end if
-      if (f%starved) res%oil_bank(k) = sup%bank
+      if (f%starved) res%series(k, s_oil_bank) = sup%bank
       if (gas_pack) then
-        res%groove_pressure(k) = rst%p2
-        res%land_pressure(k) = rst%p3
-        res%ring_lift(k) = rst%x
-        res%top_gap_flow(k) = rout%top_gap_flow
-        res%second_gap_flow(k) = rout%second_gap_flow
+        res%series(k, s_groove_pressure) = rst%p2
+        res%series(k, s_land_pressure) = rst%p3
+        res%series(k, s_ring_lift) = rst%x
+        res%series(k, s_top_gap_flow) = rout%top_gap_flow
+        res%series(k, s_second_gap_flow) = rout%second_gap_flow
         call ring_pack_accumulate(rtot, rout, ctx%dt)
       end if
     end subroutine step
@@ -446,7 +448,7 @@ contains
         psi = (j - 1) * c%dpsi_deg
         p1(j) = chamber(psi)
         ap(j) = -piston_acceleration(deg2rad(psi), c%crank_radius, c%conrod_length, ctx%omega)
-        ff(j) = -res%friction(merge(m, j, j == 0))
+        ff(j) = -res%series(merge(m, j, j == 0), s_friction)
       end do
       call ring_pack_cycle(rpar, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, rst, &
                            rcyc, err, max_cycles=50, tol=1e-6_dp)

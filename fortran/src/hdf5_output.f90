@@ -34,9 +34,9 @@ module ringlube_hdf5_output
   use ringlube_case, only: case_type, case_access, access_get
   use ringlube_inputs, only: input_table => inputs, n_inputs, input_key, kind_real, kind_int, &
                              kind_logical
-  use ringlube_results, only: result_type, scalar_value, scalar_spec, n_scalars, series_spec, &
-                              n_series, int_series_spec, n_int_series, series_ptr, int_series_ptr, &
-                              liner_ptr, flag_description, liner_spec, n_liner, produced
+  use ringlube_results, only: result_type, scalar_spec, n_scalars, series_spec, n_series, &
+                              int_series_spec, n_int_series, flag_description, liner_spec, &
+                              n_liner, produced, si_flags, m_starved
   use ringlube_version, only: package_version
   use ringlube_textio, only: utf8_clean
   use ringlube_fsys, only: make_temp_file, rename_file, remove_file, dir_name, last_errno, &
@@ -67,7 +67,6 @@ contains
     type(result_type), intent(in) :: res
     type(error_type), allocatable, intent(out) :: err
     character(len=*), intent(in), optional :: inputs(:), labels(:)
-    type(result_type), target :: r
     type(case_type) :: cc
     real(dp) :: v
     integer :: i, n, ios
@@ -132,13 +131,11 @@ contains
       end if
     end if
 
-    ! the scalar results, by the kernel's table (a copy: the map to the series needs a
-    ! result it may point into)
-    r = res
+    ! the scalar results, by the kernel's table (whole numbers as integers)
     do i = 1, n_scalars
-      if (.not. produced(r, scalar_spec(i)%requires)) cycle
-      v = scalar_value(r, i)
-      if (scalar_spec(i)%integer_valued) then
+      if (.not. produced(res, scalar_spec(i)%requires)) cycle
+      v = res%scalars(i)
+      if (scalar_spec(i)%kind /= 'real') then
         call attr_int(fid, trim(scalar_spec(i)%stored), nint(v))
       else
         call attr_real(fid, trim(scalar_spec(i)%stored), v)
@@ -177,38 +174,38 @@ contains
     ! the crank angle is the dimension scale (coordinate) of every other /cycle dataset;
     ! it stays open until they are written
     do i = 1, n_series
-      if (.not. produced(r, series_spec(i)%requires)) cycle
+      if (.not. produced(res, series_spec(i)%requires)) cycle
       if (i == 1) then
-        call dset(gid, trim(series_spec(i)%stored), series_ptr(r, i), trim(series_spec(i)%unit), &
+        call dset(gid, trim(series_spec(i)%stored), res%series(:, i), trim(series_spec(i)%unit), &
                   trim(series_spec(i)%long_name), keep=scale_id)
       else
-        call dset(gid, trim(series_spec(i)%stored), series_ptr(r, i), trim(series_spec(i)%unit), &
+        call dset(gid, trim(series_spec(i)%stored), res%series(:, i), trim(series_spec(i)%unit), &
                   trim(series_spec(i)%long_name))
       end if
     end do
     do i = 1, n_int_series
-      if (trim(int_series_spec(i)%short) == 'flags') then
-        call dset_int(gid, trim(int_series_spec(i)%stored), int_series_ptr(r, i), &
+      if (i == si_flags) then
+        call dset_int(gid, trim(int_series_spec(i)%stored), res%int_series(:, i), &
                       trim(int_series_spec(i)%unit), trim(int_series_spec(i)%long_name), &
                       flag_description())
       else
-        call dset_int(gid, trim(int_series_spec(i)%stored), int_series_ptr(r, i), &
+        call dset_int(gid, trim(int_series_spec(i)%stored), res%int_series(:, i), &
                       trim(int_series_spec(i)%unit), trim(int_series_spec(i)%long_name), &
                       trim(int_series_spec(i)%long_name))
       end if
     end do
     ! the liner film at the end of the cycle (starved inlet): its position (the first row
     ! of the table) is the scale
-    if (r%has_starved .and. ok) then
+    if (res%made(m_starved) .and. ok) then
       call h5gcreate_f(fid, 'liner', lid, herr)
       call opened(herr, 'group /liner', lid, k_group)
       do i = 1, n_liner
         if (i == 1) then
-          call dset(lid, trim(liner_spec(i)%stored), liner_ptr(r, i), trim(liner_spec(i)%unit), &
+          call dset(lid, trim(liner_spec(i)%stored), res%liner(:, i), trim(liner_spec(i)%unit), &
                     trim(liner_spec(i)%long_name), keep=liner_scale)
           scale_id = liner_scale
         else
-          call dset(lid, trim(liner_spec(i)%stored), liner_ptr(r, i), trim(liner_spec(i)%unit), &
+          call dset(lid, trim(liner_spec(i)%stored), res%liner(:, i), trim(liner_spec(i)%unit), &
                     trim(liner_spec(i)%long_name))
         end if
       end do

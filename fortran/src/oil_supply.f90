@@ -15,7 +15,7 @@ module ringlube_oil_supply
   implicit none
   private
 public :: supply_type, supply_setup, inlet_available, trailing_available, inlet_fill, supply_step, &
-            supply_reverse, supply_reverses, &
+            supply_reverse, supply_reverses, supply_edges, &
             supply_reset_counters, supply_stored, supply_to_chamber
 
   !> State and counters of the oil supply (volumes per unit circumference, m^2).
@@ -98,6 +98,27 @@ contains
       theta = 0.0_dp
     end if
   end function inlet_fill
+
+  !> The oil the leading edge may take in (`inlet_available`) and the trailing edge may draw
+  !> back (`trailing_available`) in a step from s_prev to s in direction dir. A reversal
+  !> changes the liner first (the bank left on it, the lower rings' film: supply_reverse, as
+  !> supply_step does), so at a reversal both are taken from the changed liner.
+  pure subroutine supply_edges(sup, s_prev, s, dir, available, behind)
+    type(supply_type), intent(in) :: sup
+    real(dp), intent(in) :: s_prev, s
+    integer, intent(in) :: dir
+    real(dp), intent(out) :: available, behind
+    type(supply_type) :: rev
+    if (supply_reverses(sup, dir)) then
+      rev = sup
+      call supply_reverse(rev, s_prev, dir)
+      available = inlet_available(rev, s_prev, s, dir)
+      behind = trailing_available(rev, s_prev, s, dir)
+    else
+      available = inlet_available(sup, s_prev, s, dir)
+      behind = trailing_available(sup, s_prev, s, dir)
+    end if
+  end subroutine supply_edges
 
   !> Does a step in direction dir reverse the sliding direction of the last one?
   pure logical function supply_reverses(sup, dir)

@@ -2,7 +2,12 @@
 !> `CycleResult.summary()`, from the scalars of ringlube_results.
 module ringlube_results_summary
   use ringlube_kinds, only: dp
-  use ringlube_results, only: n_scalars, scalar_spec
+  use ringlube_results, only: n_scalars, sc_energy_loss, sc_friction_power, sc_fmep, &
+                              sc_mixed_share, sc_oil_to_chamber, sc_oil_to_chamber_rate, &
+                              sc_liner_lift_share, sc_blowby, sc_blowby_mass, sc_ring_lift_share, &
+                              sc_flutter_events, sc_ring_mass, sc_min_film, sc_max_friction, &
+                              sc_cycles_run, sc_cycle_change, sc_flagged_steps, sc_converged, &
+                              sc_run_time, sc_cycles_computed
   implicit none
   private
   public :: summary_text
@@ -11,70 +16,59 @@ contains
 
   !> The summary of a run that `ringlube-solve`, `ringlube run` and
   !> `CycleResult.summary()` print: one line per quantity with its unit, from the scalars
-  !> `v` (order and stored units of `scalar_spec`). The oil line needs a starved inlet
-  !> (`has_starved`); `title` (first line) and `written`
-  !> (the file, last line) are left out when blank.
-  function summary_text(v, has_starved, title, written, has_ring_pack) result(t)
-    real(dp), intent(in) :: v(:)
-    logical, intent(in) :: has_starved
-    logical, intent(in), optional :: has_ring_pack
+  !> `v` (rows and stored units of `scalar_spec`) of which the run produced those `made`
+  !> (the oil with a starved inlet, blowby with the ring pack: lines shown only then);
+  !> `title` (first line) and `written` (the file, last line) are left out when blank.
+  function summary_text(v, made, title, written) result(t)
+    real(dp), intent(in) :: v(n_scalars)
+    logical, intent(in) :: made(n_scalars)
     character(len=*), intent(in) :: title, written
     character(len=:), allocatable :: t
     character(len=64) :: a, b
     character(len=1), parameter :: nl = achar(10)
     t = ''
     if (len_trim(title) > 0) t = trim(title)//nl
-    write (a, '(f10.4)') x('energy_loss')
+    write (a, '(f10.4)') v(sc_energy_loss)
     call line('energy loss per cycle', a, 'J')
-    write (a, '(f10.2)') x('friction_power')
+    write (a, '(f10.2)') v(sc_friction_power)
     call line('mean friction power', a, 'W (energy per cycle x cycles per second)')
-    write (a, '(f10.3)') x('fmep')
+    write (a, '(f10.3)') v(sc_fmep)
     call line('FMEP of the ring', a, 'kPa (energy per cycle / swept volume)')
-    write (a, '(f10.3)') x('mixed_share')
+    write (a, '(f10.3)') v(sc_mixed_share)
     call line('mixed/boundary share', a, '% of the cycle (h0/sigma < 4)')
-    if (has_starved) then
-      call line('oil to the chamber', num(x('oil_to_chamber')), 'mm^3 per cycle = '// &
-                trim(adjustl(num(x('oil_to_chamber_rate'))))//' g/h (oil_density)')
+    if (made(sc_oil_to_chamber)) then
+      call line('oil to the chamber', num(v(sc_oil_to_chamber)), 'mm^3 per cycle = '// &
+                trim(adjustl(num(v(sc_oil_to_chamber_rate))))//' g/h (oil_density)')
     end if
-    write (a, '(f10.2)') x('liner_lift_share')
+    write (a, '(f10.2)') v(sc_liner_lift_share)
     call line('lifted off the liner', a, '% of the cycle (h0 at h0_ceiling)')
-    if (present(has_ring_pack)) then
-      if (has_ring_pack) then
-        write (a, '(f10.3)') x('blowby')
-        write (b, '(f8.2)') x('blowby_mass')
-        call line('blowby', a, 'L/min ('//trim(adjustl(b))//' mg per cycle)')
-        write (a, '(f10.2)') x('ring_lift_share')
-        write (b, '(i8)') nint(x('flutter_events'))
-        call line('ring lift in its groove', a, '% of the cycle ('//trim(adjustl(b))// &
-                  ' flutter events)')
-      end if
+    if (made(sc_blowby)) then
+      write (a, '(f10.3)') v(sc_blowby)
+      write (b, '(f8.2)') v(sc_blowby_mass)
+      call line('blowby', a, 'L/min ('//trim(adjustl(b))//' mg per cycle)')
+      write (a, '(f10.2)') v(sc_ring_lift_share)
+      write (b, '(i8)') nint(v(sc_flutter_events))
+      call line('ring lift in its groove', a, '% of the cycle ('//trim(adjustl(b))// &
+                ' flutter events)')
     end if
-    write (a, '(f10.3)') x('ring_mass')
+    write (a, '(f10.3)') v(sc_ring_mass)
     call line('ring mass', a, 'g')
-    write (a, '(f10.4)') x('min_film') * 1e6_dp
+    write (a, '(f10.4)') v(sc_min_film) * 1e6_dp
     call line('minimum film', a, 'um')
-    write (a, '(f10.3)') x('max_friction')
+    write (a, '(f10.3)') v(sc_max_friction)
     call line('peak friction', a, 'N')
-    write (a, '(i10)') nint(x('cycles_run'))
-    write (b, '(es9.2)') x('cycle_change')
+    write (a, '(i10)') nint(v(sc_cycles_run))
+    write (b, '(es9.2)') v(sc_cycle_change)
     call line('cycles run', a, '  (last cycle change in h0: '//trim(adjustl(b))//')')
-    write (a, '(i10)') nint(x('flagged_steps'))
+    write (a, '(i10)') nint(v(sc_flagged_steps))
     call line('flagged crank steps', a, '(see /cycle/flags)')
-    call line('converged', merge('       yes', '        no', x('converged') > 0.5_dp), '')
-    write (a, '(f10.3)') x('run_time')
-    write (b, '(f8.1)') 1e3_dp * x('run_time') / max(x('cycles_computed'), tiny(1.0_dp))
+    call line('converged', merge('       yes', '        no', v(sc_converged) /= 0.0_dp), '')
+    write (a, '(f10.3)') v(sc_run_time)
+    write (b, '(f8.1)') 1e3_dp * v(sc_run_time) / max(v(sc_cycles_computed), tiny(1.0_dp))
     call line('run time', a, 's ('//trim(adjustl(b))//' ms per cycle; '// &
-              trim(adjustl(fixed(x('cycles_computed'))))//' cycles incl. warm-up)')
+              trim(adjustl(fixed(v(sc_cycles_computed))))//' cycles incl. warm-up)')
     if (len_trim(written) > 0) call line('written', trim(written), '')
   contains
-    real(dp) function x(name)
-      character(len=*), intent(in) :: name
-      integer :: i
-      x = 0.0_dp
-      do i = 1, min(size(v), n_scalars)
-        if (trim(scalar_spec(i)%short) == name) x = v(i)
-      end do
-    end function x
     subroutine line(label, value, unit)
       character(len=*), intent(in) :: label, value, unit
       character(len=24) :: l

@@ -108,11 +108,7 @@ class CycleResult:
         if name in d.get("series", {}):
             return d["series"][name]
         if name in d.get("scalars", {}):
-            value = d["scalars"][name]
-            spec = SCALARS[name]
-            if name in ("converged", "periodic"):
-                return bool(value)
-            return int(value) if spec.integer else float(value)
+            return SCALARS[name].value(d["scalars"][name])
         raise AttributeError(name)
 
     def __dir__(self):
@@ -151,8 +147,8 @@ class CycleResult:
         from . import _kernel
 
         v = np.array([float(self.scalars.get(k, 0.0)) for k in SCALARS])
-        gas = int("blowby" in self.scalars)
-        text, n = _kernel.rl_summary(v, int(bool(self.liner)), gas, title.encode(), written.encode())
+        made = np.array([k in self.scalars for k in SCALARS], dtype=np.int32)
+        text, n = _kernel.rl_summary(v, made, title.encode(), written.encode())
         text = bytes(text[:n]).decode("utf-8", "replace") if isinstance(text, bytes) else str(text)[:n]
         return text.rstrip("\n")
 

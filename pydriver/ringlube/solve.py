@@ -13,7 +13,7 @@ from .case import Case
 from .case_kernel import _text, kernel_case
 from .errors import InputError, NotConvergedError, RinglubeError, error_for
 from .result import CycleResult
-from .tables import INT_SERIES, LINER, SCALARS, SERIES
+from .tables import INT_SERIES, LINER, MODELS, SCALARS, SERIES
 
 __all__ = ["run", "run_many", "run_designs", "BatchError"]
 
@@ -145,21 +145,19 @@ def run(
             code, message = _kernel.rl_set_trace(k.handle, psi, p)
             if code:
                 raise error_for(code, _text(message))
-        series, iseries, scalars, produced, liner, code, message = _kernel.rl_run(
-            k.handle, out, k.nsteps, len(SERIES), len(INT_SERIES), len(SCALARS), k.nliner
+        series, iseries, scalars, liner, models, code, message = _kernel.rl_run(
+            k.handle, out, k.nsteps, len(SERIES), len(INT_SERIES), len(SCALARS), len(LINER), k.nliner
         )
         if code:
             raise error_for(code, _text(message))
         pressure_file, _, _ = _kernel.rl_get(k.handle, b"operating", b"pressure_file")
         calibration_file, _, _ = _kernel.rl_get(k.handle, b"calibration", b"file")
         deck = _kernel.rl_deck_text(k.handle, _kernel.rl_deck_length(k.handle))
-    made = {"": True, "jfo": bool(produced[0]), "starved": bool(produced[1]), "gas": bool(produced[2])}
-    data = {
-        k: np.ascontiguousarray(series[:, j]) for j, (k, s) in enumerate(SERIES.items()) if made[s.requires]
-    }
-    data.update({k: np.ascontiguousarray(iseries[:, j]) for j, k in enumerate(INT_SERIES)})
-    scal = {k: float(v) for (k, s), v in zip(SCALARS.items(), scalars) if made[s.requires]}
-    lin = {k: np.ascontiguousarray(liner[:, j]) for j, k in enumerate(LINER)} if made["starved"] else {}
+    # the rows of the tables the run produced: those whose `requires` the kernel names
+    made = {"", *_text(models).split()}
+    data = {**_columns(SERIES, series, made), **_columns(INT_SERIES, iseries, made)}
+    scal = {k: float(v) for (k, s), v in zip(SCALARS.items(), scalars) if s.requires in made}
+    lin = _columns(LINER, liner, made)
     name = case.kernel_inputs()[1]
     result = CycleResult(
         data,
@@ -178,6 +176,13 @@ def run(
             f"({result.cycles_run} cycles, change {result.cycle_change:.2e})"
         )
     return result
+
+
+def _columns(table: dict, values: np.ndarray, made: set[str]) -> dict[str, np.ndarray]:
+    """The columns of `values` (one a row of `table`) that the run produced, by short name."""
+    return {
+        k: np.ascontiguousarray(values[:, j]) for j, (k, s) in enumerate(table.items()) if s.requires in made
+    }
 
 
 def run_designs(
@@ -223,11 +228,10 @@ def run_designs(
     unknown = [o for o in outputs if o not in SCALARS]
     if unknown:
         raise InputError(f"unknown outputs {unknown} (known: {', '.join(SCALARS)})")
-    need = {"jfo": ("cavitation", "jfo"), "starved": ("inlet", "starved"), "gas": ("ring_pack", "gas")}
     for o in outputs:  # a result the case's film model does not produce is refused, not 0.0
-        req = need.get(SCALARS[o].requires)
-        if req and case.value("physics", req[0]) != req[1]:
-            raise InputError(f"run_designs: {o} needs &physics {req[0]} = '{req[1]}' in the case")
+        m = MODELS.get(SCALARS[o].requires)
+        if m and case.value(m.group, m.variable) != m.value:
+            raise InputError(f"run_designs: {o} needs &{m.group} {m.variable} = '{m.value}' in the case")
     keys = []
     for v in variables:
         group, _, name = str(v).rpartition(":")
@@ -268,7 +272,7 @@ def run_designs(
             errors[i] = _text(messages[i]) or f"design {i}: error code {int(code)}"
             continue
         values[i] = out[i, cols]
-        converged[i] = out[i, names.index("converged")] > 0.5
+        converged[i] = SCALARS["converged"].value(out[i, names.index("converged")])
     return values, converged, errors
 
 

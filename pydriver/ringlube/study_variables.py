@@ -93,14 +93,12 @@ def _model_units() -> dict[str, str]:
 
 
 def _produces(case: Case, requires: str) -> bool:
-    """Does a run of ``case`` produce results that need ``requires`` ('jfo', 'starved', 'gas')?"""
-    if requires == "jfo":
-        return case.value("physics", "cavitation") == "jfo"
-    if requires == "starved":
-        return case.value("physics", "inlet") == "starved"
-    if requires == "gas":
-        return case.value("physics", "ring_pack") == "gas"
-    return True
+    """Does a run of ``case`` produce results that need ``requires`` (a model of the kernel's
+    table, :data:`ringlube.tables.MODELS`; '' always)?"""
+    from .tables import MODELS
+
+    m = MODELS.get(requires)
+    return m is None or case.value(m.group, m.variable) == m.value
 
 
 def output_units() -> dict[str, str]:

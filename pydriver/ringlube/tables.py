@@ -28,6 +28,8 @@ __all__ = [
     "FLAG_BITS",
     "FLAGS",
     "LINER",
+    "ModelSpec",
+    "MODELS",
     "GROUPS",
     "table_text",
 ]
@@ -82,23 +84,53 @@ class InputSpec:
 @dataclasses.dataclass(frozen=True)
 class FieldSpec:
     """One result quantity: ``short`` name (Python, studies), ``stored`` name (HDF5),
-    ``unit``, ``integer`` (integer-valued), ``long_name`` and ``requires`` ('' always
-    produced, 'jfo' only by the mass-conserving film, 'starved' only with a starved inlet) and
-    ``objective`` (a design quantity a study records and may optimise).
+    ``unit``, ``kind`` ('real'; 'integer', a count, or 'logical', 1 or 0: whole numbers,
+    stored as integers), ``long_name`` and ``requires`` ('' always produced, 'jfo' only by
+    the mass-conserving film, 'starved' only with a starved inlet, 'gas' only with the ring
+    pack) and ``objective`` (a design quantity a study records and may optimise).
 
     Examples
     --------
-    >>> SERIES["h0"].stored, SCALARS["oil_to_chamber"].requires
-    ('h0_m', 'starved')
+    >>> SERIES["h0"].stored, SCALARS["oil_to_chamber"].requires, SCALARS["converged"].kind
+    ('h0_m', 'starved', 'logical')
     """
 
     short: str
     stored: str
     unit: str
-    integer: bool
+    kind: str
     long_name: str
     requires: str = ""
     objective: bool = False
+
+    def value(self, x: float):
+        """A stored number as this quantity's Python value: bool for 'logical', int for
+        'integer', float for 'real'.
+
+        >>> SCALARS["converged"].value(1.0), SCALARS["cycles_run"].value(3.0)
+        (True, 3)
+        """
+        if self.kind == "logical":
+            return bool(x)
+        return int(x) if self.kind == "integer" else float(x)
+
+
+@dataclasses.dataclass(frozen=True)
+class ModelSpec:
+    """An optional model: the results whose ``requires`` is ``name`` exist when the input
+    ``&group variable`` is ``value``.
+
+    Examples
+    --------
+    >>> m = MODELS["starved"]
+    >>> m.group, m.variable, m.value
+    ('physics', 'inlet', 'starved')
+    """
+
+    name: str
+    group: str
+    variable: str
+    value: str
 
 
 def table_text(which: str) -> str:
@@ -107,7 +139,7 @@ def table_text(which: str) -> str:
     Parameters
     ----------
     which : str
-        'inputs', 'presets', 'series', 'int_series', 'scalars', 'flags' or 'liner'.
+        'inputs', 'presets', 'series', 'int_series', 'scalars', 'flags', 'liner' or 'models'.
 
     Returns
     -------
@@ -153,7 +185,7 @@ def _load():
         presets.setdefault(preset, {})[name] = _value(kind, value)
 
     def fields(which):
-        return {r[0]: FieldSpec(r[0], r[1], r[2], r[3] == "1", r[4], r[5], r[6] == "1") for r in _rows(which)}
+        return {r[0]: FieldSpec(r[0], r[1], r[2], r[3], r[4], r[5], r[6] == "1") for r in _rows(which)}
 
     flags = {int(b): desc for b, _, desc in _rows("flags")}
     return (
@@ -178,6 +210,8 @@ INPUTS, PRESETS, SERIES, INT_SERIES, SCALARS, FLAG_BITS, LINER = _load()
 #: the bit of each ``/cycle/flags`` condition by its name in the kernel's table, e.g.
 #: ``FLAGS["h0_ceiling"]`` (lift-off)
 FLAGS: dict[str, int] = {name: int(b) for b, name, _ in _rows("flags")}
+#: the optional models by the name results give in ``requires``: which input selects each
+MODELS: dict[str, ModelSpec] = {r[0]: ModelSpec(*r) for r in _rows("models")}
 
 #: Namelist groups of a deck, in table order.
 GROUPS: tuple[str, ...] = tuple(dict.fromkeys(g for g, _ in INPUTS))
@@ -227,12 +261,7 @@ def inputs_markdown() -> str:
 
 def results_markdown() -> str:
     """The result table of docs/model.md (generated from the kernel's tables)."""
-    note = {
-        "": "",
-        "jfo": " (`cavitation = 'jfo'` only)",
-        "starved": " (`inlet = 'starved'` only)",
-        "gas": " (`ring_pack = 'gas'` only)",
-    }
+    note = {"": "", **{m.name: f" (`{m.variable} = '{m.value}'` only)" for m in MODELS.values()}}
     lines = ["| where | HDF5 name | Python name | unit | meaning |", "|---|---|---|---|---|"]
 
     def row(where: str, s: FieldSpec, python: str) -> None:

@@ -18,7 +18,9 @@ program bench_kernel
   use ringlube_case, only: case_type, elastic_pressure
   use ringlube_deck, only: read_deck_text, dirname
   use ringlube_cycle, only: solve_cycle
-  use ringlube_results, only: result_type
+  use ringlube_results, only: result_type, si_film_solves, sc_cycles_computed, sc_energy_loss, &
+                              sc_mixed_share, sc_total_film_solves, sc_reynolds_solves, &
+                              sc_converged
   use ringlube_tridiag, only: thomas
   use ringlube_viscosity, only: roelands_eta
   use ringlube_film, only: film_type, film_setup, film_evaluate
@@ -90,16 +92,20 @@ contains
       best = min(best, now() - t0)
       if (allocated(err)) error stop 'run failed'
     end do
-    write (output_unit, &
-           '(a, f0.3, a, f0.3, a, es14.7, a, f0.3, a, i0, a, i0, a, f0.3, a, i0, a, i0)') &
-      'ms_per_run=', best * 1e3_dp, ' ms_per_cycle=', best * 1e3_dp / res%cycles_computed, &
-  ' energy=', res%energy_loss, ' mixed=', res%mixed_share, ' film_solves=', res%total_film_solves, &
-      ' reynolds_solves=', res%reynolds_solves, ' cycles_computed=', res%cycles_computed, &
-      ' steps=', res%nsteps, ' converged=', merge(1, 0, res%converged)
-    write (output_unit, '(a, 4(1x, i0))') &
-      'steps of the reported cycle with 1, 2, 3, >= 4 film solves:', &
-      count(res%film_solves == 1), count(res%film_solves == 2), count(res%film_solves == 3), &
-      count(res%film_solves >= 4)
+    associate (v => res%scalars, film_solves => res%int_series(:, si_film_solves))
+      write (output_unit, &
+             '(a, f0.3, a, f0.3, a, es14.7, a, f0.3, a, i0, a, i0, a, f0.3, a, i0, a, i0)') &
+        'ms_per_run=', best * 1e3_dp, ' ms_per_cycle=', best * 1e3_dp / v(sc_cycles_computed), &
+        ' energy=', v(sc_energy_loss), ' mixed=', v(sc_mixed_share), &
+        ' film_solves=', nint(v(sc_total_film_solves)), &
+        ' reynolds_solves=', nint(v(sc_reynolds_solves)), &
+        ' cycles_computed=', v(sc_cycles_computed), ' steps=', res%nsteps, &
+        ' converged=', nint(v(sc_converged))
+      write (output_unit, '(a, 4(1x, i0))') &
+        'steps of the reported cycle with 1, 2, 3, >= 4 film solves:', &
+        count(film_solves == 1), count(film_solves == 2), count(film_solves == 3), &
+        count(film_solves >= 4)
+    end associate
   end subroutine whole_run
 
   subroutine micro(n)

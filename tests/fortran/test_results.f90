@@ -1,129 +1,142 @@
-!> The result tables and their one map to the components of result_type: every row of
-!> every table reaches its own component (a row added without its line in the map, or two
-!> rows on one component, fails here), and the scalars come out in their stored units.
+!> The result tables and the result stored by their rows: names unique in each table (the
+!> kernel's index constants are found by name), kinds the writers know, storage of every
+!> row, the derived results, the logical convention and the summary.
 program test_results
   use ringlube_kinds, only: dp
-  use ringlube_results, only: result_type, allocate_result, series_ptr, int_series_ptr, &
-                              liner_ptr, scalar_value, n_series, n_int_series, n_liner, &
-                              n_scalars, scalar_spec, series_spec, derive_results, &
-                              flag_ceiling, flag_load
+  use ringlube_results, only: result_type, field_spec, allocate_result, allocate_liner, &
+                              n_series, n_int_series, n_liner, n_scalars, series_spec, &
+                              int_series_spec, scalar_spec, liner_spec, derive_results, truth, &
+                              is_true, produced, produced_models, flag_ceiling, flag_load, &
+                              s_crank_angle_deg, s_h0, s_second_gap_flow, si_flags, &
+                              si_film_solves, sc_energy_loss, sc_ring_mass, sc_converged, &
+                              sc_oil_to_chamber, sc_friction_power, sc_fmep, &
+                              sc_oil_to_chamber_rate, sc_flagged_steps, sc_liner_lift_share, &
+                              sc_blowby, sc_min_film, l_liner_position, l_liner_oil_film, &
+                              models, m_jfo, m_gas
   use ringlube_results_summary, only: summary_text
   use ringlube_check
   implicit none
-  type(result_type), target :: r
-  real(dp), pointer :: p(:)
-  integer, pointer :: ip(:)
+  type(result_type) :: r
   integer :: i
   integer, parameter :: m = 7
-  character(len=8) :: num
-  real(dp), allocatable :: v(:)
+  logical :: made(n_scalars)
   character(len=:), allocatable :: text
 
+  call names_unique(series_spec, 'series')
+  call names_unique(int_series_spec, 'int_series')
+  call names_unique(scalar_spec, 'scalars')
+  call names_unique(liner_spec, 'liner')
+  call check(all(series_spec%kind == 'real') .and. all(liner_spec%kind == 'real'), &
+             'real series and liner rows are real')
+  call check(all(int_series_spec%kind == 'integer'), 'integer series rows are integer')
+  do i = 1, n_scalars
+    call check(any(scalar_spec(i)%kind == [character(len=8) :: 'real', 'integer', 'logical']), &
+               'scalar '//trim(scalar_spec(i)%short)//': a kind the writers know')
+  end do
+  ! the index constants are the rows of their names (found by name when compiling)
+  call check(series_spec(s_crank_angle_deg)%short == 'crank_angle_deg' .and. s_crank_angle_deg &
+             == 1, 'the crank angle, the dimension scale, is the first series')
+  call check(series_spec(s_h0)%short == 'h0' .and. &
+             series_spec(s_second_gap_flow)%short == 'second_gap_flow', 'series rows')
+  call check(int_series_spec(si_flags)%short == 'flags' .and. &
+             int_series_spec(si_film_solves)%short == 'film_solves', 'integer series rows')
+  call check(scalar_spec(sc_ring_mass)%short == 'ring_mass' .and. &
+             scalar_spec(sc_ring_mass)%unit == 'g', 'scalar rows, the ring mass in g')
+  call check(liner_spec(l_liner_position)%short == 'liner_position' .and. l_liner_position == 1 &
+             .and. liner_spec(l_liner_oil_film)%short == 'liner_oil_film', &
+             'liner rows, the position (the scale) first')
+  call check(scalar_spec(sc_converged)%kind == 'logical', 'converged is a logical')
+  call requires_models(series_spec)
+  call requires_models(int_series_spec)
+  call requires_models(scalar_spec)
+  call requires_models(liner_spec)
+
+  ! storage: one column a row, m zeros; an empty liner film until a starved run sets it
   call allocate_result(r, m)
   call check(r%nsteps == m, 'nsteps')
-  ! every real series: allocated with m zeros, and its own storage
-  do i = 1, n_series
-    write (num, '(i0)') i
-    p => series_ptr(r, i)
-    call check(associated(p), 'series '//trim(series_spec(i)%short)//' mapped')
-    if (.not. associated(p)) cycle
-    call check(size(p) == m .and. all(p == 0.0_dp), 'series '//trim(num)//' allocated, zeros')
-    p = real(i, dp)
-  end do
-  do i = 1, n_series
-    p => series_ptr(r, i)
-    if (associated(p)) call check(all(p == real(i, dp)), 'series '// &
-                                  trim(series_spec(i)%short)//' has its own component')
-  end do
-  call check(all(r%h0 == real(3, dp)) .and. all(r%crank_angle_deg == 1.0_dp), &
-             'rows reach the named components')
-  do i = 1, n_int_series
-    ip => int_series_ptr(r, i)
-    call check(associated(ip), 'integer series mapped')
-    if (.not. associated(ip)) cycle
-    call check(size(ip) == m .and. all(ip == 0), 'integer series allocated, zeros')
-    ip = i
-  end do
-  call check(all(r%flags == 1) .and. all(r%film_solves == 2), 'integer series by row')
-  ! the liner film: empty until a starved run sets it; then by row
-  do i = 1, n_liner
-    p => liner_ptr(r, i)
-    call check(associated(p), 'liner row mapped')
-    if (associated(p)) call check(size(p) == 0, 'liner empty')
-  end do
-  r%liner_z = [1.0_dp, 2.0_dp]
-  r%liner_h = [3.0_dp, 4.0_dp]
-  p => liner_ptr(r, 1)
-  call check(all(p == [1.0_dp, 2.0_dp]), 'liner position is row 1')
-  p => liner_ptr(r, 2)
-  call check(all(p == [3.0_dp, 4.0_dp]), 'liner film is row 2')
+  call check(all(shape(r%series) == [m, n_series]) .and. all(r%series == 0.0_dp), &
+             'real series: m x n_series zeros')
+  call check(all(shape(r%int_series) == [m, n_int_series]) .and. all(r%int_series == 0), &
+             'integer series: m x n_int_series zeros')
+  call check(all(shape(r%liner) == [0, n_liner]), 'liner film empty')
+  call allocate_liner(r, 3)
+  call check(all(shape(r%liner) == [3, n_liner]) .and. all(r%liner == 0.0_dp), &
+             'liner film: cells x n_liner zeros')
+  call check(all(r%scalars == 0.0_dp) .and. size(r%scalars) == n_scalars, 'scalars zero')
 
-  ! every scalar reaches a component (none left at the map's 0) in its stored unit
-  r%energy_loss = 1.5_dp
-  r%mixed_share = 2.0_dp
-  r%ring_mass = 7.958e-3_dp
-  r%min_film = 1e-6_dp
-  r%max_friction = 3.0_dp
-  r%converged = .true.
-  r%periodic = .true.
-  r%cycles_run = 4
-  r%cycle_change = 1e-4_dp
-  r%sigma = 4e-7_dp
-  r%run_time = 0.5_dp
-  r%total_film_solves = 11
-  r%reynolds_solves = 12
-  r%cycles_computed = 4.25_dp
-  r%oil_to_chamber = 0.3_dp
-  r%oil_balance_error = 1e-9_dp
-  r%flags = [0, flag_ceiling, 0, 0, flag_load, 0, 0]   ! one step lifted off, two flagged
-  r%blowby = 2.5_dp
-  r%blowby_mass = 1.5_dp
-  r%blowback_mass = 5.0_dp
-  r%ring_lift_share = 55.0_dp
-  r%flutter_events = 1
-  r%gas_balance_error = 1e-15_dp
+  ! the logical convention: 1 true, 0 false
+  call check(truth(.true.) == 1.0_dp .and. truth(.false.) == 0.0_dp, 'truth: 1 or 0')
+  r%scalars(sc_converged) = truth(.true.)
+  call check(is_true(r, sc_converged), 'is_true of 1')
+  r%scalars(sc_converged) = truth(.false.)
+  call check(.not. is_true(r, sc_converged), 'is_true of 0')
+
+  ! the models a run produced
+  call check(produced(r, '') .and. .not. produced(r, 'starved'), 'produced: always, not starved')
+  call check(produced_models(r) == '', 'no optional results')
+  r%made(m_jfo) = .true.
+  r%made(m_gas) = .true.
+  call check(produced_models(r) == 'jfo gas', 'models named: '//produced_models(r))
+
+  ! the derived results
+  r%scalars(sc_energy_loss) = 1.5_dp
+  r%scalars(sc_oil_to_chamber) = 0.3_dp
+  r%scalars(sc_ring_mass) = 7.958_dp
+  r%scalars(sc_min_film) = 1e-6_dp
+  r%int_series(:, si_flags) = [0, flag_ceiling, 0, 0, flag_load, 0, 0]  ! one lifted, two flagged
   call derive_results(r, 4000.0_dp, 4.5e-4_dp, 850.0_dp)
-  call check_close(r%liner_lift_share, 100.0_dp / 7.0_dp, 1e-14_dp, &
+  call check_close(r%scalars(sc_liner_lift_share), 100.0_dp / 7.0_dp, 1e-14_dp, &
                    'lifted share: the steps with flag 2')
   ! 1.5 J per cycle at 4000 r/min = 2000 cycles/min: 50 W; 1.5 J / 0.45 L = 3.333 kPa;
   ! 0.3 mm^3 x 850 kg/m^3 = 0.255 mg per cycle x 120000 cycles/h = 30.6 g/h
-  call check_close(r%friction_power, 50.0_dp, 1e-14_dp, 'friction power = E n / 120')
-  call check_close(r%fmep, 1.5_dp / 4.5e-4_dp / 1e3_dp, 1e-14_dp, 'FMEP = E / V_s in kPa')
-  call check_close(r%oil_to_chamber_rate, 30.6_dp, 1e-13_dp, 'oil to the chamber in g/h')
-  call check(r%flagged_steps == 2, 'flagged steps counted')
-  do i = 1, n_scalars
-    call check(scalar_value(r, i) /= 0.0_dp, 'scalar '//trim(scalar_spec(i)%short)//' mapped')
-  end do
-  do i = 1, n_scalars
-    select case (trim(scalar_spec(i)%short))
-    case ('ring_mass')
-      call check(scalar_value(r, i) == 7.958e-3_dp * 1e3_dp, 'ring mass stored in g')
-    case ('converged')
-      call check(scalar_value(r, i) == 1.0_dp, 'logical as 1')
-    case ('total_film_solves')
-      call check(scalar_value(r, i) == 11.0_dp, 'film solves')
-    end select
-  end do
-  ! the summary: a line per quantity with its unit, the oil only for a starved inlet
-  allocate (v(n_scalars))
-  do i = 1, n_scalars
-    v(i) = scalar_value(r, i)
-  end do
-  text = summary_text(v, .true., 'title line', 'out.h5')
+  call check_close(r%scalars(sc_friction_power), 50.0_dp, 1e-14_dp, 'friction power = E n / 120')
+  call check_close(r%scalars(sc_fmep), 1.5_dp / 4.5e-4_dp / 1e3_dp, 1e-14_dp, &
+                   'FMEP = E / V_s in kPa')
+  call check_close(r%scalars(sc_oil_to_chamber_rate), 30.6_dp, 1e-13_dp, &
+                   'oil to the chamber in g/h')
+  call check(r%scalars(sc_flagged_steps) == 2.0_dp, 'flagged steps counted')
+
+  ! the summary: a line per quantity with its unit, the oil only when the run made it
+  made = .true.
+  text = summary_text(r%scalars, made, 'title line', 'out.h5')
   call check(index(text, 'title line') == 1, 'summary title first')
   call check(index(text, '50.00 W') > 0 .and. index(text, '3.333 kPa') > 0, &
              'summary power and FMEP with units: '//text)
   call check(index(text, '30.6000 g/h') > 0 .and. index(text, 'mm^3 per cycle') > 0, &
              'summary oil in mm^3 per cycle and g/h')
-  call check(index(text, '7.958 g') > 0 .and. index(text, '1.0000 um') > 0, 'mass in g, film in um')
+  call check(index(text, '7.958 g') > 0 .and. index(text, '1.0000 um') > 0, &
+             'mass in g, film in um')
+  call check(index(text, 'blowby') > 0, 'summary blowby when made')
   call check(index(text, 'out.h5') > 0, 'summary names the file')
-  text = summary_text(v, .false., '', '')
-  call check(index(text, 'oil to the chamber') == 0 .and. index(text, 'written') == 0 .and. &
-           index(text, '  energy loss per cycle') == 1, 'no oil line, title or file when not given')
-  r%converged = .false.
-  do i = 1, n_scalars
-    if (trim(scalar_spec(i)%short) == 'converged') &
-      call check(scalar_value(r, i) == 0.0_dp, 'logical false as 0')
-  end do
+  made(sc_oil_to_chamber) = .false.
+  made(sc_blowby) = .false.
+  text = summary_text(r%scalars, made, '', '')
+  call check(index(text, 'oil to the chamber') == 0 .and. index(text, 'blowby') == 0 .and. &
+             index(text, 'written') == 0 .and. index(text, '  energy loss per cycle') == 1, &
+             'no oil or blowby line, title or file when not made or given')
   call report('test_results')
+
+contains
+
+  !> Every short and every stored name of `spec` once.
+  subroutine names_unique(spec, table)
+    type(field_spec), intent(in) :: spec(:)
+    character(len=*), intent(in) :: table
+    integer :: k
+    do k = 1, size(spec)
+      call check(count(spec%short == spec(k)%short) == 1 .and. &
+                 count(spec%stored == spec(k)%stored) == 1, &
+                 table//': '//trim(spec(k)%short)//' named once')
+    end do
+  end subroutine names_unique
+
+  !> Every row of `spec` requires no model or one of `models`.
+  subroutine requires_models(spec)
+    type(field_spec), intent(in) :: spec(:)
+    integer :: k
+    do k = 1, size(spec)
+      call check(spec(k)%requires == '' .or. any(models%name == spec(k)%requires), &
+                 trim(spec(k)%short)//': requires a known model')
+    end do
+  end subroutine requires_models
 end program test_results

@@ -212,3 +212,28 @@ def test_units_in_every_scalar_name(result):
     for s in SCALARS.values():
         if s.unit != "1":
             assert s.stored.endswith(suffix[s.unit]), (s.stored, s.unit)
+
+
+def test_scalars_stored_and_read_by_their_kind(result):
+    """The table's kind of each scalar decides how it is stored and read: 'integer' and
+    'logical' as HDF5 integers (a logical 0 or 1), 'real' as floats; ``load`` gives bool,
+    int and float by the same column."""
+    import ringlube
+    from ringlube.tables import MODELS, SCALARS
+
+    loaded = ringlube.load(result)
+    with h5py.File(result) as f:
+        for k, s in SCALARS.items():
+            if s.stored not in f.attrs:
+                assert s.requires in MODELS, k  # only a model's results may be absent
+                continue
+            value = f.attrs[s.stored]
+            if s.kind == "real":
+                assert isinstance(value, np.floating), k
+                assert isinstance(getattr(loaded, k), float), k
+            else:
+                assert isinstance(value, np.integer), k
+                assert s.kind in ("integer", "logical"), k
+                kind = bool if s.kind == "logical" else int
+                assert type(getattr(loaded, k)) is kind, k
+                assert s.kind == "integer" or value in (0, 1), k
