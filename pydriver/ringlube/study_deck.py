@@ -182,19 +182,18 @@ def read_study(path: str | os.PathLike) -> StudySettings:
             f"{len(variables)} variables with {st.folds}-fold cross-validation",
         )
     st.inputs, st.units = _check_cases(chk, st, pairs)
-    from .tables import SCALARS
+    from .tables import MODELS, SCALARS
 
     for var, o in [("objectives", o) for o in objectives] + [
         ("constraints", c.name) for c in st.parsed_constraints
     ]:
         req = SCALARS[o].requires if o in SCALARS else ""
         if req and o not in st.outputs:
-            need = {"jfo": "cavitation = 'jfo'", "starved": "inlet = 'starved'", "gas": "ring_pack = 'gas'"}[
-                req
-            ]
+            m = MODELS[req]  # the kernel's table: which input selects the model
+            need = f"&{m.group} {m.variable} = '{m.value}'"
             for deck in cases:
                 if not _produces(Case.from_namelist(deck), req):
-                    chk.bad(var, f"'{o}' needs &physics {need} in every base deck ({deck} has not)")
+                    chk.bad(var, f"'{o}' needs {need} in every base deck ({deck} has not)")
         if o not in st.outputs:
             st.outputs.append(o)  # constrained results are recorded (and fitted) too
     return st
