@@ -22,7 +22,7 @@ from .case_kernel import kernel_case
 from .case_origins import _InputOrigins
 from .case_text import _format, _plain_number, _serialise
 from .deck_items import items, python_value
-from .errors import InputError
+from .errors import InputError, input_file
 
 __all__ = ["Case", "GROUPS"]
 
@@ -103,11 +103,7 @@ class Case(_InputOrigins):
         >>> Case.from_namelist("inputs/crf450r_4000rpm_full_cold.nml").name
         'crf450r_4000rpm_full_cold'
         """
-        path = Path(path)
-        if not path.exists():
-            raise InputError(f"{path}: file not found")
-        if not path.is_file():
-            raise InputError(f"{path}: not a regular file (a folder or a device), not a deck")
+        path = input_file(path, not_file="not a regular file (a folder or a device), not a deck")
         try:
             # bytes that are not UTF-8 travel through unchanged (surrogateescape), as in
             # ringlube-solve, which reads the deck as bytes

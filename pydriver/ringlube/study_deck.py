@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from .case import Case
-from .errors import InputError
+from .errors import InputError, input_file
 from .study_constraints import parse_constraint
 from .study_settings import StudySettings
 from .study_table import MAX_SAMPLES, STUDY, study_values
@@ -87,9 +87,7 @@ def read_study(path: str | os.PathLike) -> StudySettings:
     >>> s.samples, s.labels                             # doctest: +SKIP
     (1025, ['cold', 'hot'])
     """
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: file not found" if not path.exists() else f"{path}: not a file")
+    path = input_file(path)
     text = path.read_bytes().decode("utf-8", "surrogateescape")
     s, lines = study_values(path, text)  # the kernel's scanner, typed by the &study table
     chk = _Checker(path, lines)
