@@ -126,20 +126,7 @@ class Runs:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Runs:
-        """The runs as written by :meth:`to_h5`.
-
-        Parameters
-        ----------
-        group : h5py.Group
-
-        Returns
-        -------
-        Runs
-
-        Example
-        -------
-        >>> Runs.from_h5(f["cases/cold/runs"])  # doctest: +SKIP
-        """
+        """The runs :meth:`to_h5` wrote into ``group`` (e.g. ``/cases/cold/runs``)."""
         return cls(
             group["outputs"][()],
             group["done"][()].astype(bool),
@@ -213,20 +200,7 @@ class Front:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Front:
-        """The front as written by :meth:`to_h5`.
-
-        Parameters
-        ----------
-        group : h5py.Group
-
-        Returns
-        -------
-        Front
-
-        Example
-        -------
-        >>> Front.from_h5(f["cases/cold/front"])  # doctest: +SKIP
-        """
+        """The front :meth:`to_h5` wrote into ``group`` (e.g. ``/cases/cold/front``)."""
         return cls(
             group["x"][()],
             group["f"][()],

@@ -106,20 +106,7 @@ class Checked:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Checked:
-        """The re-simulated designs as written by :meth:`to_h5`.
-
-        Parameters
-        ----------
-        group : h5py.Group
-
-        Returns
-        -------
-        Checked
-
-        Example
-        -------
-        >>> Checked.from_h5(f["cases/cold/chosen"])  # doctest: +SKIP
-        """
+        """The re-simulated designs :meth:`to_h5` wrote into ``group`` (e.g. ``/cases/cold/chosen``)."""
         return cls(
             strings(group["names"]),
             group["x"][()],
@@ -195,20 +182,8 @@ class Direct:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Direct:
-        """The direct comparison as written by :meth:`to_h5` (attributes it lacks: their defaults).
-
-        Parameters
-        ----------
-        group : h5py.Group
-
-        Returns
-        -------
-        Direct
-
-        Example
-        -------
-        >>> Direct.from_h5(f["cases/cold/direct"])  # doctest: +SKIP
-        """
+        """The direct comparison :meth:`to_h5` wrote into ``group`` (e.g.
+        ``/cases/cold/direct``); attributes it lacks take their defaults."""
         kw = {
             fld.name: group.attrs.get(fld.name, fld.default)
             for fld in dataclasses.fields(cls)
@@ -278,20 +253,7 @@ class DirectGeneration:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> DirectGeneration:
-        """The generation as written by :meth:`to_h5`.
-
-        Parameters
-        ----------
-        group : h5py.Group
-
-        Returns
-        -------
-        DirectGeneration
-
-        Example
-        -------
-        >>> DirectGeneration.from_h5(f["cases/cold/direct_generations/g0"])  # doctest: +SKIP
-        """
+        """The generation :meth:`to_h5` wrote into ``group`` (e.g. ``/cases/cold/direct_generations/g0``)."""
         return cls(
             group["x"][()],
             group["f"][()],
@@ -375,20 +337,7 @@ class Sure:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Sure:
-        """The extra runs as written by :meth:`to_h5`.
-
-        Parameters
-        ----------
-        group : h5py.Group
-
-        Returns
-        -------
-        Sure
-
-        Example
-        -------
-        >>> Sure.from_h5(f["cases/cold/sure"])  # doctest: +SKIP
-        """
+        """The extra runs :meth:`to_h5` wrote into ``group`` (e.g. ``/cases/cold/sure``)."""
         return cls(
             strings(group["names"]),
             group["x"][()],
