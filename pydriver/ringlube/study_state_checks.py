@@ -1,4 +1,5 @@
-"""The records of a study's true-model checks, each written and read beside its fields.
+"""The records of a study's true-model checks, each written and read beside its fields
+(``to_h5``/``from_h5`` as in :mod:`ringlube.study_state`).
 
 The designs chosen on the surrogate front and the reference re-simulated (:class:`Checked`),
 how sure the answer is (:class:`Sure`), and the direct NSGA-II on the true model
@@ -72,16 +73,9 @@ class Checked:
             return (self.f_surrogate - self.f_true) / np.abs(self.f_true)
 
     def to_h5(self, group: h5py.Group, s: StudySettings) -> None:
-        """Write the designs, their results and :attr:`rel_error` into ``group``, labelled.
-
-        Every matrix carries ``columns`` and ``units``.
-
-        Parameters
-        ----------
-        group : h5py.Group
-            An empty group (``/cases/LABEL/chosen`` or ``reference``).
-        s : StudySettings
-            The study's settings (the labels and units of the columns).
+        """Write the designs, their results and :attr:`rel_error` into the empty ``group``
+        (e.g. ``/cases/LABEL/chosen`` or ``reference``), every matrix labelled (``columns``,
+        ``units``).
 
         Example
         -------
@@ -152,16 +146,10 @@ class Direct:
     lifted: int = 0
 
     def to_h5(self, group: h5py.Group, s: StudySettings) -> None:
-        """Write the direct front and its figures into ``group``, every matrix labelled.
+        """Write the direct front and its figures into the empty ``group`` (e.g.
+        ``/cases/LABEL/direct``), every matrix labelled.
 
         The ``key`` attribute (the direct settings) is written by :mod:`ringlube.study_layout`.
-
-        Parameters
-        ----------
-        group : h5py.Group
-            An empty group (``/cases/LABEL/direct``).
-        s : StudySettings
-            The study's settings (the labels and units of the columns).
 
         Example
         -------
@@ -223,16 +211,10 @@ class DirectGeneration:
     wall_s: float = 0.0
 
     def to_h5(self, group: h5py.Group, s: StudySettings) -> None:
-        """Write the generation into ``group``, every matrix labelled (``columns``, ``units``).
+        """Write the generation into the empty ``group`` (e.g.
+        ``/cases/LABEL/direct_generations/gK``), every matrix labelled (``columns``, ``units``).
 
         The ``key`` attribute (the direct settings) is written by :mod:`ringlube.study_layout`.
-
-        Parameters
-        ----------
-        group : h5py.Group
-            An empty group (``/cases/LABEL/direct_generations/gK``).
-        s : StudySettings
-            The study's settings (the labels and units of the columns).
 
         Example
         -------
@@ -303,14 +285,8 @@ class Sure:
     high: np.ndarray
 
     def to_h5(self, group: h5py.Group, s: StudySettings) -> None:
-        """Write the extra runs into ``group``, every matrix labelled (``columns``, ``units``).
-
-        Parameters
-        ----------
-        group : h5py.Group
-            An empty group (``/cases/LABEL/sure``).
-        s : StudySettings
-            The study's settings (the labels and units of the columns).
+        """Write the extra runs into the empty ``group`` (e.g. ``/cases/LABEL/sure``), every
+        matrix labelled (``columns``, ``units``).
 
         Example
         -------
