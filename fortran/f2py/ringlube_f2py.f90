@@ -35,7 +35,7 @@ end subroutine rl_version
 subroutine rl_open(text, name, base_dir, overrides, overrides_name, load_trace, handle, &
                    nsteps, nliner, code, message)
   use, intrinsic :: iso_c_binding, only: c_int
-  use ringlube_error, only: error_type
+  use ringlube_error, only: error_type, error_status
   use ringlube_api, only: api_open, api_nsteps, api_liner_cells
   implicit none
   character(len=*), intent(in) :: text, name, base_dir, overrides, overrides_name
@@ -47,14 +47,9 @@ subroutine rl_open(text, name, base_dir, overrides, overrides_name, load_trace, 
   handle = 0
   nsteps = 0
   nliner = 0
-  code = 0
-  message = ''
   call api_open(text, name, base_dir, overrides, overrides_name, load_trace /= 0, h, err)
-  if (allocated(err)) then
-    code = err%code
-    message = err%message
-    return
-  end if
+  call error_status(err, code, message)
+  if (allocated(err)) return
   handle = h
   nsteps = api_nsteps(h)
   nliner = api_liner_cells(h)
@@ -72,7 +67,7 @@ end subroutine rl_close
 !> Effective value of `&group name` as deck text.
 subroutine rl_get(handle, group, name, value, code, message)
   use, intrinsic :: iso_c_binding, only: c_int
-  use ringlube_error, only: error_type
+  use ringlube_error, only: error_type, error_status
   use ringlube_api, only: api_get
   implicit none
   integer(c_int), intent(in) :: handle
@@ -81,14 +76,9 @@ subroutine rl_get(handle, group, name, value, code, message)
   integer(c_int), intent(out) :: code
   character(len=:), allocatable :: t
   type(error_type), allocatable :: err
-  code = 0
-  message = ''
   call api_get(handle, group, name, t, err)
   value = t
-  if (allocated(err)) then
-    code = err%code
-    message = err%message
-  end if
+  call error_status(err, code, message)
 end subroutine rl_get
 
 !> Length in bytes of the deck text the kernel read (the deck, its calibration file and
@@ -148,7 +138,7 @@ end subroutine rl_trace
 !> Replace the case's gas-pressure trace (deg, Pa abs).
 subroutine rl_set_trace(handle, n, psi, p, code, message)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
-  use ringlube_error, only: error_type
+  use ringlube_error, only: error_type, error_status
   use ringlube_api, only: api_set_trace
   implicit none
   integer(c_int), intent(in) :: handle, n
@@ -156,13 +146,8 @@ subroutine rl_set_trace(handle, n, psi, p, code, message)
   integer(c_int), intent(out) :: code
   character(len=4096), intent(out) :: message
   type(error_type), allocatable :: err
-  code = 0
-  message = ''
   call api_set_trace(handle, psi, p, err)
-  if (allocated(err)) then
-    code = err%code
-    message = err%message
-  end if
+  call error_status(err, code, message)
 end subroutine rl_set_trace
 
 !> Run the case. Columns of `series`, `iseries`, `scalars` and `liner` are the rows of the
@@ -174,7 +159,7 @@ end subroutine rl_set_trace
 subroutine rl_run(handle, out_path, nsteps, ns, ni, nc, nl, nliner, series, iseries, scalars, &
                   liner, made, code, message)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
-  use ringlube_error, only: error_type, rl_runtime_error
+  use ringlube_error, only: error_type, error_status, rl_runtime_error
   use ringlube_api, only: api_run
   use ringlube_results, only: result_type, n_series, n_int_series, n_scalars, n_liner, &
                               produced_models
@@ -203,11 +188,8 @@ subroutine rl_run(handle, out_path, nsteps, ns, ni, nc, nl, nliner, series, iser
     return
   end if
   call api_run(handle, r, err, out_path)
-  if (allocated(err)) then
-    code = err%code
-    message = err%message
-    return
-  end if
+  call error_status(err, code, message)
+  if (allocated(err)) return
   if (r%nsteps /= nsteps .or. size(r%liner, 1) /= nliner) then
     code = rl_runtime_error
     message = 'rl_run: number of crank steps or liner cells differs from rl_open''s'
@@ -227,7 +209,7 @@ end subroutine rl_run
 subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes, messages)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
   use ringlube_kinds, only: dp
-  use ringlube_error, only: error_type, rl_input_error
+  use ringlube_error, only: error_type, error_status, rl_input_error
   use ringlube_api, only: api_run_design
   use ringlube_results, only: n_scalars
   implicit none
@@ -253,9 +235,8 @@ subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes, messages)
   end if
   do i = 1, nd
     call api_run_design(handle, names, x(i, :), s, err)
+    call error_status(err, codes(i), messages(i))
     if (allocated(err)) then
-      codes(i) = err%code
-      messages(i) = err%message
       deallocate (err)
       cycle
     end if
@@ -322,7 +303,7 @@ end subroutine rl_greenwood_tripp
 !> a list of values. An error of the text comes back as (code, message) with n = 0.
 subroutine rl_items_count(text, name, lists, n, code, message)
   use, intrinsic :: iso_c_binding, only: c_int
-  use ringlube_error, only: error_type
+  use ringlube_error, only: error_type, error_status
   use ringlube_namelist, only: nml_item, scan_namelist
   implicit none
   character(len=*), intent(in) :: text, name
@@ -333,14 +314,9 @@ subroutine rl_items_count(text, name, lists, n, code, message)
   type(error_type), allocatable :: err
   integer :: m
   n = 0
-  code = 0
-  message = ''
   call scan_namelist(text, name, items, m, err, lists=lists /= 0)
-  if (allocated(err)) then
-    code = err%code
-    message = err%message
-    return
-  end if
+  call error_status(err, code, message)
+  if (allocated(err)) return
   n = m
 end subroutine rl_items_count
 
@@ -353,7 +329,7 @@ end subroutine rl_items_count
 subroutine rl_items(text, name, lists, n, groups, names, values, vlen, lines, indices, &
                     quoted, group_lines, code, message)
   use, intrinsic :: iso_c_binding, only: c_int
-  use ringlube_error, only: error_type, rl_runtime_error, rl_input_error
+  use ringlube_error, only: error_type, error_status, rl_runtime_error, rl_input_error
   use ringlube_namelist, only: nml_item, scan_namelist
   use ringlube_textio, only: itoa
   implicit none
@@ -375,14 +351,9 @@ subroutine rl_items(text, name, lists, n, groups, names, values, vlen, lines, in
   indices = 0
   quoted = 0
   group_lines = 0
-  code = 0
-  message = ''
   call scan_namelist(text, name, items, m, err, lists=lists /= 0)
-  if (allocated(err)) then
-    code = err%code
-    message = err%message
-    return
-  end if
+  call error_status(err, code, message)
+  if (allocated(err)) return
   if (m /= n) then
     code = rl_runtime_error
     message = 'rl_items: number of items differs from rl_items_count''s'

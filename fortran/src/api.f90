@@ -260,20 +260,17 @@ contains
     t = ''
     select case (which)
     case ('inputs')
-      t = 'group'//tab//'name'//tab//'kind'//tab//'default'//tab//'lower'//tab &
-          //'upper'//tab//'unit'//tab//'choices'//tab//'description'//nl
+      t = line('group', 'name', 'kind', 'default', 'lower', 'upper', 'unit', 'choices', &
+               'description')
       do i = 1, n_inputs
-        t = t//trim(inputs(i)%group)//tab//trim(inputs(i)%name)//tab// &
-            kind_name(inputs(i)%kind)//tab//trim(inputs(i)%default)//tab// &
-            real_text(inputs(i)%lower)//tab//real_text(inputs(i)%upper)//tab// &
-            trim(inputs(i)%unit)//tab//trim(inputs(i)%choices)//tab// &
-            trim(inputs(i)%description)//nl
+        t = t//line(inputs(i)%group, inputs(i)%name, kind_name(inputs(i)%kind), &
+                    inputs(i)%default, real_text(inputs(i)%lower), real_text(inputs(i)%upper), &
+                    inputs(i)%unit, inputs(i)%choices, inputs(i)%description)
       end do
     case ('presets')
-      t = 'preset'//tab//'name'//tab//'value'//nl
+      t = line('preset', 'name', 'value')
       do i = 1, n_presets
-        t = t//trim(presets(i)%preset)//tab//trim(presets(i)%name)//tab// &
-            trim(presets(i)%value)//nl
+        t = t//line(presets(i)%preset, presets(i)%name, presets(i)%value)
       end do
     case ('series')
       t = fields(series_spec, n_series)
@@ -284,16 +281,14 @@ contains
     case ('liner')
       t = fields(liner_spec, n_liner)
     case ('flags')
-      t = 'bit'//tab//'name'//tab//'description'//nl
+      t = line('bit', 'name', 'description')
       do i = 1, n_flags
-        t = t//itoa(flag_bits(i)%bit)//tab//trim(flag_bits(i)%name)//tab// &
-            trim(flag_bits(i)%description)//nl
+        t = t//line(itoa(flag_bits(i)%bit), flag_bits(i)%name, flag_bits(i)%description)
       end do
     case ('models')
-      t = 'name'//tab//'group'//tab//'variable'//tab//'value'//nl
+      t = line('name', 'group', 'variable', 'value')
       do i = 1, n_models
-        t = t//trim(models(i)%name)//tab//trim(models(i)%group)//tab// &
-            trim(models(i)%variable)//tab//trim(models(i)%value)//nl
+        t = t//line(models(i)%name, models(i)%group, models(i)%variable, models(i)%value)
       end do
     end select
   end function api_table
@@ -303,14 +298,28 @@ contains
     integer, intent(in) :: n
     character(len=:), allocatable :: t
     integer :: i
-    t = 'short'//tab//'stored'//tab//'unit'//tab//'kind'//tab//'long_name'// &
-        tab//'requires'//tab//'objective'//nl
+    t = line('short', 'stored', 'unit', 'kind', 'long_name', 'requires', 'objective')
     do i = 1, n
-      t = t//trim(spec(i)%short)//tab//trim(spec(i)%stored)//tab//trim(spec(i)%unit) &
-          //tab//trim(spec(i)%kind)//tab//trim(spec(i)%long_name)// &
-          tab//trim(spec(i)%requires)//tab//merge('1', '0', spec(i)%objective)//nl
+      t = t//line(spec(i)%short, spec(i)%stored, spec(i)%unit, spec(i)%kind, spec(i)%long_name, &
+                  spec(i)%requires, merge('1', '0', spec(i)%objective))
     end do
   end function fields
+
+  !> One line of a table: the cells (three to nine) without their trailing blanks,
+  !> tab-separated.
+  pure function line(c1, c2, c3, c4, c5, c6, c7, c8, c9) result(t)
+    character(len=*), intent(in) :: c1, c2, c3
+    character(len=*), intent(in), optional :: c4, c5, c6, c7, c8, c9
+    character(len=:), allocatable :: t
+    t = trim(c1)//tab//trim(c2)//tab//trim(c3)
+    if (present(c4)) t = t//tab//trim(c4)
+    if (present(c5)) t = t//tab//trim(c5)
+    if (present(c6)) t = t//tab//trim(c6)
+    if (present(c7)) t = t//tab//trim(c7)
+    if (present(c8)) t = t//tab//trim(c8)
+    if (present(c9)) t = t//tab//trim(c9)
+    t = t//nl
+  end function line
 
   pure function kind_name(k) result(t)
     integer, intent(in) :: k

@@ -18,24 +18,12 @@ module ringlube_deck
   use ringlube_namelist, only: nml_item, scan_namelist
   use ringlube_textio, only: read_text_file, itoa
   use ringlube_gas, only: read_pressure_csv
+  use ringlube_fsys, only: dir_prefix
   implicit none
   private
-  public :: read_deck, read_deck_text, resolve_path, dirname, finish_case
+  public :: read_deck, read_deck_text, resolve_path, finish_case
 
 contains
-
-  !> Folder part of a path, with its trailing '/' ('' for a bare file name).
-  pure function dirname(path) result(d)
-    character(len=*), intent(in) :: path
-    character(len=:), allocatable :: d
-    integer :: i
-    i = index(path, '/', back=.true.)
-    if (i == 0) then
-      d = ''
-    else
-      d = path(1:i)
-    end if
-  end function dirname
 
   !> `path` if absolute, else `base_dir // path` (base_dir ends with '/' or is empty).
   pure function resolve_path(path, base_dir) result(r)
@@ -67,7 +55,7 @@ contains
       c = default_case()
       return
     end if
-    call read_deck_text(text, path, dirname(path), c, err, load_trace=load_trace)
+    call read_deck_text(text, path, dir_prefix(path), c, err, load_trace=load_trace)
   end subroutine read_deck
 
   !> Read, check and complete a case from deck text held in memory.

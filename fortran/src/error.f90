@@ -20,7 +20,7 @@ module ringlube_error
     character(len=:), allocatable :: message
   end type error_type
 
-  public :: fatal_error
+  public :: fatal_error, error_status
 
 contains
 
@@ -33,4 +33,17 @@ contains
     err%message = message
     if (present(code)) err%code = code
   end subroutine fatal_error
+
+  !> The code and message of `err` for a caller that hands them on as plain values
+  !> (`rl_ok` and '' when there is no error; the message cut to the length of `message`).
+  pure subroutine error_status(err, code, message)
+    type(error_type), allocatable, intent(in) :: err
+    integer, intent(out) :: code
+    character(len=*), intent(out) :: message
+    code = rl_ok
+    message = ''
+    if (.not. allocated(err)) return
+    code = err%code
+    message = err%message
+  end subroutine error_status
 end module ringlube_error

@@ -5,7 +5,8 @@ module ringlube_fsys
   implicit none
   private
   public :: file_kind, same_file, make_temp_file, rename_file, remove_file, dir_name, &
-            last_errno, clear_errno, errno_text, ignore_file_size_signal, remove_temp_on_signal
+            dir_prefix, last_errno, clear_errno, errno_text, ignore_file_size_signal, &
+            remove_temp_on_signal
 
   !> What `file_kind` returns.
   integer, parameter, public :: fs_missing = 0, fs_regular = 1, fs_directory = 2, &
@@ -107,18 +108,23 @@ contains
     call c_forget_temp(path//c_null_char)
   end subroutine remove_file
 
+  !> Folder part of a path with its final '/' ('' for a bare name): the prefix of the paths
+  !> relative to the path's folder.
+  pure function dir_prefix(path) result(d)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: d
+    d = path(1:index(path, '/', back=.true.))
+  end function dir_prefix
+
   !> Folder part of a path, without the final '/': '.' for a bare name, '/' for the root.
   pure function dir_name(path) result(d)
     character(len=*), intent(in) :: path
     character(len=:), allocatable :: d
-    integer :: i
-    i = index(path, '/', back=.true.)
-    if (i == 0) then
+    d = dir_prefix(path)
+    if (len(d) == 0) then
       d = '.'
-    else if (i == 1) then
-      d = '/'
-    else
-      d = path(1:i - 1)
+    else if (len(d) > 1) then
+      d = d(1:len(d) - 1)
     end if
   end function dir_name
 

@@ -18,11 +18,11 @@ import re
 from pathlib import Path
 from typing import Any
 
-from .case_kernel import _text, kernel_case
+from .case_kernel import kernel_case
 from .case_origins import _InputOrigins
 from .case_text import _format, _plain_number, _serialise
 from .deck_items import items, python_value
-from .errors import InputError, error_for
+from .errors import InputError, input_file
 
 __all__ = ["Case", "GROUPS"]
 
@@ -103,11 +103,7 @@ class Case(_InputOrigins):
         >>> Case.from_namelist("inputs/crf450r_4000rpm_full_cold.nml").name
         'crf450r_4000rpm_full_cold'
         """
-        path = Path(path)
-        if not path.exists():
-            raise InputError(f"{path}: file not found")
-        if not path.is_file():
-            raise InputError(f"{path}: not a regular file (a folder or a device), not a deck")
+        path = input_file(path, not_file="not a regular file (a folder or a device), not a deck")
         try:
             # bytes that are not UTF-8 travel through unchanged (surrogateescape), as in
             # ringlube-solve, which reads the deck as bytes
@@ -181,18 +177,12 @@ class Case(_InputOrigins):
         >>> Case().value("ring", "tension_unit")
         'N'
         """
-        from . import _kernel
-        from .tables import INPUTS, _value
+        from .tables import INPUTS
 
         spec = INPUTS.get((group.lower(), name.lower()))
         if spec is None:
             raise InputError(f"&{group} {name}: unknown variable")
-        with kernel_case(self, load_trace=False, warn=False) as k:
-            handle = k.handle
-            text, code, message = _kernel.rl_get(handle, spec.group.encode(), spec.name.encode())
-        if code:
-            raise error_for(code, _text(message))
-        return _value(spec.kind, _text(text))
+        return self._effective(spec)  # one kernel handle for every input, kept
 
     def set(self, group: str, **values: Any) -> Case:
         """Set variables of one group in place; returns the case.

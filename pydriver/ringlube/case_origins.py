@@ -8,6 +8,7 @@ The methods are those of :class:`ringlube.case.Case` (through :class:`_InputOrig
 
 from __future__ import annotations
 
+import os
 import warnings
 from typing import Any, NamedTuple
 
@@ -147,22 +148,30 @@ class _InputOrigins:
         >>> [r for r in rows if r.name == "crown_offset"][0]
         EffectiveInput(group='ring', name='crown_offset', value=-3.83e-05, unit='m', origin='deck')
         """
-        from . import _kernel
-        from .tables import INPUTS, _value
+        from .tables import INPUTS
 
         origins = self.origins()
-        rows = []
-        with kernel_case(self, load_trace=False, warn=False) as k:
-            for (group, name), spec in INPUTS.items():
-                text, code, message = _kernel.rl_get(k.handle, group.encode(), name.encode())
-                if code:
-                    raise error_for(code, _text(message))
-                rows.append(
-                    EffectiveInput(
-                        group, name, _value(spec.kind, _text(text)), spec.unit, origins[group, name]
-                    )
-                )
-        return rows
+        return [
+            EffectiveInput(group, name, self._effective(spec), spec.unit, origins[group, name])
+            for (group, name), spec in INPUTS.items()
+        ]
+
+    def _effective(self, spec) -> Any:
+        """The effective value of the input ``spec`` (an :class:`~ringlube.tables.InputSpec`)
+        as the kernel reads this case. One kernel handle reads every input's text on first
+        use; the texts are kept until the case, the working directory its relative paths
+        mean, or a file it names (calibration, pressure trace) changes."""
+        from .tables import _value
+
+        key = (self.kernel_inputs(), _files_seen(self))
+        seen = getattr(self, "_effective_texts", None)
+        if seen is None or seen[0] != key:
+            seen = (key, _kernel_texts(self))
+            self._effective_texts = seen
+        code, text = seen[1][spec.group, spec.name]
+        if code:
+            raise error_for(code, text)
+        return _value(spec.kind, text)
 
     def source_engine_defaults(self) -> tuple[list[tuple[str, str]], list[tuple[str, str]]]:
         """(inputs of :data:`SOURCE_ENGINE_INPUTS` this case sets, those left to the source
@@ -208,3 +217,34 @@ class _InputOrigins:
         )
         warnings.warn(message, SourceEngineDefaultWarning, stacklevel=stacklevel + 1)
         return message
+
+
+def _kernel_texts(case: Any) -> dict[tuple[str, str], tuple[int, str]]:
+    """Every input of ``case`` as the kernel reads it, through one handle: (0, value as
+    text), or (error code, message) where the kernel refuses to give it."""
+    from . import _kernel
+    from .tables import INPUTS
+
+    texts = {}
+    with kernel_case(case, load_trace=False, warn=False) as k:
+        for group, name in INPUTS:
+            text, code, message = _kernel.rl_get(k.handle, group.encode(), name.encode())
+            texts[group, name] = (int(code), _text(message)) if code else (0, _text(text))
+    return texts
+
+
+def _files_seen(case: Any) -> tuple:
+    """What the kernel reads of the files a case names, as they are now: the calibration
+    file's bytes, whether the pressure file is there and what it is (None: missing). A kept
+    reading of the case holds only while these do not change."""
+    cal, trace = case.get("calibration", "file"), case.get("operating", "pressure_file")
+    try:
+        with open(cal, "rb") as fh:
+            cal_bytes = fh.read()
+    except (OSError, TypeError, ValueError):
+        cal_bytes = None
+    try:
+        mode = os.stat(trace).st_mode if trace else None
+    except (OSError, TypeError, ValueError):
+        mode = None
+    return cal_bytes, mode

@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .errors import InputError, RinglubeError
+from .errors import InputError, RinglubeError, input_file
 
 __all__: list[str] = []
 
@@ -53,11 +53,7 @@ def _load(path: str):
 
     from .result import load
 
-    p = Path(path)
-    if not p.exists():
-        raise InputError(f"{p}: file not found")
-    if not p.is_file():
-        raise InputError(f"{p}: not a file")
+    p = input_file(path)
     if not h5py.is_hdf5(p):
         raise InputError(f"{p}: not an HDF5 result file (a deck? run it first: ringlube run {p})")
     try:

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
-__all__ = ["RinglubeError", "InputError", "NotConvergedError", "error_for"]
+import os
+from pathlib import Path
+
+__all__ = ["RinglubeError", "InputError", "NotConvergedError", "error_for", "input_file"]
 
 
 class RinglubeError(RuntimeError):
@@ -61,3 +64,35 @@ def error_for(code: int, message: str) -> RinglubeError:
     """
     cls = {2: InputError, 3: NotConvergedError}.get(code, RinglubeError)
     return cls(message)
+
+
+def input_file(
+    path: str | os.PathLike, missing: str = "file not found", not_file: str = "not a file"
+) -> Path:
+    """``path`` if it names a regular file, else an :class:`InputError` ``'PATH: MISSING'``
+    or ``'PATH: NOT_FILE'`` (a folder or a device).
+
+    Parameters
+    ----------
+    path : path
+    missing, not_file : str
+        What the message says when there is nothing at ``path``, or something other than a
+        file.
+
+    Returns
+    -------
+    Path
+
+    Examples
+    --------
+    >>> input_file("nowhere.nml")
+    Traceback (most recent call last):
+    ...
+    ringlube.errors.InputError: nowhere.nml: file not found
+    """
+    path = Path(path)
+    if not path.exists():
+        raise InputError(f"{path}: {missing}")
+    if not path.is_file():
+        raise InputError(f"{path}: {not_file}")
+    return path

@@ -105,22 +105,10 @@ def friction_figure(results: Sequence[CycleResult]) -> plt.Figure:
             lw=1.4,
             label=f"{_label(r, i)}: total ({r.energy_loss:.3f} J/cycle)",
         )
-        ax.plot(
-            r.crank_angle_deg,
-            r.viscous_friction,
-            lw=0.9,
-            ls="--",
-            color=line.get_color(),
-            label=f"{_label(r, i)}: viscous",
-        )
-        ax.plot(
-            r.crank_angle_deg,
-            r.boundary_friction,
-            lw=0.9,
-            ls=":",
-            color=line.get_color(),
-            label=f"{_label(r, i)}: boundary",
-        )
+        for part, y, ls in (("viscous", r.viscous_friction, "--"), ("boundary", r.boundary_friction, ":")):
+            ax.plot(
+                r.crank_angle_deg, y, lw=0.9, ls=ls, color=line.get_color(), label=f"{_label(r, i)}: {part}"
+            )
     ax.axhline(0, color="k", lw=0.6)
     ax.set_ylabel("friction on the ring [N]\n(positive: towards the crankcase)")
     ax.set_title(
@@ -286,22 +274,8 @@ def ring_pack_figure(results: Sequence[CycleResult]) -> plt.Figure:
             continue
         tag = _label(r, i)
         (line,) = ax1.plot(r.crank_angle_deg, r.gas_pressure / 1e5, lw=1.0, label=f"{tag} p1 chamber")
-        ax1.plot(
-            r.crank_angle_deg,
-            r.groove_pressure / 1e5,
-            lw=1.2,
-            ls="--",
-            color=line.get_color(),
-            label=f"{tag} p2 groove",
-        )
-        ax1.plot(
-            r.crank_angle_deg,
-            r.land_pressure / 1e5,
-            lw=1.2,
-            ls=":",
-            color=line.get_color(),
-            label=f"{tag} p3 land",
-        )
+        for part, p, ls in (("p2 groove", r.groove_pressure, "--"), ("p3 land", r.land_pressure, ":")):
+            ax1.plot(r.crank_angle_deg, p / 1e5, lw=1.2, ls=ls, color=line.get_color(), label=f"{tag} {part}")
         ax2.plot(r.crank_angle_deg, r.ring_lift * 1e6, lw=1.2, label=tag)
         ax3.plot(r.crank_angle_deg, r.top_gap_flow * 1e3, lw=1.0, label=f"{tag} top gap (chamber to land)")
         ax3.plot(

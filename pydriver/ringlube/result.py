@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, input_file
 from .tables import FLAG_BITS, INT_SERIES, LINER, SCALARS, SERIES
 
 __all__ = [
@@ -322,11 +322,7 @@ def load(path: str | os.PathLike) -> CycleResult:
     """
     import h5py
 
-    path = Path(path)
-    if not path.exists():
-        raise InputError(f"{path}: no such result file")
-    if not path.is_file():
-        raise InputError(f"{path}: not a regular file, not a result")
+    path = input_file(path, "no such result file", "not a regular file, not a result")
     try:
         with h5py.File(path, "r") as f:
             a = f.attrs

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from .case import Case
-from .errors import InputError
+from .errors import InputError, input_file
 from .study_constraints import parse_constraint
 from .study_settings import StudySettings
 from .study_table import MAX_SAMPLES, STUDY, study_values
@@ -87,9 +87,7 @@ def read_study(path: str | os.PathLike) -> StudySettings:
     >>> s.samples, s.labels                             # doctest: +SKIP
     (1025, ['cold', 'hot'])
     """
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: file not found" if not path.exists() else f"{path}: not a file")
+    path = input_file(path)
     text = path.read_bytes().decode("utf-8", "surrogateescape")
     s, lines = study_values(path, text)  # the kernel's scanner, typed by the &study table
     chk = _Checker(path, lines)
@@ -182,19 +180,18 @@ def read_study(path: str | os.PathLike) -> StudySettings:
             f"{len(variables)} variables with {st.folds}-fold cross-validation",
         )
     st.inputs, st.units = _check_cases(chk, st, pairs)
-    from .tables import SCALARS
+    from .tables import MODELS, SCALARS
 
     for var, o in [("objectives", o) for o in objectives] + [
         ("constraints", c.name) for c in st.parsed_constraints
     ]:
         req = SCALARS[o].requires if o in SCALARS else ""
         if req and o not in st.outputs:
-            need = {"jfo": "cavitation = 'jfo'", "starved": "inlet = 'starved'", "gas": "ring_pack = 'gas'"}[
-                req
-            ]
+            m = MODELS[req]  # the kernel's table: which input selects the model
+            need = f"&{m.group} {m.variable} = '{m.value}'"
             for deck in cases:
                 if not _produces(Case.from_namelist(deck), req):
-                    chk.bad(var, f"'{o}' needs &physics {need} in every base deck ({deck} has not)")
+                    chk.bad(var, f"'{o}' needs {need} in every base deck ({deck} has not)")
         if o not in st.outputs:
             st.outputs.append(o)  # constrained results are recorded (and fitted) too
     return st

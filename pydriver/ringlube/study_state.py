@@ -5,7 +5,9 @@ the fitted :class:`~ringlube.surrogate.QuadraticSurface` of each result, the GA 
 merged :class:`Front`, and the records of the true-model checks
 (:mod:`ringlube.study_state_checks`: the chosen and reference designs re-simulated, how sure
 the answer is, the direct NSGA-II and its checkpoints). Each record writes itself into an
-HDF5 group (``to_h5``) and reads itself back (``from_h5``) beside its fields;
+HDF5 group (``to_h5(group, s)``: into an empty group, every matrix labelled with the
+columns' names and units from the study settings ``s``) and reads itself back
+(``from_h5(group)``) beside its fields;
 :mod:`ringlube.study_layout` composes them into a case of the study file and
 :class:`~ringlube.study_store.Study` holds them.
 """
@@ -99,14 +101,8 @@ class Runs:
         return self.done & self.converged & ~self.failed
 
     def to_h5(self, group: h5py.Group, s: StudySettings) -> None:
-        """Write the runs into ``group``, every matrix labelled (``columns``, ``units``).
-
-        Parameters
-        ----------
-        group : h5py.Group
-            An empty group (``/cases/LABEL/runs``).
-        s : StudySettings
-            The study's settings (the labels and units of the columns).
+        """Write the runs into the empty ``group`` (e.g. ``/cases/LABEL/runs``), every
+        matrix labelled (``columns``, ``units``).
 
         Example
         -------
@@ -126,20 +122,7 @@ class Runs:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Runs:
-        """The runs as written by :meth:`to_h5`.
-
-        Parameters
-        ----------
-        group : h5py.Group
-
-        Returns
-        -------
-        Runs
-
-        Example
-        -------
-        >>> Runs.from_h5(f["cases/cold/runs"])  # doctest: +SKIP
-        """
+        """The runs :meth:`to_h5` wrote into ``group`` (e.g. ``/cases/cold/runs``)."""
         return cls(
             group["outputs"][()],
             group["done"][()].astype(bool),
@@ -182,14 +165,8 @@ class Front:
     lo: np.ndarray
 
     def to_h5(self, group: h5py.Group, s: StudySettings) -> None:
-        """Write the front into ``group``, every matrix labelled (``columns``, ``units``).
-
-        Parameters
-        ----------
-        group : h5py.Group
-            An empty group (``/cases/LABEL/front``).
-        s : StudySettings
-            The study's settings (the labels and units of the columns).
+        """Write the front into the empty ``group`` (e.g. ``/cases/LABEL/front``), every
+        matrix labelled (``columns``, ``units``).
 
         Example
         -------
@@ -213,20 +190,7 @@ class Front:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Front:
-        """The front as written by :meth:`to_h5`.
-
-        Parameters
-        ----------
-        group : h5py.Group
-
-        Returns
-        -------
-        Front
-
-        Example
-        -------
-        >>> Front.from_h5(f["cases/cold/front"])  # doctest: +SKIP
-        """
+        """The front :meth:`to_h5` wrote into ``group`` (e.g. ``/cases/cold/front``)."""
         return cls(
             group["x"][()],
             group["f"][()],

@@ -1,4 +1,5 @@
-"""The records of a study's true-model checks, each written and read beside its fields.
+"""The records of a study's true-model checks, each written and read beside its fields
+(``to_h5``/``from_h5`` as in :mod:`ringlube.study_state`).
 
 The designs chosen on the surrogate front and the reference re-simulated (:class:`Checked`),
 how sure the answer is (:class:`Sure`), and the direct NSGA-II on the true model
@@ -72,16 +73,9 @@ class Checked:
             return (self.f_surrogate - self.f_true) / np.abs(self.f_true)
 
     def to_h5(self, group: h5py.Group, s: StudySettings) -> None:
-        """Write the designs, their results and :attr:`rel_error` into ``group``, labelled.
-
-        Every matrix carries ``columns`` and ``units``.
-
-        Parameters
-        ----------
-        group : h5py.Group
-            An empty group (``/cases/LABEL/chosen`` or ``reference``).
-        s : StudySettings
-            The study's settings (the labels and units of the columns).
+        """Write the designs, their results and :attr:`rel_error` into the empty ``group``
+        (e.g. ``/cases/LABEL/chosen`` or ``reference``), every matrix labelled (``columns``,
+        ``units``).
 
         Example
         -------
@@ -106,20 +100,7 @@ class Checked:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Checked:
-        """The re-simulated designs as written by :meth:`to_h5`.
-
-        Parameters
-        ----------
-        group : h5py.Group
-
-        Returns
-        -------
-        Checked
-
-        Example
-        -------
-        >>> Checked.from_h5(f["cases/cold/chosen"])  # doctest: +SKIP
-        """
+        """The re-simulated designs :meth:`to_h5` wrote into ``group`` (e.g. ``/cases/cold/chosen``)."""
         return cls(
             strings(group["names"]),
             group["x"][()],
@@ -165,16 +146,10 @@ class Direct:
     lifted: int = 0
 
     def to_h5(self, group: h5py.Group, s: StudySettings) -> None:
-        """Write the direct front and its figures into ``group``, every matrix labelled.
+        """Write the direct front and its figures into the empty ``group`` (e.g.
+        ``/cases/LABEL/direct``), every matrix labelled.
 
         The ``key`` attribute (the direct settings) is written by :mod:`ringlube.study_layout`.
-
-        Parameters
-        ----------
-        group : h5py.Group
-            An empty group (``/cases/LABEL/direct``).
-        s : StudySettings
-            The study's settings (the labels and units of the columns).
 
         Example
         -------
@@ -195,20 +170,8 @@ class Direct:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Direct:
-        """The direct comparison as written by :meth:`to_h5` (attributes it lacks: their defaults).
-
-        Parameters
-        ----------
-        group : h5py.Group
-
-        Returns
-        -------
-        Direct
-
-        Example
-        -------
-        >>> Direct.from_h5(f["cases/cold/direct"])  # doctest: +SKIP
-        """
+        """The direct comparison :meth:`to_h5` wrote into ``group`` (e.g.
+        ``/cases/cold/direct``); attributes it lacks take their defaults."""
         kw = {
             fld.name: group.attrs.get(fld.name, fld.default)
             for fld in dataclasses.fields(cls)
@@ -248,16 +211,10 @@ class DirectGeneration:
     wall_s: float = 0.0
 
     def to_h5(self, group: h5py.Group, s: StudySettings) -> None:
-        """Write the generation into ``group``, every matrix labelled (``columns``, ``units``).
+        """Write the generation into the empty ``group`` (e.g.
+        ``/cases/LABEL/direct_generations/gK``), every matrix labelled (``columns``, ``units``).
 
         The ``key`` attribute (the direct settings) is written by :mod:`ringlube.study_layout`.
-
-        Parameters
-        ----------
-        group : h5py.Group
-            An empty group (``/cases/LABEL/direct_generations/gK``).
-        s : StudySettings
-            The study's settings (the labels and units of the columns).
 
         Example
         -------
@@ -278,20 +235,7 @@ class DirectGeneration:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> DirectGeneration:
-        """The generation as written by :meth:`to_h5`.
-
-        Parameters
-        ----------
-        group : h5py.Group
-
-        Returns
-        -------
-        DirectGeneration
-
-        Example
-        -------
-        >>> DirectGeneration.from_h5(f["cases/cold/direct_generations/g0"])  # doctest: +SKIP
-        """
+        """The generation :meth:`to_h5` wrote into ``group`` (e.g. ``/cases/cold/direct_generations/g0``)."""
         return cls(
             group["x"][()],
             group["f"][()],
@@ -341,14 +285,8 @@ class Sure:
     high: np.ndarray
 
     def to_h5(self, group: h5py.Group, s: StudySettings) -> None:
-        """Write the extra runs into ``group``, every matrix labelled (``columns``, ``units``).
-
-        Parameters
-        ----------
-        group : h5py.Group
-            An empty group (``/cases/LABEL/sure``).
-        s : StudySettings
-            The study's settings (the labels and units of the columns).
+        """Write the extra runs into the empty ``group`` (e.g. ``/cases/LABEL/sure``), every
+        matrix labelled (``columns``, ``units``).
 
         Example
         -------
@@ -375,20 +313,7 @@ class Sure:
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Sure:
-        """The extra runs as written by :meth:`to_h5`.
-
-        Parameters
-        ----------
-        group : h5py.Group
-
-        Returns
-        -------
-        Sure
-
-        Example
-        -------
-        >>> Sure.from_h5(f["cases/cold/sure"])  # doctest: +SKIP
-        """
+        """The extra runs :meth:`to_h5` wrote into ``group`` (e.g. ``/cases/cold/sure``)."""
         return cls(
             strings(group["names"]),
             group["x"][()],

@@ -16,7 +16,8 @@ program bench_kernel
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type
   use ringlube_case, only: case_type, elastic_pressure
-  use ringlube_deck, only: read_deck_text, dirname
+  use ringlube_deck, only: read_deck_text
+  use ringlube_fsys, only: dir_prefix
   use ringlube_cycle, only: solve_cycle
   use ringlube_results, only: result_type, si_film_solves, sc_cycles_computed, sc_energy_loss, &
                               sc_mixed_share, sc_total_film_solves, sc_reynolds_solves, &
@@ -69,7 +70,7 @@ contains
     character(len=:), allocatable :: text
     call read_text_file(path, text, err)
     if (allocated(err)) error stop 'cannot read the deck'
-    call read_deck_text(text, path, dirname(path), c, err, ovr, 'overrides')
+    call read_deck_text(text, path, dir_prefix(path), c, err, ovr, 'overrides')
     if (allocated(err)) then
       write (output_unit, '(a)') err%message
       error stop 1

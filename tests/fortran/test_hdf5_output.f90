@@ -5,7 +5,8 @@ program test_hdf5_output
   use, intrinsic :: iso_c_binding, only: c_int
   use ringlube_textio, only: utf8_clean
   use ringlube_fsys, only: file_kind, same_file, make_temp_file, remove_file, dir_name, &
-                           remove_temp_on_signal, fs_missing, fs_regular, fs_directory, fs_other
+                           dir_prefix, remove_temp_on_signal, fs_missing, fs_regular, &
+                           fs_directory, fs_other
   use ringlube_error, only: error_type, rl_input_error
   use ringlube_output_path, only: check_output
   use ringlube_check
@@ -55,6 +56,9 @@ program test_hdf5_output
   call check(dir_name('out.h5') == '.', 'dir_name bare')
   call check(dir_name('a/b/out.h5') == 'a/b', 'dir_name relative')
   call check(dir_name('/out.h5') == '/', 'dir_name root')
+  call check(dir_prefix('out.h5') == '', 'dir_prefix bare')
+  call check(dir_prefix('a/b/out.h5') == 'a/b/', 'dir_prefix relative')
+  call check(dir_prefix('/out.h5') == '/', 'dir_prefix root')
 
   ! --- file_kind, same_file ---
   call make_temp_file('test_hdf5_output.tmp', a, code)

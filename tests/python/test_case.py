@@ -33,6 +33,24 @@ def test_get_set_and_variants():
     assert case["operating", "pressure_file"].startswith("/")
 
 
+def test_value_kept_until_the_case_or_its_files_change(tmp_path):
+    """Case.value() reads every input through one kernel handle and keeps the texts: a
+    change to the case or to its calibration file is still seen (issue 19)."""
+    cal = tmp_path / "cal.nml"
+    cal.write_text("&surface zeta_kappa_sigma = 0.05 /\n")
+    case = Case({"calibration": {"file": str(cal)}})
+    assert case.value("surface", "zeta_kappa_sigma") == 0.05
+    assert case.value("ring", "width") == case.value("ring", "width")
+    case["ring", "width"] = 1.5e-3
+    assert case.value("ring", "width") == 1.5e-3
+    cal.write_text("&surface zeta_kappa_sigma = 0.07 /\n")
+    assert case.value("surface", "zeta_kappa_sigma") == 0.07
+    assert case.copy().value("surface", "zeta_kappa_sigma") == 0.07
+    cal.unlink()
+    with pytest.raises(InputError, match="cal.nml"):
+        case.value("ring", "width")
+
+
 def test_empty_case_runs_on_defaults():
     r = ringlube.run(Case(name="defaults").with_numerics(nodes=31, dpsi_deg=4.0))
     assert r.energy_loss > 0 and r.converged
