@@ -12,7 +12,7 @@ module ringlube_api
   use ringlube_case, only: case_type, case_access, access_set, access_get, validate_case, &
                            real_text
   use ringlube_inputs, only: inputs, n_inputs, find_input, presets, n_presets, kind_int, kind_real
-  use ringlube_deck, only: read_deck_text
+  use ringlube_deck, only: read_deck_text, scale_trace
   use ringlube_gas, only: check_pressure_trace
   use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
                               n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, &
@@ -181,9 +181,8 @@ contains
     end do
     call validate_case(c, err)
     if (allocated(err)) return
-    ! the trace was scaled when the case was read: rescale it for a new pressure_scale
-    if (c%pressure_scale /= store(handle)%pressure_scale) &
-      c%gas_p = store(handle)%gas_p * (c%pressure_scale / store(handle)%pressure_scale)
+    ! the design's pressure_scale times the trace as read
+    call scale_trace(c)
     call system_clock(t0, rate)
     call solve_cycle(c, res, err)
     call system_clock(t1)
@@ -232,6 +231,7 @@ contains
       return
     end if
     call validate_case(store(handle), err)
+    call scale_trace(store(handle))   ! pressure_scale may be what changed
   end subroutine api_set
 
   !> Replace the gas-pressure trace by arrays (deg, Pa abs; checked like a CSV file, then
@@ -247,7 +247,8 @@ contains
       return
     end if
     store(handle)%gas_psi = psi
-    store(handle)%gas_p = store(handle)%pressure_scale * p
+    store(handle)%gas_p_trace = p
+    call scale_trace(store(handle))
     store(handle)%pressure_file = '<array>'
   end subroutine api_set_trace
 

@@ -65,7 +65,8 @@ module ringlube_case
     character(len=:), allocatable :: output_file, calibration_file
     ! not namelist variables
     real(dp), allocatable :: gas_psi(:)        !< deg, 0..720, increasing
-    real(dp), allocatable :: gas_p(:)          !< Pa abs
+    real(dp), allocatable :: gas_p(:)          !< Pa abs, pressure_scale x gas_p_trace
+    real(dp), allocatable :: gas_p_trace(:)    !< Pa abs, the trace as read (scale_trace)
     character(len=:), allocatable :: deck_path  !< where the case came from (in messages)
     character(len=:), allocatable :: deck_text  !< the deck's text (and included files')
   end type case_type
@@ -91,7 +92,7 @@ contains
     if (allocated(why)) error stop 'ringlube_inputs: bad preset default'
     c%deck_path = '<memory>'
     c%deck_text = ''
-    allocate (c%gas_psi(0), c%gas_p(0))
+    allocate (c%gas_psi(0), c%gas_p(0), c%gas_p_trace(0))
   end function default_case
 
   !> Set the numerics of a named preset; `why` is allocated if the name is unknown.

@@ -21,7 +21,7 @@ module ringlube_deck
   use ringlube_fsys, only: dir_prefix
   implicit none
   private
-  public :: read_deck, read_deck_text, resolve_path, finish_case
+  public :: read_deck, read_deck_text, resolve_path, finish_case, scale_trace
 
 contains
 
@@ -322,8 +322,9 @@ contains
     if (present(load_trace)) load = load_trace
     if (allocated(c%gas_psi)) deallocate (c%gas_psi)
     if (allocated(c%gas_p)) deallocate (c%gas_p)
+    if (allocated(c%gas_p_trace)) deallocate (c%gas_p_trace)
     if (len(c%pressure_file) == 0) then
-      allocate (c%gas_psi(0), c%gas_p(0))
+      allocate (c%gas_psi(0), c%gas_p(0), c%gas_p_trace(0))
       return
     end if
     if (.not. load) then
@@ -332,14 +333,22 @@ contains
         call fatal_error(err, c%deck_path//': &operating pressure_file: '// &
                          c%pressure_file//': pressure file not found', rl_input_error)
       end if
-      allocate (c%gas_psi(0), c%gas_p(0))
+      allocate (c%gas_psi(0), c%gas_p(0), c%gas_p_trace(0))
       return
     end if
-    call read_pressure_csv(c%pressure_file, c%gas_psi, c%gas_p, err)
+    call read_pressure_csv(c%pressure_file, c%gas_psi, c%gas_p_trace, err)
     if (allocated(err)) then
       err%message = c%deck_path//': &operating pressure_file: '//err%message
       return
     end if
-    c%gas_p = c%pressure_scale * c%gas_p
+    call scale_trace(c)
   end subroutine finish_case
+
+  !> The chamber pressure the run uses, `gas_p` = pressure_scale x the trace as read
+  !> (`gas_p_trace`): the one place the trace is scaled, after reading it, replacing it or
+  !> changing pressure_scale.
+  pure subroutine scale_trace(c)
+    type(case_type), intent(inout) :: c
+    if (allocated(c%gas_p_trace)) c%gas_p = c%pressure_scale * c%gas_p_trace
+  end subroutine scale_trace
 end module ringlube_deck

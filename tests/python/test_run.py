@@ -122,6 +122,21 @@ def test_run_many_equals_serial(quick_case):
     assert len({r.energy_loss for r in parallel}) == 3
 
 
+def test_a_design_scales_the_trace_as_read(quick_case):
+    """A design's pressure_scale multiplies the trace as read, as a deck with that value
+    does: run_designs and run() give the same bits (the kernel rescaled the already scaled
+    trace by new / old; issue 19, "the gas trace stored already scaled and re-scaled")."""
+    from ringlube.solve import run_designs
+
+    scales = (0.85, 1.0, 1.17)
+    batch, ok, _ = run_designs(
+        quick_case, ["operating:pressure_scale"], np.array(scales)[:, None], ["energy_loss"]
+    )
+    direct = [ringlube.run(quick_case.with_operating(pressure_scale=s)).energy_loss for s in scales]
+    assert ok.all()
+    np.testing.assert_array_equal(batch[:, 0], direct)
+
+
 def test_repeated_runs_keep_no_state(quick_case):
     a = ringlube.run(quick_case)
     ringlube.run(quick_case.with_ring(width=1.3e-3, tension=20.0))
