@@ -17,10 +17,16 @@ import itertools
 import subprocess
 from pathlib import Path
 
+import ringlube.convergence
+
 ROOT = Path(__file__).resolve().parents[2]
 BENCH = ROOT / "build" / "bench_kernel"
 DECKS = {d: ROOT / "inputs" / f"crf450r_4000rpm_full_{d}.nml" for d in ("cold", "hot")}
-REFERENCE = "nodes=801 dpsi_deg=0.125 pressure_tol=1e-8 load_tol=1e-6 cycle_tol=1e-6 time_scheme='bdf2'"
+# the reference numerics of `ringlube convergence` (one place), tight periodicity, BDF2
+REFERENCE = " ".join(
+    f"{k}={v!r}" if isinstance(v, str) else f"{k}={v}"
+    for k, v in {**ringlube.convergence.REFERENCE, "cycle_tol": 1e-6, "time_scheme": "bdf2"}.items()
+)
 
 
 def bench(deck: Path, numerics: str, repeats: int, exe: Path = BENCH) -> dict:
