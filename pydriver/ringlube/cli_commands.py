@@ -29,11 +29,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from .solve import run
 
     case = Case.from_namelist(args.deck)
-    out = (
-        Path(args.output)
-        if args.output
-        else Path(case.get("output", "file") or Path(args.deck).with_suffix(".h5"))
-    )
+    # without -o, the kernel's own choice: the deck's &output file, else its default
+    # 'result.h5', relative to the deck's folder (as ringlube-solve does)
+    out = Path(args.output) if args.output else Path(case.value("output", "file"))
     inputs = [
         Path(args.deck),
         *(Path(p) for p in (case.get("operating", "pressure_file"), case.get("calibration", "file")) if p),

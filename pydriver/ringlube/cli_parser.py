@@ -68,7 +68,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     p.add_argument("deck", help="the case deck (namelist)")
     p.add_argument(
-        "-o", "--output", help="result file (default: the deck's &output file, else the deck's name with .h5)"
+        "-o",
+        "--output",
+        help="result file (default: the deck's &output file, else result.h5 beside it, as ringlube-solve)",
     )
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     p = _command(
