@@ -427,3 +427,19 @@ def test_connectivity_cycles_of_a_blown_face_end(deck, ring, ring_pack):
     assert not (r.flags & (FLAGS["cavitation"] | FLAGS["load"] | FLAGS["viscosity"])).any()
     assert r.converged
     assert r.reynolds_solves < 10 * r.total_film_solves, (r.reynolds_solves, r.total_film_solves)
+
+
+def test_lower_rings_beyond_the_stroke_lay_no_oil(cold):
+    """`lower_ring_distance` may exceed the stroke (range 0-0.2 m): the lower rings then reach
+    no part of the liner. At each BDC the film of their strip beyond the liner's grid was put
+    on its last cell (37 mm of 'film' at 0.1 m, 142 mm at 0.2 m in /liner/oil_film_m, counted
+    as oil supplied, so that the balance's scale grew with the distance and its error shrank:
+    2.0e-12 / 5.2e-13 where the run closes to 9e-10). Beyond the stroke the distance changes
+    nothing."""
+    case = cold.with_physics(cavitation="jfo", inlet="starved")
+    runs = [ringlube.run(case.with_ring(lower_ring_distance=d)) for d in (0.1, 0.2)]
+    for r in runs:
+        assert r.liner["liner_oil_film"].max() < 1e-3
+    assert runs[0].energy_loss == runs[1].energy_loss
+    assert runs[0].oil_balance_error == runs[1].oil_balance_error
+    np.testing.assert_array_equal(runs[0].liner["liner_oil_film"], runs[1].liner["liner_oil_film"])
