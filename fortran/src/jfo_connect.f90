@@ -141,8 +141,11 @@ contains
     logical, intent(out), optional :: blown
     !> jfo_solve's system, kept between calls (optional)
     type(jfo_system), intent(inout), optional :: work
-    real(dp) :: pcn(size(pc)), th(size(theta)), hist(size(pc), 16)
-    logical :: bl, bln, hist_bl(16), final
+    real(dp) :: pcn(size(pc)), th(size(theta))
+    ! every set solved with so far, most recent first (a cycle of any length is detected)
+    real(dp), allocatable :: hist(:, :)
+    logical, allocatable :: hist_bl(:)
+    logical :: bl, bln, final
     real(dp) :: tl, tr, pl, pr
     integer :: k, kmax, it, i, j, n
     type(jfo_options) :: opt
@@ -157,6 +160,7 @@ contains
       info = JFO_BAD_INPUT
       return
     end if
+    allocate (hist(size(pc), max(kmax, 1)), hist_bl(max(kmax, 1)))
     th = theta
     where (.not. ieee_is_finite(th)) th = 1.0_dp
     ! first guess from the warm-start fill only (its pressures may belong to another pc)
@@ -188,10 +192,13 @@ contains
      call jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pcn, p, &
                                bln)
       if (all(pcn == pc) .and. (bln .eqv. bl)) return
-      ! a cycle: pcn equals one of the last 16 sets (a two-cycle is a meniscus between two
-      ! nodes: a node joined to the gas-connected zone rises above the gas pressure, left out
-      ! of it falls below). No fixed point exists on this grid; the nodes are taken as
-      ! connected (the largest pc of the sets in the cycle) and solved once more.
+      ! a cycle: pcn equals one of the sets solved with before (a two-cycle is a meniscus
+      ! between two nodes: a node joined to the gas-connected zone rises above the gas pressure,
+      ! left out of it falls below; a starved blown face, its leading edge at the face's gas
+      ! level, gave cycles of 17 to 32 sets, which a history of the last 16 missed: the loop ran
+      ! to max_outer at every pressure-viscosity iteration, flags 16 and 4). No fixed point
+      ! exists on this grid; the nodes are taken as connected (the largest pc of the sets in the
+      ! cycle) and solved once more.
       do j = 1, min(k - 1, size(hist, 2))
         if (all(pcn == hist(:, j)) .and. (bln .eqv. hist_bl(j))) then
           do i = 1, j
@@ -204,8 +211,9 @@ contains
       end do
       if (final) cycle
       ! hist(:, 1) the set just solved with, hist(:, 2) the one before, ...
-      hist(:, 2:) = hist(:, 1:size(hist, 2) - 1)
-      hist_bl(2:) = hist_bl(1:size(hist_bl) - 1)
+      j = min(k, size(hist, 2))
+      hist(:, 2:j) = hist(:, 1:j - 1)
+      hist_bl(2:j) = hist_bl(1:j - 1)
       hist(:, 1) = pc
       hist_bl(1) = bl
       pc = pcn

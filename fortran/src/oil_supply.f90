@@ -135,7 +135,7 @@ contains
     type(supply_type), intent(inout) :: sup
     real(dp), intent(in) :: s_prev
     integer, intent(in) :: dir
-    real(dp) :: put, zl, removed, added, edge
+    real(dp) :: put, zl, zend, removed, added, edge
     if (.not. supply_reverses(sup, dir)) return
     ! reversal: the bank stays on the liner just beyond the old leading edge
     edge = leading_edge(sup, s_prev, sup%direction)
@@ -152,11 +152,16 @@ contains
         sup%taken_down = sup%taken_down + removed
         sup%supplied = sup%supplied + added
       end if
+      ! below the face to the end of the grid; nothing where the lower rings start beyond it
+      ! (lower_ring_distance past the stroke: strip_set would put the film of the strip
+      ! beyond the grid on its last cell)
       zl = max(sup%lower_limit, s_prev + sup%half_width)
-      call strip_set(sup%liner, zl, sup%liner%z0 + sup%liner%nz * sup%liner%dz, &
-                     sup%supply_film, removed, added)
-      sup%taken_down = sup%taken_down + removed
-      sup%supplied = sup%supplied + added
+      zend = sup%liner%z0 + sup%liner%nz * sup%liner%dz
+      if (zl < zend) then
+        call strip_set(sup%liner, zl, zend, sup%supply_film, removed, added)
+        sup%taken_down = sup%taken_down + removed
+        sup%supplied = sup%supplied + added
+      end if
     end if
   end subroutine supply_reverse
 
