@@ -316,12 +316,12 @@ def _render_oil(oil: dict) -> list[str]:
         "",
         "The oil to the chamber is the least certain result of the starved film: it grows by more "
         "than three orders of magnitude from 1 to 10 um of supply film, while the energy changes by "
-        "tens of per cent. At 0.5 um it sits at the same small value on every deck (the film the "
-        "ring leaves near top dead centre; not investigated further), and at 1 um it can be zero: "
-        "the 'vapour' cavity behind the trailing edge draws the bank left at top dead centre back "
-        "into the gap on the next downstroke (docs/model.md, 'Starved inlet'). Set `supply_film` "
-        "from a measurement or from a model of the ring below before comparing designs by oil "
-        "(docs/own_engine.md).",
+        "tens of per cent. At 0.5-1 um it is a crank-step effect, not a transport: the bank the "
+        "inlet leaves on the slowing approach to top dead centre scales with the square of the "
+        "crank step, and the 'vapour' cavity behind the trailing edge may draw it back in on the "
+        "next downstroke (zero at 1 um on the cold decks at 2 deg; docs/model.md, 'Starved "
+        "inlet'). Set `supply_film` from a measurement or from a model of the ring below before "
+        "comparing designs by oil (docs/own_engine.md).",
         "",
     ]
     return md

@@ -28,14 +28,10 @@ def cold() -> Case:
 @pytest.mark.parametrize("cavity", ["vapour", "trailing_gas"])
 def test_oil_balance_closes_over_the_cycle(cold, cavity):
     """Oil in (supply film laid) = oil out (to the chamber, taken down) + change of the oil
-    stored on the liner, in the bank and in the gap: to round-off, not to a tolerance. The
-    bank left above the ring at TDC is behind its trailing edge on the next downstroke: a
-    'vapour' cavity (0 Pa) next to that edge draws it back in, so none reaches the chamber;
-    a cavity open to the chamber's gas ('trailing_gas') does not, and the rest counts."""
+    stored on the liner, in the bank and in the gap: to round-off, not to a tolerance."""
     r = ringlube.run(cold.with_physics(cavitation="jfo", inlet="starved", cavity_pressure=cavity))
     assert r.oil_balance_error <= 1e-10, r.oil_balance_error
-    assert np.isfinite(r.oil_to_chamber)
-    assert (r.oil_to_chamber > 0) == (cavity == "trailing_gas"), r.oil_to_chamber
+    assert r.oil_to_chamber >= 0 and np.isfinite(r.oil_to_chamber)
     assert (r.inlet_fill >= 0).all() and (r.inlet_fill <= 1).all()
     assert (r.wetted_width >= 0).all() and (r.wetted_width <= cold["ring", "width"] + 1e-12).all()
     assert (r.oil_bank >= 0).all() and (r.oil_left >= 0).all()
@@ -443,3 +439,17 @@ def test_lower_rings_beyond_the_stroke_lay_no_oil(cold):
     assert runs[0].energy_loss == runs[1].energy_loss
     assert runs[0].oil_balance_error == runs[1].oil_balance_error
     np.testing.assert_array_equal(runs[0].liner["liner_oil_film"], runs[1].liner["liner_oil_film"])
+
+
+def test_oil_to_chamber_at_1_um_falls_with_the_crank_step(cold):
+    """At the shipped 1 um supply film the oil to the chamber is a crank-step effect: the
+    starved inlet takes in the oil it meets at the step's end speed times dt, less than the
+    strip it sweeps on the slowing approach to TDC, and the bank left above the ring scales
+    with dpsi^2 (0.036 mm3 a cycle at 2 deg, cold deck, 'trailing_gas'; docs/model.md,
+    "Starved inlet"). Halving the step must divide it by about four: a transport the model
+    resolved would converge to a finite value instead."""
+    case = cold.with_physics(cavitation="jfo", inlet="starved", cavity_pressure="trailing_gas")
+    oil = [ringlube.run(case.with_numerics(dpsi_deg=d)).oil_to_chamber for d in (2.0, 1.0, 0.5)]
+    assert oil[0] > 0
+    for coarse, fine in zip(oil, oil[1:]):
+        assert 3.5 < coarse / fine < 4.5, oil
