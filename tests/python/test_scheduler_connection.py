@@ -27,10 +27,23 @@ def silent_socket():
         yield sock.getsockname()[1]
 
 
+class _QuietHandler(http.server.BaseHTTPRequestHandler):
+    """Answers HTTP requests (as an error page); a client that connects and never sends a
+    request (Dask's comm, which waits for the other side to speak first) is dropped after 2 s
+    instead of holding the server's only thread, which hung the fixture's shutdown."""
+
+    timeout = 2.0
+
+    def log_message(self, format, *args):  # noqa: A002 - the base class's signature
+        pass
+
+
 @pytest.fixture()
 def http_server():
     """A port with an HTTP server (answers, but not as Dask)."""
-    server = http.server.HTTPServer(("127.0.0.1", 0), http.server.BaseHTTPRequestHandler)
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), _QuietHandler)
+    server.daemon_threads = True
+    server.block_on_close = False
     thread = threading.Thread(target=server.serve_forever, daemon=True)
     thread.start()
     yield server.server_address[1]
