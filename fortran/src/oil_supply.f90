@@ -14,8 +14,7 @@ module ringlube_oil_supply
                             strip_set, strip_draw, liner_volume
   implicit none
   private
-public :: supply_type, supply_setup, inlet_available, trailing_available, inlet_fill, supply_step, &
-            supply_reverse, supply_reverses, supply_edges, &
+  public :: supply_type, supply_setup, supply_edges, inlet_fill, supply_step, &
             supply_reset_counters, supply_stored, supply_to_chamber
 
   !> State and counters of the oil supply (volumes per unit circumference, m^2).
