@@ -30,10 +30,11 @@ set(ringlube_labels_film_viscosity "numerics")
 set(ringlube_labels_film_edges "numerics")
 set(ringlube_labels_jfo "numerics;slow")
 set(ringlube_labels_jfo_connect "numerics")
+set(ringlube_labels_jfo_coarse "numerics")
 set(ringlube_labels_ring_pack "unit;numerics")
 set(ringlube_labels_ring_pack_cycle "numerics")
 
-foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner jfo jfo_connect
+foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner jfo jfo_connect jfo_coarse
     time_order
     mixed_share film_viscosity film_edges results ring_pack ring_pack_cycle)
   set(src ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
