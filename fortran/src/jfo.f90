@@ -56,7 +56,8 @@ module ringlube_jfo
   !> Gauss-Seidel sweeps); max_outer the solves of jfo_solve_connected's outer loop; guard =
   !> .false. switches the anti-cycling guard off and newton = .false. uses the Gauss-Seidel
   !> fallback alone (both for the tests and the benchmark); coarse = .false. switches the
-  !> coarse-grid predictor off (for the tests).
+  !> coarse-grid predictor off (for the tests); coarse_from: the smallest solve (nodes) that
+  !> restarts from the coarse grids (the coarse solves themselves restart down to coarse_min).
   type :: jfo_options
     real(dp) :: tol = 1e-11_dp
     integer :: max_iter = 200
@@ -64,6 +65,7 @@ module ringlube_jfo
     logical :: guard = .true.
     logical :: newton = .true.
     logical :: coarse = .true.
+    integer :: coarse_from = 401
   end type jfo_options
 
   !> residual (relative to the same scale) below which a converged state is left as it is
@@ -96,7 +98,9 @@ module ringlube_jfo
   !> crank steps) the solve walked it node by node and ended at the iteration cap (the
   !> starved cold deck at 1001 nodes and 2 deg: 117 solves capped, 25.9 s a run at 2001
   !> nodes). When walk_steps consecutive Newton steps each switch one or two nodes, a solve of
-  !> at least coarse_min nodes solves the same step on a grid coarser by 2-5 (recursively),
+  !> at least `coarse_from` nodes (jfo_options, 401: at the 'accurate' preset's 201 walks are
+  !> short and restarts cost more than they save, +1 to +40 % a run) solves the same step on a
+  !> grid coarser by 2-5 (recursively, down to coarse_min nodes),
   !> where the same distance is a few nodes, and starts again from that solution interpolated
   !> to the fine grid, at most max_coarse times. Where the coarse grids' cavities differ from
   !> the fine grid's (a cavity that only the fine grid resolves), the next walk is from a
@@ -207,7 +211,7 @@ contains
     walk = 0
     fpre = huge(1.0_dp)
     ncoarse = max_coarse
-    if (use_newton .and. opt%coarse .and. n >= coarse_min) ncoarse = 0
+    if (use_newton .and. opt%coarse .and. n >= max(opt%coarse_from, coarse_min)) ncoarse = 0
     do it = 0, itmax
       rmax = maxval(abs(r(2:n - 1)))
       if (rmax <= rtol * rscale .or. it == itmax) exit
@@ -410,6 +414,7 @@ contains
         coc(ic) = coc(ic) / wsum
       end do
       copt = opt
+      copt%coarse_from = coarse_min
       call jfo_solve(dx * k, hc, hmc, kmc, u, dt, coc, p_left, p_right, theta_left, theta_right, &
                      pcc, ppc, thc, cit, cinfo, options=copt, cap_left=qcl, cap_right=qcr)
       do ic = 1, nc - 1

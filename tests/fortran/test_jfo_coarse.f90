@@ -2,8 +2,9 @@
 !> docs/film_model.md "Coarse-grid predictor"): a Newton step moves a reformation front that
 !> has to advance against the Couette flow by one node, so without the predictor the
 !> iterations of a solve whose warm start puts that front far off grow with the nodes (251 to
-!> 4001 nodes: 14, 50, 192, and the cap of 200 at 8001). With it they stay bounded, and the
-!> answer is the same solve's (the predictor changes the start, not the tolerance).
+!> 4001 nodes: 14, 50, 192, and the cap of 200 at 8001). With it (from 401 nodes) they stay
+!> bounded, and the answer is the same solve's (the predictor changes the start, not the
+!> tolerance).
 program test_jfo_coarse
   use ringlube_kinds, only: dp
   use ringlube_jfo
@@ -21,9 +22,9 @@ contains
   !> set-ups: the inlet on the right with a flooded film before (content h) and a flooded warm
   !> start; the inlet on the left with a half-filled film before and the warm start at the
   !> inlet's fill. The inlet's partly filled zone ends at a meniscus hundreds of nodes from
-  !> where the warm start has it. At 251, 1000 (coarsening by 3), 1001 and 4001 nodes: the
-  !> solve converges in at most 16 iterations at every size, the iterations at 4001 nodes are
-  !> at most 1.5 times those at 1001, and without the predictor the solve (where it converges)
+  !> where the warm start has it. At 251 (below the predictor's 401), 1000 (coarsening by 3),
+  !> 1001 and 4001 nodes: the solve converges in at most 16 iterations at every size, the
+  !> iterations at 4001 nodes are at most 1.5 times those at 1001, and without the predictor the solve (where it converges)
   !> gives the same pressure to 1e-12 and fill to 1e-12, and takes at least 4 times as many
   !> iterations at 4001 nodes.
   subroutine case_meniscus_walk()
