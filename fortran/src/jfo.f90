@@ -226,7 +226,7 @@ contains
         ! state before is taken back and the walk goes on from there (also after the last
         ! restart).
         walk = 0
-        if (restarted .and. f0 > fpre) then
+        if (restarted .and. f0 >= fpre) then
           v = vpre
           ncoarse = max_coarse
           restarted = .false.
