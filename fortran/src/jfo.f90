@@ -104,8 +104,8 @@ module ringlube_jfo
   !> where the same distance is a few nodes, and starts again from that solution interpolated
   !> to the fine grid, at most max_coarse times. Where the coarse grids' cavities differ from
   !> the fine grid's (a cavity that only the fine grid resolves), the next walk is from a
-  !> worse state, or Newton stalls from the restart (the guard's fallback): the state before
-  !> the restart is taken back and the solve goes on, without further restarts. The
+  !> worse state, or Newton stalls from the restart (the guard's fallback) above the state
+  !> before it: that state is taken back and the solve goes on, without further restarts. The
   !> predictor changes the start, not the answer: the fine solve's tolerance decides.
   integer, parameter :: walk_steps = 3
   integer, parameter :: coarse_min = 65
@@ -313,7 +313,7 @@ contains
           if (nls > 0) stall = stall + 1
         end if
       end if
-      if ((.not. accepted .or. stall >= 3) .and. restarted) then
+      if ((.not. accepted .or. stall >= 3) .and. restarted .and. f0 > fpre) then
         ! Newton stalls from a restart that has not yet improved on the state before it: a
         ! coarse start the fine grid does not converge from (without a further walk, the
         ! rule above never takes it back; the sweeps' budget would go on it): take it back
