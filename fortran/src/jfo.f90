@@ -410,7 +410,7 @@ contains
     !> state (as at entry). Faces: the mean gap and the series conductance of the k fine faces;
     !> nodes: the gap and the last content weighted like the fine control volumes they cover
     !> (hat weights), the cavity pressure and the current state sampled.
-    pure subroutine coarse_start(v, pn, tn)
+    pure recursive subroutine coarse_start(v, pn, tn)
       real(dp), intent(inout) :: v(:), pn(:), tn(:)
       integer :: k, nc, ic, i0, j, cit, cinfo
       real(dp), allocatable :: hc(:), hmc(:), kmc(:), coc(:), pcc(:), ppc(:), thc(:)
