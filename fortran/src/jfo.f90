@@ -104,7 +104,9 @@ module ringlube_jfo
   !> where the same distance is a few nodes, and starts again from that solution interpolated
   !> to the fine grid, at most max_coarse times. Where the coarse grids' cavities differ from
   !> the fine grid's (a cavity that only the fine grid resolves), the next walk is from a
-  !> worse state: the state before the restart is taken back and the walk goes on. The
+  !> worse state, or Newton stalls from the restart with the sweeps' budget spent: the state
+  !> before the restart (and the sweeps' budget then) is taken back and the solve goes on,
+  !> without further restarts. The
   !> predictor changes the start, not the answer: the fine solve's tolerance decides.
   integer, parameter :: walk_steps = 3
   integer, parameter :: coarse_min = 65
@@ -153,7 +155,8 @@ contains
     real(dp) :: jl(size(h)), jd(size(h)), ju(size(h)), tw(size(h))
     real(dp) :: rtol, f0, ft, fbest, fpre, t, rscale, rmax, fhist(nonmonotone), qcl, qcr
     integer :: n, i, it, itmax, tinfo, nls, nsweep, stall, nfall, nsw, walk, ncoarse
-    logical :: use_guard, use_newton, accepted, jac_ok
+    integer :: nsweep_pre, nfall_pre, nsweep_back
+    logical :: use_guard, use_newton, accepted, jac_ok, restarted
     type(jfo_options) :: opt
 
     if (.not. present(work)) then
@@ -211,30 +214,51 @@ contains
     walk = 0
     fpre = huge(1.0_dp)
     ncoarse = max_coarse
-    if (use_newton .and. opt%coarse .and. n >= max(opt%coarse_from, coarse_min)) ncoarse = 0
+    if (use_newton .and. opt%coarse .and. n >= max(opt%coarse_from, coarse_min) &
+        .and. coarse_factor(n) > 0) ncoarse = 0
+    ! restarted: the last restart stands (not taken back), and vpre, fpre are the state before it
+    restarted = .false.
+    nsweep_pre = 0
+    nfall_pre = 0
+    nsweep_back = 0
     do it = 0, itmax
       rmax = maxval(abs(r(2:n - 1)))
       if (rmax <= rtol * rscale .or. it == itmax) exit
-      if (walk >= walk_steps .and. ncoarse < max_coarse) then
+      if (walk >= walk_steps .and. (ncoarse < max_coarse .or. restarted)) then
         ! the boundaries walk a node or two per step: start again from the coarse grids'
         ! solution, which moves them a few coarse nodes per step. Where the coarse grids'
         ! cavities differ from the fine grid's, the walk resumes from a worse state: then the
-        ! state before is taken back and the walk goes on from there.
+        ! state before is taken back and the walk goes on from there (also after the last
+        ! restart).
         walk = 0
-        if (ncoarse > 0 .and. f0 > fpre) then
+        if (restarted .and. f0 > fpre) then
           v = vpre
           ncoarse = max_coarse
-        else
+          restarted = .false.
+          nsweep_back = nsweep_back + nsweep - nsweep_pre
+          nsweep = nsweep_pre
+          nfall = nfall_pre
+       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+          jac_ok = .true.
+          f0 = sumsq(r)
+          fhist = f0
+          stall = 0
+        else if (ncoarse < max_coarse) then
           ncoarse = ncoarse + 1
           vpre = v
           fpre = f0
+          nsweep_pre = nsweep
+          nfall_pre = nfall
+          restarted = .true.
           call coarse_start(v, pn, tn)
-        end if
        call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-        jac_ok = .true.
-        f0 = sumsq(r)
-        fhist = f0
-        stall = 0
+          jac_ok = .true.
+          f0 = sumsq(r)
+          fhist = f0
+          stall = 0
+        else
+          restarted = .false.
+        end if
         if (f0 < fbest) then
           fbest = f0
           vbest = v
@@ -299,7 +323,25 @@ contains
           if (nls > 0) stall = stall + 1
         end if
       end if
-      if (.not. accepted .or. stall >= 3) then
+      if ((.not. accepted .or. stall >= 3) .and. restarted .and. f0 > fpre &
+          .and. nsweep >= gs_budget) then
+        ! Newton stalls from a restart that has not yet improved on the state before it, and
+        ! the sweeps' budget is spent: without a further walk the rule above would never take
+        ! it back, and the solve would end at the iteration cap there. Take it back, with the
+        ! sweeps spent since (taking a restart back at every stall above the state before it
+        ! made the starved cold deck at 2001 nodes and 2 deg 4 times slower a run)
+        v = vpre
+        ncoarse = max_coarse
+        restarted = .false.
+        nsweep_back = nsweep_back + nsweep - nsweep_pre
+        nsweep = nsweep_pre
+        nfall = nfall_pre
+       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+        jac_ok = .true.
+        f0 = sumsq(r)
+        fhist = f0
+        stall = 0
+      else if (.not. accepted .or. stall >= 3) then
         ! zero pivot, no descent, or repeated damping: Gauss-Seidel sweeps, then Newton again
         ! (each fallback sweeps twice as long as the previous one, at most 16 gs_sweeps, and
         ! gs_budget in all: where neither converges, as in a few extreme starved designs, a
@@ -338,7 +380,7 @@ contains
       end if
       call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
     end if
-    if (present(sweeps)) sweeps = nsweep
+    if (present(sweeps)) sweeps = nsweep + nsweep_back
     if (maxval(abs(r(2:n - 1))) > rtol * rscale) then
       if (info == JFO_OK) info = JFO_NOT_CONVERGED
       if (fbest < f0) then
@@ -368,22 +410,13 @@ contains
     !> state (as at entry). Faces: the mean gap and the series conductance of the k fine faces;
     !> nodes: the gap and the last content weighted like the fine control volumes they cover
     !> (hat weights), the cavity pressure and the current state sampled.
-    pure subroutine coarse_start(v, pn, tn)
+    pure recursive subroutine coarse_start(v, pn, tn)
       real(dp), intent(inout) :: v(:), pn(:), tn(:)
       integer :: k, nc, ic, i0, j, cit, cinfo
       real(dp), allocatable :: hc(:), hmc(:), kmc(:), coc(:), pcc(:), ppc(:), thc(:)
       real(dp) :: wsum, wj, s
       type(jfo_options) :: copt
-      k = 0
-      if (mod(n - 1, 4) == 0) then
-        k = 4
-      else if (mod(n - 1, 2) == 0) then
-        k = 2
-      else if (mod(n - 1, 3) == 0) then
-        k = 3
-      else if (mod(n - 1, 5) == 0) then
-        k = 5
-      end if
+      k = coarse_factor(n)
       if (k == 0) return
       nc = (n - 1) / k + 1
       allocate (hc(nc), hmc(nc - 1), kmc(nc - 1), coc(nc), pcc(nc), ppc(nc), thc(nc))
@@ -437,6 +470,22 @@ contains
     end subroutine coarse_start
 
   end subroutine jfo_solve
+
+  !> The coarsening of the predictor for n nodes: the first of 4, 2, 3, 5 that divides n - 1
+  !> (0: none, and the solve does not restart).
+  pure integer function coarse_factor(n) result(k)
+    integer, intent(in) :: n
+    k = 0
+    if (mod(n - 1, 4) == 0) then
+      k = 4
+    else if (mod(n - 1, 2) == 0) then
+      k = 2
+    else if (mod(n - 1, 3) == 0) then
+      k = 3
+    else if (mod(n - 1, 5) == 0) then
+      k = 5
+    end if
+  end function coarse_factor
 
   !> Oil volume per unit circumference held by the interior finite volumes (m^2): the quantity
   !> whose change jfo_solve's edge fluxes balance.
