@@ -204,6 +204,12 @@ contains
     ! jac_ok: jl, jd, ju hold the Jacobian at v (the residual of an accepted step is evaluated
     ! with it, so the next iteration need not evaluate the residual again)
    call jfo_residual(work, v, r, rscale, use_newton, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+    if (.not. (ieee_is_finite(rscale) .and. ieee_is_finite(sum(abs(r(2:n - 1)))))) then
+      ! a warm start whose terms overflow (pressures near huge()) made the scale infinite, and
+      ! Inf <= tol * Inf passed as converged: start from full film at the cavity pressure
+      v = 0.0_dp
+   call jfo_residual(work, v, r, rscale, use_newton, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+    end if
     jac_ok = use_newton
     f0 = sumsq(r)
     vbest = v

@@ -9,6 +9,7 @@
 !>  7. the anti-cycling guard and the Gauss-Seidel fallback.
 !> The connectivity rule, the starved inlet and the inflow cap: test_jfo_connect.
 program test_jfo
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_kinds, only: dp, pi
   use ringlube_jfo
   use ringlube_jfo_connect
@@ -25,6 +26,7 @@ program test_jfo
   if (run_case('transient')) call case_transient()
   if (run_case('guard')) call case_guard()
   if (run_case('bad_input')) call case_bad_input()
+  if (run_case('huge_warm_start')) call case_huge_warm_start()
   call report('test_jfo')
 
 contains
@@ -453,4 +455,28 @@ contains
                    th, it, info)
     call check(info == JFO_BAD_INPUT, 'bad input: n < 3 flagged')
   end subroutine case_bad_input
+
+  !> A warm start with pressures near huge() overflowed the residual's scale, and Inf <= tol *
+  !> Inf passed as converged: p = +Inf returned with info 3 after 0 iterations (the review of
+  !> the coarse-grid predictor). It must give the solution of an ordinary warm start.
+  subroutine case_huge_warm_start()
+    integer, parameter :: n = 61
+    real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:)
+    real(dp) :: dx, p(n), th(n), p2(n), th2(n), pc(n)
+    integer :: it, info, it2, info2
+    call grid(n, x, h, hmid, kmid, dx)
+    pc = 0.0_dp
+    p = 1e5_dp
+    th = 1.0_dp
+    p(20:25) = huge(1.0_dp)
+    p2 = 1e5_dp
+    th2 = 1.0_dp
+    call jfo_solve(dx, h, hmid, kmid, 10.0_dp, 1e-5_dp, h, 3e5_dp, 1e5_dp, 1.0_dp, 1.0_dp, pc, p, &
+                   th, it, info)
+    call jfo_solve(dx, h, hmid, kmid, 10.0_dp, 1e-5_dp, h, 3e5_dp, 1e5_dp, 1.0_dp, 1.0_dp, pc, p2, &
+                   th2, it2, info2)
+    call check(info == JFO_OK .and. all(ieee_is_finite(p)), 'huge warm start: converges, finite')
+  call check(maxval(abs(p - p2)) <= 1e-10_dp * maxval(p2) .and. maxval(abs(th - th2)) <= 1e-10_dp, &
+               'huge warm start: the solution of an ordinary warm start')
+  end subroutine case_huge_warm_start
 end program test_jfo
