@@ -91,23 +91,13 @@ module ringlube_jfo
   !> solves that need a fallback: 128 instead of 2048 sweeps cut the starved film at 1001
   !> nodes from 8.5 to 2.9 s with the same energy to 1e-10 (docs/performance.md)
   integer, parameter :: gs_budget = 128
-  !> Coarse-grid predictor (`coarse_start`). A Newton step moves a reformation front that has
-  !> to advance against the Couette flow (a starved inlet's meniscus, a cavity refilling from
-  !> its downstream end) by one node: its upstream neighbours see only the Couette content of
-  !> the linearisation. Where a warm start's front is hundreds of nodes off (fine grids, large
-  !> crank steps) the solve walked it node by node and ended at the iteration cap (the
-  !> starved cold deck at 1001 nodes and 2 deg: 117 solves capped, 25.9 s a run at 2001
-  !> nodes). When walk_steps consecutive Newton steps each switch one or two nodes, a solve of
-  !> at least `coarse_from` nodes (jfo_options, 401: at the 'accurate' preset's 201 walks are
-  !> short and restarts cost more than they save, +1 to +40 % a run) solves the same step on a
-  !> grid coarser by 2-5 (recursively, down to coarse_min nodes),
-  !> where the same distance is a few nodes, and starts again from that solution interpolated
-  !> to the fine grid, at most max_coarse times. Where the coarse grids' cavities differ from
-  !> the fine grid's (a cavity that only the fine grid resolves), the next walk is from a
-  !> worse state, or Newton stalls from the restart with the sweeps' budget spent: the state
-  !> before the restart (and the sweeps' budget then) is taken back and the solve goes on,
-  !> without further restarts. The
-  !> predictor changes the start, not the answer: the fine solve's tolerance decides.
+  !> Coarse-grid predictor (`coarse_start`; docs/film_model.md "Coarse-grid predictor"): a
+  !> Newton step moves a reformation front advancing against the Couette flow by one node. When
+  !> walk_steps consecutive steps each switch one or two nodes, a solve of at least
+  !> `coarse_from` nodes (jfo_options) restarts from the step solved on grids coarser by 2-5
+  !> (recursively, down to coarse_min nodes), at most max_coarse times; a restart that the
+  !> next walk, or a stall with the sweeps' budget spent, finds worse than the state before it
+  !> is taken back. It changes the start, not the answer (the fine solve's tolerance decides).
   integer, parameter :: walk_steps = 3
   integer, parameter :: coarse_min = 65
   integer, parameter :: max_coarse = 3
