@@ -1,13 +1,13 @@
-!> Shared by the mass-conserving film's tests (test_jfo, test_jfo_connect): the closed forms
-!> of the parabolic slider's full film and rupture point, its grid, and the observed order of
-!> a sequence of errors.
+!> Shared by the mass-conserving film's tests (test_jfo, test_jfo_connect, test_jfo_coarse):
+!> the closed forms of the parabolic slider's full film and rupture point, its grid, the
+!> observed order of a sequence of errors, and the random steps of the cold-start tests.
 module jfo_test_tools
   use ringlube_kinds, only: dp
   use ringlube_check
-  use slider_closed_form, only: b, xs, eta, ns, hz, j2, j3
+  use slider_closed_form, only: b, xs, eta, kk, ns, hz, j2, j3
   implicit none
   private
-  public :: p_film, rupture_point, grid, print_orders
+  public :: p_film, rupture_point, grid, print_orders, rnd, random_step
 
 contains
 
@@ -66,4 +66,33 @@ contains
       call check(order > lo, trim(what))
     end do
   end subroutine print_orders
+
+  !> A reproducible number in [0, 1) for trial i, draw j (a hash, the same on every machine).
+  elemental real(dp) function rnd(i, j)
+    integer, intent(in) :: i, j
+    rnd = modulo(sin(real(i, dp) * 12.9898_dp + real(j, dp) * 78.233_dp) * 43758.5453_dp, 1.0_dp)
+  end function rnd
+
+  !> The random step of trial `trial` on the nodes x (draws 1-8): the parabolic ring at a
+  !> minimum gap hm of 0.3-3.3 um (gap h at the nodes, hmid and kmid at the faces), speed u in
+  !> +-20 m/s, edge pressures pl, pr of 1-11 bar, edge fills tl, tr, and a backward Euler
+  !> step dt of 1e-7 to 1e-3 s, or a steady solve (dt = 0) three times in ten.
+  subroutine random_step(trial, x, hm, h, hmid, kmid, u, pl, pr, tl, tr, dt)
+    integer, intent(in) :: trial
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: hm, h(:), hmid(:), kmid(:), u, pl, pr, tl, tr, dt
+    integer :: n
+    n = size(x)
+    hm = 0.3e-6_dp + 3e-6_dp * rnd(trial, 1)
+    h = hm + kk * (x + xs)**2
+    hmid = hm + kk * (0.5_dp * (x(1:n - 1) + x(2:n)) + xs)**2
+    kmid = hmid**3 / (12 * eta)
+    u = 40.0_dp * (rnd(trial, 2) - 0.5_dp)
+    pl = 1e5_dp + 1e6_dp * rnd(trial, 3)**3
+    pr = 1e5_dp + 1e6_dp * rnd(trial, 4)**3
+    tl = min(1.0_dp, 1.5_dp * rnd(trial, 5))
+    tr = min(1.0_dp, 1.5_dp * rnd(trial, 6))
+    dt = 10.0_dp**(-7 + 4 * rnd(trial, 7))
+    if (rnd(trial, 8) < 0.3_dp) dt = 0.0_dp
+  end subroutine random_step
 end module jfo_test_tools

@@ -386,17 +386,7 @@ contains
     nguarded = 0
     nflagged = 0
     do trial = 1, ntrial
-      hm = 0.3e-6_dp + 3e-6_dp * rnd(trial, 1)
-      hh = hm + kk * (x + xs)**2
-      hmm = hm + kk * (0.5_dp * (x(1:n - 1) + x(2:n)) + xs)**2
-      km = hmm**3 / (12 * eta)
-      u = 40.0_dp * (rnd(trial, 2) - 0.5_dp)
-      pl = 1e5_dp + 1e6_dp * rnd(trial, 3)**3
-      pr = 1e5_dp + 1e6_dp * rnd(trial, 4)**3
-      tinl = min(1.0_dp, 1.5_dp * rnd(trial, 5))
-      tinr = min(1.0_dp, 1.5_dp * rnd(trial, 6))
-      dtr = 10.0_dp**(-7 + 4 * rnd(trial, 7))
-      if (rnd(trial, 8) < 0.3_dp) dtr = 0.0_dp
+      call random_step(trial, x, hm, hh, hmm, km, u, pl, pr, tinl, tinr, dtr)
       pc = 0.5e5_dp
       if (rnd(trial, 9) < 0.5_dp) pc(2:2 + int(20 * rnd(trial, 10))) = max(pl, 0.5e5_dp)
       do i = 1, n
@@ -435,12 +425,6 @@ contains
     call check(nflagged == ntrial - count_converged_in_one, &
                'a solve cut off after one iteration is flagged, finite, in bounds')
   end subroutine case_guard
-
-  !> deterministic pseudo-random number in [0, 1)
-  real(dp) function rnd(i, j)
-    integer, intent(in) :: i, j
-    rnd = modulo(sin(real(i, dp) * 12.9898_dp + real(j, dp) * 78.233_dp) * 43758.5453_dp, 1.0_dp)
-  end function rnd
 
   subroutine case_bad_input()
     real(dp) :: h(2), hm(1), km(1), p(2), th(2), pc(2)

@@ -9,8 +9,8 @@ program test_jfo_coarse
   use ringlube_kinds, only: dp
   use ringlube_jfo
   use ringlube_check
-  use jfo_test_tools, only: grid
-  use slider_closed_form, only: b, xs, eta, kk
+  use jfo_test_tools, only: grid, rnd, random_step
+  use slider_closed_form, only: b
   implicit none
 
   if (run_case('meniscus_walk')) call case_meniscus_walk()
@@ -125,18 +125,8 @@ contains
       ndiff = 0
       nsame = 0
       do trial = 1, ntrial
-        hm = 0.3e-6_dp + 3e-6_dp * rnd(trial, 1)
-        hh = hm + kk * (x + xs)**2
-        hmm = hm + kk * (0.5_dp * (x(1:n - 1) + x(2:n)) + xs)**2
-        km = hmm**3 / (12 * eta)
-        u = 40.0_dp * (rnd(trial, 2) - 0.5_dp)
+        call random_step(trial, x, hm, hh, hmm, km, u, pl, pr, tl, tr, dtr)
         if (rnd(trial, 20) < 0.1_dp) u = 0.0_dp
-        pl = 1e5_dp + 1e6_dp * rnd(trial, 3)**3
-        pr = 1e5_dp + 1e6_dp * rnd(trial, 4)**3
-        tl = min(1.0_dp, 1.5_dp * rnd(trial, 5))
-        tr = min(1.0_dp, 1.5_dp * rnd(trial, 6))
-        dtr = 10.0_dp**(-7 + 4 * rnd(trial, 7))
-        if (rnd(trial, 8) < 0.3_dp) dtr = 0.0_dp
         pc = 0.5e5_dp
         if (rnd(trial, 9) < 0.5_dp) then
           do j = 1, 1 + int(4 * rnd(trial, 30))
@@ -188,10 +178,5 @@ contains
                       '402 nodes (no coarse grid): solves identical to those without the predictor')
     end do
   end subroutine case_random_starts
-
-  !> deterministic pseudo-random number in [0, 1) (as test_jfo's)
-  real(dp) function rnd(i, j)
-    integer, intent(in) :: i, j
-    rnd = modulo(sin(real(i, dp) * 12.9898_dp + real(j, dp) * 78.233_dp) * 43758.5453_dp, 1.0_dp)
-  end function rnd
 end program test_jfo_coarse
+
