@@ -88,6 +88,10 @@ module ringlube_ring_pack
     real(dp) :: grow_share = 0.5_dp
     integer :: max_halvings = 20
     logical :: adaptive = .true.
+    !> The orifice law's constants for gamma = oc_gamma (ring_pack_params_from_case fills
+    !> them; a step whose gamma differs computes its own)
+    type(orifice_consts) :: oc
+    real(dp) :: oc_gamma = -1.0_dp
   end type ring_pack_params
 
   !> State of the ring pack at one instant.
@@ -132,6 +136,8 @@ contains
                            groove_clearance=c%groove_clearance, groove_volume=c%groove_volume, &
                            land_volume=c%land_volume, circumference=2.0_dp * pi * c%bore_radius, &
                            radial_depth=c%radial_depth, ring_mass=ring_mass(c))
+    par%oc = orifice_constants(par%gamma)
+    par%oc_gamma = par%gamma
   end function ring_pack_params_from_case
 
   !> A starting state: groove at the chamber pressure, land at the crankcase pressure,
@@ -175,7 +181,13 @@ contains
     integer :: lift_offs, flutter
     logical :: ok, accept
     real(dp) :: mass(4)
+    type(orifice_consts) :: oc
 
+    if (par%oc_gamma == par%gamma) then
+      oc = par%oc
+    else
+      oc = orifice_constants(par%gamma)
+    end if
     mass = 0.0_dp
     blowback = 0.0_dp
     gross = 0.0_dp
@@ -188,7 +200,7 @@ contains
       pa = p1_old + (p1_new - p1_old) * (t / dt)
       pb = p1_old + (p1_new - p1_old) * ((t + h) / dt)
       trial = st
-      call substep(par, trial, pa, pb, p4, f_f, a_p, h, q, lift_time, lift_offs, flutter, &
+      call substep(par, oc, trial, pa, pb, p4, f_f, a_p, h, q, lift_time, lift_offs, flutter, &
                    against, ok)
       accept = ok
       used = 0.0_dp
@@ -237,9 +249,10 @@ contains
 
   !> One sub-step of length h: the ring under a constant force, then backward Euler on
   !> the gas masses. q: flows at the end (top gap, second gap, upper, lower channel).
-  pure subroutine substep(par, st, p1a, p1b, p4, f_f, a_p, h, q, lift_time, lift_offs, &
+  pure subroutine substep(par, oc, st, p1a, p1b, p4, f_f, a_p, h, q, lift_time, lift_offs, &
                           flutter, against, ok)
     type(ring_pack_params), intent(in) :: par
+    type(orifice_consts), intent(in) :: oc
     type(ring_pack_state), intent(inout) :: st
     real(dp), intent(in) :: p1a, p1b, p4, f_f, a_p, h
     real(dp), intent(out) :: q(4), lift_time, against
@@ -256,7 +269,7 @@ contains
       flutter = lift_offs
       against = lift_time
     end if
-    call gas_backward_euler(par, st, p1b, p4, h, q, ok)
+    call gas_backward_euler(par, oc, st, p1b, p4, h, q, ok)
   end subroutine substep
 
   !> The ring over time h under a constant force: free flight x + v t + F t^2/(2 m)
@@ -355,17 +368,16 @@ contains
 
   !> Backward Euler on the masses of spaces 2 and 3 over h with the chamber at p1 and the
   !> gaps of the ring's current lift; Newton's method on (p2, p3).
-  pure subroutine gas_backward_euler(par, st, p1, p4, h, q, ok)
+  pure subroutine gas_backward_euler(par, oc, st, p1, p4, h, q, ok)
     type(ring_pack_params), intent(in) :: par
+    type(orifice_consts), intent(in) :: oc
     type(ring_pack_state), intent(inout) :: st
     real(dp), intent(in) :: p1, p4, h
     real(dp), intent(out) :: q(4)
     logical, intent(out) :: ok
     real(dp) :: c2, c3, p(2), p_old(2), res(2), jac(2, 2), dp_(2), trial(2), res_t(2), &
                 scale, norm0, norm_t, det, lam, g_up, g_lo, c_top, c_2nd
-    type(orifice_consts) :: oc
     integer :: it, ls
-    oc = orifice_constants(par%gamma)
     c_top = par%discharge_coefficient * par%top_gap_area / sqrt(gas_constant * par%gas_temperature)
     c_2nd = par%discharge_coefficient * par%second_gap_area &
             / sqrt(gas_constant * par%gas_temperature)
