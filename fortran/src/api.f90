@@ -19,7 +19,8 @@ module ringlube_api
                               field_spec, liner_spec, n_liner, sc_run_time, models, n_models
   use ringlube_hdf5_output, only: write_result
   use ringlube_output_path, only: check_output
-  use ringlube_cycle, only: solve_cycle, liner_cells
+  use ringlube_cycle, only: solve_cycle
+  use ringlube_oil_supply, only: supply_type, supply_setup
   use ringlube_textio, only: itoa
   use, intrinsic :: iso_fortran_env, only: int64
   implicit none
@@ -371,4 +372,15 @@ contains
     call move_alloc(utmp, used)
     free_slot = n + 1
   end function free_slot
+
+  !> Cells of the liner film a run of case c reports (0 without a starved inlet).
+  integer function liner_cells(c)
+    type(case_type), intent(in) :: c
+    type(supply_type) :: sup
+    liner_cells = 0
+    if (c%inlet /= 'starved') return
+    call supply_setup(sup, c%width, 2.0_dp * c%crank_radius, c%width / (c%nodes - 1), &
+                      c%supply_film, c%lower_ring_distance)
+    liner_cells = sup%liner%nz
+  end function liner_cells
 end module ringlube_api

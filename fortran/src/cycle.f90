@@ -24,7 +24,7 @@ module ringlube_cycle
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
-  public :: solve_cycle, mixed_share, liner_cells
+  public :: solve_cycle
 
   !> least warm-up of the mass-conserving film [deg]. A starved inlet: the last upstroke and the
   !> 90 deg before it, so that the film the ring leaves on it is past the start-up transient of
@@ -454,37 +454,4 @@ contains
                            rcyc, err, max_cycles=50, tol=1e-6_dp)
     end subroutine ring_pack_restart
   end subroutine solve_cycle
-
-  !> Percentage of the cycle with lambda = h0/sigma < 4 (SPEC section 8), lambda linear
-  !> between crank steps (periodic): a crossing of 4 inside a step counts the part of
-  !> the step below it, so the share varies continuously with the inputs instead of in
-  !> whole steps.
-  pure real(dp) function mixed_share(lam)
-    real(dp), intent(in) :: lam(:)
-    real(dp) :: a, b, below
-    integer :: kk, nn
-    nn = size(lam)
-    below = 0.0_dp
-    do kk = 1, nn
-      a = lam(kk)
-      b = lam(mod(kk, nn) + 1)
-      if (a < 4.0_dp .and. b < 4.0_dp) then
-        below = below + 1.0_dp
-      else if (a < 4.0_dp .neqv. b < 4.0_dp) then
-        below = below + (4.0_dp - min(a, b)) / abs(b - a)
-      end if
-    end do
-    mixed_share = 100.0_dp * below / real(nn, dp)
-  end function mixed_share
-
-  !> Cells of the liner film a run of case c reports (0 without a starved inlet).
-  integer function liner_cells(c)
-    type(case_type), intent(in) :: c
-    type(supply_type) :: sup
-    liner_cells = 0
-    if (c%inlet /= 'starved') return
-    call supply_setup(sup, c%width, 2.0_dp * c%crank_radius, c%width / (c%nodes - 1), &
-                      c%supply_film, c%lower_ring_distance)
-    liner_cells = sup%liner%nz
-  end function liner_cells
 end module ringlube_cycle

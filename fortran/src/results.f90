@@ -10,6 +10,7 @@ module ringlube_results
   use ringlube_kinds, only: dp
   implicit none
   private
+  public :: mixed_share
   public :: result_type, field_spec, flag_spec, series_spec, n_series, int_series_spec, &
             n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, allocate_result, &
             allocate_liner, flag_description, liner_spec, n_liner, produced, produced_models, &
@@ -388,4 +389,26 @@ contains
       t = t//trim(buf)//': '//trim(flag_bits(i)%description)
     end do
   end function flag_description
+
+  !> Percentage of the cycle with lambda = h0/sigma < 4 (SPEC section 8), lambda linear
+  !> between crank steps (periodic): a crossing of 4 inside a step counts the part of
+  !> the step below it, so the share varies continuously with the inputs instead of in
+  !> whole steps.
+  pure real(dp) function mixed_share(lam)
+    real(dp), intent(in) :: lam(:)
+    real(dp) :: a, b, below
+    integer :: kk, nn
+    nn = size(lam)
+    below = 0.0_dp
+    do kk = 1, nn
+      a = lam(kk)
+      b = lam(mod(kk, nn) + 1)
+      if (a < 4.0_dp .and. b < 4.0_dp) then
+        below = below + 1.0_dp
+      else if (a < 4.0_dp .neqv. b < 4.0_dp) then
+        below = below + (4.0_dp - min(a, b)) / abs(b - a)
+      end if
+    end do
+    mixed_share = 100.0_dp * below / real(nn, dp)
+  end function mixed_share
 end module ringlube_results

@@ -4,7 +4,7 @@
 !> steps makes the estimate second order in the step (a count of steps is first order).
 program test_mixed_share
   use ringlube_kinds, only: dp, pi
-  use ringlube_cycle, only: mixed_share
+  use ringlube_results, only: mixed_share
   use ringlube_check
   implicit none
   real(dp) :: e(3), order
