@@ -68,6 +68,12 @@ contains
     type(ring_pack_cycle_out) :: rcyc
     type(error_type), allocatable :: rerr
     real(dp) :: fric_prev, rp_change
+    ! the film's state where the re-warm after the first cycle starts (crank step k_rw)
+    type(film_type) :: f_rw
+    type(balance_memory) :: mem_rw
+    type(supply_type) :: sup_rw
+    real(dp) :: s_prev_rw, fric_rw, rewarm
+    integer :: k_rw, nfs, nrs
 
     if (c%gt_functions == 'exact') call gt_init()
 
@@ -107,6 +113,8 @@ contains
     s_prev = position((k - 2) * c%dpsi_deg)
     fric_prev = 0.0_dp
     gas_pack = c%ring_pack == 'gas'
+    k_rw = max(2, m - nint(c%warmup_deg / c%dpsi_deg) + 1)
+    rewarm = 0.0_dp
     if (gas_pack) then
       call ring_pack_start(k)
       if (allocated(err)) return
@@ -136,6 +144,13 @@ contains
         rtot%stored_start = ring_pack_gas_mass(rpar, rst)
       end if
       do k = 1, m
+        if (gas_pack .and. icycle == 1 .and. k == k_rw) then
+          f_rw = f
+          mem_rw = mem
+          if (f%starved) sup_rw = sup
+          s_prev_rw = s_prev
+          fric_rw = fric_prev
+        end if
         call step(k, h0)
         if (k == 1) h0_start = h0
       end do
@@ -194,8 +209,30 @@ contains
       ! with the film at once). Once only: the restart's state differs from the coupled
       ! cycle's by the half step its friction is shifted by, which a restart every cycle
       ! would feed back into the film at every cycle boundary.
-      if (gas_pack .and. icycle == 1) call ring_pack_restart()
-      if (allocated(err)) return
+      if (gas_pack .and. icycle == 1) then
+        call ring_pack_restart(k_rw)
+        if (allocated(err)) return
+        ! the film from its state at step k_rw of this cycle, with the restarted ring pack,
+        ! again to psi = 720 (the film's warm-up length): the next cycle's first steps then
+        ! see no jump in the groove and land pressures
+        nfs = f%film_solves
+        nrs = f%reynolds_solves
+        f = f_rw
+        f%film_solves = nfs
+        f%reynolds_solves = nrs
+        mem = mem_rw
+        if (f%starved) sup = sup_rw
+        s_prev = s_prev_rw
+        fric_prev = fric_rw
+        do k = k_rw, m
+          call advance((k - 1) * c%dpsi_deg, h0, flags, resid, lp, vin, vout)
+        end do
+        rewarm = (m - k_rw + 1) * c%dpsi_deg
+        if (allocated(rerr)) then
+          call move_alloc(rerr, err)
+          return
+        end if
+      end if
     end do
     if (gas_pack) then
       res%made(m_gas) = .true.
@@ -223,7 +260,7 @@ contains
       v(sc_total_film_solves) = f%film_solves + extra_film_solves
       v(sc_reynolds_solves) = f%reynolds_solves + extra_solves
       v(sc_cycles_run) = cycles_run
-      v(sc_cycles_computed) = cycles_run + (warmup + c%dpsi_deg * cycles_run) / 720.0_dp
+      v(sc_cycles_computed) = cycles_run + (warmup + rewarm + c%dpsi_deg * cycles_run) / 720.0_dp
       v(sc_periodic) = truth(periodic)
       ! a step held at h0_ceiling is an answer of the model (the film carries more than the
       ! load at every h0: the ring lifts off), flagged but not a failure; every other flag is
@@ -438,17 +475,18 @@ contains
                            rcyc, err, max_cycles=50, tol=1e-4_dp)
     end subroutine ring_pack_start
 
-    !> The ring pack at the start of the next cycle (psi = -dpsi): the gas network run to its
-    !> periodic state under the friction of the cycle just computed (each step's friction at
-    !> its start, as in the coupled steps).
-    subroutine ring_pack_restart()
+    !> The ring pack before crank step kfrom (psi = (kfrom - 2) dpsi): the gas network run to
+    !> its periodic state under the friction of the cycle just computed (each step's friction
+    !> at its start, as in the coupled steps).
+    subroutine ring_pack_restart(kfrom)
+      integer, intent(in) :: kfrom
       real(dp) :: p1(0:m - 1), ap(0:m - 1), ff(0:m - 1), psi
       integer :: j
       do j = 0, m - 1
-        psi = (j - 1) * c%dpsi_deg
+        psi = (kfrom - 2 + j) * c%dpsi_deg
         p1(j) = chamber(psi)
         ap(j) = -piston_acceleration(deg2rad(psi), c%crank_radius, c%conrod_length, ctx%omega)
-        ff(j) = -res%series(merge(m, j, j == 0), s_friction)
+        ff(j) = -res%series(modulo(kfrom - 2 + j, m) + 1, s_friction)
       end do
       call ring_pack_cycle(rpar, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, rst, &
                            rcyc, err, max_cycles=50, tol=1e-6_dp)

@@ -88,7 +88,7 @@ contains
   !> max_cycles. st: the start (ring_pack_init if its p2 is not positive), then the state
   !> at the end. cyc: the last cycle.
   subroutine ring_pack_cycle(par, p1, a_p, f_f, dpsi_deg, speed_rpm, p4, st, cyc, err, &
-                             max_cycles, tol)
+                             max_cycles, tol, accelerate)
     type(ring_pack_params), intent(in) :: par
     real(dp), intent(in) :: p1(0:), a_p(0:), f_f(0:), dpsi_deg, speed_rpm, p4
     type(ring_pack_state), intent(inout) :: st
@@ -96,11 +96,14 @@ contains
     type(error_type), allocatable, intent(out) :: err
     integer, intent(in), optional :: max_cycles
     real(dp), intent(in), optional :: tol
+    !> Aitken's extrapolation of the land pressure (default .true.; .false.: plain cycles)
+    logical, intent(in), optional :: accelerate
     type(ring_pack_step_out) :: out
     type(ring_pack_totals) :: tot
     type(ring_pack_state) :: st0
-    real(dp) :: dt, tol_, pmax
-    integer :: n, k, kn, icyc, ncyc
+    real(dp) :: dt, tol_, pmax, q(0:2), den, rho
+    integer :: n, k, kn, icyc, ncyc, nq
+    logical :: acc
     n = size(p1)
     ncyc = 200
     if (present(max_cycles)) ncyc = max_cycles
@@ -111,7 +114,31 @@ contains
     if (st%p2 <= 0.0_dp) call ring_pack_init(st, p1(0), p4)
     allocate (cyc%p2(n), cyc%p3(n), cyc%x(n), cyc%top_gap_flow(n), cyc%second_gap_flow(n), &
               cyc%upper_channel_flow(n), cyc%lower_channel_flow(n))
+    acc = .true.
+    if (present(accelerate)) acc = accelerate
+    nq = 0
     do icyc = 1, ncyc
+      ! Aitken's extrapolation of the land pressure, the network's slow mode (the groove and
+      ! the ring forget their start within a cycle): from three land pressures at a cycle's
+      ! start, each the cycle map of the one before, when they converge monotonically (not the
+      ! first start, often far from the linear regime)
+      if (icyc > 1 .and. acc) then
+        q(nq) = st%p3
+        nq = nq + 1
+      end if
+      if (nq == 3) then
+        den = q(2) - 2.0_dp * q(1) + q(0)
+        rho = -1.0_dp
+        if (q(1) /= q(0)) rho = (q(2) - q(1)) / (q(1) - q(0))
+        if (rho > 0.0_dp .and. rho < 0.9_dp .and. abs(den) > 0.0_dp) then
+          st%p3 = max(0.5_dp * q(2), q(2) - (q(2) - q(1))**2 / den)
+          q(0) = st%p3
+          nq = 1
+        else
+          q(0:1) = q(1:2)
+          nq = 2
+        end if
+      end if
       st0 = st
       tot = ring_pack_totals()
       tot%stored_start = ring_pack_gas_mass(par, st)
