@@ -38,8 +38,13 @@ def shifted(tmp_path: Path, delta: float, physics: dict) -> ringlube.CycleResult
     lines = (INPUTS / "pressure" / "crf450r_4000rpm_full.csv").read_text().splitlines()
     trace = np.loadtxt([x for x in lines if x[:1].isdigit()], delimiter=",")
     path = tmp_path / f"trace_{delta:.0f}.csv"
-    np.savetxt(path, np.column_stack([trace[:, 0], trace[:, 1] + delta]), delimiter=",",
-               header="crank_angle_deg,pressure_Pa", comments="")
+    np.savetxt(
+        path,
+        np.column_stack([trace[:, 0], trace[:, 1] + delta]),
+        delimiter=",",
+        header="crank_angle_deg,pressure_Pa",
+        comments="",
+    )
     case = base.set(
         "operating",
         pressure_file=str(path),
@@ -60,8 +65,11 @@ def test_raising_every_pressure_changes_nothing(tmp_path, model):
     assert a.converged == b.converged and (a.converged or model == "jfo_starved_trailing_gas")
     assert a.cycles_run == b.cycles_run
     # the shift is really there: the film's load grows by 3 MPa over the face
-    assert np.allclose(b.hydrodynamic_load + b.asperity_load - (a.hydrodynamic_load + a.asperity_load),
-                       b.applied_load - a.applied_load, rtol=1e-6)
+    assert np.allclose(
+        b.hydrodynamic_load + b.asperity_load - (a.hydrodynamic_load + a.asperity_load),
+        b.applied_load - a.applied_load,
+        rtol=1e-6,
+    )
     case = Case.from_namelist(INPUTS / "crf450r_4000rpm_full_cold.nml")
     face = case.value("ring", "width") * 2 * np.pi * case.value("engine", "bore_radius")
     assert np.allclose(b.applied_load - a.applied_load, SHIFT * face, rtol=1e-9)
