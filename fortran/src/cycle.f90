@@ -209,7 +209,9 @@ contains
       ! with the film at once). Once only: the restart's state differs from the coupled
       ! cycle's by the half step its friction is shifted by, which a restart every cycle
       ! would feed back into the film at every cycle boundary.
-      if (gas_pack .and. icycle == 1) then
+      ! (not after the last cycle: the results reported, the cycle's blowby and the liner film,
+      ! stay those of the cycle run)
+      if (gas_pack .and. icycle == 1 .and. icycle < c%max_cycles) then
         call ring_pack_restart(k_rw)
         if (allocated(err)) return
         ! the film from its state at step k_rw of this cycle, with the restarted ring pack,

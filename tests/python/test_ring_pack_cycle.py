@@ -163,3 +163,19 @@ def test_ring_pack_restarts_from_its_periodic_state_at_the_rev_limit():
     assert tight.periodic
     assert abs(r.energy_loss / tight.energy_loss - 1) <= 1e-3
     assert abs(r.blowby / tight.blowby - 1) <= 1e-3
+
+
+@pytest.mark.parametrize("max_cycles", [1, 10])
+def test_blowby_is_the_reported_cycles_own(max_cycles):
+    """The blowby a run reports is the mass through the second ring's gap over the reported
+    cycle, the sum of its `second_gap_flow` series. Also for a run stopped after its first
+    cycle at the rev limit, which is not periodic: the restart of the ring pack that would prepare
+    a second cycle must not replace the cycle's numbers (it did: the blowby reported was the
+    restart's gas-only cycle's)."""
+    from conftest import INPUTS
+
+    case = Case.from_namelist(INPUTS / "crf450r_12000rpm_full_hot_gas.nml")
+    r = ringlube.run(case.with_numerics(max_cycles=max_cycles))
+    assert r.periodic == (max_cycles > 1)
+    dt = np.deg2rad(case.value("numerics", "dpsi_deg")) / (case.value("operating", "speed_rpm") * np.pi / 30)
+    assert r.blowby_mass == pytest.approx(np.sum(r.second_gap_flow) * dt * 1e6, rel=1e-9)
