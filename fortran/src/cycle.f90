@@ -113,7 +113,7 @@ contains
     s_prev = position((k - 2) * c%dpsi_deg)
     fric_prev = 0.0_dp
     gas_pack = c%ring_pack == 'gas'
-    k_rw = max(2, m - nint(c%warmup_deg / c%dpsi_deg) + 1)
+    k_rw = min(m, max(2, m - nint(c%warmup_deg / c%dpsi_deg) + 1))
     rewarm = 0.0_dp
     if (gas_pack) then
       call ring_pack_start(k)

@@ -179,3 +179,16 @@ def test_blowby_is_the_reported_cycles_own(max_cycles):
     assert r.periodic == (max_cycles > 1)
     dt = np.deg2rad(case.value("numerics", "dpsi_deg")) / (case.value("operating", "speed_rpm") * np.pi / 30)
     assert r.blowby_mass == pytest.approx(np.sum(r.second_gap_flow) * dt * 1e6, rel=1e-9)
+
+
+def test_rewarm_with_no_warm_up():
+    """`warmup_deg = 0`: the re-warm after a first cycle that is not periodic still runs (one
+    crank step) from a saved film state, and the run reaches the same periodic answer."""
+    from conftest import INPUTS
+
+    case = Case.from_namelist(INPUTS / "crf450r_12000rpm_full_hot_gas.nml")
+    r = ringlube.run(case)
+    z = ringlube.run(case.with_numerics(warmup_deg=0.0))
+    assert r.converged and z.converged and np.isfinite(z.h0).all()
+    assert z.energy_loss == pytest.approx(r.energy_loss, rel=2e-3)
+    assert z.blowby == pytest.approx(r.blowby, rel=2e-3)
