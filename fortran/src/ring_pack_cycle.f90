@@ -101,9 +101,9 @@ contains
     type(ring_pack_step_out) :: out
     type(ring_pack_totals) :: tot
     type(ring_pack_state) :: st0
-    real(dp) :: dt, tol_, pmax, q(0:2), den, rho
+    real(dp) :: dt, tol_, pmax, q(0:2), den, rho, d, dprev
     integer :: n, k, kn, icyc, ncyc, nq
-    logical :: acc
+    logical :: acc, jumped
     n = size(p1)
     ncyc = 200
     if (present(max_cycles)) ncyc = max_cycles
@@ -117,7 +117,9 @@ contains
     acc = .true.
     if (present(accelerate)) acc = accelerate
     nq = 0
+    dprev = 0.0_dp
     do icyc = 1, ncyc
+      jumped = .false.
       ! Aitken's extrapolation of the land pressure, the network's slow mode (the groove and
       ! the ring forget their start within a cycle): from three land pressures at a cycle's
       ! start, each the cycle map of the one before, when they converge monotonically (not the
@@ -130,10 +132,13 @@ contains
         den = q(2) - 2.0_dp * q(1) + q(0)
         rho = -1.0_dp
         if (q(1) /= q(0)) rho = (q(2) - q(1)) / (q(1) - q(0))
-        if (rho > 0.0_dp .and. rho < 0.9_dp .and. abs(den) > 0.0_dp) then
-          st%p3 = max(0.5_dp * q(2), q(2) - (q(2) - q(1))**2 / den)
+        ! (up to rho near 1: a large land relaxes over thousands of cycles; kept within half
+        ! the last value and the peak chamber pressure)
+        if (rho > 0.0_dp .and. rho < 0.9999_dp .and. abs(den) > 0.0_dp) then
+          st%p3 = min(pmax, max(0.5_dp * q(2), q(2) - (q(2) - q(1))**2 / den))
           q(0) = st%p3
           nq = 1
+          jumped = .true.
         else
           q(0:1) = q(1:2)
           nq = 2
@@ -163,6 +168,24 @@ contains
       cyc%converged = abs(st%p2 - st0%p2) <= tol_ * pmax .and. abs(st%p3 - st0%p3) <= tol_ * pmax &
                       .and. abs(st%x - st0%x) <= tol_ * par%groove_clearance &
                       .and. st%flank == st0%flank
+      ! a slow land changes little in a cycle far from its periodic state: its distance there,
+      ! d / (1 - rho) for a land pressure that contracts by rho a cycle, within tol too (and
+      ! two cycles in a row, for rho: not the first)
+      d = st%p3 - st0%p3
+      ! (from an extrapolated start: the contraction the extrapolation estimated)
+      if (.not. jumped) then
+        rho = 0.0_dp
+        if (dprev /= 0.0_dp) rho = d / dprev
+      end if
+      if (icyc == 1) then
+        cyc%converged = .false.
+      else if (rho > 0.0_dp .and. rho < 1.0_dp) then
+        cyc%converged = cyc%converged .and. abs(d) / (1.0_dp - rho) <= tol_ * pmax
+      else if (rho >= 1.0_dp) then
+        ! not contracting: only round-off changes left
+        cyc%converged = cyc%converged .and. abs(d) <= 1e-2_dp * tol_ * pmax
+      end if
+      dprev = d
       if (cyc%converged) exit
     end do
   end subroutine ring_pack_cycle
