@@ -8,7 +8,7 @@ module ringlube_cycle
   use ringlube_gas, only: gas_pressure
   use ringlube_ring_pack, only: ring_pack_params, ring_pack_state, ring_pack_step_out, &
                                 ring_pack_params_from_case, ring_pack_init, ring_pack_step, &
-                                ring_pack_gas_mass
+                                ring_pack_gas_mass, ring_pack_inputs
   use ringlube_ring_pack_cycle, only: ring_pack_totals, ring_pack_cycle_out, ring_pack_accumulate, &
                                       ring_pack_finish, ring_pack_cycle
   use ringlube_greenwood_tripp, only: gt_init
@@ -454,17 +454,11 @@ contains
     !> docs/ring_pack.md).
     subroutine ring_pack_start(kstart)
       integer, intent(in) :: kstart
-      real(dp) :: p1(0:m - 1), ap(0:m - 1), ff(0:m - 1), psi0, psi
+      real(dp) :: p1(0:m - 1), ap(0:m - 1), ff(0:m - 1)
       type(ring_pack_params) :: cheap
-      integer :: j
       rpar = ring_pack_params_from_case(c)
-      ! the crank angle the warm-up's first step starts from
-      psi0 = (kstart - 2) * c%dpsi_deg
-      do j = 0, m - 1
-        psi = psi0 + j * c%dpsi_deg
-        p1(j) = chamber(psi)
-        ap(j) = -piston_acceleration(deg2rad(psi), c%crank_radius, c%conrod_length, ctx%omega)
-      end do
+      ! from the crank angle the warm-up's first step starts from
+      call ring_pack_inputs(c, kstart - 2, p1, ap)
       ff = 0.0_dp
       call ring_pack_init(rst, p1(0), c%crankcase_pressure)
       ! one backward-Euler step per crank step (no sub-steps), to 1e-4 of the peak chamber
@@ -482,14 +476,10 @@ contains
     !> at its start, as in the coupled steps).
     subroutine ring_pack_restart(kfrom)
       integer, intent(in) :: kfrom
-      real(dp) :: p1(0:m - 1), ap(0:m - 1), ff(0:m - 1), psi
+      real(dp) :: p1(0:m - 1), ap(0:m - 1), ff(0:m - 1)
       integer :: j
-      do j = 0, m - 1
-        psi = (kfrom - 2 + j) * c%dpsi_deg
-        p1(j) = chamber(psi)
-        ap(j) = -piston_acceleration(deg2rad(psi), c%crank_radius, c%conrod_length, ctx%omega)
-        ff(j) = -res%series(modulo(kfrom - 2 + j, m) + 1, s_friction)
-      end do
+      call ring_pack_inputs(c, kfrom - 2, p1, ap)
+      ff = [(-res%series(modulo(kfrom - 2 + j, m) + 1, s_friction), j=0, m - 1)]
       call ring_pack_cycle(rpar, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, rst, &
                            rcyc, err, max_cycles=50, tol=1e-6_dp)
     end subroutine ring_pack_restart

@@ -52,13 +52,16 @@ module ringlube_ring_pack
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type, fatal_error, rl_not_converged
   use ringlube_case, only: case_type, ring_mass
+  use ringlube_gas, only: gas_pressure
+  use ringlube_kinematics, only: deg2rad, piston_acceleration
   use ringlube_ring_pack_flow, only: gas_constant, orifice_linear, orifice_consts, &
                                      orifice_constants, orifice_eval, orifice_flow, channel_flow, &
                                      orifice_psi
   implicit none
   private
   public :: ring_pack_params, ring_pack_state, ring_pack_step_out
-  public :: ring_pack_params_from_case, ring_pack_init, ring_pack_step, ring_pack_gas_mass
+  public :: ring_pack_params_from_case, ring_pack_init, ring_pack_step, ring_pack_gas_mass, &
+            ring_pack_inputs
   public :: orifice_flow, channel_flow, orifice_psi, ring_gas_force, gas_constant, orifice_linear
 
   !> Which flank the ring rests on.
@@ -139,6 +142,23 @@ contains
     par%oc = orifice_constants(par%gamma)
     par%oc_gamma = par%gamma
   end function ring_pack_params_from_case
+
+  !> The prescribed inputs of a gas-only cycle of case c (ringlube_ring_pack_cycle): the
+  !> chamber pressure p1 and the piston's acceleration a_p (towards the chamber) at the crank
+  !> angles (k0 + j) dpsi_deg, j = 0 .. size(p1) - 1.
+  pure subroutine ring_pack_inputs(c, k0, p1, a_p)
+    type(case_type), intent(in) :: c
+    integer, intent(in) :: k0
+    real(dp), intent(out) :: p1(0:), a_p(0:)
+    real(dp) :: psi, omega
+    integer :: j
+    omega = c%speed_rpm * 2.0_dp * pi / 60.0_dp
+    do j = 0, size(p1) - 1
+      psi = (k0 + j) * c%dpsi_deg
+      p1(j) = gas_pressure(c%gas_psi, c%gas_p, modulo(psi, 720.0_dp), c%crankcase_pressure)
+      a_p(j) = -piston_acceleration(deg2rad(psi), c%crank_radius, c%conrod_length, omega)
+    end do
+  end subroutine ring_pack_inputs
 
   !> A starting state: groove at the chamber pressure, land at the crankcase pressure,
   !> ring at rest on its lower flank.
