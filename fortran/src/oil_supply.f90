@@ -14,6 +14,7 @@ module ringlube_oil_supply
                             strip_set, strip_draw, liner_volume
   implicit none
   private
+  public :: supply_balance_error
   public :: supply_type, supply_setup, supply_edges, inlet_fill, supply_step, &
             supply_reset_counters, supply_stored, supply_to_chamber
 
@@ -213,6 +214,20 @@ contains
     type(supply_type), intent(in) :: sup
     supply_stored = liner_volume(sup%liner) + sup%bank
   end function supply_stored
+
+  !> Relative closure of the oil balance over a cycle: oil in (the supply film laid) = oil out
+  !> (to the chamber, taken down by the lower rings) + change of the oil stored (liner, bank
+  !> and the gap's `gap_end`, from `stored_start` at the cycle's start). Oil drawn beyond what
+  !> was there shows up as an error.
+  pure real(dp) function supply_balance_error(sup, stored_start, gap_end) result(e)
+    type(supply_type), intent(in) :: sup
+    real(dp), intent(in) :: stored_start, gap_end
+    real(dp) :: stored1, scale
+    stored1 = supply_stored(sup) + gap_end
+    scale = max(sup%supplied, sup%taken_down + sup%to_chamber, abs(stored1 - stored_start), &
+                1e-3_dp * stored_start, tiny(1.0_dp))
+    e = abs((stored1 - stored_start) - (sup%supplied - sup%to_chamber - sup%taken_down)) / scale
+  end function supply_balance_error
 
   !> Zero the counters (start of a cycle).
   pure subroutine supply_reset_counters(sup)
