@@ -41,7 +41,7 @@ module ringlube_cycle
   !> cycle: docs/ring_pack.md)
   real(dp), parameter :: ring_pack_warmup_deg = 270.0_dp
   !> nodes of the Swift-Stieber film that runs the ring pack's warm-up before the film's own
-  !> (it only feeds the gas network its friction), for films of at least 4 times as many
+  !> (it feeds the gas network its friction), for films of 4 times as many or more
   integer, parameter :: ring_pack_warmup_nodes = 11
 
 contains
@@ -77,7 +77,7 @@ contains
     type(balance_memory) :: mem_rw
     type(supply_type) :: sup_rw
     real(dp) :: s_prev_rw, fric_rw, rewarm
-    integer :: k_rw, nfs, nrs, k_film
+    integer :: k_rw, k_film
     type(case_type) :: cc
 
     if (c%gt_functions == 'exact') call gt_init()
@@ -126,7 +126,8 @@ contains
       call ring_pack_start(k)
       if (allocated(err)) return
     end if
-    if (k < k_film .and. c%nodes >= 4 * ring_pack_warmup_nodes - 3 .and. .not. f%jfo) then
+    if (gas_pack .and. k < k_film .and. c%nodes >= 4 * ring_pack_warmup_nodes - 3 .and. &
+        .not. f%jfo) then
       ! the ring pack's warm-up before the film's own: a coarse Swift-Stieber film (its friction
       ! moves the ring; docs/ring_pack.md "Start"), then the film itself at the h0 reached
       cc = c
@@ -137,11 +138,7 @@ contains
       do k = k, k_film - 1
         call advance((k - 1) * c%dpsi_deg, h0, flags, resid, lp, vin, vout)
       end do
-      nfs = f%film_solves
-      nrs = f%reynolds_solves
-      f = f_rw
-      f%film_solves = nfs
-      f%reynolds_solves = nrs
+      call take_film(f_rw)
     end if
     do k = k, m
       call advance((k - 1) * c%dpsi_deg, h0, flags, resid, lp, vin, vout)
@@ -234,19 +231,13 @@ contains
       ! with the film at once). Once only: the restart's state differs from the coupled
       ! cycle's by the half step its friction is shifted by, which a restart every cycle
       ! would feed back into the film at every cycle boundary.
-      ! (not after the last cycle: the results reported, the cycle's blowby and the liner film,
-      ! stay those of the cycle run)
+      ! (not after the last cycle: the cycle's blowby and liner film are the results reported)
       if (gas_pack .and. icycle == 1 .and. icycle < c%max_cycles) then
         call ring_pack_restart(k_rw)
         if (allocated(err)) return
-        ! the film from its state at step k_rw of this cycle, with the restarted ring pack,
-        ! again to psi = 720 (the film's warm-up length): the next cycle's first steps then
-        ! see no jump in the groove and land pressures
-        nfs = f%film_solves
-        nrs = f%reynolds_solves
-        f = f_rw
-        f%film_solves = nfs
-        f%reynolds_solves = nrs
+        ! the film from its state at step k_rw again to psi = 720 with the restarted ring pack
+        ! (the re-warm): the next cycle starts without a jump in the groove and land pressures
+        call take_film(f_rw)
         mem = mem_rw
         if (f%starved) sup = sup_rw
         s_prev = s_prev_rw
@@ -381,6 +372,17 @@ contains
       end if
       s_prev = s
     end subroutine advance
+
+    !> The film becomes `saved` (a state kept earlier), its solve counters keep counting.
+    subroutine take_film(saved)
+      type(film_type), intent(in) :: saved
+      integer :: nfs, nrs
+      nfs = f%film_solves
+      nrs = f%reynolds_solves
+      f = saved
+      f%film_solves = nfs
+      f%reynolds_solves = nrs
+    end subroutine take_film
 
     function angle_text(kk) result(t)
       integer, intent(in) :: kk
