@@ -209,3 +209,20 @@ def test_large_land_is_not_reported_periodic_far_from_its_state():
     assert r.periodic
     assert abs(r.blowby - long.blowby) <= 0.1 * long.blowby, (r.blowby, long.blowby)
     assert abs(r.energy_loss - long.energy_loss) <= 1e-2 * long.energy_loss
+
+
+@pytest.mark.parametrize("deck", ["crf450r_4000rpm_full_cold.nml", "crf450r_8000rpm_full_hot_gas.nml"])
+@pytest.mark.parametrize("preset", ["default", "accurate"])
+def test_coarse_warm_up_gives_the_full_warm_ups_answer(deck, preset):
+    """With a Swift-Stieber film of 41 nodes or more, the 180 deg the ring pack's warm-up adds
+    before the film's own run on an 11-node film (they only feed the gas network the friction
+    through blowdown). A warm-up of the film's own over the whole 270 deg (`warmup_deg = 270`:
+    no coarse part) must give the same one-cycle answer within the periodicity tolerance."""
+    case = Case.from_namelist(COLD.with_name(deck)).with_physics(ring_pack="gas").with_numerics(preset=preset)
+    coarse, full = ringlube.run(case), ringlube.run(case.with_numerics(warmup_deg=270.0))
+    assert coarse.converged and full.converged
+    assert coarse.cycles_run == full.cycles_run == 1
+    assert coarse.cycles_computed == pytest.approx(full.cycles_computed)
+    assert coarse.energy_loss == pytest.approx(full.energy_loss, rel=1e-4)
+    assert coarse.blowby == pytest.approx(full.blowby, rel=1e-4)
+    assert coarse.ring_lift_share == pytest.approx(full.ring_lift_share, rel=1e-3, abs=1e-3)
