@@ -63,7 +63,7 @@ contains
     type(load_problem) :: lp
     integer :: extra_film_solves, extra_solves
     ! the ring pack (SPEC 14): parameters, state (now, at the start of the cycle, on the copy
-    ! that solves psi = 720), the last step, the cycle's sums; the friction of the last step
+    ! that solves psi = 720), the last step, the cycle's sums; the last step's friction
     logical :: gas_pack
     type(ring_pack_params) :: rpar
     type(ring_pack_state) :: rst, rst0, gst
@@ -71,7 +71,7 @@ contains
     type(ring_pack_totals) :: rtot
     type(ring_pack_cycle_out) :: rcyc
     type(error_type), allocatable :: rerr
-    real(dp) :: fric_prev, rp_change
+    real(dp) :: fric_prev, rp_change, fv_adv, fb_adv
     ! the film's state where the re-warm after the first cycle starts (crank step k_rw)
     type(film_type) :: f_rw
     type(balance_memory) :: mem_rw
@@ -338,7 +338,7 @@ contains
       real(dp), intent(out) :: h0out, resid_out, v_in, v_out
       integer, intent(out) :: flags_out
       type(load_problem), intent(out) :: lp_out
-      real(dp) :: s, fv, fb
+      real(dp) :: s
       integer :: dir
       call prepare(f, psi)
       if (gas_pack) then
@@ -349,8 +349,8 @@ contains
       call balance(c, ctx, f, mem, psi, h0out, flags_out, resid_out, lp_out)
       if (gas_pack) then
         ! the friction that moves the ring in its groove over the next step
-        call film_friction(c, f, lp_out%u, fv, fb)
-        fric_prev = fv + fb
+        call film_friction(c, f, lp_out%u, fv_adv, fb_adv)
+        fric_prev = fv_adv + fb_adv
       end if
       v_in = 0.0_dp
       v_out = 0.0_dp
@@ -394,13 +394,13 @@ contains
     subroutine step(k, h0out)
       integer, intent(in) :: k
       real(dp), intent(out) :: h0out
-      real(dp) :: psi, fv, fb, resid, vin, vout
+      real(dp) :: psi, resid, vin, vout
       type(load_problem) :: lp
       integer :: flags, nev
       psi = (k - 1) * c%dpsi_deg
       nev = f%film_solves
       call advance(psi, h0out, flags, resid, lp, vin, vout)
-      call film_friction(c, f, lp%u, fv, fb)
+      if (.not. gas_pack) call film_friction(c, f, lp%u, fv_adv, fb_adv)
       res%series(k, s_crank_angle_deg) = psi
       res%series(k, s_sliding_speed) = lp%u
       res%series(k, s_h0) = h0out
@@ -409,10 +409,10 @@ contains
       res%series(k, s_applied_load) = lp%load
       res%series(k, s_hydrodynamic_load) = f%wh
       res%series(k, s_asperity_load) = f%wa
-      res%series(k, s_viscous_friction) = fv
-      res%series(k, s_boundary_friction) = fb
-      res%series(k, s_friction) = fv + fb
-      res%series(k, s_power_loss) = abs((fv + fb) * lp%u)
+      res%series(k, s_viscous_friction) = fv_adv
+      res%series(k, s_boundary_friction) = fb_adv
+      res%series(k, s_friction) = fv_adv + fb_adv
+      res%series(k, s_power_loss) = abs((fv_adv + fb_adv) * lp%u)
       res%series(k, s_load_residual) = resid
       res%int_series(k, si_flags) = flags
       res%int_series(k, si_film_solves) = f%film_solves - nev
