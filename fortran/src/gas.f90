@@ -284,8 +284,17 @@ contains
       end if
       return
     end if
-    lo = 1
-    hi = n
+    ! the interval of an evenly sampled trace at once: a guess in proportion to the angle,
+    ! bisection from there when the samples are uneven (the same interval either way)
+    lo = min(n - 1, max(1, 1 + int((a - psi(1)) / (psi(n) - psi(1)) * (n - 1))))
+    hi = lo + 1
+    if (psi(lo) > a) then
+      hi = lo
+      lo = 1
+    else if (psi(hi) <= a) then
+      lo = hi
+      hi = n
+    end if
     do while (hi - lo > 1)
       mid = (lo + hi) / 2
       if (psi(mid) <= a) then

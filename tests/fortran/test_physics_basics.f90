@@ -1,9 +1,11 @@
 !> Kinematics against a finite difference of the piston position; Roelands against its
-!> defining properties and a hand-computed value.
+!> defining properties and a hand-computed value; the gas trace's interpolation against a
+!> plain search for the interval.
 program test_physics_basics
   use ringlube_kinds, only: dp, pi
   use ringlube_kinematics, only: sliding_speed, piston_position
   use ringlube_viscosity, only: roelands
+  use ringlube_gas, only: gas_pressure
   use ringlube_check
   implicit none
   real(dp), parameter :: r = 31.5e-3_dp, l = 107e-3_dp, w = 4000.0_dp * 2.0_dp * pi / 60.0_dp
@@ -53,5 +55,40 @@ program test_physics_basics
   call check_close(roelands(50e6_dp, 348.0_dp, 0.05_dp, 313.15_dp, 1e-8_dp, 0.04_dp), expected, &
                    1e-13_dp, 'Roelands at 50 MPa, 348 K (hand computation)')
   call check_close(expected, 2.29912e-2_dp, 1e-5_dp, 'hand value 0.0229912 Pa s (by calculator)')
+
+  ! the chamber pressure between trace samples: the interval found from a guess (exact for an
+  ! even trace) and by bisection must be the one a plain search finds, on an even trace and
+  ! on an uneven one (samples crowded near 360 deg), at angles on and between the samples
+  call check_trace([(5.0_dp * i, i=0, 143)], 'even trace')
+  call check_trace([(360.0_dp + 355.0_dp * sign(abs(i / 72.0_dp)**3, real(i, dp)), &
+                     i=-72, 72)], 'uneven trace')
   call report('test_physics_basics')
+contains
+  subroutine check_trace(tpsi, name)
+    real(dp), intent(in) :: tpsi(:)
+    character(len=*), intent(in) :: name
+    real(dp) :: tp(size(tpsi)), a, expect
+    integer :: j, n, worst
+    n = size(tpsi)
+    tp = [(1e5_dp + 1e4_dp * j + 3e3_dp * sin(0.7_dp * j), j=1, n)]
+    worst = 0
+    do i = 0, 7199
+      a = 0.1_dp * i
+      if (i == 7199) a = tpsi(n)
+      if (a >= tpsi(1) .and. a < tpsi(n)) then
+        j = 1
+        do while (tpsi(j + 1) <= a)
+          j = j + 1
+        end do
+        expect = tp(j) + (tp(j + 1) - tp(j)) * (a - tpsi(j)) / (tpsi(j + 1) - tpsi(j))
+      else
+        ! the wrap-around segment from the last sample to the first one 720 deg on
+        if (a < tpsi(1)) a = a + 720.0_dp
+        expect = tp(n) + (tp(1) - tp(n)) * (a - tpsi(n)) / (tpsi(1) + 720.0_dp - tpsi(n))
+        a = modulo(a, 720.0_dp)
+      end if
+      if (gas_pressure(tpsi, tp, a, 0.0_dp) /= expect) worst = worst + 1
+    end do
+    call check(worst == 0, 'gas_pressure on the '//name//' equals a plain search''s interval')
+  end subroutine check_trace
 end program test_physics_basics
