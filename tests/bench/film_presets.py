@@ -4,10 +4,11 @@
 the chamber against a converged reference of the same model (801 nodes, 0.125 deg, tight
 tolerances, the numerics of tests/bench/front.py).
 
-    python3 tests/bench/film_presets.py [--repeats N]
-    python3 tests/bench/film_presets.py --convergence
+    python3 tests/bench/film_presets.py [--repeats N] [--ring-pack gas]
+    python3 tests/bench/film_presets.py --convergence [--ring-pack gas]
 
-`--convergence` prints instead, for the JFO models, the results as the nodes double at
+`--ring-pack gas` runs every model with the gas around the ring (SPEC 14) instead of the
+decks' 'none'. `--convergence` prints instead, for the JFO models, the results as the nodes double at
 0.25 deg and as the crank step halves at 201 nodes (tight tolerances): whether each model
 converges at all, and at what order.
 """
@@ -31,7 +32,7 @@ REFERENCE = {**ringlube.convergence.REFERENCE, "cycle_tol": 1e-6, "time_scheme":
 PRESETS = ("fast", "default", "accurate")
 
 
-def convergence() -> None:
+def convergence(ring_pack: str) -> None:
     """Each JFO model under refinement in nodes (0.25 deg) and in the crank step (201 nodes)."""
     tight = {k: REFERENCE[k] for k in ("pressure_tol", "load_tol", "cycle_tol")}
     grid = [
@@ -50,6 +51,7 @@ def convergence() -> None:
     )
     for stem in ("cold", "hot"):
         base = ringlube.Case.from_namelist(ROOT / "inputs" / f"crf450r_4000rpm_full_{stem}.nml")
+        base = base.with_physics(ring_pack=ring_pack)
         for label, physics in MODELS.items():
             if not physics or "starved" in label and "trailing" in label:
                 continue
@@ -71,14 +73,16 @@ def main() -> None:
     ap.add_argument("--convergence", action="store_true")
     ap.add_argument("--decks", default="cold,hot", help="decks (cold, hot), comma-separated")
     ap.add_argument("--models", default=";".join(MODELS), help="film models, separated by ';'")
+    ap.add_argument("--ring-pack", default="none", choices=("none", "gas"))
     args = ap.parse_args()
     if args.convergence:
-        convergence()
+        convergence(args.ring_pack)
         return
     print(
         f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores; "
         f"kernel time best of {args.repeats}; reference: "
         + " ".join(f"{k}={v}" for k, v in REFERENCE.items())
+        + f"; ring_pack={args.ring_pack}"
     )
     print(
         f"{'deck':5s} {'film model':27s} {'preset':9s} {'ms/run':>7s} {'cycles':>6s} {'x SS':>5s} "
@@ -87,6 +91,7 @@ def main() -> None:
     models = args.models.split(";")
     for stem in args.decks.split(","):
         base = ringlube.Case.from_namelist(ROOT / "inputs" / f"crf450r_4000rpm_full_{stem}.nml")
+        base = base.with_physics(ring_pack=args.ring_pack)
         ss = {}
         for label, physics in MODELS.items():
             if label not in models and label != "swift_stieber":
