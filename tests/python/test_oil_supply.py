@@ -297,7 +297,8 @@ def test_default_preset_takes_the_branch_of_the_converged_run(physics):
     load (elastic plus chamber pressure) is 0.45 % below the load of a face open to the
     crankcase gas; the film holds within that margin at 0.5 deg and below, and at 2 deg the
     face opens and the ring lifts off for 26.7 % of the cycle (2.216 against 2.870 J)
-    (docs/performance.md, "Step-size bistability")."""
+    (docs/performance.md, "Step-size bistability"). With the ring pack's gas both come within
+    0.52 % cold (the next test), the hot 'trailing_gas' not."""
     case = Case.from_namelist(COLD).with_physics(**physics)
     default, accurate = (ringlube.run(case.with_numerics(preset=p)) for p in ("default", "accurate"))
     assert default.energy_loss == pytest.approx(accurate.energy_loss, rel=5e-3)
@@ -391,6 +392,24 @@ def test_starved_ring_pack_default_preset_takes_the_branch_of_the_converged_run(
     default, accurate = (ringlube.run(case.with_numerics(preset=p)) for p in ("default", "accurate"))
     assert default.converged and accurate.converged
     assert default.energy_loss == pytest.approx(accurate.energy_loss, rel=0.02)
+
+
+@pytest.mark.parametrize(
+    "deck",
+    ["cold", pytest.param("hot", marks=pytest.mark.xfail(strict=True, reason="issue 16: hot +18 %"))],
+)
+def test_trailing_gas_ring_pack_default_preset_takes_the_branch_of_the_converged_run(deck):
+    """Flooded 'trailing_gas' with the ring pack's gas: 'default' (51 nodes, 2 deg) within
+    0.5 % in energy of 'accurate' (201 nodes, 0.25 deg). Cold it is (-0.17 %; without the ring
+    pack +82 %, the strict xfail above), and the film converges in nodes there (0.648-0.641 J at
+    51-401 nodes). Hot it is not (+18 %): on the exhaust stroke, land above chamber, the 2-deg
+    steps fill the blown face again from about 548 deg and carry a sealing film to TDC; finer
+    steps keep it blown (docs/performance.md, "Accuracy of the presets with the ring pack")."""
+    case = Case.from_namelist(COLD if deck == "cold" else HOT)
+    case = case.with_physics(cavitation="jfo", cavity_pressure="trailing_gas", ring_pack="gas")
+    default, accurate = (ringlube.run(case.with_numerics(preset=p)) for p in ("default", "accurate"))
+    assert default.converged and accurate.converged
+    assert default.energy_loss == pytest.approx(accurate.energy_loss, rel=5e-3)
 
 
 @pytest.mark.parametrize("deck", ["cold", "hot"])
