@@ -7,10 +7,10 @@ module ringlube_cycle
   use ringlube_kinematics, only: deg2rad, piston_position, piston_acceleration
   use ringlube_gas, only: gas_pressure
   use ringlube_ring_pack, only: ring_pack_params, ring_pack_state, ring_pack_step_out, &
-                                ring_pack_params_from_case, ring_pack_init, ring_pack_step, &
-                                ring_pack_gas_mass, ring_pack_inputs
+                                ring_pack_step, ring_pack_gas_mass
   use ringlube_ring_pack_cycle, only: ring_pack_totals, ring_pack_cycle_out, ring_pack_accumulate, &
-                                      ring_pack_finish, ring_pack_cycle
+                                      ring_pack_finish, ring_pack_scalars, ring_pack_start, &
+                                      ring_pack_restart
   use ringlube_greenwood_tripp, only: gt_init
   ! the results' table: result_type and the column constants s_* (series), si_* (integer
   ! series), sc_* (scalars), l_* (liner) and m_* (models)
@@ -58,7 +58,12 @@ contains
     integer :: m, k, icycle, flags, cycles_run
     logical :: periodic, finite
     real(dp) :: sigma, h0_init, h0_start, h0, h0_end, resid, s_prev, vin, vout
-    real(dp) :: stored0, gap0, energy_prev, change_map, change_energy, warmup
+    real(dp) :: stored0, gap0, energy_prev, change_map, change_energy, warmup, change_map1
+    ! a period of two cycles (docs/model.md, "Periodicity"): h0 at the previous cycle's start,
+    ! the previous cycle's results, the change of h0 and of the ring pack over two cycles
+    real(dp) :: h0_start_prev, change2, rp_change2
+    real(dp), allocatable :: scalars_prev(:)
+    integer :: period
     real(dp), allocatable :: map_prev(:), map_prev2(:)
     type(load_problem) :: lp
     integer :: extra_film_solves, extra_solves
@@ -66,7 +71,7 @@ contains
     ! that solves psi = 720), the last step, the cycle's sums; the last step's friction
     logical :: gas_pack
     type(ring_pack_params) :: rpar
-    type(ring_pack_state) :: rst, rst0, gst
+    type(ring_pack_state) :: rst, rst0, rst0_prev, gst
     type(ring_pack_step_out) :: rout, gout
     type(ring_pack_totals) :: rtot
     type(ring_pack_cycle_out) :: rcyc
@@ -123,7 +128,7 @@ contains
     k_rw = min(m, max(2, m - nint(c%warmup_deg / c%dpsi_deg) + 1))
     rewarm = 0.0_dp
     if (gas_pack) then
-      call ring_pack_start(k)
+      call ring_pack_start(c, m, k, rpar, rst, rcyc, err)
       if (allocated(err)) return
     end if
     if (gas_pack .and. k < k_film .and. c%nodes >= 4 * ring_pack_warmup_nodes - 3 .and. &
@@ -149,7 +154,9 @@ contains
     end if
     energy_prev = -1.0_dp
     periodic = .false.
+    period = 0
     cycles_run = 0
+    h0_start_prev = -1.0_dp
     do icycle = 1, c%max_cycles
       cycles_run = icycle
       if (f%starved) then
@@ -159,7 +166,11 @@ contains
         if (allocated(map_prev)) map_prev2 = map_prev
         map_prev = sup%liner%h
       end if
+      if (icycle > 1) h0_start_prev = h0_start
+      ! (the last cycle's results, cycle_results)
+      if (icycle > 1) scalars_prev = res%scalars
       if (gas_pack) then
+        rst0_prev = rst0
         rst0 = rst
         rtot = ring_pack_totals()
         rtot%stored_start = ring_pack_gas_mass(rpar, rst)
@@ -184,13 +195,13 @@ contains
       gmem = mem
       call prepare(g, 0.0_dp)
       rp_change = 0.0_dp
+      rp_change2 = 0.0_dp
       if (gas_pack) then
         ! the ring pack's state repeats too (pressures relative to the peak chamber pressure,
         ! lift relative to the clearance), and its last step to psi = 720 on a copy
         call ring_pack_finish(rtot, ring_pack_gas_mass(rpar, rst), rcyc)
-        rp_change = max(abs(rst%p2 - rst0%p2), abs(rst%p3 - rst0%p3)) / max(c%crankcase_pressure, &
-                                                           maxval(c%gas_p, mask=c%gas_p > 0.0_dp)) &
-                    + abs(rst%x - rst0%x) / c%groove_clearance
+        rp_change = rp_distance(rst0)
+        rp_change2 = rp_distance(rst0_prev)
         gst = rst
         call ring_pack_advance(gst, gout, 720.0_dp)
         g%p_back = gst%p2
@@ -200,10 +211,13 @@ contains
       extra_film_solves = extra_film_solves + g%film_solves - f%film_solves
       extra_solves = extra_solves + g%reynolds_solves - f%reynolds_solves
       res%scalars(sc_cycle_change) = abs(h0_end - h0_start) / h0_start
+      change2 = huge(1.0_dp)
+      if (icycle >= 3) change2 = abs(h0_end - h0_start_prev) / h0_start_prev
       if (f%starved) then
         ! periodic when the liner film and the energy repeat (h0 at psi = 0 carries a slowly
         ! decaying mode of the film collected again at the end of the next downstroke)
-        change_map = sum(abs(sup%liner%h - map_prev)) / max(sum(abs(sup%liner%h)), tiny(1.0_dp))
+        change_map1 = sum(abs(sup%liner%h - map_prev)) / max(sum(abs(sup%liner%h)), tiny(1.0_dp))
+        change_map = change_map1
         ! or a two-cycle: the film left just after BDC alternating between two cycles (the
         ! energy still repeats within cycle_tol; docs/model.md, "Periodicity")
         if (allocated(map_prev2)) change_map = min(change_map, sum(abs(sup%liner%h - map_prev2)) &
@@ -220,12 +234,19 @@ contains
         if (change_map <= c%cycle_tol .and. change_energy <= c%cycle_tol .and. &
             rp_change <= c%cycle_tol) then
           periodic = .true.
-          exit
+          period = 1
+          if (change_map1 > c%cycle_tol) period = 2
         end if
       else if (res%scalars(sc_cycle_change) <= c%cycle_tol .and. rp_change <= c%cycle_tol) then
         periodic = .true.
-        exit
+        period = 1
+      else if (change2 <= c%cycle_tol .and. rp_change2 <= c%cycle_tol) then
+        ! the state repeats after two cycles, not one: a period of two cycles
+        periodic = .true.
+        period = 2
       end if
+      call cycle_results()
+      if (periodic) exit
       ! the first cycle not periodic: the next starts the ring pack from its periodic state
       ! under this cycle's friction (the land relaxes over several cycles; the friction settles
       ! with the film at once). Once only: the restart's state differs from the coupled
@@ -233,7 +254,7 @@ contains
       ! would feed back into the film at every cycle boundary.
       ! (not after the last cycle: the cycle's blowby and liner film are the results reported)
       if (gas_pack .and. icycle == 1 .and. icycle < c%max_cycles) then
-        call ring_pack_restart(k_rw)
+        call ring_pack_restart(c, rpar, k_rw, res%series(:, s_friction), rst, rcyc, err)
         if (allocated(err)) return
         ! the film from its state at step k_rw again to psi = 720 with the restarted ring pack
         ! (the re-warm): the next cycle starts without a jump in the groove and land pressures
@@ -252,15 +273,7 @@ contains
         end if
       end if
     end do
-    if (gas_pack) then
-      res%made(m_gas) = .true.
-      res%scalars(sc_blowby) = rcyc%blowby_l_min
-      res%scalars(sc_blowby_mass) = rcyc%blowby_mg_per_cycle
-      res%scalars(sc_blowback_mass) = rcyc%blowback_mg_per_cycle
-      res%scalars(sc_ring_lift_share) = rcyc%ring_lift_share_pct
-      res%scalars(sc_flutter_events) = rcyc%flutter_events
-      res%scalars(sc_gas_balance_error) = rcyc%gas_balance_error
-    end if
+    res%made(m_gas) = gas_pack
     res%made(m_jfo) = f%jfo
     res%made(m_starved) = f%starved
     if (f%starved) then
@@ -268,18 +281,18 @@ contains
       res%liner(:, l_liner_position) = liner_positions(sup%liner)
       res%liner(:, l_liner_oil_film) = sup%liner%h
     end if
-
+    ! a period of two cycles: its cycle quantities are the means over both (the series and the
+    ! extremes are the last cycle's)
+    if (period == 2) res%scalars(mean_over_period) = 0.5_dp * (res%scalars(mean_over_period) &
+                                                               + scalars_prev(mean_over_period))
     associate (v => res%scalars, power_loss => res%series(:, s_power_loss), &
                h0s => res%series(:, s_h0), friction => res%series(:, s_friction))
-      v(sc_energy_loss) = sum(power_loss) * ctx%dt
-      v(sc_mixed_share) = mixed_share(h0s / sigma)
-      v(sc_min_film) = minval(res%series(:, s_lambda_min)) * sigma
-      v(sc_max_friction) = maxval(abs(friction))
       v(sc_total_film_solves) = f%film_solves + extra_film_solves
       v(sc_reynolds_solves) = f%reynolds_solves + extra_solves
       v(sc_cycles_run) = cycles_run
       v(sc_cycles_computed) = cycles_run + (warmup + rewarm + c%dpsi_deg * cycles_run) / 720.0_dp
       v(sc_periodic) = truth(periodic)
+      v(sc_period) = period
       ! a step held at h0_ceiling is an answer of the model (the film carries more than the
       ! load at every h0: the ring lifts off), flagged but not a failure; every other flag is
       v(sc_converged) = truth(periodic .and. &
@@ -287,8 +300,6 @@ contains
       k = findloc(ieee_is_finite(friction) .and. ieee_is_finite(h0s), .false., dim=1)
       finite = k == 0 .and. all(ieee_is_finite(power_loss)) .and. ieee_is_finite(v(sc_energy_loss))
     end associate
-    call derive_results(res, c%speed_rpm, pi * c%bore_radius**2 * 2.0_dp * c%crank_radius, &
-                        c%oil_density)
     if (.not. finite) then
       ! every input lies in its plausible range, so a non-finite film comes from a
       ! combination of inputs the model cannot describe: report it as an input problem
@@ -298,6 +309,27 @@ contains
     end if
 
   contains
+
+    !> The cycle's results from its series (and the ring pack's sums).
+    subroutine cycle_results()
+      associate (v => res%scalars)
+        v(sc_energy_loss) = sum(res%series(:, s_power_loss)) * ctx%dt
+        v(sc_mixed_share) = mixed_share(res%series(:, s_h0) / sigma)
+        v(sc_min_film) = minval(res%series(:, s_lambda_min)) * sigma
+        v(sc_max_friction) = maxval(abs(res%series(:, s_friction)))
+      end associate
+      if (gas_pack) call ring_pack_scalars(rcyc, res%scalars)
+      call derive_results(res, c%speed_rpm, pi * c%bore_radius**2 * 2.0_dp * c%crank_radius, &
+                          c%oil_density)
+    end subroutine cycle_results
+
+    !> The ring pack's change from state st0 to now (pressures relative to the peak chamber
+    !> pressure, lift relative to the clearance).
+    real(dp) function rp_distance(st0)
+      type(ring_pack_state), intent(in) :: st0
+      rp_distance = max(abs(rst%p2 - st0%p2), abs(rst%p3 - st0%p3)) / max(c%crankcase_pressure, &
+                   maxval(c%gas_p, mask=c%gas_p > 0.0_dp)) + abs(rst%x - st0%x) / c%groove_clearance
+    end function rp_distance
 
     !> Piston position [m] at crank angle psi [deg].
     real(dp) function position(psi)
@@ -459,42 +491,5 @@ contains
       call ring_pack_step(rpar, st, chamber(psi - c%dpsi_deg), chamber(psi), &
                           c%crankcase_pressure, -fric_prev, a_p, ctx%dt, out, rerr)
     end subroutine ring_pack_advance
-
-    !> The ring pack at the start of the warm-up (crank step kstart): the gas network alone
-    !> (no friction, one step per crank step) run over whole cycles, from the warm-up's
-    !> first step, to its periodic state there, so that the coupled cycles start near their
-    !> own periodic state (the land takes 2-16 gas cycles to settle from a cold start,
-    !> docs/ring_pack.md).
-    subroutine ring_pack_start(kstart)
-      integer, intent(in) :: kstart
-      real(dp) :: p1(0:m - 1), ap(0:m - 1), ff(0:m - 1)
-      type(ring_pack_params) :: cheap
-      rpar = ring_pack_params_from_case(c)
-      ! from the crank angle the warm-up's first step starts from
-      call ring_pack_inputs(c, kstart - 2, p1, ap)
-      ff = 0.0_dp
-      call ring_pack_init(rst, p1(0), c%crankcase_pressure)
-      ! one backward-Euler step per crank step (no sub-steps), to 1e-4 of the peak chamber
-      ! pressure: its periodic land pressure lies 0.25 % from the sub-stepped one on the cold
-      ! deck, the size of what the film's friction changes and the coupled warm-up corrects,
-      ! at a third of the cost (energy within 1e-6 of the sub-stepped start to 1e-6)
-      cheap = rpar
-      cheap%adaptive = .false.
-      call ring_pack_cycle(cheap, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, rst, &
-                           rcyc, err, max_cycles=50, tol=1e-4_dp)
-    end subroutine ring_pack_start
-
-    !> The ring pack before crank step kfrom (psi = (kfrom - 2) dpsi): the gas network run to
-    !> its periodic state under the friction of the cycle just computed (each step's friction
-    !> at its start, as in the coupled steps).
-    subroutine ring_pack_restart(kfrom)
-      integer, intent(in) :: kfrom
-      real(dp) :: p1(0:m - 1), ap(0:m - 1), ff(0:m - 1)
-      integer :: j
-      call ring_pack_inputs(c, kfrom - 2, p1, ap)
-      ff = [(-res%series(modulo(kfrom - 2 + j, m) + 1, s_friction), j=0, m - 1)]
-      call ring_pack_cycle(rpar, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, rst, &
-                           rcyc, err, max_cycles=50, tol=1e-6_dp)
-    end subroutine ring_pack_restart
   end subroutine solve_cycle
 end module ringlube_cycle

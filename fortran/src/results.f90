@@ -133,6 +133,8 @@ module ringlube_results
     field_spec('cycles_computed', 'cycles_computed', '1', 'real', &
       "cycles' worth of crank steps solved, warm-up included"), &
     field_spec('periodic', 'periodic', '1', 'logical', '1: h0 periodic within cycle_tol'), &
+    field_spec('period', 'period', '1', 'integer', 'cycles after which the state repeats (1, 2;'// &
+      ' 0: not periodic); with 2 the cycle quantities are means over both cycles'), &
     field_spec('oil_to_chamber', 'oil_to_chamber_mm3', 'mm^3', 'real', &
       'oil transported towards the chamber per cycle, whole circumference', 'starved', .true.), &
     field_spec('oil_balance_error', 'oil_balance_error', '1', 'real', &
@@ -250,6 +252,7 @@ module ringlube_results
     sc_reynolds_solves = row(findloc(scalar_spec%short, 'reynolds_solves', dim=1)), &
     sc_cycles_computed = row(findloc(scalar_spec%short, 'cycles_computed', dim=1)), &
     sc_periodic = row(findloc(scalar_spec%short, 'periodic', dim=1)), &
+    sc_period = row(findloc(scalar_spec%short, 'period', dim=1)), &
     sc_oil_to_chamber = row(findloc(scalar_spec%short, 'oil_to_chamber', dim=1)), &
     sc_oil_balance_error = row(findloc(scalar_spec%short, 'oil_balance_error', dim=1)), &
     sc_friction_power = row(findloc(scalar_spec%short, 'friction_power', dim=1)), &
@@ -263,6 +266,10 @@ module ringlube_results
     sc_ring_lift_share = row(findloc(scalar_spec%short, 'ring_lift_share', dim=1)), &
     sc_flutter_events = row(findloc(scalar_spec%short, 'flutter_events', dim=1)), &
     sc_gas_balance_error = row(findloc(scalar_spec%short, 'gas_balance_error', dim=1))
+  !> The cycle quantities a period of two cycles reports as the means over both.
+  integer, parameter, public :: mean_over_period(*) = [sc_energy_loss, sc_mixed_share, &
+    sc_friction_power, sc_fmep, sc_oil_to_chamber, sc_oil_to_chamber_rate, sc_liner_lift_share, &
+    sc_blowby, sc_blowby_mass, sc_blowback_mass, sc_ring_lift_share, sc_flutter_events]
   !> Columns of the liner film (`liner_spec`).
   integer, parameter, public :: &
     l_liner_position = row(findloc(liner_spec%short, 'liner_position', dim=1)), &

@@ -7,7 +7,7 @@ module ringlube_results_summary
                               sc_liner_lift_share, sc_blowby, sc_blowby_mass, sc_ring_lift_share, &
                               sc_flutter_events, sc_ring_mass, sc_min_film, sc_max_friction, &
                               sc_cycles_run, sc_cycle_change, sc_flagged_steps, sc_converged, &
-                              sc_run_time, sc_cycles_computed
+                              sc_run_time, sc_cycles_computed, sc_period
   implicit none
   private
   public :: summary_text
@@ -62,7 +62,9 @@ contains
     call line('cycles run', a, '  (last cycle change in h0: '//trim(adjustl(b))//')')
     write (a, '(i10)') nint(v(sc_flagged_steps))
     call line('flagged crank steps', a, '(see /cycle/flags)')
-    call line('converged', merge('       yes', '        no', v(sc_converged) /= 0.0_dp), '')
+    b = ''
+    if (nint(v(sc_period)) == 2) b = '(a period of two cycles: energy, shares, blowby are means)'
+    call line('converged', merge('       yes', '        no', v(sc_converged) /= 0.0_dp), trim(b))
     write (a, '(f10.3)') v(sc_run_time)
     write (b, '(f8.1)') 1e3_dp * v(sc_run_time) / max(v(sc_cycles_computed), tiny(1.0_dp))
     call line('run time', a, 's ('//trim(adjustl(b))//' ms per cycle; '// &

@@ -7,11 +7,15 @@ module ringlube_ring_pack_cycle
   use ringlube_error, only: error_type
   use ringlube_ring_pack_flow, only: gas_constant
   use ringlube_ring_pack, only: ring_pack_params, ring_pack_state, ring_pack_step_out, &
-                                ring_pack_init, ring_pack_step, ring_pack_gas_mass
+                                ring_pack_init, ring_pack_step, ring_pack_gas_mass, &
+                                ring_pack_params_from_case, ring_pack_inputs
+  use ringlube_case, only: case_type
+  use ringlube_results, only: sc_blowby, sc_blowby_mass, sc_blowback_mass, sc_ring_lift_share, &
+                              sc_flutter_events, sc_gas_balance_error
   implicit none
   private
   public :: ring_pack_totals, ring_pack_cycle_out, ring_pack_accumulate, ring_pack_finish, &
-            ring_pack_cycle
+            ring_pack_cycle, ring_pack_scalars, ring_pack_start, ring_pack_restart
 
   !> Standard state of the blowby volume flow: 101325 Pa, 293.15 K.
   real(dp), parameter, public :: std_pressure = 101325.0_dp, std_temperature = 293.15_dp
@@ -60,6 +64,68 @@ contains
     tot%flutter_events = tot%flutter_events + out%flutter_events
     tot%lift_offs = tot%lift_offs + out%lift_offs
   end subroutine ring_pack_accumulate
+
+  !> A cycle's quantities into the kernel's scalar results `v` (ringlube_results).
+  pure subroutine ring_pack_scalars(cyc, v)
+    type(ring_pack_cycle_out), intent(in) :: cyc
+    real(dp), intent(inout) :: v(:)
+    v(sc_blowby) = cyc%blowby_l_min
+    v(sc_blowby_mass) = cyc%blowby_mg_per_cycle
+    v(sc_blowback_mass) = cyc%blowback_mg_per_cycle
+    v(sc_ring_lift_share) = cyc%ring_lift_share_pct
+    v(sc_flutter_events) = cyc%flutter_events
+    v(sc_gas_balance_error) = cyc%gas_balance_error
+  end subroutine ring_pack_scalars
+
+  !> The ring pack of case c at the start of the warm-up (crank step kstart of a cycle of m):
+  !> its parameters `par`, and the gas network alone (no friction, one step per crank step)
+  !> run over whole cycles from the warm-up's first step to its periodic state there, so that
+  !> the coupled cycles start near their own (the land takes 2-16 gas cycles to settle from a
+  !> cold start, docs/ring_pack.md).
+  subroutine ring_pack_start(c, m, kstart, par, st, cyc, err)
+    type(case_type), intent(in) :: c
+    integer, intent(in) :: m, kstart
+    type(ring_pack_params), intent(out) :: par
+    type(ring_pack_state), intent(out) :: st
+    type(ring_pack_cycle_out), intent(out) :: cyc
+    type(error_type), allocatable, intent(out) :: err
+    real(dp) :: p1(0:m - 1), ap(0:m - 1), ff(0:m - 1)
+    type(ring_pack_params) :: cheap
+    par = ring_pack_params_from_case(c)
+    ! from the crank angle the warm-up's first step starts from
+    call ring_pack_inputs(c, kstart - 2, p1, ap)
+    ff = 0.0_dp
+    call ring_pack_init(st, p1(0), c%crankcase_pressure)
+    ! one backward-Euler step per crank step (no sub-steps), to 1e-4 of the peak chamber
+    ! pressure: its periodic land pressure lies 0.25 % from the sub-stepped one on the cold
+    ! deck, the size of what the film's friction changes and the coupled warm-up corrects, at
+    ! a third of the cost (energy within 1e-6 of the sub-stepped start to 1e-6)
+    cheap = par
+    cheap%adaptive = .false.
+    call ring_pack_cycle(cheap, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, st, &
+                         cyc, err, max_cycles=50, tol=1e-4_dp)
+  end subroutine ring_pack_start
+
+  !> The ring pack before crank step kfrom (psi = (kfrom - 2) dpsi) of a cycle of size(friction)
+  !> steps: the gas network run to its periodic state under the friction of the cycle just
+  !> computed (the kernel's, positive towards the crankcase; each step's at its start, as in
+  !> the coupled steps).
+  subroutine ring_pack_restart(c, par, kfrom, friction, st, cyc, err)
+    type(case_type), intent(in) :: c
+    type(ring_pack_params), intent(in) :: par
+    integer, intent(in) :: kfrom
+    real(dp), intent(in) :: friction(:)
+    type(ring_pack_state), intent(inout) :: st
+    type(ring_pack_cycle_out), intent(out) :: cyc
+    type(error_type), allocatable, intent(out) :: err
+    real(dp) :: p1(0:size(friction) - 1), ap(0:size(friction) - 1), ff(0:size(friction) - 1)
+    integer :: j, m
+    m = size(friction)
+    call ring_pack_inputs(c, kfrom - 2, p1, ap)
+    ff = [(-friction(modulo(kfrom - 2 + j, m) + 1), j=0, m - 1)]
+    call ring_pack_cycle(par, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, st, &
+                         cyc, err, max_cycles=50, tol=1e-6_dp)
+  end subroutine ring_pack_restart
 
   !> SPEC 14's cycle quantities from a cycle's sums; stored_end = m2 + m3 at the end, and
   !> tot%stored_start must hold m2 + m3 at the start.
