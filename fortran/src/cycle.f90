@@ -10,7 +10,7 @@ module ringlube_cycle
                                 ring_pack_step, ring_pack_gas_mass
   use ringlube_ring_pack_cycle, only: ring_pack_totals, ring_pack_cycle_out, ring_pack_accumulate, &
                                       ring_pack_finish, ring_pack_scalars, ring_pack_start, &
-                                      ring_pack_restart
+                                      ring_pack_restart, ring_pack_distance
   use ringlube_greenwood_tripp, only: gt_init
   ! the results' table: result_type and the column constants s_* (series), si_* (integer
   ! series), sc_* (scalars), l_* (liner) and m_* (models)
@@ -61,7 +61,9 @@ contains
     real(dp) :: stored0, gap0, energy_prev, change_map, change_energy, warmup, change_map1
     ! a period of two cycles (docs/model.md, "Periodicity"): h0 at the previous cycle's start,
     ! the previous cycle's results, the change of h0 and of the ring pack over two cycles
+    ! (starved: the liner film's and the energy's change over two cycles)
     real(dp) :: h0_start_prev, change2, rp_change2
+    real(dp) :: change_map2, energy, energy_prev2, change_energy2
     real(dp), allocatable :: scalars_prev(:)
     integer :: period
     real(dp), allocatable :: map_prev(:), map_prev2(:)
@@ -153,6 +155,7 @@ contains
       return
     end if
     energy_prev = -1.0_dp
+    energy_prev2 = -1.0_dp
     periodic = .false.
     period = 0
     cycles_run = 0
@@ -200,8 +203,8 @@ contains
         ! the ring pack's state repeats too (pressures relative to the peak chamber pressure,
         ! lift relative to the clearance), and its last step to psi = 720 on a copy
         call ring_pack_finish(rtot, ring_pack_gas_mass(rpar, rst), rcyc)
-        rp_change = rp_distance(rst0)
-        rp_change2 = rp_distance(rst0_prev)
+        rp_change = ring_pack_distance(c, rst, rst0)
+        rp_change2 = ring_pack_distance(c, rst, rst0_prev)
         gst = rst
         call ring_pack_advance(gst, gout, 720.0_dp)
         g%p_back = gst%p2
@@ -217,14 +220,18 @@ contains
         ! periodic when the liner film and the energy repeat (h0 at psi = 0 carries a slowly
         ! decaying mode of the film collected again at the end of the next downstroke)
         change_map1 = sum(abs(sup%liner%h - map_prev)) / max(sum(abs(sup%liner%h)), tiny(1.0_dp))
-        change_map = change_map1
         ! or a two-cycle: the film left just after BDC alternating between two cycles (the
         ! energy still repeats within cycle_tol; docs/model.md, "Periodicity")
-        if (allocated(map_prev2)) change_map = min(change_map, sum(abs(sup%liner%h - map_prev2)) &
-                                                   / max(sum(abs(sup%liner%h)), tiny(1.0_dp)))
-        change_energy = abs(sum(res%series(:, s_power_loss)) * ctx%dt - energy_prev) &
-                        / max(sum(res%series(:, s_power_loss)) * ctx%dt, tiny(1.0_dp))
-        energy_prev = sum(res%series(:, s_power_loss)) * ctx%dt
+        change_map2 = huge(1.0_dp)
+        if (allocated(map_prev2)) change_map2 = sum(abs(sup%liner%h - map_prev2)) &
+                                                / max(sum(abs(sup%liner%h)), tiny(1.0_dp))
+        change_map = min(change_map1, change_map2)
+        ! the energy's change over one cycle and over two
+        energy = sum(res%series(:, s_power_loss)) * ctx%dt
+        change_energy = abs(energy - energy_prev) / max(energy, tiny(1.0_dp))
+        change_energy2 = abs(energy - energy_prev2) / max(energy, tiny(1.0_dp))
+        energy_prev2 = energy_prev
+        energy_prev = energy
         res%scalars(sc_oil_balance_error) = supply_balance_error(sup, stored0, gap_volume())
         res%scalars(sc_oil_to_chamber) = sup%to_chamber * f%circ * 1e9_dp
         ! the first cycle has no energy to compare with: the ring's state instead, h0 and the
@@ -236,6 +243,12 @@ contains
           periodic = .true.
           period = 1
           if (change_map1 > c%cycle_tol) period = 2
+        else if (icycle >= 3 .and. change_map2 <= c%cycle_tol .and. &
+                 change_energy2 <= c%cycle_tol .and. rp_change2 <= c%cycle_tol) then
+          ! the ring pack in a period of two cycles too: the film, the energy and the ring
+          ! pack repeat after two cycles, not one
+          periodic = .true.
+          period = 2
         end if
       else if (res%scalars(sc_cycle_change) <= c%cycle_tol .and. rp_change <= c%cycle_tol) then
         periodic = .true.
@@ -322,14 +335,6 @@ contains
       call derive_results(res, c%speed_rpm, pi * c%bore_radius**2 * 2.0_dp * c%crank_radius, &
                           c%oil_density)
     end subroutine cycle_results
-
-    !> The ring pack's change from state st0 to now (pressures relative to the peak chamber
-    !> pressure, lift relative to the clearance).
-    real(dp) function rp_distance(st0)
-      type(ring_pack_state), intent(in) :: st0
-      rp_distance = max(abs(rst%p2 - st0%p2), abs(rst%p3 - st0%p3)) / max(c%crankcase_pressure, &
-                   maxval(c%gas_p, mask=c%gas_p > 0.0_dp)) + abs(rst%x - st0%x) / c%groove_clearance
-    end function rp_distance
 
     !> Piston position [m] at crank angle psi [deg].
     real(dp) function position(psi)

@@ -15,7 +15,8 @@ module ringlube_ring_pack_cycle
   implicit none
   private
   public :: ring_pack_totals, ring_pack_cycle_out, ring_pack_accumulate, ring_pack_finish, &
-            ring_pack_cycle, ring_pack_scalars, ring_pack_start, ring_pack_restart
+            ring_pack_cycle, ring_pack_scalars, ring_pack_start, ring_pack_restart, &
+            ring_pack_distance
 
   !> Standard state of the blowby volume flow: 101325 Pa, 293.15 K.
   real(dp), parameter, public :: std_pressure = 101325.0_dp, std_temperature = 293.15_dp
@@ -126,6 +127,16 @@ contains
     call ring_pack_cycle(par, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, st, &
                          cyc, err, max_cycles=50, tol=1e-6_dp)
   end subroutine ring_pack_restart
+
+  !> The ring pack's change from state st0 to st (pressures relative to the peak chamber
+  !> pressure of case c, lift relative to the groove clearance): its periodicity test.
+  pure real(dp) function ring_pack_distance(c, st, st0)
+    type(case_type), intent(in) :: c
+    type(ring_pack_state), intent(in) :: st, st0
+    ring_pack_distance = max(abs(st%p2 - st0%p2), abs(st%p3 - st0%p3)) &
+                         / max(c%crankcase_pressure, maxval(c%gas_p, mask=c%gas_p > 0.0_dp)) &
+                         + abs(st%x - st0%x) / c%groove_clearance
+  end function ring_pack_distance
 
   !> SPEC 14's cycle quantities from a cycle's sums; stored_end = m2 + m3 at the end, and
   !> tot%stored_start must hold m2 + m3 at the start.
