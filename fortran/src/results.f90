@@ -159,8 +159,10 @@ module ringlube_results
       'gas mass flowing back from the ring pack into the chamber per cycle', 'gas'), &
     field_spec('ring_lift_share', 'ring_lift_share_pct', '%', 'real', &
       'share of the cycle the top ring is off its lower groove flank', 'gas', .true.), &
-    field_spec('flutter_events', 'flutter_events', '1', 'integer', &
-      'times the top ring leaves its lower flank while the chamber pressure exceeds the land''s', &
+    ! (a real: with a period of two cycles the mean of both, 1.5 for 1 and 2 events)
+    field_spec('flutter_events', 'flutter_events', '1', 'real', &
+      'times per cycle the top ring leaves its lower flank while the chamber pressure exceeds '// &
+      'the land''s', &
       'gas', .true.), &
     field_spec('gas_balance_error', 'gas_balance_error', '1', 'real', &
       'relative closure of the ring pack''s gas mass over the reported cycle', 'gas') &

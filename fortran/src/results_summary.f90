@@ -47,7 +47,10 @@ contains
       write (b, '(f8.2)') v(sc_blowby_mass)
       call line('blowby', a, 'L/min ('//trim(adjustl(b))//' mg per cycle)')
       write (a, '(f10.2)') v(sc_ring_lift_share)
-      write (b, '(i8)') nint(v(sc_flutter_events))
+      ! (whole but for the mean of a period of two cycles)
+      write (b, '(f8.1)') v(sc_flutter_events)
+      if (v(sc_flutter_events) == anint(v(sc_flutter_events))) &
+        write (b, '(i8)') nint(v(sc_flutter_events))
       call line('ring lift in its groove', a, '% of the cycle ('//trim(adjustl(b))// &
                 ' flutter events)')
     end if
