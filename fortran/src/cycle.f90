@@ -56,11 +56,11 @@ contains
     type(step_context) :: ctx
     type(supply_type) :: sup
     integer :: m, k, icycle, flags, cycles_run
-    logical :: periodic, finite
+    logical :: periodic, finite, clean_prev
     real(dp) :: sigma, h0_init, h0_start, h0, h0_end, resid, s_prev, vin, vout
     real(dp) :: stored0, gap0, energy_prev, change_map, change_energy, warmup, change_map1
-    ! a period of two cycles (docs/model.md, "Periodicity"): h0 at the previous cycle's start,
-    ! the previous cycle's results, the change of h0 and of the ring pack over two cycles
+    ! a period of two cycles (docs/model.md): h0 at the previous cycle's start, its results and
+    ! whether it had no flag but lift-off; the change of h0 and of the ring pack over two cycles
     ! (starved: the liner film's and the energy's change over two cycles)
     real(dp) :: h0_start_prev, change2, rp_change2
     real(dp) :: change_map2, energy, energy_prev2, change_energy2
@@ -170,8 +170,8 @@ contains
         map_prev = sup%liner%h
       end if
       if (icycle > 1) h0_start_prev = h0_start
-      ! (the last cycle's results, cycle_results)
       if (icycle > 1) scalars_prev = res%scalars
+      if (icycle > 1) clean_prev = all(iand(res%int_series(:, si_flags), not(flag_ceiling)) == 0)
       if (gas_pack) then
         rst0_prev = rst0
         rst0 = rst
@@ -306,9 +306,9 @@ contains
       v(sc_cycles_computed) = cycles_run + (warmup + rewarm + c%dpsi_deg * cycles_run) / 720.0_dp
       v(sc_periodic) = truth(periodic)
       v(sc_period) = period
-      ! a step held at h0_ceiling is an answer of the model (the film carries more than the
-      ! load at every h0: the ring lifts off), flagged but not a failure; every other flag is
-      v(sc_converged) = truth(periodic .and. &
+      ! a step held at h0_ceiling (the ring lifts off) is an answer of the model, flagged but not
+      ! a failure; every other flag is, in both cycles of a period of two (both enter its means)
+      v(sc_converged) = truth(periodic .and. (period /= 2 .or. clean_prev) .and. &
                               all(iand(res%int_series(:, si_flags), not(flag_ceiling)) == 0))
       k = findloc(ieee_is_finite(friction) .and. ieee_is_finite(h0s), .false., dim=1)
       finite = k == 0 .and. all(ieee_is_finite(power_loss)) .and. ieee_is_finite(v(sc_energy_loss))
