@@ -76,12 +76,13 @@ contains
         call jfo_solve_connected(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, &
                 tl, tr, c%cavitation_pressure, trailing_gas, f%starved, f%pc, f%p, f%theta, iters, &
                                  outer, info, f%q_left, f%q_right, cap_left=ql, cap_right=qr, &
-                                 blown=f%blown, work=f%jfo_work)
+                                 blown=f%blown, work=f%jfo_work, scratch=f%jfo_scratch)
       else
         f%blown = .false.
         f%pc = c%cavitation_pressure
         call jfo_solve(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, tl, tr, &
-                       f%pc, f%p, f%theta, iters, info, f%q_left, f%q_right, work=f%jfo_work)
+                       f%pc, f%p, f%theta, iters, info, f%q_left, f%q_right, work=f%jfo_work, &
+                       scratch=f%jfo_scratch)
       end if
       f%reynolds_solves = f%reynolds_solves + iters
       if (info /= JFO_OK) f%flags = ior(f%flags, flag_cavitation)

@@ -7,7 +7,7 @@ module ringlube_film_state
   use ringlube_viscosity, only: roelands_law, roelands_law_at, roelands_eta
   use ringlube_contact, only: asperity_contact
   use ringlube_reynolds, only: reynolds_work, reynolds_work_init
-  use ringlube_jfo_system, only: jfo_system
+  use ringlube_jfo_system, only: jfo_system, jfo_scratch
   use ringlube_results, only: flag_viscosity, flag_piezo
   implicit none
   private
@@ -43,6 +43,7 @@ module ringlube_film_state
     real(dp), allocatable :: theta(:), content_old(:), pc(:)
     !> the JFO solve's system, kept between solves (its arrays allocated once)
     type(jfo_system) :: jfo_work
+    type(jfo_scratch) :: jfo_scratch
     real(dp) :: q_left = 0.0_dp, q_right = 0.0_dp, dt = 0.0_dp
     !> the face is partly filled across its width at a gas pressure above the leading edge's,
     !> whose meniscus is then at the leading edge (ringlube_jfo, jfo_solve_connected)

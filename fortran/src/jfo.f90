@@ -25,8 +25,7 @@
 !> free_steps full steps a step must bring ||R||^2 below the largest of the last few accepted
 !> values (non-monotone Armijo, halving); if it cannot, projected Gauss-Seidel sweeps on v (a
 !> convergent M-function iteration; gs_sweeps sweeps, doubling at each further use up to 16 times,
-!> gs_budget in all per solve) take over
-!> for a while.
+!> gs_budget in all per solve) take over for a while.
 !> The pressure-driven content is upwind in pressure (theta_P), so a cavity at a gas pressure
 !> above its neighbour pushes out oil only in proportion to its fill: theta >= 0 by construction.
 !> Details and verification: docs/film_model.md.
@@ -34,7 +33,8 @@ module ringlube_jfo
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_kinds, only: dp
   use ringlube_tridiag, only: thomas
-  use ringlube_jfo_system, only: jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel
+  use ringlube_jfo_system, only: jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel, &
+                                 jfo_scratch, jfo_scratch_size
   implicit none
   private
   public :: jfo_solve, jfo_film_volume, jfo_options
@@ -60,12 +60,8 @@ module ringlube_jfo
   !> restarts from the coarse grids (the coarse solves themselves restart down to coarse_min).
   type :: jfo_options
     real(dp) :: tol = 1e-11_dp
-    integer :: max_iter = 200
-    integer :: max_outer = 200
-    logical :: guard = .true.
-    logical :: newton = .true.
-    logical :: coarse = .true.
-    integer :: coarse_from = 401
+    integer :: max_iter = 200, max_outer = 200, coarse_from = 401
+    logical :: guard = .true., newton = .true., coarse = .true.
   end type jfo_options
 
   !> residual (relative to the same scale) below which a converged state is left as it is
@@ -98,9 +94,7 @@ module ringlube_jfo
   !> (recursively, down to coarse_min nodes), at most max_coarse times; a restart that the
   !> next walk, or a stall with the sweeps' budget spent, finds worse than the state before it
   !> is taken back. It changes the start, not the answer (the fine solve's tolerance decides).
-  integer, parameter :: walk_steps = 3
-  integer, parameter :: coarse_min = 65
-  integer, parameter :: max_coarse = 3
+  integer, parameter :: walk_steps = 3, coarse_min = 65, max_coarse = 3
 
 contains
 
@@ -123,11 +117,12 @@ contains
   !> liner film behind a trailing edge): `F_in = min(F_in, cap)`, a kink like the others of
   !> the residual; beyond it the edge admits gas. Both edges are treated alike, whichever
   !> leads; the Newton solve and the Gauss-Seidel fallback apply the same caps.
-  !> work (jfo_system): the step's system, kept by a caller between solves (else a local one).
+  !> work (jfo_system), scratch (jfo_scratch): the step's system and working arrays, kept by a
+  !> caller between solves (else local ones).
   pure recursive subroutine jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
                                       theta_left, theta_right, pc, p, theta, iterations, info, &
                                       q_left, q_right, options, sweeps, &
-                                      cap_left, cap_right, work)
+                                      cap_left, cap_right, work, scratch)
     real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
     real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, pc(:)
     real(dp), intent(inout) :: p(:), theta(:)
@@ -137,12 +132,9 @@ contains
     integer, intent(out), optional :: sweeps
     real(dp), intent(in), optional :: cap_left, cap_right
     type(jfo_system), intent(inout), optional :: work
+    type(jfo_scratch), intent(inout), optional :: scratch
     type(jfo_system) :: local
-    real(dp) :: v(size(h)), vt(size(h)), vpre(size(h)), vbest(size(h)), dv(size(h))
-    real(dp) :: r(size(h)), rt(size(h))
-    real(dp) :: fl(size(h)), pn(size(h)), tn(size(h))
-    real(dp) :: dfpl(size(h)), dfpr(size(h)), dftl(size(h)), dftr(size(h))
-    real(dp) :: jl(size(h)), jd(size(h)), ju(size(h)), tw(size(h))
+    type(jfo_scratch) :: local_scratch
     real(dp) :: rtol, f0, ft, fbest, fpre, t, rscale, rmax, fhist(nonmonotone), qcl, qcr
     integer :: n, i, it, itmax, tinfo, nls, nsweep, stall, nfall, nsw, walk, ncoarse
     integer :: nsweep_pre, nfall_pre, nsweep_back
@@ -152,82 +144,193 @@ contains
     if (.not. present(work)) then
       call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
                      theta_right, pc, p, theta, iterations, info, q_left, q_right, options, &
-                     sweeps, cap_left, cap_right, local)
+                     sweeps, cap_left, cap_right, local, scratch)
+      return
+    end if
+    if (.not. present(scratch)) then
+      call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
+                     theta_right, pc, p, theta, iterations, info, q_left, q_right, options, &
+                     sweeps, cap_left, cap_right, work, local_scratch)
       return
     end if
     n = size(h)
-    iterations = 0
-    nsweep = 0
-    if (present(sweeps)) sweeps = 0
-    if (present(q_left)) q_left = 0.0_dp
-    if (present(q_right)) q_right = 0.0_dp
-    if (n < 3 .or. size(hmid) /= n - 1 .or. size(kmid) /= n - 1 .or. size(content_old) /= n &
-        .or. size(pc) /= n .or. size(p) /= n .or. size(theta) /= n .or. .not. (dx > 0.0_dp)) then
-      info = JFO_BAD_INPUT
-      return
-    end if
-    info = JFO_OK
-    if (present(options)) opt = options
-    rtol = opt%tol
-    itmax = opt%max_iter
-    use_guard = opt%guard
-    use_newton = opt%newton
-    qcl = huge(1.0_dp)
-    if (present(cap_left)) qcl = max(cap_left, 0.0_dp)
-    qcr = huge(1.0_dp)
-    if (present(cap_right)) qcr = max(cap_right, 0.0_dp)
-
-    call jfo_system_setup(work, dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
-                          theta_left, theta_right, pc, qcl, qcr)
-
-    ! warm start: v = (p - pc)/ps on full nodes, theta - 1 on cavity nodes; not finite -> 0
-    v = 0.0_dp
-    do i = 2, n - 1
-      if (theta(i) < 1.0_dp) then
-        v(i) = theta(i) - 1.0_dp
-      else
-        v(i) = max(p(i) - pc(i), 0.0_dp) / work%ps(i)
+    call jfo_scratch_size(scratch, n)
+    associate (v => scratch%a(:, 1), vt => scratch%a(:, 2), vpre => scratch%a(:, 3), &
+               vbest => scratch%a(:, 4), dv => scratch%a(:, 5), r => scratch%a(:, 6), &
+               rt => scratch%a(:, 7), fl => scratch%a(:, 8), pn => scratch%a(:, 9), &
+               tn => scratch%a(:, 10), dfpl => scratch%a(:, 11), dfpr => scratch%a(:, 12), &
+               dftl => scratch%a(:, 13), dftr => scratch%a(:, 14), jl => scratch%a(:, 15), &
+               jd => scratch%a(:, 16), ju => scratch%a(:, 17), tw => scratch%a(:, 18))
+      iterations = 0
+      nsweep = 0
+      if (present(sweeps)) sweeps = 0
+      if (present(q_left)) q_left = 0.0_dp
+      if (present(q_right)) q_right = 0.0_dp
+      if (n < 3 .or. size(hmid) /= n - 1 .or. size(kmid) /= n - 1 .or. size(content_old) /= n &
+          .or. size(pc) /= n .or. size(p) /= n .or. size(theta) /= n .or. .not. (dx > 0.0_dp)) then
+        info = JFO_BAD_INPUT
+        return
       end if
-      if (.not. ieee_is_finite(v(i))) v(i) = 0.0_dp
-    end do
+      info = JFO_OK
+      if (present(options)) opt = options
+      rtol = opt%tol
+      itmax = opt%max_iter
+      use_guard = opt%guard
+      use_newton = opt%newton
+      qcl = huge(1.0_dp)
+      if (present(cap_left)) qcl = max(cap_left, 0.0_dp)
+      qcr = huge(1.0_dp)
+      if (present(cap_right)) qcr = max(cap_right, 0.0_dp)
 
-    ! jac_ok: jl, jd, ju hold the Jacobian at v (the residual of an accepted step is evaluated
-    ! with it, so the next iteration need not evaluate the residual again)
-   call jfo_residual(work, v, r, rscale, use_newton, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-    if (.not. (ieee_is_finite(rscale) .and. ieee_is_finite(sum(abs(r(2:n - 1)))))) then
-      ! a warm start whose terms overflow (pressures near huge()) made the scale infinite, and
-      ! Inf <= tol * Inf passed as converged: start from full film at the cavity pressure
+      call jfo_system_setup(work, dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
+                            theta_left, theta_right, pc, qcl, qcr)
+
+      ! warm start: v = (p - pc)/ps on full nodes, theta - 1 on cavity nodes; not finite -> 0
       v = 0.0_dp
+      do i = 2, n - 1
+        if (theta(i) < 1.0_dp) then
+          v(i) = theta(i) - 1.0_dp
+        else
+          v(i) = max(p(i) - pc(i), 0.0_dp) / work%ps(i)
+        end if
+        if (.not. ieee_is_finite(v(i))) v(i) = 0.0_dp
+      end do
+
+      ! jac_ok: jl, jd, ju hold the Jacobian at v (the residual of an accepted step is evaluated
+      ! with it, so the next iteration need not evaluate the residual again)
    call jfo_residual(work, v, r, rscale, use_newton, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-    end if
-    jac_ok = use_newton
-    f0 = sumsq(r)
-    vbest = v
-    fbest = f0
-    fhist = f0
-    stall = 0
-    nfall = 0
-    walk = 0
-    fpre = huge(1.0_dp)
-    ncoarse = max_coarse
-    if (use_newton .and. opt%coarse .and. n >= max(opt%coarse_from, coarse_min) &
-        .and. coarse_factor(n) > 0) ncoarse = 0
-    ! restarted: the last restart stands (not taken back), and vpre, fpre are the state before it
-    restarted = .false.
-    nsweep_pre = 0
-    nfall_pre = 0
-    nsweep_back = 0
-    do it = 0, itmax
-      rmax = maxval(abs(r(2:n - 1)))
-      if (rmax <= rtol * rscale .or. it == itmax) exit
-      if (walk >= walk_steps .and. (ncoarse < max_coarse .or. restarted)) then
-        ! the boundaries walk a node or two per step: start again from the coarse grids'
-        ! solution, which moves them a few coarse nodes per step. Where the coarse grids'
-        ! cavities differ from the fine grid's, the walk resumes from a worse state: then the
-        ! state before is taken back and the walk goes on from there (also after the last
-        ! restart).
-        walk = 0
-        if (restarted .and. f0 > fpre) then
+      if (.not. (ieee_is_finite(rscale) .and. ieee_is_finite(sum(abs(r(2:n - 1)))))) then
+        ! a warm start whose terms overflow (pressures near huge()) made the scale infinite, and
+        ! Inf <= tol * Inf passed as converged: start from full film at the cavity pressure
+        v = 0.0_dp
+   call jfo_residual(work, v, r, rscale, use_newton, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+      end if
+      jac_ok = use_newton
+      f0 = sumsq(r)
+      vbest = v
+      fbest = f0
+      fhist = f0
+      stall = 0
+      nfall = 0
+      walk = 0
+      fpre = huge(1.0_dp)
+      ncoarse = max_coarse
+      if (use_newton .and. opt%coarse .and. n >= max(opt%coarse_from, coarse_min) &
+          .and. coarse_factor(n) > 0) ncoarse = 0
+      ! restarted: the last restart stands (not taken back), and vpre, fpre are the state before it
+      restarted = .false.
+      nsweep_pre = 0
+      nfall_pre = 0
+      nsweep_back = 0
+      do it = 0, itmax
+        rmax = maxval(abs(r(2:n - 1)))
+        if (rmax <= rtol * rscale .or. it == itmax) exit
+        if (walk >= walk_steps .and. (ncoarse < max_coarse .or. restarted)) then
+          ! the boundaries walk a node or two per step: start again from the coarse grids'
+          ! solution, which moves them a few coarse nodes per step. Where the coarse grids'
+          ! cavities differ from the fine grid's, the walk resumes from a worse state: then the
+          ! state before is taken back and the walk goes on from there (also after the last
+          ! restart).
+          walk = 0
+          if (restarted .and. f0 > fpre) then
+            v = vpre
+            ncoarse = max_coarse
+            restarted = .false.
+            nsweep_back = nsweep_back + nsweep - nsweep_pre
+            nsweep = nsweep_pre
+            nfall = nfall_pre
+       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+            jac_ok = .true.
+            f0 = sumsq(r)
+            fhist = f0
+            stall = 0
+          else if (ncoarse < max_coarse) then
+            ncoarse = ncoarse + 1
+            vpre = v
+            fpre = f0
+            nsweep_pre = nsweep
+            nfall_pre = nfall
+            restarted = .true.
+            call coarse_start(v, pn, tn)
+       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+            jac_ok = .true.
+            f0 = sumsq(r)
+            fhist = f0
+            stall = 0
+          else
+            restarted = .false.
+          end if
+          if (f0 < fbest) then
+            fbest = f0
+            vbest = v
+          end if
+          rmax = maxval(abs(r(2:n - 1)))
+          if (rmax <= rtol * rscale) exit
+        end if
+        iterations = it + 1
+        if (.not. use_newton) then
+          call jfo_gauss_seidel(work, v, 1, nsweep)
+      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+          f0 = sumsq(r)
+          cycle
+        end if
+        if (.not. jac_ok) &
+       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+        jac_ok = .false.
+        dv(2:n - 1) = -r(2:n - 1)
+        ! the M-matrix sign pattern holds by construction (upwinding); a violation (a degenerate
+        ! zero diagonal) is treated like a zero pivot
+        if (use_guard .and. (any(.not. jd(2:n - 1) > 0.0_dp) .or. any(jl(2:n - 1) > 0.0_dp) &
+                             .or. any(ju(2:n - 1) > 0.0_dp))) then
+          tinfo = -1
+        else
+          call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo, tw)
+        end if
+        if (tinfo /= 0 .and. .not. use_guard) then
+          info = JFO_SINGULAR
+          exit
+        end if
+        accepted = .false.
+        if (tinfo == 0) then
+          dv(2:n - 1) = vt(2:n - 1)
+          dv(1) = 0.0_dp
+          dv(n) = 0.0_dp
+          ! full step; with the guard and after free_steps iterations, halve it until ||R||^2
+          ! falls below the largest of the last accepted values (non-monotone Armijo)
+          t = 1.0_dp
+          do nls = 0, 30
+            vt = v + t * dv
+     call jfo_residual(work, vt, rt, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+            ft = sumsq(rt)
+            if (.not. use_guard .or. it < free_steps &
+                .or. ft <= (1.0_dp - 1e-4_dp * t) * maxval(fhist)) then
+              accepted = .true.
+              exit
+            end if
+            t = 0.5_dp * t
+          end do
+          if (accepted) then
+            nsw = count((v(2:n - 1) < 0.0_dp) .neqv. (vt(2:n - 1) < 0.0_dp))
+            if (nsw >= 1 .and. nsw <= 2) then
+              walk = walk + 1
+            else
+              walk = 0
+            end if
+            v = vt
+            r = rt
+            jac_ok = .true.   ! the last evaluation was at vt
+            f0 = ft
+            fhist(mod(it, size(fhist)) + 1) = f0
+            if (nls > 0) stall = stall + 1
+          end if
+        end if
+        if ((.not. accepted .or. stall >= 3) .and. restarted .and. f0 > fpre &
+            .and. nsweep >= gs_budget) then
+          ! Newton stalls from a restart that has not yet improved on the state before it, and
+          ! the sweeps' budget is spent: without a further walk the rule above would never take
+          ! it back, and the solve would end at the iteration cap there. Take it back, with the
+          ! sweeps spent since (taking a restart back at every stall above the state before it
+          ! made the starved cold deck at 2001 nodes and 2 deg 4 times slower a run)
           v = vpre
           ncoarse = max_coarse
           restarted = .false.
@@ -239,159 +342,62 @@ contains
           f0 = sumsq(r)
           fhist = f0
           stall = 0
-        else if (ncoarse < max_coarse) then
-          ncoarse = ncoarse + 1
-          vpre = v
-          fpre = f0
-          nsweep_pre = nsweep
-          nfall_pre = nfall
-          restarted = .true.
-          call coarse_start(v, pn, tn)
-       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-          jac_ok = .true.
+        else if (.not. accepted .or. stall >= 3) then
+          ! zero pivot, no descent, or repeated damping: Gauss-Seidel sweeps, then Newton again
+          ! (each fallback sweeps twice as long as the previous one, at most 16 gs_sweeps, and
+          ! gs_budget in all: where neither converges, as in a few extreme starved designs, a
+          ! solve must still end at the iteration cap, flagged, after O(n) work)
+          if (nsweep < gs_budget) &
+       call jfo_gauss_seidel(work, v, min(gs_sweeps * 2**min(nfall, 4), gs_budget - nsweep), nsweep)
+          nfall = nfall + 1
+          jac_ok = .false.
+      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
           f0 = sumsq(r)
           fhist = f0
           stall = 0
-        else
-          restarted = .false.
         end if
         if (f0 < fbest) then
           fbest = f0
           vbest = v
         end if
-        rmax = maxval(abs(r(2:n - 1)))
-        if (rmax <= rtol * rscale) exit
-      end if
-      iterations = it + 1
-      if (.not. use_newton) then
-        call jfo_gauss_seidel(work, v, 1, nsweep)
-      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-        f0 = sumsq(r)
-        cycle
-      end if
-      if (.not. jac_ok) &
+      end do
+      if (use_newton .and. info == JFO_OK .and. maxval(abs(r(2:n - 1))) <= rtol * rscale &
+          .and. maxval(abs(r(2:n - 1))) > polish_tol * rscale) then
+        ! within the tolerance but above round-off (a damped or Gauss-Seidel last step): one more
+        ! Newton step on this piece, kept if it helps, so that the oil balance closes to round-off
        call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-      jac_ok = .false.
-      dv(2:n - 1) = -r(2:n - 1)
-      ! the M-matrix sign pattern holds by construction (upwinding); a violation (a degenerate
-      ! zero diagonal) is treated like a zero pivot
-      if (use_guard .and. (any(.not. jd(2:n - 1) > 0.0_dp) .or. any(jl(2:n - 1) > 0.0_dp) &
-                           .or. any(ju(2:n - 1) > 0.0_dp))) then
-        tinfo = -1
-      else
-        call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo, tw)
-      end if
-      if (tinfo /= 0 .and. .not. use_guard) then
-        info = JFO_SINGULAR
-        exit
-      end if
-      accepted = .false.
-      if (tinfo == 0) then
-        dv(2:n - 1) = vt(2:n - 1)
-        dv(1) = 0.0_dp
-        dv(n) = 0.0_dp
-        ! full step; with the guard and after free_steps iterations, halve it until ||R||^2
-        ! falls below the largest of the last accepted values (non-monotone Armijo)
-        t = 1.0_dp
-        do nls = 0, 30
-          vt = v + t * dv
-     call jfo_residual(work, vt, rt, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-          ft = sumsq(rt)
-          if (.not. use_guard .or. it < free_steps &
-              .or. ft <= (1.0_dp - 1e-4_dp * t) * maxval(fhist)) then
-            accepted = .true.
-            exit
-          end if
-          t = 0.5_dp * t
-        end do
-        if (accepted) then
-          nsw = count((v(2:n - 1) < 0.0_dp) .neqv. (vt(2:n - 1) < 0.0_dp))
-          if (nsw >= 1 .and. nsw <= 2) then
-            walk = walk + 1
-          else
-            walk = 0
-          end if
-          v = vt
-          r = rt
-          jac_ok = .true.   ! the last evaluation was at vt
-          f0 = ft
-          fhist(mod(it, size(fhist)) + 1) = f0
-          if (nls > 0) stall = stall + 1
-        end if
-      end if
-      if ((.not. accepted .or. stall >= 3) .and. restarted .and. f0 > fpre &
-          .and. nsweep >= gs_budget) then
-        ! Newton stalls from a restart that has not yet improved on the state before it, and
-        ! the sweeps' budget is spent: without a further walk the rule above would never take
-        ! it back, and the solve would end at the iteration cap there. Take it back, with the
-        ! sweeps spent since (taking a restart back at every stall above the state before it
-        ! made the starved cold deck at 2001 nodes and 2 deg 4 times slower a run)
-        v = vpre
-        ncoarse = max_coarse
-        restarted = .false.
-        nsweep_back = nsweep_back + nsweep - nsweep_pre
-        nsweep = nsweep_pre
-        nfall = nfall_pre
-       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-        jac_ok = .true.
-        f0 = sumsq(r)
-        fhist = f0
-        stall = 0
-      else if (.not. accepted .or. stall >= 3) then
-        ! zero pivot, no descent, or repeated damping: Gauss-Seidel sweeps, then Newton again
-        ! (each fallback sweeps twice as long as the previous one, at most 16 gs_sweeps, and
-        ! gs_budget in all: where neither converges, as in a few extreme starved designs, a
-        ! solve must still end at the iteration cap, flagged, after O(n) work)
-        if (nsweep < gs_budget) &
-       call jfo_gauss_seidel(work, v, min(gs_sweeps * 2**min(nfall, 4), gs_budget - nsweep), nsweep)
-        nfall = nfall + 1
-        jac_ok = .false.
-      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-        f0 = sumsq(r)
-        fhist = f0
-        stall = 0
-      end if
-      if (f0 < fbest) then
-        fbest = f0
-        vbest = v
-      end if
-    end do
-    if (use_newton .and. info == JFO_OK .and. maxval(abs(r(2:n - 1))) <= rtol * rscale &
-        .and. maxval(abs(r(2:n - 1))) > polish_tol * rscale) then
-      ! within the tolerance but above round-off (a damped or Gauss-Seidel last step): one more
-      ! Newton step on this piece, kept if it helps, so that the oil balance closes to round-off
-      call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-      dv(2:n - 1) = -r(2:n - 1)
-      call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo)
-      if (tinfo == 0) then
-        dv(2:n - 1) = vt(2:n - 1)
-        vt = v
-        vt(2:n - 1) = v(2:n - 1) + dv(2:n - 1)
+        dv(2:n - 1) = -r(2:n - 1)
+        call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo)
+        if (tinfo == 0) then
+          dv(2:n - 1) = vt(2:n - 1)
+          vt = v
+          vt(2:n - 1) = v(2:n - 1) + dv(2:n - 1)
     call jfo_residual(work, vt, rt, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-        if (sumsq(rt) < f0) then
-          v = vt
-          r = rt
-          iterations = iterations + 1
+          if (sumsq(rt) < f0) then
+            v = vt
+            r = rt
+            iterations = iterations + 1
+          end if
+        end if
+      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+      end if
+      if (present(sweeps)) sweeps = nsweep + nsweep_back
+      if (maxval(abs(r(2:n - 1))) > rtol * rscale) then
+        if (info == JFO_OK) info = JFO_NOT_CONVERGED
+        if (fbest < f0) then
+          v = vbest
+      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
         end if
       end if
-      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-    end if
-    if (present(sweeps)) sweeps = nsweep + nsweep_back
-    if (maxval(abs(r(2:n - 1))) > rtol * rscale) then
-      if (info == JFO_OK) info = JFO_NOT_CONVERGED
-      if (fbest < f0) then
-        v = vbest
-      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-      end if
-    end if
 
-    ! outputs (pn, tn, fl hold the state of the last residual evaluation, which is v's)
-    p = pn
-    theta = tn
-    if (info == JFO_OK .and. minval(theta(2:n - 1)) < -1e-12_dp) info = JFO_DRY
-    theta(2:n - 1) = min(max(theta(2:n - 1), 0.0_dp), 1.0_dp)
-    if (present(q_left)) q_left = fl(1)
-    if (present(q_right)) q_right = fl(n - 1)
+      ! outputs (pn, tn, fl hold the state of the last residual evaluation, which is v's)
+      p = pn
+      theta = tn
+      if (info == JFO_OK .and. minval(theta(2:n - 1)) < -1e-12_dp) info = JFO_DRY
+      theta(2:n - 1) = min(max(theta(2:n - 1), 0.0_dp), 1.0_dp)
+      if (present(q_left)) q_left = fl(1)
+      if (present(q_right)) q_right = fl(n - 1)
+    end associate
 
   contains
 

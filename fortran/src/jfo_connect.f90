@@ -6,7 +6,7 @@ module ringlube_jfo_connect
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_kinds, only: dp
   use ringlube_jfo, only: jfo_solve, jfo_options, JFO_OK, JFO_DRY, JFO_CONNECTIVITY, JFO_BAD_INPUT
-  use ringlube_jfo_system, only: jfo_system
+  use ringlube_jfo_system, only: jfo_system, jfo_scratch
   implicit none
   private
   public :: jfo_solve_connected, jfo_cavity_pressure
@@ -128,7 +128,7 @@ contains
   pure subroutine jfo_solve_connected(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
                                       theta_left, theta_right, p_cav, trailing_gas, leading_gas, &
                                       pc, p, theta, iterations, outer, info, q_left, q_right, &
-                                      options, cap_left, cap_right, blown, work)
+                                      options, cap_left, cap_right, blown, work, scratch)
     real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
     real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, p_cav
     logical, intent(in) :: trailing_gas, leading_gas
@@ -139,8 +139,9 @@ contains
     type(jfo_options), intent(in), optional :: options
     real(dp), intent(in), optional :: cap_left, cap_right
     logical, intent(out), optional :: blown
-    !> jfo_solve's system, kept between calls (optional)
+    !> jfo_solve's system and working arrays, kept between calls (optional)
     type(jfo_system), intent(inout), optional :: work
+    type(jfo_scratch), intent(inout), optional :: scratch
     real(dp) :: pcn(size(pc)), th(size(theta))
     ! every set solved with so far, most recent first (a cycle of any length is detected)
     real(dp), allocatable :: hist(:, :)
@@ -185,7 +186,7 @@ contains
       if (present(blown)) blown = bl
       call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, pl, pr, tl, tr, pc, p, &
                      theta, it, info, q_left, q_right, options, cap_left=cap_left, &
-                     cap_right=cap_right, work=work)
+                     cap_right=cap_right, work=work, scratch=scratch)
       iterations = iterations + it
       if (final) return
       if (info /= JFO_OK .and. info /= JFO_DRY) return

@@ -6,7 +6,8 @@ module ringlube_jfo_system
   use ringlube_kinds, only: dp
   implicit none
   private
-  public :: jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel
+  public :: jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel, jfo_scratch, &
+            jfo_scratch_size
 
   !> One step's system: n nodes; a = -U/2 the Couette speed of the content; w = dx/dt (0 for a
   !> steady solve); ca = a hmid and kd = kmid/dx per face; ps the pressure per unit v of each
@@ -20,7 +21,25 @@ module ringlube_jfo_system
     real(dp), allocatable :: ca(:), kd(:), ps(:), h(:), content_old(:), pc(:)
   end type jfo_system
 
+  !> jfo_solve's working arrays (n x n_scratch, allocated once for a film's n nodes and
+  !> kept, like jfo_system: no allocation per solve).
+  type :: jfo_scratch
+    real(dp), allocatable :: a(:, :)
+  end type jfo_scratch
+  integer, parameter, public :: n_scratch = 18
+
 contains
+
+  !> Scratch arrays for n nodes (allocated only when their size changes).
+  pure subroutine jfo_scratch_size(s, n)
+    type(jfo_scratch), intent(inout) :: s
+    integer, intent(in) :: n
+    if (allocated(s%a)) then
+      if (size(s%a, 1) == n) return
+      deallocate (s%a)
+    end if
+    allocate (s%a(n, n_scratch))
+  end subroutine jfo_scratch_size
 
   !> The discretised system of one jfo_solve call (arguments as jfo_solve; qcl, qcr the caps),
   !> in sys's arrays (allocated once for a film's n nodes and kept: jfo_solve's `work`).
