@@ -10,7 +10,7 @@ module ringlube_cycle
                                 ring_pack_step, ring_pack_gas_mass
   use ringlube_ring_pack_cycle, only: ring_pack_totals, ring_pack_cycle_out, ring_pack_accumulate, &
                                       ring_pack_finish, ring_pack_scalars, ring_pack_start, &
-                                      ring_pack_restart, ring_pack_distance
+                                      ring_pack_restart
   use ringlube_greenwood_tripp, only: gt_init
   ! the results' table: result_type and the column constants s_* (series), si_* (integer
   ! series), sc_* (scalars), l_* (liner) and m_* (models)
@@ -22,6 +22,8 @@ module ringlube_cycle
   use ringlube_film, only: film_type, film_setup, film_friction
   use ringlube_load_balance, only: step_context, load_problem, balance_memory, balance, &
                                    start_history
+  use ringlube_periodicity, only: cycle_history, history_start, history_h0, history_end, &
+                                  history_period, history_mean, history_clean
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -56,29 +58,25 @@ contains
     type(step_context) :: ctx
     type(supply_type) :: sup
     integer :: m, k, icycle, flags, cycles_run
-    logical :: periodic, finite, clean_prev
+    logical :: periodic, finite
     real(dp) :: sigma, h0_init, h0_start, h0, h0_end, resid, s_prev, vin, vout
-    real(dp) :: stored0, gap0, energy_prev, change_map, change_energy, warmup, change_map1
-    ! a period of two cycles (docs/model.md): h0 at the previous cycle's start, its results and
-    ! whether it had no flag but lift-off; the change of h0 and of the ring pack over two cycles
-    ! (starved: the liner film's and the energy's change over two cycles)
-    real(dp) :: h0_start_prev, change2, rp_change2
-    real(dp) :: change_map2, energy, energy_prev2, change_energy2
-    real(dp), allocatable :: scalars_prev(:)
+    real(dp) :: stored0, gap0, warmup, change_first
+    ! the last cycles' states and results, and the period found (docs/model.md, "A period of
+    ! several cycles")
+    type(cycle_history) :: hist
     integer :: period
-    real(dp), allocatable :: map_prev(:), map_prev2(:)
     type(load_problem) :: lp
     integer :: extra_film_solves, extra_solves
     ! the ring pack (SPEC 14): parameters, state (now, at the start of the cycle, on the copy
     ! that solves psi = 720), the last step, the cycle's sums; the last step's friction
     logical :: gas_pack
     type(ring_pack_params) :: rpar
-    type(ring_pack_state) :: rst, rst0, rst0_prev, gst
+    type(ring_pack_state) :: rst, gst
     type(ring_pack_step_out) :: rout, gout
     type(ring_pack_totals) :: rtot
     type(ring_pack_cycle_out) :: rcyc
     type(error_type), allocatable :: rerr
-    real(dp) :: fric_prev, rp_change, fv_adv, fb_adv
+    real(dp) :: fric_prev, fv_adv, fb_adv
     ! the film's state where the re-warm after the first cycle starts (crank step k_rw)
     type(film_type) :: f_rw
     type(balance_memory) :: mem_rw
@@ -154,27 +152,26 @@ contains
       call move_alloc(rerr, err)
       return
     end if
-    energy_prev = -1.0_dp
-    energy_prev2 = -1.0_dp
     periodic = .false.
     period = 0
     cycles_run = 0
-    h0_start_prev = -1.0_dp
     do icycle = 1, c%max_cycles
       cycles_run = icycle
       if (f%starved) then
         call supply_reset_counters(sup)
         gap0 = gap_volume()
         stored0 = supply_stored(sup) + gap0
-        if (allocated(map_prev)) map_prev2 = map_prev
-        map_prev = sup%liner%h
       end if
-      if (icycle > 1) h0_start_prev = h0_start
-      if (icycle > 1) scalars_prev = res%scalars
-      if (icycle > 1) clean_prev = all(iand(res%int_series(:, si_flags), not(flag_ceiling)) == 0)
+      if (f%starved .and. gas_pack) then
+        call history_start(hist, rp=rst, map=sup%liner%h)
+      else if (f%starved) then
+        call history_start(hist, map=sup%liner%h)
+      else if (gas_pack) then
+        call history_start(hist, rp=rst)
+      else
+        call history_start(hist)
+      end if
       if (gas_pack) then
-        rst0_prev = rst0
-        rst0 = rst
         rtot = ring_pack_totals()
         rtot%stored_start = ring_pack_gas_mass(rpar, rst)
       end if
@@ -188,6 +185,7 @@ contains
         end if
         call step(k, h0)
         if (k == 1) h0_start = h0
+        if (k == 1) call history_h0(hist, h0)
       end do
       if (allocated(rerr)) then
         call move_alloc(rerr, err)
@@ -197,14 +195,10 @@ contains
       g = f
       gmem = mem
       call prepare(g, 0.0_dp)
-      rp_change = 0.0_dp
-      rp_change2 = 0.0_dp
       if (gas_pack) then
         ! the ring pack's state repeats too (pressures relative to the peak chamber pressure,
         ! lift relative to the clearance), and its last step to psi = 720 on a copy
         call ring_pack_finish(rtot, ring_pack_gas_mass(rpar, rst), rcyc)
-        rp_change = ring_pack_distance(c, rst, rst0)
-        rp_change2 = ring_pack_distance(c, rst, rst0_prev)
         gst = rst
         call ring_pack_advance(gst, gout, 720.0_dp)
         g%p_back = gst%p2
@@ -214,51 +208,30 @@ contains
       extra_film_solves = extra_film_solves + g%film_solves - f%film_solves
       extra_solves = extra_solves + g%reynolds_solves - f%reynolds_solves
       res%scalars(sc_cycle_change) = abs(h0_end - h0_start) / h0_start
-      change2 = huge(1.0_dp)
-      if (icycle >= 3) change2 = abs(h0_end - h0_start_prev) / h0_start_prev
       if (f%starved) then
-        ! periodic when the liner film and the energy repeat (h0 at psi = 0 carries a slowly
-        ! decaying mode of the film collected again at the end of the next downstroke)
-        change_map1 = sum(abs(sup%liner%h - map_prev)) / max(sum(abs(sup%liner%h)), tiny(1.0_dp))
-        ! or a two-cycle: the film left just after BDC alternating between two cycles (the
-        ! energy still repeats within cycle_tol; docs/model.md, "Periodicity")
-        change_map2 = huge(1.0_dp)
-        if (allocated(map_prev2)) change_map2 = sum(abs(sup%liner%h - map_prev2)) &
-                                                / max(sum(abs(sup%liner%h)), tiny(1.0_dp))
-        change_map = min(change_map1, change_map2)
-        ! the energy's change over one cycle and over two
-        energy = sum(res%series(:, s_power_loss)) * ctx%dt
-        change_energy = abs(energy - energy_prev) / max(energy, tiny(1.0_dp))
-        change_energy2 = abs(energy - energy_prev2) / max(energy, tiny(1.0_dp))
-        energy_prev2 = energy_prev
-        energy_prev = energy
         res%scalars(sc_oil_balance_error) = supply_balance_error(sup, stored0, gap_volume())
         res%scalars(sc_oil_to_chamber) = sup%to_chamber * f%circ * 1e9_dp
         ! the first cycle has no energy to compare with: the ring's state instead, h0 and the
         ! oil in the gap at its start and end
-        if (icycle == 1) change_energy = max(res%scalars(sc_cycle_change), &
-                                             abs(gap_volume() - gap0) / max(gap0, tiny(1.0_dp)))
-        if (change_map <= c%cycle_tol .and. change_energy <= c%cycle_tol .and. &
-            rp_change <= c%cycle_tol) then
-          periodic = .true.
-          period = 1
-          if (change_map1 > c%cycle_tol) period = 2
-        else if (icycle >= 3 .and. change_map2 <= c%cycle_tol .and. &
-                 change_energy2 <= c%cycle_tol .and. rp_change2 <= c%cycle_tol) then
-          ! the ring pack in a period of two cycles too: the film, the energy and the ring
-          ! pack repeat after two cycles, not one
-          periodic = .true.
-          period = 2
-        end if
-      else if (res%scalars(sc_cycle_change) <= c%cycle_tol .and. rp_change <= c%cycle_tol) then
-        periodic = .true.
-        period = 1
-      else if (change2 <= c%cycle_tol .and. rp_change2 <= c%cycle_tol) then
-        ! the state repeats after two cycles, not one: a period of two cycles
-        periodic = .true.
-        period = 2
+        change_first = max(res%scalars(sc_cycle_change), &
+                           abs(gap_volume() - gap0) / max(gap0, tiny(1.0_dp)))
       end if
       call cycle_results()
+      call history_end(hist, res%scalars(sc_energy_loss), &
+                       all(iand(res%int_series(:, si_flags), not(flag_ceiling)) == 0), res%scalars)
+      ! periodic: the smallest period after which the state repeats (starved: the liner film
+      ! and the energy, since h0 at psi = 0 carries a slowly decaying mode of the film
+      ! collected again at the end of the next downstroke; docs/model.md, "Periodicity")
+      if (f%starved .and. gas_pack) then
+        period = history_period(hist, c, h0_end, change_first, rp_end=rst, map_end=sup%liner%h)
+      else if (f%starved) then
+        period = history_period(hist, c, h0_end, change_first, map_end=sup%liner%h)
+      else if (gas_pack) then
+        period = history_period(hist, c, h0_end, 0.0_dp, rp_end=rst)
+      else
+        period = history_period(hist, c, h0_end, 0.0_dp)
+      end if
+      periodic = period > 0
       if (periodic) exit
       ! the first cycle not periodic: the next starts the ring pack from its periodic state
       ! under this cycle's friction (the land relaxes over several cycles; the friction settles
@@ -294,10 +267,9 @@ contains
       res%liner(:, l_liner_position) = liner_positions(sup%liner)
       res%liner(:, l_liner_oil_film) = sup%liner%h
     end if
-    ! a period of two cycles: its cycle quantities are the means over both (the series and the
-    ! extremes are the last cycle's)
-    if (period == 2) res%scalars(mean_over_period) = 0.5_dp * (res%scalars(mean_over_period) &
-                                                               + scalars_prev(mean_over_period))
+    ! a period of several cycles: its cycle quantities are the means over them (the series and
+    ! the extremes are the last cycle's)
+    call history_mean(hist, period, mean_over_period, res%scalars)
     associate (v => res%scalars, power_loss => res%series(:, s_power_loss), &
                h0s => res%series(:, s_h0), friction => res%series(:, s_friction))
       v(sc_total_film_solves) = f%film_solves + extra_film_solves
@@ -307,9 +279,8 @@ contains
       v(sc_periodic) = truth(periodic)
       v(sc_period) = period
       ! a step held at h0_ceiling (the ring lifts off) is an answer of the model, flagged but not
-      ! a failure; every other flag is, in both cycles of a period of two (both enter its means)
-      v(sc_converged) = truth(periodic .and. (period /= 2 .or. clean_prev) .and. &
-                              all(iand(res%int_series(:, si_flags), not(flag_ceiling)) == 0))
+      ! a failure; every other flag is, in every cycle of a period (all enter its means)
+      v(sc_converged) = truth(periodic .and. history_clean(hist, period))
       k = findloc(ieee_is_finite(friction) .and. ieee_is_finite(h0s), .false., dim=1)
       finite = k == 0 .and. all(ieee_is_finite(power_loss)) .and. ieee_is_finite(v(sc_energy_loss))
     end associate

@@ -133,8 +133,8 @@ module ringlube_results
     field_spec('cycles_computed', 'cycles_computed', '1', 'real', &
       "cycles' worth of crank steps solved, warm-up included"), &
     field_spec('periodic', 'periodic', '1', 'logical', '1: h0 periodic within cycle_tol'), &
-    field_spec('period', 'period', '1', 'integer', 'cycles after which the state repeats (1, 2;'// &
-      ' 0: not periodic); with 2 the cycle quantities are means over both cycles'), &
+ field_spec('period', 'period', '1', 'integer', 'cycles after which the state repeats (1 .. 12;'// &
+      ' 0: none); from 2 the cycle quantities are means over them'), &
     field_spec('oil_to_chamber', 'oil_to_chamber_mm3', 'mm^3', 'real', &
       'oil transported towards the chamber per cycle, whole circumference', 'starved', .true.), &
     field_spec('oil_balance_error', 'oil_balance_error', '1', 'real', &
@@ -159,7 +159,7 @@ module ringlube_results
       'gas mass flowing back from the ring pack into the chamber per cycle', 'gas'), &
     field_spec('ring_lift_share', 'ring_lift_share_pct', '%', 'real', &
       'share of the cycle the top ring is off its lower groove flank', 'gas', .true.), &
-    ! (a real: with a period of two cycles the mean of both, 1.5 for 1 and 2 events)
+    ! (a real: with a period of several cycles their mean, 1.5 for 1 and 2 events)
     field_spec('flutter_events', 'flutter_events', '1', 'real', &
       'times per cycle the top ring leaves its lower flank while the chamber pressure exceeds '// &
       'the land''s', &
@@ -268,7 +268,7 @@ module ringlube_results
     sc_ring_lift_share = row(findloc(scalar_spec%short, 'ring_lift_share', dim=1)), &
     sc_flutter_events = row(findloc(scalar_spec%short, 'flutter_events', dim=1)), &
     sc_gas_balance_error = row(findloc(scalar_spec%short, 'gas_balance_error', dim=1))
-  !> The cycle quantities a period of two cycles reports as the means over both.
+  !> The cycle quantities a period of several cycles reports as the means over them.
   integer, parameter, public :: mean_over_period(*) = [sc_energy_loss, sc_mixed_share, &
     sc_friction_power, sc_fmep, sc_oil_to_chamber, sc_oil_to_chamber_rate, sc_liner_lift_share, &
     sc_blowby, sc_blowby_mass, sc_blowback_mass, sc_ring_lift_share, sc_flutter_events]

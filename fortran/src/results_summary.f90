@@ -47,7 +47,7 @@ contains
       write (b, '(f8.2)') v(sc_blowby_mass)
       call line('blowby', a, 'L/min ('//trim(adjustl(b))//' mg per cycle)')
       write (a, '(f10.2)') v(sc_ring_lift_share)
-      ! (whole but for the mean of a period of two cycles)
+      ! (whole but for the mean of a period of several cycles)
       write (b, '(f8.1)') v(sc_flutter_events)
       if (v(sc_flutter_events) == anint(v(sc_flutter_events))) &
         write (b, '(i8)') nint(v(sc_flutter_events))
@@ -66,7 +66,8 @@ contains
     write (a, '(i10)') nint(v(sc_flagged_steps))
     call line('flagged crank steps', a, '(see /cycle/flags)')
     b = ''
-    if (nint(v(sc_period)) == 2) b = '(a period of two cycles: energy, shares, blowby are means)'
+    if (nint(v(sc_period)) >= 2) write (b, '(a, i0, a)') '(a period of ', nint(v(sc_period)), &
+      ' cycles: energy, shares, blowby are means)'
     call line('converged', merge('       yes', '        no', v(sc_converged) /= 0.0_dp), trim(b))
     write (a, '(f10.3)') v(sc_run_time)
     write (b, '(f8.1)') 1e3_dp * v(sc_run_time) / max(v(sc_cycles_computed), tiny(1.0_dp))

@@ -1,0 +1,156 @@
+!> The periodic state of a run of cycles (docs/model.md, "Cycle and periodic state" and "A
+!> period of several cycles"): the ring's state at the start of each of the last cycles, and
+!> the smallest number of cycles after which it repeats within `cycle_tol`.
+module ringlube_periodicity
+  use ringlube_kinds, only: dp
+  use ringlube_case, only: case_type
+  use ringlube_ring_pack, only: ring_pack_state
+  use ringlube_ring_pack_cycle, only: ring_pack_distance
+  implicit none
+  private
+  public :: max_period, cycle_history, history_start, history_h0, history_end, &
+            history_period, history_mean, history_clean
+
+  !> the longest period a run looks for [cycles]
+  integer, parameter :: max_period = 12
+
+  !> The last max_period + 1 cycles: cycle k in slot modulo(k, max_period + 1).
+  type :: cycle_history
+    !> cycles started
+    integer :: cycles = 0
+    !> h0 at psi = 0 of the cycle (its first crank step) [m]
+    real(dp) :: h0(0:max_period) = 0.0_dp
+    !> the ring pack at the cycle's start (with ring_pack = 'gas')
+    type(ring_pack_state) :: rp(0:max_period)
+    !> the liner film at the cycle's start [m] (starved), (liner point, slot)
+    real(dp), allocatable :: map(:, :)
+    !> the cycle's energy [J] (set at its end)
+    real(dp) :: energy(0:max_period) = 0.0_dp
+    !> no flag in the cycle but lift-off (set at its end)
+    logical :: clean(0:max_period) = .false.
+    !> the cycle's scalar results (set at its end), (result, slot)
+    real(dp), allocatable :: scalars(:, :)
+  end type cycle_history
+
+contains
+
+  pure integer function slot(k)
+    integer, intent(in) :: k
+    slot = modulo(k, max_period + 1)
+  end function slot
+
+  !> A cycle starts from the ring pack's state rp and the liner film map (where the run has
+  !> them).
+  pure subroutine history_start(hist, rp, map)
+    type(cycle_history), intent(inout) :: hist
+    type(ring_pack_state), intent(in), optional :: rp
+    real(dp), intent(in), optional :: map(:)
+    integer :: j
+    hist%cycles = hist%cycles + 1
+    j = slot(hist%cycles)
+    if (present(rp)) hist%rp(j) = rp
+    if (present(map)) then
+      if (.not. allocated(hist%map)) allocate (hist%map(size(map), 0:max_period))
+      hist%map(:, j) = map
+    end if
+  end subroutine history_start
+
+  !> h0 at psi = 0 of the cycle started (its first crank step).
+  pure subroutine history_h0(hist, h0)
+    type(cycle_history), intent(inout) :: hist
+    real(dp), intent(in) :: h0
+    hist%h0(slot(hist%cycles)) = h0
+  end subroutine history_h0
+
+  !> The cycle just run ends with this energy, flags (clean: none but lift-off) and results.
+  pure subroutine history_end(hist, energy, clean, scalars)
+    type(cycle_history), intent(inout) :: hist
+    real(dp), intent(in) :: energy, scalars(:)
+    logical, intent(in) :: clean
+    integer :: j
+    j = slot(hist%cycles)
+    if (.not. allocated(hist%scalars)) allocate (hist%scalars(size(scalars), 0:max_period))
+    hist%energy(j) = energy
+    hist%clean(j) = clean
+    hist%scalars(:, j) = scalars
+  end subroutine history_end
+
+  !> The smallest period p (cycles) after which the state at the end of the cycle just run
+  !> (h0_end, rp_end, map_end) equals the state p cycles before within c%cycle_tol; 0: none.
+  !> Without a starved inlet the state is h0 at psi = 0 (and the ring pack's); starved, the
+  !> liner film and the cycle's energy (and the ring pack's), or the liner film over p cycles
+  !> with energy and ring pack repeating every cycle. The energy of the cycle just run must be
+  !> set (history_end). first_change: the first cycle's change of the ring's state, which
+  !> stands in for its energy's change (starved). A period of 2 or more compares with the start
+  !> of the second cycle at the earliest (the warm-up's end is not a cycle's, and with the ring
+  !> pack the first cycle runs before its restart).
+  pure integer function history_period(hist, c, h0_end, first_change, rp_end, map_end) result(p)
+    type(cycle_history), intent(in) :: hist
+    type(case_type), intent(in) :: c
+    real(dp), intent(in) :: h0_end, first_change
+    type(ring_pack_state), intent(in), optional :: rp_end
+    real(dp), intent(in), optional :: map_end(:)
+    integer :: k, j, q
+    real(dp) :: e1, rp1, ep, rpp, mp, tol
+    logical :: ok
+    k = hist%cycles
+    tol = c%cycle_tol
+    e1 = first_change
+    if (k >= 2) e1 = change_energy(1)
+    rp1 = change_rp(1)
+    do q = 1, min(max_period, k)
+      p = q
+      if (q >= 2 .and. q > k - 1) exit
+      j = slot(k - q + 1)
+      rpp = change_rp(q)
+      if (present(map_end)) then
+        mp = sum(abs(map_end - hist%map(:, j))) / max(sum(abs(map_end)), tiny(1.0_dp))
+        ep = e1
+        if (q >= 2) ep = change_energy(q)
+        ok = mp <= tol .and. ((e1 <= tol .and. rp1 <= tol) .or. (ep <= tol .and. rpp <= tol))
+      else
+        ok = abs(h0_end - hist%h0(j)) / hist%h0(j) <= tol .and. rpp <= tol
+      end if
+      if (ok) return
+    end do
+    p = 0
+
+  contains
+
+    pure real(dp) function change_energy(d)
+      integer, intent(in) :: d
+      real(dp) :: e
+      e = hist%energy(slot(k))
+      change_energy = abs(e - hist%energy(slot(k - d))) / max(e, tiny(1.0_dp))
+    end function change_energy
+
+    pure real(dp) function change_rp(d)
+      integer, intent(in) :: d
+      change_rp = 0.0_dp
+      if (present(rp_end)) change_rp = ring_pack_distance(c, rp_end, hist%rp(slot(k - d + 1)))
+    end function change_rp
+  end function history_period
+
+  !> The means of results idx over the last p cycles (p >= 2; p = 1 leaves v alone).
+  pure subroutine history_mean(hist, p, idx, v)
+    type(cycle_history), intent(in) :: hist
+    integer, intent(in) :: p, idx(:)
+    real(dp), intent(inout) :: v(:)
+    real(dp) :: s(size(idx))
+    integer :: i
+    if (p < 2) return
+    s = hist%scalars(idx, slot(hist%cycles))
+    do i = 1, p - 1
+      s = s + hist%scalars(idx, slot(hist%cycles - i))
+    end do
+    v(idx) = s / p
+  end subroutine history_mean
+
+  !> No flag but lift-off in any of the last p (>= 1) cycles.
+  pure logical function history_clean(hist, p)
+    type(cycle_history), intent(in) :: hist
+    integer, intent(in) :: p
+    integer :: i
+    history_clean = all([(hist%clean(slot(hist%cycles - i)), i=0, max(p, 1) - 1)])
+  end function history_clean
+end module ringlube_periodicity

@@ -1,0 +1,186 @@
+!> The periodic state of a run of cycles (ringlube_periodicity) on made-up sequences of
+!> cycle-end states whose periods are known: the smallest period, found at the first cycle
+!> that can show it; no period of two or more against the warm-up's end; the starved test on
+!> the liner film and the energy; the means over a period and its flags.
+
+program test_periodicity
+  use ringlube_kinds, only: dp
+  use ringlube_case, only: case_type, default_case
+  use ringlube_ring_pack, only: ring_pack_state
+  use ringlube_periodicity
+  use ringlube_check
+  implicit none
+  type(case_type) :: c
+
+  c = default_case()
+  c%cycle_tol = 1e-3_dp
+  c%gas_p = [1e5_dp, 5e6_dp]   ! the ring pack's pressures relative to its peak
+  if (run_case('h0_periods')) call test_h0_periods()
+  if (run_case('not_against_the_warmup')) call test_not_against_the_warmup()
+  if (run_case('longest_period')) call test_longest_period()
+  if (run_case('slow_decay')) call test_slow_decay()
+  if (run_case('ring_pack_state')) call test_ring_pack_state()
+  if (run_case('starved_map_and_energy')) call test_starved_map_and_energy()
+  if (run_case('means_and_flags')) call test_means_and_flags()
+  call report('test_periodicity')
+
+contains
+
+  !> h0 at psi = 0 of cycle k (s(k)); cycle k ends with s(k + 1). Runs cycles until a period
+  !> is found or kmax; returns the period and the cycle it was found in.
+  subroutine run_h0(s, kmax, p, kfound)
+    real(dp), intent(in) :: s(:)
+    integer, intent(in) :: kmax
+    integer, intent(out) :: p, kfound
+    type(cycle_history) :: hist
+    integer :: k
+    p = 0
+    kfound = 0
+    do k = 1, kmax
+      call history_start(hist)
+      call history_h0(hist, s(k))
+      call history_end(hist, 1.0_dp, .true., [real(k, dp)])
+      p = history_period(hist, c, s(k + 1), 0.0_dp)
+      kfound = k
+      if (p > 0) return
+    end do
+  end subroutine run_h0
+
+  !> Sequences of period 1 .. 6 from the first cycle: period q is found in cycle q + 1 (the
+  !> first whose end can equal the start of the second cycle, q cycles before), never a
+  !> multiple of it or a smaller one.
+  subroutine test_h0_periods()
+    real(dp) :: s(40)
+    integer :: q, k, p, kf
+    character(len=40) :: what
+    do q = 1, 6
+      s = [(1e-6_dp * (1.0_dp + 0.1_dp * modulo(k - 1, q)), k=1, 40)]
+      call run_h0(s, 30, p, kf)
+      write (what, '(a, i0)') 'h0 with period ', q
+      call check(p == q, trim(what)//': the period found')
+      if (q == 1) then
+        call check(kf == 1, trim(what)//': found in the first cycle')
+      else
+        call check(kf == q + 1, trim(what)//': found in cycle q + 1')
+      end if
+    end do
+  end subroutine test_h0_periods
+
+  !> a, b, a, b: cycle 2 ends with the warm-up's end state (a), which is not a cycle's end,
+  !> so period 2 is found only in cycle 3
+  subroutine test_not_against_the_warmup()
+    real(dp) :: s(10)
+    integer :: p, kf
+    s = [1.0_dp, 2.0_dp, 1.0_dp, 2.0_dp, 1.0_dp, 2.0_dp, 1.0_dp, 2.0_dp, 1.0_dp, 2.0_dp] * 1e-6_dp
+    call run_h0(s, 2, p, kf)
+    call check(p == 0, 'a period of two is not found against the warm-up (cycle 2)')
+    call run_h0(s, 8, p, kf)
+    call check(p == 2 .and. kf == 3, 'a period of two is found in cycle 3')
+  end subroutine test_not_against_the_warmup
+
+  !> max_period is the longest period looked for: one more is not periodic
+  subroutine test_longest_period()
+    real(dp) :: s(80)
+    integer :: k, p, kf
+    s = [(1e-6_dp * (1.0_dp + 0.1_dp * modulo(k - 1, max_period)), k=1, 80)]
+    call run_h0(s, 60, p, kf)
+    call check(p == max_period, 'period max_period is found')
+    s = [(1e-6_dp * (1.0_dp + 0.1_dp * modulo(k - 1, max_period + 1)), k=1, 80)]
+    call run_h0(s, 60, p, kf)
+    call check(p == 0, 'period max_period + 1 is not')
+  end subroutine test_longest_period
+
+  !> h0 decaying like 0.5**k to its limit: period 1, in the first cycle whose change is within
+  !> cycle_tol (and not a longer period earlier: a change over q cycles is larger)
+  subroutine test_slow_decay()
+    real(dp) :: s(40)
+    integer :: k, p, kf, kexp
+    s = [(1e-6_dp * (1.0_dp + 0.5_dp**k), k=1, 40)]
+    call run_h0(s, 30, p, kf)
+    kexp = findloc([(abs(s(k + 1) - s(k)) / s(k) <= c%cycle_tol, k=1, 39)], .true., dim=1)
+    call check(p == 1 .and. kf == kexp, 'a decaying h0 is periodic with period 1 within cycle_tol')
+  end subroutine test_slow_decay
+
+  !> the ring pack repeats too: h0 constant, the land pressure with period 3
+  subroutine test_ring_pack_state()
+    type(cycle_history) :: hist
+    type(ring_pack_state) :: st(12)
+    integer :: k, p
+    do k = 1, 12
+      st(k)%p2 = 1e5_dp
+      st(k)%p3 = 1e5_dp * (1.0_dp + 0.5_dp * modulo(k - 1, 3))
+    end do
+    do k = 1, 10
+      call history_start(hist, rp=st(k))
+      call history_h0(hist, 1e-6_dp)
+      call history_end(hist, 1.0_dp, .true., [1.0_dp])
+      p = history_period(hist, c, 1e-6_dp, 0.0_dp, rp_end=st(k + 1))
+      if (p > 0) exit
+    end do
+    call check(p == 3 .and. k == 4, 'h0 periodic, the land pressure with period 3: period 3')
+  end subroutine test_ring_pack_state
+
+  !> starved: the liner film (map) and the energy. The map with period 3 and the energy
+  !> repeating every cycle: period 3; the energy with period 2 and the map every cycle:
+  !> period 2; the first cycle, without an energy before it, takes first_change instead.
+  subroutine test_starved_map_and_energy()
+    real(dp) :: maps(4, 12), energy(12)
+    integer :: k, p
+    do k = 1, 12
+      maps(:, k) = 1e-6_dp*[1.0_dp, 2.0_dp, 3.0_dp, 1.0_dp + modulo(k - 1, 3)]
+    end do
+    energy = 2.0_dp
+    p = run_starved(maps, energy, 0.0_dp, k)
+    call check(p == 3 .and. k == 4, 'starved: map period 3, energy constant: period 3')
+    maps = spread(maps(:, 1), 2, 12)
+    energy = [(2.0_dp + modulo(k - 1, 2), k=1, 12)]
+    p = run_starved(maps, energy, 1.0_dp, k)
+    call check(p == 2 .and. k == 3, 'starved: map constant, energy period 2: period 2')
+    energy = 2.0_dp
+    p = run_starved(maps, energy, 0.0_dp, k)
+    call check(p == 1 .and. k == 1, 'starved: all constant: period 1 in the first cycle')
+    p = run_starved(maps, energy, 1.0_dp, k)
+    call check(p == 1 .and. k == 2, &
+               'starved: a first cycle whose ring state changed: period 1 in the second')
+  end subroutine test_starved_map_and_energy
+
+  integer function run_starved(maps, energy, first_change, kfound) result(p)
+    real(dp), intent(in) :: maps(:, :), energy(:), first_change
+    integer, intent(out) :: kfound
+    type(cycle_history) :: hist
+    integer :: k
+    p = 0
+    do k = 1, size(energy) - 1
+      kfound = k
+      call history_start(hist, map=maps(:, k))
+      call history_h0(hist, 1e-6_dp)
+      call history_end(hist, energy(k), .true., [energy(k)])
+      p = history_period(hist, c, 1e-6_dp, first_change, map_end=maps(:, k + 1))
+      if (p > 0) return
+    end do
+  end function run_starved
+
+  !> history_mean averages the chosen results over the last p cycles and leaves the others;
+  !> history_clean is false if any of them had a flag
+  subroutine test_means_and_flags()
+    type(cycle_history) :: hist
+    real(dp) :: v(3)
+    integer :: k
+    do k = 1, 20
+      call history_start(hist)
+      call history_h0(hist, 1e-6_dp)
+      call history_end(hist, 1.0_dp, k /= 16, [real(k, dp), 10.0_dp * k, -1.0_dp * k])
+    end do
+    v = [20.0_dp, 200.0_dp, -20.0_dp]
+    call history_mean(hist, 4, [1, 3], v)
+    call check_close(v(1), 18.5_dp, 1e-15_dp, 'mean of cycles 17-20')
+    call check_close(v(3), -18.5_dp, 1e-15_dp, 'mean of cycles 17-20, third result')
+    call check(v(2) == 200.0_dp, 'a result not asked for is left alone')
+    v = [20.0_dp, 200.0_dp, -20.0_dp]
+    call history_mean(hist, 1, [1, 2, 3], v)
+    call check(all(v == [20.0_dp, 200.0_dp, -20.0_dp]), 'period 1 leaves the results alone')
+    call check(history_clean(hist, 4), 'cycles 17-20 have no flag')
+    call check(.not. history_clean(hist, 5), 'cycle 16 has one')
+    call check(history_clean(hist, 1), 'the last cycle has none')
+  end subroutine test_means_and_flags
+end program test_periodicity
