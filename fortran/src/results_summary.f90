@@ -7,7 +7,7 @@ module ringlube_results_summary
                               sc_liner_lift_share, sc_blowby, sc_blowby_mass, sc_ring_lift_share, &
                               sc_flutter_events, sc_ring_mass, sc_min_film, sc_max_friction, &
                               sc_cycles_run, sc_cycle_change, sc_flagged_steps, sc_converged, &
-                              sc_run_time, sc_cycles_computed, sc_period
+                              sc_run_time, sc_cycles_computed, sc_period, sc_periodic
   implicit none
   private
   public :: summary_text
@@ -24,7 +24,8 @@ contains
     logical, intent(in) :: made(n_scalars)
     character(len=*), intent(in) :: title, written
     character(len=:), allocatable :: t
-    character(len=64) :: a, b
+    character(len=64) :: a
+    character(len=96) :: b
     character(len=1), parameter :: nl = achar(10)
     t = ''
     if (len_trim(title) > 0) t = trim(title)//nl
@@ -68,6 +69,10 @@ contains
     b = ''
     if (nint(v(sc_period)) >= 2) write (b, '(a, i0, a)') '(a period of ', nint(v(sc_period)), &
       ' cycles: energy, shares, blowby are means)'
+    ! not periodic: a state may repeat after more cycles than were run (docs/model.md)
+    if (v(sc_periodic) == 0.0_dp) b = '(not periodic in these cycles: try a larger max_cycles)'
+    if (v(sc_periodic) /= 0.0_dp .and. v(sc_converged) == 0.0_dp) &
+      b = trim(b)//' (a step is flagged)'
     call line('converged', merge('       yes', '        no', v(sc_converged) /= 0.0_dp), trim(b))
     write (a, '(f10.3)') v(sc_run_time)
     write (b, '(f8.1)') 1e3_dp * v(sc_run_time) / max(v(sc_cycles_computed), tiny(1.0_dp))

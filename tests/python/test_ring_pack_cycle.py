@@ -295,7 +295,9 @@ def test_period_of_five_cycles_reports_the_means():
     r = ringlube.run(case.with_numerics(max_cycles=30))
     assert r.converged and r.periodic and r.period == 5, (r.period, r.cycles_run)
     n = r.cycles_run
-    assert ringlube.run(case).period == 0  # max_cycles 10: the orbit starts too late
+    short = ringlube.run(case)  # max_cycles 10: the orbit starts too late, and the summary says what to try
+    assert short.period == 0 and "try a larger max_cycles" in short.summary()
+    assert "(a period of 5 cycles: energy, shares, blowby are means)" in r.summary()
     for last in (n, n + 5):
         cycles = range(last - 4, last + 1)
         single = [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=k)) for k in cycles]
@@ -345,4 +347,4 @@ def test_a_period_of_two_cycles_with_a_flagged_cycle_is_not_converged():
     assert not (r.flags & not_lift).any()
     previous = ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=r.cycles_run - 1))
     assert (previous.flags & not_lift).any()
-    assert not r.converged
+    assert not r.converged and "(a step is flagged)" in r.summary()
