@@ -83,7 +83,9 @@ contains
   !> set (history_end). first_change: the first cycle's change of the ring's state, which
   !> stands in for its energy's change (starved). A period of 2 or more compares with the start
   !> of the second cycle at the earliest (the warm-up's end is not a cycle's, and with the ring
-  !> pack the first cycle runs before its restart).
+  !> pack the first cycle runs before its restart). A period of 3 or more needs two states in a
+  !> row to repeat (the cycle's end and its start) and the energy too, so it is found from
+  !> cycle p + 2 on.
   pure integer function history_period(hist, c, h0_end, first_change, rp_end, map_end) result(p)
     type(cycle_history), intent(in) :: hist
     type(case_type), intent(in) :: c
@@ -100,7 +102,8 @@ contains
     rp1 = change_rp(1)
     do q = 1, min(max_period, k)
       p = q
-      if (q >= 2 .and. q > k - 1) exit
+      if (q == 2 .and. k < 3) exit
+      if (q >= 3 .and. k < q + 2) exit
       j = slot(k - q + 1)
       rpp = change_rp(q)
       if (present(map_end)) then
@@ -111,11 +114,32 @@ contains
       else
         ok = abs(h0_end - hist%h0(j)) / hist%h0(j) <= tol .and. rpp <= tol
       end if
+      ! a period of three or more: the cycle before repeats too, and the energy (two states in a
+      ! row, so that a wandering state does not meet one of the 12 before it by chance)
+      if (ok .and. q >= 3) ok = repeats_before(q)
       if (ok) return
     end do
     p = 0
 
   contains
+
+    !> The state at the start of cycle k (the end of cycle k - 1) equals that at the start of
+    !> cycle k - d, and the energy of cycle k that of cycle k - d.
+    pure logical function repeats_before(d)
+      integer, intent(in) :: d
+      integer :: i, i0
+      i = slot(k)
+      i0 = slot(k - d)
+      repeats_before = change_energy(d) <= tol
+      if (present(map_end)) then
+        repeats_before = repeats_before .and. sum(abs(hist%map(:, i) - hist%map(:, i0))) &
+                         <= tol * max(sum(abs(hist%map(:, i))), tiny(1.0_dp))
+      else
+        repeats_before = repeats_before .and. abs(hist%h0(i) - hist%h0(i0)) <= tol * hist%h0(i0)
+      end if
+      if (present(rp_end)) repeats_before = repeats_before .and. &
+                                            ring_pack_distance(c, hist%rp(i), hist%rp(i0)) <= tol
+    end function repeats_before
 
     pure real(dp) function change_energy(d)
       integer, intent(in) :: d
