@@ -81,8 +81,8 @@ contains
   subroutine test_one_match_is_not_a_period()
     real(dp) :: s(12), e(12)
     integer :: k, p, kf
-    s = 1e-6_dp * [1.0_dp, 1.1_dp, 1.2_dp, 1.3_dp, 1.4_dp, 1.2_dp, 1.5_dp, 1.6_dp, 1.7_dp, &
-                   1.8_dp, 1.9_dp, 2.0_dp]
+    s = 1e-6_dp*[1.0_dp, 1.1_dp, 1.2_dp, 1.3_dp, 1.4_dp, 1.2_dp, 1.5_dp, 1.6_dp, 1.7_dp, &
+                 1.8_dp, 1.9_dp, 2.0_dp]
     call run_h0(s, 10, p, kf)
     call check(p == 0, 'a single chance match at a lag of 3 is not a period')
     s = [(1e-6_dp * (1.0_dp + 0.1_dp * modulo(k - 1, 3)), k=1, 12)]
