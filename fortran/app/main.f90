@@ -17,6 +17,7 @@ program ringlube_solve
   use ringlube_hdf5_output, only: write_result
   use ringlube_output_path, only: check_output
   use ringlube_version, only: package_version
+  use ringlube_kernel_id, only: kernel_id
   use ringlube_fsys, only: ignore_file_size_signal, remove_temp_on_signal
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64
   implicit none
@@ -51,7 +52,7 @@ program ringlube_solve
       call usage(output_unit)
       stop
     case ('--version')
-      write (output_unit, '(a)') 'ringlube-solve '//package_version
+      write (output_unit, '(a)') 'ringlube-solve '//package_version//' (kernel '//kernel_id//')'
       stop
     case ('-q', '--quiet')
       quiet = .true.

@@ -30,6 +30,15 @@ subroutine rl_version(text)
   text = package_version
 end subroutine rl_version
 
+!> The kernel build's identity (fortran/kernel_id.cmake: a hash of its sources, compiler
+!> and flags).
+subroutine rl_kernel_id(text)
+  use ringlube_kernel_id, only: kernel_id
+  implicit none
+  character(len=32), intent(out) :: text
+  text = kernel_id
+end subroutine rl_kernel_id
+
 !> Parse deck text (named `name` in messages, relative paths against `base_dir`) with the
 !> variables of `overrides` replacing the deck's. Returns a handle and the crank steps.
 subroutine rl_open(text, name, base_dir, overrides, overrides_name, load_trace, handle, &

@@ -38,6 +38,7 @@ module ringlube_hdf5_output
                               int_series_spec, n_int_series, flag_description, liner_spec, &
                               n_liner, produced, si_flags, m_starved
   use ringlube_version, only: package_version
+  use ringlube_kernel_id, only: kernel_id
   use ringlube_textio, only: utf8_clean
   use ringlube_fsys, only: make_temp_file, rename_file, remove_file, dir_name, last_errno, &
                            clear_errno, errno_text
@@ -166,6 +167,7 @@ contains
     call attr_str(fid, 'deck_path', c%deck_path)
     call attr_str(fid, 'pressure_file', c%pressure_file)
     call attr_str(fid, 'ringlube_version', package_version)
+    call attr_str(fid, 'kernel_id', kernel_id)
 
     if (ok) then
       call h5gcreate_f(fid, 'cycle', gid, herr)

@@ -9,7 +9,7 @@ The pipeline reads case -> run -> (sample -> fit -> optimise) -> plot:
 """
 
 from . import gas
-from ._version import __version__
+from ._version import __version__, kernel_id
 from .case import GROUPS, Case
 from .case_origins import SourceEngineDefaultWarning
 from .errors import InputError, NotConvergedError, RinglubeError
@@ -33,4 +33,5 @@ __all__ = [
     "run_designs",
     "run_many",
     "__version__",
+    "kernel_id",
 ]

@@ -12,4 +12,24 @@ try:
 except PackageNotFoundError:  # imported from a source tree that was never installed
     __version__ = "0+unknown"
 
-__all__ = ["__version__"]
+
+def kernel_id() -> str:
+    """The identity of the installed kernel build: 12 hex digits hashed from the kernel's
+    sources, compiler and flags (fortran/kernel_id.cmake). Results record it (HDF5 attribute
+    ``kernel_id``); a study refuses to resume under another kernel.
+
+    Returns
+    -------
+    str
+
+    Example
+    -------
+    >>> len(kernel_id())
+    12
+    """
+    from . import _kernel
+
+    return _kernel.rl_kernel_id().decode().strip()
+
+
+__all__ = ["__version__", "kernel_id"]

@@ -54,10 +54,10 @@ def _finite_float(text: str) -> float:
 
 
 def _parser() -> argparse.ArgumentParser:
-    from . import __version__
+    from . import __version__, kernel_id
 
     ap = _Parser(prog="ringlube", description="Piston ring mixed-lubrication solver and design optimiser.")
-    ap.add_argument("--version", action="version", version=f"ringlube {__version__}")
+    ap.add_argument("--version", action="version", version=f"ringlube {__version__} (kernel {kernel_id()})")
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=_Parser)
     p = _command(
         sub,

@@ -165,7 +165,8 @@ class Study:
             ``lock`` and another process holds the lock.
         InputError
             The file is not a readable study file, belongs to another study, or the study
-            was started on other contents of its input files.
+            was started on other contents of its input files or by another kernel build
+            (:func:`ringlube.kernel_id`).
 
         Example
         -------
@@ -225,6 +226,16 @@ class Study:
                 "(edited since); resuming would mix two models in one surface fit. "
                 "Use another --out (or remove the file to start afresh)"
             )
+        from ._version import kernel_id
+
+        kernel = text(f.attrs.get("kernel_id", ""))
+        if kernel != kernel_id():
+            raise InputError(
+                f"{path}: the study's runs were made by another ringlube kernel "
+                f"({kernel or 'not recorded'}; this one is {kernel_id()}, `ringlube-solve --version`): "
+                "resuming would mix two models in one surface fit. Use another --out "
+                "(or remove the file to start afresh)"
+            )
         self.stages = set(json.loads(text(f.attrs["stages"])))
         if "samples/x" in f:
             self.x = f["samples/x"][()]
@@ -273,6 +284,7 @@ class Study:
 
     def _write(self, f: h5py.File) -> None:
         from . import __version__
+        from ._version import kernel_id
 
         s = self.s
         f.attrs["format"] = FORMAT
@@ -283,6 +295,7 @@ class Study:
         f.attrs["deck"] = s.deck_text
         f.attrs["stages"] = json.dumps(sorted(self.stages))
         f.attrs["ringlube_version"] = __version__
+        f.attrs["kernel_id"] = kernel_id()
         if self.x is not None:
             d = put(f, "samples/x", self.x, s.variables, s.units)
             d.attrs["lower"] = s.lower

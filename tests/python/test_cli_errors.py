@@ -196,7 +196,8 @@ def test_version(capsys):
     with pytest.raises(SystemExit) as exc:
         main(["--version"])
     assert exc.value.code == 0
-    assert capsys.readouterr().out.strip() == f"ringlube {ringlube.__version__}"
+    expected = f"ringlube {ringlube.__version__} (kernel {ringlube.kernel_id()})"
+    assert capsys.readouterr().out.strip() == expected
 
 
 def test_run_quiet(tmp_path, result_file, capsys):

@@ -42,9 +42,10 @@ ROOT_ATTRS = re.findall(r"^\| root attribute \| `([^`]+)`", _ALWAYS, flags=re.M)
     "deck_path",
     "pressure_file",
     "ringlube_version",
+    "kernel_id",
 ]
 CYCLE_DSETS = re.findall(r"^\| `/cycle` \| `([^`]+)`", _ALWAYS, flags=re.M)
-STRING_ATTRS = ("deck", "deck_path", "pressure_file", "ringlube_version")
+STRING_ATTRS = ("deck", "deck_path", "pressure_file", "ringlube_version", "kernel_id")
 
 
 def _deck(folder: Path, extra: str = "") -> Path:

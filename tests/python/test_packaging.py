@@ -83,7 +83,8 @@ def test_one_version_everywhere(solver, tmp_path):
     assert ringlube._version.__version__ == version
     assert ringlube.__version__ == version
     printed = subprocess.run([solver, "--version"], capture_output=True, text=True, check=True)
-    assert printed.stdout.split() == ["ringlube-solve", version]
+    kernel = ringlube.kernel_id()
+    assert printed.stdout.split() == ["ringlube-solve", version, "(kernel", kernel + ")"]
     # ... and the kernel writes the same version into every result.
     copy_examples(tmp_path)
     out = tmp_path / "cold.h5"
@@ -92,7 +93,47 @@ def test_one_version_everywhere(solver, tmp_path):
     )
     with h5py.File(out, "r") as f:
         written = f.attrs["ringlube_version"]
+        written_kernel = f.attrs["kernel_id"]
     assert (written.decode() if isinstance(written, bytes) else str(written)) == version
+    assert (written_kernel.decode() if isinstance(written_kernel, bytes) else str(written_kernel)) == kernel
+
+
+def test_kernel_id_follows_the_sources(tmp_path):
+    """fortran/kernel_id.cmake hashes the kernel's sources and build settings: the same inputs
+    give the same id, a changed source or compiler flag another, and an unchanged id leaves
+    the generated file alone (so nothing recompiles)."""
+    import shutil
+
+    cmake = shutil.which("cmake")
+    if cmake is None:
+        pytest.skip("cmake not on PATH")
+    a, b = tmp_path / "a.f90", tmp_path / "b.f90"
+    a.write_text("module a\nend module a\n")
+    b.write_text("module b\nend module b\n")
+    out = tmp_path / "kernel_id.f90"
+
+    def kernel_id(extra="GNU 12 -O3"):
+        subprocess.run(
+            [
+                cmake,
+                f"-DSOURCES={a}|{b}",
+                f"-DEXTRA={extra}",
+                f"-DOUT={out}",
+                "-P",
+                str(ROOT / "fortran" / "kernel_id.cmake"),
+            ],
+            check=True,
+        )
+        found = re.findall(r"kernel_id = '([0-9a-f]{12})'", out.read_text())
+        assert len(found) == 1
+        return found[0]
+
+    first = kernel_id()
+    stamp = out.stat().st_mtime_ns
+    assert kernel_id() == first and out.stat().st_mtime_ns == stamp
+    assert kernel_id("GNU 12 -O2") != first
+    b.write_text("module b\n! a comment\nend module b\n")
+    assert kernel_id() != first
 
 
 def test_pyproject_does_not_repeat_the_version():

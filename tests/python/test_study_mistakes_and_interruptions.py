@@ -111,6 +111,30 @@ def test_resume_after_an_edited_input_is_refused(tmp_path, edit):
         run_study(study, out, serial=True, progress=False, figures=False)
 
 
+def test_resume_under_another_kernel_is_refused(tmp_path):
+    """A study resumed after the kernel changed would fit one surface to runs of two models:
+    a study file records the kernel build's id (ringlube.kernel_id(), a hash of the kernel's
+    sources, compiler and flags) and a resume under another one is refused, like an edited
+    input. Found on 2026-11-26: a study folder of an earlier session resumed silently and
+    reported 4 designs 'not converged' that today's kernel converges."""
+    study = study_deck(tmp_path, **TWO_VARS)
+    out = tmp_path / "out"
+    with pytest.raises(KeyboardInterrupt):
+        run_study(study, out, serial=True, progress=False, figures=False, stop_after=4)
+    with h5py.File(out / "h.h5", "r") as f:
+        assert f.attrs["kernel_id"] == ringlube.kernel_id()
+    with h5py.File(out / "h.h5", "a") as f:
+        f.attrs["kernel_id"] = "0123456789ab"
+    with pytest.raises(
+        InputError, match=r"h\.h5: the study's runs were made by another ringlube kernel \(0123456789ab"
+    ):
+        run_study(study, out, serial=True, progress=False, figures=False)
+    with h5py.File(out / "h.h5", "a") as f:
+        del f.attrs["kernel_id"]  # a study file of a ringlube that did not record it
+    with pytest.raises(InputError, match=r"another ringlube kernel \(not recorded"):
+        run_study(study, out, serial=True, progress=False, figures=False)
+
+
 # --- item 14: variables of other groups, misspelt names ---------------------------------
 
 
