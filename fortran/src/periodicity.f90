@@ -13,21 +13,23 @@ module ringlube_periodicity
 
   !> the longest period a run looks for [cycles]
   integer, parameter :: max_period = 12
+  !> cycles kept: a period of p is checked over the last 2 p + 1 cycles
+  integer, parameter :: kept = 2 * max_period + 1
 
-  !> The last max_period + 1 cycles: cycle k in slot modulo(k, max_period + 1).
+  !> The last `kept` cycles: cycle k in slot modulo(k, kept).
   type :: cycle_history
     !> cycles started
     integer :: cycles = 0
     !> h0 at psi = 0 of the cycle (its first crank step) [m]
-    real(dp) :: h0(0:max_period) = 0.0_dp
+    real(dp) :: h0(0:kept - 1) = 0.0_dp
     !> the ring pack at the cycle's start (with ring_pack = 'gas')
-    type(ring_pack_state) :: rp(0:max_period)
+    type(ring_pack_state) :: rp(0:kept - 1)
     !> the liner film at the cycle's start [m] (starved), (liner point, slot)
     real(dp), allocatable :: map(:, :)
     !> the cycle's energy [J] (set at its end)
-    real(dp) :: energy(0:max_period) = 0.0_dp
+    real(dp) :: energy(0:kept - 1) = 0.0_dp
     !> no flag in the cycle but lift-off (set at its end)
-    logical :: clean(0:max_period) = .false.
+    logical :: clean(0:kept - 1) = .false.
     !> the cycle's scalar results (set at its end), (result, slot)
     real(dp), allocatable :: scalars(:, :)
   end type cycle_history
@@ -36,7 +38,7 @@ contains
 
   pure integer function slot(k)
     integer, intent(in) :: k
-    slot = modulo(k, max_period + 1)
+    slot = modulo(k, kept)
   end function slot
 
   !> A cycle starts from the ring pack's state rp and the liner film map (where the run has
@@ -50,7 +52,7 @@ contains
     j = slot(hist%cycles)
     if (present(rp)) hist%rp(j) = rp
     if (present(map)) then
-      if (.not. allocated(hist%map)) allocate (hist%map(size(map), 0:max_period))
+      if (.not. allocated(hist%map)) allocate (hist%map(size(map), 0:kept - 1))
       hist%map(:, j) = map
     end if
   end subroutine history_start
@@ -69,7 +71,7 @@ contains
     logical, intent(in) :: clean
     integer :: j
     j = slot(hist%cycles)
-    if (.not. allocated(hist%scalars)) allocate (hist%scalars(size(scalars), 0:max_period))
+    if (.not. allocated(hist%scalars)) allocate (hist%scalars(size(scalars), 0:kept - 1))
     hist%energy(j) = energy
     hist%clean(j) = clean
     hist%scalars(:, j) = scalars
@@ -83,9 +85,9 @@ contains
   !> set (history_end). first_change: the first cycle's change of the ring's state, which
   !> stands in for its energy's change (starved). A period of 2 or more compares with the start
   !> of the second cycle at the earliest (the warm-up's end is not a cycle's, and with the ring
-  !> pack the first cycle runs before its restart). A period of 3 or more needs two states in a
-  !> row to repeat (the cycle's end and its start) and the energy too, so it is found from
-  !> cycle p + 2 on.
+  !> pack the first cycle runs before its restart), and never with the first cycle's energy. A
+  !> period of 3 or more must repeat as a whole (every state and energy of its last p cycles
+  !> equal to those p cycles before), so it is found from cycle 2 p + 1 on.
   pure integer function history_period(hist, c, h0_end, first_change, rp_end, map_end) result(p)
     type(cycle_history), intent(in) :: hist
     type(case_type), intent(in) :: c
@@ -103,43 +105,54 @@ contains
     do q = 1, min(max_period, k)
       p = q
       if (q == 2 .and. k < 3) exit
-      if (q >= 3 .and. k < q + 2) exit
+      if (q >= 3 .and. k < 2 * q + 1) exit
       j = slot(k - q + 1)
       rpp = change_rp(q)
       if (present(map_end)) then
         mp = sum(abs(map_end - hist%map(:, j))) / max(sum(abs(map_end)), tiny(1.0_dp))
         ep = e1
-        if (q >= 2) ep = change_energy(q)
+        ! (not against the first cycle's energy: with the ring pack it ran before the restart)
+        if (q >= 2) ep = huge(1.0_dp)
+        if (q >= 2 .and. k - q >= 2) ep = change_energy(q)
         ok = mp <= tol .and. ((e1 <= tol .and. rp1 <= tol) .or. (ep <= tol .and. rpp <= tol))
       else
         ok = abs(h0_end - hist%h0(j)) / hist%h0(j) <= tol .and. rpp <= tol
       end if
-      ! a period of three or more: the cycle before repeats too, and the energy (two states in a
-      ! row, so that a wandering state does not meet one of the 12 before it by chance)
-      if (ok .and. q >= 3) ok = repeats_before(q)
+      ! a period of three or more repeats as a whole: every state and energy of its last q
+      ! cycles equals the one q cycles before (a wandering state would otherwise meet one of
+      ! the 12 before it by chance, and a transient can repeat for a few cycles)
+      if (ok .and. q >= 3) ok = repeats_whole(q)
       if (ok) return
     end do
     p = 0
 
   contains
 
-    !> The state at the start of cycle k (the end of cycle k - 1) equals that at the start of
-    !> cycle k - d, and the energy of cycle k that of cycle k - d.
-    pure logical function repeats_before(d)
+    !> Every state at the start of cycles k - d + 2 .. k (the ends of cycles k - d + 1 .. k -
+    !> 1) equals the one d cycles before, and the energy of every cycle k - d + 1 .. k that of
+    !> the cycle d before (the end of cycle k is compared by the caller).
+    pure logical function repeats_whole(d)
       integer, intent(in) :: d
-      integer :: i, i0
-      i = slot(k)
-      i0 = slot(k - d)
-      repeats_before = change_energy(d) <= tol
-      if (present(map_end)) then
-        repeats_before = repeats_before .and. sum(abs(hist%map(:, i) - hist%map(:, i0))) &
-                         <= tol * max(sum(abs(hist%map(:, i))), tiny(1.0_dp))
-      else
-        repeats_before = repeats_before .and. abs(hist%h0(i) - hist%h0(i0)) <= tol * hist%h0(i0)
-      end if
-      if (present(rp_end)) repeats_before = repeats_before .and. &
-                                            ring_pack_distance(c, hist%rp(i), hist%rp(i0)) <= tol
-    end function repeats_before
+      integer :: i, j1, j0
+      repeats_whole = .true.
+      do i = 0, d - 1
+        repeats_whole = repeats_whole .and. abs(hist%energy(slot(k - i)) &
+                                                - hist%energy(slot(k - i - d))) &
+                        <= tol * max(hist%energy(slot(k - i)), tiny(1.0_dp))
+      end do
+      do i = 0, d - 2
+        j1 = slot(k - i)
+        j0 = slot(k - i - d)
+        if (present(map_end)) then
+          repeats_whole = repeats_whole .and. sum(abs(hist%map(:, j1) - hist%map(:, j0))) &
+                          <= tol * max(sum(abs(hist%map(:, j1))), tiny(1.0_dp))
+        else
+          repeats_whole = repeats_whole .and. abs(hist%h0(j1) - hist%h0(j0)) <= tol * hist%h0(j0)
+        end if
+        if (present(rp_end)) repeats_whole = repeats_whole .and. &
+                                             ring_pack_distance(c, hist%rp(j1), hist%rp(j0)) <= tol
+      end do
+    end function repeats_whole
 
     pure real(dp) function change_energy(d)
       integer, intent(in) :: d
