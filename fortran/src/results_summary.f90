@@ -25,7 +25,7 @@ contains
     character(len=*), intent(in) :: title, written
     character(len=:), allocatable :: t
     character(len=64) :: a
-    character(len=96) :: b
+    character(len=128) :: b
     character(len=1), parameter :: nl = achar(10)
     t = ''
     if (len_trim(title) > 0) t = trim(title)//nl
@@ -70,9 +70,10 @@ contains
     if (nint(v(sc_period)) >= 2) write (b, '(a, i0, a)') '(a period of ', nint(v(sc_period)), &
       ' cycles: energy, shares, blowby are means)'
     ! not periodic: a state may repeat after more cycles than were run (docs/model.md)
-    if (v(sc_periodic) == 0.0_dp) b = '(not periodic in these cycles: try a larger max_cycles)'
+    if (v(sc_periodic) == 0.0_dp) b = '(no period of 1-12 cycles yet: a period p needs 2p + 1 '// &
+                                      'cycles; try a larger max_cycles)'
     if (v(sc_periodic) /= 0.0_dp .and. v(sc_converged) == 0.0_dp) &
-      b = trim(b)//' (a step is flagged)'
+      b = trim(b)//' (a step is flagged in the period''s cycles)'
     call line('converged', merge('       yes', '        no', v(sc_converged) /= 0.0_dp), trim(b))
     write (a, '(f10.3)') v(sc_run_time)
     write (b, '(f8.1)') 1e3_dp * v(sc_run_time) / max(v(sc_cycles_computed), tiny(1.0_dp))

@@ -284,7 +284,7 @@ def test_period_of_five_cycles_reports_the_means():
     5.2 N/m settles into a period of five cycles: four at 2.293 J, then one at 2.026 J, the oil
     left near BDC building up and being picked up again. With a period of two at most it ran
     to max_cycles (30) and reported the last cycle's 2.2936 J, 2.4 % from the mean (or 2.026 J,
-    -9.5 %, had it stopped a cycle later). It is periodic with period 5 and reports the means of
+    -9.5 %, had it stopped three cycles later). It is periodic with period 5 and reports the means of
     its last five cycles, which are the runs stopped after each of them (to round-off); five
     later cycles give the same means (the orbit repeats), and their energies spread by more
     than 5 % about it (docs/model.md, "A period of several cycles")."""
@@ -296,7 +296,7 @@ def test_period_of_five_cycles_reports_the_means():
     assert r.converged and r.periodic and r.period == 5, (r.period, r.cycles_run)
     n = r.cycles_run
     short = ringlube.run(case)  # max_cycles 10: the orbit starts too late, and the summary says what to try
-    assert short.period == 0 and "try a larger max_cycles" in short.summary()
+    assert short.period == 0 and "a period p needs 2p + 1 cycles; try a larger max_cycles" in short.summary()
     assert "(a period of 5 cycles: energy, shares, blowby are means)" in r.summary()
     for last in (n, n + 5):
         cycles = range(last - 4, last + 1)
@@ -369,4 +369,51 @@ def test_a_period_of_two_cycles_with_a_flagged_cycle_is_not_converged():
     assert not (r.flags & not_lift).any()
     previous = ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=r.cycles_run - 1))
     assert (previous.flags & not_lift).any()
-    assert not r.converged and "(a step is flagged)" in r.summary()
+    assert not r.converged and "(a step is flagged in the period's cycles)" in r.summary()
+
+
+def test_a_transient_near_repeat_is_not_a_period():
+    """At 12000 r/min the hot 'gas' deck starved (JFO, 1 um) with a 1.215 mm ring at 5.5 N/m
+    passes through a transient whose cycle 14 starts and ends as cycle 6 did, with cycle 6's
+    energy, while the cycles between do not repeat (2.061 J in cycle 9, 2.970 J in cycle 17);
+    it then settles into a period of 9 cycles. With two states in a row and one energy
+    compared it was reported periodic with period 8 after 14 cycles and converged, 2.3316 J,
+    6 % below the mean of the period it settles into (2.489 J). A reported period must be an
+    orbit: the cycles after it repeat those a period before (energy to a few cycle_tol;
+    docs/model.md, "A period of several cycles")."""
+    from conftest import INPUTS
+
+    case = Case.from_namelist(INPUTS / "crf450r_12000rpm_full_hot_gas.nml")
+    case = case.with_ring(width=1.215e-3, tension=5.5).with_physics(cavitation="jfo", inlet="starved")
+    r = ringlube.run(case.with_numerics(max_cycles=30))
+    if r.period >= 2:
+        n, p = r.cycles_run, r.period
+        cycles = range(n - p + 1, n + p + 1)
+        single = [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=k)) for k in cycles]
+        assert all(s.period == 0 for s in single)
+        e = [s.energy_loss for s in single]
+        assert all(abs(e[i + p] - e[i]) <= 5e-3 * e[i] for i in range(p)), (p, n, e)
+
+
+@pytest.mark.xfail(strict=True, reason="starved period test: the L1 map change hides a build-up near BDC")
+def test_a_starved_period_of_one_must_repeat():
+    """At 12000 r/min the hot 'gas' deck starved (JFO, 1 um) with a 1.205 mm ring at 4.25 N/m
+    has a period of five cycles (2.9475, 2.1830, 2.2059, 2.2166, 2.2166 J; mean 2.354 J, found
+    at cycle_tol 1e-4). With max_cycles 30 at the default 1e-3 its cycles 10 and 11 pass the starved test of a
+    period of one (energy within 1e-7, the liner film map's L1 change 7.0e-4), and the run is
+    reported converged at 2.2166 J, 6 % below the mean; cycle 12 is 2.9475 J. The film left
+    near BDC (z = 63.6 mm) still grows by 1 % a cycle (8.825 -> 8.911 um) until the ring picks
+    it up in cycle 12; over the 2673 liner points the L1 norm dilutes that below cycle_tol
+    (its largest change relative to the film's largest is 9.6e-3). Known since the review of
+    2026-11-26 (the period-one test is older than the periods of several cycles)."""
+    from conftest import INPUTS
+
+    case = Case.from_namelist(INPUTS / "crf450r_12000rpm_full_hot_gas.nml")
+    case = case.with_ring(width=1.205e-3, tension=4.25).with_physics(cavitation="jfo", inlet="starved")
+    r = ringlube.run(case.with_numerics(max_cycles=30))
+    if r.converged:
+        n, p = r.cycles_run, r.period
+        cycles = range(n - p + 1, n + p + 1)
+        single = [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=k)) for k in cycles]
+        e = [s.energy_loss for s in single]
+        assert all(abs(e[i + p] - e[i]) <= 5e-3 * e[i] for i in range(p)), (p, n, e)
