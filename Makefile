@@ -82,7 +82,7 @@ setup: build python
 run: setup
 	mkdir -p out
 	$(BUILD)/ringlube-solve $(DEFAULT_DECK) -o out/crf450r_4000rpm_full_cold.h5
-	$(VENV)/bin/ringlube optimise $(DEFAULT_STUDY) --direct
+	$(VENV)/bin/ringlube optimise $(DEFAULT_STUDY) --direct --restart
 
 # ruff and fprettify come with the `test` extra (pinned there: a formatter's output
 # changes between versions). ruff's settings are in pyproject.toml.

@@ -247,6 +247,7 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
         serial=args.serial,
         with_direct=args.direct,
         progress=not args.quiet,
+        restart=args.restart,
     )
     if not args.quiet:
         print(summary(study))

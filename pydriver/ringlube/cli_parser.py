@@ -190,6 +190,12 @@ def _parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--serial", action="store_true", help="no Dask: run everything in this process")
     p.add_argument(
+        "--restart",
+        action="store_true",
+        help="start afresh: a study file already in --out is replaced, none of its runs used "
+        "(e.g. one made by another kernel build, which is not resumed)",
+    )
+    p.add_argument(
         "--direct",
         action="store_true",
         help="also NSGA-II on the true model, compared with the surrogate front",

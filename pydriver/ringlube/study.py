@@ -67,6 +67,7 @@ def run_study(
     progress: bool = True,
     stop_after: int | None = None,
     connect_timeout: float | None = None,
+    restart: bool = False,
 ) -> Study:
     """The whole pipeline; resumes from the study file in ``out`` if there is one.
 
@@ -86,6 +87,9 @@ def run_study(
         Progress bars.
     stop_after : int, optional
         Test hook (see :func:`run_samples`).
+    restart : bool
+        Start afresh: a study file already in ``out`` is removed (under the study's lock)
+        and none of its runs used.
 
     Returns
     -------
@@ -108,7 +112,7 @@ def run_study(
     for name in ["report.md", *(f"pareto_{label}.csv" for label in [*s.labels, "scene"])]:
         check_output(out / name, s.cases)  # before the work, not after it
     path = out / f"{s.name}.h5"
-    study = Study.open(s, path, lock=True)
+    study = Study.open(s, path, lock=True, restart=restart)
     try:
         _pipeline(
             study,

@@ -143,7 +143,9 @@ class Study:
 
     # --- reading -----------------------------------------------------------------------
     @classmethod
-    def open(cls, settings: StudySettings, path: str | os.PathLike, lock: bool = False) -> Study:
+    def open(
+        cls, settings: StudySettings, path: str | os.PathLike, lock: bool = False, restart: bool = False
+    ) -> Study:
         """The study in ``path`` if there is one (checked to match ``settings``), else new.
 
         Parameters
@@ -154,6 +156,8 @@ class Study:
             The study file.
         lock : bool
             Take the study's lock (:meth:`lock`) before reading; kept until :meth:`unlock`.
+        restart : bool
+            Remove a study file in ``path`` (after taking the lock) instead of reading it.
 
         Returns
         -------
@@ -176,6 +180,8 @@ class Study:
         if lock:
             st.lock()
         try:
+            if restart and st.path.is_file():
+                st.path.unlink()
             st._open()
         except BaseException:
             st.unlock()
@@ -233,8 +239,8 @@ class Study:
             raise InputError(
                 f"{path}: the study's runs were made by another ringlube kernel "
                 f"({kernel or 'not recorded'}; this one is {kernel_id()}, `ringlube-solve --version`): "
-                "resuming would mix two models in one surface fit. Use another --out "
-                "(or remove the file to start afresh)"
+                "resuming would mix two models in one surface fit. Use another --out, or start "
+                "afresh with --restart (ringlube optimise; run_study(restart=True))"
             )
         self.stages = set(json.loads(text(f.attrs["stages"])))
         if "samples/x" in f:

@@ -133,6 +133,11 @@ def test_resume_under_another_kernel_is_refused(tmp_path):
         del f.attrs["kernel_id"]  # a study file of a ringlube that did not record it
     with pytest.raises(InputError, match=r"another ringlube kernel \(not recorded"):
         run_study(study, out, serial=True, progress=False, figures=False)
+    # --restart (ringlube optimise) starts afresh under the lock: a new file of this kernel
+    fresh = run_study(study, out, serial=True, progress=False, figures=False, restart=True)
+    assert fresh.cases["cold"].runs.done.all()
+    with h5py.File(out / "h.h5", "r") as f:
+        assert f.attrs["kernel_id"] == ringlube.kernel_id()
 
 
 # --- item 14: variables of other groups, misspelt names ---------------------------------
