@@ -100,7 +100,7 @@ contains
     k = hist%cycles
     tol = c%cycle_tol
     e1 = first_change
-    if (k >= 2) e1 = change_energy(1)
+    if (k >= 2) e1 = energy_change(k, 1)
     rp1 = change_rp(1)
     do q = 1, min(max_period, k)
       p = q
@@ -109,11 +109,11 @@ contains
       j = slot(k - q + 1)
       rpp = change_rp(q)
       if (present(map_end)) then
-        mp = sum(abs(map_end - hist%map(:, j))) / max(sum(abs(map_end)), tiny(1.0_dp))
+        mp = map_change(map_end, hist%map(:, j))
         ep = e1
         ! (not against the first cycle's energy: with the ring pack it ran before the restart)
         if (q >= 2) ep = huge(1.0_dp)
-        if (q >= 2 .and. k - q >= 2) ep = change_energy(q)
+        if (q >= 2 .and. k - q >= 2) ep = energy_change(k, q)
         ok = mp <= tol .and. ((e1 <= tol .and. rp1 <= tol) .or. (ep <= tol .and. rpp <= tol))
       else
         ok = abs(h0_end - hist%h0(j)) / hist%h0(j) <= tol .and. rpp <= tol
@@ -136,16 +136,13 @@ contains
       integer :: i, j1, j0
       repeats_whole = .true.
       do i = 0, d - 1
-        repeats_whole = repeats_whole .and. abs(hist%energy(slot(k - i)) &
-                                                - hist%energy(slot(k - i - d))) &
-                        <= tol * max(hist%energy(slot(k - i)), tiny(1.0_dp))
+        repeats_whole = repeats_whole .and. energy_change(k - i, d) <= tol
       end do
       do i = 0, d - 2
         j1 = slot(k - i)
         j0 = slot(k - i - d)
         if (present(map_end)) then
-          repeats_whole = repeats_whole .and. sum(abs(hist%map(:, j1) - hist%map(:, j0))) &
-                          <= tol * max(sum(abs(hist%map(:, j1))), tiny(1.0_dp))
+          repeats_whole = repeats_whole .and. map_change(hist%map(:, j1), hist%map(:, j0)) <= tol
         else
           repeats_whole = repeats_whole .and. abs(hist%h0(j1) - hist%h0(j0)) <= tol * hist%h0(j0)
         end if
@@ -154,12 +151,19 @@ contains
       end do
     end function repeats_whole
 
-    pure real(dp) function change_energy(d)
-      integer, intent(in) :: d
+    !> The energy of cycle kk against that of cycle kk - d, relative.
+    pure real(dp) function energy_change(kk, d)
+      integer, intent(in) :: kk, d
       real(dp) :: e
-      e = hist%energy(slot(k))
-      change_energy = abs(e - hist%energy(slot(k - d))) / max(e, tiny(1.0_dp))
-    end function change_energy
+      e = hist%energy(slot(kk))
+      energy_change = abs(e - hist%energy(slot(kk - d))) / max(e, tiny(1.0_dp))
+    end function energy_change
+
+    !> The liner film's change from b to a, relative to a (L1).
+    pure real(dp) function map_change(a, b)
+      real(dp), intent(in) :: a(:), b(:)
+      map_change = sum(abs(a - b)) / max(sum(abs(a)), tiny(1.0_dp))
+    end function map_change
 
     pure real(dp) function change_rp(d)
       integer, intent(in) :: d
