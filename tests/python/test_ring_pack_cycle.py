@@ -228,6 +228,12 @@ def test_coarse_warm_up_gives_the_full_warm_ups_answer(deck, preset):
     assert coarse.ring_lift_share == pytest.approx(full.ring_lift_share, rel=1e-3, abs=1e-3)
 
 
+def _stopped_after(case, cycles):
+    """The runs of ``case`` stopped after each of ``cycles`` cycles, with a cycle tolerance no
+    state meets: the k-th reports the k-th cycle itself, not a mean over a period."""
+    return [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=k)) for k in cycles]
+
+
 def test_period_of_two_cycles_reports_the_means():
     """A 0.879 mm ring at 14.18 N/m on the 8000 r/min hot 'gas' deck settles into a period of
     two cycles (land pressure at psi = 0 alternating between 1.856 and 2.033 bar, energy between
@@ -242,7 +248,7 @@ def test_period_of_two_cycles_reports_the_means():
     case = case.with_ring(width=0.8788e-3, tension=14.18)
     r = ringlube.run(case)
     assert r.converged and r.periodic and r.period == 2 and r.cycles_run <= 4, r.cycles_run
-    single = [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=k)) for k in (11, 12)]
+    single = _stopped_after(case, (11, 12))
     assert all(s.period == 0 and not s.converged for s in single)
     for name, rel in (("energy_loss", 1e-4), ("blowby", 5e-4)):
         values = [getattr(s, name) for s in single]
@@ -269,7 +275,7 @@ def test_starved_period_of_two_cycles_with_the_ring_pack():
     case = case.with_ring(width=0.8788e-3, tension=14.18).with_physics(cavitation="jfo", inlet="starved")
     r = ringlube.run(case)
     assert r.converged and r.periodic and r.period == 2, (r.cycles_run, r.energy_loss)
-    single = [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=k)) for k in (15, 16)]
+    single = _stopped_after(case, (15, 16))
     assert all(s.period == 0 and not s.converged for s in single)
     for name, rel, apart in (("energy_loss", 1e-4, 1e-3), ("blowby", 1e-4, 5e-3)):
         values = [getattr(s, name) for s in single]
@@ -300,7 +306,7 @@ def test_period_of_five_cycles_reports_the_means():
     assert "(a period of 5 cycles: energy, shares, blowby are means)" in r.summary()
     for last in (n, n + 5):
         cycles = range(last - 4, last + 1)
-        single = [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=k)) for k in cycles]
+        single = _stopped_after(case, cycles)
         assert all(s.period == 0 and not s.converged for s in single)
         for name in ("energy_loss", "blowby", "mixed_share", "ring_lift_share"):
             mean = np.mean([getattr(s, name) for s in single])
@@ -344,7 +350,7 @@ def test_flutter_events_of_a_period_of_two_cycles_are_one_number(tmp_path):
     r = ringlube.run(case, output=tmp_path / "p2.h5")
     assert r.period == 2 and r.converged
     n = r.cycles_run
-    single = [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=k)) for k in (n - 1, n)]
+    single = _stopped_after(case, (n - 1, n))
     assert sorted(s.flutter_events for s in single) == [1, 2]
     assert r.flutter_events == r.scalars["flutter_events"] == 1.5
     with h5py.File(tmp_path / "p2.h5") as f:
@@ -389,7 +395,7 @@ def test_a_transient_near_repeat_is_not_a_period():
     if r.period >= 2:
         n, p = r.cycles_run, r.period
         cycles = range(n - p + 1, n + p + 1)
-        single = [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=k)) for k in cycles]
+        single = _stopped_after(case, cycles)
         assert all(s.period == 0 for s in single)
         e = [s.energy_loss for s in single]
         assert all(abs(e[i + p] - e[i]) <= 5e-3 * e[i] for i in range(p)), (p, n, e)
@@ -414,6 +420,6 @@ def test_a_starved_period_of_one_must_repeat():
     if r.converged:
         n, p = r.cycles_run, r.period
         cycles = range(n - p + 1, n + p + 1)
-        single = [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=k)) for k in cycles]
+        single = _stopped_after(case, cycles)
         e = [s.energy_loss for s in single]
         assert all(abs(e[i + p] - e[i]) <= 5e-3 * e[i] for i in range(p)), (p, n, e)
