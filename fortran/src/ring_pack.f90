@@ -40,7 +40,8 @@
 !> (velocity set to zero, plastic impact) and resting there while the force presses it
 !> on; then the gas masses take one backward-Euler step with the flank gaps at the
 !> sub-step's end, solved by Newton's method on the 2x2 system (analytic Jacobian,
-!> backtracking on the residual). Backward Euler is L-stable: the groove's time constant
+!> backtracking on the residual; from the pressures' rate of the last sub-step, stopped at a
+!> step of 1e-8 of the pressure scale taken with linearised flows). Backward Euler is L-stable: the groove's time constant
 !> V_2 / (R T dmdot/dp2) through an open 40 um channel is about 5 us at 1 MPa and 0.5 us at
 !> 10 MPa (it scales with 1/(g^3 p)), down to 1/50 of a crank step of 2 deg at
 !> 12,000 r/min; backward Euler then gives the groove its quasi-static pressure where an
@@ -63,6 +64,10 @@ module ringlube_ring_pack
   public :: ring_pack_params_from_case, ring_pack_init, ring_pack_step, ring_pack_gas_mass, &
             ring_pack_inputs
   public :: orifice_flow, channel_flow, orifice_psi, ring_gas_force, gas_constant, orifice_linear
+
+  !> Newton's method in the backward-Euler step stops at a step of at most this fraction of the
+  !> pressure scale, taken with the flows linearised (its error is of order the step squared)
+  real(dp), parameter :: newton_tol = 1e-8_dp
 
   !> Which flank the ring rests on.
   integer, parameter, public :: flank_none = 0, flank_lower = 1, flank_upper = 2
@@ -105,6 +110,7 @@ module ringlube_ring_pack
     real(dp) :: v = 0.0_dp        !< ring velocity [m/s], positive towards the chamber
     integer :: flank = flank_lower !< flank the ring rests on (flank_none: in flight)
     real(dp) :: h_next = 0.0_dp   !< sub-step to try first in the next call [s] (0: dt)
+    real(dp) :: rate2 = 0.0_dp, rate3 = 0.0_dp  !< dp2/dt, dp3/dt of the last sub-step [Pa/s]
   end type ring_pack_state
 
   !> What one crank step did. Flows are means over the step (mass through / dt), kg/s,
@@ -171,6 +177,8 @@ contains
     st%v = 0.0_dp
     st%flank = flank_lower
     st%h_next = 0.0_dp
+    st%rate2 = 0.0_dp
+    st%rate3 = 0.0_dp
   end subroutine ring_pack_init
 
   !> Gas mass in spaces 2 and 3 [kg].
@@ -396,7 +404,7 @@ contains
     real(dp), intent(out) :: q(4)
     logical, intent(out) :: ok
     real(dp) :: c2, c3, p(2), p_old(2), res(2), jac(2, 2), dp_(2), trial(2), res_t(2), &
-                scale, norm0, norm_t, det, lam, g_up, g_lo, c_top, c_2nd
+              scale, norm0, norm_t, det, lam, g_up, g_lo, c_top, c_2nd, dq(4, 2), dq_t(4, 2), q_t(4)
     integer :: it, ls
     c_top = par%discharge_coefficient * par%top_gap_area / sqrt(gas_constant * par%gas_temperature)
     c_2nd = par%discharge_coefficient * par%second_gap_area &
@@ -406,20 +414,25 @@ contains
     g_up = par%groove_clearance - st%x
     g_lo = st%x
     p_old = [st%p2, st%p3]
-    p = p_old
     scale = max(p1, p4, p_old(1), p_old(2))
+    ! predictor: the pressures' rate of the last sub-step (kept positive)
+    p(1) = max(0.5_dp * p_old(1), p_old(1) + st%rate2 * h)
+    p(2) = max(0.5_dp * p_old(2), p_old(2) + st%rate3 * h)
     ok = .false.
-    call residual(p, res, jac, q)
+    call residual(p, res, jac, q, dq)
     norm0 = rnorm(res)
     do it = 1, 100
       det = jac(1, 1) * jac(2, 2) - jac(1, 2) * jac(2, 1)
       if (.not. (abs(det) > 0.0_dp)) exit
       dp_(1) = -(jac(2, 2) * res(1) - jac(1, 2) * res(2)) / det
       dp_(2) = -(-jac(2, 1) * res(1) + jac(1, 1) * res(2)) / det
-      if (maxval(abs(dp_)) <= 1e-12_dp * scale) then
-        ! converged: a last full step (round-off level), flows at the final pressures
+      if (maxval(abs(dp_)) <= newton_tol * scale) then
+        ! converged (Newton's step is quadratic: the error after it is of order
+        ! |dp|^2 / scale; at most |dp| at a kink of the orifice law): the step taken with the
+        ! flows linearised at p, for which the residual is zero, so the masses balance the
+        ! flows to round-off
         p = p + dp_
-        call residual(p, res, jac, q)
+        q = q + matmul(dq, dp_)
         ok = .true.
         exit
       end if
@@ -429,19 +442,21 @@ contains
       if (p(2) + dp_(2) < 0.1_dp * p(2)) lam = min(lam, 0.9_dp * p(2) / max(-dp_(2), tiny(1.0_dp)))
       do ls = 1, 40
         trial = p + lam * dp_
-        call residual(trial, res_t, jac, q)
+        call residual(trial, res_t, jac, q_t, dq_t)
         norm_t = rnorm(res_t)
         if (norm_t <= (1.0_dp - 1e-4_dp * lam) * norm0 .or. norm_t == 0.0_dp) exit
         lam = 0.5_dp * lam
       end do
       if (ls > 40) then
         ! no decrease: accept if already at round-off level
-        call residual(p, res, jac, q)
+        call residual(p, res, jac, q, dq)
         ok = maxval(abs(dp_)) <= 1e-10_dp * scale
         exit
       end if
       p = trial
       res = res_t
+      q = q_t
+      dq = dq_t
       norm0 = norm_t
       if (norm0 == 0.0_dp) then
         ok = .true.
@@ -449,16 +464,19 @@ contains
       end if
     end do
     if (ok) then
+      st%rate2 = (p(1) - p_old(1)) / h
+      st%rate3 = (p(2) - p_old(2)) / h
       st%p2 = p(1)
       st%p3 = p(2)
     end if
 
   contains
 
-    !> Residuals (kg) and Jacobian (kg/Pa) of backward Euler; q the flows at p.
-    pure subroutine residual(pp, r, j, qq)
+    !> Residuals (kg) and Jacobian (kg/Pa) of backward Euler; q the flows at p, dq their
+    !> derivatives with respect to (p2, p3).
+    pure subroutine residual(pp, r, j, qq, dqq)
       real(dp), intent(in) :: pp(2)
-      real(dp), intent(out) :: r(2), j(2, 2), qq(4)
+      real(dp), intent(out) :: r(2), j(2, 2), qq(4), dqq(4, 2)
       real(dp) :: d12a, d12b, d23a, d23b, d13a, d13b, d34a, d34b
       call orifice_eval(oc, c_top, p1, pp(2), qq(1), d13a, d13b)
       call orifice_eval(oc, c_2nd, pp(2), p4, qq(2), d34a, d34b)
@@ -472,6 +490,8 @@ contains
       j(1, 2) = h * d23b
       j(2, 1) = -h * d23a
       j(2, 2) = c3 - h * (d13b + d23b - d34a)
+      dqq(:, 1) = [0.0_dp, 0.0_dp, d12b, d23a]
+      dqq(:, 2) = [d13b, d34a, 0.0_dp, d23b]
     end subroutine residual
 
     !> Residual norm in units of the pressure scale.
