@@ -41,11 +41,12 @@
 !> on; then the gas masses take one backward-Euler step with the flank gaps at the
 !> sub-step's end, solved by Newton's method on the 2x2 system (analytic Jacobian,
 !> backtracking on the residual; from the pressures' rate of the last sub-step, stopped at a
-!> step of 1e-8 of the pressure scale taken with linearised flows). Backward Euler is L-stable: the groove's time constant
-!> V_2 / (R T dmdot/dp2) through an open 40 um channel is about 5 us at 1 MPa and 0.5 us at
-!> 10 MPa (it scales with 1/(g^3 p)), down to 1/50 of a crank step of 2 deg at
-!> 12,000 r/min; backward Euler then gives the groove its quasi-static pressure where an
-!> explicit scheme would blow up and the trapezoidal rule would ring. Sub-steps are halved
+!> step of 1e-8 of the pressure scale taken with linearised flows). Backward Euler is
+!> L-stable: the groove's time constant V_2 / (R T dmdot/dp2) through an open 40 um channel
+!> is about 5 us at 1 MPa and 0.5 us at 10 MPa (it scales with 1/(g^3 p)), down to 1/50 of a
+!> crank step of 2 deg at 12,000 r/min; backward Euler then gives the groove its
+!> quasi-static pressure where an explicit scheme would blow up and the trapezoidal rule
+!> would ring. Sub-steps are halved
 !> until the groove and land pressures change by at most `pressure_rtol` and the ring
 !> travels at most `travel_fraction` of the clearance per sub-step, which bounds the
 !> first-order error (measured in tests/fortran/test_ring_pack.f90).

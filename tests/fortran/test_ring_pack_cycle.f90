@@ -31,6 +31,7 @@ program test_ring_pack_cycle
   if (run_case('monotone_physics')) call test_monotone_physics()
   if (run_case('dt_convergence')) call test_dt_convergence()
   if (run_case('aitken')) call test_aitken()
+  if (run_case('start')) call test_start()
   call report('test_ring_pack_cycle')
 
 contains
@@ -268,6 +269,61 @@ contains
     if (verbose) print '(a, 2i5)', 'aitken: cycles in all, with and without: ', total
     call check(total(1) < total(2), 'aitken: fewer cycles in all')
   end subroutine test_aitken
+
+  !> The coupled run's start (ring_pack_start): coarse cycles (8 deg), then cycles on the crank
+  !> step, the first of which may pass with the coarse cycles' contraction. Its state lies
+  !> within the start's tolerance (1e-4 of the peak chamber pressure) of the periodic state of
+  !> the same gas-only cycles run to 1e-11, at 3000-12,000 r/min and 1-4 deg; the first fine
+  !> cycle passes in some of them (3 of the 12 with the default case).
+  subroutine test_start()
+    type(case_type) :: cc
+    type(ring_pack_params) :: par
+    type(ring_pack_state) :: st, ref
+    type(ring_pack_cycle_out) :: cyc, cref
+    real(dp), allocatable :: p1(:), ap(:), ff(:)
+    real(dp) :: rpm(4) = [3000.0_dp, 4000.0_dp, 8000.0_dp, 12000.0_dp]
+    real(dp) :: dpsi(3) = [1.0_dp, 2.0_dp, 4.0_dp]
+    real(dp) :: e, worst
+    integer :: i, j, m, kstart, first
+    character(len=40) :: what
+    worst = 0.0_dp
+    first = 0
+    cc = c
+    cc%gas_psi = tpsi
+    cc%gas_p = tp
+    do i = 1, size(rpm)
+      do j = 1, size(dpsi)
+        cc%speed_rpm = rpm(i)
+        cc%dpsi_deg = dpsi(j)
+        m = nint(720 / dpsi(j))
+        ! the ring pack's warm-up starts at 450 deg
+        kstart = m - nint(270 / dpsi(j)) + 1
+        call ring_pack_start(cc, m, kstart, par, st, cyc, err)
+        write (what, '(f7.0, a, f4.1, a)') rpm(i), ' r/min, ', dpsi(j), ' deg'
+        call check(.not. allocated(err) .and. cyc%converged, 'start: periodic, '//what)
+        if (allocated(err)) return
+        ! the reference: the same cycles (one step per crank step, no friction) to 1e-11
+        allocate (p1(0:m - 1), ap(0:m - 1), ff(0:m - 1))
+        call ring_pack_inputs(cc, kstart - 2, p1, ap)
+        ff = 0.0_dp
+        ref = st
+        par%adaptive = .false.
+        call ring_pack_cycle(par, p1, ap, ff, dpsi(j), rpm(i), cc%crankcase_pressure, ref, cref, &
+                             err, max_cycles=400, tol=1e-11_dp, accelerate=.false.)
+        call check(.not. allocated(err) .and. cref%converged, 'start: reference periodic, '//what)
+        e = max(abs(st%p2 - ref%p2), abs(st%p3 - ref%p3)) / maxval(p1)
+        if (verbose) print '(a, a, a, i3, es10.2)', 'start: ', what, ' fine cycles, distance: ', &
+          cyc%cycles_run, e
+        call check(e <= 1e-4_dp, 'start: within 1e-4 of the periodic state, '//what)
+        worst = max(worst, e)
+        if (cyc%cycles_run == 1) first = first + 1
+        deallocate (p1, ap, ff)
+      end do
+    end do
+    if (verbose) print '(a, es10.2, a, i0)', 'start: largest distance ', worst, &
+      ', one fine cycle in ', first
+    call check(first > 0, 'start: the first fine cycle passes in some')
+  end subroutine test_start
 
   !> p1, a_p (towards the chamber) and f_f at psi_k = k dpsi from the shipped trace and the
   !> kinematics of the default case; f_f a friction of 10 N opposing the sliding (on
