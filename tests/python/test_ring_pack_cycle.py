@@ -316,20 +316,23 @@ def test_period_of_five_cycles_reports_the_means():
 
 
 def test_a_starved_two_cycle_is_not_taken_against_the_first_cycle():
-    """The 4000 r/min hot 'gas' deck starved with 'trailing_gas', a 1.0821 mm ring at 11.61 N/m:
-    cycles 1-8 run 1.29787, 1.13981, 1.29790, 1.29789, ... J. Cycle 3's energy equals cycle
-    1's, which ran before the ring pack's restart, and the film repeated over two cycles, so
-    the run was reported a period of 2 at cycle 3 with the mean of cycles 2 and 3, 1.21885 J,
-    6.1 % low (a review's sweep, 2026-11-26). Now a starved two-cycle never compares with the
-    first cycle's energy: the run is periodic with period 1 at the 1.2979 J of a run to
-    cycle_tol 1e-9 (1.297870 J, within 1e-4); and at 1e-9 no transient is taken for a period
-    (before the whole-period rule: period 4 after 11 cycles, 1.25836 J)."""
+    """The 4000 r/min hot 'gas' deck starved with 'trailing_gas', a 1.0848 mm ring at 10.64 N/m:
+    cycles 1-5 run 1.19861, 1.04879, 1.19859, 1.19855, 1.19855 J. Cycle 3's energy equals cycle
+    1's, which ran before the ring pack's restart, and the film repeats over two cycles, so a
+    starved two-cycle compared with the first cycle's energy would be reported at cycle 3 with
+    the mean of cycles 2 and 3, 6 % low (found by a review's sweep, 2026-11-26, on a 1.0821 mm
+    ring at 11.61 N/m, which the gas network's faster start of 2026-11-26, fourth session, no
+    longer takes through this path). A starved two-cycle never compares with the first cycle's
+    energy: the run is periodic with period 1 at the energy of a run to cycle_tol 1e-9 (within
+    1e-4), and at 1e-9 no transient is taken for a period."""
     from conftest import INPUTS
 
     case = Case.from_namelist(INPUTS / "crf450r_4000rpm_full_hot_gas.nml").with_ring(
-        width=1.0821e-3, tension=11.61
+        width=1.0848e-3, tension=10.64
     )
     case = case.with_physics(cavitation="jfo", inlet="starved", cavity_pressure="trailing_gas")
+    first = [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=n)).energy_loss for n in (1, 2, 3)]
+    assert first[2] == pytest.approx(first[0], rel=1e-4) and first[1] < 0.9 * first[0], first
     r = ringlube.run(case)
     tight = ringlube.run(case.with_numerics(cycle_tol=1e-9, max_cycles=60))
     assert r.period == 1 and r.cycles_run > 3, (r.period, r.cycles_run)
@@ -361,13 +364,14 @@ def test_flutter_events_of_a_period_of_two_cycles_are_one_number(tmp_path):
 def test_a_period_of_two_cycles_with_a_flagged_cycle_is_not_converged():
     """The means of a period of two cycles take both cycles, so both must be free of flags but
     lift-off for the run to be converged. The 8000 r/min 'gas' deck starved (JFO, 4 um supply
-    film) with a 0.84 mm ring at 20 N/m is a starved two-cycle after 3 cycles; its second
-    cycle has a step outside load_tol (flag 4 at 516 deg, residual 0.37) and enters the
-    reported means. It was reported converged from the third cycle's flags alone."""
+    film) with a 0.99 mm ring at 20 N/m is a starved two-cycle after 3 cycles; its second
+    cycle has a step outside load_tol (flag 4 at 516 deg) and enters the reported means. It was
+    reported converged from the third cycle's flags alone (found on a 0.84 mm ring, which the
+    gas network's faster start of 2026-11-26 no longer takes through this path)."""
     from conftest import INPUTS
 
     case = Case.from_namelist(INPUTS / "crf450r_8000rpm_full_hot_gas.nml")
-    case = case.with_ring(width=0.84e-3, tension=20.0).with_physics(cavitation="jfo", inlet="starved")
+    case = case.with_ring(width=0.99e-3, tension=20.0).with_physics(cavitation="jfo", inlet="starved")
     case = case.with_lubricant(supply_film=4e-6)
     r = ringlube.run(case)
     assert r.period == 2 and r.periodic, (r.period, r.cycles_run)
