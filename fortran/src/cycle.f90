@@ -43,8 +43,9 @@ module ringlube_cycle
   !> cycle: docs/ring_pack.md)
   real(dp), parameter :: ring_pack_warmup_deg = 270.0_dp
   !> nodes of the Swift-Stieber film that runs the ring pack's warm-up before the film's own
-  !> (it feeds the gas network its friction), for films of 4 times as many or more
-  integer, parameter :: ring_pack_warmup_nodes = 11
+  !> (it feeds the gas network its friction): the first of these for which the film has 4
+  !> times as many intervals or more (none: the film itself)
+  integer, parameter :: ring_pack_warmup_nodes(2) = [11, 7]
 
 contains
 
@@ -82,7 +83,7 @@ contains
     type(balance_memory) :: mem_rw
     type(supply_type) :: sup_rw
     real(dp) :: s_prev_rw, fric_rw, rewarm
-    integer :: k_rw, k_film
+    integer :: k_rw, k_film, k_nodes
     type(case_type) :: cc
 
     if (c%gt_functions == 'exact') call gt_init()
@@ -131,12 +132,12 @@ contains
       call ring_pack_start(c, m, k, rpar, rst, rcyc, err)
       if (allocated(err)) return
     end if
-    if (gas_pack .and. k < k_film .and. c%nodes >= 4 * ring_pack_warmup_nodes - 3 .and. &
-        .not. f%jfo) then
+    k_nodes = findloc(c%nodes >= 4 * ring_pack_warmup_nodes - 3, .true., dim=1)
+    if (gas_pack .and. k < k_film .and. k_nodes > 0 .and. .not. f%jfo) then
       ! the ring pack's warm-up before the film's own: a coarse Swift-Stieber film (its friction
       ! moves the ring; docs/ring_pack.md "Start"), then the film itself at the h0 reached
       cc = c
-      cc%nodes = ring_pack_warmup_nodes
+      cc%nodes = ring_pack_warmup_nodes(k_nodes)
       f_rw = f
       call film_setup(cc, f)
       f%dt = ctx%dt
