@@ -131,6 +131,7 @@ contains
     if (gas_pack) then
       call ring_pack_start(c, m, k, rpar, rst, rcyc, err)
       if (allocated(err)) return
+      hist%land_contraction = rcyc%contraction
     end if
     k_nodes = findloc(c%nodes >= 4 * ring_pack_warmup_nodes - 3, .true., dim=1)
     if (gas_pack .and. k < k_film .and. k_nodes > 0 .and. .not. f%jfo) then
@@ -243,6 +244,7 @@ contains
       if (gas_pack .and. icycle == 1 .and. icycle < c%max_cycles) then
         call ring_pack_restart(c, rpar, k_rw, res%series(:, s_friction), rst, rcyc, err)
         if (allocated(err)) return
+        if (rcyc%contraction > 0.0_dp) hist%land_contraction = rcyc%contraction
         ! the film from its state at step k_rw again to psi = 720 with the restarted ring pack
         ! (the re-warm): the next cycle starts without a jump in the groove and land pressures
         call take_film(f_rw)

@@ -32,6 +32,9 @@ module ringlube_periodicity
     logical :: clean(0:kept - 1) = .false.
     !> the cycle's scalar results (set at its end), (result, slot)
     real(dp), allocatable :: scalars(:, :)
+    !> the ring pack's land pressure contraction per cycle (0: not known; set by the caller),
+    !> with which its change is judged as a distance (ring_pack_distance)
+    real(dp) :: land_contraction = 0.0_dp
   end type cycle_history
 
 contains
@@ -147,7 +150,7 @@ contains
           repeats_whole = repeats_whole .and. abs(hist%h0(j1) - hist%h0(j0)) <= tol * hist%h0(j0)
         end if
         if (present(rp_end)) repeats_whole = repeats_whole .and. &
-                                             ring_pack_distance(c, hist%rp(j1), hist%rp(j0)) <= tol
+                       ring_pack_distance(c, hist%rp(j1), hist%rp(j0), hist%land_contraction) <= tol
       end do
     end function repeats_whole
 
@@ -168,7 +171,8 @@ contains
     pure real(dp) function change_rp(d)
       integer, intent(in) :: d
       change_rp = 0.0_dp
-      if (present(rp_end)) change_rp = ring_pack_distance(c, rp_end, hist%rp(slot(k - d + 1)))
+      if (present(rp_end)) change_rp = ring_pack_distance(c, rp_end, hist%rp(slot(k - d + 1)), &
+                                                          hist%land_contraction)
     end function change_rp
   end function history_period
 

@@ -143,6 +143,8 @@ contains
     ! periodic 497 kPa, the coarse cycles' 496 kPa; test
     ! test_a_slow_land_starts_where_its_coarse_cycles_settled)
     if (coarse_ok .and. .not. cyc%converged) st = st_coarse
+    ! the land's contraction for the coupled cycles' test: the fine cycles', else the coarse
+    if (.not. (cyc%contraction > 0.0_dp)) cyc%contraction = rho
   end subroutine ring_pack_start
 
   !> Stride of the start's coarse cycles: the largest power of two s dividing m with s dpsi
@@ -178,11 +180,20 @@ contains
   end subroutine ring_pack_restart
 
   !> The ring pack's change from state st0 to st (pressures relative to the peak chamber
-  !> pressure of case c, lift relative to the groove clearance): its periodicity test.
-  pure real(dp) function ring_pack_distance(c, st, st0)
+  !> pressure of case c, lift relative to the groove clearance): its periodicity test. With
+  !> the land pressure's contraction per cycle rho in (0, 1), the land's change counts as its
+  !> distance from the periodic state, |d| / (1 - rho): a slow land changes little in a cycle
+  !> far from it.
+  pure real(dp) function ring_pack_distance(c, st, st0, rho)
     type(case_type), intent(in) :: c
     type(ring_pack_state), intent(in) :: st, st0
-    ring_pack_distance = max(abs(st%p2 - st0%p2), abs(st%p3 - st0%p3)) &
+    real(dp), intent(in), optional :: rho
+    real(dp) :: land
+    land = abs(st%p3 - st0%p3)
+    if (present(rho)) then
+      if (rho > 0.0_dp .and. rho < 1.0_dp) land = land / (1.0_dp - rho)
+    end if
+    ring_pack_distance = max(abs(st%p2 - st0%p2), land) &
                          / max(c%crankcase_pressure, maxval(c%gas_p, mask=c%gas_p > 0.0_dp)) &
                          + abs(st%x - st0%x) / c%groove_clearance
   end function ring_pack_distance
