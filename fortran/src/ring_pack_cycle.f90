@@ -49,7 +49,8 @@ module ringlube_ring_pack_cycle
     !> Net inflow minus outflow of spaces 2+3 over the cycle relative to the gross flow
     !> (zero when periodic).
     real(dp) :: periodicity_error = 0.0_dp
-    !> the land pressure's contraction per cycle at the last cycle (0: not known)
+    !> the land pressure's contraction per cycle at the last cycle, the ratio of its last two
+    !> changes (negative: alternating; 0: not known)
     real(dp) :: contraction = 0.0_dp
     integer :: flutter_events = 0, cycles_run = 0, substeps = 0
     logical :: converged = .false.
@@ -97,7 +98,7 @@ contains
     type(ring_pack_state), intent(out) :: st
     type(ring_pack_cycle_out), intent(out) :: cyc
     type(error_type), allocatable, intent(out) :: err
-    real(dp) :: p1(0:m - 1), ap(0:m - 1), ff(0:m - 1), rho
+    real(dp) :: p1(0:m - 1), ap(0:m - 1), ff(0:m - 1), rho, rho_coarse
     type(ring_pack_params) :: cheap
     type(ring_pack_state) :: st_coarse
     integer :: s
@@ -120,6 +121,7 @@ contains
     ! (docs/ring_pack.md, "Start"); if the coarse cycles fail, the fine ones start cold
     s = coarse_stride(m, c%dpsi_deg)
     rho = 0.0_dp
+    rho_coarse = 0.0_dp
     coarse_ok = .false.
     if (s > 1) then
       call ring_pack_cycle(cheap, p1(0:m - 1:s), ap(0:m - 1:s), ff(0:m - 1:s), s * c%dpsi_deg, &
@@ -129,7 +131,8 @@ contains
         if (allocated(err)) deallocate (err)
         call ring_pack_init(st, p1(0), c%crankcase_pressure)
       else
-        rho = cyc%contraction
+        rho = abs(cyc%contraction)
+        rho_coarse = cyc%contraction
         coarse_ok = .true.
         st_coarse = st
       end if
@@ -144,7 +147,7 @@ contains
     ! test_a_slow_land_starts_where_its_coarse_cycles_settled)
     if (coarse_ok .and. .not. cyc%converged) st = st_coarse
     ! the land's contraction for the coupled cycles' test: the fine cycles', else the coarse
-    if (.not. (cyc%contraction > 0.0_dp)) cyc%contraction = rho
+    if (cyc%contraction == 0.0_dp) cyc%contraction = rho_coarse
   end subroutine ring_pack_start
 
   !> Stride of the start's coarse cycles: the largest power of two s dividing m with s dpsi
@@ -338,7 +341,7 @@ contains
       end if
       dprev = d
       cyc%contraction = 0.0_dp
-      if (icyc > 1 .and. abs(rho) < 1.0_dp) cyc%contraction = abs(rho)
+      if (icyc > 1 .and. abs(rho) < 1.0_dp) cyc%contraction = rho
       if (cyc%converged) exit
     end do
   end subroutine ring_pack_cycle
