@@ -46,10 +46,9 @@
 !> is about 5 us at 1 MPa and 0.5 us at 10 MPa (it scales with 1/(g^3 p)), down to 1/50 of a
 !> crank step of 2 deg at 12,000 r/min; backward Euler then gives the groove its
 !> quasi-static pressure where an explicit scheme would blow up and the trapezoidal rule
-!> would ring. Sub-steps are halved
-!> until the groove and land pressures change by at most `pressure_rtol` and the ring
-!> travels at most `travel_fraction` of the clearance per sub-step, which bounds the
-!> first-order error (measured in tests/fortran/test_ring_pack.f90).
+!> would ring. Sub-steps are halved until the groove and land pressures change by at most
+!> `pressure_rtol` and the ring travels at most `travel_fraction` of the clearance per
+!> sub-step, which bounds the first-order error (measured in tests/fortran/test_ring_pack.f90).
 module ringlube_ring_pack
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type, fatal_error, rl_not_converged

@@ -98,7 +98,7 @@ contains
     type(ring_pack_state), intent(out) :: st
     type(ring_pack_cycle_out), intent(out) :: cyc
     type(error_type), allocatable, intent(out) :: err
-    real(dp) :: p1(0:m - 1), ap(0:m - 1), ff(0:m - 1), rho, rho_coarse
+    real(dp) :: p1(0:m - 1), ap(0:m - 1), ff(0:m - 1), rho_coarse
     type(ring_pack_params) :: cheap
     type(ring_pack_state) :: st_coarse
     integer :: s
@@ -120,7 +120,6 @@ contains
     ! their own and the first can already pass, with the coarse cycles' contraction
     ! (docs/ring_pack.md, "Start"); if the coarse cycles fail, the fine ones start cold
     s = coarse_stride(m, c%dpsi_deg)
-    rho = 0.0_dp
     rho_coarse = 0.0_dp
     coarse_ok = .false.
     if (s > 1) then
@@ -131,14 +130,13 @@ contains
         if (allocated(err)) deallocate (err)
         call ring_pack_init(st, p1(0), c%crankcase_pressure)
       else
-        rho = abs(cyc%contraction)
         rho_coarse = cyc%contraction
         coarse_ok = .true.
         st_coarse = st
       end if
     end if
     call ring_pack_cycle(cheap, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, st, &
-                         cyc, err, max_cycles=50, tol=start_tol, rho_prior=rho)
+                         cyc, err, max_cycles=50, tol=start_tol, rho_prior=abs(rho_coarse))
     if (allocated(err)) return
     ! fine cycles that do not settle leave the start where the coarse ones did: a slow land
     ! (rho near 1) whose cycle map bends at its fixed point sends Aitken's extrapolation past
