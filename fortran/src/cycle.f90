@@ -244,7 +244,7 @@ contains
       if (gas_pack .and. icycle == 1 .and. icycle < c%max_cycles) then
         call ring_pack_restart(c, rpar, k_rw, res%series(:, s_friction), rst, rcyc, err)
         if (allocated(err)) return
-        if (rcyc%contraction > 0.0_dp) hist%land_contraction = rcyc%contraction
+        if (rcyc%contraction /= 0.0_dp) hist%land_contraction = rcyc%contraction
         ! the film from its state at step k_rw again to psi = 720 with the restarted ring pack
         ! (the re-warm): the next cycle starts without a jump in the groove and land pressures
         call take_film(f_rw)
