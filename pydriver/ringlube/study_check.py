@@ -48,7 +48,7 @@ def check_designs(study: Study, ex: Executor, which: tuple[str, ...] = ("chosen"
     tasks, where = [], []
     for j, (label, _, _, xs) in enumerate(jobs):
         for base_label in [label] if label in bases else s.labels:
-            tasks.append((bases[base_label], s.groups_names, xs, list(s.outputs)))
+            tasks.append((bases[base_label], s.groups_names, xs, list(s.outputs), study_runs.study_kernel()))
             where.append((j, base_label))
     results: dict[tuple[int, str], tuple] = {}
     ex.map(study_runs._run_designs, tasks, lambda i, res: results.__setitem__(where[i], res))

@@ -114,7 +114,9 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
                 failed[chunks[i]] = [bool(e) for e in errors]
 
             t0 = time.perf_counter()
-            ex.map(study_runs._run_designs, [(self.base, s.groups_names, x[c], names) for c in chunks], put)
+            kernel = study_runs.study_kernel()
+            tasks = [(self.base, s.groups_names, x[c], names, kernel) for c in chunks]
+            ex.map(study_runs._run_designs, tasks, put)
             return DirectGeneration(np.array(x), f, converged, failed, time.perf_counter() - t0)
 
     for label, base in zip(s.labels, _bases(s)):

@@ -17,7 +17,11 @@ __all__ = ["sample", "run_samples", "scene_results"]
 
 
 def _run_designs(
-    base_case: Case, variables: list[tuple[str, str]], x: np.ndarray, outputs: list[str]
+    base_case: Case,
+    variables: list[tuple[str, str]],
+    x: np.ndarray,
+    outputs: list[str],
+    kernel: str | None = None,
 ) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """Run designs ``x`` (rows) of ``base_case``: the one batch call of every study.
 
@@ -31,6 +35,9 @@ def _run_designs(
         Designs.
     outputs : list of str
         Scalar results to return (attributes of :class:`~ringlube.CycleResult`).
+    kernel : str, optional
+        The study's kernel id (:func:`ringlube.kernel_id` where the study runs): a worker with
+        another kernel build refuses the batch, so a study never mixes runs of two models.
 
     Returns
     -------
@@ -40,18 +47,47 @@ def _run_designs(
     errors : list of str
         The kernel's message for each failed design, "" for the others.
 
+    Raises
+    ------
+    RinglubeError
+        This process's kernel is not ``kernel``.
+
     Example
     -------
     >>> v, ok, err = _run_designs(case, [("ring", "width")], np.array([[1e-3]]),
     ...                           ["energy_loss"])                   # doctest: +SKIP
     """
+    from ._version import kernel_id
+    from .errors import RinglubeError
     from .solve import run_designs
+
+    if kernel is not None and kernel != kernel_id():
+        import socket
+
+        raise RinglubeError(
+            f"a worker on {socket.gethostname()} runs another ringlube kernel ({kernel_id()}) than "
+            f"this study ({kernel}): install the same build on every worker "
+            "(`ringlube-solve --version` prints it)"
+        )
 
     values, converged, errs = run_designs(
         base_case, [f"{g}:{n}" for g, n in variables], np.atleast_2d(np.asarray(x, float)), list(outputs)
     )
     errors = [(e.splitlines()[0] if e else "") if e is not None else "" for e in errs]
     return values, converged, errors
+
+
+def study_kernel() -> str:
+    """The kernel id the study's batches must run on: this process's (:func:`ringlube.kernel_id`).
+
+    Example
+    -------
+    >>> len(study_kernel())
+    12
+    """
+    from ._version import kernel_id
+
+    return kernel_id()
 
 
 def sample(s: StudySettings) -> np.ndarray:
@@ -117,7 +153,7 @@ def run_samples(study: Study, ex: Executor, progress: bool = True, stop_after: i
         todo = np.flatnonzero(~study.cases[label].runs.done)
         for chunk in np.array_split(todo, max(1, int(np.ceil(len(todo) / s.batch)))):
             if len(chunk):
-                tasks.append((base, s.groups_names, study.x[chunk], list(s.outputs)))
+                tasks.append((base, s.groups_names, study.x[chunk], list(s.outputs), study_kernel()))
                 where.append((label, chunk))
     total = sum(len(c) for _, c in where)
     if total == 0:

@@ -111,6 +111,28 @@ def test_resume_after_an_edited_input_is_refused(tmp_path, edit):
         run_study(study, out, serial=True, progress=False, figures=False)
 
 
+def test_a_worker_with_another_kernel_refuses_the_batches(tmp_path, monkeypatch):
+    """A Dask worker with another build of the kernel would add runs of another model to the
+    study (the resume check compares the study file with the client's kernel only): every batch
+    carries the study's kernel id and a worker whose own differs refuses it with a message naming
+    both (noticed 2026-11-26). Here the study's id is made to differ from the worker's."""
+    from ringlube import study_runs
+
+    case = Case.from_namelist(COLD)
+    args = (case, [("ring", "width")], np.array([[1e-3]]), ["energy_loss"])
+    _, ok, _ = _run_designs(*args, kernel=ringlube.kernel_id())
+    assert ok.all()
+    with pytest.raises(RinglubeError, match=r"install the same build on every worker"):
+        _run_designs(*args, kernel="0123456789ab")
+    monkeypatch.setattr(study_runs, "study_kernel", lambda: "0123456789ab")
+    study = study_deck(tmp_path, **TWO_VARS)
+    with pytest.raises(
+        RinglubeError,
+        match=rf"runs another ringlube kernel \({ringlube.kernel_id()}\) than this study \(0123456789ab\)",
+    ):
+        run_study(study, tmp_path / "out", serial=True, progress=False, figures=False)
+
+
 def test_resume_under_another_kernel_is_refused(tmp_path):
     """A study resumed after the kernel changed would fit one surface to runs of two models:
     a study file records the kernel build's id (ringlube.kernel_id(), a hash of the kernel's

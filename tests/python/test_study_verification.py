@@ -33,8 +33,8 @@ def write(tmp_path, name="v", samples=32, generations=4) -> str:
 def some_unconverged(real):
     """``_run_designs`` whose runs at a large crown offset report 'not converged'."""
 
-    def run(base, variables, x, outputs):
-        values, converged, errors = real(base, variables, x, outputs)
+    def run(base, variables, x, outputs, kernel=None):
+        values, converged, errors = real(base, variables, x, outputs, kernel)
         return values, converged & (np.asarray(x)[:, 1] <= OFFSET_LIMIT), errors
 
     return run
@@ -56,8 +56,8 @@ def test_direct_nsga2_never_ranks_a_lifted_run(tmp_path, monkeypatch):
     that does not (the tests' stand-in lifts designs with a large crown offset)."""
     real = runs_mod._run_designs
 
-    def some_lifted(base, variables, x, outputs):
-        values, converged, errors = real(base, variables, x, outputs)
+    def some_lifted(base, variables, x, outputs, kernel=None):
+        values, converged, errors = real(base, variables, x, outputs, kernel)
         values[:, list(outputs).index("liner_lift_share")] = np.where(
             np.asarray(x)[:, 1] > OFFSET_LIMIT, 5.0, 0.0
         )
@@ -96,11 +96,11 @@ def test_direct_nsga2_resumes_from_its_last_generation(tmp_path, monkeypatch):
     run_study(fresh_deck, tmp_path / "fresh", serial=True, progress=False, figures=False)
     rows: list[int] = []
 
-    def counting(base, variables, x, outputs):  # one call per generation (batch = population)
+    def counting(base, variables, x, outputs, kernel=None):  # one call per generation (batch = population)
         if stop_at is not None and len(rows) == stop_at:
             raise KeyboardInterrupt("test: interrupted during the direct NSGA-II")
         rows.append(len(x))
-        return real(base, variables, x, outputs)
+        return real(base, variables, x, outputs, kernel)
 
     monkeypatch.setattr(runs_mod, "_run_designs", counting)
     stop_at = None
