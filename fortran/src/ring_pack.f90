@@ -447,12 +447,9 @@ contains
         if (norm_t <= (1.0_dp - 1e-4_dp * lam) * norm0 .or. norm_t == 0.0_dp) exit
         lam = 0.5_dp * lam
       end do
-      if (ls > 40) then
-        ! no decrease: accept if already at round-off level
-        call residual(p, res, jac, q, dq)
-        ok = maxval(abs(dp_)) <= 1e-10_dp * scale
-        exit
-      end if
+      ! no decrease (a step within newton_tol has been taken above): not solved, the caller
+      ! halves the sub-step
+      if (ls > 40) exit
       p = trial
       res = res_t
       q = q_t

@@ -90,7 +90,8 @@ contains
   !> its parameters `par`, and the gas network alone (no friction, one step per crank step)
   !> run over whole cycles from the warm-up's first step to its periodic state there, so that
   !> the coupled cycles start near their own (the land takes 2-16 gas cycles to settle from a
-  !> cold start, docs/ring_pack.md).
+  !> cold start, docs/ring_pack.md). cyc%converged: the start settled (its fine cycles, or its
+  !> coarse ones where the fine did not); cyc%contraction: the land's contraction per cycle.
   subroutine ring_pack_start(c, m, kstart, par, st, cyc, err)
     type(case_type), intent(in) :: c
     integer, intent(in) :: m, kstart
@@ -143,7 +144,11 @@ contains
     ! it, back and forth, and the last cycle can end far off (a 0.39 L land: 772 kPa against a
     ! periodic 497 kPa, the coarse cycles' 496 kPa; test
     ! test_a_slow_land_starts_where_its_coarse_cycles_settled)
-    if (coarse_ok .and. .not. cyc%converged) st = st_coarse
+    if (coarse_ok .and. .not. cyc%converged) then
+      st = st_coarse
+      cyc%contraction = rho_coarse
+      cyc%converged = .true.
+    end if
     ! the land's contraction for the coupled cycles' test: the fine cycles', else the coarse
     if (cyc%contraction == 0.0_dp) cyc%contraction = rho_coarse
   end subroutine ring_pack_start

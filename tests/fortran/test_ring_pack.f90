@@ -309,7 +309,8 @@ contains
     type(ring_pack_step_out) :: out, oa, ob
     real(dp) :: dt, p1a, p1b, m0, dm, flows, worst_p, worst_m, ap
     integer :: i, j
-    logical :: lifted
+    logical :: lifted, moving
+    moving = .true.
     worst_p = 0.0_dp
     worst_m = 0.0_dp
     lifted = .false.
@@ -339,9 +340,12 @@ contains
         worst_m = max(worst_m, abs(dm - flows) / max(oa%gross_mass, tiny(1.0_dp)))
         st = a
         lifted = lifted .or. st%flank /= flank_lower
+        ! the predictor works from the rates of the step before (not zero: a and b differ)
+        if (i > 1) moving = moving .and. (a%rate2 /= 0.0_dp .or. a%rate3 /= 0.0_dp)
       end do
     end do
     call check(lifted, 'newton predictor: the ring lifted off')
+    call check(moving, 'newton predictor: the steps carry the pressures'' rates')
     if (verbose) print '(a, 2es10.2)', 'newton predictor: pressures vs no predictor, '// &
       'mass balance: ', worst_p, worst_m
     call check(worst_p <= 1e-10_dp, 'newton predictor: the state of a start without it')
