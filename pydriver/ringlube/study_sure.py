@@ -69,6 +69,7 @@ def how_sure(study: Study, ex: Executor) -> None:
     w = dict(zip(s.labels, np.array(s.weights) / sum(s.weights)))
     plans = {}  # label -> (names, xs, nominal, inputs)
     tasks, where = [], []
+    kernel = study_runs.study_kernel()
     for label, c in study.cases.items():
         checked = [ch for ch in (c.chosen, c.reference) if ch is not None]
         names = [n for ch in checked for n in ch.names]
@@ -85,7 +86,7 @@ def how_sure(study: Study, ex: Executor) -> None:
             for bl in [label] if label in bases else s.labels:
                 base = bases[bl]
                 case = base.with_("numerics", preset="accurate") if change is None else _varied(base, *change)
-                tasks.append((case, s.groups_names, xs, list(s.outputs)))
+                tasks.append((case, s.groups_names, xs, list(s.outputs), kernel))
                 where.append((label, vname, bl))
     results: dict[tuple, np.ndarray] = {}
     ex.map(study_runs._run_designs, tasks, lambda i, res: results.__setitem__(where[i], res[0]))

@@ -124,8 +124,21 @@ def test_a_worker_with_another_kernel_refuses_the_batches(tmp_path, monkeypatch)
     assert ok.all()
     with pytest.raises(RinglubeError, match=r"install the same build on every worker"):
         _run_designs(*args, kernel="0123456789ab")
+    study = study_deck(tmp_path, **TWO_VARS, direct_population=6, direct_generations=2, batch=6)
+    # every batch a study sends: the samples, the checks of the chosen designs, how sure they
+    # are, the direct NSGA-II
+    sent = []
+    real = study_runs._run_designs
+
+    def spy(*task):
+        sent.append(task[4] if len(task) > 4 else None)
+        return real(*task)
+
+    with monkeypatch.context() as m:
+        m.setattr(study_runs, "_run_designs", spy)
+        run_study(study, tmp_path / "ok", serial=True, with_direct=True, progress=False, figures=False)
+    assert len(sent) > 4 and set(sent) == {ringlube.kernel_id()}, set(sent)
     monkeypatch.setattr(study_runs, "study_kernel", lambda: "0123456789ab")
-    study = study_deck(tmp_path, **TWO_VARS)
     with pytest.raises(
         RinglubeError,
         match=rf"runs another ringlube kernel \({ringlube.kernel_id()}\) than this study \(0123456789ab\)",
