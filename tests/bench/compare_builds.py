@@ -17,17 +17,11 @@ import subprocess
 import sys
 from pathlib import Path
 
+from ring_pack_cost import DECKS  # the engine decks of the ring pack's benchmarks (this folder)
+
 ROOT = Path(__file__).resolve().parents[2]
 BASE = Path(sys.argv[1])
 NEW = Path(sys.argv[2]) if len(sys.argv) > 2 else ROOT / "build"
-DECKS = (
-    "4000rpm_full_cold",
-    "4000rpm_full_hot",
-    "3000rpm_half_cold",
-    "3000rpm_half_hot",
-    "8000rpm_full_hot_gas",
-    "12000rpm_full_hot_gas",
-)
 MODELS = {
     "Swift-Stieber": "",
     "flooded JFO": "cavitation='jfo',",

@@ -43,10 +43,14 @@ def steady(deck: Path, physics: str, runs: int) -> tuple[float, float]:
     return best, cycles
 
 
-print("| deck | film | cycles computed none / gas | ms per run none / gas | ratio |")
-print("|---|---|---|---|---|")
-for deck in DECKS:
-    path = ROOT / "inputs" / f"crf450r_{deck}.nml"
-    for model, phys, runs in MODELS:
-        (t0, c0), (t1, c1) = (steady(path, f"{phys} ring_pack='{rp}'", runs) for rp in ("none", "gas"))
-        print(f"| {deck} | {model} | {c0:.2f} / {c1:.2f} | {t0:.2f} / {t1:.2f} | {t1 / t0:.2f} |", flush=True)
+if __name__ == "__main__":
+    print("| deck | film | cycles computed none / gas | ms per run none / gas | ratio |")
+    print("|---|---|---|---|---|")
+    for deck in DECKS:
+        path = ROOT / "inputs" / f"crf450r_{deck}.nml"
+        for model, phys, runs in MODELS:
+            (t0, c0), (t1, c1) = (steady(path, f"{phys} ring_pack='{rp}'", runs) for rp in ("none", "gas"))
+            print(
+                f"| {deck} | {model} | {c0:.2f} / {c1:.2f} | {t0:.2f} / {t1:.2f} | {t1 / t0:.2f} |",
+                flush=True,
+            )
