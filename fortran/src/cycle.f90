@@ -23,7 +23,8 @@ module ringlube_cycle
   use ringlube_load_balance, only: step_context, load_problem, balance_memory, balance, &
                                    start_history
   use ringlube_periodicity, only: cycle_history, history_start, history_h0, history_end, &
-                                  history_period, history_mean, history_clean
+                                  history_period, history_changes, history_mean, &
+                                  history_clean
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -61,7 +62,7 @@ contains
     integer :: m, k, icycle, flags, cycles_run
     logical :: periodic, finite, start_settled
     real(dp) :: sigma, h0_init, h0_start, h0, h0_end, resid, s_prev, vin, vout
-    real(dp) :: stored0, gap0, warmup, change_first
+    real(dp) :: stored0, gap0, warmup, change_first, chg(3)
     ! the last cycles' states and results, and the period found (docs/model.md, "A period of
     ! several cycles")
     type(cycle_history) :: hist
@@ -226,15 +227,21 @@ contains
       ! periodic: the smallest period after which the state repeats (starved: the liner film
       ! and the energy, since h0 at psi = 0 carries a slowly decaying mode of the film
       ! collected again at the end of the next downstroke; docs/model.md, "Periodicity")
+      if (.not. f%starved) change_first = res%scalars(sc_cycle_change)
       if (f%starved .and. gas_pack) then
         period = history_period(hist, c, h0_end, change_first, rp_end=rst, map_end=sup%liner%h)
+        chg = history_changes(hist, c, change_first, rp_end=rst, map_end=sup%liner%h)
       else if (f%starved) then
         period = history_period(hist, c, h0_end, change_first, map_end=sup%liner%h)
+        chg = history_changes(hist, c, change_first, map_end=sup%liner%h)
       else if (gas_pack) then
-        period = history_period(hist, c, h0_end, 0.0_dp, rp_end=rst)
+        period = history_period(hist, c, h0_end, change_first, rp_end=rst)
+        chg = history_changes(hist, c, change_first, rp_end=rst)
       else
-        period = history_period(hist, c, h0_end, 0.0_dp)
+        period = history_period(hist, c, h0_end, change_first)
+        chg = history_changes(hist, c, change_first)
       end if
+      res%scalars([sc_energy_change, sc_liner_change, sc_ring_pack_change]) = chg
       ! a gas start that did not settle says nothing of the land's distance from its periodic
       ! state, which a slow land's change over the first cycle does not show: the restart follows
       if (icycle == 1 .and. gas_pack .and. .not. start_settled) period = 0

@@ -9,7 +9,7 @@ module ringlube_periodicity
   implicit none
   private
   public :: max_period, cycle_history, history_start, history_h0, history_end, &
-            history_period, history_mean, history_clean
+            history_period, history_changes, history_mean, history_clean
 
   !> the longest period a run looks for [cycles]
   integer, parameter :: max_period = 12
@@ -162,12 +162,6 @@ contains
       energy_change = abs(e - hist%energy(slot(kk - d))) / max(e, tiny(1.0_dp))
     end function energy_change
 
-    !> The liner film's change from b to a, relative to a (L1).
-    pure real(dp) function map_change(a, b)
-      real(dp), intent(in) :: a(:), b(:)
-      map_change = sum(abs(a - b)) / max(sum(abs(a)), tiny(1.0_dp))
-    end function map_change
-
     pure real(dp) function change_rp(d)
       integer, intent(in) :: d
       change_rp = 0.0_dp
@@ -175,6 +169,32 @@ contains
                                                           hist%land_contraction)
     end function change_rp
   end function history_period
+
+  !> The changes over the cycle just run that the test of a period of one (history_period)
+  !> compares with cycle_tol: [energy, liner film (map_end), ring pack (rp_end)], 0 for those
+  !> the run has not; the first cycle's energy change is first_change.
+  pure function history_changes(hist, c, first_change, rp_end, map_end) result(ch)
+    type(cycle_history), intent(in) :: hist
+    type(case_type), intent(in) :: c
+    real(dp), intent(in) :: first_change
+    type(ring_pack_state), intent(in), optional :: rp_end
+    real(dp), intent(in), optional :: map_end(:)
+    real(dp) :: ch(3)
+    integer :: k
+    k = hist%cycles
+    ch = [first_change, 0.0_dp, 0.0_dp]
+    if (k >= 2) ch(1) = abs(hist%energy(slot(k)) - hist%energy(slot(k - 1))) / &
+                        max(hist%energy(slot(k)), tiny(1.0_dp))
+    if (present(map_end)) ch(2) = map_change(map_end, hist%map(:, slot(k)))
+    if (present(rp_end)) ch(3) = ring_pack_distance(c, rp_end, hist%rp(slot(k)), &
+                                                    hist%land_contraction)
+  end function history_changes
+
+  !> The liner film's change from b to a, relative to a (L1).
+  pure real(dp) function map_change(a, b)
+    real(dp), intent(in) :: a(:), b(:)
+    map_change = sum(abs(a - b)) / max(sum(abs(a)), tiny(1.0_dp))
+  end function map_change
 
   !> The means of results idx over the last p cycles (p >= 2; p = 1 leaves v alone).
   pure subroutine history_mean(hist, p, idx, v)

@@ -123,7 +123,14 @@ module ringlube_results
       '1: periodic within cycle_tol, no flagged step but lift-off (flag 2)'), &
     field_spec('cycles_run', 'cycles_run', '1', 'integer', 'cycles run (the last is reported)'), &
     field_spec('cycle_change', 'cycle_change', '1', 'real', &
-      'relative change of h0 at psi = 0 over the last cycle'), &
+      'relative change of h0 at psi = 0 over the last cycle (periodicity test, not starved)'), &
+    field_spec('energy_change', 'energy_change', '1', 'real', &
+      'relative change of energy_loss over the last cycle (periodicity test, starved)'), &
+    field_spec('liner_change', 'liner_change', '1', 'real', &
+      'relative (L1) change of the liner film over the last cycle (periodicity test)', &
+      'starved'), &
+    field_spec('ring_pack_change', 'ring_pack_change', '1', 'real', &
+      'the ring pack''s change over the last cycle as a distance from its periodic state', 'gas'), &
  field_spec('sigma', 'sigma_m', 'm', 'real', 'composite roughness sqrt(Rq_liner^2 + Rq_ring^2)'), &
     field_spec('run_time', 'run_time_s', 's', 'real', 'kernel time of the run'), &
     field_spec('total_film_solves', 'film_solves', '1', 'integer', &
@@ -132,7 +139,8 @@ module ringlube_results
       'Reynolds (tridiagonal) solves over the whole run'), &
     field_spec('cycles_computed', 'cycles_computed', '1', 'real', &
       "cycles' worth of crank steps solved, warm-up included"), &
-    field_spec('periodic', 'periodic', '1', 'logical', '1: h0 periodic within cycle_tol'), &
+    field_spec('periodic', 'periodic', '1', 'logical', &
+      '1: the state repeats within cycle_tol after period cycles'), &
  field_spec('period', 'period', '1', 'integer', 'cycles after which the state repeats (1 .. 12;'// &
       ' 0: none); from 2 the cycle quantities are means over them'), &
     field_spec('oil_to_chamber', 'oil_to_chamber_mm3', 'mm^3', 'real', &
@@ -248,6 +256,9 @@ module ringlube_results
     sc_converged = row(findloc(scalar_spec%short, 'converged', dim=1)), &
     sc_cycles_run = row(findloc(scalar_spec%short, 'cycles_run', dim=1)), &
     sc_cycle_change = row(findloc(scalar_spec%short, 'cycle_change', dim=1)), &
+    sc_energy_change = row(findloc(scalar_spec%short, 'energy_change', dim=1)), &
+    sc_liner_change = row(findloc(scalar_spec%short, 'liner_change', dim=1)), &
+    sc_ring_pack_change = row(findloc(scalar_spec%short, 'ring_pack_change', dim=1)), &
     sc_sigma = row(findloc(scalar_spec%short, 'sigma', dim=1)), &
     sc_run_time = row(findloc(scalar_spec%short, 'run_time', dim=1)), &
     sc_total_film_solves = row(findloc(scalar_spec%short, 'total_film_solves', dim=1)), &

@@ -7,7 +7,8 @@ module ringlube_results_summary
                               sc_liner_lift_share, sc_blowby, sc_blowby_mass, sc_ring_lift_share, &
                               sc_flutter_events, sc_ring_mass, sc_min_film, sc_max_friction, &
                               sc_cycles_run, sc_cycle_change, sc_flagged_steps, sc_converged, &
-                              sc_run_time, sc_cycles_computed, sc_period, sc_periodic
+                              sc_run_time, sc_cycles_computed, sc_period, sc_periodic, &
+                              sc_energy_change, sc_liner_change, sc_ring_pack_change
   implicit none
   private
   public :: summary_text
@@ -62,8 +63,15 @@ contains
     write (a, '(f10.3)') v(sc_max_friction)
     call line('peak friction', a, 'N')
     write (a, '(i10)') nint(v(sc_cycles_run))
-    write (b, '(es9.2)') v(sc_cycle_change)
-    call line('cycles run', a, '  (last cycle change in h0: '//trim(adjustl(b))//')')
+    ! the changes over the last cycle that the test of a period of one compares with cycle_tol
+    ! (starved: the liner film and the energy, else h0; and the ring pack's)
+    if (made(sc_liner_change)) then
+      b = 'liner film '//e(v(sc_liner_change))//', energy '//e(v(sc_energy_change))
+    else
+      b = 'h0 '//e(v(sc_cycle_change))
+    end if
+    if (made(sc_ring_pack_change)) b = trim(b)//', ring pack '//e(v(sc_ring_pack_change))
+    call line('cycles run', a, '  (last cycle''s change: '//trim(b)//')')
     write (a, '(i10)') nint(v(sc_flagged_steps))
     call line('flagged crank steps', a, '(see /cycle/flags)')
     b = ''
@@ -89,6 +97,14 @@ contains
       if (len_trim(unit) > 0) t = t//' '//trim(unit)
       t = t//nl
     end subroutine line
+    !> es9.2 without blanks
+    function e(y) result(s)
+      real(dp), intent(in) :: y
+      character(len=:), allocatable :: s
+      character(len=16) :: w
+      write (w, '(es9.2)') y
+      s = trim(adjustl(w))
+    end function e
     !> f10.4 where that shows four significant digits, else es10.3
     function num(y) result(s)
       real(dp), intent(in) :: y

@@ -173,9 +173,17 @@ def run(
     if strict and not result.converged:
         raise NotConvergedError(
             f"{case.source or case.name}: the run did not converge "
-            f"({result.cycles_run} cycles, change {result.cycle_change:.2e})"
+            f"({result.cycles_run} cycles; last cycle's change {_changes(result)})"
         )
     return result
+
+
+def _changes(result: CycleResult) -> str:
+    """The last cycle's changes the periodicity test compares with ``cycle_tol``, as text
+    (the summary's: starved the liner film and the energy, else h0; and the ring pack's)."""
+    names = ("liner_change", "energy_change") if "liner_change" in result.scalars else ("cycle_change",)
+    names += ("ring_pack_change",) if "ring_pack_change" in result.scalars else ()
+    return ", ".join(f"{n} {result.scalars[n]:.2e}" for n in names)
 
 
 def _columns(table: dict, values: np.ndarray, made: set[str]) -> dict[str, np.ndarray]:

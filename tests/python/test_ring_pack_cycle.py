@@ -287,6 +287,38 @@ def _stopped_after(case, cycles):
     return [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=k)) for k in cycles]
 
 
+def test_the_last_cycles_changes_say_why_a_run_is_not_periodic():
+    """A run reports the changes over its last cycle that its test of a period of one compares
+    with cycle_tol (`liner_change` and `energy_change` with a starved inlet, `cycle_change` of
+    h0 without; `ring_pack_change` with the gas), and the summary prints them: before, a starved
+    run that was not converged showed only h0's change, often below cycle_tol. Checked against
+    the runs stopped after 3 and 4 cycles: the liner film's L1 change and the energy's change
+    computed here from them. The cold deck starved with the gas is periodic after 4 cycles
+    (liner film change 6e-5); stopped after 3 it is not (1.4e-3), and says so."""
+    case = Case.from_namelist(COLD).with_physics(cavitation="jfo", inlet="starved", ring_pack="gas")
+    three, four = _stopped_after(case, (3, 4))
+    h3, h4 = three.liner["liner_oil_film"], four.liner["liner_oil_film"]
+    assert four.liner_change == pytest.approx(np.abs(h4 - h3).sum() / np.abs(h4).sum(), rel=1e-12)
+    de = abs(four.energy_loss - three.energy_loss) / four.energy_loss
+    assert four.energy_change == pytest.approx(de, rel=1e-9, abs=1e-15)
+    tol = case.value("numerics", "cycle_tol")
+    done = ringlube.run(case)
+    assert done.converged and done.cycles_run == 4, done.cycles_run
+    assert max(done.liner_change, done.energy_change, done.ring_pack_change) <= tol
+    stopped = ringlube.run(case.with_numerics(max_cycles=3))
+    assert not stopped.converged and stopped.liner_change > tol
+    assert f"liner film {stopped.liner_change:.2E}" in stopped.summary()
+    # without a starved inlet: h0's change and the ring pack's; the first cycle of the rev-limit
+    # deck is not periodic (its land moves with the film's friction) and shows which moved
+    from conftest import INPUTS
+
+    rev = Case.from_namelist(INPUTS / "crf450r_12000rpm_full_hot_gas.nml")
+    first = ringlube.run(rev.with_numerics(max_cycles=1))
+    assert "liner_change" not in first.scalars and not first.converged
+    assert max(first.cycle_change, first.ring_pack_change) > rev.value("numerics", "cycle_tol")
+    assert f"h0 {first.cycle_change:.2E}, ring pack {first.ring_pack_change:.2E}" in first.summary()
+
+
 def test_period_of_two_cycles_reports_the_means():
     """A 0.879 mm ring at 14.18 N/m on the 8000 r/min hot 'gas' deck settles into a period of
     two cycles (land pressure at psi = 0 alternating between 1.856 and 2.033 bar, energy between
