@@ -159,7 +159,7 @@ module ringlube_inputs
     input_spec('numerics', 'max_cycles', kind_int, '10', 1.0_dp, 1000.0_dp, '1', '', &
       'cycles at most before the run is reported not converged'), &
     input_spec('numerics', 'cycle_tol', kind_real, '1e-3', 1e-14_dp, 0.5_dp, '1', '', &
-      'periodicity tolerance on h0 at psi = 0'), &
+      'periodicity tolerance (h0; starved: liner film, energy; the ring pack)'), &
     input_spec('numerics', 'max_load_iterations', kind_int, '2000', 1.0_dp, 1e6_dp, '1', '', &
       'load-balance trials per crank step at most'), &
     input_spec('numerics', 'max_pressure_iterations', kind_int, '100', 1.0_dp, 1e4_dp, '1', '', &
