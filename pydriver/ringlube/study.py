@@ -161,7 +161,9 @@ def _pipeline(
             study.save()
         optimise(study, ex, progress=progress)
         study.stages.add("optimised")
-        if "checked" not in study.stages or any(c.chosen is None for c in study.cases.values()):
+        if "checked" not in study.stages or any(
+            c.chosen is None or c.candidates is None for c in study.cases.values()
+        ):
             check_designs(study, ex, which=("chosen",))
             for c in study.cases.values():
                 c.sure = None

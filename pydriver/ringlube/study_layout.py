@@ -6,9 +6,9 @@ matrix carries ``columns`` and ``units`` attributes (UTF-8 strings), e.g.
 ``units = J, %, ...``. A case group holds one group per record, each written and read by the
 record itself (``to_h5``/``from_h5`` of :mod:`ringlube.study_state`,
 :mod:`ringlube.study_state_checks` and :class:`~ringlube.surrogate.QuadraticSurface`):
-``runs``, ``surface/RESULT``, ``repeats/rK/{x,f}``, ``front``, ``chosen``, ``reference``,
-``sure``, ``direct_generations/gK`` and ``direct`` (the last two with the ``key`` of the
-direct settings they were computed with).
+``runs``, ``surface/RESULT``, ``repeats/rK/{x,f}``, ``front``, ``candidates``, ``chosen``,
+``reference``, ``sure``, ``direct_generations/gK`` and ``direct`` (the last two with the
+``key`` of the direct settings they were computed with).
 """
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ def write_case(g: h5py.Group, c: CaseState, s: StudySettings) -> None:
         put(g, f"repeats/r{rep}/f", fv, s.objectives, obj_units)
     if c.front is not None:
         c.front.to_h5(g.create_group("front"), s)
-    for key in ("chosen", "reference"):
+    for key in ("candidates", "chosen", "reference"):
         ch: Checked | None = getattr(c, key)
         if ch is not None:
             ch.to_h5(g.create_group(key), s)
@@ -104,7 +104,7 @@ def read_case(g: h5py.Group, s: StudySettings) -> CaseState:
         c.repeats[int(name[1:])] = (rg["x"][()], rg["f"][()])
     if "front" in g:
         c.front = Front.from_h5(g["front"])
-    for key in ("chosen", "reference"):
+    for key in ("candidates", "chosen", "reference"):
         if key in g:
             setattr(c, key, Checked.from_h5(g[key]))
     if "sure" in g:

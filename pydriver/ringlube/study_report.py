@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from .outputs import write_text
+from .study_check import FRONT_CHECKS, candidates_text
 from .study_constraints import constraint_bounds
 from .study_figures import study_figures
 from .study_format import (
@@ -189,9 +190,16 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
         "",
         "## Chosen designs, re-simulated with the true model",
         "",
-        "The extremes of each objective on the merged Pareto set and its knee (nearest the "
-        "ideal point in normalised objectives)"
-        + (", and the reference design of the study deck" if s.reference is not None else "")
+        f"The surrogate's extremes and knee and the designs of the merged Pareto set farthest "
+        f"apart in objectives (up to {FRONT_CHECKS} per case) are re-simulated with the true "
+        "model; the chosen designs are the extremes of each objective and the knee (nearest "
+        "the ideal point in objectives normalised over the set) of the Pareto set, by the true "
+        "model, of those that are good by it: converged, on the liner"
+        + (", within the constraints" if s.constraints else "")
+        + " (with none good, the surrogate's own, marked). A surface that fits a result poorly "
+        "(blowby, flutter events) can put its knee on a design the true model rejects; the "
+        "true model chooses here"
+        + (". Below them the reference design of the study deck" if s.reference is not None else "")
         + ". Results from the true model; surrogate error = (surface - true) / |true|. "
         f"A design marked '{NOT_CONVERGED}' did not reach a periodic cycle: its numbers are "
         f"the last cycle's and confirm nothing. A design marked '{LIFTED}' lifted the ring off "
@@ -204,6 +212,8 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
         if c.chosen is None:
             continue
         L += ["", f"### {label}", ""]
+        how = candidates_text(study, label)
+        L += [how, ""] if how else []
         L += _design_table(study, c.chosen, label)
         if c.reference is not None:
             L += _design_table(study, c.reference, label)[2:]
@@ -258,6 +268,16 @@ def _ranking(values: np.ndarray) -> list[int]:
     return [int(i) for i in np.argsort(values, kind="stable")]
 
 
+def _change(value: float, base: float, digits: int) -> str:
+    """(value - base) / |base| as a signed percentage; where base is 0 (a count such as
+    flutter_events), the same ``+0%`` or both values; NaN (a failed run) as ``-``."""
+    if not (np.isfinite(value) and np.isfinite(base)):
+        return "-"
+    if base == 0:
+        return f"{0:+.{digits}%}" if value == 0 else f"{value:.4g} against 0"
+    return f"{(value - base) / abs(base):+.{digits}%}"
+
+
 def how_sure_lines(study: Study) -> list[str]:
     """The "How sure is this answer" section of ``report.md``.
 
@@ -303,10 +323,8 @@ def how_sure_lines(study: Study) -> list[str]:
         "|" + "---|" * (2 + len(shown)),
     ]
     for label, su in sures:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            rel = (su.nominal - su.accurate) / np.abs(su.accurate)
-        for n, r in zip(su.names, rel):
-            L.append(f"| {label} | {n} | " + " | ".join(f"{r[j]:+.2%}" for j in cols) + " |")
+        for n, v, a in zip(su.names, su.nominal, su.accurate):
+            L.append(f"| {label} | {n} | " + " | ".join(_change(v[j], a[j], 2) for j in cols) + " |")
     if "accurate" in preset:
         L += ["", "The study already ran at preset 'accurate': these differences are zero by construction."]
     L += ["", "### Calibration", ""]
@@ -342,23 +360,23 @@ def how_sure_lines(study: Study) -> list[str]:
             "|" + "---|" * (3 + len(shown)),
         ]
         changed = []
-        with np.errstate(divide="ignore", invalid="ignore"):
-            for i, (inp, fac) in enumerate(zip(su.inputs, su.factors)):
-                lo = (su.low[i] - su.nominal) / np.abs(su.nominal)
-                hi = (su.high[i] - su.nominal) / np.abs(su.nominal)
-                for d, n in enumerate(su.names):
-                    L.append(
-                        f"| `{inp}` | {fac:g} | {n} | "
-                        + " | ".join(f"{lo[d, j]:+.1%}, {hi[d, j]:+.1%}" for j in cols)
-                        + " |"
+        for i, (inp, fac) in enumerate(zip(su.inputs, su.factors)):
+            lo, hi, nom = su.low[i], su.high[i], su.nominal
+            for d, n in enumerate(su.names):
+                L.append(
+                    f"| `{inp}` | {fac:g} | {n} | "
+                    + " | ".join(
+                        f"{_change(lo[d, j], nom[d, j], 1)}, {_change(hi[d, j], nom[d, j], 1)}" for j in cols
                     )
-                for o in s.objectives:
-                    j = s.outputs.index(o)
-                    base = _ranking(su.nominal[:, j])
-                    for side, v in (("/", su.low[i]), ("x", su.high[i])):
-                        if _ranking(v[:, j]) != base:
-                            order = " < ".join(su.names[q] for q in _ranking(v[:, j]))
-                            changed.append(f"by {o} with {inp} {side} {fac:g}: {order}")
+                    + " |"
+                )
+            for o in s.objectives:
+                j = s.outputs.index(o)
+                base = _ranking(su.nominal[:, j])
+                for side, v in (("/", su.low[i]), ("x", su.high[i])):
+                    if _ranking(v[:, j]) != base:
+                        order = " < ".join(su.names[q] for q in _ranking(v[:, j]))
+                        changed.append(f"by {o} with {inp} {side} {fac:g}: {order}")
         L.append("")
         if changed:
             L += [f"The ranking of the designs of {label} **changes**:"] + [f"- {c}" for c in changed]

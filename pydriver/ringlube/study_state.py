@@ -217,6 +217,8 @@ class CaseState:
     surfaces: dict[str, QuadraticSurface] = dataclasses.field(default_factory=dict)
     repeats: dict[int, tuple[np.ndarray, np.ndarray]] = dataclasses.field(default_factory=dict)
     front: Front | None = None
+    #: the front's designs re-simulated to choose from (study_check.candidate_designs)
+    candidates: Checked | None = None
     chosen: Checked | None = None
     reference: Checked | None = None
     direct: Direct | None = None

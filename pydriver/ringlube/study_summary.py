@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .study_check import candidates_text
 from .study_format import NOT_CONVERGED, _feasible_text, _lift_mark, _values, format_design
 from .study_store import Study
 from .study_variables import output_units
@@ -66,6 +67,9 @@ def summary(study: Study) -> str:
                 f"hypervolume of a single repeat / merged: mean {fr.hv_ratio_mean:.3f}, "
                 f"min {fr.hv_ratio_min:.3f}"
             )
+        how = candidates_text(study, label)
+        if how:
+            lines.append(f"  {how}")
         for ch in (c.chosen, c.reference):
             if ch is None:
                 continue

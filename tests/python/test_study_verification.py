@@ -161,3 +161,49 @@ def test_lifted_design_is_marked_in_summary_report_and_pareto_csv(tmp_path, monk
         rows = list(csv.reader(fh))
     assert rows[0][-1] == LIFTED_COLUMN
     assert [r[-1] for r in rows[1:]] == ["yes"] + ["no"] * (len(rows) - 2)
+
+
+def test_chosen_designs_are_the_true_models_best_of_the_front(tmp_path, monkeypatch):
+    """The surfaces choose the candidates, the true model chooses among them: a surrogate knee
+    that lifts the ring off the liner by the true model is not the chosen knee, and the chosen
+    designs are the extremes and the knee, by the true values, of the Pareto set of the good
+    candidates (converged, on the liner), recomputed here by brute force. (The tests' stand-in
+    lifts only the surrogate's knee, which is no sample, so the surfaces and the front are
+    those of the plain study.)"""
+    plain = run_study(write(tmp_path), tmp_path / "plain", serial=True, progress=False, figures=False)
+    cand = plain.cases["cold"].candidates
+    assert cand.names[: len(plain.s.objectives) + 1] == [
+        *(f"surrogate min {o}" for o in plain.s.objectives),
+        "surrogate knee",
+    ]
+    knee = cand.x[cand.names.index("surrogate knee")]
+    assert not (np.asarray(plain.x) == knee).all(axis=1).any()
+    real = runs_mod._run_designs
+
+    def knee_lifts(base, variables, x, outputs, kernel=None):
+        values, converged, errors = real(base, variables, x, outputs, kernel)
+        at = (np.asarray(x) == knee).all(axis=1)
+        values[at, list(outputs).index("liner_lift_share")] = 3.0
+        return values, converged, errors
+
+    monkeypatch.setattr(runs_mod, "_run_designs", knee_lifts)
+    study = run_study(write(tmp_path), tmp_path / "out", serial=True, progress=False, figures=False)
+    c = study.cases["cold"]
+    np.testing.assert_array_equal(c.front.x, plain.cases["cold"].front.x)
+    f = c.candidates.f_true
+    j_lift = list(study.s.outputs).index("liner_lift_share")
+    good = np.flatnonzero(c.candidates.converged & (f[:, j_lift] == 0))
+    assert len(good) == len(f) - 1  # only the knee lifted
+    obj = f[good][:, [list(study.s.outputs).index(o) for o in study.s.objectives]]
+    pareto = [
+        i for i in range(len(obj)) if not (np.all(obj <= obj[i], axis=1) & np.any(obj < obj[i], axis=1)).any()
+    ]
+    po = obj[pareto]
+    z = (po - po.min(0)) / (po.max(0) - po.min(0))
+    rows = [int(np.argmin(po[:, k])) for k in range(po.shape[1])] + [int(np.argmin(np.hypot(*z.T)))]
+    np.testing.assert_array_equal(c.chosen.x, c.candidates.x[good[np.array(pareto)[rows]]])
+    assert not (c.chosen.x == knee).all(axis=1).any()
+    assert (c.chosen.f_true[:, j_lift] == 0).all()
+    assert "is not the chosen knee: lifted off the liner" in summary(study)
+    report = write_report(study, tmp_path / "out").read_text()
+    assert "is not the chosen knee: lifted off the liner" in report
