@@ -268,6 +268,25 @@ def _ranking(values: np.ndarray) -> list[int]:
     return [int(i) for i in np.argsort(values, kind="stable")]
 
 
+def _reordered(base: np.ndarray, varied: np.ndarray) -> bool:
+    """Whether two designs ranked strictly one way by ``base`` are ranked strictly the other
+    way by ``varied`` (ties, e.g. no oil at all for every design, reorder nothing)."""
+    b, v = (
+        np.asarray(base)[:, None] - np.asarray(base)[None, :],
+        np.asarray(varied)[:, None] - np.asarray(varied)[None, :],
+    )
+    return bool(np.any((b < 0) & (v > 0)))
+
+
+def _order(names: list[str], values: np.ndarray) -> str:
+    """The designs from the least value to the largest, ``=`` between equal values."""
+    idx = _ranking(values)
+    out = names[idx[0]]
+    for a, b in zip(idx, idx[1:]):
+        out += (" = " if values[b] == values[a] else " < ") + names[b]
+    return out
+
+
 def _change(value: float, base: float, digits: int) -> str:
     """(value - base) / |base| as a signed percentage; where base is 0 (a count such as
     flutter_events), the same ``+0%`` or both values; NaN (a failed run) as ``-``."""
@@ -372,11 +391,9 @@ def how_sure_lines(study: Study) -> list[str]:
                 )
             for o in s.objectives:
                 j = s.outputs.index(o)
-                base = _ranking(su.nominal[:, j])
                 for side, v in (("/", su.low[i]), ("x", su.high[i])):
-                    if _ranking(v[:, j]) != base:
-                        order = " < ".join(su.names[q] for q in _ranking(v[:, j]))
-                        changed.append(f"by {o} with {inp} {side} {fac:g}: {order}")
+                    if _reordered(su.nominal[:, j], v[:, j]):
+                        changed.append(f"by {o} with {inp} {side} {fac:g}: {_order(su.names, v[:, j])}")
         L.append("")
         if changed:
             L += [f"The ranking of the designs of {label} **changes**:"] + [f"- {c}" for c in changed]

@@ -151,3 +151,15 @@ def test_report_names_chosen_and_reference_designs(study):
         "![tradeoff_energy_loss_vs_mixed_share](tradeoff_energy_loss_vs_mixed_share.png)",
     ):
         assert piece in text, piece
+
+
+def test_how_sure_ranking_counts_strict_reorders_only():
+    """"The ranking of the designs changes" only if two designs ranked strictly one way are
+    ranked strictly the other way: with half the supply film no design puts oil in the chamber,
+    and four zeros reorder nothing (before, their index order was reported as a new ranking)."""
+    from ringlube.study_report import _order, _reordered
+
+    assert not _reordered(np.array([0.3, 0.2, 0.4]), np.zeros(3))
+    assert not _reordered(np.array([1.0, 1.0, 2.0]), np.array([3.0, 2.0, 4.0]))
+    assert _reordered(np.array([0.3, 0.2, 0.4]), np.array([0.1, 0.2, 0.4]))
+    assert _order(["a", "b", "c"], np.array([1.0, 0.0, 0.0])) == "b = c < a"
