@@ -154,7 +154,7 @@ def test_report_names_chosen_and_reference_designs(study):
 
 
 def test_how_sure_ranking_counts_strict_reorders_only():
-    """"The ranking of the designs changes" only if two designs ranked strictly one way are
+    """The ranking of the designs "changes" only if two designs ranked strictly one way are
     ranked strictly the other way: with half the supply film no design puts oil in the chamber,
     and four zeros reorder nothing (before, their index order was reported as a new ranking)."""
     from ringlube.study_report import _order, _reordered
