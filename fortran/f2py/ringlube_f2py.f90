@@ -168,7 +168,8 @@ end subroutine rl_set_trace
 subroutine rl_run(handle, out_path, nsteps, ns, ni, nc, nl, nliner, series, iseries, scalars, &
                   liner, made, code, message)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
-  use ringlube_error, only: error_type, error_status, rl_runtime_error
+  use ringlube_error, only: error_type, error_status, rl_runtime_error, rl_interrupted, fatal_error
+  use ringlube_fsys, only: interrupt_catch_begin, interrupt_catch_end
   use ringlube_api, only: api_run
   use ringlube_results, only: result_type, n_series, n_int_series, n_scalars, n_liner, &
                               produced_models
@@ -196,7 +197,11 @@ subroutine rl_run(handle, out_path, nsteps, ns, ni, nc, nl, nliner, series, iser
     message = 'rl_run: result table sizes differ from the caller''s'
     return
   end if
+  ! Ctrl-C stops the kernel within a crank step (rl_interrupted), not after the run
+  call interrupt_catch_begin()
   call api_run(handle, r, err, out_path)
+  if (interrupt_catch_end() .and. .not. allocated(err)) &
+    call fatal_error(err, 'interrupted', rl_interrupted)
   call error_status(err, code, message)
   if (allocated(err)) return
   if (r%nsteps /= nsteps .or. size(r%liner, 1) /= nliner) then
@@ -218,7 +223,8 @@ end subroutine rl_run
 subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes, messages)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
   use ringlube_kinds, only: dp
-  use ringlube_error, only: error_type, error_status, rl_input_error
+  use ringlube_error, only: error_type, error_status, rl_input_error, rl_interrupted
+  use ringlube_fsys, only: interrupt_catch_begin, interrupt_catch_end, interrupt_requested
   use ringlube_api, only: api_run_design
   use ringlube_results, only: n_scalars
   implicit none
@@ -242,15 +248,24 @@ subroutine rl_run_batch(handle, keys, nd, nv, x, nc, out, codes, messages)
     messages = 'rl_run_batch: cannot read the variable names '//keys
     return
   end if
+  ! Ctrl-C stops the batch within a crank step: the design running and every one after it
+  ! get the code rl_interrupted
+  call interrupt_catch_begin()
   do i = 1, nd
     call api_run_design(handle, names, x(i, :), s, err)
     call error_status(err, codes(i), messages(i))
+    if (interrupt_requested()) then
+      codes(i:) = rl_interrupted
+      messages(i:) = 'interrupted'
+      exit
+    end if
     if (allocated(err)) then
       deallocate (err)
       cycle
     end if
     out(i, :) = s(1:nc)
   end do
+  if (interrupt_catch_end()) codes(nd) = rl_interrupted
 end subroutine rl_run_batch
 
 !> The summary `ringlube-solve` prints, from the scalar results `scalars` (table

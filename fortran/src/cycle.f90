@@ -2,7 +2,8 @@
 !> friction, power and energy (SPEC sections 4, 7, 8).
 module ringlube_cycle
   use ringlube_kinds, only: dp, pi
-  use ringlube_error, only: error_type, fatal_error, rl_input_error
+  use ringlube_error, only: error_type, fatal_error, rl_input_error, rl_interrupted
+  use ringlube_fsys, only: interrupt_requested
   use ringlube_case, only: case_type, elastic_pressure, ring_mass, steps_per_cycle
   use ringlube_kinematics, only: deg2rad, piston_position, piston_acceleration
   use ringlube_gas, only: gas_pressure
@@ -363,6 +364,17 @@ contains
       type(load_problem), intent(out) :: lp_out
       real(dp) :: s
       integer :: dir
+      ! Ctrl-C during a call from Python: the run stops here, the loops end it at their check
+      if (.not. allocated(rerr) .and. interrupt_requested()) &
+        call fatal_error(rerr, c%deck_path//': interrupted', rl_interrupted)
+      if (allocated(rerr)) then
+        h0out = 0.0_dp
+        resid_out = 0.0_dp
+        v_in = 0.0_dp
+        v_out = 0.0_dp
+        flags_out = 0
+        return
+      end if
       call prepare(f, psi)
       if (gas_pack) then
         call ring_pack_advance(rst, rout, psi)

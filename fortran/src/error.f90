@@ -11,6 +11,8 @@ module ringlube_error
   integer, parameter, public :: rl_runtime_error = 1
   integer, parameter, public :: rl_input_error = 2
   integer, parameter, public :: rl_not_converged = 3
+  !> Stopped by SIGINT (Ctrl-C) during a call from Python (128 + SIGINT, as a shell reports it).
+  integer, parameter, public :: rl_interrupted = 130
 
   !> An error travelling back to the caller.
   type, public :: error_type

@@ -9,6 +9,7 @@
 #include <fcntl.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <pthread.h>
 #include <signal.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -58,6 +59,55 @@ void rl_remove_temp_on_signal(void)
     signal(SIGINT, remove_temp_and_die);
     signal(SIGTERM, remove_temp_and_die);
     signal(SIGHUP, remove_temp_and_die);
+}
+
+/* Ctrl-C during a kernel call from Python (the f2py layer): the kernel polls
+ * rl_interrupt_requested() at every crank step and returns an 'interrupted' error, so
+ * `ringlube.run` and `ringlube run` stop within a step and write nothing. Python's own
+ * SIGINT handler would only act once the call returns. Begin/end nest (a counter under a
+ * mutex, for calls from several threads); the handler saved at the first begin is put back
+ * at the last end. A SIGINT that was ignored stays ignored. */
+static volatile sig_atomic_t interrupt_flag = 0;
+static struct sigaction saved_int;
+static int catch_depth = 0;
+static pthread_mutex_t catch_mutex = PTHREAD_MUTEX_INITIALIZER;
+
+static void note_interrupt(int sig)
+{
+    (void)sig;
+    interrupt_flag = 1;
+}
+
+void rl_interrupt_catch_begin(void)
+{
+    pthread_mutex_lock(&catch_mutex);
+    if (catch_depth++ == 0) {
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = note_interrupt;
+        sigemptyset(&sa.sa_mask);
+        interrupt_flag = 0;
+        if (sigaction(SIGINT, &sa, &saved_int) == 0 && saved_int.sa_handler == SIG_IGN)
+            sigaction(SIGINT, &saved_int, NULL);
+    }
+    pthread_mutex_unlock(&catch_mutex);
+}
+
+/* End a catch; returns 1 if SIGINT arrived since the outermost begin. */
+int rl_interrupt_catch_end(void)
+{
+    int was;
+    pthread_mutex_lock(&catch_mutex);
+    was = interrupt_flag;
+    if (catch_depth > 0 && --catch_depth == 0) sigaction(SIGINT, &saved_int, NULL);
+    pthread_mutex_unlock(&catch_mutex);
+    return was;
+}
+
+/* 1 once SIGINT arrived during a catch. */
+int rl_interrupt_requested(void)
+{
+    return interrupt_flag;
 }
 
 /* Forget the temporary file `path` (it was renamed or removed). */

@@ -6,7 +6,8 @@ module ringlube_fsys
   private
   public :: file_kind, same_file, make_temp_file, rename_file, remove_file, dir_name, &
             dir_prefix, last_errno, clear_errno, errno_text, ignore_file_size_signal, &
-            remove_temp_on_signal
+            remove_temp_on_signal, interrupt_catch_begin, interrupt_catch_end, &
+            interrupt_requested
 
   !> What `file_kind` returns.
   integer, parameter, public :: fs_missing = 0, fs_regular = 1, fs_directory = 2, &
@@ -37,6 +38,15 @@ module ringlube_fsys
       integer(c_int), value :: code, outlen
       character(kind=c_char), intent(out) :: out(*)
     end subroutine c_strerror
+    !> Catch SIGINT until the matching interrupt_catch_end (calls from Python; fsys.c).
+    subroutine interrupt_catch_begin() bind(c, name='rl_interrupt_catch_begin')
+    end subroutine interrupt_catch_begin
+    integer(c_int) function c_interrupt_catch_end() bind(c, name='rl_interrupt_catch_end')
+      import :: c_int
+    end function c_interrupt_catch_end
+    integer(c_int) function c_interrupt_requested() bind(c, name='rl_interrupt_requested')
+      import :: c_int
+    end function c_interrupt_requested
     subroutine remove_temp_on_signal() bind(c, name='rl_remove_temp_on_signal')
     end subroutine remove_temp_on_signal
     subroutine c_forget_temp(path) bind(c, name='rl_forget_temp')
@@ -56,6 +66,16 @@ module ringlube_fsys
   end interface
 
 contains
+
+  !> Whether SIGINT arrived during an interrupt catch (the kernel stops at the next step).
+  logical function interrupt_requested()
+    interrupt_requested = c_interrupt_requested() /= 0
+  end function interrupt_requested
+
+  !> End an interrupt catch; .true. if SIGINT arrived since the outermost begin.
+  logical function interrupt_catch_end()
+    interrupt_catch_end = c_interrupt_catch_end() /= 0
+  end function interrupt_catch_end
 
   !> What `path` names, following symbolic links: one of the `fs_*` values.
   integer function file_kind(path)

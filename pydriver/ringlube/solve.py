@@ -148,6 +148,8 @@ def run(
         series, iseries, scalars, liner, models, code, message = _kernel.rl_run(
             k.handle, out, k.nsteps, len(SERIES), len(INT_SERIES), len(SCALARS), len(LINER), k.nliner
         )
+        if code == INTERRUPTED:  # Ctrl-C: the kernel stopped within a crank step, wrote nothing
+            raise KeyboardInterrupt
         if code:
             raise error_for(code, _text(message))
         pressure_file, _, _ = _kernel.rl_get(k.handle, b"operating", b"pressure_file")
@@ -176,6 +178,10 @@ def run(
             f"({result.cycles_run} cycles; last cycle's change {_changes(result)})"
         )
     return result
+
+
+#: The kernel's code for a run stopped by SIGINT (Ctrl-C) during the call (error.f90).
+INTERRUPTED = 130
 
 
 def _changes(result: CycleResult) -> str:
@@ -275,6 +281,8 @@ def run_designs(
         return values, converged, errors
     with kernel_case(case) as k:
         out, codes, messages = _kernel.rl_run_batch(k.handle, " ".join(keys).encode(), x, len(SCALARS))
+    if (np.asarray(codes) == INTERRUPTED).any():  # Ctrl-C: the batch stopped within a step
+        raise KeyboardInterrupt
     for i, code in enumerate(codes):
         if code:
             errors[i] = _text(messages[i]) or f"design {i}: error code {int(code)}"

@@ -4,6 +4,7 @@ never a traceback (issue 12 items 16, 17 and 22)."""
 from __future__ import annotations
 
 import os
+import re
 import subprocess
 import sys
 
@@ -298,3 +299,59 @@ def test_output_piped_into_head_ends_quietly():
     )
     assert p.stdout.strip() == "141", (p.stdout, p.stderr)
     assert p.stderr == "", p.stderr
+
+
+def test_ctrl_c_stops_a_run_within_a_step_and_writes_nothing(tmp_path):
+    """Ctrl-C (SIGINT) during `ringlube.run(..., output=...)` and `ringlube run -o` stops the
+    kernel within a crank step: KeyboardInterrupt / exit 130, and no result file nor a
+    temporary one. Before, Python's handler acted only once the kernel returned, so a run was
+    finished (and its file written) before the interrupt took effect (a review, 2026-11-26).
+    The run here would take minutes (starved, 'accurate', up to 1000 cycles to 1e-14); it is
+    interrupted once it is under way."""
+    import signal
+    import time
+
+    deck = tmp_path / "long.nml"
+    text = COLD.read_text().replace("'pressure/", f"'{INPUTS}/pressure/")
+    text = text.replace("calibration.nml", str(INPUTS / "calibration.nml"))
+    text = text.replace("&physics ", "&physics cavitation = 'jfo', inlet = 'starved', ")
+    text = re.sub(r"max_cycles = \d+", "max_cycles = 1000", text)
+    text = re.sub(r"cycle_tol = [0-9.e-]+", "cycle_tol = 1e-14", text)
+    text = text.replace("preset = 'default'", "preset = 'accurate'")
+    deck.write_text(text)
+    api = (
+        "import sys, ringlube\n"
+        "case = ringlube.Case.from_namelist(sys.argv[1])\n"
+        "print('started', flush=True)\n"
+        "try:\n"
+        "    ringlube.run(case, output=sys.argv[2])\n"
+        "except KeyboardInterrupt:\n"
+        "    sys.exit(130)\n"
+    )
+    for name, cmd in (
+        ("api.h5", [sys.executable, "-c", api, str(deck)]),
+        ("cli.h5", [sys.executable, "-m", "ringlube.cli", "run", str(deck), "-q", "-o"]),
+    ):
+        out = tmp_path / "out" / name
+        out.parent.mkdir(exist_ok=True)
+        # (SIGINT as an interactive shell leaves it: a test runner started in the background
+        # may have it ignored, which the child would inherit and keep)
+        proc = subprocess.Popen(
+            [*cmd, str(out)],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+        )
+        try:
+            if name == "api.h5":
+                assert proc.stdout.readline().strip() == "started"
+            time.sleep(2.0)  # the kernel is running (the deck is read within this)
+            assert proc.poll() is None, proc.communicate()
+            proc.send_signal(signal.SIGINT)
+            _, err = proc.communicate(timeout=60)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+        assert proc.returncode == 130, (name, err)
+        assert list(out.parent.iterdir()) == [], (name, list(out.parent.iterdir()))
