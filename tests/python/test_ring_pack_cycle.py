@@ -321,7 +321,7 @@ def test_the_last_cycles_changes_say_why_a_run_is_not_periodic():
 
 def test_period_of_two_cycles_reports_the_means():
     """A 0.879 mm ring at 14.18 N/m on the 8000 r/min hot 'gas' deck settles into a period of
-    two cycles (land pressure at psi = 0 alternating between 1.856 and 2.033 bar, energy between
+    two cycles (land pressure at a cycle's end alternating between 1.856 and 2.033 bar, energy between
     1.8318 and 1.8368 J): it used to run to max_cycles and be reported not converged. It is
     periodic with period 2 and reports the means over both cycles: energy within 1e-4 and blowby
     within 5e-4 (measured 6e-6 and 1.4e-4 after 3 cycles) of the mean of cycles 11 and 12 of a
