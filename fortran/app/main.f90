@@ -80,6 +80,8 @@ program ringlube_solve
   inputs = [character(len=4096) :: deck, c%pressure_file, c%calibration_file]
   call check_output(out, inputs, input_labels, err)
   if (allocated(err)) call die(err%message, err%code)
+  ! the file records where it was written (-o, else the deck's &output file)
+  c%output_file = out
 
   call system_clock(t0, rate)
   call solve_cycle(c, res, err)

@@ -115,6 +115,7 @@ contains
     character(len=*), intent(in), optional :: out_path
     integer(int64) :: t0, t1, rate
     logical :: to_file
+    type(case_type) :: cw
     if (.not. check_handle(handle, err)) return
     to_file = .false.
     if (present(out_path)) to_file = len_trim(out_path) > 0
@@ -131,7 +132,10 @@ contains
       call system_clock(t1)
       res%scalars(sc_run_time) = real(t1 - t0, dp) / real(rate, dp)
       if (allocated(err) .or. .not. to_file) return
-      call write_result(out_path, c, res, err, [c%calibration_file], [input_labels(3)])
+      ! the file records where it was written, not the deck's &output file
+      cw = c
+      cw%output_file = out_path
+      call write_result(out_path, cw, res, err, [c%calibration_file], [input_labels(3)])
     end associate
   end subroutine api_run
 

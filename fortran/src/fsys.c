@@ -31,6 +31,13 @@ int rl_file_kind(const char *path)
     return 3;
 }
 
+/* 1 when `path` itself is a symbolic link (lstat), else 0. */
+int rl_is_symlink(const char *path)
+{
+    struct stat st;
+    return lstat(path, &st) == 0 && S_ISLNK(st.st_mode);
+}
+
 /* 1 when both paths exist and name the same file (same device and inode, so hard
  * links, symbolic links and different spellings all count), else 0. */
 int rl_same_file(const char *a, const char *b)

@@ -4,7 +4,7 @@ module ringlube_fsys
   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
   implicit none
   private
-  public :: file_kind, same_file, make_temp_file, rename_file, remove_file, dir_name, &
+  public :: file_kind, is_symlink, same_file, make_temp_file, rename_file, remove_file, dir_name, &
             dir_prefix, last_errno, clear_errno, errno_text, ignore_file_size_signal, &
             remove_temp_on_signal, interrupt_catch_begin, interrupt_catch_end, &
             interrupt_requested
@@ -18,6 +18,10 @@ module ringlube_fsys
       import :: c_int, c_char
       character(kind=c_char), intent(in) :: path(*)
     end function c_file_kind
+    integer(c_int) function c_is_symlink(path) bind(c, name='rl_is_symlink')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: path(*)
+    end function c_is_symlink
     integer(c_int) function c_same_file(a, b) bind(c, name='rl_same_file')
       import :: c_int, c_char
       character(kind=c_char), intent(in) :: a(*), b(*)
@@ -66,6 +70,12 @@ module ringlube_fsys
   end interface
 
 contains
+
+  !> Whether `path` itself is a symbolic link.
+  logical function is_symlink(path)
+    character(len=*), intent(in) :: path
+    is_symlink = c_is_symlink(trim(path)//c_null_char) /= 0
+  end function is_symlink
 
   !> Whether SIGINT arrived during an interrupt catch (the kernel stops at the next step).
   logical function interrupt_requested()

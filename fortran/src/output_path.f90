@@ -3,11 +3,11 @@
 !>
 !> `check_output` refuses an output that is one of the run's inputs (compared by device
 !> and inode, so other spellings and links count), anything that exists and is not a
-!> regular file (a folder, a device such as /dev/null, a pipe), and a path whose folder
-!> does not exist: all input errors (exit status 2).
+!> regular file (a folder, a device such as /dev/null, a pipe), a symbolic link, and a path
+!> whose folder does not exist: all input errors (exit status 2).
 module ringlube_output_path
   use ringlube_error, only: error_type, fatal_error, rl_input_error
-  use ringlube_fsys, only: file_kind, same_file, dir_name, last_errno, clear_errno, errno_text, &
+  use ringlube_fsys, only: file_kind, is_symlink, same_file, dir_name, last_errno, clear_errno, errno_text, &
                            fs_missing, fs_regular, fs_directory, fs_other, fs_unknown
   implicit none
   private
@@ -20,8 +20,8 @@ contains
   !> an existing non-regular file (folder, device, pipe, socket), a path in a folder that
   !> does not exist, or an empty name. Blank entries of `inputs` are skipped. Errors are
   !> input errors (exit status 2) and name the output and the reason. An existing regular
-  !> file is replaced; a symbolic link to one (not an input) is replaced by the result,
-  !> as `mv` would, and its target left alone.
+  !> file is replaced; a symbolic link is refused, as for every file ringlube writes
+  !> (`ringlube.outputs.check_output`; before 2026-11-26 the link was replaced).
   subroutine check_output(path, inputs, labels, err)
     character(len=*), intent(in) :: path
     character(len=*), intent(in) :: inputs(:), labels(:)
@@ -35,6 +35,11 @@ contains
     end if
     if (path(len(path):len(path)) == '/') then
       call fatal_error(err, path//': output names a folder, not a file', rl_input_error)
+      return
+    end if
+    if (is_symlink(path)) then
+      call fatal_error(err, path//': output is a symbolic link; refusing to write through it '// &
+                       '(remove it first)', rl_input_error)
       return
     end if
     call clear_errno()

@@ -28,20 +28,29 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from .case import Case
     from .solve import run
 
+    if args.output is not None and not args.output.strip():
+        raise InputError("-o: the output file name is empty")
     case = Case.from_namelist(args.deck)
     # without -o, the kernel's own choice: the deck's &output file, else its default
     # 'result.h5', relative to the deck's folder (as ringlube-solve does)
-    out = Path(args.output) if args.output else Path(case.value("output", "file"))
+    out = Path(args.output) if args.output is not None else Path(case.value("output", "file"))
     inputs = [
         Path(args.deck),
         *(Path(p) for p in (case.get("operating", "pressure_file"), case.get("calibration", "file")) if p),
     ]
-    _output_file("-o" if args.output else f"{args.deck}: &output file", out, inputs)
+    _output_file("-o" if args.output is not None else f"{args.deck}: &output file", out, inputs)
     result = run(case, output=out)
     if not args.quiet:
         from ._version import __version__
 
         print(result.summary(title=f"ringlube {__version__}: {args.deck}", written=str(out)))
+    if not result.converged:  # as ringlube-solve: on stderr, also with -q
+        import sys
+
+        print(
+            "ringlube run: warning: the run did not converge; result written with converged = 0",
+            file=sys.stderr,
+        )
     return 0 if result.converged else 3
 
 

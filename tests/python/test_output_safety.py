@@ -133,3 +133,53 @@ def test_written_file_is_readable_by_others(tmp_path):
     finally:
         os.umask(mask)
     assert stat.S_IMODE(path.stat().st_mode) == 0o644
+
+
+def test_result_file_refuses_a_symbolic_link_in_every_front_end(tmp_path, solver, quick_case):
+    """A result file named by a symbolic link is refused by `ringlube-solve`, by
+    `ringlube.run(output=...)` and by `ringlube run`, and the link and its target are left as
+    they were (before 2026-11-26 the kernel replaced the link, as `mv` would, while
+    `ringlube run` refused it: the front ends disagreed)."""
+    import subprocess
+
+    target = tmp_path / "other.h5"
+    target.write_bytes(b"someone else's result")
+    link = tmp_path / "link.h5"
+    link.symlink_to(target)
+    p = subprocess.run([solver, str(COLD), "-q", "-o", str(link)], capture_output=True, text=True)
+    assert p.returncode == 2 and "symbolic link" in p.stderr, p.stderr
+    with pytest.raises(InputError, match="symbolic link"):
+        ringlube.run(quick_case, output=link)
+    assert main(["run", str(COLD), "-q", "-o", str(link)]) == 2
+    assert link.is_symlink() and target.read_bytes() == b"someone else's result"
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["link.h5", "other.h5"]
+
+
+def test_result_file_records_where_it_was_written(tmp_path, solver, quick_case):
+    """`output.file` in a result is the path it was written to (-o, output=), not the deck's
+    &output file that -o overrode."""
+    import subprocess
+
+    a, b = tmp_path / "a.h5", tmp_path / "b.h5"
+    p = subprocess.run([solver, str(COLD), "-q", "-o", str(a)], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    ringlube.run(quick_case, output=b)
+    for path in (a, b):
+        with h5py.File(path) as f:
+            assert f.attrs["output.file"] == str(path)
+
+
+def test_run_command_refuses_an_empty_output_name_and_warns_when_not_converged(tmp_path, capsys):
+    """`ringlube run -o ''` is an error (as `ringlube-solve -o ''`), not the deck's &output file;
+    a run that does not converge says so on stderr also with -q (as ringlube-solve), exit 3."""
+    assert main(["run", str(COLD), "-q", "-o", ""]) == 2
+    assert "output file name is empty" in capsys.readouterr().err
+    deck = tmp_path / "one.nml"
+    text = COLD.read_text().replace("'pressure/", f"'{INPUTS}/pressure/")
+    text = text.replace("calibration.nml", str(INPUTS / "calibration.nml"))
+    deck.write_text(
+        text.replace("max_cycles = 10", "max_cycles = 1").replace("cycle_tol = 1e-3", "cycle_tol = 1e-9")
+    )
+    assert main(["run", str(deck), "-q", "-o", str(tmp_path / "one.h5")]) == 3
+    captured = capsys.readouterr()
+    assert captured.out == "" and "did not converge" in captured.err

@@ -63,7 +63,8 @@ def _layout(path):
 
 def test_cli_and_python_write_identical_files(solver, tmp_path):
     """ringlube-solve and `ringlube run` (the kernel's writer through Python) give the same
-    layout, attributes and values (not a subset), the run time aside."""
+    layout, attributes and values (not a subset), the run time and the file each was written
+    to (`output.file`) aside."""
     from ringlube.cli import main
 
     deck = str(COLD)
@@ -71,6 +72,9 @@ def test_cli_and_python_write_identical_files(solver, tmp_path):
     assert main(["run", deck, "-o", str(tmp_path / "py.h5")]) == 0
     cli_root, cli_items = _layout(tmp_path / "cli.h5")
     py_root, py_items = _layout(tmp_path / "py.h5")
+    # each records where it was written
+    assert cli_root.pop("output.file")[1] == str(tmp_path / "cli.h5")
+    assert py_root.pop("output.file")[1] == str(tmp_path / "py.h5")
     assert py_root == cli_root
     assert py_items == cli_items
     for key in ("deck", "deck_path", "pressure_file", "ringlube_version", "film_solves"):
