@@ -63,7 +63,7 @@ contains
     integer :: m, k, icycle, flags, cycles_run
     logical :: periodic, finite, start_settled
     real(dp) :: sigma, h0_init, h0_start, h0, h0_end, resid, s_prev, vin, vout
-    real(dp) :: stored0, gap0, warmup, change_first, chg(3)
+    real(dp) :: stored0, gap0, warmup, change_first, chg(4)
     ! the last cycles' states and results, and the period found (docs/model.md, "A period of
     ! several cycles")
     type(cycle_history) :: hist
@@ -231,18 +231,18 @@ contains
       if (.not. f%starved) change_first = res%scalars(sc_cycle_change)
       if (f%starved .and. gas_pack) then
         period = history_period(hist, c, h0_end, change_first, rp_end=rst, map_end=sup%liner%h)
-        chg = history_changes(hist, c, change_first, rp_end=rst, map_end=sup%liner%h)
+        chg = history_changes(hist, c, h0_end, change_first, period, rst, sup%liner%h)
       else if (f%starved) then
         period = history_period(hist, c, h0_end, change_first, map_end=sup%liner%h)
-        chg = history_changes(hist, c, change_first, map_end=sup%liner%h)
+        chg = history_changes(hist, c, h0_end, change_first, period, map_end=sup%liner%h)
       else if (gas_pack) then
         period = history_period(hist, c, h0_end, change_first, rp_end=rst)
-        chg = history_changes(hist, c, change_first, rp_end=rst)
+        chg = history_changes(hist, c, h0_end, change_first, period, rp_end=rst)
       else
         period = history_period(hist, c, h0_end, change_first)
-        chg = history_changes(hist, c, change_first)
+        chg = history_changes(hist, c, h0_end, change_first, period)
       end if
-      res%scalars([sc_energy_change, sc_liner_change, sc_ring_pack_change]) = chg
+      res%scalars([sc_cycle_change, sc_energy_change, sc_liner_change, sc_ring_pack_change]) = chg
       ! a gas start that did not settle says nothing of the land's distance from its periodic
       ! state, which a slow land's change over the first cycle does not show: the restart follows
       if (icycle == 1 .and. gas_pack .and. .not. start_settled) period = 0

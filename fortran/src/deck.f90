@@ -104,6 +104,7 @@ contains
     c%output_file = resolve_path(c%output_file, base_dir)
     c%calibration_file = resolve_path(c%calibration_file, base_dir)
     call finish_case(c, err, load_trace)
+    if (allocated(err)) call at_line(err, name, items, nitems)
     if (allocated(err) .and. noitems > 0) then
       err%message = err%message//' (in the deck with the changes of '//trim(oname())//')'
     end if
@@ -146,7 +147,12 @@ contains
     if (len(cpath) == 0) return
     call read_text_file(cpath, ctext, err)
     if (allocated(err)) then
-      err%message = c%deck_path//': &calibration file: '//err%message
+      if (j > 0) then
+        err%message = items(j)%file//':'//itoa(items(j)%line)//': &calibration file: '// &
+                      err%message
+      else
+        err%message = c%deck_path//': &calibration file: '//err%message
+      end if
       return
     end if
     call scan_namelist(ctext, cpath, citems, ncitems, err)
@@ -290,6 +296,30 @@ contains
       if (inputs(i)%group /= inputs(i - 1)%group) t = t//', '//trim(inputs(i)%group)
     end do
   end function group_list
+
+  !> A check of the whole case ('NAME: &group name: why', finish_case) at the line that sets
+  !> the variable: 'file:line: &group name: why' (the deck's or its calibration file's line;
+  !> unchanged for a variable at its default).
+  subroutine at_line(err, name, items, nitems)
+    type(error_type), intent(inout) :: err
+    character(len=*), intent(in) :: name
+    type(nml_item), intent(in) :: items(:)
+    integer, intent(in) :: nitems
+    character(len=:), allocatable :: rest
+    integer :: i, sp, colon
+    if (len(err%message) < len(name) + 3) return
+    if (err%message(1:len(name) + 3) /= name//': &') return
+    rest = err%message(len(name) + 4:)
+    sp = index(rest, ' ')
+    colon = index(rest, ':')
+    if (sp < 2 .or. colon < sp + 2) return
+    do i = nitems, 1, -1
+      if (items(i)%group == rest(1:sp - 1) .and. items(i)%name == rest(sp + 1:colon - 1)) then
+        err%message = items(i)%file//':'//itoa(items(i)%line)//': &'//rest
+        return
+      end if
+    end do
+  end subroutine at_line
 
   !> An input error at an item: 'file:line: &group name: why'.
   subroutine item_error(it, why, err, with_name)

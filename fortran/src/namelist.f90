@@ -159,6 +159,13 @@ contains
       call skip_space()
       if (pos > n) then
         call fail('&'//group//' '//name//': expected "=" after the name')
+      else if ((text(pos:pos) == '(' .or. text(pos:pos) == '%') .and. allow_lists) then
+        call fail('&'//group//' '//name//': "'//name//trim(token(pos))//'": no array elements '// &
+                  'or components; give the whole list (write '//name//' = value, value, ...)')
+      else if (text(pos:pos) == '(' .or. text(pos:pos) == '%') then
+        call fail('&'//group//' '//name//': "'//name//trim(token(pos))//'" is not an input: '// &
+                  'the inputs are single values, no array elements or components (write '// &
+                  name//' = value)')
       else if (text(pos:pos) /= '=') then
         call fail('&'//group//' '//name//': expected "=" after the name, found "' &
                   //snippet()//'"')
@@ -235,8 +242,9 @@ contains
         end do
         call skip_space()
         if (pos <= n) then
-          ! a name: "name =" (with lists also "name(", which read_name then refuses)
-          if (text(pos:pos) == '=' .or. (allow_lists .and. text(pos:pos) == '(')) then
+          ! a name: "name =", or "name(" / "name%" (an array element or a component, which
+          ! read_name then refuses, naming that variable and not the one before)
+          if (text(pos:pos) == '=' .or. text(pos:pos) == '(' .or. text(pos:pos) == '%') then
             pos = start
             return
           end if

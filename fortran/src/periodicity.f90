@@ -170,24 +170,27 @@ contains
     end function change_rp
   end function history_period
 
-  !> The changes over the cycle just run that the test of a period of one (history_period)
-  !> compares with cycle_tol: [energy, liner film (map_end), ring pack (rp_end)], 0 for those
-  !> the run has not; the first cycle's energy change is first_change.
-  pure function history_changes(hist, c, first_change, rp_end, map_end) result(ch)
+  !> The changes of the state that the periodicity test compares with cycle_tol, over the
+  !> last p cycles (p: the period found, 1 if none): [h0 at psi = 0 (h0_end against the start
+  !> of those cycles), energy (against the cycle p before; the first cycle's: first_change),
+  !> liner film (map_end), ring pack (rp_end)], 0 for those the run has not.
+  pure function history_changes(hist, c, h0_end, first_change, p, rp_end, map_end) result(ch)
     type(cycle_history), intent(in) :: hist
     type(case_type), intent(in) :: c
-    real(dp), intent(in) :: first_change
+    real(dp), intent(in) :: h0_end, first_change
+    integer, intent(in) :: p
     type(ring_pack_state), intent(in), optional :: rp_end
     real(dp), intent(in), optional :: map_end(:)
-    real(dp) :: ch(3)
-    integer :: k
+    real(dp) :: ch(4)
+    integer :: k, q, j
     k = hist%cycles
-    ch = [first_change, 0.0_dp, 0.0_dp]
-    if (k >= 2) ch(1) = abs(hist%energy(slot(k)) - hist%energy(slot(k - 1))) / &
-                        max(hist%energy(slot(k)), tiny(1.0_dp))
-    if (present(map_end)) ch(2) = map_change(map_end, hist%map(:, slot(k)))
-    if (present(rp_end)) ch(3) = ring_pack_distance(c, rp_end, hist%rp(slot(k)), &
-                                                    hist%land_contraction)
+    q = min(max(p, 1), k)
+    j = slot(k - q + 1)
+    ch = [abs(h0_end - hist%h0(j)) / hist%h0(j), first_change, 0.0_dp, 0.0_dp]
+    if (k - q >= 1) ch(2) = abs(hist%energy(slot(k)) - hist%energy(slot(k - q))) / &
+                            max(hist%energy(slot(k)), tiny(1.0_dp))
+    if (present(map_end)) ch(3) = map_change(map_end, hist%map(:, j))
+    if (present(rp_end)) ch(4) = ring_pack_distance(c, rp_end, hist%rp(j), hist%land_contraction)
   end function history_changes
 
   !> The liner film's change from b to a, relative to a (L1).

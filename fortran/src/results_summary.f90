@@ -27,6 +27,7 @@ contains
     character(len=:), allocatable :: t
     character(len=64) :: a
     character(len=128) :: b
+    character(len=16) :: w
     character(len=1), parameter :: nl = achar(10)
     t = ''
     if (len_trim(title) > 0) t = trim(title)//nl
@@ -71,7 +72,13 @@ contains
       b = 'h0 '//e(v(sc_cycle_change))
     end if
     if (made(sc_ring_pack_change)) b = trim(b)//', ring pack '//e(v(sc_ring_pack_change))
-    call line('cycles run', a, '  (last cycle''s change: '//trim(b)//')')
+    if (nint(v(sc_period)) >= 2) then
+      write (w, '(i0)') nint(v(sc_period))
+      call line('cycles run', a, '  (change over the period of '//trim(w)//' cycles: '// &
+                trim(b)//')')
+    else
+      call line('cycles run', a, '  (last cycle''s change: '//trim(b)//')')
+    end if
     write (a, '(i10)') nint(v(sc_flagged_steps))
     call line('flagged crank steps', a, '(see /cycle/flags)')
     b = ''

@@ -93,14 +93,28 @@ def test_a_list_for_a_kernel_scalar_is_refused(tmp_path, line):
 @pytest.mark.parametrize(
     "text, message",
     [
-        ("&study lower(1) = 3 /", r's\.nml:1: &study lower: expected "=" after the name'),
+        (
+            "&study lower(1) = 3 /",
+            r's\.nml:1: &study lower: "lower\(1\)": no array elements .*give the whole list',
+        ),
+        ("&study samples = 3, lower(1) = 3 /", r's\.nml:1: &study lower: "lower\(1\)": no array elements'),
+        (
+            "&ring width = 1e-3, density(1) = 7800 /",
+            r's\.nml:1: &ring density: "density\(1\)" is not an input',
+        ),
+        (
+            "&ring width = 1e-3, crown_height%x = 1e-6 /",
+            r's\.nml:1: &ring crown_height: "crown_height%x" is not an',
+        ),
         ("&study cases = 'a.nml\n/", r"s\.nml:1: &study cases: unterminated string"),
         ("&study samples = 3\n", r"s\.nml:2: &study \(opened on line 1\) is not closed"),
     ],
 )
 def test_scanner_errors_name_file_line_group_and_variable(text, message):
+    """The variable named is the one written wrongly (an array element or a component after
+    another variable used to be blamed on that one: '&ring width: malformed value')."""
     with pytest.raises(InputError, match=message):
-        items(text, "s.nml", lists=True)
+        items(text, "s.nml", lists=text.startswith("&study"))
 
 
 def test_case_values_come_from_the_scanner():
@@ -142,7 +156,7 @@ def _study(tmp_path, body: str):
         ("  sampels = 64\n", r"s\.nml:4: &study sampels: unknown variable \(known: "),
         ("  folds = 1\n", r"s\.nml:4: &study folds: must be at least 2, got 1"),
         ("  labels = 'a', 'b'\n", r"s\.nml:4: &study labels: one distinct label per case \(1 cases\)"),
-        ("  lower(1) = 1e-3\n", r"s\.nml:4: &study lower: expected \"=\" after the name"),
+        ("  lower(1) = 1e-3\n", r"s\.nml:4: &study lower: \"lower\(1\)\": no array elements"),
         ("  name = 'x'\n/\n&ring width = 1e-3\n", r"s\.nml:6: &ring: not a group of a study deck"),
     ],
 )
@@ -180,3 +194,28 @@ def test_a_value_too_long_for_rl_items_is_an_input_error():
     with pytest.raises(InputError, match=r"s\.nml:2: &study name: longer than 4096 bytes"):
         items("&study\n name = '" + "x" * 5000 + "' /", "s.nml", lists=True)
     assert items("&study name = '" + "x" * 4096 + "' /", "s.nml", lists=True)[0].value == "x" * 4096
+
+
+@pytest.mark.parametrize(
+    "line, message",
+    [
+        ("&physics inlet = 'starved' /", r"d\.nml:3: &physics inlet: 'starved' needs"),
+        (
+            "&physics cavity_pressure = 'trailing_gas' /",
+            r"d\.nml:3: &physics cavity_pressure: 'trailing_gas'",
+        ),
+        ("&numerics dpsi_deg = 7 /", r"d\.nml:3: &numerics dpsi_deg: must divide 720"),
+        ("&numerics h0_floor = 1e-5, h0_ceiling = 2e-5 /", r"d\.nml:3: &numerics h0_ceiling: must exceed"),
+        ("&operating cavitation_pressure = 2e5 /", r"d\.nml:3: &operating cavitation_pressure: must not"),
+        ("&operating pressure_file = 'none.csv' /", r"d\.nml:3: &operating pressure_file: .*not found"),
+        ("&calibration file = 'none.nml' /", r"d\.nml:3: &calibration file: .*none\.nml"),
+    ],
+)
+def test_checks_of_the_whole_case_name_the_line(tmp_path, line, message):
+    """The checks that relate inputs (run after the deck is read) and the files it names give
+    the line that sets the variable, as the scanner's errors do (README: file, line, group
+    and variable); before, only the file."""
+    deck = tmp_path / "d.nml"
+    deck.write_text(f"! a deck\n&engine crank_radius = 0.043 /\n{line}\n")
+    with pytest.raises(InputError, match=message):
+        ringlube.Case.from_namelist(deck).value("ring", "width")

@@ -109,9 +109,9 @@ def test_error_locations_name_the_real_file_and_line(tmp_path):
     case = Case.from_namelist(deck)
     with pytest.raises(InputError, match=r"<case deck: changed in Python>:\d+: &ring crown_offset"):
         ringlube.run(case.with_ring(crown_offset=1.0))
-    # the unchanged deck's relation errors name the deck file itself
+    # the unchanged deck's relation errors name the deck file itself, and the line
     deck.write_text("&ring width = 1e-3, crown_offset = 0.9e-3 /\n")
-    with pytest.raises(InputError, match=rf"{deck}: &ring crown_offset: must lie inside"):
+    with pytest.raises(InputError, match=rf"{deck}:1: &ring crown_offset: must lie inside"):
         Case.from_namelist(deck)
 
 
