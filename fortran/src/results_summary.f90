@@ -2,6 +2,7 @@
 !> `CycleResult.summary()`, from the scalars of ringlube_results.
 module ringlube_results_summary
   use ringlube_kinds, only: dp
+  use ringlube_inputs, only: inputs, find_input
   use ringlube_results, only: n_scalars, sc_energy_loss, sc_friction_power, sc_fmep, &
                               sc_mixed_share, sc_oil_to_chamber, sc_oil_to_chamber_rate, &
                               sc_liner_lift_share, sc_blowby, sc_blowby_mass, sc_ring_lift_share, &
@@ -87,6 +88,13 @@ contains
     ! not periodic: a state may repeat after more cycles than were run (docs/model.md)
     if (v(sc_periodic) == 0.0_dp) b = '(no period of 1-12 cycles yet: a period p needs 2p + 1 '// &
                                       'cycles; try a larger max_cycles)'
+    ! (max_cycles at the most it may be: only a looser cycle_tol is left)
+    if (v(sc_periodic) == 0.0_dp .and. v(sc_cycles_run) >= &
+        inputs(find_input('numerics', 'max_cycles'))%upper) then
+      write (w, '(i0)') nint(v(sc_cycles_run))
+      b = '(no period of 1-12 cycles in '//trim(w)//' cycles, the most max_cycles allows: '// &
+          'loosen cycle_tol, or the state may never repeat)'
+    end if
     if (v(sc_periodic) /= 0.0_dp .and. v(sc_converged) == 0.0_dp) &
       b = trim(b)//' (a step is flagged in the period''s cycles)'
     call line('converged', merge('       yes', '        no', v(sc_converged) /= 0.0_dp), trim(b))

@@ -276,10 +276,19 @@ def ring_pack_figure(results: Sequence[CycleResult]) -> plt.Figure:
         (line,) = ax1.plot(r.crank_angle_deg, r.gas_pressure / 1e5, lw=1.0, label=f"{tag} p1 chamber")
         for part, p, ls in (("p2 groove", r.groove_pressure, "--"), ("p3 land", r.land_pressure, ":")):
             ax1.plot(r.crank_angle_deg, p / 1e5, lw=1.2, ls=ls, color=line.get_color(), label=f"{tag} {part}")
-        ax2.plot(r.crank_angle_deg, r.ring_lift * 1e6, lw=1.2, label=tag)
-        ax3.plot(r.crank_angle_deg, r.top_gap_flow * 1e3, lw=1.0, label=f"{tag} top gap (chamber to land)")
+        # one colour per result in every panel, the line style tells the quantity
+        c = line.get_color()
+        ax2.plot(r.crank_angle_deg, r.ring_lift * 1e6, lw=1.2, color=c, label=tag)
         ax3.plot(
-            r.crank_angle_deg, r.second_gap_flow * 1e3, lw=1.2, ls="--", label=f"{tag} second gap (blowby)"
+            r.crank_angle_deg, r.top_gap_flow * 1e3, lw=1.0, color=c, label=f"{tag} top gap (chamber to land)"
+        )
+        ax3.plot(
+            r.crank_angle_deg,
+            r.second_gap_flow * 1e3,
+            lw=1.2,
+            ls="--",
+            color=c,
+            label=f"{tag} second gap (blowby)",
         )
     ax1.set_ylabel("gas pressure [bar abs]")
     ax1.set_yscale("log")

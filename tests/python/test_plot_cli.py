@@ -71,3 +71,27 @@ def test_cli_bad_input_exit_code(tmp_path, capsys):
     deck.write_text("&numerics nodes = 2.5 /\n")
     assert main(["run", str(deck)]) == 2
     assert "&numerics nodes: malformed integer" in capsys.readouterr().err
+
+
+def test_ring_pack_figure_gives_each_result_one_colour(quick_case):
+    """Overlaid results keep their colour in every panel of the ring-pack figure (the lift and
+    flow panels used to cycle colours on their own, so a result changed colour between
+    panels; a review, 2026-11-26)."""
+    from matplotlib.colors import to_hex
+
+    from ringlube.plot import ring_pack_figure
+
+    case = quick_case.with_physics(ring_pack="gas")
+    results = [ringlube.run(case), ringlube.run(case.with_ring(tension=20.0))]
+    results[0].label, results[1].label = "soft", "stiff"
+    fig = ring_pack_figure(results)
+    drawn = [[line for line in ax.lines if not line.get_label().startswith("_")] for ax in fig.axes]
+    for lines in drawn:  # (the crank-angle marks are unlabelled)
+        by_result = {}
+        for line in lines:
+            tag = line.get_label().split(" ")[0]
+            by_result.setdefault(tag, set()).add(to_hex(line.get_color()))
+        assert len(by_result) == 2 and all(len(c) == 1 for c in by_result.values()), by_result
+    colours = [{to_hex(line.get_color()) for line in lines} for lines in drawn]
+    assert colours[0] == colours[1] == colours[2] and len(colours[0]) == 2, colours
+    plt.close(fig)

@@ -240,3 +240,16 @@ def test_compare_table_and_figure(quick_case):
         ringlube.compare(runs, names=["nope"])
     with pytest.raises(ringlube.InputError, match="2 results"):
         ringlube.compare(runs, labels=["a"])
+
+
+def test_summary_advice_when_not_periodic_depends_on_max_cycles(quick_case):
+    """A run that found no period is told to try a larger max_cycles, unless it already ran
+    the most max_cycles allows (1000): then the advice is a looser cycle_tol (a review found
+    'try a larger max_cycles' printed after 1000 cycles)."""
+    r = ringlube.run(quick_case)
+    r.scalars.update(periodic=0.0, converged=0.0, period=0.0, cycles_run=10.0)
+    assert "try a larger max_cycles" in r.summary()
+    r.scalars["cycles_run"] = 1000.0
+    text = r.summary()
+    assert "in 1000 cycles, the most max_cycles allows: loosen cycle_tol" in text
+    assert "try a larger max_cycles" not in text
