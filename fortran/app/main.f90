@@ -75,6 +75,7 @@ program ringlube_solve
 
   call read_deck(deck, c, err)
   if (allocated(err)) call die(err%message, err%code)
+  if (len(c%notes) > 0) write (error_unit, '(a)') 'ringlube-solve: warning: '//c%notes
   if (.not. allocated(out)) out = c%output_file
   ! refuse an unsafe output before spending time on the run
   inputs = [character(len=4096) :: deck, c%pressure_file, c%calibration_file]

@@ -42,26 +42,30 @@ end subroutine rl_kernel_id
 !> Parse deck text (named `name` in messages, relative paths against `base_dir`) with the
 !> variables of `overrides` replacing the deck's. Returns a handle and the crank steps.
 subroutine rl_open(text, name, base_dir, overrides, overrides_name, load_trace, handle, &
-                   nsteps, nliner, code, message)
+                   nsteps, nliner, code, message, notes)
   use, intrinsic :: iso_c_binding, only: c_int
   use ringlube_error, only: error_type, error_status
-  use ringlube_api, only: api_open, api_nsteps, api_liner_cells
+  use ringlube_api, only: api_open, api_nsteps, api_liner_cells, api_notes
   implicit none
   character(len=*), intent(in) :: text, name, base_dir, overrides, overrides_name
   integer(c_int), intent(in) :: load_trace
   integer(c_int), intent(out) :: handle, nsteps, nliner, code
   character(len=4096), intent(out) :: message
+  !> the case's warning ('' none; ringlube-solve prints it on stderr)
+  character(len=1024), intent(out) :: notes
   type(error_type), allocatable :: err
   integer :: h
   handle = 0
   nsteps = 0
   nliner = 0
+  notes = ''
   call api_open(text, name, base_dir, overrides, overrides_name, load_trace /= 0, h, err)
   call error_status(err, code, message)
   if (allocated(err)) return
   handle = h
   nsteps = api_nsteps(h)
   nliner = api_liner_cells(h)
+  notes = api_notes(h)
 end subroutine rl_open
 
 !> Release a handle.

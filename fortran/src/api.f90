@@ -25,7 +25,7 @@ module ringlube_api
   use, intrinsic :: iso_fortran_env, only: int64
   implicit none
   private
-  public :: api_open, api_close, api_case_ok, api_run, api_get, api_set, api_set_trace, &
+  public :: api_open, api_close, api_notes, api_case_ok, api_run, api_get, api_set, api_set_trace, &
             api_run_design, api_table, api_nsteps, api_deck_text, api_trace, api_liner_cells
 
   type(case_type), allocatable, save :: store(:)
@@ -85,6 +85,16 @@ contains
     t = ''
     if (api_case_ok(handle)) t = store(handle)%deck_text
   end function api_deck_text
+
+  !> The case's warning ('' none: c%notes, e.g. inputs of a model that is off).
+  function api_notes(handle) result(t)
+    integer, intent(in) :: handle
+    character(len=:), allocatable :: t
+    t = ''
+    if (api_case_ok(handle)) then
+      if (allocated(store(handle)%notes)) t = store(handle)%notes
+    end if
+  end function api_notes
 
   !> Cells of the liner film a run of the case reports (0 without a starved inlet).
   integer function api_liner_cells(handle)

@@ -69,6 +69,8 @@ module ringlube_case
     real(dp), allocatable :: gas_p_trace(:)    !< Pa abs, the trace as read (scale_trace)
     character(len=:), allocatable :: deck_path  !< where the case came from (in messages)
     character(len=:), allocatable :: deck_text  !< the deck's text (and included files')
+    !> a warning about the case ('' none): inputs set for a model that is off
+    character(len=:), allocatable :: notes
   end type case_type
 
   !> Modes of `case_access`.
@@ -91,6 +93,7 @@ contains
     call apply_preset(c, 'default', why)
     if (allocated(why)) error stop 'ringlube_inputs: bad preset default'
     c%deck_path = '<memory>'
+    c%notes = ''
     c%deck_text = ''
     allocate (c%gas_psi(0), c%gas_p(0), c%gas_p_trace(0))
   end function default_case

@@ -100,6 +100,7 @@ contains
     call apply_overrides(items, nitems, oitems, noitems)
     call assign_items(c, items, nitems, err)
     if (allocated(err)) return
+    call note_unused(c, items, nitems)
     c%pressure_file = resolve_path(c%pressure_file, base_dir)
     c%output_file = resolve_path(c%output_file, base_dir)
     c%calibration_file = resolve_path(c%calibration_file, base_dir)
@@ -296,6 +297,24 @@ contains
       if (inputs(i)%group /= inputs(i - 1)%group) t = t//', '//trim(inputs(i)%group)
     end do
   end function group_list
+
+  !> A warning (c%notes) for inputs set for a model that is off: `&ring_pack` variables with
+  !> `&physics ring_pack = 'none'` are not used (the first one is named, at its line).
+  subroutine note_unused(c, items, nitems)
+    type(case_type), intent(inout) :: c
+    type(nml_item), intent(in) :: items(:)
+    integer, intent(in) :: nitems
+    integer :: i
+    c%notes = ''
+    if (c%ring_pack /= 'none') return
+    do i = 1, nitems
+      if (items(i)%group /= 'ring_pack') cycle
+      c%notes = items(i)%file//':'//itoa(items(i)%line)//': &ring_pack '//items(i)%name// &
+                ' is set, but &physics ring_pack = ''none'': the ring pack is off and '// &
+                'its inputs are not used'
+      return
+    end do
+  end subroutine note_unused
 
   !> A check of the whole case ('NAME: &group name: why', finish_case) at the line that sets
   !> the variable: 'file:line: &group name: why' (the deck's or its calibration file's line;

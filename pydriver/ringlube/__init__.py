@@ -11,6 +11,7 @@ The pipeline reads case -> run -> (sample -> fit -> optimise) -> plot:
 from . import gas
 from ._version import __version__, kernel_id
 from .case import GROUPS, Case
+from .case_kernel import UnusedInputWarning
 from .case_origins import SourceEngineDefaultWarning
 from .errors import InputError, NotConvergedError, RinglubeError
 from .result import Comparison, CycleResult, compare, load
@@ -27,6 +28,7 @@ __all__ = [
     "NotConvergedError",
     "RinglubeError",
     "SourceEngineDefaultWarning",
+    "UnusedInputWarning",
     "gas",
     "load",
     "run",

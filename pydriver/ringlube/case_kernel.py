@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import warnings
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -11,7 +12,25 @@ from .errors import error_for
 if TYPE_CHECKING:
     from .case import Case
 
-__all__ = ["KernelCase", "kernel_case"]
+__all__ = ["KernelCase", "UnusedInputWarning", "kernel_case"]
+
+
+class UnusedInputWarning(UserWarning):
+    """The case sets inputs of a model that is off, which the run does not use (e.g.
+    ``&ring_pack`` variables with ``&physics ring_pack = 'none'``); the kernel's message
+    names the file, line and the first such variable.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> from ringlube import Case
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     Case().with_("ring_pack", top_gap_area=0.2e-6).with_numerics(dpsi_deg=2.0).validate()
+    360
+    >>> w[-1].category.__name__
+    'UnusedInputWarning'
+    """
 
 
 def _text(message) -> str:
@@ -71,13 +90,15 @@ def kernel_case(case: Case, load_trace: bool = True, warn: bool = True) -> Itera
     text, name, base, overrides, overrides_name = case.kernel_inputs()
     if base and not base.endswith("/"):
         base += "/"
-    handle, nsteps, nliner, code, message = _kernel.rl_open(
+    handle, nsteps, nliner, code, message, notes = _kernel.rl_open(
         _arg(text), _arg(name), _arg(base), _arg(overrides), _arg(overrides_name), 1 if load_trace else 0
     )
     if code:
         raise error_for(code, _text(message))
     if warn:
         case.warn_source_defaults(stacklevel=4)
+        if _text(notes):
+            warnings.warn(_text(notes), UnusedInputWarning, stacklevel=3)
     try:
         yield KernelCase(int(handle), int(nsteps), int(nliner))
     finally:

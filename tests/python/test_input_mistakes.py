@@ -145,3 +145,33 @@ def test_validate_without_a_calibration_file_is_one_line(tmp_path, capsys):
     assert main(["validate", "--root", str(tmp_path), "--out", str(tmp_path / "docs")]) == 2
     err = capsys.readouterr().err
     assert "&calibration file: not given" in err and len(err.strip().splitlines()) == 1
+
+
+def test_ring_pack_inputs_with_the_ring_pack_off_are_said(tmp_path, solver):
+    """`&ring_pack` inputs with `ring_pack = 'none'` are not used: ringlube-solve warns on
+    stderr (file, line, variable) and Python warns (UnusedInputWarning); with the ring pack on,
+    or without such inputs, nothing is said. (A review found them silently ignored.)"""
+    import subprocess
+    import warnings
+
+    deck = tmp_path / "d.nml"
+    deck.write_text(
+        COLD.read_text()
+        .replace("'pressure/", f"'{INPUTS}/pressure/")
+        .replace("calibration.nml", str(INPUTS / "calibration.nml"))
+        + "&ring_pack top_gap_area = 0.2e-6 /\n"
+    )
+    p = subprocess.run(
+        [solver, str(deck), "-q", "-o", str(tmp_path / "d.h5")], capture_output=True, text=True
+    )
+    line = len(deck.read_text().splitlines())
+    assert p.returncode == 0 and f"warning: {deck}:{line}: &ring_pack top_gap_area is set" in p.stderr, (
+        p.stderr
+    )
+    case = ringlube.Case.from_namelist(deck).with_numerics(preset="fast")
+    with pytest.warns(ringlube.UnusedInputWarning, match="ring pack is off"):
+        ringlube.run(case)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ringlube.UnusedInputWarning)
+        ringlube.run(case.with_physics(ring_pack="gas"))
+        ringlube.run(ringlube.Case.from_namelist(COLD).with_numerics(preset="fast"))
