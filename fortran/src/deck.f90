@@ -134,21 +134,26 @@ contains
     type(error_type), allocatable, intent(out) :: err
     type(nml_item), allocatable :: citems(:), all(:)
     character(len=:), allocatable :: cpath, ctext
-    integer :: ncitems, k, j
+    integer :: ncitems, k, j, jo
 
     j = 0
     do k = 1, nitems
       if (items(k)%group == 'calibration') j = k
     end do
     if (j > 0) cpath = resolve_path(items(j)%value, base_dir)
+    jo = 0
     do k = 1, noitems
-      if (oitems(k)%group == 'calibration') cpath = resolve_path(oitems(k)%value, base_dir)
+      if (oitems(k)%group == 'calibration') jo = k
     end do
+    if (jo > 0) cpath = resolve_path(oitems(jo)%value, base_dir)
     if (.not. allocated(cpath)) return
     if (len(cpath) == 0) return
     call read_text_file(cpath, ctext, err)
     if (allocated(err)) then
-      if (j > 0) then
+      if (jo > 0) then
+        err%message = oitems(jo)%file//':'//itoa(oitems(jo)%line)//': &calibration file: '// &
+                      err%message
+      else if (j > 0) then
         err%message = items(j)%file//':'//itoa(items(j)%line)//': &calibration file: '// &
                       err%message
       else

@@ -165,7 +165,7 @@ contains
       else if (text(pos:pos) == '(' .or. text(pos:pos) == '%') then
         call fail('&'//group//' '//name//': "'//name//trim(token(pos))//'" is not an input: '// &
                   'the inputs are single values, no array elements or components (write '// &
-                  name//' = value)')
+                  'the variable''s own name, e.g. '//plain(name//trim(token(pos)))//' = value)')
       else if (text(pos:pos) /= '=') then
         call fail('&'//group//' '//name//': expected "=" after the name, found "' &
                   //snippet()//'"')
@@ -265,6 +265,18 @@ contains
                   snippet()//'"')
       end if
     end subroutine check_follower
+
+    !> The name a user most likely meant in "a%b(1)": the last component, without indices.
+    pure function plain(t) result(w)
+      character(len=*), intent(in) :: t
+      character(len=:), allocatable :: w
+      integer :: i
+      w = t
+      i = index(w, '%', back=.true.)
+      if (i > 0) w = w(i + 1:)
+      i = index(w, '(')
+      if (i > 0) w = w(:i - 1)
+    end function plain
 
     pure logical function is_ident(ch)
       character(len=1), intent(in) :: ch

@@ -125,7 +125,7 @@ module ringlube_results
     field_spec('cycle_change', 'cycle_change', '1', 'real', &
       'relative change of h0 at psi = 0 over the last cycle or period (periodicity test)'), &
     field_spec('energy_change', 'energy_change', '1', 'real', &
-      'relative change of energy_loss over the last cycle or period (periodicity test)'), &
+      'relative change of energy_loss over the last cycle or period (first cycle: of h0)'), &
     field_spec('liner_change', 'liner_change', '1', 'real', &
       'relative (L1) change of the liner film over the last cycle or period', &
       'starved'), &

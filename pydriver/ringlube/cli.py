@@ -56,9 +56,11 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _one_line_warnings() -> None:
-    """Source-engine-default warnings as one line on stderr: ``ringlube: warning: ...``."""
+    """Source-engine-default and unused-input warnings as one line on stderr: ``ringlube:
+    warning: ...`` (the kernel's message names the deck, not ringlube's source)."""
     import warnings
 
+    from .case_kernel import UnusedInputWarning
     from .case_origins import SourceEngineDefaultWarning
 
     show = warnings.showwarning
@@ -66,7 +68,7 @@ def _one_line_warnings() -> None:
         return
 
     def one_line(message, category, filename, lineno, file=None, line=None):
-        if issubclass(category, SourceEngineDefaultWarning):
+        if issubclass(category, (SourceEngineDefaultWarning, UnusedInputWarning)):
             print(f"ringlube: warning: {message}", file=sys.stderr)
         else:
             show(message, category, filename, lineno, file, line)

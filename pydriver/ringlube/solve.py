@@ -279,7 +279,8 @@ def run_designs(
     errors: list = [None] * len(x)
     if len(x) == 0:
         return values, converged, errors
-    with kernel_case(case) as k:
+    # (no per-batch warnings: a study warns once, when it reads its base decks)
+    with kernel_case(case, warn=False) as k:
         out, codes, messages = _kernel.rl_run_batch(k.handle, " ".join(keys).encode(), x, len(SCALARS))
     if (np.asarray(codes) == INTERRUPTED).any():  # Ctrl-C: the batch stopped within a step
         raise KeyboardInterrupt

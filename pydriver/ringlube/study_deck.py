@@ -228,6 +228,8 @@ def _check_cases(
     files: list[Path] = []
     units_seen: dict[str, dict[str, str]] = {}
     for label, deck in zip(st.labels, st.cases):
+        if not Path(deck).is_file():  # (a base deck's own errors name its own file and line)
+            chk.bad("cases", f"base deck '{label}': {deck}: file not found")
         case = Case.from_namelist(deck)  # the kernel checks the deck itself
         files += input_files(case, deck)
         for v, (group, name), lo, hi in zip(st.variables, pairs, st.lower, st.upper):

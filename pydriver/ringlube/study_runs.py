@@ -214,5 +214,14 @@ def scene_results(study: Study) -> None:
     study.cases["scene"] = (
         CaseState(out)
         if old is None
-        else CaseState(out, old.surfaces, old.repeats, old.front, old.chosen, old.reference, old.direct)
+        else CaseState(
+            out,
+            surfaces=old.surfaces,
+            repeats=old.repeats,
+            front=old.front,
+            candidates=old.candidates,
+            chosen=old.chosen,
+            reference=old.reference,
+            direct=old.direct,
+        )
     )

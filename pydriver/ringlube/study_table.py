@@ -30,6 +30,8 @@ __all__ = ["StudyInput", "STUDY", "MAX_SAMPLES", "MAX_SEED", "study_values", "st
 #: each checkpoint, and a run takes about 40 ms on one core: 10**6 samples are about
 #: 11 hours of runs per case on 2 cores, already far more than a quadratic surface needs.
 MAX_SAMPLES = 1_000_000
+#: Largest NSGA-II population and number of generations (surfaces and direct), and repeats.
+MAX_POPULATION, MAX_GENERATIONS, MAX_REPEATS = 100_000, 100_000, 1000
 #: Largest seed (the GA repeats use ``seed + 1000 r``, which must stay below 2**32).
 MAX_SEED = 2**31 - 1
 
@@ -171,9 +173,36 @@ def _rows() -> tuple[StudyInput, ...]:
             "response surface fitted to the runs",
             choices=("quadratic",),
         ),
-        I("population", "integer", 200, "200", "NSGA-II population on the surfaces", lower=1),
-        I("generations", "integer", 200, "200", "NSGA-II generations on the surfaces", lower=1),
-        I("repeats", "integer", 20, "20", "NSGA-II repeats (seeds `seed + 1000 r`), fronts merged", lower=1),
+        I(
+            "population",
+            "integer",
+            200,
+            "200",
+            "NSGA-II population on the surfaces",
+            lower=2,
+            upper=MAX_POPULATION,
+            why_upper="NSGA-II sorts the population by dominance every generation (quadratic in its size)",
+        ),
+        I(
+            "generations",
+            "integer",
+            200,
+            "200",
+            "NSGA-II generations on the surfaces",
+            lower=1,
+            upper=MAX_GENERATIONS,
+            why_upper="population x generations surface evaluations per repeat",
+        ),
+        I(
+            "repeats",
+            "integer",
+            20,
+            "20",
+            "NSGA-II repeats (seeds `seed + 1000 r`), fronts merged",
+            lower=1,
+            upper=MAX_REPEATS,
+            why_upper="every repeat is a whole NSGA-II run, its front kept in the study file",
+        ),
         I("seed", "integer", 1, "1", "seed of the sampler and of NSGA-II", lower=0, upper=MAX_SEED),
         I(
             "scene",
@@ -189,7 +218,9 @@ def _rows() -> tuple[StudyInput, ...]:
             200,
             "200",
             "population of the direct NSGA-II on the true model (`--direct`)",
-            lower=1,
+            lower=2,
+            upper=MAX_POPULATION,
+            why_upper="direct_population x direct_generations true-model runs per case",
         ),
         I(
             "direct_generations",
@@ -198,6 +229,8 @@ def _rows() -> tuple[StudyInput, ...]:
             "200",
             "generations of the direct NSGA-II (`--direct`)",
             lower=1,
+            upper=MAX_GENERATIONS,
+            why_upper="direct_population x direct_generations true-model runs per case",
         ),
         I("batch", "integer", 16, "16", "designs per parallel task", lower=1),
     )

@@ -219,3 +219,17 @@ def test_checks_of_the_whole_case_name_the_line(tmp_path, line, message):
     deck.write_text(f"! a deck\n&engine crank_radius = 0.043 /\n{line}\n")
     with pytest.raises(InputError, match=message):
         ringlube.Case.from_namelist(deck).value("ring", "width")
+
+
+def test_a_calibration_file_changed_in_python_is_blamed_at_its_change():
+    """A missing calibration file named by a change in Python is reported at that change,
+    not at the deck's own &calibration line (which names a file that exists)."""
+    case = ringlube.Case.from_namelist(COLD).with_("calibration", file="/nonexistent/cal.nml")
+    with pytest.raises(InputError, match=r"changed in Python>:\d+: &calibration file: /nonexistent/cal\.nml"):
+        case.validate()
+
+
+def test_a_component_names_the_variable_meant():
+    """'ring%density = 7800' in &ring suggests 'density = value', not 'ring = value'."""
+    with pytest.raises(InputError, match=r"e\.g\. density = value"):
+        items("&ring ring%density = 7800 /", "s.nml")

@@ -208,6 +208,11 @@ def test_variable_of_another_group(tmp_path):
             r"&study lower: required: default ranges exist only for the ring variables",
         ),
         (dict(variables="'width'", lower="0.5e-3"), r"&study upper: required when 'lower'"),
+        (dict(direct_generations="1000000"), r"&study direct_generations: "),
+        (
+            dict(cases=("nonexistent.nml",), labels=("x",)),
+            r"h\.nml:3: &study cases: base deck 'x': .*not found",
+        ),
         (
             dict(variables="'width'", lower="-1e-3", upper="1e-3"),
             r"&study lower: width = -0.001 is rejected by base deck 'cold'.*must be in",
@@ -217,6 +222,17 @@ def test_variable_of_another_group(tmp_path):
 def test_bad_variables_name_study_variables(tmp_path, extra, message):
     with pytest.raises(InputError, match=message):
         read_study(study_deck(tmp_path, **extra))
+
+
+@pytest.mark.parametrize("value", ["2000000000", "1"])
+def test_population_out_of_range_is_refused_before_any_run(tmp_path, value):
+    """A population of 2e9 ran every sample and then failed in NSGA-II allocating 60 GiB; one of
+    1 ran a one-design 'Pareto set' (a review, 2026-11-26): both are input errors now."""
+    path = study_deck(tmp_path, **TWO_VARS)
+    text = open(path).read().replace("population = 12", f"population = {value}")
+    open(path, "w").write(text)
+    with pytest.raises(InputError, match=r"h\.nml:\d+: &study population: "):
+        read_study(path)
 
 
 def test_default_bounds_only_when_none_given(tmp_path):

@@ -77,3 +77,27 @@ def read_study_settings():
     from ringlube.study_settings import StudySettings
 
     return StudySettings("s", ["a.nml"], ["cold"], [1.0], ["width"], [0.0], [1.0], ["energy_loss"])
+
+
+def test_a_finished_scene_study_resumes_unchanged(tmp_path):
+    """A scene study with a reference run again on the same folder keeps every stored record
+    of the scene: before, the scene's state was rebuilt by position and, with the candidates
+    added to it, its chosen designs became the candidates, the reference the chosen and the
+    direct results the reference; the report then failed ('surrogate knee' not in list)."""
+    deck = write(tmp_path, scene=".true.", reference="1.0e-3, 0.0")
+    out = tmp_path / "out"
+    first = run_study(deck, out, serial=True, progress=False, figures=False)
+    again = run_study(deck, out, serial=True, progress=False, figures=False)
+    assert again.runs_executed == 0
+    for label in ("cold", "hot", "scene"):
+        a, b = first.cases[label], again.cases[label]
+        assert b.candidates.names[:3] == [
+            "surrogate min energy_loss",
+            "surrogate min mixed_share",
+            "surrogate knee",
+        ]
+        assert b.chosen.names == ["min energy_loss", "min mixed_share", "knee"]
+        assert b.reference.names == ["reference"]
+        for key in ("candidates", "chosen", "reference"):
+            np.testing.assert_array_equal(getattr(a, key).f_true, getattr(b, key).f_true)
+    assert "surrogate's own knee" in (out / "report.md").read_text()
