@@ -111,6 +111,10 @@ contains
         call fail('"&" not followed by a group name')
       else if (group == 'end') then
         call fail('"&end" without an open group')
+      else if (group == 'study' .and. .not. allow_lists) then
+        ! (a case deck's groups hold one value per variable; the study's lists would be
+        ! reported as a malformed value)
+        call fail('&study: this is a study deck; run it with `ringlube optimise`, not as a case')
       end if
     end subroutine read_group
 
@@ -261,8 +265,8 @@ contains
           more = .true.
           return
         end if
-        call fail('&'//group//' '//name//': malformed value "'//value// &
-                  snippet()//'"')
+        call fail('&'//group//' '//name//': malformed value "'//value//'" followed by "'// &
+                  snippet()//'" (one value per variable)')
       end if
     end subroutine check_follower
 

@@ -233,3 +233,14 @@ def test_a_component_names_the_variable_meant():
     """'ring%density = 7800' in &ring suggests 'density = value', not 'ring = value'."""
     with pytest.raises(InputError, match=r"e\.g\. density = value"):
         items("&ring ring%density = 7800 /", "s.nml")
+
+
+def test_a_study_deck_run_as_a_case_says_so(tmp_path, solver):
+    """`ringlube-solve STUDY.nml` (and a study deck read as a case) says it is a study deck,
+    instead of a malformed value of its first list."""
+    import subprocess
+
+    p = subprocess.run([solver, str(INPUTS / "study_default.nml"), "-q"], capture_output=True, text=True)
+    assert p.returncode == 2 and "this is a study deck; run it with `ringlube optimise`" in p.stderr, p.stderr
+    with pytest.raises(InputError, match="this is a study deck"):
+        ringlube.Case.from_namelist(INPUTS / "study_default.nml").value("ring", "width")
