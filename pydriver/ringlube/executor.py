@@ -293,10 +293,13 @@ class Executor:
 
 @contextlib.contextmanager
 def _held_interrupts():
-    """Hold SIGINT and SIGTERM for the block (a Dask cluster's start-up, 2-4 s), then deliver
-    the first one received to the handler of before: an interrupted start-up leaves workers
-    half started, which Dask and multiprocessing report with tracebacks at exit; a started
-    cluster closes quietly. Outside the main thread (no signal handlers there) a plain block.
+    """Hold SIGTERM for the block (a Dask cluster's start-up, 2-4 s), then deliver it to the
+    handler of before: an interrupted start-up leaves workers half started, which Dask and
+    multiprocessing report with tracebacks at exit; a started cluster closes quietly. SIGINT
+    is ignored for the block, so the worker processes started in it inherit an ignored SIGINT:
+    a terminal's Ctrl-C reaches every process of the group, and only this one should act on
+    it (each worker printed a KeyboardInterrupt traceback). A Ctrl-C during the start-up is not
+    seen. Outside the main thread (no signal handlers there) a plain block.
     """
     import signal
     import threading
@@ -309,6 +312,11 @@ def _held_interrupts():
     before = {s: signal.getsignal(s) for s in held}
     for s in held:
         signal.signal(s, lambda signum, frame: got.append(signum))
+    # the worker processes started now inherit an ignored SIGINT (a terminal's Ctrl-C goes to
+    # every process of the group): this process handles it and closes the cluster, and the
+    # workers do not each print a KeyboardInterrupt traceback. A Ctrl-C during the start-up
+    # itself is then not seen (2-4 s).
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         yield
     finally:

@@ -238,8 +238,9 @@ def test_convergence_default_folder_is_the_documented_one():
 
 
 def test_dask_study_is_quiet_and_interrupts_in_one_line(tmp_path):
-    """A LocalCluster study: nothing on stderr with -q; SIGTERM mid-run gives one line, exit
-    130, finished runs kept (no CancelledError, no dashboard or port notes)."""
+    """A LocalCluster study: nothing on stderr with -q; SIGTERM, or Ctrl-C to the process group,
+    mid-run gives one line, exit 130, finished runs kept (no CancelledError, no dashboard or port
+    notes, no worker's KeyboardInterrupt traceback)."""
     import signal
     import time
 
@@ -248,32 +249,40 @@ def test_dask_study_is_quiet_and_interrupts_in_one_line(tmp_path):
     p = subprocess.run([*cmd, "--out", str(tmp_path / "a")], capture_output=True, text=True, timeout=300)
     assert p.returncode == 0 and p.stderr == "", p.stderr
     big = study_deck(tmp_path, samples="2048")
-    out = tmp_path / "b"
-    proc = subprocess.Popen(
-        [*cmd[:4], big, "--workers", "1", "-q", "--out", str(out)],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-    try:
-        t0 = time.time()
-        while time.time() - t0 < 240:
-            if (out / "c.h5").exists():
-                with h5py.File(out / "c.h5") as f:
-                    if "cases/cold/runs" in f and f["cases/cold/runs/done"][()].any():
-                        break
-            time.sleep(0.3)
-        proc.send_signal(signal.SIGTERM)
-        _, err = proc.communicate(timeout=120)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-    assert proc.returncode == 130, err
-    assert err.strip().splitlines() == [
-        "ringlube: interrupted; finished work is saved (run the same command to resume)"
-    ]
-    with h5py.File(out / "c.h5") as f:
-        assert 0 < f["cases/cold/runs/done"][()].sum() < 2048
+    # a batch system's SIGTERM to the command; a terminal's Ctrl-C, SIGINT to the whole process
+    # group, workers included (each worker printed a KeyboardInterrupt traceback)
+    for how in ("SIGTERM", "Ctrl-C"):
+        out = tmp_path / how
+        proc = subprocess.Popen(
+            [*cmd[:4], big, "--workers", "1", "-q", "--out", str(out)],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            start_new_session=True,  # its own process group, as a terminal's foreground job
+            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+        )
+        try:
+            t0 = time.time()
+            while time.time() - t0 < 240:
+                if (out / "c.h5").exists():
+                    with h5py.File(out / "c.h5") as f:
+                        if "cases/cold/runs" in f and f["cases/cold/runs/done"][()].any():
+                            break
+                time.sleep(0.3)
+            if how == "SIGTERM":
+                proc.send_signal(signal.SIGTERM)
+            else:
+                os.killpg(proc.pid, signal.SIGINT)
+            _, err = proc.communicate(timeout=120)
+        finally:
+            if proc.poll() is None:
+                os.killpg(proc.pid, signal.SIGKILL)
+        assert proc.returncode == 130, (how, err)
+        assert err.strip().splitlines() == [
+            "ringlube: interrupted; finished work is saved (run the same command to resume)"
+        ], how
+        with h5py.File(out / "c.h5") as f:
+            assert 0 < f["cases/cold/runs/done"][()].sum() < 2048
 
 
 def test_output_piped_into_head_ends_quietly():
