@@ -114,7 +114,8 @@ contains
       else if (group == 'study' .and. .not. allow_lists) then
         ! (a case deck's groups hold one value per variable; the study's lists would be
         ! reported as a malformed value)
-        call fail('&study: this is a study deck; run it with `ringlube optimise`, not as a case')
+        call fail('&study: this is a study deck, not a case deck (a study runs with '// &
+                  '`ringlube optimise`)')
       end if
     end subroutine read_group
 
@@ -258,8 +259,13 @@ contains
           more = .true.
           return
         end if
-        call fail('&'//group//' '//name//': malformed value "'//value//' ' &
-                  //token(start)//'" (one value per variable)')
+        if (quoted) then
+          call fail('&'//group//' '//name//': malformed value "'''//value//'''" followed by "' &
+                    //token(start)//'" (one value per variable)')
+        else
+          call fail('&'//group//' '//name//': malformed value "'//value//' ' &
+                    //token(start)//'" (one value per variable)')
+        end if
       else if (text(pos:pos) /= '/' .and. text(pos:pos) /= '&') then
         if (allow_lists .and. text(pos:pos) /= '(' .and. text(pos:pos) /= '=') then
           more = .true.
@@ -276,10 +282,14 @@ contains
       character(len=:), allocatable :: w
       integer :: i
       w = t
+      i = index(w, '=')
+      if (i > 0) w = w(:i - 1)
       i = index(w, '%', back=.true.)
       if (i > 0) w = w(i + 1:)
       i = index(w, '(')
       if (i > 0) w = w(:i - 1)
+      ! ("a % b": the component is beyond a blank; name the variable itself)
+      if (len_trim(w) == 0) w = name
     end function plain
 
     pure logical function is_ident(ch)

@@ -196,6 +196,8 @@ contains
     ! starved, a period of several liner-film cycles: history_period also accepts energy and
     ! ring pack repeating every cycle; report those changes where they are the ones that passed
     if (present(map_end) .and. q >= 2) then
+      ! (history_period never compares with the first cycle's energy: not a change it passed)
+      if (k - q < 2) ch(2) = huge(1.0_dp)
       e1 = abs(hist%energy(slot(k)) - hist%energy(slot(k - 1))) / &
            max(hist%energy(slot(k)), tiny(1.0_dp))
       rp1 = 0.0_dp

@@ -3,6 +3,7 @@ of every study (:func:`_run_designs`), the samples run on every case, the weight
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numpy as np
@@ -214,14 +215,6 @@ def scene_results(study: Study) -> None:
     study.cases["scene"] = (
         CaseState(out)
         if old is None
-        else CaseState(
-            out,
-            surfaces=old.surfaces,
-            repeats=old.repeats,
-            front=old.front,
-            candidates=old.candidates,
-            chosen=old.chosen,
-            reference=old.reference,
-            direct=old.direct,
-        )
+        # (the same settings: every derived record of the scene is kept, as for the cases)
+        else dataclasses.replace(old, runs=out)
     )

@@ -230,9 +230,11 @@ def test_a_calibration_file_changed_in_python_is_blamed_at_its_change():
 
 
 def test_a_component_names_the_variable_meant():
-    """'ring%density = 7800' in &ring suggests 'density = value', not 'ring = value'."""
-    with pytest.raises(InputError, match=r"e\.g\. density = value"):
-        items("&ring ring%density = 7800 /", "s.nml")
+    """'ring%density = 7800' in &ring suggests 'density = value', not 'ring = value' (also
+    written without blanks, 'ring%density=7800')."""
+    for text in ("&ring ring%density = 7800 /", "&ring ring%density=7800 /"):
+        with pytest.raises(InputError, match=r"e\.g\. density = value"):
+            items(text, "s.nml")
 
 
 def test_a_study_deck_run_as_a_case_says_so(tmp_path, solver):
@@ -241,6 +243,6 @@ def test_a_study_deck_run_as_a_case_says_so(tmp_path, solver):
     import subprocess
 
     p = subprocess.run([solver, str(INPUTS / "study_default.nml"), "-q"], capture_output=True, text=True)
-    assert p.returncode == 2 and "this is a study deck; run it with `ringlube optimise`" in p.stderr, p.stderr
+    assert p.returncode == 2 and "this is a study deck, not a case deck" in p.stderr, p.stderr
     with pytest.raises(InputError, match="this is a study deck"):
         ringlube.Case.from_namelist(INPUTS / "study_default.nml").value("ring", "width")
