@@ -103,7 +103,7 @@ contains
     k = hist%cycles
     tol = c%cycle_tol
     e1 = first_change
-    if (k >= 2) e1 = energy_change(k, 1)
+    if (k >= 2) e1 = energy_change(hist, k, 1)
     rp1 = change_rp(1)
     do q = 1, min(max_period, k)
       p = q
@@ -116,7 +116,7 @@ contains
         ep = e1
         ! (not against the first cycle's energy: with the ring pack it ran before the restart)
         if (q >= 2) ep = huge(1.0_dp)
-        if (q >= 2 .and. k - q >= 2) ep = energy_change(k, q)
+        if (q >= 2 .and. k - q >= 2) ep = energy_change(hist, k, q)
         ok = mp <= tol .and. ((e1 <= tol .and. rp1 <= tol) .or. (ep <= tol .and. rpp <= tol))
       else
         ok = abs(h0_end - hist%h0(j)) / hist%h0(j) <= tol .and. rpp <= tol
@@ -139,7 +139,7 @@ contains
       integer :: i, j1, j0
       repeats_whole = .true.
       do i = 0, d - 1
-        repeats_whole = repeats_whole .and. energy_change(k - i, d) <= tol
+        repeats_whole = repeats_whole .and. energy_change(hist, k - i, d) <= tol
       end do
       do i = 0, d - 2
         j1 = slot(k - i)
@@ -153,14 +153,6 @@ contains
                        ring_pack_distance(c, hist%rp(j1), hist%rp(j0), hist%land_contraction) <= tol
       end do
     end function repeats_whole
-
-    !> The energy of cycle kk against that of cycle kk - d, relative.
-    pure real(dp) function energy_change(kk, d)
-      integer, intent(in) :: kk, d
-      real(dp) :: e
-      e = hist%energy(slot(kk))
-      energy_change = abs(e - hist%energy(slot(kk - d))) / max(e, tiny(1.0_dp))
-    end function energy_change
 
     pure real(dp) function change_rp(d)
       integer, intent(in) :: d
@@ -189,8 +181,7 @@ contains
     q = min(max(p, 1), k)
     j = slot(k - q + 1)
     ch = [abs(h0_end - hist%h0(j)) / hist%h0(j), first_change, 0.0_dp, 0.0_dp]
-    if (k - q >= 1) ch(2) = abs(hist%energy(slot(k)) - hist%energy(slot(k - q))) / &
-                            max(hist%energy(slot(k)), tiny(1.0_dp))
+    if (k - q >= 1) ch(2) = energy_change(hist, k, q)
     if (present(map_end)) ch(3) = map_change(map_end, hist%map(:, j))
     if (present(rp_end)) ch(4) = ring_pack_distance(c, rp_end, hist%rp(j), hist%land_contraction)
     ! starved, a period of several liner-film cycles: history_period also accepts energy and
@@ -198,14 +189,22 @@ contains
     if (present(map_end) .and. q >= 2) then
       ! (history_period never compares with the first cycle's energy: not a change it passed)
       if (k - q < 2) ch(2) = huge(1.0_dp)
-      e1 = abs(hist%energy(slot(k)) - hist%energy(slot(k - 1))) / &
-           max(hist%energy(slot(k)), tiny(1.0_dp))
+      e1 = energy_change(hist, k, 1)
       rp1 = 0.0_dp
       if (present(rp_end)) rp1 = ring_pack_distance(c, rp_end, hist%rp(slot(k)), &
                                                     hist%land_contraction)
       if (max(e1, rp1) < max(ch(2), ch(4))) ch([2, 4]) = [e1, rp1]
     end if
   end function history_changes
+
+  !> The energy of cycle kk against that of cycle kk - d, relative.
+  pure real(dp) function energy_change(hist, kk, d)
+    type(cycle_history), intent(in) :: hist
+    integer, intent(in) :: kk, d
+    real(dp) :: e
+    e = hist%energy(slot(kk))
+    energy_change = abs(e - hist%energy(slot(kk - d))) / max(e, tiny(1.0_dp))
+  end function energy_change
 
   !> The liner film's change from b to a, relative to a (L1).
   pure real(dp) function map_change(a, b)

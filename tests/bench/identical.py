@@ -37,7 +37,8 @@ ROOT = Path(__file__).resolve().parents[2]
 INPUTS = ROOT / "inputs"
 #: root attributes that differ between two runs of the same build (run time) or between two
 #: builds by definition (the kernel id, a hash of the sources)
-SKIP_ATTRS = {"run_time_s", "kernel_id"}
+#: (output.file: where each build wrote its file, its own folder)
+SKIP_ATTRS = {"run_time_s", "kernel_id", "output.file"}
 #: (name, deck, &physics settings added to the deck's own)
 VARIANTS = [
     ("jfo_flooded", "crf450r_4000rpm_full_cold.nml", "cavitation = 'jfo'"),
