@@ -17,7 +17,7 @@ from . import study_runs
 from .executor import Executor
 from .study_constraints import feasibility
 from .study_format import format_design, lift_share
-from .study_optimise import choose_designs, nondominated
+from .study_optimise import choose_designs, extremes_and_knee, nondominated
 from .study_runs import _bases
 from .study_state_checks import Checked
 from .study_store import Study
@@ -101,9 +101,7 @@ def good_designs(study: Study, label: str, ch: Checked) -> np.ndarray:
     f = np.atleast_2d(ch.f_true)
     ok = np.asarray(ch.converged, bool) & np.isfinite(f[:, study.objective_columns()]).all(axis=1)
     ok &= feasibility(study, label, f)
-    if "liner_lift_share" in study.s.outputs:
-        with np.errstate(invalid="ignore"):
-            ok &= f[:, list(study.s.outputs).index("liner_lift_share")] == 0
+    ok &= np.array([lift_share(study, ft) == 0 for ft in f], bool)
     return ok
 
 
@@ -138,12 +136,7 @@ def pick_designs(study: Study, label: str, cand: Checked) -> Checked:
     else:
         f = np.atleast_2d(cand.f_true)[good][:, study.objective_columns()]
         keep = np.asarray(nondominated(f), int)
-        fk = f[keep]
-        z = (fk - fk.min(0)) / np.maximum(fk.max(0) - fk.min(0), 1e-300)
-        idx = [int(np.argmin(fk[:, j])) for j in range(fk.shape[1])] + [
-            int(np.argmin(np.linalg.norm(z, axis=1)))
-        ]
-        rows = [int(good[keep[i]]) for i in idx]
+        rows = [int(good[keep[i]]) for i in extremes_and_knee(f[keep])]
     return Checked(
         names,
         np.asarray(cand.x)[rows],

@@ -12,7 +12,7 @@ from .study_state import Front
 from .study_store import Study
 from .surrogate import QuadraticSurface
 
-__all__ = ["ga_repeat", "nondominated", "hypervolume", "optimise", "choose_designs"]
+__all__ = ["ga_repeat", "nondominated", "hypervolume", "optimise", "choose_designs", "extremes_and_knee"]
 
 
 def ga_repeat(
@@ -209,10 +209,29 @@ def choose_designs(study: Study) -> dict[str, tuple[list[str], np.ndarray]]:
     """
     out = {}
     for label, c in study.cases.items():
-        x, f = np.asarray(c.front.x), np.asarray(c.front.f)
-        idx = [int(np.argmin(f[:, j])) for j in range(f.shape[1])]
-        z = (f - f.min(0)) / np.maximum(f.max(0) - f.min(0), 1e-300)
-        knee = int(np.argmin(np.linalg.norm(z, axis=1)))
         names = [f"min {o}" for o in study.s.objectives] + ["knee"]
-        out[label] = (names, x[idx + [knee]])
+        out[label] = (names, np.asarray(c.front.x)[extremes_and_knee(c.front.f)])
     return out
+
+
+def extremes_and_knee(f: np.ndarray) -> list[int]:
+    """Rows of ``f`` (objectives minimised): the least of each column, then the knee, the row
+    nearest the ideal point in objectives normalised over ``f``.
+
+    Parameters
+    ----------
+    f : ndarray, shape (n, m)
+
+    Returns
+    -------
+    list of int
+        m + 1 row indices.
+
+    Example
+    -------
+    >>> extremes_and_knee(np.array([[0.0, 1.0], [0.4, 0.4], [1.0, 0.0]]))
+    [0, 2, 1]
+    """
+    f = np.asarray(f, dtype=float)
+    z = (f - f.min(0)) / np.maximum(f.max(0) - f.min(0), 1e-300)
+    return [int(np.argmin(f[:, j])) for j in range(f.shape[1])] + [int(np.argmin(np.linalg.norm(z, axis=1)))]
