@@ -50,6 +50,8 @@ VARIANTS = [
         "cavitation = 'jfo', inlet = 'starved', cavity_pressure = 'trailing_gas'",
     ),
     ("starved_half_hot", "crf450r_3000rpm_half_hot.nml", "cavitation = 'jfo', inlet = 'starved'"),
+    ("gas_jfo_flooded", "crf450r_4000rpm_full_hot_gas.nml", "cavitation = 'jfo'"),
+    ("gas_starved", "crf450r_4000rpm_full_hot_gas.nml", "cavitation = 'jfo', inlet = 'starved'"),
 ]
 
 

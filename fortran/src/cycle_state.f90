@@ -1,0 +1,279 @@
+!> What an engine cycle carries from one crank step to the next, and the crank step on it.
+!>
+!> `film_track` is the film of the ring with what its next step starts from (the film's state
+!> and warm starts, the load balance's memory, the liner's oil of a starved inlet);
+!> `cycle_state` adds what a step needs beside it (the step's constants, the piston's last
+!> position, the ring pack's gas and the friction that moves the ring in its groove, the first
+!> error of a step). A crank step (`advance`) prepares the starved inlet, advances the ring
+!> pack, balances the load and carries the film content and the oil forward; `solve_step`
+!> does that and stores the step's results (SPEC sections 4-8, 13 and 14).
+module ringlube_cycle_state
+  use ringlube_kinds, only: dp, pi
+  use ringlube_error, only: error_type, fatal_error, rl_interrupted
+  use ringlube_fsys, only: interrupt_requested
+  use ringlube_case, only: case_type, elastic_pressure
+  use ringlube_kinematics, only: deg2rad, piston_position, piston_acceleration
+  use ringlube_gas, only: gas_pressure
+  use ringlube_ring_pack, only: ring_pack_params, ring_pack_state, ring_pack_step_out, &
+                                ring_pack_step
+  use ringlube_ring_pack_cycle, only: ring_pack_totals, ring_pack_cycle_out, ring_pack_accumulate
+  use ringlube_results, only: result_type, s_crank_angle_deg, s_sliding_speed, s_h0, &
+                              s_lambda_min, s_gas_pressure, s_applied_load, s_hydrodynamic_load, &
+                              s_asperity_load, s_viscous_friction, s_boundary_friction, &
+                              s_friction, s_power_loss, s_load_residual, si_flags, &
+                              si_film_solves, s_inlet_fill, s_wetted_width, s_oil_left, &
+                              s_oil_bank, s_groove_pressure, s_land_pressure, s_ring_lift, &
+                              s_top_gap_flow, s_second_gap_flow
+  use ringlube_oil_supply, only: supply_type, supply_setup, supply_edges, supply_step, &
+                                 supply_to_chamber
+  use ringlube_film, only: film_type, film_setup, film_friction
+  use ringlube_load_balance, only: step_context, load_problem, balance_memory, balance, &
+                                   start_history
+  implicit none
+  private
+  public :: film_track, cycle_state, step_out, cycle_setup, advance, solve_step, prepare_inlet, &
+            ring_pack_advance, take_film, gap_volume, position
+
+  !> The film of the ring along the cycle, with what its next crank step starts from.
+  type :: film_track
+    !> the film, solved at the last step (its content and the warm starts of the next)
+    type(film_type) :: f
+    !> the load balance's root finder: h0 of the last steps, the residual's slope
+    type(balance_memory) :: mem
+    !> the liner's oil, the bank and the oil counters (a starved inlet only)
+    type(supply_type) :: sup
+  end type film_track
+
+  !> What a cycle carries from step to step.
+  type :: cycle_state
+    !> the step's constants: crank speed, time step, elastic pressure
+    type(step_context) :: ctx
+    type(film_track) :: film
+    !> composite roughness sigma [m]
+    real(dp) :: sigma = 0.0_dp
+    !> piston position at the last step [m]
+    real(dp) :: s_prev = 0.0_dp
+    !> the ring pack (ring_pack = 'gas'; else rst is not allocated): its parameters, state, the
+    !> last step's flows, the cycle's sums and its start or restart
+    type(ring_pack_params) :: rpar
+    type(ring_pack_state), allocatable :: rst
+    type(ring_pack_step_out) :: rout
+    type(ring_pack_totals) :: rtot
+    type(ring_pack_cycle_out) :: rcyc
+    !> friction of the last step [N]: viscous, boundary, and their sum that moves the ring in
+    !> its groove over the next step
+    real(dp) :: fv = 0.0_dp, fb = 0.0_dp, fric_prev = 0.0_dp
+    !> film and Reynolds solves of the psi = 720 deg steps solved on copies
+    integer :: extra_film_solves = 0, extra_solves = 0
+    !> the first error of a step (Ctrl-C, the ring pack): later steps do nothing, and the
+    !> cycle loops end the run at their check
+    type(error_type), allocatable :: err
+  end type cycle_state
+
+  !> One crank step's answer: h0, its flags and relative load residual, the load problem
+  !> (speed, gas pressure, applied load), and the oil through the leading and trailing faces.
+  type :: step_out
+    real(dp) :: h0 = 0.0_dp, resid = 0.0_dp, v_in = 0.0_dp, v_out = 0.0_dp
+    integer :: flags = 0
+    type(load_problem) :: lp
+  end type step_out
+
+contains
+
+  !> The state before a run's first step: the film of case c at h0_init (full), the step's
+  !> constants, the liner at the supply film (starved) and the ring pack's presence.
+  subroutine cycle_setup(st, c, h0_init)
+    type(cycle_state), intent(out) :: st
+    type(case_type), intent(in) :: c
+    real(dp), intent(in) :: h0_init
+    call film_setup(c, st%film%f)
+    st%ctx%omega = c%speed_rpm * 2.0_dp * pi / 60.0_dp
+    st%ctx%dt = deg2rad(c%dpsi_deg) / st%ctx%omega
+    st%ctx%p_e = elastic_pressure(c)
+    st%sigma = st%film%f%sigma
+    call start_history(st%film%mem, h0_init)
+    associate (f => st%film%f)
+      f%dt = st%ctx%dt
+      ! the mass-conserving film starts full; the starved inlet from the supply film everywhere
+      f%content_old = h0_init + f%s
+      if (f%starved) call supply_setup(st%film%sup, c%width, 2.0_dp * c%crank_radius, f%dx, &
+                                       c%supply_film, c%lower_ring_distance)
+    end associate
+    if (c%ring_pack == 'gas') allocate (st%rst)
+  end subroutine cycle_setup
+
+  !> Piston position [m] at crank angle psi [deg].
+  real(dp) function position(c, psi)
+    type(case_type), intent(in) :: c
+    real(dp), intent(in) :: psi
+    position = piston_position(deg2rad(psi), c%crank_radius, c%conrod_length)
+  end function position
+
+  !> Oil in the gap (the interior volumes of the film) [m^2].
+  pure real(dp) function gap_volume(f)
+    type(film_type), intent(in) :: f
+    gap_volume = f%dx * sum(f%content_old(2:f%n - 1))
+  end function gap_volume
+
+  !> Direction the piston moves in from s_prev to s: 1 towards the crankcase, -1 away, 0.
+  pure integer function motion(s_prev, s)
+    real(dp), intent(in) :: s_prev, s
+    motion = 0
+    if (s > s_prev) motion = 1
+    if (s < s_prev) motion = -1
+  end function motion
+
+  !> Set what the starved inlet of film `ff` can draw on in the step to psi from the liner's
+  !> oil `sup` (the piston at s_prev before it).
+  subroutine prepare_inlet(c, ff, sup, s_prev, psi)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(inout) :: ff
+    type(supply_type), intent(in) :: sup
+    real(dp), intent(in) :: s_prev, psi
+    real(dp) :: s
+    integer :: dir
+    if (.not. ff%starved) return
+    s = position(c, psi)
+    dir = motion(s_prev, s)
+    if (dir == 0) dir = sup%direction
+    ff%ds = s - s_prev
+    call supply_edges(sup, s_prev, s, dir, ff%available, ff%behind)
+  end subroutine prepare_inlet
+
+  !> Solve the step to psi and carry the film content and the oil supply forward.
+  subroutine advance(st, c, psi, out)
+    type(cycle_state), intent(inout) :: st
+    type(case_type), intent(in) :: c
+    real(dp), intent(in) :: psi
+    type(step_out), intent(out) :: out
+    real(dp) :: s
+    ! Ctrl-C during a call from Python: the run stops here, the loops end it at their check
+    if (.not. allocated(st%err) .and. interrupt_requested()) &
+      call fatal_error(st%err, c%deck_path//': interrupted', rl_interrupted)
+    if (allocated(st%err)) return
+    associate (f => st%film%f, sup => st%film%sup)
+      call prepare_inlet(c, f, sup, st%s_prev, psi)
+      if (allocated(st%rst)) then
+        call ring_pack_advance(c, st%ctx, st%rpar, st%fric_prev, st%rst, st%rout, psi, st%err)
+        f%p_back = st%rst%p2
+        f%p_lower = st%rst%p3
+      end if
+      call balance(c, st%ctx, f, st%film%mem, psi, out%h0, out%flags, out%resid, out%lp)
+      if (allocated(st%rst)) then
+        ! the friction that moves the ring in its groove over the next step
+        call film_friction(c, f, out%lp%u, st%fv, st%fb)
+        st%fric_prev = st%fv + st%fb
+      end if
+      if (.not. f%jfo) return
+      f%content_old = f%theta * f%h
+      ! oil through the leading and trailing faces over the step
+      if (f%lead_left) then
+        out%v_in = f%q_left * st%ctx%dt
+        out%v_out = f%q_right * st%ctx%dt
+      else
+        out%v_in = -f%q_right * st%ctx%dt
+        out%v_out = -f%q_left * st%ctx%dt
+      end if
+      s = position(c, psi)
+      if (f%starved) then
+        call supply_step(sup, st%s_prev, s, motion(st%s_prev, s), out%v_in, out%v_out)
+        call supply_to_chamber(sup)
+      end if
+      st%s_prev = s
+    end associate
+  end subroutine advance
+
+  !> The film becomes `saved` (a state kept earlier), its solve counters keep counting.
+  pure subroutine take_film(f, saved)
+    type(film_type), intent(inout) :: f
+    type(film_type), intent(in) :: saved
+    integer :: nfs, nrs
+    nfs = f%film_solves
+    nrs = f%reynolds_solves
+    f = saved
+    f%film_solves = nfs
+    f%reynolds_solves = nrs
+  end subroutine take_film
+
+  !> Solve crank step k (psi = (k-1) dpsi) and store it in res; h0 the step's.
+  subroutine solve_step(st, c, res, k, h0)
+    type(cycle_state), intent(inout) :: st
+    type(case_type), intent(in) :: c
+    type(result_type), intent(inout) :: res
+    integer, intent(in) :: k
+    real(dp), intent(out) :: h0
+    type(step_out) :: out
+    real(dp) :: psi
+    integer :: nev
+    psi = (k - 1) * c%dpsi_deg
+    nev = st%film%f%film_solves
+    call advance(st, c, psi, out)
+    h0 = out%h0
+    associate (f => st%film%f, lp => out%lp)
+      if (.not. allocated(st%rst)) call film_friction(c, f, lp%u, st%fv, st%fb)
+      res%series(k, s_crank_angle_deg) = psi
+      res%series(k, s_sliding_speed) = lp%u
+      res%series(k, s_h0) = out%h0
+      res%series(k, s_lambda_min) = minval(f%h) / st%sigma
+      res%series(k, s_gas_pressure) = lp%pg
+      res%series(k, s_applied_load) = lp%load
+      res%series(k, s_hydrodynamic_load) = f%wh
+      res%series(k, s_asperity_load) = f%wa
+      res%series(k, s_viscous_friction) = st%fv
+      res%series(k, s_boundary_friction) = st%fb
+      res%series(k, s_friction) = st%fv + st%fb
+      res%series(k, s_power_loss) = abs((st%fv + st%fb) * lp%u)
+      res%series(k, s_load_residual) = out%resid
+      res%int_series(k, si_flags) = out%flags
+      res%int_series(k, si_film_solves) = f%film_solves - nev
+      if (f%jfo) then
+        res%series(k, s_inlet_fill) = f%theta_in
+        ! the control volumes of full nodes: dx inside, dx/2 at an edge
+        res%series(k, s_wetted_width) = f%dx * (count(f%theta(2:f%n - 1) >= 1.0_dp - 1e-9_dp) &
+                                                + 0.5_dp * count([f%theta(1), f%theta(f%n)] &
+                                                                 >= 1.0_dp - 1e-9_dp))
+        res%series(k, s_oil_left) = 0.0_dp
+        if (abs(f%ds) > 0.0_dp) res%series(k, s_oil_left) = max(out%v_out, 0.0_dp) / abs(f%ds)
+        if (.not. f%starved .and. abs(lp%u) > 0.0_dp) &
+          res%series(k, s_oil_left) = max(out%v_out, 0.0_dp) / (abs(lp%u) * st%ctx%dt)
+      end if
+      if (f%starved) res%series(k, s_oil_bank) = st%film%sup%bank
+      if (allocated(st%rst)) then
+        res%series(k, s_groove_pressure) = st%rst%p2
+        res%series(k, s_land_pressure) = st%rst%p3
+        res%series(k, s_ring_lift) = st%rst%x
+        res%series(k, s_top_gap_flow) = st%rout%top_gap_flow
+        res%series(k, s_second_gap_flow) = st%rout%second_gap_flow
+        call ring_pack_accumulate(st%rtot, st%rout, st%ctx%dt)
+      end if
+    end associate
+  end subroutine solve_step
+
+  !> Chamber pressure [Pa] at crank angle psi [deg] (the trace, scaled).
+  real(dp) function chamber(c, psi)
+    type(case_type), intent(in) :: c
+    real(dp), intent(in) :: psi
+    chamber = gas_pressure(c%gas_psi, c%gas_p, modulo(psi, 720.0_dp), c%crankcase_pressure)
+  end function chamber
+
+  !> Advance the ring pack's state `rs` (parameters par) over the crank step ending at psi
+  !> [deg]: the chamber pressure linear in time over the step, the friction of the last step
+  !> fric_prev (explicit: the gas and the ring's axial motion are advanced first, then the film
+  !> at the step's end sees the new groove and land pressures), the piston's acceleration at
+  !> mid-step. Nothing once err is set.
+  subroutine ring_pack_advance(c, ctx, par, fric_prev, rs, out, psi, err)
+    type(case_type), intent(in) :: c
+    type(step_context), intent(in) :: ctx
+    type(ring_pack_params), intent(in) :: par
+    real(dp), intent(in) :: fric_prev, psi
+    type(ring_pack_state), intent(inout) :: rs
+    type(ring_pack_step_out), intent(out) :: out
+    type(error_type), allocatable, intent(inout) :: err
+    real(dp) :: a_p
+    a_p = -piston_acceleration(deg2rad(psi - 0.5_dp * c%dpsi_deg), c%crank_radius, &
+                               c%conrod_length, ctx%omega)
+    if (allocated(err)) return
+    call ring_pack_step(par, rs, chamber(c, psi - c%dpsi_deg), chamber(c, psi), &
+                        c%crankcase_pressure, -fric_prev, a_p, ctx%dt, out, err)
+  end subroutine ring_pack_advance
+end module ringlube_cycle_state
