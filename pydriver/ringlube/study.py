@@ -47,11 +47,47 @@ def _out_folder(out: str | os.PathLike | None, s: StudySettings) -> Path:
     out = Path(out) if out is not None else Path("out") / s.name
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {out}: exists and is not a folder")
+    if out.is_dir():
+        other = _other_study(out, s.name)
+        if other:
+            raise InputError(
+                f"--out {out}: holds the outputs of the study '{other}' (report.md, pareto_*.csv, "
+                f"figures), which study '{s.name}' would replace; give each study its own --out folder"
+            )
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(f"--out {out}: cannot create the folder ({exc.strerror or exc})") from None
     return out
+
+
+def _other_study(out: Path, name: str) -> str | None:
+    """The name of another study whose outputs are in ``out`` (its study file, or the title of
+    its report), else None."""
+    import h5py
+
+    from .study_h5 import text
+    from .study_layout import FORMAT
+
+    for p in sorted(out.glob("*.h5")):
+        if p.stem == name or not p.is_file() or not h5py.is_hdf5(p):
+            continue
+        try:
+            with h5py.File(p, "r") as f:
+                if text(f.attrs.get("format", "")) == FORMAT:
+                    return p.stem
+        except OSError:
+            continue
+    report = out / "report.md"
+    if report.is_file():
+        with open(report, encoding="utf-8", errors="replace") as fh:
+            first = fh.readline()
+        title = "# Design study `"
+        if first.startswith(title) and first.rstrip().endswith("`"):
+            found = first.rstrip()[len(title) : -1]
+            if found != name:
+                return found
+    return None
 
 
 def run_study(
@@ -107,10 +143,12 @@ def run_study(
     -------
     >>> study = run_study("inputs/study_default.nml", serial=True)   # doctest: +SKIP
     """
+    from .study_report import output_names, study_inputs
+
     s = read_study(deck)
     out = _out_folder(out, s)
-    for name in ["report.md", *(f"pareto_{label}.csv" for label in [*s.labels, "scene"])]:
-        check_output(out / name, s.cases)  # before the work, not after it
+    for name in [f"{s.name}.h5", *output_names(s)]:  # before the work, not after it
+        check_output(out / name, study_inputs(s), "--out")
     path = out / f"{s.name}.h5"
     study = Study.open(s, path, lock=True, restart=restart)
     try:

@@ -13,10 +13,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .outputs import write_text
+from .outputs import check_output, write_text
 from .study_check import FRONT_CHECKS, candidates_text
 from .study_constraints import constraint_bounds
-from .study_figures import study_figures
+from .study_figures import study_figures, tradeoff_stems
 from .study_format import (
     LIFTED,
     LIFTED_COLUMN,
@@ -27,11 +27,12 @@ from .study_format import (
     result_display,
 )
 from .study_pareto import write_pareto_csv
+from .study_settings import StudySettings
 from .study_state_checks import Checked
 from .study_store import Study
 from .study_variables import display, output_units
 
-__all__ = ["write_report", "how_sure_lines", "write_outputs"]
+__all__ = ["write_report", "how_sure_lines", "write_outputs", "output_names", "study_inputs"]
 
 
 def _design_table(study: Study, ch: Checked, label: str = "") -> list[str]:
@@ -249,7 +250,7 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
     if figures:
         L += ["", "## Figures", ""]
         L += [f"![{f.stem}]({f.name})" for f in figures]
-    return write_text(out / "report.md", "\n".join(L) + "\n", [study.path])
+    return write_text(out / "report.md", "\n".join(L) + "\n", [study.path, *study_inputs(s)])
 
 
 def _on_bounds(study: Study, x: np.ndarray, rtol: float = 1e-3) -> list[str]:
@@ -427,9 +428,67 @@ def write_outputs(study: Study, out: str | os.PathLike, figures: bool = True) ->
     >>> write_outputs(study, "out/s")                          # doctest: +SKIP
     """
     out = Path(out)
+    inputs = [study.path, *study_inputs(study.s)]
+    names = output_names(study.s)
+    for name in names:  # every file the study reads is refused as an output, before writing any
+        check_output(out / name, inputs, "--out")
     files = []
     if figures:
         files += study_figures(study, out)
     files += write_pareto_csv(study, out)
     files.append(write_report(study, out, [f for f in files if f.suffix == ".png"]))
+    written = {f.name for f in files}
+    for name in names:  # outputs of earlier settings (a scene, a figure) would be stale
+        old = out / name
+        if name not in written and old.is_file() and not old.is_symlink():
+            old.unlink()
     return files
+
+
+def study_inputs(s: StudySettings) -> list[Path]:
+    """Every file a study reads: the study deck, the base decks and the files they read
+    (calibration, pressure traces).
+
+    Parameters
+    ----------
+    s : StudySettings
+
+    Returns
+    -------
+    list of Path
+
+    Example
+    -------
+    >>> [p.name for p in study_inputs(StudySettings("s", ["/a/b.nml"], ["b"], [1.0], [], [], [], []))]
+    ['b.nml']
+    """
+    files = [s.source, *s.cases, *s.inputs]
+    return [Path(p) for p in dict.fromkeys(f for f in files if f)]
+
+
+def output_names(s: StudySettings) -> list[str]:
+    """The names of every file a study may write in its output folder (besides its study file
+    ``NAME.h5``): the report, the Pareto CSV files and the figures of every case and the scene.
+
+    Parameters
+    ----------
+    s : StudySettings
+
+    Returns
+    -------
+    list of str
+
+    Example
+    -------
+    >>> output_names(StudySettings("s", [], ["cold"], [1.0], [], [], [], ["energy_loss"]))[:3]
+    ['report.md', 'pareto_cold.csv', 'pareto_scene.csv']
+    """
+    labels = [*s.labels, "scene"]
+    stems = [f"fit_{label}" for label in labels]
+    stems += [f"map_{label}_{o}" for label in labels for o in s.objectives]
+    stems += tradeoff_stems(list(s.objectives))
+    return [
+        "report.md",
+        *(f"pareto_{label}.csv" for label in labels),
+        *(f"{stem}.{fmt}" for stem in stems for fmt in ("png", "pdf")),
+    ]

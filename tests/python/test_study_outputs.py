@@ -9,6 +9,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
+from ringlube import InputError
 from ringlube.case import Case
 from ringlube.study import run_study
 from ringlube.study_format import LIFTED_COLUMN
@@ -163,3 +164,76 @@ def test_how_sure_ranking_counts_strict_reorders_only():
     assert not _reordered(np.array([1.0, 1.0, 2.0]), np.array([3.0, 2.0, 4.0]))
     assert _reordered(np.array([0.3, 0.2, 0.4]), np.array([0.1, 0.2, 0.4]))
     assert _order(["a", "b", "c"], np.array([1.0, 0.0, 0.0])) == "b = c < a"
+
+
+# --- a study never writes over its inputs, another study's outputs or stale ones ------------
+
+
+def _deck(path, name, cases, extra=""):
+    path.write_text(
+        f"&study\n  name = '{name}', cases = {', '.join(repr(str(c)) for c in cases)}\n"
+        "  variables = 'width', 'crown_offset', lower = 0.8e-3, -40e-6, upper = 1.2e-3, 40e-6\n"
+        f"  samples = 24, seed = 5, population = 12, generations = 4, repeats = 2\n{extra}/\n"
+    )
+    return path
+
+
+def test_a_study_refuses_to_write_over_the_files_it_reads(tmp_path):
+    """A pressure trace named like a Pareto CSV, and a study deck named like the report, in the
+    output folder: refused before any run, both files untouched."""
+    import shutil
+
+    shutil.copy(INPUTS / "calibration.nml", tmp_path)
+    trace = tmp_path / "pareto_r4000.csv"
+    shutil.copy(INPUTS / "pressure" / "crf450r_4000rpm_full.csv", trace)
+    base = tmp_path / "r4000.nml"
+    base.write_text(COLD.read_text().replace("pressure/crf450r_4000rpm_full.csv", "pareto_r4000.csv"))
+    assert "pareto_r4000.csv" in base.read_text()
+    before = trace.read_bytes()
+    deck = _deck(tmp_path / "s.nml", "s", [base])
+    with pytest.raises(InputError, match=r"pareto_r4000.csv: is an input"):
+        run_study(deck, tmp_path, serial=True, progress=False, figures=False)
+    assert trace.read_bytes() == before and not (tmp_path / "s.h5").exists()
+
+    report = _deck(tmp_path / "report.md", "t", [COLD])
+    before = report.read_bytes()
+    with pytest.raises(InputError, match=r"report.md: is an input"):
+        run_study(report, tmp_path, serial=True, progress=False, figures=False)
+    assert report.read_bytes() == before and not (tmp_path / "t.h5").exists()
+
+
+def test_a_second_study_in_the_same_folder_is_refused(study, tmp_path):
+    import shutil
+
+    _, out = study
+    shared = tmp_path / "out"
+    shutil.copytree(out, shared)
+    before = (shared / "report.md").read_bytes()
+    deck = _deck(tmp_path / "p.nml", "p", [COLD])
+    with pytest.raises(InputError, match=r"holds the outputs of the study 'o'"):
+        run_study(deck, shared, serial=True, progress=False, figures=False)
+    assert (shared / "report.md").read_bytes() == before and not (shared / "p.h5").exists()
+    (shared / "o.h5").unlink()  # the report alone still tells whose outputs these are
+    with pytest.raises(InputError, match=r"holds the outputs of the study 'o'"):
+        run_study(deck, shared, serial=True, progress=False, figures=False)
+
+
+def test_a_resumed_study_leaves_no_stale_outputs(study, tmp_path):
+    """Resumed without the scene (an edit of the study deck), the scene's Pareto CSV and
+    figures of the earlier run are removed with the report rewritten."""
+    import shutil
+
+    _, out = study
+    folder = tmp_path / "out"
+    shutil.copytree(out, folder)
+    o = (out.parent / "o.nml").read_text()
+    deck = tmp_path / "o.nml"
+    deck.write_text(o.replace("/\n", "  scene = .true.\n/\n"))
+    run_study(deck, folder, serial=True, progress=False)
+    scene = ["pareto_scene.csv", "fit_scene.png", "fit_scene.pdf", "map_scene_energy_loss.png"]
+    assert all((folder / f).is_file() for f in scene)
+    deck.write_text(o)
+    run_study(deck, folder, serial=True, progress=False)
+    assert not [f for f in scene if (folder / f).exists()]
+    assert "scene" not in (folder / "report.md").read_text().split("## Cases")[1].split("##")[0]
+    assert (folder / "fit_cold.png").is_file() and (folder / "pareto_hot.csv").is_file()
