@@ -437,12 +437,22 @@ def write_outputs(study: Study, out: str | os.PathLike, figures: bool = True) ->
         files += study_figures(study, out)
     files += write_pareto_csv(study, out)
     files.append(write_report(study, out, [f for f in files if f.suffix == ".png"]))
+    # outputs of earlier settings would be stale (the scene's after scene = .false.); figures
+    # not drawn this time are kept unless their case has no results now
+    gone = [label for label in [*study.s.labels, "scene"] if not _has_results(study, label)]
     written = {f.name for f in files}
-    for name in names:  # outputs of earlier settings (a scene, a figure) would be stale
+    for name in names:
         old = out / name
-        if name not in written and old.is_file() and not old.is_symlink():
+        figure = name.endswith((".png", ".pdf"))
+        stale = not figure or figures or any(name.startswith((f"fit_{g}.", f"map_{g}_")) for g in gone)
+        if stale and name not in written and old.is_file() and not old.is_symlink():
             old.unlink()
     return files
+
+
+def _has_results(study: Study, label: str) -> bool:
+    c = study.cases.get(label)
+    return c is not None and bool(c.surfaces)
 
 
 def study_inputs(s: StudySettings) -> list[Path]:
