@@ -13,7 +13,7 @@ module ringlube_api
                            real_text
   use ringlube_inputs, only: inputs, n_inputs, find_input, presets, n_presets, kind_int, kind_real
   use ringlube_deck, only: read_deck_text, scale_trace
-  use ringlube_gas, only: check_pressure_trace
+  use ringlube_gas, only: check_pressure_trace, max_pressure
   use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
                               n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, &
                               field_spec, liner_spec, n_liner, sc_run_time, models, n_models
@@ -197,7 +197,8 @@ contains
     call validate_case(c, err)
     if (allocated(err)) return
     ! the design's pressure_scale times the trace as read
-    call scale_trace(c)
+    call scale_trace(c, err)
+    if (allocated(err)) return
     call system_clock(t0, rate)
     call solve_cycle(c, res, err)
     call system_clock(t1)
@@ -246,7 +247,8 @@ contains
       return
     end if
     call validate_case(store(handle), err)
-    call scale_trace(store(handle))   ! pressure_scale may be what changed
+    if (allocated(err)) return
+    call scale_trace(store(handle), err)   ! pressure_scale may be what changed
   end subroutine api_set
 
   !> Replace the gas-pressure trace by arrays (deg, Pa abs; checked like a CSV file, then
@@ -261,9 +263,15 @@ contains
       err%message = store(handle)%deck_path//': pressure trace: '//err%message
       return
     end if
+    if (.not. (store(handle)%pressure_scale * maxval(p) <= max_pressure)) then
+      call fatal_error(err, store(handle)%deck_path//': pressure trace: with &operating '// &
+                       'pressure_scale = '//real_text(store(handle)%pressure_scale)// &
+                       ' its highest pressure is above 1000 bar (1e8 Pa, absolute)', rl_input_error)
+      return
+    end if
     store(handle)%gas_psi = psi
     store(handle)%gas_p_trace = p
-    call scale_trace(store(handle))
+    call scale_trace(store(handle), err)
     store(handle)%pressure_file = '<array>'
   end subroutine api_set_trace
 

@@ -13,11 +13,11 @@ module ringlube_deck
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, default_case, apply_preset, case_access, access_set, &
-                           validate_case
+                           validate_case, real_text
   use ringlube_inputs, only: inputs, n_inputs, find_input, kind_string, kind_choice
   use ringlube_namelist, only: nml_item, scan_namelist
   use ringlube_textio, only: read_text_file, itoa
-  use ringlube_gas, only: read_pressure_csv
+  use ringlube_gas, only: read_pressure_csv, max_pressure
   use ringlube_fsys, only: dir_prefix
   implicit none
   private
@@ -395,14 +395,30 @@ contains
       err%message = c%deck_path//': &operating pressure_file: '//err%message
       return
     end if
-    call scale_trace(c)
+    call scale_trace(c, err)
   end subroutine finish_case
 
   !> The chamber pressure the run uses, `gas_p` = pressure_scale x the trace as read
   !> (`gas_p_trace`): the one place the trace is scaled, after reading it, replacing it or
-  !> changing pressure_scale.
-  pure subroutine scale_trace(c)
+  !> changing pressure_scale. The scaled trace is held to the limit of a trace as read
+  !> (`max_pressure`): above it, an input error naming pressure_scale, and `gas_p` unchanged.
+  subroutine scale_trace(c, err)
     type(case_type), intent(inout) :: c
-    if (allocated(c%gas_p_trace)) c%gas_p = c%pressure_scale * c%gas_p_trace
+    type(error_type), allocatable, intent(out) :: err
+    real(dp) :: peak
+    if (.not. allocated(c%gas_p_trace)) return
+    if (size(c%gas_p_trace) > 0) then
+      peak = maxval(c%gas_p_trace)
+      if (.not. (c%pressure_scale * peak <= max_pressure)) then
+        call fatal_error(err, c%deck_path//': &operating pressure_scale: '// &
+                         real_text(c%pressure_scale)//' times the trace''s highest pressure ('// &
+                         itoa(nint(peak / 1e5_dp))//' bar) is '// &
+                         itoa(nint(c%pressure_scale * peak / 1e5_dp))//' bar; the chamber '// &
+                         'pressure is at most 1000 bar (1e8 Pa, absolute), as in a trace', &
+                         rl_input_error)
+        return
+      end if
+    end if
+    c%gas_p = c%pressure_scale * c%gas_p_trace
   end subroutine scale_trace
 end module ringlube_deck

@@ -25,7 +25,7 @@ module ringlube_gas
 contains
 
   !> Read a two-column CSV (crank angle deg, absolute pressure Pa) with an optional
-  !> header line; blank lines and lines starting with '#' are skipped. Only the first
+  !> header line; blank lines, lines starting with '#' and a UTF-8 byte-order mark are skipped. Only the first
   !> row can be the header, and only if none of its fields could be a number: every
   !> field a word (not starting with a digit, sign or point, and not nan/inf), so that a
   !> first row such as `nan,1e5` is an error, not a skipped header. Angles must increase
@@ -55,6 +55,9 @@ contains
     nrow = 0
     seen_header = .false.
     pos = 1
+    if (len(text) >= 3) then   ! a UTF-8 byte-order mark (spreadsheets write one) is not data
+      if (text(1:3) == achar(239)//achar(187)//achar(191)) pos = 4
+    end if
     do while (pos <= len(text))
       eol = field_end(text, pos, new_line('a'))
       line = trim(adjustl(text(pos:eol - 1)))

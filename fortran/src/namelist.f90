@@ -17,7 +17,10 @@ module ringlube_namelist
   use ringlube_textio, only: itoa
   implicit none
   private
-  public :: nml_item, scan_namelist, lower
+  public :: nml_item, scan_namelist, lower, nul_message
+
+  !> The error of a deck holding a NUL byte (after 'file:line: ').
+  character(len=*), parameter :: nul_message = 'a NUL byte (binary data, not text) in the deck'
 
   !> One `name = value` of a group.
   type :: nml_item
@@ -30,6 +33,16 @@ module ringlube_namelist
   end type nml_item
 
 contains
+
+  !> How many new_line('a') characters `s` holds.
+  pure integer function count_newlines(s) result(k)
+    character(len=*), intent(in) :: s
+    integer :: i
+    k = 0
+    do i = 1, len(s)
+      if (s(i:i) == new_line('a')) k = k + 1
+    end do
+  end function count_newlines
 
   !> Lower-case copy of a string.
   pure function lower(s) result(t)
@@ -67,6 +80,12 @@ contains
     ! a UTF-8 byte-order mark (some editors write one) is not part of the deck
     if (n >= 3) then
       if (text(1:3) == achar(239)//achar(187)//achar(191)) pos = 4
+    end if
+    ! a NUL byte: binary data, where readers of C strings would end the deck
+    if (index(text, achar(0)) > 0) then
+      line = 1 + count_newlines(text(1:index(text, achar(0))))
+      call fail(nul_message)
+      return
     end if
 
     ! the deck, group by group: "&group", then "name = value" items up to "/" or "&end"

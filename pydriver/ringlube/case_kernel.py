@@ -39,6 +39,17 @@ def _text(message) -> str:
     return str(message).rstrip("\0 ").strip()
 
 
+def _deck_text(text: str, name: str) -> bytes:
+    """Deck text for the kernel; a NUL byte is an input error naming the file and line (the
+    f2py layer would end the text there, where ringlube-solve reads on: two readings)."""
+    if "\0" in text:
+        from .errors import InputError
+
+        line = text.count("\n", 0, text.index("\0")) + 1
+        raise InputError(f"{name}:{line}: a NUL byte (binary data, not text) in the deck")
+    return _arg(text)
+
+
 def _arg(s: str) -> bytes:
     """A string argument for the f2py layer (UTF-8 bytes; f2py would refuse non-ASCII;
     bytes of a path that are not UTF-8 go through unchanged)."""
@@ -91,7 +102,12 @@ def kernel_case(case: Case, load_trace: bool = True, warn: bool = True) -> Itera
     if base and not base.endswith("/"):
         base += "/"
     handle, nsteps, nliner, code, message, notes = _kernel.rl_open(
-        _arg(text), _arg(name), _arg(base), _arg(overrides), _arg(overrides_name), 1 if load_trace else 0
+        _deck_text(text, name),
+        _arg(name),
+        _arg(base),
+        _deck_text(overrides, overrides_name),
+        _arg(overrides_name),
+        1 if load_trace else 0,
     )
     if code:
         raise error_for(code, _text(message))

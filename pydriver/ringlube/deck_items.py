@@ -19,7 +19,7 @@ from __future__ import annotations
 import re
 from typing import Any, NamedTuple
 
-from .case_kernel import _arg, _text
+from .case_kernel import _arg, _deck_text, _text
 from .errors import error_for
 
 __all__ = ["Item", "items", "python_value"]
@@ -112,7 +112,7 @@ def items(text: str, name: str, lists: bool = False) -> list[Item]:
     from . import _kernel
 
     flag = 1 if lists else 0
-    n, code, message = _kernel.rl_items_count(_arg(text), _arg(name), flag)
+    n, code, message = _kernel.rl_items_count(_deck_text(text, name), _arg(name), flag)
     if code:
         raise error_for(code, _text(message))
     if n == 0:

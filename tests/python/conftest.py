@@ -52,6 +52,7 @@ MODULE_LABELS = {
     "test_gas": ("unit",),
     "test_gas_model": ("unit", "numerics"),
     "test_hdf5_layout": ("io",),
+    "test_hostile_inputs": ("unit", "io"),
     "test_implausible_inputs": ("numerics",),
     "test_input_mistakes": ("unit",),
     "test_liner_film": ("numerics",),

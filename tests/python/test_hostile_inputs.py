@@ -1,0 +1,156 @@
+"""Hostile inputs of a fourth round: one reading of every deck and trace in every front end,
+named errors for values the run could not honour, messages that say what to do."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+import ringlube
+from ringlube import InputError
+from ringlube.cli import main
+
+from conftest import COLD, INPUTS
+
+
+def own_inputs(folder, calibration=None):
+    """A copy of the cold deck with its calibration file (optionally replaced) and trace."""
+    (folder / "pressure").mkdir()
+    shutil.copy(INPUTS / "pressure" / "crf450r_4000rpm_full.csv", folder / "pressure")
+    cal = (INPUTS / "calibration.nml").read_text()
+    (folder / "calibration.nml").write_text(calibration(cal) if calibration else cal)
+    shutil.copy(COLD, folder / "cold.nml")
+    return folder / "cold.nml"
+
+
+# --- a NUL byte: one reading (a named error) in ringlube-solve, ringlube run/show and the API --
+
+
+def test_a_nul_byte_in_a_deck_is_one_named_error_everywhere(tmp_path, solver, capsys):
+    deck = own_inputs(tmp_path)
+    text = deck.read_text()
+    line = text[: text.index("&operating")].count("\n") + 1
+    deck.write_text(text.replace("&operating", "! a comment \0 with a NUL\n&operating", 1))
+    message = f"cold.nml:{line}: a NUL byte (binary data, not text) in the deck"
+    p = subprocess.run(
+        [solver, str(deck), "-q", "-o", str(tmp_path / "r.h5")], capture_output=True, text=True
+    )
+    assert p.returncode == 2 and message in p.stderr, p.stderr
+    for command in (["run", str(deck), "-q", "-o", str(tmp_path / "r.h5")], ["show", str(deck)]):
+        assert main(command) == 2
+        err = capsys.readouterr().err
+        assert message in err and "Traceback" not in err, err
+    with pytest.raises(InputError, match=re.escape(message)):
+        ringlube.Case.from_namelist(deck)
+    assert not (tmp_path / "r.h5").exists()
+
+
+# --- the chamber pressure has one limit: a trace's, also after pressure_scale ----------------
+
+
+def test_pressure_scale_is_held_to_the_limit_of_a_trace(tmp_path, solver):
+    """The shipped trace peaks at 60 bar: 16 times is 960 bar and runs, 17 times is refused
+    like a trace point above 1000 bar (1e8 Pa), in the deck, through the API and with a trace
+    given as arrays."""
+    peak = np.loadtxt(
+        INPUTS / "pressure" / "crf450r_4000rpm_full.csv", delimiter=",", comments="#", skiprows=3
+    )
+    assert 16 * peak[:, 1].max() <= 1e8 < 17 * peak[:, 1].max()
+    deck = own_inputs(
+        tmp_path, lambda t: t.replace("pressure_scale = 0.9290039062500001", "pressure_scale = 17")
+    )
+    p = subprocess.run(
+        [solver, str(deck), "-q", "-o", str(tmp_path / "r.h5")], capture_output=True, text=True
+    )
+    assert p.returncode == 2, p.stderr
+    assert (
+        "calibration.nml:17: &operating pressure_scale: 1.7E+1 times the trace's highest pressure" in p.stderr
+    )
+    assert "at most 1000 bar" in p.stderr and not (tmp_path / "r.h5").exists()
+    case = ringlube.Case.from_namelist(COLD).with_numerics(preset="fast")
+    with pytest.raises(InputError, match="pressure_scale: .* at most 1000 bar"):
+        ringlube.run(case.with_("operating", pressure_scale=17.0))
+    assert np.isfinite(ringlube.run(case.with_("operating", pressure_scale=16.0)).energy_loss)
+    with pytest.raises(InputError, match="pressure_scale = .*above 1000 bar"):
+        ringlube.run(case.with_("operating", pressure_scale=2.0), trace=(peak[:, 0], peak[:, 1] * 9))
+    _, ok, errors = ringlube.run_designs(
+        case, ["operating:pressure_scale"], np.array([[17.0]]), ["energy_loss"]
+    )
+    assert not ok[0] and "pressure_scale: 1.7E+1 times" in errors[0] and "at most 1000 bar" in errors[0]
+
+
+# --- a CSV with a byte-order mark reads as without -------------------------------------------
+
+
+def test_a_trace_with_a_byte_order_mark_reads_as_without(tmp_path):
+    deck = own_inputs(tmp_path)
+    trace = tmp_path / "pressure" / "crf450r_4000rpm_full.csv"
+    case = ringlube.Case.from_namelist(deck).with_numerics(preset="fast")
+    plain = ringlube.run(case).energy_loss
+    for text in (trace.read_text(), "".join(trace.read_text().splitlines(True)[2:])):  # header first
+        trace.write_bytes(b"\xef\xbb\xbf" + text.encode())
+        assert ringlube.run(case).energy_loss == plain
+
+
+# --- messages that say what changed and what to do -------------------------------------------
+
+
+def _study(path, **extra):
+    lines = [
+        "&study",
+        f"  name = 'm', cases = '{COLD}'",
+        "  variables = 'width', 'crown_offset', lower = 0.8e-3, -40e-6, upper = 1.2e-3, 40e-6",
+        "  population = 12, generations = 4, repeats = 2",
+        *(f"  {k} = {v}" for k, v in {"samples": 24, "seed": 5, **extra}.items()),
+        "/",
+    ]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_a_refused_resume_names_what_changed_and_restart(tmp_path):
+    from ringlube.study import run_study
+
+    deck, out = _study(tmp_path / "m.nml"), tmp_path / "out"
+    with pytest.raises(KeyboardInterrupt):
+        run_study(deck, out, serial=True, progress=False, figures=False, stop_after=2)
+    _study(deck, samples=32)
+    with pytest.raises(InputError) as e:
+        run_study(deck, out, serial=True, progress=False, figures=False)
+    assert "other samples (24, now 32)" in str(e.value) and "--restart" in str(e.value)
+    assert "recorded" not in str(e.value) and "objectives" not in str(e.value)
+    _study(deck, constraints="'fmep <= 100'")
+    with pytest.raises(InputError) as e:
+        run_study(deck, out, serial=True, progress=False, figures=False)
+    assert "other recorded results (a constraint on a result" in str(e.value)
+    assert "samples" not in str(e.value) and "objectives" not in str(e.value)
+
+
+@pytest.mark.parametrize(
+    "variable, takes",
+    [
+        ("physics:cavitation", "one of 'swift_stieber', 'jfo'"),
+        ("operating:pressure_file", "text"),
+        ("physics:squeeze", ".true. or .false."),
+    ],
+)
+def test_a_text_input_as_a_study_variable_says_it_is_not_a_number(tmp_path, variable, takes):
+    from ringlube.study_deck import read_study
+
+    deck = _study(tmp_path / "m.nml").read_text().replace("'width', 'crown_offset'", f"'{variable}', 'width'")
+    (tmp_path / "m.nml").write_text(
+        deck.replace("lower = 0.8e-3, -40e-6, upper = 1.2e-3, 40e-6", "lower = 0, 0.8e-3, upper = 1, 1.2e-3")
+    )
+    with pytest.raises(InputError, match=rf"m.nml:3: &study variables: '{variable}' is not a number") as e:
+        read_study(tmp_path / "m.nml")
+    assert f"takes {takes})" in str(e.value) and "quoted string" not in str(e.value)
+
+
+def test_optimise_on_a_case_deck_says_it_is_a_case_deck(capsys):
+    assert main(["optimise", str(COLD), "--serial"]) == 2
+    err = capsys.readouterr().err
+    assert "this is a case deck" in err and "ringlube run" in err and "&calibration: not a group" not in err
