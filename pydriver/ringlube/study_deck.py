@@ -27,6 +27,7 @@ from .study_variables import (
     _is_whole_number,
     _model_units,
     _produces,
+    _text_input,
     input_files,
     split_variable,
 )
@@ -122,6 +123,12 @@ def read_study(path: str | os.PathLike) -> StudySettings:
                 "variables",
                 f"'{v}' is a whole number (&{group} {name_}); a study samples real values: "
                 "vary it with one base deck per value instead",
+            )
+        if _text_input(group, name_):
+            chk.bad(
+                "variables",
+                f"'{v}' is not a number (&{group} {name_} takes {_text_input(group, name_)}); "
+                "a study samples real values: vary it with one base deck per value instead",
             )
         pairs.append((group, name_))
     if len(set(pairs)) != len(pairs):

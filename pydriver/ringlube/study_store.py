@@ -220,9 +220,9 @@ class Study:
             )
         if text(f.attrs["key"]) != s.key():
             raise InputError(
-                f"{path}: exists and belongs to a study with other samples, cases, variables, "
-                "objectives or recorded results (a constraint on a result not recorded before); "
-                "use another --out folder"
+                f"{path}: exists and belongs to a study with {_key_changes(f, s)}; its runs cannot "
+                "be reused. Use another --out folder, or start afresh with --restart "
+                "(ringlube optimise; run_study(restart=True))"
             )
         started = json.loads(text(f.attrs["inputs"]))
         changed = [p for p in sorted(set(started) | set(s.inputs)) if started.get(p) != s.inputs.get(p)]
@@ -310,3 +310,35 @@ class Study:
             g = f.require_group(f"cases/{label}")
             g.attrs["derived_key"] = s.derived_key(label)
             write_case(g, c, s)
+
+
+#: what each field of :meth:`StudySettings.key` is, in a refused resume's message
+_KEY_FIELDS = {
+    "cases": "base decks",
+    "labels": "labels",
+    "variables": "variables",
+    "lower": "lower bounds",
+    "upper": "upper bounds",
+    "objectives": "objectives",
+    "outputs": "recorded results (a constraint on a result not recorded before needs new runs)",
+    "sampler": "sampler",
+    "samples": "samples",
+    "seed": "seed",
+}
+
+
+def _key_changes(f: h5py.File, s: StudySettings) -> str:
+    """What differs between the study file's key and the deck's now: "other samples (64, now
+    32)", "other objectives", ..."""
+    try:
+        was = json.loads(text(f.attrs["key"]))
+    except ValueError:
+        was = {}
+    now = json.loads(s.key())
+    parts = []
+    for k, what in _KEY_FIELDS.items():
+        if k in was and was.get(k) == now.get(k):
+            continue
+        short = not isinstance(now.get(k), list) and k in was
+        parts.append(f"other {what}" + (f" ({was[k]}, now {now[k]})" if short else ""))
+    return ", ".join(parts) or "other settings"

@@ -335,6 +335,14 @@ def study_values(path: str | Path, text: str) -> tuple[dict[str, Any], dict[str,
     opened = sorted({i.group_line for i in its if i.group == "study"})
     for it in its:
         if it.group != "study":
+            from .tables import GROUPS
+
+            if it.group in GROUPS and not any(i.group == "study" for i in its):
+                raise InputError(
+                    f"{path}: this is a case deck (&{it.group}, line {it.group_line}), not a study deck: "
+                    "ringlube optimise reads one &study group (e.g. inputs/study_default.nml); "
+                    "a case deck runs with `ringlube run`"
+                )
             raise InputError(
                 f"{it.where}: &{it.group}: not a group of a study deck (it has one &study group)"
             )

@@ -84,6 +84,19 @@ def _is_whole_number(group: str, name: str) -> bool:
     return spec is not None and spec.kind == "integer"
 
 
+def _text_input(group: str, name: str) -> str:
+    """What ``&group name`` takes when it is not a number (``"text"``, ``"one of 'a', 'b'"``,
+    ``".true. or .false."``), else ``""``."""
+    from .tables import INPUTS
+
+    spec = INPUTS.get((group, name))
+    if spec is None or spec.kind in ("real", "integer"):
+        return ""
+    if spec.kind == "choice":
+        return "one of " + ", ".join(f"'{c}'" for c in spec.choices)
+    return ".true. or .false." if spec.kind == "logical" else "text"
+
+
 def _model_units() -> dict[str, str]:
     """Every design quantity a study may record, with its unit: the objective results of the
     kernel's table, including those only some film models produce (``oil_to_chamber``)."""
