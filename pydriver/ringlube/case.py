@@ -204,6 +204,11 @@ class Case(_InputOrigins):
         group = str(group).lower()
         if group not in GROUPS:
             raise InputError(f"unknown namelist group &{group} (known: {', '.join(GROUPS)})")
+        names = [str(n).lower() for n in values]
+        twice = sorted({n for n in names if names.count(n) > 1})
+        if twice:  # names are case-insensitive: 'gamma' and 'GAMMA' are one variable
+            given = ", ".join(str(n) for n in values if str(n).lower() in twice)
+            raise InputError(f"&{group} {twice[0]}: given twice ({given}); give it once")
         self._nml.setdefault(group, {})
         for name, value in values.items():
             name = str(name).lower()
@@ -230,6 +235,12 @@ class Case(_InputOrigins):
         return self
 
     def __getitem__(self, key: tuple[str, str]) -> Any:
+        if not (isinstance(key, tuple) and len(key) == 2 and all(isinstance(k, str) for k in key)):
+            raise KeyError(f"use case[group, name], not case[{key!r}]{_close_input(key)}")
+        from .tables import INPUTS
+
+        if (key[0].lower(), key[1].lower()) not in INPUTS:
+            raise KeyError(f"&{key[0]} {key[1]}: not an input{_close_input(key)}")
         return self.get(*key)
 
     def __setitem__(self, key: tuple[str, str], value: Any) -> None:
@@ -417,3 +428,21 @@ GROUPS = _groups()
 for _group in GROUPS:
     setattr(Case, f"with_{_group}", _with_group(_group))
 del _group
+
+
+def _close_input(key: Any) -> str:
+    """"; did you mean ..." for a key near an input of the kernel's table: a (group, name)
+    pair near one, or a word near a group or the name of a variable."""
+    import difflib
+
+    from .tables import INPUTS
+
+    if isinstance(key, tuple) and len(key) == 2:
+        pairs = {f"{g}, {n}": (g, n) for g, n in INPUTS}
+        near = difflib.get_close_matches(f"{key[0]}, {key[1]}".lower(), pairs, 1, 0.6)
+        found = ["case['{}', '{}']".format(*pairs[m]) for m in near]
+    else:
+        word = str(key).lower()
+        found = [f"case['{g}', name]" for g in difflib.get_close_matches(word, GROUPS, 1, 0.75)]
+        found += [f"case['{g}', '{n}']" for g, n in INPUTS if n == word]
+    return f"; did you mean {' or '.join(found)}?" if found else ""

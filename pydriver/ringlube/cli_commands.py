@@ -169,8 +169,9 @@ def _cmd_show(args: argparse.Namespace) -> int:
     print(f"{'group':<12}{'variable':<25}{'from':<18}value [unit]")
     for r in rows:
         unit = {"1": "", "(unit)": f"[{tension_unit}]"}.get(r.unit, f"[{r.unit}]" if r.unit else "")
-        print(f"{'&' + r.group:<12}{r.name:<25}{r.origin:<18}{_format(r.value)} {unit}".rstrip())
-    case.warn_source_defaults()
+        group = f"{'&' + r.group:<11} "  # a blank after the longest, '&calibration'
+        print(f"{group}{r.name:<25}{r.origin:<18}{_format(r.value)} {unit}".rstrip())
+    case.validate()  # its warnings: source-engine defaults, inputs the case does not use
     return 0
 
 
@@ -236,14 +237,14 @@ def _cmd_readings(args: argparse.Namespace) -> int:
 def _cmd_optimise(args: argparse.Namespace) -> int:
     import signal
 
+    from .executor import check_where
     from .study import run_study
     from .study_summary import summary
 
     def terminate(signum, frame):  # a batch system's SIGTERM: save finished runs, then stop
         raise KeyboardInterrupt(f"signal {signum}")
 
-    if args.scheduler is not None and not args.scheduler.strip():
-        raise InputError("--scheduler '': empty address (omit --scheduler for a local cluster)")
+    check_where(args.scheduler, args.serial)
     if args.out is not None:
         _output_folder("--out", Path(args.out))
     signal.signal(signal.SIGTERM, terminate)

@@ -28,7 +28,7 @@ from typing import Any
 
 from .errors import InputError, RinglubeError
 
-__all__ = ["Executor", "require", "CONNECT_TIMEOUT_S", "BACKENDS"]
+__all__ = ["Executor", "require", "check_where", "CONNECT_TIMEOUT_S", "BACKENDS"]
 
 #: Seconds to wait for an existing Dask scheduler to answer before giving up.
 CONNECT_TIMEOUT_S = 10.0
@@ -86,6 +86,28 @@ def require(module: str, what: str) -> Any:
         ) from None
 
 
+def check_where(scheduler: str | None, serial: bool) -> None:
+    """Check where the runs are to go: a usable scheduler address, and not both a scheduler
+    and ``serial``.
+
+    Raises
+    ------
+    InputError
+        An empty address, or both given.
+
+    Example
+    -------
+    >>> check_where("tcp://10.0.0.1:8786", serial=True)
+    Traceback (most recent call last):
+    ...
+    ringlube.errors.InputError: --serial and --scheduler: choose one (this process, or a Dask cluster)
+    """
+    if scheduler is not None and not str(scheduler).strip():
+        raise InputError("--scheduler '': empty address (omit --scheduler for a local cluster)")
+    if scheduler is not None and serial:
+        raise InputError("--serial and --scheduler: choose one (this process, or a Dask cluster)")
+
+
 def _workers(workers: int | None) -> int:
     if workers is None:
         return os.cpu_count() or 1
@@ -138,8 +160,7 @@ class Executor:
         backend: str | None = None,
         connect_timeout: float | None = None,
     ):
-        if scheduler is not None and not str(scheduler).strip():
-            raise InputError("--scheduler '': empty address (omit --scheduler for a local cluster)")
+        check_where(scheduler, serial)
         self.backend = backend or ("scheduler" if scheduler else "serial" if serial else "dask")
         if self.backend not in BACKENDS:
             raise InputError(f"unknown executor backend '{self.backend}' (known: {', '.join(BACKENDS)})")

@@ -37,6 +37,9 @@ COMPARED = (
     "mixed_share",
     "oil_to_chamber",
     "oil_to_chamber_rate",
+    "blowby",
+    "ring_lift_share",
+    "flutter_events",
     "ring_mass",
     "min_film",
     "max_friction",
@@ -109,6 +112,14 @@ class CycleResult:
             return d["series"][name]
         if name in d.get("scalars", {}):
             return SCALARS[name].value(d["scalars"][name])
+        spec = SCALARS.get(name) or SERIES.get(name) or INT_SERIES.get(name)
+        if spec is not None and spec.requires and "series" in d:
+            from .tables import MODELS
+
+            m = MODELS[spec.requires]
+            raise AttributeError(
+                f"{name}: not produced by this run (it needs &{m.group} {m.variable} = '{m.value}')"
+            )
         raise AttributeError(name)
 
     def __dir__(self):
@@ -275,6 +286,8 @@ def compare(results, labels=None, names=None) -> Comparison:
         raise InputError(f"compare: {len(labels)} labels for {len(results)} results")
     if names is None:
         names = [n for n in COMPARED if any(n in r.scalars for r in results)]
+    elif isinstance(names, str):  # one name, not its characters
+        names = [names]
     unknown = [n for n in names if n not in SCALARS]
     if unknown:
         raise InputError(f"compare: unknown results {unknown} (known: {', '.join(SCALARS)})")

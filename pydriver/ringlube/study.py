@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
-from .executor import Executor, require
+from .executor import Executor, check_where, require
 from .outputs import check_output
 from .study_check import check_designs
 from .study_deck import read_study
@@ -145,6 +145,7 @@ def run_study(
     """
     from .study_report import output_names, study_inputs
 
+    check_where(scheduler, serial)  # before the study file, not after the samples
     s = read_study(deck)
     out = _out_folder(out, s)
     for name in [f"{s.name}.h5", *output_names(s)]:  # before the work, not after it

@@ -154,3 +154,97 @@ def test_optimise_on_a_case_deck_says_it_is_a_case_deck(capsys):
     assert main(["optimise", str(COLD), "--serial"]) == 2
     err = capsys.readouterr().err
     assert "this is a case deck" in err and "ringlube run" in err and "&calibration: not a group" not in err
+
+
+# --- front ends agree ------------------------------------------------------------------------
+
+
+def test_a_value_too_long_for_the_python_front_ends_is_refused_by_every_front_end(tmp_path, solver, capsys):
+    deck = own_inputs(tmp_path)
+    text = deck.read_text()
+    line = text[: text.index("&operating")].count("\n") + 1
+    deck.write_text(
+        text.replace("&operating speed_rpm = 4000,", "&operating speed_rpm = 4000." + "0" * 5000 + ",")
+    )
+    message = f"cold.nml:{line}: &operating speed_rpm: longer than 4096 bytes (a value)"
+    p = subprocess.run(
+        [solver, str(deck), "-q", "-o", str(tmp_path / "r.h5")], capture_output=True, text=True
+    )
+    assert p.returncode == 2 and message in p.stderr, p.stderr
+    for command in (["run", str(deck), "-q", "-o", str(tmp_path / "r.h5")], ["show", str(deck)]):
+        assert main(command) == 2
+        assert message in capsys.readouterr().err
+    assert not (tmp_path / "r.h5").exists()
+
+
+def test_serial_and_scheduler_together_are_refused_before_any_work(tmp_path, capsys):
+    from ringlube.executor import Executor
+
+    deck = _study(tmp_path / "m.nml")
+    assert (
+        main(
+            [
+                "optimise",
+                str(deck),
+                "--out",
+                str(tmp_path / "o"),
+                "--serial",
+                "--scheduler",
+                "tcp://10.0.0.1:1",
+            ]
+        )
+        == 2
+    )
+    assert "--serial and --scheduler: choose one" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+    with pytest.raises(InputError, match="choose one"):
+        Executor(scheduler="tcp://10.0.0.1:1", serial=True)
+
+
+# --- the Python API --------------------------------------------------------------------------
+
+
+def test_case_item_of_a_wrong_key_is_a_key_error_naming_the_close_match():
+    case = ringlube.Case.from_namelist(COLD)
+    with pytest.raises(KeyError, match=r"case\['ring_pack', name\]"):
+        case["ringpack"]
+    with pytest.raises(KeyError, match=r"case\['ring', 'width'\]"):
+        case["width"]
+    with pytest.raises(KeyError, match=r"&ring widht: not an input; did you mean case\['ring', 'width'\]"):
+        case["ring", "widht"]
+    assert case["ring", "width"] == 1.004e-3 and case["RING", "Width"] == 1.004e-3
+    assert case["ring_pack", "gas_temperature"] is None  # an input not set: None, as before
+
+
+def test_a_variable_given_twice_in_other_letter_case_is_refused():
+    with pytest.raises(InputError, match=r"&ring_pack gamma: given twice \(gamma, GAMMA\)"):
+        ringlube.Case().with_("ring_pack", gamma=1.3, GAMMA=1.4)
+    with pytest.raises(InputError, match="given twice"):
+        ringlube.Case().with_ring(width=1e-3, Width=1.1e-3)
+
+
+def test_ring_pack_results_in_compare_and_a_clear_missing_result():
+    base = ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0)
+    plain = ringlube.run(base)
+    with pytest.raises(
+        AttributeError, match=r"blowby: not produced by this run \(it needs &physics ring_pack = 'gas'\)"
+    ):
+        plain.blowby
+    with pytest.raises(AttributeError, match="^no_such$"):
+        plain.no_such
+    pack = ringlube.run(base.with_("physics", ring_pack="gas"))
+    table = ringlube.compare([plain, pack], ["plain", "pack"])
+    assert {"blowby", "ring_lift_share", "flutter_events"} <= set(table.values)
+    one = ringlube.compare([plain, pack], ["plain", "pack"], names="blowby")
+    assert list(one.values) == ["blowby"] and one.values["blowby"][1] == pack.blowby
+
+
+def test_show_warns_of_unused_ring_pack_inputs_and_keeps_columns_apart(tmp_path, capsys):
+    deck = own_inputs(tmp_path)
+    deck.write_text(
+        deck.read_text().replace("&operating", "&ring_pack gas_temperature = 500 /\n&operating", 1)
+    )
+    assert main(["show", str(deck)]) == 0
+    out, err = capsys.readouterr()
+    assert "&ring_pack gas_temperature is set, but &physics ring_pack = 'none'" in err
+    assert "&calibration file" in out and "&calibrationfile" not in out
