@@ -327,34 +327,38 @@ subroutine rl_greenwood_tripp(n, lam, f2, f52, fit)
   end if
 end subroutine rl_greenwood_tripp
 
-!> Number of items of namelist text (see `rl_items`); `lists` nonzero lets a variable take
-!> a list of values. An error of the text comes back as (code, message) with n = 0.
-subroutine rl_items_count(text, name, lists, n, code, message)
+!> Number of items of namelist text (see `rl_items`) and the bytes of all their values
+!> (`nbytes`, at least 1); `lists` nonzero lets a variable take a list of values. An error of
+!> the text comes back as (code, message) with n = 0.
+subroutine rl_items_count(text, name, lists, n, nbytes, code, message)
   use, intrinsic :: iso_c_binding, only: c_int
   use ringlube_error, only: error_type, error_status
   use ringlube_namelist, only: nml_item, scan_namelist
   implicit none
   character(len=*), intent(in) :: text, name
   integer(c_int), intent(in) :: lists
-  integer(c_int), intent(out) :: n, code
+  integer(c_int), intent(out) :: n, nbytes, code
   character(len=4096), intent(out) :: message
   type(nml_item), allocatable :: items(:)
   type(error_type), allocatable :: err
-  integer :: m
+  integer :: m, i
   n = 0
+  nbytes = 1
   call scan_namelist(text, name, items, m, err, lists=lists /= 0)
   call error_status(err, code, message)
   if (allocated(err)) return
   n = m
+  nbytes = max(1, sum([(len(items(i)%value), i=1, m)]))
 end subroutine rl_items_count
 
 !> The items of namelist text as the kernel's scanner reads them (`name` names the text in
 !> messages): for item i its group and variable (lower case, at most 64 bytes), its value as
-!> written (quotes removed, doubled quotes undone; `vlen(i)` bytes of `values(i)`, at most
-!> 4096), the line it is on, its position in its variable's list (`indices`, 1 for a
-!> scalar), whether it was quoted and the line its group opens on. `n` comes from
-!> `rl_items_count`; a longer value or name is an input error naming file:line.
-subroutine rl_items(text, name, lists, n, groups, names, values, vlen, lines, indices, &
+!> written (quotes removed, doubled quotes undone: `vlen(i)` bytes of `chars`, the values one
+!> after the other, of any length, as ringlube-solve reads them), the line it is on, its
+!> position in its variable's list (`indices`, 1 for a scalar), whether it was quoted and the
+!> line its group opens on. `n` and `nbytes` come from `rl_items_count`; a longer name is an
+!> input error naming file:line.
+subroutine rl_items(text, name, lists, n, nbytes, groups, names, chars, vlen, lines, indices, &
                     quoted, group_lines, code, message)
   use, intrinsic :: iso_c_binding, only: c_int
   use ringlube_error, only: error_type, error_status, rl_runtime_error, rl_input_error
@@ -362,18 +366,18 @@ subroutine rl_items(text, name, lists, n, groups, names, values, vlen, lines, in
   use ringlube_textio, only: itoa
   implicit none
   character(len=*), intent(in) :: text, name
-  integer(c_int), intent(in) :: lists, n
+  integer(c_int), intent(in) :: lists, n, nbytes
   character(len=64), intent(out) :: groups(n), names(n)
-  character(len=4096), intent(out) :: values(n)
+  character(len=1), intent(out) :: chars(nbytes)
   integer(c_int), intent(out) :: vlen(n), lines(n), indices(n), quoted(n), group_lines(n)
   integer(c_int), intent(out) :: code
   character(len=4096), intent(out) :: message
   type(nml_item), allocatable :: items(:)
   type(error_type), allocatable :: err
-  integer :: m, i
+  integer :: m, i, j, at
   groups = ''
   names = ''
-  values = ''
+  chars = ' '
   vlen = 0
   lines = 0
   indices = 0
@@ -382,23 +386,25 @@ subroutine rl_items(text, name, lists, n, groups, names, values, vlen, lines, in
   call scan_namelist(text, name, items, m, err, lists=lists /= 0)
   call error_status(err, code, message)
   if (allocated(err)) return
-  if (m /= n) then
+  if (m /= n .or. sum([(len(items(i)%value), i=1, m)]) > nbytes) then
     code = rl_runtime_error
-    message = 'rl_items: number of items differs from rl_items_count''s'
+    message = 'rl_items: items differ from rl_items_count''s'
     return
   end if
+  at = 0
   do i = 1, m
-    if (len(items(i)%value) > len(values(i)) .or. len(items(i)%name) > len(names(i)) .or. &
-        len(items(i)%group) > len(groups(i))) then
+    if (len(items(i)%name) > len(names(i)) .or. len(items(i)%group) > len(groups(i))) then
       code = rl_input_error
       message = name//':'//itoa(items(i)%line)//': &'//items(i)%group//' '//items(i)%name// &
-                ': longer than '//itoa(len(values(i)))//' bytes (a value) or '// &
-                itoa(len(names(i)))//' (a group or variable name)'
+                ': longer than '//itoa(len(names(i)))//' bytes (a group or variable name)'
       return
     end if
     groups(i) = items(i)%group
     names(i) = items(i)%name
-    values(i) = items(i)%value
+    do j = 1, len(items(i)%value)
+      chars(at + j) = items(i)%value(j:j)
+    end do
+    at = at + len(items(i)%value)
     vlen(i) = len(items(i)%value)
     lines(i) = items(i)%line
     indices(i) = items(i)%index

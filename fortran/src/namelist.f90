@@ -11,16 +11,13 @@
 !> lines if need be) as one item per value, numbered by `index`; kernel decks are scanned
 !> without, so a list for a kernel scalar is an error naming file:line, group and variable.
 !> Not supported (an error, never a silent reinterpretation): array indices `name(i)`,
-!> repeat counts `3*1.0` and null values; a value is at most `max_value_len` bytes long.
+!> repeat counts `3*1.0` and null values.
 module ringlube_namelist
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_textio, only: itoa
   implicit none
   private
-  public :: nml_item, scan_namelist, lower, nul_message, max_value_len, max_name_len
-
-  !> The longest value and group or variable name of a deck (bytes), in every front end.
-  integer, parameter :: max_value_len = 4096, max_name_len = 64
+  public :: nml_item, scan_namelist, lower, nul_message
 
   !> The error of a deck holding a NUL byte (after 'file:line: ').
   character(len=*), parameter :: nul_message = 'a NUL byte (binary data, not text) in the deck'
@@ -108,12 +105,6 @@ contains
           call read_value()
           if (allocated(err)) return
           idx = idx + 1
-          if (len(value) > max_value_len .or. len(name) > max_name_len .or. &
-              len(group) > max_name_len) then   ! as the Python front ends take them
-            call fail('&'//group//' '//name//': longer than '//itoa(max_value_len)// &
-                      ' bytes (a value) or '//itoa(max_name_len)//' (a group or variable name)')
-            return
-          end if
           call add(group, name, value, quoted)
           call check_follower()
           if (allocated(err)) return

@@ -19,6 +19,8 @@ from __future__ import annotations
 import re
 from typing import Any, NamedTuple
 
+import numpy as np
+
 from .case_kernel import _arg, _deck_text, _text
 from .errors import error_for
 
@@ -112,21 +114,23 @@ def items(text: str, name: str, lists: bool = False) -> list[Item]:
     from . import _kernel
 
     flag = 1 if lists else 0
-    n, code, message = _kernel.rl_items_count(_deck_text(text, name), _arg(name), flag)
+    n, nbytes, code, message = _kernel.rl_items_count(_deck_text(text, name), _arg(name), flag)
     if code:
         raise error_for(code, _text(message))
     if n == 0:
         return []
-    groups, names, values, vlen, lines, indices, quoted, glines, code, message = _kernel.rl_items(
-        _arg(text), _arg(name), flag, n
+    groups, names, chars, vlen, lines, indices, quoted, glines, code, message = _kernel.rl_items(
+        _arg(text), _arg(name), flag, n, nbytes
     )
     if code:
         raise error_for(code, _text(message))
+    raw = chars.tobytes()
+    ends = np.cumsum(vlen)
     return [
         Item(
             _str(groups[i]),
             _str(names[i]),
-            _str(values[i], int(vlen[i])),
+            raw[ends[i] - vlen[i] : ends[i]].decode("utf-8", "surrogateescape"),
             int(lines[i]),
             int(indices[i]),
             bool(quoted[i]),

@@ -190,10 +190,14 @@ def test_optimisation_md_study_table_is_current():
     )
 
 
-def test_a_value_too_long_for_rl_items_is_an_input_error():
-    with pytest.raises(InputError, match=r"s\.nml:2: &study name: longer than 4096 bytes"):
-        items("&study\n name = '" + "x" * 5000 + "' /", "s.nml", lists=True)
+def test_a_value_of_any_length_reads_whole_as_in_ringlube_solve():
+    """The f2py layer held a value to 4096 bytes, where ringlube-solve reads any length."""
+    assert items("&study\n name = '" + "x" * 5000 + "' /", "s.nml", lists=True)[0].value == "x" * 5000
     assert items("&study name = '" + "x" * 4096 + "' /", "s.nml", lists=True)[0].value == "x" * 4096
+    values = [i.value for i in items("&s a = 'é" + "y" * 9000 + "', '', 'z' /", "s.nml", lists=True)]
+    assert values == ["é" + "y" * 9000, "", "z"]
+    with pytest.raises(InputError, match=r"s\.nml:1: &s " + "n" * 65 + ": longer than 64 bytes"):
+        items("&s " + "n" * 65 + " = 1 /", "s.nml", lists=True)
 
 
 @pytest.mark.parametrize(
