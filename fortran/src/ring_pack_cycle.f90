@@ -199,9 +199,10 @@ contains
     if (present(rho)) then
       if (rho > 0.0_dp .and. rho < 1.0_dp) land = land / (1.0_dp - rho)
     end if
+    ! (no trace and no crankcase pressure: no gas anywhere, every pressure stays 0)
     ring_pack_distance = max(abs(st%p2 - st0%p2), land) &
-                         / max(c%crankcase_pressure, maxval(c%gas_p, mask=c%gas_p > 0.0_dp)) &
-                         + abs(st%x - st0%x) / c%groove_clearance
+                         / max(c%crankcase_pressure, maxval(c%gas_p, mask=c%gas_p > 0.0_dp), &
+                               tiny(1.0_dp)) + abs(st%x - st0%x) / c%groove_clearance
   end function ring_pack_distance
 
   !> SPEC 14's cycle quantities from a cycle's sums; stored_end = m2 + m3 at the end, and

@@ -431,7 +431,7 @@ del _group
 
 
 def _close_input(key: Any) -> str:
-    """"; did you mean ..." for a key near an input of the kernel's table: a (group, name)
+    """ "; did you mean ..." for a key near an input of the kernel's table: a (group, name)
     pair near one, or a word near a group or the name of a variable."""
     import difflib
 

@@ -159,22 +159,22 @@ def test_optimise_on_a_case_deck_says_it_is_a_case_deck(capsys):
 # --- front ends agree ------------------------------------------------------------------------
 
 
-def test_a_value_too_long_for_the_python_front_ends_is_refused_by_every_front_end(tmp_path, solver, capsys):
+def test_a_value_of_100000_digits_reads_alike_in_every_front_end(tmp_path, solver, capsys):
+    """ringlube-solve read it; run and show refused it (a 4096-byte limit of the f2py layer)."""
     deck = own_inputs(tmp_path)
-    text = deck.read_text()
-    line = text[: text.index("&operating")].count("\n") + 1
+    text = deck.read_text().replace("preset = 'default'", "preset = 'fast'", 1)
     deck.write_text(
-        text.replace("&operating speed_rpm = 4000,", "&operating speed_rpm = 4000." + "0" * 5000 + ",")
+        text.replace("&operating speed_rpm = 4000,", "&operating speed_rpm = 4000." + "0" * 100_000 + ",")
     )
-    message = f"cold.nml:{line}: &operating speed_rpm: longer than 4096 bytes (a value)"
     p = subprocess.run(
-        [solver, str(deck), "-q", "-o", str(tmp_path / "r.h5")], capture_output=True, text=True
+        [solver, str(deck), "-q", "-o", str(tmp_path / "a.h5")], capture_output=True, text=True
     )
-    assert p.returncode == 2 and message in p.stderr, p.stderr
-    for command in (["run", str(deck), "-q", "-o", str(tmp_path / "r.h5")], ["show", str(deck)]):
-        assert main(command) == 2
-        assert message in capsys.readouterr().err
-    assert not (tmp_path / "r.h5").exists()
+    assert p.returncode == 0, p.stderr
+    assert main(["run", str(deck), "-q", "-o", str(tmp_path / "b.h5")]) == 0
+    assert ringlube.load(tmp_path / "a.h5").energy_loss == ringlube.load(tmp_path / "b.h5").energy_loss
+    assert main(["show", str(deck)]) == 0
+    assert "4000.0 [r/min]" in capsys.readouterr().out
+    assert ringlube.Case.from_namelist(deck)["operating", "speed_rpm"] == 4000.0
 
 
 def test_serial_and_scheduler_together_are_refused_before_any_work(tmp_path, capsys):
@@ -248,3 +248,16 @@ def test_show_warns_of_unused_ring_pack_inputs_and_keeps_columns_apart(tmp_path,
     out, err = capsys.readouterr()
     assert "&ring_pack gas_temperature is set, but &physics ring_pack = 'none'" in err
     assert "&calibration file" in out and "&calibrationfile" not in out
+
+
+# --- the ring pack's edges -------------------------------------------------------------------
+
+
+def test_no_gas_anywhere_is_a_defined_periodic_state():
+    """No trace and no crankcase pressure: the chamber is at the crankcase's 0 Pa, the ring
+    pack holds no gas and nothing in it changes (its change was 0/0 = NaN, the run 'not
+    converged' after max_cycles, advising more)."""
+    case = ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0).with_("physics", ring_pack="gas")
+    r = ringlube.run(case.with_("operating", crankcase_pressure=0.0))
+    assert r.scalars["ring_pack_change"] == 0.0 and r.converged and r.blowby == 0.0
+    assert np.isfinite(list(r.scalars.values())).all()
