@@ -35,9 +35,10 @@ def main(argv: list[str] | None = None) -> int:
     >>> main(["--version"])                                  # doctest: +SKIP
     ringlube 0.1.0
     """
-    args = _parser().parse_args(argv)
-    _one_line_warnings()
+    args = None
     try:
+        args = _parser().parse_args(argv)
+        _one_line_warnings()
         return args.func(args)
     except RinglubeError as exc:
         print(f"ringlube: error: {_one_line(exc)}", file=sys.stderr)

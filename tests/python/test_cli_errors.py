@@ -7,6 +7,7 @@ import os
 import re
 import subprocess
 import sys
+from pathlib import Path
 
 import h5py
 import pytest
@@ -318,7 +319,6 @@ def test_ctrl_c_stops_a_run_within_a_step_and_writes_nothing(tmp_path):
     The run here would take minutes (starved, 'accurate', up to 1000 cycles to 1e-14); it is
     interrupted once it is under way."""
     import signal
-    import time
 
     deck = tmp_path / "long.nml"
     text = COLD.read_text().replace("'pressure/", f"'{INPUTS}/pressure/")
@@ -355,7 +355,7 @@ def test_ctrl_c_stops_a_run_within_a_step_and_writes_nothing(tmp_path):
         try:
             if name == "api.h5":
                 assert proc.stdout.readline().strip() == "started"
-            time.sleep(2.0)  # the kernel is running (the deck is read within this)
+            _wait_until_computing(proc)  # the kernel is running: a signal from the process
             assert proc.poll() is None, proc.communicate()
             proc.send_signal(signal.SIGINT)
             _, err = proc.communicate(timeout=60)
@@ -364,3 +364,58 @@ def test_ctrl_c_stops_a_run_within_a_step_and_writes_nothing(tmp_path):
                 proc.kill()
         assert proc.returncode == 130, (name, err)
         assert list(out.parent.iterdir()) == [], (name, list(out.parent.iterdir()))
+        assert "Traceback" not in err, err
+
+
+def _cpu_seconds(pid: int) -> float:
+    """CPU time (user + system) a process has used, from /proc."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def _wait_until_computing(proc, cpu: float = 0.5, timeout: float = 300.0) -> None:
+    """Wait for the process to have loaded the kernel's extension and then computed for
+    ``cpu`` seconds of its own CPU time (the deck is read in milliseconds: it is in the run),
+    however loaded the machine is; fails if it ends first."""
+    import time
+
+    maps, t0 = Path(f"/proc/{proc.pid}/maps"), time.monotonic()
+    start = None
+    while time.monotonic() - t0 < timeout:
+        assert proc.poll() is None, proc.communicate()
+        if start is None and "_kernel." in maps.read_text():
+            start = _cpu_seconds(proc.pid)
+        if start is not None and _cpu_seconds(proc.pid) - start >= cpu:
+            return
+        time.sleep(0.02)  # polling a condition, not a delay standing in for one
+    raise AssertionError("the process did not start computing")
+
+
+def test_ctrl_c_while_the_command_starts_ends_in_one_line(tmp_path):
+    """Ctrl-C while `ringlube` imports its modules (seconds on a loaded machine): exit 130 and
+    one line, as during its work (it was a KeyboardInterrupt traceback and exit -2). The
+    signal goes as soon as numpy is loaded: ringlube's own imports have begun."""
+    import signal
+    import time
+
+    deck = tmp_path / "d.nml"
+    deck.write_text("&numerics preset = 'accurate', max_cycles = 1000, cycle_tol = 1e-14 /\n")
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "ringlube.cli", "run", str(deck), "-q", "-o", str(tmp_path / "r.h5")],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    try:
+        maps = Path(f"/proc/{proc.pid}/maps")
+        while "_multiarray_umath" not in maps.read_text():
+            assert proc.poll() is None, proc.communicate()
+            time.sleep(0.005)  # polling a condition, not a delay standing in for one
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130 and err == "ringlube: interrupted\n" and out == "", (proc.returncode, err)
+    assert list(tmp_path.iterdir()) == [deck]
