@@ -30,6 +30,7 @@ __all__ = [
     "NOT_CONVERGED",
     "format_design",
     "result_display",
+    "surrogate_error",
 ]
 
 
@@ -124,3 +125,22 @@ def _feasible_text(study: Study, label: str, ft: np.ndarray) -> str:
             rel = ">" if k.sense == "<=" else "<"
             bad.append(f"{k.name} {ft[j] * scale:.6g} {rel} {b * scale:.6g} {unit}")
     return "feasible" if not bad else "INFEASIBLE: " + "; ".join(bad)
+
+
+def surrogate_error(name: str, predicted: float, true: float) -> str:
+    """The surrogate's error on a result: relative to the true value (``+1.2%``), or where
+    that is 0, the difference in the result's unit (a relative error would be inf or nan).
+
+    Examples
+    --------
+    >>> surrogate_error("energy_loss", 1.01, 1.0), surrogate_error("mixed_share", 0.25, 0.0)
+    ('+1.0%', '+0.25 % (true 0)')
+    >>> surrogate_error("flutter_events", 0.0, 0.0)
+    '+0 (true 0)'
+    """
+    if not (np.isfinite(predicted) and np.isfinite(true)):
+        return "-"
+    if true != 0:
+        return f"{(predicted - true) / abs(true):+.1%}"
+    unit, scale = result_display(name)
+    return f"{(predicted - true) * scale:+.3g}{' ' + unit if unit not in ('', '1') else ''} (true 0)"

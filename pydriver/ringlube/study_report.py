@@ -25,6 +25,7 @@ from .study_format import (
     _lift_mark,
     lift_share,
     result_display,
+    surrogate_error,
 )
 from .study_pareto import write_pareto_csv
 from .study_settings import StudySettings
@@ -51,7 +52,7 @@ def _design_table(study: Study, ch: Checked, label: str = "") -> list[str]:
         "|" + "---|" * (2 + len(heads) + len(s.outputs) + cons),
     ]
     cols = [s.outputs.index(o) for o in s.objectives]
-    for n, x, ft, err, e, ok in zip(ch.names, ch.x, ch.f_true, ch.rel_error, ch.errors, ch.converged):
+    for n, x, ft, fs, e, ok in zip(ch.names, ch.x, ch.f_true, ch.f_surrogate, ch.errors, ch.converged):
         xs = " | ".join(f"{xi * k:.4g}" for xi, k in zip(x, scales))
         if e:
             rows.append(
@@ -66,7 +67,10 @@ def _design_table(study: Study, ch: Checked, label: str = "") -> list[str]:
             f"| {n}{''.join(f' ({m})' for m in marks)} | {xs} | "
             + " | ".join(f"{v * k:.4g}" for v, (_, k) in zip(ft, shown))
             + " | "
-            + ", ".join(f"{s.objectives[k]} {err[j]:+.1%}" for k, j in enumerate(cols))
+            + ", ".join(
+                f"{s.objectives[k]} {surrogate_error(s.objectives[k], fs[j], ft[j])}"
+                for k, j in enumerate(cols)
+            )
             + " |"
             + (f" {_feasible_text(study, label, ft)} |" if cons else "")
         )

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from .study_check import candidates_text
-from .study_format import NOT_CONVERGED, _feasible_text, _lift_mark, _values, format_design
+from .study_format import NOT_CONVERGED, _feasible_text, _lift_mark, _values, format_design, surrogate_error
 from .study_store import Study
 from .study_variables import output_units
 
@@ -73,7 +73,9 @@ def summary(study: Study) -> str:
         for ch in (c.chosen, c.reference):
             if ch is None:
                 continue
-            for n, x, ft, err, e, ok in zip(ch.names, ch.x, ch.f_true, ch.rel_error, ch.errors, ch.converged):
+            for n, x, ft, fs, e, ok in zip(
+                ch.names, ch.x, ch.f_true, ch.f_surrogate, ch.errors, ch.converged
+            ):
                 cols = [study.s.outputs.index(o) for o in s.objectives]
                 if e:
                     lines.append(f"  {n:18s} {format_design(study, x)} -> failed: {e}")
@@ -85,7 +87,7 @@ def summary(study: Study) -> str:
                     + (f"{lift}: " if lift else "")
                     + _values(s.objectives, ft[cols])
                     + "  (surrogate error "
-                    + ", ".join(f"{err[j]:+.1%}" for j in cols)
+                    + ", ".join(surrogate_error(study.s.outputs[j], fs[j], ft[j]) for j in cols)
                     + ")"
                     + (f"; {_feasible_text(study, label, ft)}" if s.constraints else "")
                 )

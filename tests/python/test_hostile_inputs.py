@@ -261,3 +261,16 @@ def test_no_gas_anywhere_is_a_defined_periodic_state():
     r = ringlube.run(case.with_("operating", crankcase_pressure=0.0))
     assert r.scalars["ring_pack_change"] == 0.0 and r.converged and r.blowby == 0.0
     assert np.isfinite(list(r.scalars.values())).all()
+
+
+# --- study summaries -------------------------------------------------------------------------
+
+
+def test_a_surrogate_error_on_a_true_zero_is_a_difference_not_inf_or_nan():
+    from ringlube.study_format import surrogate_error
+
+    assert surrogate_error("energy_loss", 1.01, 1.0) == "+1.0%"
+    assert surrogate_error("oil_to_chamber", -0.5, 0.0) == "-0.5 mm^3 (true 0)"
+    assert surrogate_error("liner_lift_share", 0.0, 0.0) == "+0 % (true 0)"
+    assert surrogate_error("flutter_events", 2.0, 0.0) == "+2 (true 0)"
+    assert surrogate_error("energy_loss", float("nan"), 1.0) == "-"
