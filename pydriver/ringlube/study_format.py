@@ -131,6 +131,18 @@ def surrogate_error(name: str, predicted: float, true: float) -> str:
     """The surrogate's error on a result: relative to the true value (``+1.2%``), or where
     that is 0, the difference in the result's unit (a relative error would be inf or nan).
 
+    Parameters
+    ----------
+    name : str
+        The result (its unit: :func:`result_display`).
+    predicted, true : float
+        The surrogate's value and the true model's.
+
+    Returns
+    -------
+    str
+        ``-`` where either is not a number.
+
     Examples
     --------
     >>> surrogate_error("energy_loss", 1.01, 1.0), surrogate_error("mixed_share", 0.25, 0.0)
