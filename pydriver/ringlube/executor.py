@@ -90,6 +90,13 @@ def check_where(scheduler: str | None, serial: bool) -> None:
     """Check where the runs are to go: a usable scheduler address, and not both a scheduler
     and ``serial``.
 
+    Parameters
+    ----------
+    scheduler : str or None
+        ``--scheduler``: the address of a Dask scheduler.
+    serial : bool
+        ``--serial``: every run in this process.
+
     Raises
     ------
     InputError
