@@ -98,7 +98,12 @@ program ringlube_solve
     do i = 1, n_scalars
       made(i) = produced(res, scalar_spec(i)%requires)
     end do
-    summary = summary_text(res%scalars, made, 'ringlube '//package_version//': '//deck, out)
+    if (allocated(res%conformability)) then
+      summary = summary_text(res%scalars, made, 'ringlube '//package_version//': '//deck, out, &
+                             res%conformability_orders, res%conformability)
+    else
+      summary = summary_text(res%scalars, made, 'ringlube '//package_version//': '//deck, out)
+    end if
     write (output_unit, '(a)', advance='no') summary
   end if
   if (.not. is_true(res, sc_converged)) then

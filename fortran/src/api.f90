@@ -353,6 +353,8 @@ contains
     case (2); t = 'integer'
     case (3); t = 'logical'
     case (4); t = 'string'
+    case (6); t = 'real_list'
+    case (7); t = 'integer_list'
     case default; t = 'choice'
     end select
   end function kind_name

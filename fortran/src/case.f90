@@ -7,7 +7,7 @@ module ringlube_case
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_inputs, only: inputs, n_inputs, find_input, input_key, presets, n_presets, &
-                             preset_names, kind_choice, kind_int
+                             preset_names, kind_choice, kind_int, max_list
   use ringlube_textio, only: itoa
   use ringlube_namelist, only: lower
   use ringlube_viscosity, only: roelands_law_at, roelands_eta
@@ -46,11 +46,18 @@ module ringlube_case
     ! &physics
     logical :: roelands = .false., squeeze = .false., asperity_contact = .false.
     character(len=:), allocatable :: gt_functions, contact_area, outlet, cavitation, &
-                                     cavity_pressure, inlet, ring_pack
+                                     cavity_pressure, inlet, ring_pack, bore
+    ! &bore
+    integer, allocatable :: bore_order(:)
+    real(dp), allocatable :: bore_amplitude(:), bore_phase(:)
+    !> the distortion CSV as resolved against the deck folder (empty: the lists)
+    character(len=:), allocatable :: distortion_file
+    integer :: sectors = 0
     ! &ring_pack
     real(dp) :: gas_temperature = 0.0_dp, gamma = 0.0_dp, gas_viscosity = 0.0_dp, &
                 discharge_coefficient = 0.0_dp, top_gap_area = 0.0_dp, second_gap_area = 0.0_dp, &
-                groove_clearance = 0.0_dp, groove_volume = 0.0_dp, land_volume = 0.0_dp
+                groove_clearance = 0.0_dp, groove_volume = 0.0_dp, land_volume = 0.0_dp, &
+                back_clearance = 0.0_dp
     ! &numerics
     character(len=:), allocatable :: preset
     integer :: nodes = 0
@@ -61,6 +68,7 @@ module ringlube_case
     real(dp) :: cycle_tol = 0.0_dp
     integer :: max_load_iterations = 0, max_pressure_iterations = 0
     real(dp) :: h0_floor = 0.0_dp, h0_ceiling = 0.0_dp, h0_initial = 0.0_dp, warmup_deg = 0.0_dp
+    integer :: threads = 1
     ! &output, &calibration
     character(len=:), allocatable :: output_file, calibration_file
     ! not namelist variables
@@ -69,6 +77,9 @@ module ringlube_case
     real(dp), allocatable :: gas_p_trace(:)    !< Pa abs, the trace as read (scale_trace)
     character(len=:), allocatable :: deck_path  !< where the case came from (in messages)
     character(len=:), allocatable :: deck_text  !< the deck's text (and included files')
+    !> the bore's distortion as read from distortion_file: rows (z [m], order, amplitude [m],
+    !> phase [rad]), (row, column)
+    real(dp), allocatable :: distortion(:, :)
     !> a warning about the case ('' none): inputs set for a model that is off
     character(len=:), allocatable :: notes
   end type case_type
@@ -176,6 +187,12 @@ contains
     case ('physics.cavity_pressure'); call s(c%cavity_pressure)
     case ('physics.inlet'); call s(c%inlet)
     case ('physics.ring_pack'); call s(c%ring_pack)
+    case ('physics.bore'); call s(c%bore)
+    case ('bore.order'); call nlist(c%bore_order)
+    case ('bore.amplitude'); call rlist(c%bore_amplitude)
+    case ('bore.phase'); call rlist(c%bore_phase)
+    case ('bore.distortion_file'); call s(c%distortion_file)
+    case ('bore.sectors'); call n(c%sectors)
     case ('ring_pack.gas_temperature'); call r(c%gas_temperature)
     case ('ring_pack.gamma'); call r(c%gamma)
     case ('ring_pack.gas_viscosity'); call r(c%gas_viscosity)
@@ -185,6 +202,7 @@ contains
     case ('ring_pack.groove_clearance'); call r(c%groove_clearance)
     case ('ring_pack.groove_volume'); call r(c%groove_volume)
     case ('ring_pack.land_volume'); call r(c%land_volume)
+    case ('ring_pack.back_clearance'); call r(c%back_clearance)
     case ('numerics.preset'); call s(c%preset)
     case ('numerics.nodes'); call n(c%nodes)
     case ('numerics.dpsi_deg'); call r(c%dpsi_deg)
@@ -201,6 +219,7 @@ contains
     case ('numerics.h0_ceiling'); call r(c%h0_ceiling)
     case ('numerics.h0_initial'); call r(c%h0_initial)
     case ('numerics.warmup_deg'); call r(c%warmup_deg)
+    case ('numerics.threads'); call n(c%threads)
     case ('output.file'); call s(c%output_file)
     case ('calibration.file'); call s(c%calibration_file)
     case default
@@ -278,6 +297,90 @@ contains
       end select
     end subroutine l
 
+    !> A list of reals: deck text "v1, v2, ..." (commas or blanks between values; '' none).
+    subroutine rlist(v)
+      real(dp), allocatable, intent(inout) :: v(:)
+      real(dp), allocatable :: tmp(:)
+      character(len=:), allocatable :: words(:)
+      integer :: j
+      select case (mode)
+      case (access_set)
+        call split_list(text, words, why)
+        if (allocated(why)) return
+        allocate (tmp(size(words)))
+        do j = 1, size(words)
+          text = trim(words(j))
+          call r(tmp(j))
+          if (allocated(why)) then
+            why = 'value '//itoa(j)//': '//why
+            return
+          end if
+        end do
+        call move_alloc(tmp, v)
+      case (access_get)
+        text = ''
+        if (.not. allocated(v)) return
+        do j = 1, size(v)
+          if (j > 1) text = text//', '
+          text = text//real_text(v(j))
+        end do
+      case (access_check)
+        if (.not. allocated(v)) then
+          why = 'not set'
+          return
+        end if
+        do j = 1, size(v)
+          call check_range(v(j))
+          if (allocated(why)) then
+            why = 'value '//itoa(j)//': '//why
+            return
+          end if
+        end do
+      end select
+    end subroutine rlist
+
+    !> A list of integers (as rlist).
+    subroutine nlist(v)
+      integer, allocatable, intent(inout) :: v(:)
+      integer, allocatable :: tmp(:)
+      character(len=:), allocatable :: words(:)
+      integer :: j
+      select case (mode)
+      case (access_set)
+        call split_list(text, words, why)
+        if (allocated(why)) return
+        allocate (tmp(size(words)))
+        do j = 1, size(words)
+          text = trim(words(j))
+          call n(tmp(j))
+          if (allocated(why)) then
+            why = 'value '//itoa(j)//': '//why
+            return
+          end if
+        end do
+        call move_alloc(tmp, v)
+      case (access_get)
+        text = ''
+        if (.not. allocated(v)) return
+        do j = 1, size(v)
+          if (j > 1) text = text//', '
+          text = text//itoa(v(j))
+        end do
+      case (access_check)
+        if (.not. allocated(v)) then
+          why = 'not set'
+          return
+        end if
+        do j = 1, size(v)
+          call check_range(real(v(j), dp))
+          if (allocated(why)) then
+            why = 'value '//itoa(j)//': '//why
+            return
+          end if
+        end do
+      end select
+    end subroutine nlist
+
     subroutine s(v)
       character(len=:), allocatable, intent(inout) :: v
       select case (mode)
@@ -329,6 +432,54 @@ contains
       end select
     end function unit_text
   end subroutine case_access
+
+  !> The values of a list's deck text "v1, v2, ..." (separated by commas or blanks; '' is
+  !> the empty list); `why` for an empty value between commas or more than max_list values.
+  pure subroutine split_list(text, words, why)
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable, intent(out) :: words(:)
+    character(len=:), allocatable, intent(out) :: why
+    character(len=len(text)) :: buf(max_list)
+    integer :: i, start, nw
+    logical :: comma
+    nw = 0
+    i = 1
+    comma = .false.
+    do
+      do while (i <= len(text))
+        if (text(i:i) /= ' ' .and. text(i:i) /= achar(9)) exit
+        i = i + 1
+      end do
+      if (i > len(text)) exit
+      if (text(i:i) == ',') then
+        if (comma .or. nw == 0) then
+          why = 'an empty value in the list "'//text//'"'
+          return
+        end if
+        comma = .true.
+        i = i + 1
+        cycle
+      end if
+      start = i
+      do while (i <= len(text))
+        if (text(i:i) == ' ' .or. text(i:i) == ',' .or. text(i:i) == achar(9)) exit
+        i = i + 1
+      end do
+      nw = nw + 1
+      if (nw > max_list) then
+        why = 'more than '//itoa(max_list)//' values'
+        return
+      end if
+      buf(nw) = text(start:i - 1)
+      comma = .false.
+    end do
+    if (comma) then
+      why = 'an empty value at the end of the list "'//text//'"'
+      return
+    end if
+    allocate (character(len=max(len(text), 1)) :: words(nw))
+    words = buf(1:nw)
+  end subroutine split_list
 
   !> A number in deck syntax (Fortran or C exponents; no words such as nan or inf).
   subroutine parse_real(text, v, ok)
@@ -485,6 +636,10 @@ contains
     if (len_trim(c%output_file) == 0) then
       call bad('output', 'file', 'must not be empty'); return
     end if
+    if (c%bore == 'distorted') then
+      call check_bore()
+      if (allocated(err)) return
+    end if
 
   contains
 
@@ -493,5 +648,38 @@ contains
       call fatal_error(err, c%deck_path//': &'//group//' '//name//': '//reason, &
                        rl_input_error)
     end subroutine bad
+
+    !> The distortion of a distorted bore: lists of one length, orders up to M/2 once each,
+    !> lists or a file.
+    subroutine check_bore()
+      integer :: j
+      if (mod(c%sectors, 2) /= 0) then
+        call bad('bore', 'sectors', 'must be even, got '//itoa(c%sectors)); return
+      end if
+      if (size(c%bore_amplitude) /= size(c%bore_order)) then
+        call bad('bore', 'amplitude', 'must have one value per order ('// &
+                 itoa(size(c%bore_order))//' orders, '//itoa(size(c%bore_amplitude))// &
+                 ' amplitudes)'); return
+      end if
+      if (size(c%bore_phase) /= 0 .and. size(c%bore_phase) /= size(c%bore_order)) then
+        call bad('bore', 'phase', 'must have one value per order ('// &
+                 itoa(size(c%bore_order))//' orders, '//itoa(size(c%bore_phase))// &
+                 ' phases) or none (all 0)'); return
+      end if
+      do j = 1, size(c%bore_order)
+        if (c%bore_order(j) > c%sectors / 2) then
+          call bad('bore', 'order', 'order '//itoa(c%bore_order(j))//' needs at least '// &
+                   itoa(2 * c%bore_order(j))//' sectors (sectors = '//itoa(c%sectors)//')')
+          return
+        end if
+        if (any(c%bore_order(:j - 1) == c%bore_order(j))) then
+          call bad('bore', 'order', 'order '//itoa(c%bore_order(j))//' given twice'); return
+        end if
+      end do
+      if (len(c%distortion_file) > 0 .and. size(c%bore_order) > 0) then
+        call bad('bore', 'distortion_file', 'give the distortion as the lists order, '// &
+                 'amplitude, phase or as a file, not both'); return
+      end if
+    end subroutine check_bore
   end subroutine validate_case
 end module ringlube_case

@@ -12,13 +12,16 @@ module ringlube_cycle
   ! the results' table: result_type and the column constants s_* (series), si_* (integer
   ! series), sc_* (scalars), l_* (liner) and m_* (models)
   use ringlube_results
-  use ringlube_oil_supply, only: supply_reset_counters, supply_stored, supply_balance_error
+  use ringlube_oil_supply, only: supply_type, supply_reset_counters, supply_stored, &
+                                 supply_balance_error
   use ringlube_liner, only: liner_positions
-  use ringlube_film, only: film_setup
+  use ringlube_film, only: film_type, film_setup
   use ringlube_load_balance, only: balance
   use ringlube_cycle_state, only: film_track, cycle_state, step_out, cycle_setup, advance, &
                                   solve_step, prepare_inlet, ring_pack_advance, take_film, &
                                   gap_volume, position
+  use ringlube_sectors, only: sector_ring, exact_mean
+  use ringlube_bore, only: bore_distortion, conformability, conformability_orders
   use ringlube_periodicity, only: cycle_history, history_start, history_h0, history_end, &
                                   history_period, history_changes, history_mean, &
                                   history_clean
@@ -50,6 +53,9 @@ module ringlube_cycle
   type :: rewarm_point
     integer :: k = 0
     type(film_track) :: film
+    !> a distorted bore's sectors and their liner oil
+    type(sector_ring), allocatable :: ring
+    type(supply_type), allocatable :: sups(:)
     real(dp) :: s_prev = 0.0_dp, fric_prev = 0.0_dp
   end type rewarm_point
 
@@ -64,9 +70,11 @@ module ringlube_cycle
     logical :: start_settled = .true.
     !> h0 at psi = 0 of the cycle and at its end (psi = 720 deg) [m]
     real(dp) :: h0_start = 0.0_dp, h0_end = 0.0_dp
-    !> starved: stored oil and the gap's oil at the cycle's start [m^2]; the first cycle's
-    !> change of the ring's state (its energy has nothing to be compared with)
-    real(dp) :: stored0 = 0.0_dp, gap0 = 0.0_dp, change_first = 0.0_dp
+    !> starved: stored oil and the gap's oil at the cycle's start of each film (one; a
+    !> distorted bore's sectors) [m^2]; the first cycle's change of the ring's state (its
+    !> energy has nothing to be compared with)
+    real(dp), allocatable :: stored0(:), gap0(:)
+    real(dp) :: change_first = 0.0_dp
     !> warm-up and re-warm [deg]
     real(dp) :: warmup = 0.0_dp, rewarm = 0.0_dp
     type(rewarm_point) :: rw
@@ -86,6 +94,7 @@ contains
     if (c%gt_functions == 'exact') call gt_init()
     call allocate_result(res, steps_per_cycle(c))
     call cycle_setup(st, c, initial_h0(c))
+    if (allocated(st%ring)) call allocate_sectors(res, st%ring%bore%m)
     res%scalars(sc_sigma) = st%sigma
     res%scalars(sc_ring_mass) = ring_mass(c) * 1e3_dp   ! stored in g
     call warm_up(st, c, run, err)
@@ -140,8 +149,9 @@ contains
     type(error_type), allocatable, intent(out) :: err
     type(step_out) :: out
     type(film_track) :: fine
+    type(sector_ring), allocatable :: fine_ring
     type(case_type) :: cc
-    integer :: m, k, k_film, k_nodes
+    integer :: m, k, k_film, k_nodes, j
 
     m = steps_per_cycle(c)
     run%warmup = c%warmup_deg
@@ -173,10 +183,21 @@ contains
       fine%f = st%film%f
       call film_setup(cc, st%film%f)
       st%film%f%dt = st%ctx%dt
+      if (allocated(st%ring)) then
+        fine_ring = st%ring
+        do j = 1, size(st%ring%films)
+          st%ring%films(j) = st%film%f
+        end do
+      end if
       do k = k, k_film - 1
         call advance(st, c, (k - 1) * c%dpsi_deg, out)
       end do
       call take_film(st%film%f, fine%f)
+      if (allocated(st%ring)) then
+        do j = 1, size(st%ring%films)
+          call take_film(st%ring%films(j), fine_ring%films(j))
+        end do
+      end if
     end if
     do k = k, m
       call advance(st, c, (k - 1) * c%dpsi_deg, out)
@@ -193,15 +214,23 @@ contains
     type(cycle_run), intent(inout) :: run
     integer, intent(in) :: icycle
     real(dp) :: h0
-    integer :: k
+    real(dp), allocatable :: map(:)
+    integer :: k, j
     associate (f => st%film%f, sup => st%film%sup)
-      if (f%starved) then
+      if (f%starved .and. allocated(st%ring)) then
+        run%gap0 = [(gap_volume(st%ring%films(j)), j=1, size(st%sups))]
+        do j = 1, size(st%sups)
+          call supply_reset_counters(st%sups(j))
+        end do
+        run%stored0 = [(supply_stored(st%sups(j)), j=1, size(st%sups))] + run%gap0
+      else if (f%starved) then
         call supply_reset_counters(sup)
-        run%gap0 = gap_volume(f)
-        run%stored0 = supply_stored(sup) + run%gap0
+        run%gap0 = [gap_volume(f)]
+        run%stored0 = [supply_stored(sup) + run%gap0(1)]
       end if
+      call liner_map(st, map)
       ! (an unallocated state or map is an absent argument: the run has none)
-      call history_start(run%hist, rp=st%rst, map=sup%liner%h)
+      call history_start(run%hist, rp=st%rst, map=map)
       if (allocated(st%rst)) then
         st%rtot = ring_pack_totals()
         st%rtot%stored_start = ring_pack_gas_mass(st%rpar, st%rst)
@@ -211,6 +240,10 @@ contains
           run%rw%film%f = f
           run%rw%film%mem = st%film%mem
           if (f%starved) run%rw%film%sup = sup
+          if (allocated(st%ring)) then
+            run%rw%ring = st%ring
+            run%rw%sups = st%sups
+          end if
           run%rw%s_prev = st%s_prev
           run%rw%fric_prev = st%fric_prev
         end if
@@ -236,10 +269,20 @@ contains
     type(ring_pack_state), allocatable :: gst
     type(ring_pack_step_out) :: gout
     type(step_out) :: out
+    type(sector_ring), allocatable :: gring
+    real(dp), allocatable :: map(:), gap_end(:)
+    integer :: j
     associate (f => st%film%f, sup => st%film%sup)
       g%f = f
       g%mem = st%film%mem
       call prepare_inlet(c, g%f, sup, st%s_prev, 0.0_dp)
+      if (allocated(st%ring)) then
+        gring = st%ring
+        do j = 1, size(st%sups)
+          call prepare_inlet(c, gring%films(j), st%sups(j), st%s_prev, 0.0_dp)
+        end do
+        call bore_distortion(gring%bore, position(c, 720.0_dp), gring%d)
+      end if
       if (allocated(st%rst)) then
         ! the ring pack's state repeats too (pressures relative to the peak chamber pressure,
         ! lift relative to the clearance), and its last step to psi = 720 on a copy
@@ -249,28 +292,43 @@ contains
         g%f%p_back = gst%p2
         g%f%p_lower = gst%p3
       end if
-      call balance(c, st%ctx, g%f, g%mem, 0.0_dp, run%h0_end, out%flags, out%resid, out%lp)
+      if (allocated(st%ring)) then
+        call balance(c, st%ctx, g%f, g%mem, 0.0_dp, run%h0_end, out%flags, out%resid, out%lp, &
+                     gring)
+      else
+        call balance(c, st%ctx, g%f, g%mem, 0.0_dp, run%h0_end, out%flags, out%resid, out%lp)
+      end if
       st%extra_film_solves = st%extra_film_solves + g%f%film_solves - f%film_solves
       st%extra_solves = st%extra_solves + g%f%reynolds_solves - f%reynolds_solves
       res%scalars(sc_cycle_change) = abs(run%h0_end - run%h0_start) / run%h0_start
       run%change_first = res%scalars(sc_cycle_change)
-      if (f%starved) then
-        res%scalars(sc_oil_balance_error) = supply_balance_error(sup, run%stored0, gap_volume(f))
+      if (f%starved .and. allocated(st%ring)) then
+        gap_end = [(gap_volume(st%ring%films(j)), j=1, size(st%sups))]
+        res%scalars(sc_oil_balance_error) = &
+          maxval([(supply_balance_error(st%sups(j), run%stored0(j), gap_end(j)), &
+                   j=1, size(st%sups))])
+        res%scalars(sc_oil_to_chamber) = exact_mean(st%sups%to_chamber) * f%circ * 1e9_dp
+      else if (f%starved) then
+        gap_end = [gap_volume(f)]
+        res%scalars(sc_oil_balance_error) = supply_balance_error(sup, run%stored0(1), gap_end(1))
         res%scalars(sc_oil_to_chamber) = sup%to_chamber * f%circ * 1e9_dp
+      end if
+      if (f%starved) then
         ! the first cycle has no energy to compare with: the ring's state instead, h0 and the
         ! oil in the gap at its start and end
         run%change_first = max(res%scalars(sc_cycle_change), &
-                               abs(gap_volume(f) - run%gap0) / max(run%gap0, tiny(1.0_dp)))
+                               abs(exact_mean(gap_end) - exact_mean(run%gap0)) &
+                               / max(exact_mean(run%gap0), tiny(1.0_dp)))
       end if
       call cycle_results(st, c, res)
       call history_end(run%hist, res%scalars(sc_energy_loss), &
                        all(iand(res%int_series(:, si_flags), not(flag_ceiling)) == 0), &
                        res%scalars)
+      call liner_map(st, map)
       run%period = history_period(run%hist, c, run%h0_end, run%change_first, &
-                                  rp_end=st%rst, map_end=sup%liner%h)
+                                  rp_end=st%rst, map_end=map)
       res%scalars([sc_cycle_change, sc_energy_change, sc_liner_change, sc_ring_pack_change]) = &
-        history_changes(run%hist, c, run%h0_end, run%change_first, run%period, st%rst, &
-                        sup%liner%h)
+        history_changes(run%hist, c, run%h0_end, run%change_first, run%period, st%rst, map)
     end associate
     ! a gas start that did not settle says nothing of the land's distance from its periodic
     ! state, which a slow land's change over the first cycle does not show: the restart follows
@@ -292,7 +350,47 @@ contains
     if (allocated(st%rst)) call ring_pack_scalars(st%rcyc, res%scalars)
     call derive_results(res, c%speed_rpm, pi * c%bore_radius**2 * 2.0_dp * c%crank_radius, &
                         c%oil_density)
+    if (allocated(st%ring)) call ring_results(st, c, res)
   end subroutine cycle_results
+
+  !> A distorted bore's cycle results: the share of sector-steps whose film carries less than
+  !> 1 % of the mean load (off the liner), the gas through the faces per cycle, the share of
+  !> the cycle held at the back clearance, and the conformability of the orders given.
+  subroutine ring_results(st, c, res)
+    type(cycle_state), intent(in) :: st
+    type(case_type), intent(in) :: c
+    type(result_type), intent(inout) :: res
+    integer :: nk, m
+    real(dp) :: light
+    nk = res%nsteps
+    m = size(res%sectors, 2)
+    light = sum(st%light)
+    associate (v => res%scalars)
+      v(sc_light_gap_share) = 100.0_dp * light / real(nk * m, dp)
+      ! (towards the crankcase; the way back counts in the ring pack's blowback)
+      v(sc_face_leakage) = sum(max(res%series(:, s_face_flow), 0.0_dp)) * st%ctx%dt * 1e6_dp
+      v(sc_radial_collapse_share) = 100.0_dp * count(iand(res%int_series(:, si_flags), &
+                                                          flag_ceiling) /= 0) / real(nk, dp)
+      res%conformability = conformability(c, st%ring%bore)
+      v(sc_conformability) = 0.0_dp
+      if (size(res%conformability) > 0) v(sc_conformability) = maxval(res%conformability)
+    end associate
+    res%conformability_orders = conformability_orders(st%ring%bore)
+  end subroutine ring_results
+
+  !> The liner film of the run's films (one, or each sector's in turn) as one array;
+  !> not allocated without a starved inlet.
+  subroutine liner_map(st, map)
+    type(cycle_state), intent(in) :: st
+    real(dp), allocatable, intent(out) :: map(:)
+    integer :: j
+    if (.not. st%film%f%starved) return
+    if (allocated(st%ring)) then
+      map = [(st%sups(j)%liner%h, j=1, size(st%sups))]
+    else
+      map = st%film%sup%liner%h
+    end if
+  end subroutine liner_map
 
   !> The ring pack from its periodic state under the first cycle's friction, and the film
   !> from its state at the re-warm's first step again to psi = 720 with it: the next cycle
@@ -306,12 +404,19 @@ contains
     type(step_out) :: out
     integer :: k, m
     m = steps_per_cycle(c)
-    call ring_pack_restart(c, st%rpar, run%rw%k, res%series(:, s_friction), st%rst, st%rcyc, err)
+    if (allocated(st%ring)) then
+      call ring_pack_restart(c, st%rpar, run%rw%k, res%series(:, s_friction), st%rst, st%rcyc, &
+                             err, st%face_ks)
+    else
+      call ring_pack_restart(c, st%rpar, run%rw%k, res%series(:, s_friction), st%rst, st%rcyc, err)
+    end if
     if (allocated(err)) return
     if (st%rcyc%contraction > 0.0_dp) run%hist%land_contraction = st%rcyc%contraction
     call take_film(st%film%f, run%rw%film%f)
     st%film%mem = run%rw%film%mem
     if (st%film%f%starved) st%film%sup = run%rw%film%sup
+    if (allocated(st%ring)) call take_ring(st%ring, run%rw%ring)
+    if (allocated(st%ring)) st%sups = run%rw%sups
     st%s_prev = run%rw%s_prev
     st%fric_prev = run%rw%fric_prev
     do k = run%rw%k, m
@@ -320,6 +425,20 @@ contains
     run%rewarm = (m - run%rw%k + 1) * c%dpsi_deg
     if (allocated(st%err)) call move_alloc(st%err, err)
   end subroutine restart_ring_pack
+
+  !> The ring becomes `saved` (a state kept earlier), its films' solve counters keep counting.
+  subroutine take_ring(ring, saved)
+    type(sector_ring), intent(inout) :: ring
+    type(sector_ring), intent(in) :: saved
+    type(film_type), allocatable :: now(:)
+    integer :: j
+    now = ring%films
+    ring = saved
+    do j = 1, size(now)
+      ring%films(j) = now(j)
+      call take_film(ring%films(j), saved%films(j))
+    end do
+  end subroutine take_ring
 
   !> The run's results: the models that made them, the liner film (starved), the means over a
   !> period of several cycles (the series and the extremes are the last cycle's), the solve
@@ -331,12 +450,20 @@ contains
     type(cycle_run), intent(in) :: run
     type(error_type), allocatable, intent(out) :: err
     logical :: finite
-    integer :: k
+    integer :: k, j
     associate (f => st%film%f, sup => st%film%sup)
       res%made(m_gas) = allocated(st%rst)
+      res%made(m_distorted) = allocated(st%ring)
       res%made(m_jfo) = f%jfo
       res%made(m_starved) = f%starved
-      if (f%starved) then
+      if (f%starved .and. allocated(st%ring)) then
+        ! (the sectors' mean film)
+        call allocate_liner(res, st%sups(1)%liner%nz)
+        res%liner(:, l_liner_position) = liner_positions(st%sups(1)%liner)
+        do k = 1, st%sups(1)%liner%nz
+          res%liner(k, l_liner_oil_film) = exact_mean([(st%sups(j)%liner%h(k), j=1, size(st%sups))])
+        end do
+      else if (f%starved) then
         call allocate_liner(res, sup%liner%nz)
         res%liner(:, l_liner_position) = liner_positions(sup%liner)
         res%liner(:, l_liner_oil_film) = sup%liner%h

@@ -23,12 +23,16 @@ module ringlube_cycle_state
                               s_friction, s_power_loss, s_load_residual, si_flags, &
                               si_film_solves, s_inlet_fill, s_wetted_width, s_oil_left, &
                               s_oil_bank, s_groove_pressure, s_land_pressure, s_ring_lift, &
-                              s_top_gap_flow, s_second_gap_flow
+                              s_top_gap_flow, s_second_gap_flow, s_face_flow, sec_h0, &
+                              sec_load, flag_ceiling
   use ringlube_oil_supply, only: supply_type, supply_setup, supply_edges, supply_step, &
                                  supply_to_chamber
   use ringlube_film, only: film_type, film_setup, film_friction
   use ringlube_load_balance, only: step_context, load_problem, balance_memory, balance, &
                                    start_history
+  use ringlube_sectors, only: sector_ring, ring_setup, ring_accept, exact_mean
+  use ringlube_bore, only: bore_distortion
+  use ringlube_ring_pack_flow, only: gas_constant
   implicit none
   private
   public :: film_track, cycle_state, step_out, cycle_setup, advance, solve_step, prepare_inlet, &
@@ -68,6 +72,20 @@ module ringlube_cycle_state
     !> the first error of a step (Ctrl-C, the ring pack): later steps do nothing, and the
     !> cycle loops end the run at their check
     type(error_type), allocatable :: err
+    !> a distorted bore (else not allocated): the sectors' films (film%f is then the ring's
+    !> summary: its edge state and mean loads), each sector's liner oil (starved)
+    type(sector_ring), allocatable :: ring
+    type(supply_type), allocatable :: sups(:)
+    !> a distorted bore's gas path through the sectors' faces at the last step: its
+    !> conductance sum_j l_j h_gas,j^3 [m^4] and the mass flow [kg/s], positive towards the
+    !> crankcase
+    real(dp) :: face_k = 0.0_dp, face_flow = 0.0_dp
+    !> the face's conductance at each crank step of the cycle [m^4] (for the ring pack's
+    !> restart)
+    real(dp), allocatable :: face_ks(:)
+    !> sectors off the liner at each crank step of the cycle: their film carries less than 1 %
+    !> of the mean load beyond the gas passing an open face (light gaps)
+    integer, allocatable :: light(:)
   end type cycle_state
 
   !> One crank step's answer: h0, its flags and relative load residual, the load problem
@@ -100,6 +118,12 @@ contains
                                        c%supply_film, c%lower_ring_distance)
     end associate
     if (c%ring_pack == 'gas') allocate (st%rst)
+    if (c%bore == 'distorted') then
+      allocate (st%ring)
+      call ring_setup(c, st%film%f, h0_init, st%ring)
+      allocate (st%sups(st%ring%bore%m))
+      st%sups = st%film%sup
+    end if
   end subroutine cycle_setup
 
   !> Piston position [m] at crank angle psi [deg].
@@ -151,6 +175,10 @@ contains
     if (.not. allocated(st%err) .and. interrupt_requested()) &
       call fatal_error(st%err, c%deck_path//': interrupted', rl_interrupted)
     if (allocated(st%err)) return
+    if (allocated(st%ring)) then
+      call advance_ring(st, c, psi, out)
+      return
+    end if
     associate (f => st%film%f, sup => st%film%sup)
       call prepare_inlet(c, f, sup, st%s_prev, psi)
       if (allocated(st%rst)) then
@@ -183,6 +211,82 @@ contains
     end associate
   end subroutine advance
 
+  !> The step to psi of a ring on a distorted bore: every sector's inlet, the bore's
+  !> distortion at the ring's position, the ring pack, the load balance on the ring's mean
+  !> position (each trial solves the sectors), then each sector's friction, oil and face
+  !> leakage; the ring's friction and the oil through its faces are the sectors' means.
+  subroutine advance_ring(st, c, psi, out)
+    type(cycle_state), intent(inout) :: st
+    type(case_type), intent(in) :: c
+    real(dp), intent(in) :: psi
+    type(step_out), intent(out) :: out
+    real(dp) :: s, fv(size(st%sups)), fb(size(st%sups)), vin(size(st%sups)), &
+                vout(size(st%sups)), hgas(size(st%sups)), p_low
+    integer :: j, m
+    m = size(st%sups)
+    associate (f => st%film%f, ring => st%ring)
+      do j = 1, m
+        call prepare_inlet(c, ring%films(j), st%sups(j), st%s_prev, psi)
+      end do
+      s = position(c, psi)
+      call bore_distortion(ring%bore, s, ring%d)
+      if (allocated(st%rst)) then
+        ! the gas through the faces over the step: their path at the last step (explicit, as
+        ! the friction)
+        st%rst%face_k = st%face_k
+        call ring_pack_advance(c, st%ctx, st%rpar, st%fric_prev, st%rst, st%rout, psi, st%err)
+        f%p_back = st%rst%p2
+        f%p_lower = st%rst%p3
+      end if
+      call balance(c, st%ctx, f, st%film%mem, psi, out%h0, out%flags, out%resid, out%lp, ring)
+      call ring_accept(ring)
+      vin = 0.0_dp
+      vout = 0.0_dp
+      do j = 1, m
+        associate (fj => ring%films(j))
+          call film_friction(c, fj, out%lp%u, fv(j), fb(j))
+          hgas(j) = 0.0_dp
+          ! (the edge nodes hold the fill of what enters there, not the film's)
+          if (fj%jfo) hgas(j) = max(minval((1.0_dp - fj%theta(2:fj%n - 1)) * fj%h(2:fj%n - 1)), &
+                                    0.0_dp)
+          ! a ring pushed off the liner, held at the back clearance: its face open to the gas
+          if (iand(out%flags, flag_ceiling) /= 0) hgas(j) = ring%h(j)
+          if (.not. fj%jfo) cycle
+          fj%content_old = fj%theta * fj%h
+          if (fj%lead_left) then
+            vin(j) = fj%q_left * st%ctx%dt
+            vout(j) = fj%q_right * st%ctx%dt
+          else
+            vin(j) = -fj%q_right * st%ctx%dt
+            vout(j) = -fj%q_left * st%ctx%dt
+          end if
+          if (fj%starved) then
+            call supply_step(st%sups(j), st%s_prev, s, motion(st%s_prev, s), vin(j), vout(j))
+            call supply_to_chamber(st%sups(j))
+          end if
+        end associate
+      end do
+      st%fv = exact_mean(fv)
+      st%fb = exact_mean(fb)
+      st%fric_prev = st%fv + st%fb
+      out%v_in = exact_mean(vin)
+      out%v_out = exact_mean(vout)
+      ! the gas path through the faces: a laminar isothermal channel of arc l_j = 2 pi r0 / M,
+      ! length b and height h_gas,j per sector, between the upper and the lower edge
+      p_low = c%crankcase_pressure
+      if (f%p_lower >= 0.0_dp) p_low = f%p_lower
+      st%face_k = f%circ / m * sum(hgas**3)
+      if (allocated(st%rst)) then
+        ! (the ring pack's: the flow over the step its gas balance counts)
+        st%face_flow = st%rout%face_flow
+      else
+        st%face_flow = st%face_k * (out%lp%pg**2 - p_low**2) / (24.0_dp * c%gas_viscosity &
+                                                       * gas_constant * c%gas_temperature * c%width)
+      end if
+      if (ring%films(1)%jfo) st%s_prev = s
+    end associate
+  end subroutine advance_ring
+
   !> The film becomes `saved` (a state kept earlier), its solve counters keep counting.
   pure subroutine take_film(f, saved)
     type(film_type), intent(inout) :: f
@@ -195,7 +299,8 @@ contains
     f%reynolds_solves = nrs
   end subroutine take_film
 
-  !> Solve crank step k (psi = (k-1) dpsi) and store it in res; h0 the step's.
+  !> Solve crank step k (psi = (k-1) dpsi) and store it in res; h0 the step's (a distorted
+  !> bore's: its mean position).
   subroutine solve_step(st, c, res, k, h0)
     type(cycle_state), intent(inout) :: st
     type(case_type), intent(in) :: c
@@ -204,17 +309,16 @@ contains
     real(dp), intent(out) :: h0
     type(step_out) :: out
     real(dp) :: psi
-    integer :: nev
+    integer :: nev, j
     psi = (k - 1) * c%dpsi_deg
     nev = st%film%f%film_solves
     call advance(st, c, psi, out)
     h0 = out%h0
     associate (f => st%film%f, lp => out%lp)
-      if (.not. allocated(st%rst)) call film_friction(c, f, lp%u, st%fv, st%fb)
+      if (.not. allocated(st%rst) .and. .not. allocated(st%ring)) &
+        call film_friction(c, f, lp%u, st%fv, st%fb)
       res%series(k, s_crank_angle_deg) = psi
       res%series(k, s_sliding_speed) = lp%u
-      res%series(k, s_h0) = out%h0
-      res%series(k, s_lambda_min) = minval(f%h) / st%sigma
       res%series(k, s_gas_pressure) = lp%pg
       res%series(k, s_applied_load) = lp%load
       res%series(k, s_hydrodynamic_load) = f%wh
@@ -226,18 +330,35 @@ contains
       res%series(k, s_load_residual) = out%resid
       res%int_series(k, si_flags) = out%flags
       res%int_series(k, si_film_solves) = f%film_solves - nev
-      if (f%jfo) then
-        res%series(k, s_inlet_fill) = f%theta_in
-        ! the control volumes of full nodes: dx inside, dx/2 at an edge
-        res%series(k, s_wetted_width) = f%dx * (count(f%theta(2:f%n - 1) >= 1.0_dp - 1e-9_dp) &
-                                                + 0.5_dp * count([f%theta(1), f%theta(f%n)] &
-                                                                 >= 1.0_dp - 1e-9_dp))
-        res%series(k, s_oil_left) = 0.0_dp
-        if (abs(f%ds) > 0.0_dp) res%series(k, s_oil_left) = max(out%v_out, 0.0_dp) / abs(f%ds)
-        if (.not. f%starved .and. abs(lp%u) > 0.0_dp) &
-          res%series(k, s_oil_left) = max(out%v_out, 0.0_dp) / (abs(lp%u) * st%ctx%dt)
+      if (allocated(st%ring)) then
+        ! the ring's smallest film (mixed when any sector is), and the sectors' means
+        res%series(k, s_h0) = minval(st%ring%h)
+        res%series(k, s_lambda_min) = minval([(minval(st%ring%films(j)%h), &
+                                               j=1, size(st%ring%films))]) / st%sigma
+        res%sectors(k, :, sec_h0) = st%ring%h
+        res%sectors(k, :, sec_load) = st%ring%w
+        res%series(k, s_face_flow) = st%face_flow
+        if (.not. allocated(st%face_ks)) allocate (st%face_ks(res%nsteps), st%light(res%nsteps))
+        st%face_ks(k) = st%face_k
+        st%light(k) = count(st%ring%w - st%ring%films%w_gas / f%circ < 0.01_dp * lp%load / f%circ)
+        if (f%jfo) then
+          res%series(k, s_inlet_fill) = exact_mean(st%ring%films%theta_in)
+          res%series(k, s_wetted_width) = exact_mean([(wetted_width(st%ring%films(j)), &
+                                                       j=1, size(st%ring%films))])
+          res%series(k, s_oil_left) = exact_mean([(oil_left(st%ring%films(j)), &
+                                                   j=1, size(st%ring%films))])
+        end if
+        if (f%starved) res%series(k, s_oil_bank) = exact_mean(st%sups%bank)
+      else
+        res%series(k, s_h0) = out%h0
+        res%series(k, s_lambda_min) = minval(f%h) / st%sigma
+        if (f%jfo) then
+          res%series(k, s_inlet_fill) = f%theta_in
+          res%series(k, s_wetted_width) = wetted_width(f)
+          res%series(k, s_oil_left) = oil_left(f)
+        end if
+        if (f%starved) res%series(k, s_oil_bank) = st%film%sup%bank
       end if
-      if (f%starved) res%series(k, s_oil_bank) = st%film%sup%bank
       if (allocated(st%rst)) then
         res%series(k, s_groove_pressure) = st%rst%p2
         res%series(k, s_land_pressure) = st%rst%p3
@@ -247,6 +368,31 @@ contains
         call ring_pack_accumulate(st%rtot, st%rout, st%ctx%dt)
       end if
     end associate
+
+  contains
+
+    !> The length of full film of a mass-conserving film: the control volumes of its full
+    !> nodes, dx inside, dx/2 at an edge [m].
+    pure real(dp) function wetted_width(ff)
+      type(film_type), intent(in) :: ff
+      wetted_width = ff%dx * (count(ff%theta(2:ff%n - 1) >= 1.0_dp - 1e-9_dp) &
+                              + 0.5_dp * count([ff%theta(1), ff%theta(ff%n)] >= 1.0_dp - 1e-9_dp))
+    end function wetted_width
+
+    !> The oil film the trailing edge of film ff left on the liner over the step [m].
+    pure real(dp) function oil_left(ff)
+      type(film_type), intent(in) :: ff
+      real(dp) :: vo
+      if (ff%lead_left) then
+        vo = ff%q_right * st%ctx%dt
+      else
+        vo = -ff%q_left * st%ctx%dt
+      end if
+      oil_left = 0.0_dp
+      if (abs(ff%ds) > 0.0_dp) oil_left = max(vo, 0.0_dp) / abs(ff%ds)
+      if (.not. ff%starved .and. abs(out%lp%u) > 0.0_dp) &
+        oil_left = max(vo, 0.0_dp) / (abs(out%lp%u) * st%ctx%dt)
+    end function oil_left
   end subroutine solve_step
 
   !> Chamber pressure [Pa] at crank angle psi [deg] (the trace, scaled).

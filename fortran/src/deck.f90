@@ -14,10 +14,12 @@ module ringlube_deck
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, default_case, apply_preset, case_access, access_set, &
                            validate_case, real_text
-  use ringlube_inputs, only: inputs, n_inputs, find_input, kind_string, kind_choice
+  use ringlube_inputs, only: inputs, n_inputs, find_input, input_key, kind_string, kind_choice, &
+                             kind_real_list, kind_int_list
   use ringlube_namelist, only: nml_item, scan_namelist
   use ringlube_textio, only: read_text_file, itoa
   use ringlube_gas, only: read_pressure_csv, max_pressure
+  use ringlube_bore, only: read_distortion_csv
   use ringlube_fsys, only: dir_prefix
   implicit none
   private
@@ -76,15 +78,17 @@ contains
     c = default_case()
     c%deck_path = name
     c%deck_text = text
-    call scan_namelist(text, name, items, nitems, err)
+    call scan_namelist(text, name, items, nitems, err, list_vars=list_variables())
     if (allocated(err)) return
     noitems = 0
     if (present(overrides)) then
       if (len_trim(overrides) > 0) then
         if (present(overrides_name)) then
-          call scan_namelist(overrides, overrides_name, oitems, noitems, err)
+          call scan_namelist(overrides, overrides_name, oitems, noitems, err, &
+                             list_vars=list_variables())
         else
-          call scan_namelist(overrides, name//' (overrides)', oitems, noitems, err)
+          call scan_namelist(overrides, name//' (overrides)', oitems, noitems, err, &
+                             list_vars=list_variables())
         end if
         if (allocated(err)) return
         c%deck_text = c%deck_text//new_line('a')//'! --- changed in Python ---'// &
@@ -104,6 +108,7 @@ contains
     c%pressure_file = resolve_path(c%pressure_file, base_dir)
     c%output_file = resolve_path(c%output_file, base_dir)
     c%calibration_file = resolve_path(c%calibration_file, base_dir)
+    c%distortion_file = resolve_path(c%distortion_file, base_dir)
     call finish_case(c, err, load_trace)
     if (allocated(err)) call at_line(err, name, items, nitems)
     if (allocated(err) .and. noitems > 0) then
@@ -161,7 +166,7 @@ contains
       end if
       return
     end if
-    call scan_namelist(ctext, cpath, citems, ncitems, err)
+    call scan_namelist(ctext, cpath, citems, ncitems, err, list_vars=list_variables())
     if (allocated(err)) return
     do k = 1, ncitems
       if (citems(k)%group == 'calibration' .or. citems(k)%group == 'output' .or. &
@@ -283,6 +288,14 @@ contains
     end do
   end subroutine assign_items
 
+  !> 'group.name' of the table's list variables (a deck gives each as one list).
+  pure function list_variables() result(names)
+    character(len=36), allocatable :: names(:)
+    integer :: i
+    names = [character(len=36) ::(input_key(i), i=1, n_inputs)]
+    names = pack(names, inputs%kind == kind_real_list .or. inputs%kind == kind_int_list)
+  end function list_variables
+
   !> Is `group` one of the table's groups?
   pure logical function find_group(group)
     character(len=*), intent(in) :: group
@@ -303,17 +316,33 @@ contains
     end do
   end function group_list
 
-  !> A warning (c%notes) for inputs set for a model that is off: `&ring_pack` variables with
-  !> `&physics ring_pack = 'none'` are not used (the first one is named, at its line).
+  !> A warning (c%notes) for inputs set for a model that is off: `&bore` variables (and
+  !> back_clearance) with `&physics bore = 'round'`, `&ring_pack` variables with `&physics
+  !> ring_pack = 'none'` (but those a distorted bore uses) are not used (the first one is
+  !> named, at its line).
   subroutine note_unused(c, items, nitems)
     type(case_type), intent(inout) :: c
     type(nml_item), intent(in) :: items(:)
     integer, intent(in) :: nitems
     integer :: i
     c%notes = ''
+    if (c%bore == 'round') then
+      do i = 1, nitems
+        if (items(i)%group /= 'bore' .and. .not. (items(i)%group == 'ring_pack' .and. &
+                                                  items(i)%name == 'back_clearance')) cycle
+        c%notes = items(i)%file//':'//itoa(items(i)%line)//': &'//items(i)%group//' '// &
+                  items(i)%name//' is set, but &physics bore = ''round'': the bore is round '// &
+                  'and its distortion is not used'
+        return
+      end do
+    end if
     if (c%ring_pack /= 'none') return
     do i = 1, nitems
       if (items(i)%group /= 'ring_pack') cycle
+      ! (the gas's temperature and viscosity also set the face leakage of a distorted bore)
+      if (c%bore == 'distorted' .and. any(items(i)%name == [character(len=16) :: &
+                                                            'gas_temperature', 'gas_viscosity', &
+                                                            'back_clearance'])) cycle
       c%notes = items(i)%file//':'//itoa(items(i)%line)//': &ring_pack '//items(i)%name// &
                 ' is set, but &physics ring_pack = ''none'': the ring pack is off and '// &
                 'its inputs are not used'
@@ -372,6 +401,14 @@ contains
     logical :: exists, load
     call validate_case(c, err)
     if (allocated(err)) return
+    if (allocated(c%distortion)) deallocate (c%distortion)
+    if (c%bore == 'distorted' .and. len(c%distortion_file) > 0) then
+      call read_distortion_csv(c%distortion_file, c%sectors / 2, c%distortion, err)
+      if (allocated(err)) then
+        err%message = c%deck_path//': &bore distortion_file: '//err%message
+        return
+      end if
+    end if
     load = .true.
     if (present(load_trace)) load = load_trace
     if (allocated(c%gas_psi)) deallocate (c%gas_psi)

@@ -59,6 +59,10 @@ module ringlube_film_state
     !> pressure behind the ring (its gas load) and at its lower (crankcase) edge [Pa];
     !> negative: the chamber pressure behind it and the crankcase pressure below it
     real(dp) :: p_back = -1.0_dp, p_lower = -1.0_dp
+    !> a sector of a distorted bore (SPEC 15); w_gas [N, as a whole ring]: the load of the gas
+    !> on a face with no full zone (an open face: all its hydrodynamic load; 0 while it seals)
+    logical :: gas_channel = .false.
+    real(dp) :: w_gas = 0.0_dp
   end type film_type
 
 contains
@@ -184,6 +188,12 @@ contains
       end if
     end if
     f%wh = f%circ * f%dx * (sum(f%p(2:n - 1)) + 0.5_dp * (pl + pr))
+    ! the gas's share: all of an open face's load (a face with no full zone is at the gas
+    ! pressures its connectivity rule gives it)
+    f%w_gas = 0.0_dp
+    if (f%gas_channel .and. f%jfo) then
+      if (all(f%theta(2:n - 1) < 1.0_dp)) f%w_gas = f%wh
+    end if
     if (c%asperity_contact) then
       call asperity_contact(f%h, f%h0, f%dx, c%width, f%circ, f%sigma, c%zeta_kappa_sigma, &
                             c%sigma_over_kappa, f%e_reduced, c%gt_functions == 'fit', &

@@ -7,6 +7,8 @@ module ringlube_gas
   implicit none
   private
   public :: read_pressure_csv, gas_pressure, check_pressure_trace
+  ! (the CSV readers of other inputs share the field rules)
+  public :: field_end, is_header, to_real, field_number, field_nonfinite
 
   !> Largest plausible cylinder pressure [Pa] and smallest span of a trace [deg].
   real(dp), parameter, public :: max_pressure = 1e8_dp, min_span_deg = 700.0_dp

@@ -36,10 +36,11 @@ module ringlube_hdf5_output
                              kind_logical
   use ringlube_results, only: result_type, scalar_spec, n_scalars, series_spec, n_series, &
                               int_series_spec, n_int_series, flag_description, liner_spec, &
-                              n_liner, produced, si_flags, m_starved
+                              n_liner, produced, si_flags, m_starved, m_distorted, &
+                              sector_spec, n_sector_series
   use ringlube_version, only: package_version
   use ringlube_kernel_id, only: kernel_id
-  use ringlube_textio, only: utf8_clean
+  use ringlube_textio, only: utf8_clean, itoa
   use ringlube_fsys, only: make_temp_file, rename_file, remove_file, dir_name, last_errno, &
                            clear_errno, errno_text
   use ringlube_output_path, only: check_output
@@ -163,6 +164,13 @@ contains
         call attr_str(fid, input_key(i), text)
       end select
     end do
+    ! a distorted bore's conformability per order: conformability_<k>
+    if (res%made(m_distorted)) then
+      do i = 1, size(res%conformability)
+        call attr_real(fid, 'conformability_'//itoa(res%conformability_orders(i)), &
+                       res%conformability(i))
+      end do
+    end if
     call attr_str(fid, 'deck', c%deck_text)
     call attr_str(fid, 'deck_path', c%deck_path)
     call attr_str(fid, 'pressure_file', c%pressure_file)
@@ -196,6 +204,13 @@ contains
                       trim(int_series_spec(i)%long_name))
       end if
     end do
+    ! a distorted bore's series per crank step and sector (crank angle x sector)
+    if (res%made(m_distorted)) then
+      do i = 1, n_sector_series
+        call dset2(gid, trim(sector_spec(i)%stored), transpose(res%sectors(:, :, i)), &
+                   trim(sector_spec(i)%unit), trim(sector_spec(i)%long_name))
+      end do
+    end if
     ! the liner film at the end of the cycle (starved inlet): its position (the first row
     ! of the table) is the scale
     if (res%made(m_starved) .and. ok) then
@@ -372,6 +387,16 @@ contains
                       keep=keep)
     end subroutine dset
 
+    !> A 2-D dataset of doubles v(sector, step) (in the file: crank angle x sector), the
+    !> crank angle attached as the scale of its steps.
+    subroutine dset2(loc, name, v, units, long_name)
+      integer(hid_t), intent(in) :: loc
+      character(len=*), intent(in) :: name, units, long_name
+      real(dp), intent(in), target, contiguous :: v(:, :)
+      call dset_write(loc, name, H5T_NATIVE_DOUBLE, size(v, 2), c_loc(v), units, long_name, &
+                      inner=size(v, 1))
+    end subroutine dset2
+
     subroutine dset_int(loc, name, v, units, long_name, description)
       integer(hid_t), intent(in) :: loc
       character(len=*), intent(in) :: name, units, long_name, description
@@ -380,19 +405,26 @@ contains
                       description=description)
     end subroutine dset_int
 
-    subroutine dset_write(loc, name, tid, n, buf, units, long_name, description, keep)
+    !> (inner: a 2-D dataset of inner x n values in Fortran order, n the crank steps)
+    subroutine dset_write(loc, name, tid, n, buf, units, long_name, description, keep, inner)
       integer(hid_t), intent(in) :: loc, tid
       character(len=*), intent(in) :: name, units, long_name
       integer, intent(in) :: n
       type(c_ptr), intent(in) :: buf
       character(len=*), intent(in), optional :: description
       integer(hid_t), intent(out), optional :: keep
+      integer, intent(in), optional :: inner
       integer(hid_t) :: sid, did
-      integer(hsize_t) :: dims(1)
-      integer :: e
+      integer(hsize_t) :: dims(2)
+      integer :: e, rank
       if (.not. ok) return
+      rank = 1
       dims(1) = n
-      call h5screate_simple_f(1, dims, sid, e)
+      if (present(inner)) then
+        rank = 2
+        dims = [int(inner, hsize_t), int(n, hsize_t)]
+      end if
+      call h5screate_simple_f(rank, dims(1:rank), sid, e)
       if (.not. step(e, 'dataset /cycle/'//name, sid, k_space)) return
       call h5dcreate_f(loc, name, tid, sid, did, e)
       if (.not. step(e, 'dataset /cycle/'//name, did, k_dset)) return
@@ -411,6 +443,7 @@ contains
         call forget(sid)
         if (.not. step(e, 'dataset /cycle/'//name)) return
       else
+        ! (the index counts the file's dimensions, first the crank steps)
         call h5dsattach_scale_f(did, scale_id, 1, e)
         if (.not. step(e, 'dimension scale of /cycle/'//name)) return
         call close_top(e)   ! dataset

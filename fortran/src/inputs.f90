@@ -14,7 +14,10 @@ module ringlube_inputs
 
   !> Kinds of variables.
   integer, parameter, public :: kind_real = 1, kind_int = 2, kind_logical = 3, &
-                                kind_string = 4, kind_choice = 5
+                                kind_string = 4, kind_choice = 5, kind_real_list = 6, &
+                                kind_int_list = 7
+  !> Most values of a list variable.
+  integer, parameter, public :: max_list = 32
 
   !> One input variable.
   type :: input_spec
@@ -24,8 +27,8 @@ module ringlube_inputs
     !> Default as deck text (parsed by the deck reader's own number reader); for the
     !> numerics a preset sets, '(preset)': the value of preset 'default'.
     character(len=24) :: default = ''
-    !> Plausible range [lower, upper] of a number, inclusive (values outside are an input
-    !> error: NaN and infinities never pass).
+    !> Plausible range [lower, upper] of a number (of each value of a list), inclusive (values
+    !> outside are an input error: NaN and infinities never pass).
     real(dp) :: lower = 0.0_dp, upper = 0.0_dp
     character(len=10) :: unit = ''
     !> Allowed values of a choice, separated by '|'.
@@ -122,6 +125,18 @@ module ringlube_inputs
       "leading edge fully flooded, or fed by the liner oil film (needs cavitation = 'jfo')"), &
     input_spec('physics', 'ring_pack', kind_choice, 'none', 0.0_dp, 0.0_dp, '', 'none|gas', &
   "'none': chamber above and behind the ring, crankcase below; 'gas': ring-pack gas (ring_pack.md)"), &
+    input_spec('physics', 'bore', kind_choice, 'round', 0.0_dp, 0.0_dp, '', 'round|distorted', &
+      "'round': one film for the whole ring; 'distorted': &bore, a film per sector (bore.md)"), &
+    input_spec('bore', 'order', kind_int_list, '', 0.0_dp, 64.0_dp, '1', '', &
+      'orders k of the distortion D = sum A_k cos(k (theta - phi_k)) (a list)'), &
+    input_spec('bore', 'amplitude', kind_real_list, '', 0.0_dp, 1e-3_dp, 'm', '', &
+      'amplitude A_k of each order (a list as long as order)'), &
+    input_spec('bore', 'phase', kind_real_list, '', -100.0_dp, 100.0_dp, 'rad', '', &
+      'phase phi_k of each order (a list as long as order; none given: all 0)'), &
+    input_spec('bore', 'distortion_file', kind_string, '', 0.0_dp, 0.0_dp, '', '', &
+    'CSV z_m, order, amplitude_m, phase_rad (A_k, phi_k along the stroke); instead of the lists'), &
+    input_spec('bore', 'sectors', kind_int, '24', 4.0_dp, 360.0_dp, '1', '', &
+      'sectors M of the circumference, each with its own film (even; orders up to M/2)'), &
     input_spec('ring_pack', 'gas_temperature', kind_real, '450', 200.0_dp, 2000.0_dp, 'K', '', &
       'temperature of the isothermal gas in the groove and on the second land'), &
     input_spec('ring_pack', 'gamma', kind_real, '1.3', 1.01_dp, 1.67_dp, '1', '', &
@@ -140,6 +155,8 @@ module ringlube_inputs
       'gas volume of the groove behind the top ring (whole circumference)'), &
     input_spec('ring_pack', 'land_volume', kind_real, '5e-7', 1e-10_dp, 1e-2_dp, 'm^3', '', &
       'gas volume of the second land between the top and second rings'), &
+    input_spec('ring_pack', 'back_clearance', kind_real, '0.3e-3', 1e-6_dp, 0.01_dp, 'm', '', &
+      "radial clearance behind the ring: h0 of a ring pushed off the liner (bore = 'distorted')"), &
     input_spec('numerics', 'preset', kind_choice, 'default', 0.0_dp, 0.0_dp, '', &
       'fast|default|accurate', 'numerics preset (nodes, crank step, tolerances); explicit values override'), &
     input_spec('numerics', 'nodes', kind_int, '(preset)', 5.0_dp, 20001.0_dp, '1', '', &
@@ -170,6 +187,8 @@ module ringlube_inputs
       'upper bound on h0 (a step held there is flagged; above 10 h0_floor)'), &
     input_spec('numerics', 'h0_initial', kind_real, '0', 0.0_dp, 0.1_dp, 'm', '', &
       'h0 before the first step; 0: 4 sigma'), &
+    input_spec('numerics', 'threads', kind_int, '1', 1.0_dp, 256.0_dp, '1', '', &
+      "threads that solve a distorted bore's sectors (OpenMP; 1 per Dask worker)"), &
     input_spec('numerics', 'warmup_deg', kind_real, '90', 0.0_dp, 720.0_dp, 'deg', '', &
       'crank angle solved (not reported) before the first cycle'), &
     input_spec('output', 'file', kind_string, 'result.h5', 0.0_dp, 0.0_dp, '', '', &

@@ -18,6 +18,7 @@ module ringlube_load_balance
   use ringlube_kinematics, only: sliding_speed, deg2rad
   use ringlube_gas, only: gas_pressure
   use ringlube_film, only: film_type, film_evaluate
+  use ringlube_sectors, only: sector_ring, ring_evaluate
   use ringlube_results, only: flag_floor, flag_ceiling, flag_load
   implicit none
   private
@@ -33,9 +34,12 @@ module ringlube_load_balance
   !> The load balance at one crank step. The squeeze velocity at trial h0 is
   !> dh0/dt = (sq_a h0 - sq_b) / dt (Euler: sq_a = 1, sq_b = h0 of the previous step;
   !> BDF2: sq_a = 3/2, sq_b = 2 h_(k-1) - h_(k-2)/2).
+  !> ceiling: the largest h0 (h0_ceiling; with a distorted bore also back_clearance, where a
+  !> ring pushed off the liner is held).
   type :: load_problem
     real(dp) :: u = 0.0_dp, dt = 0.0_dp, pg = 0.0_dp, load = 0.0_dp
     real(dp) :: sq_a = 1.0_dp, sq_b = 0.0_dp
+    real(dp) :: ceiling = 0.0_dp
   end type load_problem
 
   !> What the root finder remembers between trials and crank steps.
@@ -81,11 +85,14 @@ contains
   !> Find h0 at crank angle psi so that W_h + W_a = F (within load_tol), from the h0
   !> history in `mem` (the root finder's memory, carried from step to step; the new h0 is
   !> pushed onto it). The film `g` is left solved at the returned h0; `lp` returns the
-  !> step's sliding speed, gas pressure and applied load.
-  subroutine balance(c, ctx, g, mem, psi, h0out, flags, resid, lp)
+  !> step's sliding speed, gas pressure and applied load. With `ring` (a distorted bore) h0 is
+  !> the ring's mean position and each trial solves the ring's sectors (ringlube_sectors); g
+  !> is then the ring's summary film (its edge state, the mean loads).
+  subroutine balance(c, ctx, g, mem, psi, h0out, flags, resid, lp, ring)
     type(case_type), intent(in) :: c
     type(step_context), intent(in) :: ctx
     type(film_type), intent(inout) :: g
+    type(sector_ring), intent(inout), optional :: ring
     type(balance_memory), intent(inout) :: mem
     real(dp), intent(in) :: psi
     real(dp), intent(out) :: h0out, resid
@@ -97,6 +104,8 @@ contains
     if (u > 0.0_dp) g%lead_left = .false.
     lp%u = u
     lp%dt = ctx%dt
+    lp%ceiling = c%h0_ceiling
+    if (present(ring)) lp%ceiling = min(c%h0_ceiling, c%back_clearance)
     lp%pg = gas_pressure(c%gas_psi, c%gas_p, psi, c%crankcase_pressure)
     ! the gas behind the ring: the chamber's, or the groove's with the ring pack
     if (g%p_back >= 0.0_dp) then
@@ -116,8 +125,8 @@ contains
     end if
     guess = predictor(mem)
     mem%trials = 0
-    guess = min(max(guess, c%h0_floor), c%h0_ceiling)
-    call find_h0(c, lp, g, mem, guess, h0out, flags, resid)
+    guess = min(max(guess, c%h0_floor), lp%ceiling)
+    call find_h0(c, lp, g, mem, guess, h0out, flags, resid, ring)
     mem%h(3) = mem%h(2)
     mem%h(2) = mem%h(1)
     mem%h(1) = h0out
@@ -161,16 +170,22 @@ contains
   end function extrapolate
 
   !> Relative load residual (W_h + W_a - F) / F at trial h0 (solves the film).
-  real(dp) function residual(c, lp, g, mem, h0)
+  real(dp) function residual(c, lp, g, mem, h0, ring)
     type(case_type), intent(in) :: c
     type(load_problem), intent(in) :: lp
     type(film_type), intent(inout) :: g
     type(balance_memory), intent(inout) :: mem
     real(dp), intent(in) :: h0
+    type(sector_ring), intent(inout), optional :: ring
     real(dp) :: sq
-    sq = 0.0_dp
-    if (c%squeeze) sq = 2.0_dp * (lp%sq_a * h0 - lp%sq_b) / lp%dt
-    call film_evaluate(c, g, h0, sq, lp%u, lp%pg, c%load_tol * max(lp%load, 1e-3_dp))
+    if (present(ring)) then
+      call ring_evaluate(c, ring, g, h0, lp%sq_a, lp%dt, lp%u, lp%pg, lp%load, c%h0_floor, &
+                         c%h0_ceiling)
+    else
+      sq = 0.0_dp
+      if (c%squeeze) sq = 2.0_dp * (lp%sq_a * h0 - lp%sq_b) / lp%dt
+      call film_evaluate(c, g, h0, sq, lp%u, lp%pg, c%load_tol * max(lp%load, 1e-3_dp))
+    end if
     ! relative to the applied load; a load of zero (no tension, no gas, crankcase at
     ! 0 Pa) is measured against 1 mN, so that the residual stays finite
     residual = (g%wh + g%wa - lp%load) / max(lp%load, 1e-3_dp)
@@ -183,11 +198,12 @@ contains
 
   !> h0 from `guess` by the rule of `&numerics h0_update`: the source study's damped rule or a
   !> safeguarded secant (Brent's method) on y = ln h0 inside an expanding bracket.
-  subroutine find_h0(c, lp, g, mem, guess, h0out, flags, resid)
+  subroutine find_h0(c, lp, g, mem, guess, h0out, flags, resid, ring)
     type(case_type), intent(in) :: c
     type(load_problem), intent(in) :: lp
     type(film_type), intent(inout) :: g
     type(balance_memory), intent(inout) :: mem
+    type(sector_ring), intent(inout), optional :: ring
     real(dp), intent(in) :: guess
     real(dp), intent(out) :: h0out, resid
     integer, intent(out) :: flags
@@ -200,9 +216,9 @@ contains
     end if
     flags = 0
     ylo = log(c%h0_floor)
-    yhi = log(c%h0_ceiling)
+    yhi = log(lp%ceiling)
     ya = log(guess)
-    ga = residual(c, lp, g, mem, guess)
+    ga = residual(c, lp, g, mem, guess, ring)
     if (abs(ga) <= c%load_tol) then
       call finish(guess, ga)
       return
@@ -218,7 +234,7 @@ contains
     end if
     do it = 1, 200
       yb = min(max(ya + dy, ylo), yhi)
-      gb = residual(c, lp, g, mem, exp(yb))
+      gb = residual(c, lp, g, mem, exp(yb), ring)
       if (abs(gb) <= c%load_tol) then
         call finish(exp(yb), gb)
         return
@@ -253,7 +269,7 @@ contains
       best = huge(1.0_dp)
       best_before = huge(1.0_dp)
       do it = 1, c%max_load_iterations
-        resid = residual(c, lp, g, mem, h)
+        resid = residual(c, lp, g, mem, h, ring)
         if (abs(resid) <= c%load_tol) then
           flags = 0
           exit
@@ -272,12 +288,12 @@ contains
           flags = flag_floor
           exit
         end if
-        if (h >= c%h0_ceiling .and. chi > 0.0_dp) then
+        if (h >= lp%ceiling .and. chi > 0.0_dp) then
           flags = flag_ceiling
           exit
         end if
         if (it == c%max_load_iterations) exit
-        h = min(max((1.0_dp + c%damping * chi) * h, c%h0_floor), c%h0_ceiling)
+        h = min(max((1.0_dp + c%damping * chi) * h, c%h0_floor), lp%ceiling)
       end do
       flags = ior(flags, g%flags)
       h0out = h
@@ -286,7 +302,7 @@ contains
     subroutine finish(h, r)
       real(dp), intent(in) :: h, r
       if (g%h0 /= h) then
-        resid = residual(c, lp, g, mem, h)  ! leave the film solved at h
+        resid = residual(c, lp, g, mem, h, ring)  ! leave the film solved at h
       else
         resid = r
       end if
@@ -350,7 +366,7 @@ contains
         else
           b = b + sign(tol1, xm)
         end if
-        fb = residual(c, lp, g, mem, exp(b))
+        fb = residual(c, lp, g, mem, exp(b), ring)
       end do
       call finish(exp(b), fb)
     end subroutine brent

@@ -9,7 +9,9 @@
 !> value per variable. A caller that allows lists (`lists = .true.`, the `&study` decks)
 !> also gets `name = v1, v2, ...` (values separated by commas or blanks, over several
 !> lines if need be) as one item per value, numbered by `index`; kernel decks are scanned
-!> without, so a list for a kernel scalar is an error naming file:line, group and variable.
+!> without, so a list for a kernel scalar is an error naming file:line, group and variable;
+!> the kernel's list variables (`list_vars`, e.g. `&bore amplitude`) take a list as one item
+!> whose value is the list's text, "v1, v2, ...".
 !> Not supported (an error, never a silent reinterpretation): array indices `name(i)`,
 !> repeat counts `3*1.0` and null values.
 module ringlube_namelist
@@ -58,15 +60,17 @@ contains
   !> Scan the deck text (lines separated by new_line('a')) into items. `path` is used
   !> in messages only. With `lists = .true.` a variable may take a list of values (one
   !> item per value); without, a second value is an error.
-  subroutine scan_namelist(text, path, items, nitems, err, lists)
+  subroutine scan_namelist(text, path, items, nitems, err, lists, list_vars)
     character(len=*), intent(in) :: text, path
     type(nml_item), allocatable, intent(out) :: items(:)
     integer, intent(out) :: nitems
     type(error_type), allocatable, intent(out) :: err
     logical, intent(in), optional :: lists
+    !> 'group.name' of the variables that take a list as one item (values joined by ', ')
+    character(len=*), intent(in), optional :: list_vars(:)
     integer :: pos, n, line, start, gline, idx
     character(len=:), allocatable :: group, name, value
-    logical :: quoted, more, allow_lists
+    logical :: quoted, more, allow_lists, joined
     character(len=1) :: q
 
     allow_lists = .false.
@@ -101,11 +105,17 @@ contains
         call read_name()
         if (allocated(err)) return
         idx = 0
+        joined = .false.
+        if (present(list_vars)) joined = any(list_vars == group//'.'//name)
         values_of_name: do
           call read_value()
           if (allocated(err)) return
           idx = idx + 1
-          call add(group, name, value, quoted)
+          if (joined .and. idx > 1) then
+            items(nitems)%value = items(nitems)%value//', '//value
+          else
+            call add(group, name, value, quoted)
+          end if
           call check_follower()
           if (allocated(err)) return
           if (.not. more) exit values_of_name
@@ -274,7 +284,7 @@ contains
           end if
         end if
         pos = start
-        if (allow_lists) then
+        if (allow_lists .or. joined) then
           more = .true.
           return
         end if
@@ -286,7 +296,7 @@ contains
                     //token(start)//'" (one value per variable)')
         end if
       else if (text(pos:pos) /= '/' .and. text(pos:pos) /= '&') then
-        if (allow_lists .and. text(pos:pos) /= '(' .and. text(pos:pos) /= '=') then
+        if ((allow_lists .or. joined) .and. text(pos:pos) /= '(' .and. text(pos:pos) /= '=') then
           more = .true.
           return
         end if

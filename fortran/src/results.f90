@@ -13,6 +13,7 @@ module ringlube_results
   public :: mixed_share
   public :: result_type, field_spec, flag_spec, series_spec, n_series, int_series_spec, &
             n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, allocate_result, &
+            allocate_sectors, sector_spec, n_sector_series, &
             allocate_liner, flag_description, liner_spec, n_liner, produced, produced_models, &
             derive_results, truth, is_true, model_spec, models, n_models
 
@@ -24,19 +25,20 @@ module ringlube_results
   integer, parameter, public :: flag_cavitation = 16  !< cavitation active set not settled
   integer, parameter, public :: flag_piezo = 32       !< film pressure above roelands_p_max
   integer, parameter, public :: flag_overdraw = 64    !< inlet drew more oil than was there
+  integer, parameter, public :: flag_sectors = 128    !< a distorted bore's sectors not solved
 
   !> One result quantity.
   type :: field_spec
     character(len=24) :: short = ''
-    character(len=24) :: stored = ''
+    character(len=32) :: stored = ''
     character(len=8) :: unit = ''
     !> 'real'; 'integer' (a count) or 'logical' (1 true, 0 false): a whole number, stored
     !> as an integer (a scalar of `result_type` holds it as a real)
     character(len=8) :: kind = 'real'
     character(len=110) :: long_name = ''
-    !> '' (always written), 'jfo' (mass-conserving film only), 'starved' (starved inlet only)
-    !> or 'gas' (ring_pack = 'gas' only)
-    character(len=8) :: requires = ''
+    !> '' (always written), 'jfo' (mass-conserving film only), 'starved' (starved inlet only),
+    !> 'gas' (ring_pack = 'gas' only) or 'distorted' (bore = 'distorted' only)
+    character(len=10) :: requires = ''
     !> a design quantity a study records for every design (and may optimise)
     logical :: objective = .false.
   end type field_spec
@@ -44,7 +46,7 @@ module ringlube_results
   !> An optional model: the results whose `requires` is `name` exist when the input
   !> &`group` `variable` is `value`.
   type :: model_spec
-    character(len=8) :: name = ''
+    character(len=10) :: name = ''
     character(len=12) :: group = '', variable = '', value = ''
   end type model_spec
 
@@ -99,7 +101,18 @@ module ringlube_results
       'gas flow through the top ring''s end gap, chamber to land, positive towards the crankcase', &
       'gas'), &
     field_spec('second_gap_flow', 'second_gap_flow_kg_s', 'kg/s', 'real', &
-      'gas flow through the second ring''s end gap, land to crankcase (blowby)', 'gas') &
+      'gas flow through the second ring''s end gap, land to crankcase (blowby)', 'gas'), &
+    field_spec('face_flow', 'face_flow_kg_s', 'kg/s', 'real', &
+      'gas flow through the ring''s face where its film leaves a gas path, positive towards '// &
+      'the crankcase', 'distorted') &
+  ]
+  !> Series per crank step and sector of a distorted bore (group /cycle, crank angle x sector).
+  type(field_spec), parameter :: sector_spec(*) = [ &
+    field_spec('sector_h0', 'sector_h0_m', 'm', 'real', &
+      'film thickness at the crown minimum of each sector', 'distorted'), &
+    field_spec('sector_load', 'sector_load_N_per_m', 'N/m', 'real', &
+      'load the film of each sector carries per unit circumference (hydrodynamic + asperity)', &
+      'distorted') &
   ]
   !> Integer series over the reported cycle.
   type(field_spec), parameter :: int_series_spec(*) = [ &
@@ -173,7 +186,20 @@ module ringlube_results
       'the land''s', &
       'gas', .true.), &
     field_spec('gas_balance_error', 'gas_balance_error', '1', 'real', &
-      'relative closure of the ring pack''s gas mass over the reported cycle', 'gas') &
+      'relative closure of the ring pack''s gas mass over the reported cycle', 'gas'), &
+    field_spec('conformability', 'conformability', '1', 'real', &
+      'largest A_k over its conformability limit q C_k of the orders given (> 1: light gaps '// &
+      'open without a film)', 'distorted', .true.), &
+    field_spec('light_gap_share', 'light_gap_share_pct', '%', 'real', &
+      'share of sector-steps whose film carries less than 1 % of the mean load (off the liner)', &
+      'distorted', .true.), &
+    field_spec('face_leakage', 'face_leakage_mg_per_cycle', 'mg', 'real', &
+      'gas mass through the ring''s face towards the crankcase per cycle (the way back: '// &
+      'blowback)', 'distorted', &
+      .true.), &
+    field_spec('radial_collapse_share', 'radial_collapse_share_pct', '%', 'real', &
+      'share of the cycle the ring is pushed off the liner, held at back_clearance', &
+      'distorted') &
   ]
 
   !> The liner film at the end of the reported cycle (group /liner).
@@ -188,7 +214,8 @@ module ringlube_results
   type(model_spec), parameter :: models(*) = [ &
     model_spec('jfo', 'physics', 'cavitation', 'jfo'), &
     model_spec('starved', 'physics', 'inlet', 'starved'), &
-    model_spec('gas', 'physics', 'ring_pack', 'gas') &
+    model_spec('gas', 'physics', 'ring_pack', 'gas'), &
+    model_spec('distorted', 'physics', 'bore', 'distorted') &
   ]
 
   !> Meaning of the bits of /cycle/flags.
@@ -199,20 +226,22 @@ module ringlube_results
     flag_spec(flag_viscosity, 'viscosity', 'pressure-viscosity loop not converged'), &
     flag_spec(flag_cavitation, 'cavitation', 'cavitation set not settled'), &
     flag_spec(flag_piezo, 'piezoviscous_clip', 'film pressure above 1 GPa (Roelands clipped)'), &
-    flag_spec(flag_overdraw, 'inlet_overdraw', 'starved inlet drew more oil than the liner held') &
+    flag_spec(flag_overdraw, 'inlet_overdraw', 'starved inlet drew more oil than the liner held'), &
+    flag_spec(flag_sectors, 'sectors', 'sectors of the distorted bore outside their tolerance') &
   ]
   !&>
 
   integer, parameter :: n_series = size(series_spec), n_int_series = size(int_series_spec), &
                         n_scalars = size(scalar_spec), n_liner = size(liner_spec), &
-                        n_flags = size(flag_bits), n_models = size(models)
+                        n_flags = size(flag_bits), n_models = size(models), &
+                        n_sector_series = size(sector_spec)
 
   !> the implied-do index of `row` (Fortran wants its type declared)
   integer :: k_row
   !> row(k) = k for the rows of every table: row(0), where findloc found no row of the
   !> name, is out of bounds, so a misspelt name below does not compile
   integer, parameter :: row(*) = [(k_row, k_row=1, max(n_series, n_int_series, n_scalars, &
-                                                       n_liner, n_models))]
+                                                       n_liner, n_models, n_sector_series))]
 
   ! The columns kernel code sets its results in, found by name in the tables when compiling:
   ! s_NAME the real series NAME (a row of `series_spec`), si_ the integer series, sc_ the
@@ -241,7 +270,12 @@ module ringlube_results
     s_land_pressure = row(findloc(series_spec%short, 'land_pressure', dim=1)), &
     s_ring_lift = row(findloc(series_spec%short, 'ring_lift', dim=1)), &
     s_top_gap_flow = row(findloc(series_spec%short, 'top_gap_flow', dim=1)), &
-    s_second_gap_flow = row(findloc(series_spec%short, 'second_gap_flow', dim=1))
+    s_second_gap_flow = row(findloc(series_spec%short, 'second_gap_flow', dim=1)), &
+    s_face_flow = row(findloc(series_spec%short, 'face_flow', dim=1))
+  !> Columns of the sector series (`sector_spec`).
+  integer, parameter, public :: &
+    sec_h0 = row(findloc(sector_spec%short, 'sector_h0', dim=1)), &
+    sec_load = row(findloc(sector_spec%short, 'sector_load', dim=1))
   !> Columns of the integer series (`int_series_spec`).
   integer, parameter, public :: &
     si_flags = row(findloc(int_series_spec%short, 'flags', dim=1)), &
@@ -278,11 +312,16 @@ module ringlube_results
     sc_blowback_mass = row(findloc(scalar_spec%short, 'blowback_mass', dim=1)), &
     sc_ring_lift_share = row(findloc(scalar_spec%short, 'ring_lift_share', dim=1)), &
     sc_flutter_events = row(findloc(scalar_spec%short, 'flutter_events', dim=1)), &
-    sc_gas_balance_error = row(findloc(scalar_spec%short, 'gas_balance_error', dim=1))
+    sc_gas_balance_error = row(findloc(scalar_spec%short, 'gas_balance_error', dim=1)), &
+    sc_conformability = row(findloc(scalar_spec%short, 'conformability', dim=1)), &
+    sc_light_gap_share = row(findloc(scalar_spec%short, 'light_gap_share', dim=1)), &
+    sc_face_leakage = row(findloc(scalar_spec%short, 'face_leakage', dim=1)), &
+    sc_radial_collapse_share = row(findloc(scalar_spec%short, 'radial_collapse_share', dim=1))
   !> The cycle quantities a period of several cycles reports as the means over them.
   integer, parameter, public :: mean_over_period(*) = [sc_energy_loss, sc_mixed_share, &
     sc_friction_power, sc_fmep, sc_oil_to_chamber, sc_oil_to_chamber_rate, sc_liner_lift_share, &
-    sc_blowby, sc_blowby_mass, sc_blowback_mass, sc_ring_lift_share, sc_flutter_events]
+    sc_blowby, sc_blowby_mass, sc_blowback_mass, sc_ring_lift_share, sc_flutter_events, &
+    sc_light_gap_share, sc_face_leakage, sc_radial_collapse_share]
   !> Columns of the liner film (`liner_spec`).
   integer, parameter, public :: &
     l_liner_position = row(findloc(liner_spec%short, 'liner_position', dim=1)), &
@@ -291,7 +330,8 @@ module ringlube_results
   integer, parameter, public :: &
     m_jfo = row(findloc(models%name, 'jfo', dim=1)), &
     m_starved = row(findloc(models%name, 'starved', dim=1)), &
-    m_gas = row(findloc(models%name, 'gas', dim=1))
+    m_gas = row(findloc(models%name, 'gas', dim=1)), &
+    m_distorted = row(findloc(models%name, 'distorted', dim=1))
   !&>
 
   !> Results of one run: the reported (last) cycle and its summary, each table's values by
@@ -310,6 +350,12 @@ module ringlube_results
     real(dp), allocatable :: liner(:, :)
     !> made(i): the run produced the results that require model i of `models`
     logical :: made(n_models) = .false.
+    !> sectors(k, j, i): row i of `sector_spec` at crank step k and sector j (a distorted
+    !> bore; no sectors else)
+    real(dp), allocatable :: sectors(:, :, :)
+    !> a distorted bore's conformability: the orders given and A_k over the limit of each
+    integer, allocatable :: conformability_orders(:)
+    real(dp), allocatable :: conformability(:)
   end type result_type
 
 contains
@@ -325,7 +371,17 @@ contains
     res%series = 0.0_dp
     res%int_series = 0
     call allocate_liner(res, 0)
+    call allocate_sectors(res, 0)
   end subroutine allocate_result
+
+  !> Allocate the sector series for `sectors` sectors (zeros).
+  pure subroutine allocate_sectors(res, sectors)
+    type(result_type), intent(inout) :: res
+    integer, intent(in) :: sectors
+    if (allocated(res%sectors)) deallocate (res%sectors)
+    allocate (res%sectors(res%nsteps, sectors, n_sector_series))
+    res%sectors = 0.0_dp
+  end subroutine allocate_sectors
 
   !> Allocate the liner film for `cells` cells (zeros).
   pure subroutine allocate_liner(res, cells)

@@ -9,7 +9,9 @@ module ringlube_results_summary
                               sc_flutter_events, sc_ring_mass, sc_min_film, sc_max_friction, &
                               sc_cycles_run, sc_cycle_change, sc_flagged_steps, sc_converged, &
                               sc_run_time, sc_cycles_computed, sc_period, sc_periodic, &
-                              sc_energy_change, sc_liner_change, sc_ring_pack_change
+                              sc_energy_change, sc_liner_change, sc_ring_pack_change, &
+                              sc_conformability, sc_light_gap_share, sc_face_leakage, &
+                              sc_radial_collapse_share
   implicit none
   private
   public :: summary_text
@@ -20,16 +22,21 @@ contains
   !> `CycleResult.summary()` print: one line per quantity with its unit, from the scalars
   !> `v` (rows and stored units of `scalar_spec`) of which the run produced those `made`
   !> (the oil with a starved inlet, blowby with the ring pack: lines shown only then);
-  !> `title` (first line) and `written` (the file, last line) are left out when blank.
-  function summary_text(v, made, title, written) result(t)
+  !> `title` (first line) and `written` (the file, last line) are left out when blank. A
+  !> distorted bore's conformability per order (`orders`, `conformability`: A_k over its
+  !> limit) is a table when given, else its largest value.
+  function summary_text(v, made, title, written, orders, conformability) result(t)
     real(dp), intent(in) :: v(n_scalars)
     logical, intent(in) :: made(n_scalars)
     character(len=*), intent(in) :: title, written
+    integer, intent(in), optional :: orders(:)
+    real(dp), intent(in), optional :: conformability(:)
     character(len=:), allocatable :: t
     character(len=64) :: a
     character(len=128) :: b
     character(len=16) :: w
     character(len=1), parameter :: nl = achar(10)
+    integer :: i
     t = ''
     if (len_trim(title) > 0) t = trim(title)//nl
     write (a, '(f10.4)') v(sc_energy_loss)
@@ -57,6 +64,27 @@ contains
         write (b, '(i8)') nint(v(sc_flutter_events))
       call line('ring lift in its groove', a, '% of the cycle ('//trim(adjustl(b))// &
                 ' flutter events)')
+    end if
+    if (made(sc_conformability)) then
+      if (present(orders) .and. present(conformability)) then
+        b = ''
+        do i = 1, size(orders)
+          write (w, '(a, i0, a, f0.2)') 'k=', orders(i), ': ', conformability(i)
+          if (i > 1) b = trim(b)//', '
+          b = trim(b)//trim(w)
+        end do
+        write (a, '(f10.2)') v(sc_conformability)
+call line('conformability', a, 'A_k / limit, the largest ('//trim(b)//'; > 1 does not conform dry)')
+      else
+        write (a, '(f10.2)') v(sc_conformability)
+        call line('conformability', a, 'A_k / limit, the largest (> 1 does not conform dry)')
+      end if
+      write (a, '(f10.2)') v(sc_light_gap_share)
+      call line('light gaps', a, '% of sector-steps (film carries < 1 % of the mean load)')
+      write (a, '(f10.4)') v(sc_face_leakage)
+      call line('face leakage', a, 'mg per cycle (gas through the faces, towards the crankcase)')
+      write (a, '(f10.2)') v(sc_radial_collapse_share)
+      call line('radial collapse', a, '% of the cycle (pushed off the liner: back_clearance)')
     end if
     write (a, '(f10.3)') v(sc_ring_mass)
     call line('ring mass', a, 'g')

@@ -86,6 +86,7 @@ module ringlube_ring_pack
     real(dp) :: circumference = 0.0_dp        !< l = 2 pi r0 [m]
     real(dp) :: radial_depth = 0.0_dp         !< d = w, the channel length [m]
     real(dp) :: ring_mass = 0.0_dp            !< m_r [kg]
+    real(dp) :: width = 0.0_dp                !< b, the face's channel length [m]
     !> Sub-step control: largest land-pressure change per sub-step relative to the land
     !> pressure, largest ring travel per sub-step relative to the clearance, and at most
     !> 2^max_halvings sub-steps per crank step. adaptive = .false.: one sub-step per call.
@@ -111,6 +112,10 @@ module ringlube_ring_pack
     integer :: flank = flank_lower !< flank the ring rests on (flank_none: in flight)
     real(dp) :: h_next = 0.0_dp   !< sub-step to try first in the next call [s] (0: dt)
     real(dp) :: rate2 = 0.0_dp, rate3 = 0.0_dp  !< dp2/dt, dp3/dt of the last sub-step [Pa/s]
+    !> the gas path through the ring's face (a distorted bore; set by the caller for the next
+    !> step): sum over its sectors of l_j h_gas,j^3 [m^4], a laminar channel of length b
+    !> from space 1 to space 3
+    real(dp) :: face_k = 0.0_dp
   end type ring_pack_state
 
   !> What one crank step did. Flows are means over the step (mass through / dt), kg/s,
@@ -120,6 +125,8 @@ module ringlube_ring_pack
     real(dp) :: second_gap_flow = 0.0_dp
     real(dp) :: upper_channel_flow = 0.0_dp
     real(dp) :: lower_channel_flow = 0.0_dp
+    !> through the ring's face (a distorted bore), chamber to land
+    real(dp) :: face_flow = 0.0_dp
     !> Mass that flowed back into the chamber (top gap and upper channel, reverse part) [kg].
     real(dp) :: blowback_mass = 0.0_dp
     !> Gross mass through the boundaries of spaces 2+3, sum of |flow| h [kg].
@@ -144,7 +151,7 @@ contains
                            top_gap_area=c%top_gap_area, second_gap_area=c%second_gap_area, &
                            groove_clearance=c%groove_clearance, groove_volume=c%groove_volume, &
                            land_volume=c%land_volume, circumference=2.0_dp * pi * c%bore_radius, &
-                           radial_depth=c%radial_depth, ring_mass=ring_mass(c))
+                           radial_depth=c%radial_depth, ring_mass=ring_mass(c), width=c%width)
     par%oc = orifice_constants(par%gamma)
     par%oc_gamma = par%gamma
   end function ring_pack_params_from_case
@@ -205,10 +212,10 @@ contains
     type(ring_pack_step_out), intent(out) :: out
     type(error_type), allocatable, intent(out) :: err
     type(ring_pack_state) :: trial
-    real(dp) :: t, h, hmin, q(4), lift_time, against, pa, pb, blowback, gross, used
+    real(dp) :: t, h, hmin, q(5), lift_time, against, pa, pb, blowback, gross, used
     integer :: lift_offs, flutter
     logical :: ok, accept
-    real(dp) :: mass(4)
+    real(dp) :: mass(5)
     type(orifice_consts) :: oc
 
     if (par%oc_gamma == par%gamma) then
@@ -251,8 +258,8 @@ contains
       st = trial
       t = t + h
       mass = mass + h * q
-      blowback = blowback + h * (max(0.0_dp, -q(1)) + max(0.0_dp, -q(3)))
-      gross = gross + h * (abs(q(1)) + abs(q(2)) + abs(q(3)))
+      blowback = blowback + h * (max(0.0_dp, -q(1)) + max(0.0_dp, -q(3)) + max(0.0_dp, -q(5)))
+      gross = gross + h * (abs(q(1)) + abs(q(2)) + abs(q(3)) + abs(q(5)))
       out%lift_time = out%lift_time + lift_time
       out%lift_time_against_gas = out%lift_time_against_gas + against
       out%lift_offs = out%lift_offs + lift_offs
@@ -269,6 +276,7 @@ contains
     out%second_gap_flow = mass(2) / dt
     out%upper_channel_flow = mass(3) / dt
     out%lower_channel_flow = mass(4) / dt
+    out%face_flow = mass(5) / dt
     out%blowback_mass = blowback
     out%gross_mass = gross
     out%on_lower = st%flank == flank_lower
@@ -276,14 +284,14 @@ contains
   end subroutine ring_pack_step
 
   !> One sub-step of length h: the ring under a constant force, then backward Euler on
-  !> the gas masses. q: flows at the end (top gap, second gap, upper, lower channel).
+  !> the gas masses. q: flows at the end (top gap, second gap, upper, lower channel, face).
   pure subroutine substep(par, oc, st, p1a, p1b, p4, f_f, a_p, h, q, lift_time, lift_offs, &
                           flutter, against, ok)
     type(ring_pack_params), intent(in) :: par
     type(orifice_consts), intent(in) :: oc
     type(ring_pack_state), intent(inout) :: st
     real(dp), intent(in) :: p1a, p1b, p4, f_f, a_p, h
-    real(dp), intent(out) :: q(4), lift_time, against
+    real(dp), intent(out) :: q(5), lift_time, against
     integer, intent(out) :: lift_offs, flutter
     logical, intent(out) :: ok
     real(dp) :: force, p1m
@@ -401,10 +409,11 @@ contains
     type(orifice_consts), intent(in) :: oc
     type(ring_pack_state), intent(inout) :: st
     real(dp), intent(in) :: p1, p4, h
-    real(dp), intent(out) :: q(4)
+    real(dp), intent(out) :: q(5)
     logical, intent(out) :: ok
     real(dp) :: c2, c3, p(2), p_old(2), res(2), jac(2, 2), dp_(2), trial(2), res_t(2), &
-              scale, norm0, norm_t, det, lam, g_up, g_lo, c_top, c_2nd, dq(4, 2), dq_t(4, 2), q_t(4)
+                scale, norm0, norm_t, det, lam, g_up, g_lo, c_top, c_2nd, dq(5, 2), dq_t(5, 2), &
+                q_t(5), kf
     integer :: it, ls
     c_top = par%discharge_coefficient * par%top_gap_area / sqrt(gas_constant * par%gas_temperature)
     c_2nd = par%discharge_coefficient * par%second_gap_area &
@@ -413,6 +422,10 @@ contains
     c3 = par%land_volume / (gas_constant * par%gas_temperature)
     g_up = par%groove_clearance - st%x
     g_lo = st%x
+    ! the face's laminar channel, q5 = kf (p1^2 - p3^2)
+    kf = 0.0_dp
+    if (st%face_k > 0.0_dp) kf = st%face_k / (24.0_dp * par%gas_viscosity * gas_constant &
+                                              * par%gas_temperature * par%width)
     p_old = [st%p2, st%p3]
     scale = max(p1, p4, p_old(1), p_old(2))
     ! predictor: the pressures' rate of the last sub-step (kept positive)
@@ -473,7 +486,7 @@ contains
     !> derivatives with respect to (p2, p3).
     pure subroutine residual(pp, r, j, qq, dqq)
       real(dp), intent(in) :: pp(2)
-      real(dp), intent(out) :: r(2), j(2, 2), qq(4), dqq(4, 2)
+      real(dp), intent(out) :: r(2), j(2, 2), qq(5), dqq(5, 2)
       real(dp) :: d12a, d12b, d23a, d23b, d13a, d13b, d34a, d34b
       call orifice_eval(oc, c_top, p1, pp(2), qq(1), d13a, d13b)
       call orifice_eval(oc, c_2nd, pp(2), p4, qq(2), d34a, d34b)
@@ -481,14 +494,15 @@ contains
                         par%gas_temperature, p1, pp(1), qq(3), d12a, d12b)
       call channel_flow(par%circumference, g_lo, par%radial_depth, par%gas_viscosity, &
                         par%gas_temperature, pp(1), pp(2), qq(4), d23a, d23b)
+      qq(5) = kf * (p1**2 - pp(2)**2)
       r(1) = c2 * (pp(1) - p_old(1)) - h * (qq(3) - qq(4))
-      r(2) = c3 * (pp(2) - p_old(2)) - h * (qq(1) + qq(4) - qq(2))
+      r(2) = c3 * (pp(2) - p_old(2)) - h * (qq(1) + qq(4) + qq(5) - qq(2))
       j(1, 1) = c2 - h * (d12b - d23a)
       j(1, 2) = h * d23b
       j(2, 1) = -h * d23a
-      j(2, 2) = c3 - h * (d13b + d23b - d34a)
-      dqq(:, 1) = [0.0_dp, 0.0_dp, d12b, d23a]
-      dqq(:, 2) = [d13b, d34a, 0.0_dp, d23b]
+      j(2, 2) = c3 - h * (d13b + d23b - 2.0_dp * kf * pp(2) - d34a)
+      dqq(:, 1) = [0.0_dp, 0.0_dp, d12b, d23a, 0.0_dp]
+      dqq(:, 2) = [d13b, d34a, 0.0_dp, d23b, -2.0_dp * kf * pp(2)]
     end subroutine residual
 
     !> Residual norm in units of the pressure scale.

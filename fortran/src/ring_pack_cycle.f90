@@ -66,7 +66,8 @@ contains
     tot%time = tot%time + dt
     tot%blowby_mass = tot%blowby_mass + out%second_gap_flow * dt
     tot%blowback_mass = tot%blowback_mass + out%blowback_mass
-    tot%inflow_mass = tot%inflow_mass + (out%top_gap_flow + out%upper_channel_flow) * dt
+    tot%inflow_mass = tot%inflow_mass + (out%top_gap_flow + out%upper_channel_flow &
+                                         + out%face_flow) * dt
     tot%gross_mass = tot%gross_mass + out%gross_mass
     tot%lift_time = tot%lift_time + out%lift_time
     tot%lift_time_against_gas = tot%lift_time_against_gas + out%lift_time_against_gas
@@ -168,11 +169,13 @@ contains
   !> steps: the gas network run to its periodic state under the friction of the cycle just
   !> computed (the kernel's, positive towards the crankcase; each step's at its start, as in
   !> the coupled steps).
-  subroutine ring_pack_restart(c, par, kfrom, friction, st, cyc, err)
+  subroutine ring_pack_restart(c, par, kfrom, friction, st, cyc, err, face_k)
     type(case_type), intent(in) :: c
     type(ring_pack_params), intent(in) :: par
     integer, intent(in) :: kfrom
     real(dp), intent(in) :: friction(:)
+    !> the face's gas path of each step of the cycle (a distorted bore)
+    real(dp), intent(in), optional :: face_k(:)
     type(ring_pack_state), intent(inout) :: st
     type(ring_pack_cycle_out), intent(out) :: cyc
     type(error_type), allocatable, intent(out) :: err
@@ -181,8 +184,14 @@ contains
     m = size(friction)
     call ring_pack_inputs(c, kfrom - 2, p1, ap)
     ff = [(-friction(modulo(kfrom - 2 + j, m) + 1), j=0, m - 1)]
-    call ring_pack_cycle(par, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, st, &
-                         cyc, err, max_cycles=50, tol=1e-6_dp)
+    if (present(face_k)) then
+      call ring_pack_cycle(par, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, st, &
+                           cyc, err, max_cycles=50, tol=1e-6_dp, &
+                           face_k=[(face_k(modulo(kfrom - 2 + j, m) + 1), j=0, m - 1)])
+    else
+      call ring_pack_cycle(par, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, st, &
+                           cyc, err, max_cycles=50, tol=1e-6_dp)
+    end if
   end subroutine ring_pack_restart
 
   !> The ring pack's change from state st0 to st (pressures relative to the peak chamber
@@ -232,7 +241,7 @@ contains
   !> max_cycles. st: the start (ring_pack_init if its p2 is not positive), then the state
   !> at the end. cyc: the last cycle.
   subroutine ring_pack_cycle(par, p1, a_p, f_f, dpsi_deg, speed_rpm, p4, st, cyc, err, &
-                             max_cycles, tol, accelerate, rho_prior)
+                             max_cycles, tol, accelerate, rho_prior, face_k)
     type(ring_pack_params), intent(in) :: par
     real(dp), intent(in) :: p1(0:), a_p(0:), f_f(0:), dpsi_deg, speed_rpm, p4
     type(ring_pack_state), intent(inout) :: st
@@ -245,6 +254,9 @@ contains
     !> the contraction a cycle of this map is known to have (from coarser cycles to the same
     !> state): in (0, 1), the first cycle can pass the test with it
     real(dp), intent(in), optional :: rho_prior
+    !> the gas path through the ring's face at each crank angle (ring_pack_state%face_k;
+    !> default none)
+    real(dp), intent(in), optional :: face_k(0:)
     type(ring_pack_step_out) :: out
     type(ring_pack_totals) :: tot
     type(ring_pack_state) :: st0
@@ -297,6 +309,7 @@ contains
       cyc%substeps = 0
       do k = 0, n - 1
         kn = mod(k + 1, n)
+        if (present(face_k)) st%face_k = face_k(k)
         call ring_pack_step(par, st, p1(k), p1(kn), p4, 0.5_dp * (f_f(k) + f_f(kn)), &
                             0.5_dp * (a_p(k) + a_p(kn)), dt, out, err)
         if (allocated(err)) return

@@ -44,7 +44,8 @@ class InputSpec:
     group, name : str
         Namelist group and variable.
     kind : str
-        'real', 'integer', 'logical', 'string' or 'choice'.
+        'real', 'integer', 'logical', 'string', 'choice', or 'real_list' / 'integer_list'
+        (a list of values: ``&bore amplitude = 10e-6, 5e-6``).
     default : str
         Default as deck text ('(preset)': set by the numerics preset 'default').
     lower, upper : float
@@ -163,6 +164,8 @@ def _rows(which: str) -> list[list[str]]:
 
 
 def _value(kind: str, text: str):
+    if kind.endswith("_list"):
+        return [_value(kind[: -len("_list")], t) for t in text.replace(",", " ").split()]
     if kind == "real":
         return float(text.replace("d", "e").replace("D", "e"))
     if kind == "integer":

@@ -34,10 +34,11 @@ set(ringlube_labels_jfo_coarse "numerics")
 set(ringlube_labels_ring_pack "unit;numerics")
 set(ringlube_labels_ring_pack_cycle "numerics")
 set(ringlube_labels_periodicity "unit")
+set(ringlube_labels_bore "numerics")
 
 foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner jfo jfo_connect jfo_coarse
     time_order
-    mixed_share film_viscosity film_edges results ring_pack ring_pack_cycle periodicity)
+    mixed_share film_viscosity film_edges results ring_pack ring_pack_cycle periodicity bore)
   set(src ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
   add_executable(test_${t} ${src})
   target_link_libraries(test_${t} PRIVATE ringlube_check ringlube_io ${LAPACK_LIBRARIES})

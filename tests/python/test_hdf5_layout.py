@@ -182,8 +182,8 @@ def test_xarray_opens_cycle_with_crank_angle_coordinate(result):
 
 
 def test_every_input_is_a_root_attribute(result):
-    """The design inputs travel with the result (`group.name`, the effective value), so
-    files can be compared without parsing their decks."""
+    """The design inputs travel with the result (`group.name`, the effective value; a list as
+    its deck text), so files can be compared without parsing their decks."""
     from ringlube import Case
     from ringlube.tables import INPUTS
 
@@ -200,6 +200,9 @@ def test_every_input_is_a_root_attribute(result):
                 assert isinstance(value, np.floating) and value == expected, key
             elif spec.kind in ("integer", "logical"):
                 assert isinstance(value, np.integer) and value == int(expected), key
+            elif spec.kind.endswith("_list"):  # deck text, "v1, v2, ..."
+                values = [float(v) for v in value.replace(",", " ").split()]
+                assert isinstance(value, str) and values == list(np.atleast_1d(expected)), key
             else:
                 assert isinstance(value, str) and value == str(expected), key
         assert a["ring.width"] == 1.004e-3 and a["operating.speed_rpm"] == 4000.0

@@ -1,0 +1,276 @@
+!> The ring on a distorted bore (SPEC section 15): a film per sector of the circumference,
+!> coupled through the ring's bending and its rigid-body modes.
+!>
+!> At a crank step the ring's mean position c is found by the load balance (ringlube_
+!> load_balance, the round bore's root finder on c); for each trial c, `ring_evaluate` solves
+!> the sectors' films together with the centre's translation (x_c, y_c):
+!>
+!>   h0_j = c - x_c cos(theta_j) - y_c sin(theta_j) + D_j + [C (W - mean W)]_j,
+!>   sum_j (W_j - mean W) cos(theta_j) = sum_j (W_j - mean W) sin(theta_j) = 0,
+!>
+!> W_j the load per unit circumference the film of sector j carries at h0_j (hydrodynamic +
+!> asperity), D_j the bore's distortion there, C the ring's compliance on the sectors
+!> (ringlube_bore: the orders 2..M/2 of the load bend the ring; -C [W] is its deflection), and
+!> returns the mean load: the load balance then sets mean W = (p_e + p_back) b. The M + 2
+!> unknowns (ln h0_j, x_c, y_c) are found by Newton's method with a dense LAPACK solve; each
+!> sector's dW_j/dh0_j is a secant kept from its last two films (a film's load depends on its
+!> own h0 only, so the Jacobian is exact up to these slopes). With zero distortion every
+!> sector's film is the round bore's and the first trial already satisfies the equations:
+!> the ring's answer is the round bore's bit for bit (means are taken as w_1 + mean(w - w_1),
+!> exact for equal values). The sectors' films are independent within an iteration and are
+!> solved in parallel threads (OpenMP, `&numerics threads`).
+module ringlube_sectors
+  use ringlube_kinds, only: dp
+  use ringlube_case, only: case_type
+  use ringlube_film, only: film_type, film_evaluate
+  use ringlube_bore, only: bore_type, bore_setup
+  use ringlube_results, only: flag_sectors
+  implicit none
+  private
+  public :: sector_ring, ring_setup, ring_evaluate, ring_accept, exact_mean, ring_loads
+
+  !> Newton iterations of the sectors at one trial at most
+  integer, parameter :: max_inner = 40
+  !> largest change of a sector's ln h0 per Newton step
+  real(dp), parameter :: max_dlog = 0.5_dp
+
+  !> The sectors' films and what the next trial and step start from.
+  type :: sector_ring
+    type(bore_type) :: bore
+    !> the films of the sectors (each its own state: content, warm starts)
+    type(film_type), allocatable :: films(:)
+    !> h0_j of the last evaluation [m]; the last three accepted steps' (3, M), most recent first
+    real(dp), allocatable :: h(:), hist(:, :)
+    !> the distortion at the step's position [m]
+    real(dp), allocatable :: d(:)
+    !> load per unit circumference of each sector at the last evaluation [N/m], its slope
+    !> dW_j/dh0_j [N/m per m] (0: not known yet), and the deflection term C (W - mean W) [m]
+    real(dp), allocatable :: w(:), slope(:), u(:)
+    !> the centre's translation [m] and the mean position of the last evaluation (0: none)
+    real(dp) :: xc = 0.0_dp, yc = 0.0_dp, c_last = 0.0_dp
+    !> Newton iterations over the run, and trials whose sectors missed the tolerance
+    integer :: iterations = 0, missed = 0
+  end type sector_ring
+
+contains
+
+  !> The ring of case c whose every sector starts from the film f (set up, at h0_start).
+  subroutine ring_setup(c, f, h0_start, ring)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(in) :: f
+    real(dp), intent(in) :: h0_start
+    type(sector_ring), intent(out) :: ring
+    integer :: m, j
+    call bore_setup(c, ring%bore)
+    m = ring%bore%m
+    allocate (ring%films(m), ring%h(m), ring%hist(3, m), ring%d(m), ring%w(m), ring%slope(m), &
+              ring%u(m))
+    do j = 1, m
+      ring%films(j) = f
+      ring%films(j)%gas_channel = .true.
+    end do
+    ring%h = h0_start
+    ring%hist = h0_start
+    ring%d = 0.0_dp
+    ring%w = 0.0_dp
+    ring%slope = 0.0_dp
+    ring%u = 0.0_dp
+  end subroutine ring_setup
+
+  !> The mean of x, w_1 + mean(x - x_1): exactly x_1 when every value equals it.
+  pure real(dp) function exact_mean(x) result(m)
+    real(dp), intent(in) :: x(:)
+    m = x(1) + sum(x - x(1)) / size(x)
+  end function exact_mean
+
+  !> Solve the sectors for the trial mean position cc (see the module's description) and
+  !> leave the films solved there; g is the ring's summary film: its edge state (leading
+  !> edge, gas pressures) is given to every sector, and it receives the trial's h0 (cc), the
+  !> mean loads (as a whole ring: N), the union of the sectors' flags and their solve counts.
+  !> sq_a: the squeeze term's scheme (1: Euler, 1.5: BDF2, on each sector's own history); dt
+  !> the step [s]; u the sliding speed, p_chamber the chamber edge's pressure, load [N] the
+  !> applied load (as a whole ring), floor and ceiling the bounds of every h0_j.
+  subroutine ring_evaluate(c, ring, g, cc, sq_a, dt, u, p_chamber, load, floor, ceiling)
+    type(case_type), intent(in) :: c
+    type(sector_ring), intent(inout) :: ring
+    type(film_type), intent(inout) :: g
+    real(dp), intent(in) :: cc, sq_a, dt, u, p_chamber, load, floor, ceiling
+    integer :: m, it, j, info, nfs, nrs, ls
+    real(dp) :: q, tol_f, t, merit, merit_new, w_tol
+    real(dp), allocatable :: r(:), a(:, :), b(:), h_old(:), w_old(:), xc_old(:), dy(:)
+    integer, allocatable :: ipiv(:)
+    logical :: done
+
+    m = ring%bore%m
+    allocate (r(m + 2), a(m + 2, m + 2), b(m + 2), h_old(m), w_old(m), xc_old(2), dy(m), &
+              ipiv(m + 2))
+    nfs = sum(ring%films%film_solves)
+    nrs = sum(ring%films%reynolds_solves)
+    do j = 1, m
+      ring%films(j)%lead_left = g%lead_left
+      ring%films(j)%p_back = g%p_back
+      ring%films(j)%p_lower = g%p_lower
+    end do
+    ! the films' load tolerance (as the round film's), the load per unit circumference the
+    ! balance asks for, and the first harmonic's tolerance
+    w_tol = c%load_tol * max(load, 1e-3_dp)
+    q = max(load, 1e-3_dp) / g%circ
+    tol_f = 0.5_dp * m * q * c%load_tol
+    ! first trial: the centre and the deflection of the last evaluation; where that puts a
+    ! sector below the floor (a trial far below the last), the last sectors scaled to cc
+    h_old = cc - ring%xc * ring%bore%cos1 - ring%yc * ring%bore%sin1 + ring%d + ring%u
+    if (any(h_old < floor) .and. ring%c_last > 0.0_dp) then
+      ring%h = min(max(ring%h * (cc / ring%c_last), floor), ceiling)
+      ring%xc = ring%xc * (cc / ring%c_last)
+      ring%yc = ring%yc * (cc / ring%c_last)
+    else
+      ring%h = min(max(h_old, floor), ceiling)
+    end if
+    ring%c_last = cc
+    call solve_films()
+    call residuals(r, merit, done)
+    do it = 1, max_inner
+      if (done) exit
+      ring%iterations = ring%iterations + 1
+      call jacobian()
+      b = -r
+      call dgesv(m + 2, 1, a, m + 2, ipiv, b, m + 2, info)
+      if (info /= 0) exit
+      dy = b(1:m)
+      t = min(1.0_dp, max_dlog / max(maxval(abs(dy)), tiny(1.0_dp)))
+      h_old = ring%h
+      w_old = ring%w
+      xc_old = [ring%xc, ring%yc]
+      do ls = 1, 4
+        ring%h = min(max(h_old * exp(t * dy), floor), ceiling)
+        ring%xc = xc_old(1) + t * b(m + 1)
+        ring%yc = xc_old(2) + t * b(m + 2)
+        call solve_films()
+        call residuals(r, merit_new, done)
+        if (done .or. merit_new < merit) exit
+        t = 0.5_dp * t
+      end do
+      merit = merit_new
+      ! the secant of each sector's load against its h0 (kept where it is not a descent)
+      ! (from a change of load well above a film's own noise, its load tolerance; a smaller
+      ! change over a step in h0 bounds the slope's size: an open face's load hardly depends
+      ! on its h0)
+      do j = 1, m
+        if (ring%h(j) == h_old(j)) cycle
+        if (abs(ring%w(j) - w_old(j)) > w_tol / g%circ) then
+          if ((ring%w(j) - w_old(j)) / (ring%h(j) - h_old(j)) < 0.0_dp) &
+            ring%slope(j) = (ring%w(j) - w_old(j)) / (ring%h(j) - h_old(j))
+        else
+          ring%slope(j) = -min(abs(ring%slope(j)), w_tol / g%circ / abs(ring%h(j) - h_old(j)))
+        end if
+      end do
+    end do
+    if (.not. done) ring%missed = ring%missed + 1
+    g%h0 = cc
+    g%wh = exact_mean(ring%films%wh)
+    g%wa = exact_mean(ring%films%wa)
+    g%aa = exact_mean(ring%films%aa)
+    g%flags = 0
+    do j = 1, m
+      g%flags = ior(g%flags, ring%films(j)%flags)
+    end do
+    if (.not. done) g%flags = ior(g%flags, flag_sectors)
+    g%film_solves = g%film_solves + sum(ring%films%film_solves) - nfs
+    g%reynolds_solves = g%reynolds_solves + sum(ring%films%reynolds_solves) - nrs
+
+  contains
+
+    !> Every sector's film at its h0 (its own squeeze term), the loads W_j and the deflection.
+    subroutine solve_films()
+      integer :: jj
+      real(dp) :: sq, sq_b
+      !$omp parallel do private(jj, sq, sq_b) schedule(static) if (c%threads > 1) &
+      !$omp num_threads(c%threads)
+      do jj = 1, m
+        sq = 0.0_dp
+        if (c%squeeze) then
+          if (sq_a == 1.0_dp) then
+            sq_b = ring%hist(1, jj)
+          else
+            sq_b = 2.0_dp * ring%hist(1, jj) - 0.5_dp * ring%hist(2, jj)
+          end if
+          sq = 2.0_dp * (sq_a * ring%h(jj) - sq_b) / dt
+        end if
+        call film_evaluate(c, ring%films(jj), ring%h(jj), sq, u, p_chamber, w_tol)
+      end do
+      !$omp end parallel do
+      ring%w = (ring%films%wh + ring%films%wa) / g%circ
+      call deflection()
+      ! a first slope: the hydrodynamic film's W ~ 1/h0^2 (the secants refine it)
+      where (ring%slope >= 0.0_dp) ring%slope = -2.0_dp * max(ring%w, q) / ring%h
+    end subroutine solve_films
+
+    !> u = C (W - mean W) (exactly 0 for equal loads).
+    subroutine deflection()
+      real(dp) :: wm
+      wm = exact_mean(ring%w)
+      ring%u = matmul(ring%bore%cmat, ring%w - wm)
+    end subroutine deflection
+
+    !> The residuals: the sectors' positions h0_j - (c - x_c cos - y_c sin + D + u)_j (m)
+    !> and the first harmonics of the load (N/m); mx the largest of them against its
+    !> tolerance, ok when all are within it. The positions' orders 2..M/2 are measured as the
+    !> load that would bend the ring by them (C^+ R): for a ring far more compliant than the
+    !> film (order 2) a position error of a nanometre is a negligible load, for a stiff order a
+    !> large one, and the load tolerance is load_tol q, as the balance's. Their orders 0 and 1
+    !> (no elastic load) are positions, within 0.1 load_tol of the mean position.
+    subroutine residuals(res, mx, ok)
+      real(dp), intent(out) :: res(:), mx
+      logical, intent(out) :: ok
+      real(dp) :: wm, fx, fy, rl(m), rg(m), tol_g
+      wm = exact_mean(ring%w)
+      res(1:m) = ring%h - (cc - ring%xc * ring%bore%cos1 - ring%yc * ring%bore%sin1 + ring%d &
+                           + ring%u)
+      ! (a sector held at a bound that its position lies beyond has no residual)
+where ((ring%h >= ceiling .and. res(1:m) < 0.0_dp) .or. (ring%h <= floor .and. res(1:m) > 0.0_dp)) &
+        res(1:m) = 0.0_dp
+      fx = sum((ring%w - wm) * ring%bore%cos1)
+      fy = sum((ring%w - wm) * ring%bore%sin1)
+      res(m + 1) = fx / (m * q)
+      res(m + 2) = fy / (m * q)
+      rl = matmul(ring%bore%cinv, res(1:m))
+      rg = matmul(ring%bore%p01, res(1:m))
+      tol_g = 0.1_dp * c%load_tol * cc
+      mx = max(maxval(abs(rl)) / (c%load_tol * q), maxval(abs(rg)) / tol_g, &
+               max(abs(fx), abs(fy)) / tol_f)
+      ok = mx <= 1.0_dp
+    end subroutine residuals
+
+    !> The Jacobian of the residuals with respect to (ln h0_j, x_c, y_c).
+    subroutine jacobian()
+      integer :: l
+      real(dp) :: gl
+      a = 0.0_dp
+      do l = 1, m
+        gl = ring%slope(l) * ring%h(l)
+        a(1:m, l) = -ring%bore%cmat(:, l) * gl
+        a(l, l) = a(l, l) + ring%h(l)
+        a(m + 1, l) = gl * ring%bore%cos1(l) / (m * q)
+        a(m + 2, l) = gl * ring%bore%sin1(l) / (m * q)
+      end do
+      a(1:m, m + 1) = ring%bore%cos1
+      a(1:m, m + 2) = ring%bore%sin1
+    end subroutine jacobian
+  end subroutine ring_evaluate
+
+  !> The step is accepted at the ring's last evaluation: its h0_j enter the history.
+  pure subroutine ring_accept(ring)
+    type(sector_ring), intent(inout) :: ring
+    ring%hist(3, :) = ring%hist(2, :)
+    ring%hist(2, :) = ring%hist(1, :)
+    ring%hist(1, :) = ring%h
+  end subroutine ring_accept
+
+  !> Loads per unit circumference of the sectors' films [N/m].
+  pure function ring_loads(ring, circ) result(w)
+    type(sector_ring), intent(in) :: ring
+    real(dp), intent(in) :: circ
+    real(dp) :: w(size(ring%films))
+    w = (ring%films%wh + ring%films%wa) / circ
+  end function ring_loads
+end module ringlube_sectors

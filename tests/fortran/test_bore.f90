@@ -1,0 +1,229 @@
+!> The ring on a distorted bore (docs/bore.md): zero distortion gives the round bore's answer
+!> bit for bit with every film model; orders 0 and 1 only move the ring as a rigid body; a
+!> dry ring conforms to a single order exactly up to the classical limit; the sector solve's
+!> residuals close; the faces pass gas only where a light gap opens, more with a larger
+!> distortion and less with more tension, and the ring pack's gas still balances.
+program test_bore
+  use ringlube_kinds, only: dp, pi
+  use ringlube_error, only: error_type
+  use ringlube_case, only: case_type, default_case, elastic_pressure
+  use ringlube_deck, only: finish_case
+  use ringlube_cycle, only: solve_cycle
+  use ringlube_cycle_state, only: cycle_state, step_out, cycle_setup, advance
+  use ringlube_bore, only: ring_compliance
+  use ringlube_results, only: result_type, is_true, s_h0, s_friction, s_power_loss, &
+                              s_load_residual, si_flags, sc_energy_loss, sc_converged, &
+                              sc_face_leakage, sc_gas_balance_error, sc_light_gap_share, &
+                              sec_h0, sec_load, flag_sectors, flag_ceiling
+  use ringlube_check
+  implicit none
+
+  if (run_case('zero_distortion_is_round')) call zero_distortion_is_round()
+  if (run_case('rigid_body_orders')) call rigid_body_orders()
+  if (run_case('dry_conformability_limit')) call dry_conformability_limit()
+  if (run_case('sector_residuals_close')) call sector_residuals_close()
+  if (run_case('face_leakage')) call face_leakage()
+  call report('test_bore')
+
+contains
+
+  !> The cold deck's ring at a coarse resolution, tension read in N (the physical reading).
+  function base_case() result(c)
+    type(case_type) :: c
+    c = default_case()
+    c%nodes = 31
+    c%dpsi_deg = 2.0_dp
+    c%pressure_file = 'inputs/pressure/crf450r_4000rpm_full.csv'
+  end function base_case
+
+  !> c with a distorted bore of one order k of amplitude a [m] on m sectors.
+  function distorted(c0, k, a, m) result(c)
+    type(case_type), intent(in) :: c0
+    integer, intent(in) :: k, m
+    real(dp), intent(in) :: a
+    type(case_type) :: c
+    c = c0
+    c%bore = 'distorted'
+    c%bore_order = [k]
+    c%bore_amplitude = [a]
+    c%bore_phase = [real(dp) ::]
+    c%sectors = m
+  end function distorted
+
+  subroutine solve(c, res, what)
+    type(case_type), intent(inout) :: c
+    type(result_type), intent(out) :: res
+    character(len=*), intent(in) :: what
+    type(error_type), allocatable :: err
+    call finish_case(c, err)
+    if (allocated(err)) write (*, '(a)') err%message
+    call check(.not. allocated(err), what//': case accepted')
+    if (allocated(err)) call report('test_bore')
+    call solve_cycle(c, res, err)
+    if (allocated(err)) write (*, '(a)') err%message
+    call check(.not. allocated(err), what//': solved')
+    if (allocated(err)) call report('test_bore')
+  end subroutine solve
+
+  !> Every film model: a distorted bore of zero amplitude is the round bore, bit for bit (the
+  !> sectors' films are the round film and the first trial of every step satisfies the
+  !> sector equations exactly).
+  subroutine zero_distortion_is_round()
+    character(len=*), parameter :: names(5) = [character(len=24) :: 'swift_stieber', &
+                                                 'jfo flooded', 'jfo trailing_gas', 'jfo starved', &
+                                                                            'jfo starved ring pack']
+    type(case_type) :: c, cd
+    type(result_type) :: r, rd
+    integer :: i
+    do i = 1, size(names)
+      c = base_case()
+      if (i >= 2) c%cavitation = 'jfo'
+      if (i == 3) c%cavity_pressure = 'trailing_gas'
+      if (i >= 4) c%inlet = 'starved'
+      if (i == 5) c%ring_pack = 'gas'
+      cd = distorted(c, 3, 0.0_dp, 8)
+      call solve(c, r, trim(names(i))//' round')
+      call solve(cd, rd, trim(names(i))//' distorted, zero amplitude')
+      call check(r%scalars(sc_energy_loss) == rd%scalars(sc_energy_loss), &
+                 trim(names(i))//': the same energy bit for bit')
+      call check(all(r%series(:, s_h0) == rd%series(:, s_h0)) .and. &
+                 all(r%series(:, s_friction) == rd%series(:, s_friction)), &
+                 trim(names(i))//': the same h0 and friction at every step')
+      call check(all(rd%sectors(:, :, sec_h0) == spread(r%series(:, s_h0), 2, 8)), &
+                 trim(names(i))//': every sector at the round h0')
+    end do
+  end subroutine zero_distortion_is_round
+
+  !> An order-0 distortion (a larger bore) moves the mean position only: the round bore's
+  !> answer bit for bit. An order-1 distortion (an offset bore) moves the centre: every
+  !> sector's film is the round one's to the sector solve's tolerance (its first harmonic of
+  !> the load within load_tol q: with a film stiffness |dln W/dln h0| >= 1 the sectors' h0
+  !> differ by at most 2 load_tol), the energy within 2 load_tol.
+  subroutine rigid_body_orders()
+    type(case_type) :: c, cd
+    type(result_type) :: r, rd
+    real(dp) :: spread_h
+    c = base_case()
+    call solve(c, r, 'round')
+    cd = distorted(c, 0, 15e-6_dp, 8)
+    call solve(cd, rd, 'order 0')
+    call check(r%scalars(sc_energy_loss) == rd%scalars(sc_energy_loss) .and. &
+              all(r%series(:, s_h0) == rd%series(:, s_h0)), 'order 0: the round answer bit for bit')
+    cd = distorted(c, 1, 15e-6_dp, 8)
+    call solve(cd, rd, 'order 1')
+    spread_h = maxval((maxval(rd%sectors(:, :, sec_h0), dim=2) &
+                       - minval(rd%sectors(:, :, sec_h0), dim=2)) / rd%series(:, s_h0))
+    write (*, '(a, es10.2, a, es10.2)') 'order 1: sectors'' h0 spread ', spread_h, &
+      ', energy vs round ', abs(rd%scalars(sc_energy_loss) / r%scalars(sc_energy_loss) - 1)
+    call check(spread_h <= 2.0_dp * c%load_tol, 'order 1: every sector at one h0 (2 load_tol)')
+    call check_close(rd%scalars(sc_energy_loss), r%scalars(sc_energy_loss), 2.0_dp * c%load_tol, &
+                     'order 1: the round energy within 2 load_tol')
+  end subroutine rigid_body_orders
+
+  !> A dry ring (no film: the slowest engine speed and the thinnest oil make the film's load
+  !> negligible; very smooth, stiff asperities make the contact nearly rigid) under its
+  !> elastic pressure alone follows a single order-k distortion fully up to A_k = q C_k, and
+  !> a light gap opens above it: at 0.95 of the limit every sector touches, at 1.05 some
+  !> sector carries less than 1 % of the mean load.
+  subroutine dry_conformability_limit()
+    type(case_type) :: c
+    type(error_type), allocatable :: err
+    integer :: k, i
+    real(dp) :: q, limit, factors(2)
+    integer :: light(2)
+    factors = [0.95_dp, 1.05_dp]
+    do k = 2, 4
+      do i = 1, 2
+        c = default_case()
+        c%nodes = 21
+        c%dpsi_deg = 2.0_dp
+        c%speed_rpm = 1.0_dp
+        c%eta0 = 1e-4_dp
+        c%beta = 0.0_dp
+        c%roelands = .false.
+        c%squeeze = .false.
+        c%crankcase_pressure = 0.0_dp
+        c%cavitation_pressure = 0.0_dp
+        c%pressure_file = ''
+        c%rq_liner = 1e-8_dp
+        c%rq_ring = 1e-8_dp
+        c%zeta_kappa_sigma = 1.0_dp
+        c%tension = 20.0_dp
+        c%h0_floor = 1e-12_dp
+        q = elastic_pressure(c) * c%width
+        limit = q * ring_compliance(c, k)
+        c = distorted(c, k, factors(i) * limit, 24)
+        call finish_case(c, err)
+        call check(.not. allocated(err), 'dry ring: case accepted')
+        light(i) = light_sectors(c)
+      end do
+      write (*, '(a, i0, a, es10.3, a, 2i4)') 'order ', k, ': limit ', limit, &
+        ' m; light sectors at 0.95 and 1.05 of it: ', light
+      call check(light(1) == 0, 'order '//achar(48 + k)//': the dry ring conforms at 0.95 '// &
+                 'of the limit')
+      call check(light(2) > 0, 'order '//achar(48 + k)//': a light gap opens at 1.05 of the limit')
+    end do
+  end subroutine dry_conformability_limit
+
+  !> Sectors whose load is below 1 % of the mean after one step at 90 deg.
+  integer function light_sectors(c) result(n)
+    type(case_type), intent(in) :: c
+    type(cycle_state) :: st
+    type(step_out) :: out
+    call cycle_setup(st, c, 1e-7_dp)
+    call advance(st, c, 90.0_dp, out)
+    call check(iand(out%flags, flag_sectors) == 0, 'dry ring: the sectors solved')
+    n = count(st%ring%w < 0.01_dp * out%lp%load / st%film%f%circ)
+  end function light_sectors
+
+  !> The sector solve closes to its tolerance at every step of a distorted deck (order 4
+  !> beyond its conformability limit, starved film): no step flagged, every load residual
+  !> within load_tol.
+  subroutine sector_residuals_close()
+    type(case_type) :: c
+    type(result_type) :: r
+    c = base_case()
+    c%cavitation = 'jfo'
+    c%inlet = 'starved'
+    c = distorted(c, 4, 10e-6_dp, 16)
+    call solve(c, r, 'order 4, 10 um, starved')
+    call check(all(iand(r%int_series(:, si_flags), flag_sectors) == 0), &
+               'no step with the sectors outside their tolerance')
+    call check(all(abs(r%series(:, s_load_residual)) <= c%load_tol), &
+               'the load balance within load_tol at every step')
+  end subroutine sector_residuals_close
+
+  !> The ring pack with a starved film on a bore of order 4: no gas through the faces of a
+  !> conforming ring (a full zone in every sector); above the limit the faces pass gas, more
+  !> with a larger amplitude and less with a higher tension; the ring pack's gas balances.
+  subroutine face_leakage()
+    type(case_type) :: c
+    type(result_type) :: r
+    real(dp) :: leak(3), leak_tense
+    integer :: i
+    real(dp), parameter :: amp(3) = [1e-6_dp, 15e-6_dp, 30e-6_dp]
+    do i = 1, 3
+      c = base_case()
+      c%cavitation = 'jfo'
+      c%inlet = 'starved'
+      c%ring_pack = 'gas'
+      c = distorted(c, 4, amp(i), 8)
+      call solve(c, r, 'face leakage')
+      leak(i) = r%scalars(sc_face_leakage)
+      call check(r%scalars(sc_gas_balance_error) <= 1e-8_dp, 'the gas balances with the face flow')
+    end do
+    c = base_case()
+    c%cavitation = 'jfo'
+    c%inlet = 'starved'
+    c%ring_pack = 'gas'
+    c%tension = 3.0_dp * c%tension
+    c = distorted(c, 4, amp(3), 8)
+    call solve(c, r, 'face leakage, tension x 3')
+    leak_tense = r%scalars(sc_face_leakage)
+    write (*, '(a, 3es11.3, a, es11.3)') 'face leakage [mg/cycle] at 1, 15, 30 um: ', leak, &
+      '; 30 um, tension x 3: ', leak_tense
+    call check(leak(1) == 0.0_dp, 'a conforming ring passes no gas through its faces')
+    call check(leak(2) > leak(1) .and. leak(3) > leak(2), 'face leakage rises with the amplitude')
+    call check(leak_tense < leak(3), 'face leakage falls with the tension')
+  end subroutine face_leakage
+end program test_bore
