@@ -13,7 +13,7 @@
 program bench_jfo
   use ringlube_kinds, only: dp, pi
   use ringlube_jfo, only: jfo_solve
-  use ringlube_reynolds, only: reynolds_solve
+  use ringlube_reynolds, only: reynolds_solve, reynolds_problem
   use jfo_reference, only: elrod_solve
   implicit none
   integer, parameter :: sizes(2) = [51, 201]
@@ -90,8 +90,9 @@ contains
       swsum = swsum + sw
       swmax = max(swmax, sw)
       call system_clock(c0)
-      call reynolds_solve(dx, 2 * kmid, hmid, u, 2 * (h(1) - hold(1)) / dt, 3e5_dp, 1e5_dp, &
-                          0.5e5_dp, ps, active, it, info)
+      call reynolds_solve(reynolds_problem(dx=dx, u=u, sq=2 * (h(1) - hold(1)) / dt, &
+                                           p_left=3e5_dp, p_right=1e5_dp, p_cav=0.5e5_dp), &
+                          2 * kmid, hmid, ps, active, it, info)
       call system_clock(c1)
       ts = ts + real(c1 - c0, dp) / rate
       ssum = ssum + it

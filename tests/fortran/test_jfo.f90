@@ -13,7 +13,7 @@ program test_jfo
   use ringlube_kinds, only: dp, pi
   use ringlube_jfo
   use ringlube_jfo_connect
-  use ringlube_reynolds, only: reynolds_solve
+  use ringlube_reynolds, only: reynolds_solve, reynolds_problem
   use jfo_reference, only: elrod_solve
   use ringlube_check
   use squeeze_exact
@@ -62,7 +62,8 @@ contains
       call check_close(ql, qr, 1e-10_dp, 'flooded slider: steady, q_left = q_right')
       ! Swift-Stieber on the same grid (K = h^3/(6 eta))
       active = .false.
-      call reynolds_solve(dx, 2 * kmid, hmid, 10.0_dp, 0.0_dp, 0.0_dp, 2e5_dp, 0.0_dp, pss, &
+      call reynolds_solve(reynolds_problem(dx=dx, u=10.0_dp, sq=0.0_dp, p_left=0.0_dp, &
+                                           p_right=2e5_dp, p_cav=0.0_dp), 2 * kmid, hmid, pss, &
                           active, its, info)
       dss(k) = maxval(abs(p - pss)) / maxval(pe)
       ! warm start from the solution, slightly perturbed step: 1 iteration
