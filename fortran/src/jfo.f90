@@ -33,11 +33,11 @@ module ringlube_jfo
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_kinds, only: dp
   use ringlube_tridiag, only: thomas
-  use ringlube_jfo_system, only: jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel, &
-                                 jfo_scratch, jfo_scratch_size
+  use ringlube_jfo_system, only: jfo_problem, jfo_system, jfo_system_setup, jfo_residual, &
+                                 jfo_gauss_seidel, jfo_scratch, jfo_scratch_size
   implicit none
   private
-  public :: jfo_solve, jfo_film_volume, jfo_options
+  public :: jfo_solve, jfo_film_volume, jfo_options, jfo_problem, jfo_stats
   public :: JFO_OK, JFO_NOT_CONVERGED, JFO_SINGULAR, JFO_DRY, JFO_CONNECTIVITY, JFO_BAD_INPUT
 
   !> info codes of jfo_solve / jfo_solve_connected
@@ -96,61 +96,70 @@ module ringlube_jfo
   !> is taken back. It changes the start, not the answer (the fine solve's tolerance decides).
   integer, parameter :: walk_steps = 3, coarse_min = 65, max_coarse = 3
 
+  !> What a solve reports (jfo_solve; jfo_solve_connected sums over its solves).
+  type :: jfo_stats
+    !> Newton iterations (newton = .false.: Gauss-Seidel sweeps), summed over the solves
+    integer :: iterations = 0
+    !> JFO_OK, or the code of what went wrong (JFO_NOT_CONVERGED ... JFO_BAD_INPUT)
+    integer :: info = JFO_OK
+    !> Gauss-Seidel sweeps of the fallback, summed over the solves
+    integer :: sweeps = 0
+    !> jfo_solve_connected: the solves of its outer loop (0 from jfo_solve)
+    integer :: outer = 0
+    !> oil flux [m^2/s, positive towards +x] through the first and last interior faces, so that
+    !> `jfo_film_volume` after - before = dt (q_left - q_right) to the tolerance
+    real(dp) :: q_left = 0.0_dp, q_right = 0.0_dp
+    !> jfo_solve_connected: the face is partly filled across its width at a gas pressure above
+    !> the leading edge's (see there)
+    logical :: blown = .false.
+  end type jfo_stats
+
 contains
 
   !> One time step (or a steady state) of the mass-conserving film.
   !>
-  !> dx node spacing; h(n) gap at the nodes; hmid(n-1), kmid(n-1) = hmid^3/(12 eta) at the faces;
-  !> u sliding speed (content moves at -u/2); dt > 0 backward Euler step on the content, dt <= 0
-  !> a steady solve; content_old(n) theta h at the previous step (nodes 2..n-1 used);
-  !> p_left, p_right edge pressures; theta_left, theta_right the fill of whatever enters through
-  !> that edge (by Couette transport at the inflow edge, or pushed in by pressure at either edge:
-  !> 1 = oil, 0 = gas only); pc(n) cavity pressure per node (nodes 2..n-1 used).
+  !> problem (jfo_problem): the step's scalars: node spacing, sliding speed, time step (dt > 0
+  !> backward Euler on the content, dt <= 0 a steady solve), the edge pressures and the fills
+  !> of what enters through each edge, and the caps on the oil entering through the edge faces
+  !> (the oil there: a starved inlet's strip and bank, the liner film behind a trailing edge):
+  !> `F_in = min(F_in, cap)`, a kink like the others of the residual; beyond it the edge admits
+  !> gas. Both edges are treated alike, whichever leads; the Newton solve and the Gauss-Seidel
+  !> fallback apply the same caps. (p_cav, trailing_gas and leading_gas are
+  !> jfo_solve_connected's.)
+  !> h(n) gap at the nodes; hmid(n-1), kmid(n-1) = hmid^3/(12 eta) at the faces;
+  !> content_old(n) theta h at the previous step (nodes 2..n-1 used); pc(n) cavity pressure per
+  !> node (nodes 2..n-1 used).
   !> p, theta (in/out): warm start in, solution out. Edge values out: p(1) = p_left,
   !> p(n) = p_right, theta(1) = theta_left, theta(n) = theta_right.
-  !> q_left, q_right: oil flux (m^2/s, positive towards +x) through the first and last interior
-  !> faces, so that `jfo_film_volume` after - before = dt (q_left - q_right) to the tolerance.
-  !> options (jfo_options): tolerance, iteration cap, guard, Newton or the fallback alone;
-  !> sweeps (out): Gauss-Seidel sweeps spent.
-  !> cap_left, cap_right (m^2/s, default none): the oil entering the gap through the left
-  !> (right) edge face is at most this (the oil there: a starved inlet's strip and bank, the
-  !> liner film behind a trailing edge): `F_in = min(F_in, cap)`, a kink like the others of
-  !> the residual; beyond it the edge admits gas. Both edges are treated alike, whichever
-  !> leads; the Newton solve and the Gauss-Seidel fallback apply the same caps.
+  !> stats (jfo_stats, out): iterations, info, Gauss-Seidel sweeps and the edge fluxes.
+  !> options (jfo_options): tolerance, iteration cap, guard, Newton or the fallback alone.
   !> work (jfo_system), scratch (jfo_scratch): the step's system and working arrays, kept by a
   !> caller between solves (else local ones).
-  pure recursive subroutine jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
-                                      theta_left, theta_right, pc, p, theta, iterations, info, &
-                                      q_left, q_right, options, sweeps, &
-                                      cap_left, cap_right, work, scratch)
-    real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
-    real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, pc(:)
+  pure recursive subroutine jfo_solve(problem, h, hmid, kmid, content_old, pc, p, theta, stats, &
+                                      options, work, scratch)
+    type(jfo_problem), intent(in) :: problem
+    real(dp), intent(in) :: h(:), hmid(:), kmid(:), content_old(:), pc(:)
     real(dp), intent(inout) :: p(:), theta(:)
-    integer, intent(out) :: iterations, info
-    real(dp), intent(out), optional :: q_left, q_right
+    type(jfo_stats), intent(out) :: stats
     type(jfo_options), intent(in), optional :: options
-    integer, intent(out), optional :: sweeps
-    real(dp), intent(in), optional :: cap_left, cap_right
     type(jfo_system), intent(inout), optional :: work
     type(jfo_scratch), intent(inout), optional :: scratch
     type(jfo_system) :: local
     type(jfo_scratch) :: local_scratch
-    real(dp) :: rtol, f0, ft, fbest, fpre, t, rscale, rmax, fhist(nonmonotone), qcl, qcr
+    real(dp) :: rtol, f0, ft, fbest, fpre, t, rscale, rmax, fhist(nonmonotone)
     integer :: n, i, it, itmax, tinfo, nls, nsweep, stall, nfall, nsw, walk, ncoarse
     integer :: nsweep_pre, nfall_pre, nsweep_back
     logical :: use_guard, use_newton, accepted, jac_ok, restarted
     type(jfo_options) :: opt
 
     if (.not. present(work)) then
-      call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
-                     theta_right, pc, p, theta, iterations, info, q_left, q_right, options, &
-                     sweeps, cap_left, cap_right, local, scratch)
+      call jfo_solve(problem, h, hmid, kmid, content_old, pc, p, theta, stats, options, local, &
+                     scratch)
       return
     end if
     if (.not. present(scratch)) then
-      call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
-                     theta_right, pc, p, theta, iterations, info, q_left, q_right, options, &
-                     sweeps, cap_left, cap_right, work, local_scratch)
+      call jfo_solve(problem, h, hmid, kmid, content_old, pc, p, theta, stats, options, work, &
+                     local_scratch)
       return
     end if
     n = size(h)
@@ -161,29 +170,20 @@ contains
                tn => scratch%a(:, 10), dfpl => scratch%a(:, 11), dfpr => scratch%a(:, 12), &
                dftl => scratch%a(:, 13), dftr => scratch%a(:, 14), jl => scratch%a(:, 15), &
                jd => scratch%a(:, 16), ju => scratch%a(:, 17), tw => scratch%a(:, 18))
-      iterations = 0
       nsweep = 0
-      if (present(sweeps)) sweeps = 0
-      if (present(q_left)) q_left = 0.0_dp
-      if (present(q_right)) q_right = 0.0_dp
       if (n < 3 .or. size(hmid) /= n - 1 .or. size(kmid) /= n - 1 .or. size(content_old) /= n &
-          .or. size(pc) /= n .or. size(p) /= n .or. size(theta) /= n .or. .not. (dx > 0.0_dp)) then
-        info = JFO_BAD_INPUT
+          .or. size(pc) /= n .or. size(p) /= n .or. size(theta) /= n &
+          .or. .not. (problem%dx > 0.0_dp)) then
+        stats%info = JFO_BAD_INPUT
         return
       end if
-      info = JFO_OK
       if (present(options)) opt = options
       rtol = opt%tol
       itmax = opt%max_iter
       use_guard = opt%guard
       use_newton = opt%newton
-      qcl = huge(1.0_dp)
-      if (present(cap_left)) qcl = max(cap_left, 0.0_dp)
-      qcr = huge(1.0_dp)
-      if (present(cap_right)) qcr = max(cap_right, 0.0_dp)
 
-      call jfo_system_setup(work, dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
-                            theta_left, theta_right, pc, qcl, qcr)
+      call jfo_system_setup(work, problem, h, hmid, kmid, content_old, pc)
 
       ! warm start: v = (p - pc)/ps on full nodes, theta - 1 on cavity nodes; not finite -> 0
       v = 0.0_dp
@@ -267,7 +267,7 @@ contains
           rmax = maxval(abs(r(2:n - 1)))
           if (rmax <= rtol * rscale) exit
         end if
-        iterations = it + 1
+        stats%iterations = it + 1
         if (.not. use_newton) then
           call jfo_gauss_seidel(work, v, 1, nsweep)
       call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
@@ -287,7 +287,7 @@ contains
           call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo, tw)
         end if
         if (tinfo /= 0 .and. .not. use_guard) then
-          info = JFO_SINGULAR
+          stats%info = JFO_SINGULAR
           exit
         end if
         accepted = .false.
@@ -361,7 +361,7 @@ contains
           vbest = v
         end if
       end do
-      if (use_newton .and. info == JFO_OK .and. maxval(abs(r(2:n - 1))) <= rtol * rscale &
+      if (use_newton .and. stats%info == JFO_OK .and. maxval(abs(r(2:n - 1))) <= rtol * rscale &
           .and. maxval(abs(r(2:n - 1))) > polish_tol * rscale) then
         ! within the tolerance but above round-off (a damped or Gauss-Seidel last step): one more
         ! Newton step on this piece, kept if it helps, so that the oil balance closes to round-off
@@ -376,14 +376,14 @@ contains
           if (sumsq(rt) < f0) then
             v = vt
             r = rt
-            iterations = iterations + 1
+            stats%iterations = stats%iterations + 1
           end if
         end if
       call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
       end if
-      if (present(sweeps)) sweeps = nsweep + nsweep_back
+      stats%sweeps = nsweep + nsweep_back
       if (maxval(abs(r(2:n - 1))) > rtol * rscale) then
-        if (info == JFO_OK) info = JFO_NOT_CONVERGED
+        if (stats%info == JFO_OK) stats%info = JFO_NOT_CONVERGED
         if (fbest < f0) then
           v = vbest
       call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
@@ -393,10 +393,10 @@ contains
       ! outputs (pn, tn, fl hold the state of the last residual evaluation, which is v's)
       p = pn
       theta = tn
-      if (info == JFO_OK .and. minval(theta(2:n - 1)) < -1e-12_dp) info = JFO_DRY
+      if (stats%info == JFO_OK .and. minval(theta(2:n - 1)) < -1e-12_dp) stats%info = JFO_DRY
       theta(2:n - 1) = min(max(theta(2:n - 1), 0.0_dp), 1.0_dp)
-      if (present(q_left)) q_left = fl(1)
-      if (present(q_right)) q_right = fl(n - 1)
+      stats%q_left = fl(1)
+      stats%q_right = fl(n - 1)
     end associate
 
   contains
@@ -414,10 +414,12 @@ contains
     !> (hat weights), the cavity pressure and the current state sampled.
     pure recursive subroutine coarse_start(v, pn, tn)
       real(dp), intent(inout) :: v(:), pn(:), tn(:)
-      integer :: k, nc, ic, i0, j, cit, cinfo
+      integer :: k, nc, ic, i0, j
       real(dp), allocatable :: hc(:), hmc(:), kmc(:), coc(:), pcc(:), ppc(:), thc(:)
       real(dp) :: wsum, wj, s
       type(jfo_options) :: copt
+      type(jfo_problem) :: coarse
+      type(jfo_stats) :: cstats
       k = coarse_factor(n)
       if (k == 0) return
       nc = (n - 1) / k + 1
@@ -450,8 +452,9 @@ contains
       end do
       copt = opt
       copt%coarse_from = coarse_min
-      call jfo_solve(dx * k, hc, hmc, kmc, u, dt, coc, p_left, p_right, theta_left, theta_right, &
-                     pcc, ppc, thc, cit, cinfo, options=copt, cap_left=qcl, cap_right=qcr)
+      coarse = problem
+      coarse%dx = problem%dx * k
+      call jfo_solve(coarse, hc, hmc, kmc, coc, pcc, ppc, thc, cstats, copt)
       do ic = 1, nc - 1
         i0 = 1 + (ic - 1) * k
         do j = 1, k
