@@ -114,6 +114,26 @@ module ringlube_jfo
     logical :: blown = .false.
   end type jfo_stats
 
+  !> Where one solve's iteration stands (jfo_solve): what its internal procedures change.
+  type :: solve_state
+    !> ||R||^2 at the state v, the last accepted values of it (the non-monotone rule) and the
+    !> scale of the residual's terms
+    real(dp) :: f0 = 0.0_dp, fhist(nonmonotone) = 0.0_dp, rscale = 0.0_dp
+    !> the scratch's evaluation holds the Jacobian at v
+    logical :: jac_ok = .false.
+    !> damped Newton steps since the last fallback or fresh start
+    integer :: stall = 0
+    !> Gauss-Seidel sweeps and fallbacks so far; sweeps spent in restarts taken back
+    integer :: nsweep = 0, nfall = 0, nsweep_back = 0
+    !> coarse restarts made (max_coarse: none left)
+    integer :: ncoarse = max_coarse
+    !> the last restart stands (not taken back), and the scratch's vpre, fpre, nsweep_pre,
+    !> nfall_pre are the state before it
+    logical :: restarted = .false.
+    real(dp) :: fpre = huge(1.0_dp)
+    integer :: nsweep_pre = 0, nfall_pre = 0
+  end type solve_state
+
 contains
 
   !> One time step (or a steady state) of the mass-conserving film.
@@ -146,10 +166,10 @@ contains
     type(jfo_scratch), intent(inout), optional :: scratch
     type(jfo_system) :: local
     type(jfo_scratch) :: local_scratch
-    real(dp) :: rtol, f0, ft, fbest, fpre, t, rscale, rmax, fhist(nonmonotone)
-    integer :: n, i, it, itmax, tinfo, nls, nsweep, stall, nfall, nsw, walk, ncoarse
-    integer :: nsweep_pre, nfall_pre, nsweep_back
-    logical :: use_guard, use_newton, accepted, jac_ok, restarted
+    type(solve_state) :: s
+    real(dp) :: rtol, ft, fbest, t, rmax
+    integer :: n, i, it, itmax, tinfo, nls, nsw, walk
+    logical :: use_guard, use_newton, accepted
     type(jfo_options) :: opt
 
     if (.not. present(work)) then
@@ -164,13 +184,10 @@ contains
     end if
     n = size(h)
     call jfo_scratch_size(scratch, n)
-    associate (v => scratch%a(:, 1), vt => scratch%a(:, 2), vpre => scratch%a(:, 3), &
-               vbest => scratch%a(:, 4), dv => scratch%a(:, 5), r => scratch%a(:, 6), &
-               rt => scratch%a(:, 7), fl => scratch%a(:, 8), pn => scratch%a(:, 9), &
-               tn => scratch%a(:, 10), dfpl => scratch%a(:, 11), dfpr => scratch%a(:, 12), &
-               dftl => scratch%a(:, 13), dftr => scratch%a(:, 14), jl => scratch%a(:, 15), &
-               jd => scratch%a(:, 16), ju => scratch%a(:, 17), tw => scratch%a(:, 18))
-      nsweep = 0
+    associate (v => scratch%v, vt => scratch%vt, vpre => scratch%vpre, vbest => scratch%vbest, &
+               dv => scratch%dv, r => scratch%r, rt => scratch%rt, tw => scratch%tw, &
+               pn => scratch%ev%pn, tn => scratch%ev%tn, fl => scratch%ev%fl, &
+               jl => scratch%ev%jl, jd => scratch%ev%jd, ju => scratch%ev%ju)
       if (n < 3 .or. size(hmid) /= n - 1 .or. size(kmid) /= n - 1 .or. size(content_old) /= n &
           .or. size(pc) /= n .or. size(p) /= n .or. size(theta) /= n &
           .or. .not. (problem%dx > 0.0_dp)) then
@@ -196,87 +213,63 @@ contains
         if (.not. ieee_is_finite(v(i))) v(i) = 0.0_dp
       end do
 
-      ! jac_ok: jl, jd, ju hold the Jacobian at v (the residual of an accepted step is evaluated
-      ! with it, so the next iteration need not evaluate the residual again)
-   call jfo_residual(work, v, r, rscale, use_newton, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-      if (.not. (ieee_is_finite(rscale) .and. ieee_is_finite(sum(abs(r(2:n - 1)))))) then
+      ! s%jac_ok: jl, jd, ju hold the Jacobian at v (the residual of an accepted step is
+      ! evaluated with it, so the next iteration need not evaluate the residual again)
+      call jfo_residual(work, v, r, s%rscale, use_newton, scratch%ev)
+      if (.not. (ieee_is_finite(s%rscale) .and. ieee_is_finite(sum(abs(r(2:n - 1)))))) then
         ! a warm start whose terms overflow (pressures near huge()) made the scale infinite, and
         ! Inf <= tol * Inf passed as converged: start from full film at the cavity pressure
         v = 0.0_dp
-   call jfo_residual(work, v, r, rscale, use_newton, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+        call jfo_residual(work, v, r, s%rscale, use_newton, scratch%ev)
       end if
-      jac_ok = use_newton
-      f0 = sumsq(r)
+      s%jac_ok = use_newton
+      s%f0 = sumsq(r)
       vbest = v
-      fbest = f0
-      fhist = f0
-      stall = 0
-      nfall = 0
+      fbest = s%f0
+      s%fhist = s%f0
       walk = 0
-      fpre = huge(1.0_dp)
-      ncoarse = max_coarse
       if (use_newton .and. opt%coarse .and. n >= max(opt%coarse_from, coarse_min) &
-          .and. coarse_factor(n) > 0) ncoarse = 0
-      ! restarted: the last restart stands (not taken back), and vpre, fpre are the state before it
-      restarted = .false.
-      nsweep_pre = 0
-      nfall_pre = 0
-      nsweep_back = 0
+          .and. coarse_factor(n) > 0) s%ncoarse = 0
       do it = 0, itmax
         rmax = maxval(abs(r(2:n - 1)))
-        if (rmax <= rtol * rscale .or. it == itmax) exit
-        if (walk >= walk_steps .and. (ncoarse < max_coarse .or. restarted)) then
+        if (rmax <= rtol * s%rscale .or. it == itmax) exit
+        if (walk >= walk_steps .and. (s%ncoarse < max_coarse .or. s%restarted)) then
           ! the boundaries walk a node or two per step: start again from the coarse grids'
           ! solution, which moves them a few coarse nodes per step. Where the coarse grids'
           ! cavities differ from the fine grid's, the walk resumes from a worse state: then the
           ! state before is taken back and the walk goes on from there (also after the last
           ! restart).
           walk = 0
-          if (restarted .and. f0 > fpre) then
-            v = vpre
-            ncoarse = max_coarse
-            restarted = .false.
-            nsweep_back = nsweep_back + nsweep - nsweep_pre
-            nsweep = nsweep_pre
-            nfall = nfall_pre
-       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-            jac_ok = .true.
-            f0 = sumsq(r)
-            fhist = f0
-            stall = 0
-          else if (ncoarse < max_coarse) then
-            ncoarse = ncoarse + 1
+          if (s%restarted .and. s%f0 > s%fpre) then
+            call take_back(s, scratch)
+          else if (s%ncoarse < max_coarse) then
+            s%ncoarse = s%ncoarse + 1
             vpre = v
-            fpre = f0
-            nsweep_pre = nsweep
-            nfall_pre = nfall
-            restarted = .true.
+            s%fpre = s%f0
+            s%nsweep_pre = s%nsweep
+            s%nfall_pre = s%nfall
+            s%restarted = .true.
             call coarse_start(v, pn, tn)
-       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-            jac_ok = .true.
-            f0 = sumsq(r)
-            fhist = f0
-            stall = 0
+            call fresh_start(s, scratch, .true.)
           else
-            restarted = .false.
+            s%restarted = .false.
           end if
-          if (f0 < fbest) then
-            fbest = f0
+          if (s%f0 < fbest) then
+            fbest = s%f0
             vbest = v
           end if
           rmax = maxval(abs(r(2:n - 1)))
-          if (rmax <= rtol * rscale) exit
+          if (rmax <= rtol * s%rscale) exit
         end if
         stats%iterations = it + 1
         if (.not. use_newton) then
-          call jfo_gauss_seidel(work, v, 1, nsweep)
-      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-          f0 = sumsq(r)
+          call jfo_gauss_seidel(work, v, 1, s%nsweep)
+          call jfo_residual(work, v, r, s%rscale, .false., scratch%ev)
+          s%f0 = sumsq(r)
           cycle
         end if
-        if (.not. jac_ok) &
-       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-        jac_ok = .false.
+        if (.not. s%jac_ok) call jfo_residual(work, v, r, s%rscale, .true., scratch%ev)
+        s%jac_ok = .false.
         dv(2:n - 1) = -r(2:n - 1)
         ! the M-matrix sign pattern holds by construction (upwinding); a violation (a degenerate
         ! zero diagonal) is treated like a zero pivot
@@ -300,10 +293,10 @@ contains
           t = 1.0_dp
           do nls = 0, 30
             vt = v + t * dv
-     call jfo_residual(work, vt, rt, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+            call jfo_residual(work, vt, rt, s%rscale, .true., scratch%ev)
             ft = sumsq(rt)
             if (.not. use_guard .or. it < free_steps &
-                .or. ft <= (1.0_dp - 1e-4_dp * t) * maxval(fhist)) then
+                .or. ft <= (1.0_dp - 1e-4_dp * t) * maxval(s%fhist)) then
               accepted = .true.
               exit
             end if
@@ -318,75 +311,62 @@ contains
             end if
             v = vt
             r = rt
-            jac_ok = .true.   ! the last evaluation was at vt
-            f0 = ft
-            fhist(mod(it, size(fhist)) + 1) = f0
-            if (nls > 0) stall = stall + 1
+            s%jac_ok = .true.   ! the last evaluation was at vt
+            s%f0 = ft
+            s%fhist(mod(it, size(s%fhist)) + 1) = s%f0
+            if (nls > 0) s%stall = s%stall + 1
           end if
         end if
-        if ((.not. accepted .or. stall >= 3) .and. restarted .and. f0 > fpre &
-            .and. nsweep >= gs_budget) then
+        if ((.not. accepted .or. s%stall >= 3) .and. s%restarted .and. s%f0 > s%fpre &
+            .and. s%nsweep >= gs_budget) then
           ! Newton stalls from a restart that has not yet improved on the state before it, and
           ! the sweeps' budget is spent: without a further walk the rule above would never take
           ! it back, and the solve would end at the iteration cap there. Take it back, with the
           ! sweeps spent since (taking a restart back at every stall above the state before it
           ! made the starved cold deck at 2001 nodes and 2 deg 4 times slower a run)
-          v = vpre
-          ncoarse = max_coarse
-          restarted = .false.
-          nsweep_back = nsweep_back + nsweep - nsweep_pre
-          nsweep = nsweep_pre
-          nfall = nfall_pre
-       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-          jac_ok = .true.
-          f0 = sumsq(r)
-          fhist = f0
-          stall = 0
-        else if (.not. accepted .or. stall >= 3) then
+          call take_back(s, scratch)
+        else if (.not. accepted .or. s%stall >= 3) then
           ! zero pivot, no descent, or repeated damping: Gauss-Seidel sweeps, then Newton again
           ! (each fallback sweeps twice as long as the previous one, at most 16 gs_sweeps, and
           ! gs_budget in all: where neither converges, as in a few extreme starved designs, a
           ! solve must still end at the iteration cap, flagged, after O(n) work)
-          if (nsweep < gs_budget) &
-       call jfo_gauss_seidel(work, v, min(gs_sweeps * 2**min(nfall, 4), gs_budget - nsweep), nsweep)
-          nfall = nfall + 1
-          jac_ok = .false.
-      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-          f0 = sumsq(r)
-          fhist = f0
-          stall = 0
+          if (s%nsweep < gs_budget) &
+            call jfo_gauss_seidel(work, v, min(gs_sweeps * 2**min(s%nfall, 4), &
+                                               gs_budget - s%nsweep), s%nsweep)
+          s%nfall = s%nfall + 1
+          call fresh_start(s, scratch, .false.)
         end if
-        if (f0 < fbest) then
-          fbest = f0
+        if (s%f0 < fbest) then
+          fbest = s%f0
           vbest = v
         end if
       end do
-      if (use_newton .and. stats%info == JFO_OK .and. maxval(abs(r(2:n - 1))) <= rtol * rscale &
-          .and. maxval(abs(r(2:n - 1))) > polish_tol * rscale) then
+      if (use_newton .and. stats%info == JFO_OK .and. maxval(abs(r(2:n - 1))) <= rtol * s%rscale &
+          .and. maxval(abs(r(2:n - 1))) > polish_tol * s%rscale) then
         ! within the tolerance but above round-off (a damped or Gauss-Seidel last step): one more
         ! Newton step on this piece, kept if it helps, so that the oil balance closes to round-off
-       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+        call jfo_residual(work, v, r, s%rscale, .true., scratch%ev)
         dv(2:n - 1) = -r(2:n - 1)
         call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo)
         if (tinfo == 0) then
           dv(2:n - 1) = vt(2:n - 1)
           vt = v
           vt(2:n - 1) = v(2:n - 1) + dv(2:n - 1)
-    call jfo_residual(work, vt, rt, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-          if (sumsq(rt) < f0) then
+          call jfo_residual(work, vt, rt, s%rscale, .false., scratch%ev)
+          if (sumsq(rt) < s%f0) then
             v = vt
             r = rt
             stats%iterations = stats%iterations + 1
           end if
         end if
-      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+        call jfo_residual(work, v, r, s%rscale, .false., scratch%ev)
       end if
-      stats%sweeps = nsweep + nsweep_back
-      if (maxval(abs(r(2:n - 1))) > rtol * rscale) then
+      stats%sweeps = s%nsweep + s%nsweep_back
+      if (maxval(abs(r(2:n - 1))) > rtol * s%rscale) then
         if (stats%info == JFO_OK) stats%info = JFO_NOT_CONVERGED
-        if (fbest < f0) then
+        if (fbest < s%f0) then
           v = vbest
-      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+          call jfo_residual(work, v, r, s%rscale, .false., scratch%ev)
         end if
       end if
 
@@ -405,6 +385,33 @@ contains
       real(dp), intent(in) :: x(:)
       sumsq = sum(x(2:n - 1)**2)
     end function sumsq
+
+    !> The residual at the state v (with jac also its Jacobian) as a fresh start of the merit:
+    !> f0 from it, the non-monotone history all f0, no damped steps counted.
+    pure subroutine fresh_start(s, sc, jac)
+      type(solve_state), intent(inout) :: s
+      type(jfo_scratch), intent(inout) :: sc
+      logical, intent(in) :: jac
+      call jfo_residual(work, sc%v, sc%r, s%rscale, jac, sc%ev)
+      s%jac_ok = jac
+      s%f0 = sumsq(sc%r)
+      s%fhist = s%f0
+      s%stall = 0
+    end subroutine fresh_start
+
+    !> Take the last coarse restart back: v the state before it with its counters, no further
+    !> restart; the sweeps spent since count in nsweep_back.
+    pure subroutine take_back(s, sc)
+      type(solve_state), intent(inout) :: s
+      type(jfo_scratch), intent(inout) :: sc
+      sc%v = sc%vpre
+      s%ncoarse = max_coarse
+      s%restarted = .false.
+      s%nsweep_back = s%nsweep_back + s%nsweep - s%nsweep_pre
+      s%nsweep = s%nsweep_pre
+      s%nfall = s%nfall_pre
+      call fresh_start(s, sc, .true.)
+    end subroutine take_back
 
     !> The coarse-grid predictor (see walk_steps): the step's system restricted to every k-th
     !> node (k the smallest of 4, 2, 3, 5 dividing n - 1; none: v unchanged), solved, and its

@@ -8,7 +8,7 @@ module ringlube_jfo_system
   implicit none
   private
   public :: jfo_problem, jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel, &
-            jfo_scratch, jfo_scratch_size
+            jfo_eval, jfo_scratch, jfo_scratch_size
 
   !> One step of the mass-conserving film: its scalars, the record jfo_solve and
   !> jfo_solve_connected take beside the film's arrays (the gap, the conductances, the content
@@ -48,12 +48,30 @@ module ringlube_jfo_system
     real(dp), allocatable :: ca(:), kd(:), ps(:), h(:), content_old(:), pc(:)
   end type jfo_system
 
-  !> jfo_solve's working arrays (n x n_scratch, allocated once for a film's n nodes and
-  !> kept, like jfo_system: no allocation per solve).
+  !> The residual's evaluation at a state v (jfo_residual), all per node or per face (n).
+  type :: jfo_eval
+    !> pressure and fill of each node
+    real(dp), allocatable :: pn(:), tn(:)
+    !> flux through each face f (nodes f, f+1)
+    real(dp), allocatable :: fl(:)
+    !> the flux's derivatives by the pressure (dfpl, dfpr) and the fill (dftl, dftr) of the
+    !> face's left and right node
+    real(dp), allocatable :: dfpl(:), dfpr(:), dftl(:), dftr(:)
+    !> the residual's Jacobian rows by v on the current piece: sub-, main and super-diagonal
+    real(dp), allocatable :: jl(:), jd(:), ju(:)
+  end type jfo_eval
+
+  !> jfo_solve's working arrays (allocated once for a film's n nodes and kept, like
+  !> jfo_system: no allocation per solve).
   type :: jfo_scratch
-    real(dp), allocatable :: a(:, :)
+    !> the state v, a trial state vt, the state before the last coarse restart vpre, the best
+    !> state vbest and the Newton step dv
+    real(dp), allocatable :: v(:), vt(:), vpre(:), vbest(:), dv(:)
+    !> the residuals at v and at vt, and the Thomas solve's work array
+    real(dp), allocatable :: r(:), rt(:), tw(:)
+    !> the residual's evaluation at the last state evaluated
+    type(jfo_eval) :: ev
   end type jfo_scratch
-  integer, parameter, public :: n_scratch = 18
 
 contains
 
@@ -61,11 +79,15 @@ contains
   pure subroutine jfo_scratch_size(s, n)
     type(jfo_scratch), intent(inout) :: s
     integer, intent(in) :: n
-    if (allocated(s%a)) then
-      if (size(s%a, 1) == n) return
-      deallocate (s%a)
+    if (allocated(s%v)) then
+      if (size(s%v) == n) return
+      deallocate (s%v, s%vt, s%vpre, s%vbest, s%dv, s%r, s%rt, s%tw)
+      deallocate (s%ev%pn, s%ev%tn, s%ev%fl, s%ev%dfpl, s%ev%dfpr, s%ev%dftl, s%ev%dftr, &
+                  s%ev%jl, s%ev%jd, s%ev%ju)
     end if
-    allocate (s%a(n, n_scratch))
+    allocate (s%v(n), s%vt(n), s%vpre(n), s%vbest(n), s%dv(n), s%r(n), s%rt(n), s%tw(n))
+    allocate (s%ev%pn(n), s%ev%tn(n), s%ev%fl(n), s%ev%dfpl(n), s%ev%dfpr(n), s%ev%dftl(n), &
+              s%ev%dftr(n), s%ev%jl(n), s%ev%jd(n), s%ev%ju(n))
   end subroutine jfo_scratch_size
 
   !> The discretised system of one jfo_solve call (arguments as jfo_solve; the caps clipped at
@@ -110,25 +132,27 @@ contains
     end associate
   end subroutine jfo_system_setup
 
-  !> Node states pn, tn from x, face fluxes fl, the residual of the interior finite volumes
-  !> and the scale of its terms; with jac also the Jacobian rows jl, jd, ju on this piece.
+  !> The residual res of the interior finite volumes at the state x and the scale of its
+  !> terms; in ev the node states pn, tn, the face fluxes fl and their derivatives, and with jac
+  !> also the Jacobian rows jl, jd, ju on this piece.
   !> Face f (nodes f, f+1): F = a theta_up hmid - g theta_P, g = kmid (p(f+1) - p(f))/dx, the
   !> Couette content upwind by the sign of a, the pressure-driven content upwind by the sign of g
   !> (full film: theta_P = 1; a cavity pushed out by a higher pressure carries oil fraction
   !> theta, the rest is gas).
-  pure subroutine jfo_residual(sys, x, res, scale, jac, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+  pure subroutine jfo_residual(sys, x, res, scale, jac, ev)
     type(jfo_system), intent(in) :: sys
     real(dp), intent(in) :: x(:)
     real(dp), intent(out) :: res(:), scale
     logical, intent(in) :: jac
-    real(dp), intent(inout) :: pn(:), tn(:), fl(:), dfpl(:), dfpr(:), dftl(:), dftr(:)
-    real(dp), intent(inout) :: jl(:), jd(:), ju(:)
+    type(jfo_eval), intent(inout) :: ev
     real(dp) :: g, tp, s
     integer :: j
-    associate (n => sys%n, a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, ps => sys%ps, h => sys%h, &
-               content_old => sys%content_old, p_left => sys%p_left, p_right => sys%p_right, &
-               theta_left => sys%theta_left, theta_right => sys%theta_right, qcl => sys%qcl, &
-               qcr => sys%qcr)
+    associate (n => sys%n, a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, ps => sys%ps, &
+               h => sys%h, content_old => sys%content_old, p_left => sys%p_left, &
+               p_right => sys%p_right, theta_left => sys%theta_left, &
+               theta_right => sys%theta_right, qcl => sys%qcl, qcr => sys%qcr, pn => ev%pn, &
+               tn => ev%tn, fl => ev%fl, dfpl => ev%dfpl, dfpr => ev%dfpr, dftl => ev%dftl, &
+               dftr => ev%dftr, jl => ev%jl, jd => ev%jd, ju => ev%ju)
       pn(1) = p_left
       pn(n) = p_right
       tn(1) = theta_left
