@@ -4,7 +4,26 @@ module ringlube_contact
   use ringlube_greenwood_tripp, only: f2_exact, f52_exact, f2_fit, f52_fit, gt_lambda_max
   implicit none
   private
-  public :: asperity_contact, asperity_pressure_scale
+  public :: asperity_contact, asperity_pressure_scale, contact_params
+
+  !> The asperity contact of a run (Greenwood-Tripp): the surfaces and the face, built once
+  !> per run from the case. All components but the switches must be given.
+  type :: contact_params
+    !> composite roughness sigma = sqrt(Rq_liner^2 + Rq_ring^2) [m]
+    real(dp) :: sigma
+    !> roughness parameter zeta kappa sigma [1]
+    real(dp) :: zeta_kappa_sigma
+    !> sigma / kappa [1]
+    real(dp) :: sigma_over_kappa
+    !> reduced modulus E' [Pa]
+    real(dp) :: e_reduced
+    !> the power-law fits of F_5/2 and F_2 (else the exact, tabulated integrals)
+    logical :: fit = .false.
+    !> lambda = h0/sigma over the whole face (else the local lambda(x) at the nodes)
+    logical :: lumped = .false.
+    !> width b of the ring face and the circumference it runs along [m]
+    real(dp) :: width, circumference
+  end type contact_params
 
 contains
 
@@ -17,28 +36,27 @@ contains
 
   !> Asperity load W_a [N] and real contact area A_a [m^2].
   !>
-  !> `local`: trapezoidal integral of the local lambda(x) = h(x)/sigma over the nodes
-  !> (spacing dx) times the circumference `circ`; `lumped`: lambda = h0/sigma over the
-  !> whole face b * circ. `fit` selects the power-law fits. Nodes with lambda beyond the
-  !> functions' range (F_n = 0) are skipped.
-  pure subroutine asperity_contact(h, h0, dx, width, circ, sigma, zks, sok, e_reduced, &
-                                   use_fit, lumped, wa, aa)
-    real(dp), intent(in) :: h(:), h0, dx, width, circ, sigma, zks, sok, e_reduced
-    logical, intent(in) :: use_fit, lumped
+  !> Local (params%lumped false): trapezoidal integral of the local lambda(x) = h(x)/sigma over
+  !> the nodes (gap h, spacing dx) times the circumference; lumped: lambda = h0/sigma over the
+  !> whole face b * circumference. params%fit selects the power-law fits. Nodes with lambda
+  !> beyond the functions' range (F_n = 0) are skipped.
+  pure subroutine asperity_contact(params, h, h0, dx, wa, aa)
+    type(contact_params), intent(in) :: params
+    real(dp), intent(in) :: h(:), h0, dx
     real(dp), intent(out) :: wa, aa
     real(dp) :: s52, s2, lam, w
     integer :: i, n
 
     n = size(h)
-    if (lumped) then
-      call fvals(h0 / sigma, s52, s2)
-      s52 = s52 * width
-      s2 = s2 * width
+    if (params%lumped) then
+      call fvals(h0 / params%sigma, s52, s2)
+      s52 = s52 * params%width
+      s2 = s2 * params%width
     else
       s52 = 0.0_dp
       s2 = 0.0_dp
       do i = 1, n
-        lam = h(i) / sigma
+        lam = h(i) / params%sigma
         if (lam >= gt_lambda_max) cycle
         w = dx
         if (i == 1 .or. i == n) w = 0.5_dp * dx
@@ -50,15 +68,16 @@ contains
         end block
       end do
     end if
-    wa = asperity_pressure_scale(zks, sok, e_reduced) * circ * s52
-    aa = pi**2 * (zks)**2 * circ * s2
+    wa = asperity_pressure_scale(params%zeta_kappa_sigma, params%sigma_over_kappa, &
+                                 params%e_reduced) * params%circumference * s52
+    aa = pi**2 * (params%zeta_kappa_sigma)**2 * params%circumference * s2
 
   contains
 
     pure subroutine fvals(l, f52, f2)
       real(dp), intent(in) :: l
       real(dp), intent(out) :: f52, f2
-      if (use_fit) then
+      if (params%fit) then
         f52 = f52_fit(l)
         f2 = f2_fit(l)
       else

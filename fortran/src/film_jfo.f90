@@ -4,7 +4,7 @@ module ringlube_film_jfo
   use ringlube_kinds, only: dp
   use ringlube_case, only: case_type
   use ringlube_results, only: flag_cavitation, flag_overdraw
-  use ringlube_jfo, only: jfo_solve, JFO_OK
+  use ringlube_jfo, only: jfo_solve, jfo_problem, jfo_stats, JFO_OK
   use ringlube_jfo_connect, only: jfo_solve_connected
   use ringlube_oil_supply, only: inlet_fill
   use ringlube_film_state, only: film_type, lower_edge_pressure, start_viscosity, conductance, &
@@ -31,15 +31,16 @@ contains
     type(case_type), intent(in) :: c
     type(film_type), intent(inout) :: f
     real(dp), intent(in) :: u, p_chamber, w_tol
-    real(dp) :: pl, pr, tl, tr, v_in, h_le, qlead, qtrail, ql, qr
-    integer :: it, iters, outer, info, n
+    real(dp) :: v_in, h_le, qlead, qtrail
+    integer :: it, n
     logical :: settled
-    logical :: trailing_gas
+    type(jfo_problem) :: prob
+    type(jfo_stats) :: stats
 
     n = f%n
-    pl = p_chamber
-    pr = lower_edge_pressure(c, f)
-    trailing_gas = c%cavity_pressure == 'trailing_gas'
+    prob = jfo_problem(dx=f%dx, u=u, dt=f%dt, p_left=p_chamber, &
+                       p_right=lower_edge_pressure(c, f), p_cav=c%cavitation_pressure, &
+                       trailing_gas=c%cavity_pressure == 'trailing_gas', leading_gas=f%starved)
     if (f%lead_left) then
       h_le = f%hmid(1)
     else
@@ -57,35 +58,32 @@ contains
       end if
     end if
     if (f%lead_left) then
-      tl = f%theta_in
-      tr = 1.0_dp
-      ql = qlead
-      qr = qtrail
+      prob%theta_left = f%theta_in
+      prob%cap_left = qlead
+      prob%cap_right = qtrail
     else
-      tl = 1.0_dp
-      tr = f%theta_in
-      ql = qtrail
-      qr = qlead
+      prob%theta_right = f%theta_in
+      prob%cap_left = qtrail
+      prob%cap_right = qlead
     end if
-    f%cap_left = ql
-    f%cap_right = qr
+    f%cap_left = prob%cap_left
+    f%cap_right = prob%cap_right
     call start_viscosity(c, f)
     do it = 1, c%max_pressure_iterations
       call conductance(f, 12.0_dp)
-      if (f%starved .or. trailing_gas) then
-        call jfo_solve_connected(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, &
-                tl, tr, c%cavitation_pressure, trailing_gas, f%starved, f%pc, f%p, f%theta, iters, &
-                                 outer, info, f%q_left, f%q_right, cap_left=ql, cap_right=qr, &
-                                 blown=f%blown, work=f%jfo_work, scratch=f%jfo_scratch)
+      if (prob%leading_gas .or. prob%trailing_gas) then
+        call jfo_solve_connected(prob, f%h, f%hmid, f%kmid, f%content_old, f%pc, f%p, f%theta, &
+                                 stats, work=f%jfo_work, scratch=f%jfo_scratch)
       else
-        f%blown = .false.
         f%pc = c%cavitation_pressure
-        call jfo_solve(f%dx, f%h, f%hmid, f%kmid, u, f%dt, f%content_old, pl, pr, tl, tr, &
-                       f%pc, f%p, f%theta, iters, info, f%q_left, f%q_right, work=f%jfo_work, &
-                       scratch=f%jfo_scratch)
+        call jfo_solve(prob, f%h, f%hmid, f%kmid, f%content_old, f%pc, f%p, f%theta, stats, &
+                       work=f%jfo_work, scratch=f%jfo_scratch)
       end if
-      f%reynolds_solves = f%reynolds_solves + iters
-      if (info /= JFO_OK) f%flags = ior(f%flags, flag_cavitation)
+      f%q_left = stats%q_left
+      f%q_right = stats%q_right
+      f%blown = stats%blown
+      f%reynolds_solves = f%reynolds_solves + stats%iterations
+      if (stats%info /= JFO_OK) f%flags = ior(f%flags, flag_cavitation)
       if (.not. c%roelands) exit
       call update_viscosity(c, f, w_tol, it, settled)
       if (settled) exit

@@ -4,7 +4,7 @@ module ringlube_film_reynolds
   use ringlube_kinds, only: dp
   use ringlube_case, only: case_type
   use ringlube_viscosity, only: roelands_eta
-  use ringlube_reynolds, only: reynolds_solve
+  use ringlube_reynolds, only: reynolds_solve, reynolds_problem
   use ringlube_results, only: flag_cavitation
   use ringlube_film_state, only: film_type, lower_edge_pressure, start_viscosity, conductance, &
                                  update_viscosity, film_loads, roelands_p_max
@@ -25,6 +25,7 @@ contains
     real(dp) :: pl, pr
     integer :: it, iters, info, n
     logical :: settled
+    type(reynolds_problem) :: prob
 
     n = f%n
     pl = p_chamber
@@ -44,11 +45,12 @@ contains
     ! above 100 MPa it starts from the isoviscous film (eta at p = 0) instead: from a
     ! high-pressure state the iteration can land on a second, high-pressure branch and make
     ! W(h0) jump, which the load balance cannot bracket.
+    prob = reynolds_problem(dx=f%dx, u=u, sq=sq, p_left=pl, p_right=pr, &
+                            p_cav=c%cavitation_pressure)
     call start_viscosity(c, f)
     do it = 1, c%max_pressure_iterations
       call conductance(f, 6.0_dp)
-      call reynolds_solve(f%dx, f%kmid, f%hmid, u, sq, pl, pr, c%cavitation_pressure, f%p, &
-                          f%active, iters, info, f%work)
+      call reynolds_solve(prob, f%kmid, f%hmid, f%p, f%active, iters, info, f%work)
       f%reynolds_solves = f%reynolds_solves + iters
       if (info == 1) f%flags = ior(f%flags, flag_cavitation)
       if (info == 2) then

@@ -5,7 +5,7 @@ module ringlube_film_state
   use ringlube_kinds, only: dp, pi
   use ringlube_case, only: case_type, composite_sigma, reduced_modulus, ring_profile
   use ringlube_viscosity, only: roelands_law, roelands_law_at, roelands_eta
-  use ringlube_contact, only: asperity_contact
+  use ringlube_contact, only: asperity_contact, contact_params
   use ringlube_reynolds, only: reynolds_work, reynolds_work_init
   use ringlube_jfo_system, only: jfo_system, jfo_scratch
   use ringlube_results, only: flag_viscosity, flag_piezo
@@ -22,7 +22,9 @@ module ringlube_film_state
   !> Workspace of the film at one crank step.
   type :: film_type
     integer :: n = 0
-    real(dp) :: dx = 0.0_dp, circ = 0.0_dp, sigma = 0.0_dp, e_reduced = 0.0_dp, eta_e = 0.0_dp
+    real(dp) :: dx = 0.0_dp, circ = 0.0_dp, sigma = 0.0_dp, eta_e = 0.0_dp
+    !> the asperity contact of the run (ringlube_contact)
+    type(contact_params) :: contact
     real(dp), allocatable :: x(:), s(:), smid(:), h(:), hmid(:), p(:), eta(:), kmid(:), etamid(:)
     logical, allocatable :: active(:)
     !> scratch of the Reynolds solver, and the pressure and viscosity of the last iteration
@@ -79,7 +81,10 @@ contains
     f%dx = c%width / (n - 1)
     f%circ = 2.0_dp * pi * c%bore_radius
     f%sigma = composite_sigma(c)
-    f%e_reduced = reduced_modulus(c)
+    f%contact = contact_params(sigma=f%sigma, zeta_kappa_sigma=c%zeta_kappa_sigma, &
+                               sigma_over_kappa=c%sigma_over_kappa, e_reduced=reduced_modulus(c), &
+                               fit=c%gt_functions == 'fit', lumped=c%contact_area == 'lumped', &
+                               width=c%width, circumference=f%circ)
     f%law = roelands_law_at(c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta)
     f%eta_e = roelands_eta(f%law, 0.0_dp)
     allocate (f%x(n), f%s(n), f%h(n), f%p(n), f%eta(n), f%active(n))
@@ -195,9 +200,7 @@ contains
       if (all(f%theta(2:n - 1) < 1.0_dp)) f%w_gas = f%wh
     end if
     if (c%asperity_contact) then
-      call asperity_contact(f%h, f%h0, f%dx, c%width, f%circ, f%sigma, c%zeta_kappa_sigma, &
-                            c%sigma_over_kappa, f%e_reduced, c%gt_functions == 'fit', &
-                            c%contact_area == 'lumped', f%wa, f%aa)
+      call asperity_contact(f%contact, f%h, f%h0, f%dx, f%wa, f%aa)
     else
       f%wa = 0.0_dp
       f%aa = 0.0_dp

@@ -33,11 +33,11 @@ module ringlube_jfo
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_kinds, only: dp
   use ringlube_tridiag, only: thomas
-  use ringlube_jfo_system, only: jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel, &
-                                 jfo_scratch, jfo_scratch_size
+  use ringlube_jfo_system, only: jfo_problem, jfo_system, jfo_system_setup, jfo_residual, &
+                                 jfo_gauss_seidel, jfo_scratch, jfo_scratch_size
   implicit none
   private
-  public :: jfo_solve, jfo_film_volume, jfo_options
+  public :: jfo_solve, jfo_film_volume, jfo_options, jfo_problem, jfo_stats
   public :: JFO_OK, JFO_NOT_CONVERGED, JFO_SINGULAR, JFO_DRY, JFO_CONNECTIVITY, JFO_BAD_INPUT
 
   !> info codes of jfo_solve / jfo_solve_connected
@@ -96,94 +96,111 @@ module ringlube_jfo
   !> is taken back. It changes the start, not the answer (the fine solve's tolerance decides).
   integer, parameter :: walk_steps = 3, coarse_min = 65, max_coarse = 3
 
+  !> What a solve reports (jfo_solve; jfo_solve_connected sums over its solves).
+  type :: jfo_stats
+    !> Newton iterations (newton = .false.: Gauss-Seidel sweeps), summed over the solves
+    integer :: iterations = 0
+    !> JFO_OK, or the code of what went wrong (JFO_NOT_CONVERGED ... JFO_BAD_INPUT)
+    integer :: info = JFO_OK
+    !> Gauss-Seidel sweeps of the fallback, summed over the solves
+    integer :: sweeps = 0
+    !> jfo_solve_connected: the solves of its outer loop (0 from jfo_solve)
+    integer :: outer = 0
+    !> oil flux [m^2/s, positive towards +x] through the first and last interior faces, so that
+    !> `jfo_film_volume` after - before = dt (q_left - q_right) to the tolerance
+    real(dp) :: q_left = 0.0_dp, q_right = 0.0_dp
+    !> jfo_solve_connected: the face is partly filled across its width at a gas pressure above
+    !> the leading edge's (see there)
+    logical :: blown = .false.
+  end type jfo_stats
+
+  !> Where one solve's iteration stands (jfo_solve): what its internal procedures change.
+  type :: solve_state
+    !> ||R||^2 at the state v, the last accepted values of it (the non-monotone rule) and the
+    !> scale of the residual's terms
+    real(dp) :: f0 = 0.0_dp, fhist(nonmonotone) = 0.0_dp, rscale = 0.0_dp
+    !> the scratch's evaluation holds the Jacobian at v
+    logical :: jac_ok = .false.
+    !> damped Newton steps since the last fallback or fresh start
+    integer :: stall = 0
+    !> Gauss-Seidel sweeps and fallbacks so far; sweeps spent in restarts taken back
+    integer :: nsweep = 0, nfall = 0, nsweep_back = 0
+    !> coarse restarts made (max_coarse: none left)
+    integer :: ncoarse = max_coarse
+    !> the last restart stands (not taken back), and the scratch's vpre, fpre, nsweep_pre,
+    !> nfall_pre are the state before it
+    logical :: restarted = .false.
+    real(dp) :: fpre = huge(1.0_dp)
+    integer :: nsweep_pre = 0, nfall_pre = 0
+  end type solve_state
+
 contains
 
   !> One time step (or a steady state) of the mass-conserving film.
   !>
-  !> dx node spacing; h(n) gap at the nodes; hmid(n-1), kmid(n-1) = hmid^3/(12 eta) at the faces;
-  !> u sliding speed (content moves at -u/2); dt > 0 backward Euler step on the content, dt <= 0
-  !> a steady solve; content_old(n) theta h at the previous step (nodes 2..n-1 used);
-  !> p_left, p_right edge pressures; theta_left, theta_right the fill of whatever enters through
-  !> that edge (by Couette transport at the inflow edge, or pushed in by pressure at either edge:
-  !> 1 = oil, 0 = gas only); pc(n) cavity pressure per node (nodes 2..n-1 used).
+  !> problem (jfo_problem): the step's scalars: node spacing, sliding speed, time step (dt > 0
+  !> backward Euler on the content, dt <= 0 a steady solve), the edge pressures and the fills
+  !> of what enters through each edge, and the caps on the oil entering through the edge faces
+  !> (the oil there: a starved inlet's strip and bank, the liner film behind a trailing edge):
+  !> `F_in = min(F_in, cap)`, a kink like the others of the residual; beyond it the edge admits
+  !> gas. Both edges are treated alike, whichever leads; the Newton solve and the Gauss-Seidel
+  !> fallback apply the same caps. (p_cav, trailing_gas and leading_gas are
+  !> jfo_solve_connected's.)
+  !> h(n) gap at the nodes; hmid(n-1), kmid(n-1) = hmid^3/(12 eta) at the faces;
+  !> content_old(n) theta h at the previous step (nodes 2..n-1 used); pc(n) cavity pressure per
+  !> node (nodes 2..n-1 used).
   !> p, theta (in/out): warm start in, solution out. Edge values out: p(1) = p_left,
   !> p(n) = p_right, theta(1) = theta_left, theta(n) = theta_right.
-  !> q_left, q_right: oil flux (m^2/s, positive towards +x) through the first and last interior
-  !> faces, so that `jfo_film_volume` after - before = dt (q_left - q_right) to the tolerance.
-  !> options (jfo_options): tolerance, iteration cap, guard, Newton or the fallback alone;
-  !> sweeps (out): Gauss-Seidel sweeps spent.
-  !> cap_left, cap_right (m^2/s, default none): the oil entering the gap through the left
-  !> (right) edge face is at most this (the oil there: a starved inlet's strip and bank, the
-  !> liner film behind a trailing edge): `F_in = min(F_in, cap)`, a kink like the others of
-  !> the residual; beyond it the edge admits gas. Both edges are treated alike, whichever
-  !> leads; the Newton solve and the Gauss-Seidel fallback apply the same caps.
+  !> stats (jfo_stats, out): iterations, info, Gauss-Seidel sweeps and the edge fluxes.
+  !> options (jfo_options): tolerance, iteration cap, guard, Newton or the fallback alone.
   !> work (jfo_system), scratch (jfo_scratch): the step's system and working arrays, kept by a
   !> caller between solves (else local ones).
-  pure recursive subroutine jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
-                                      theta_left, theta_right, pc, p, theta, iterations, info, &
-                                      q_left, q_right, options, sweeps, &
-                                      cap_left, cap_right, work, scratch)
-    real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
-    real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, pc(:)
+  pure recursive subroutine jfo_solve(problem, h, hmid, kmid, content_old, pc, p, theta, stats, &
+                                      options, work, scratch)
+    type(jfo_problem), intent(in) :: problem
+    real(dp), intent(in) :: h(:), hmid(:), kmid(:), content_old(:), pc(:)
     real(dp), intent(inout) :: p(:), theta(:)
-    integer, intent(out) :: iterations, info
-    real(dp), intent(out), optional :: q_left, q_right
+    type(jfo_stats), intent(out) :: stats
     type(jfo_options), intent(in), optional :: options
-    integer, intent(out), optional :: sweeps
-    real(dp), intent(in), optional :: cap_left, cap_right
     type(jfo_system), intent(inout), optional :: work
     type(jfo_scratch), intent(inout), optional :: scratch
     type(jfo_system) :: local
     type(jfo_scratch) :: local_scratch
-    real(dp) :: rtol, f0, ft, fbest, fpre, t, rscale, rmax, fhist(nonmonotone), qcl, qcr
-    integer :: n, i, it, itmax, tinfo, nls, nsweep, stall, nfall, nsw, walk, ncoarse
-    integer :: nsweep_pre, nfall_pre, nsweep_back
-    logical :: use_guard, use_newton, accepted, jac_ok, restarted
+    type(solve_state) :: s
+    real(dp) :: rtol, ft, fbest, t, rmax
+    integer :: n, i, it, itmax, tinfo, nls, nsw, walk
+    logical :: use_guard, use_newton, accepted
     type(jfo_options) :: opt
 
     if (.not. present(work)) then
-      call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
-                     theta_right, pc, p, theta, iterations, info, q_left, q_right, options, &
-                     sweeps, cap_left, cap_right, local, scratch)
+      call jfo_solve(problem, h, hmid, kmid, content_old, pc, p, theta, stats, options, local, &
+                     scratch)
       return
     end if
     if (.not. present(scratch)) then
-      call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, theta_left, &
-                     theta_right, pc, p, theta, iterations, info, q_left, q_right, options, &
-                     sweeps, cap_left, cap_right, work, local_scratch)
+      call jfo_solve(problem, h, hmid, kmid, content_old, pc, p, theta, stats, options, work, &
+                     local_scratch)
       return
     end if
     n = size(h)
     call jfo_scratch_size(scratch, n)
-    associate (v => scratch%a(:, 1), vt => scratch%a(:, 2), vpre => scratch%a(:, 3), &
-               vbest => scratch%a(:, 4), dv => scratch%a(:, 5), r => scratch%a(:, 6), &
-               rt => scratch%a(:, 7), fl => scratch%a(:, 8), pn => scratch%a(:, 9), &
-               tn => scratch%a(:, 10), dfpl => scratch%a(:, 11), dfpr => scratch%a(:, 12), &
-               dftl => scratch%a(:, 13), dftr => scratch%a(:, 14), jl => scratch%a(:, 15), &
-               jd => scratch%a(:, 16), ju => scratch%a(:, 17), tw => scratch%a(:, 18))
-      iterations = 0
-      nsweep = 0
-      if (present(sweeps)) sweeps = 0
-      if (present(q_left)) q_left = 0.0_dp
-      if (present(q_right)) q_right = 0.0_dp
+    associate (v => scratch%v, vt => scratch%vt, vpre => scratch%vpre, vbest => scratch%vbest, &
+               dv => scratch%dv, r => scratch%r, rt => scratch%rt, tw => scratch%tw, &
+               pn => scratch%ev%pn, tn => scratch%ev%tn, fl => scratch%ev%fl, &
+               jl => scratch%ev%jl, jd => scratch%ev%jd, ju => scratch%ev%ju)
       if (n < 3 .or. size(hmid) /= n - 1 .or. size(kmid) /= n - 1 .or. size(content_old) /= n &
-          .or. size(pc) /= n .or. size(p) /= n .or. size(theta) /= n .or. .not. (dx > 0.0_dp)) then
-        info = JFO_BAD_INPUT
+          .or. size(pc) /= n .or. size(p) /= n .or. size(theta) /= n &
+          .or. .not. (problem%dx > 0.0_dp)) then
+        stats%info = JFO_BAD_INPUT
         return
       end if
-      info = JFO_OK
       if (present(options)) opt = options
       rtol = opt%tol
       itmax = opt%max_iter
       use_guard = opt%guard
       use_newton = opt%newton
-      qcl = huge(1.0_dp)
-      if (present(cap_left)) qcl = max(cap_left, 0.0_dp)
-      qcr = huge(1.0_dp)
-      if (present(cap_right)) qcr = max(cap_right, 0.0_dp)
 
-      call jfo_system_setup(work, dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
-                            theta_left, theta_right, pc, qcl, qcr)
+      call jfo_system_setup(work, problem, h, hmid, kmid, content_old, pc)
 
       ! warm start: v = (p - pc)/ps on full nodes, theta - 1 on cavity nodes; not finite -> 0
       v = 0.0_dp
@@ -196,87 +213,63 @@ contains
         if (.not. ieee_is_finite(v(i))) v(i) = 0.0_dp
       end do
 
-      ! jac_ok: jl, jd, ju hold the Jacobian at v (the residual of an accepted step is evaluated
-      ! with it, so the next iteration need not evaluate the residual again)
-   call jfo_residual(work, v, r, rscale, use_newton, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-      if (.not. (ieee_is_finite(rscale) .and. ieee_is_finite(sum(abs(r(2:n - 1)))))) then
+      ! s%jac_ok: jl, jd, ju hold the Jacobian at v (the residual of an accepted step is
+      ! evaluated with it, so the next iteration need not evaluate the residual again)
+      call jfo_residual(work, v, r, s%rscale, use_newton, scratch%ev)
+      if (.not. (ieee_is_finite(s%rscale) .and. ieee_is_finite(sum(abs(r(2:n - 1)))))) then
         ! a warm start whose terms overflow (pressures near huge()) made the scale infinite, and
         ! Inf <= tol * Inf passed as converged: start from full film at the cavity pressure
         v = 0.0_dp
-   call jfo_residual(work, v, r, rscale, use_newton, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+        call jfo_residual(work, v, r, s%rscale, use_newton, scratch%ev)
       end if
-      jac_ok = use_newton
-      f0 = sumsq(r)
+      s%jac_ok = use_newton
+      s%f0 = sumsq(r)
       vbest = v
-      fbest = f0
-      fhist = f0
-      stall = 0
-      nfall = 0
+      fbest = s%f0
+      s%fhist = s%f0
       walk = 0
-      fpre = huge(1.0_dp)
-      ncoarse = max_coarse
       if (use_newton .and. opt%coarse .and. n >= max(opt%coarse_from, coarse_min) &
-          .and. coarse_factor(n) > 0) ncoarse = 0
-      ! restarted: the last restart stands (not taken back), and vpre, fpre are the state before it
-      restarted = .false.
-      nsweep_pre = 0
-      nfall_pre = 0
-      nsweep_back = 0
+          .and. coarse_factor(n) > 0) s%ncoarse = 0
       do it = 0, itmax
         rmax = maxval(abs(r(2:n - 1)))
-        if (rmax <= rtol * rscale .or. it == itmax) exit
-        if (walk >= walk_steps .and. (ncoarse < max_coarse .or. restarted)) then
+        if (rmax <= rtol * s%rscale .or. it == itmax) exit
+        if (walk >= walk_steps .and. (s%ncoarse < max_coarse .or. s%restarted)) then
           ! the boundaries walk a node or two per step: start again from the coarse grids'
           ! solution, which moves them a few coarse nodes per step. Where the coarse grids'
           ! cavities differ from the fine grid's, the walk resumes from a worse state: then the
           ! state before is taken back and the walk goes on from there (also after the last
           ! restart).
           walk = 0
-          if (restarted .and. f0 > fpre) then
-            v = vpre
-            ncoarse = max_coarse
-            restarted = .false.
-            nsweep_back = nsweep_back + nsweep - nsweep_pre
-            nsweep = nsweep_pre
-            nfall = nfall_pre
-       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-            jac_ok = .true.
-            f0 = sumsq(r)
-            fhist = f0
-            stall = 0
-          else if (ncoarse < max_coarse) then
-            ncoarse = ncoarse + 1
+          if (s%restarted .and. s%f0 > s%fpre) then
+            call take_back(s, scratch)
+          else if (s%ncoarse < max_coarse) then
+            s%ncoarse = s%ncoarse + 1
             vpre = v
-            fpre = f0
-            nsweep_pre = nsweep
-            nfall_pre = nfall
-            restarted = .true.
+            s%fpre = s%f0
+            s%nsweep_pre = s%nsweep
+            s%nfall_pre = s%nfall
+            s%restarted = .true.
             call coarse_start(v, pn, tn)
-       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-            jac_ok = .true.
-            f0 = sumsq(r)
-            fhist = f0
-            stall = 0
+            call fresh_start(s, scratch, .true.)
           else
-            restarted = .false.
+            s%restarted = .false.
           end if
-          if (f0 < fbest) then
-            fbest = f0
+          if (s%f0 < fbest) then
+            fbest = s%f0
             vbest = v
           end if
           rmax = maxval(abs(r(2:n - 1)))
-          if (rmax <= rtol * rscale) exit
+          if (rmax <= rtol * s%rscale) exit
         end if
-        iterations = it + 1
+        stats%iterations = it + 1
         if (.not. use_newton) then
-          call jfo_gauss_seidel(work, v, 1, nsweep)
-      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-          f0 = sumsq(r)
+          call jfo_gauss_seidel(work, v, 1, s%nsweep)
+          call jfo_residual(work, v, r, s%rscale, .false., scratch%ev)
+          s%f0 = sumsq(r)
           cycle
         end if
-        if (.not. jac_ok) &
-       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-        jac_ok = .false.
+        if (.not. s%jac_ok) call jfo_residual(work, v, r, s%rscale, .true., scratch%ev)
+        s%jac_ok = .false.
         dv(2:n - 1) = -r(2:n - 1)
         ! the M-matrix sign pattern holds by construction (upwinding); a violation (a degenerate
         ! zero diagonal) is treated like a zero pivot
@@ -287,7 +280,7 @@ contains
           call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo, tw)
         end if
         if (tinfo /= 0 .and. .not. use_guard) then
-          info = JFO_SINGULAR
+          stats%info = JFO_SINGULAR
           exit
         end if
         accepted = .false.
@@ -300,10 +293,10 @@ contains
           t = 1.0_dp
           do nls = 0, 30
             vt = v + t * dv
-     call jfo_residual(work, vt, rt, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+            call jfo_residual(work, vt, rt, s%rscale, .true., scratch%ev)
             ft = sumsq(rt)
             if (.not. use_guard .or. it < free_steps &
-                .or. ft <= (1.0_dp - 1e-4_dp * t) * maxval(fhist)) then
+                .or. ft <= (1.0_dp - 1e-4_dp * t) * maxval(s%fhist)) then
               accepted = .true.
               exit
             end if
@@ -318,85 +311,72 @@ contains
             end if
             v = vt
             r = rt
-            jac_ok = .true.   ! the last evaluation was at vt
-            f0 = ft
-            fhist(mod(it, size(fhist)) + 1) = f0
-            if (nls > 0) stall = stall + 1
+            s%jac_ok = .true.   ! the last evaluation was at vt
+            s%f0 = ft
+            s%fhist(mod(it, size(s%fhist)) + 1) = s%f0
+            if (nls > 0) s%stall = s%stall + 1
           end if
         end if
-        if ((.not. accepted .or. stall >= 3) .and. restarted .and. f0 > fpre &
-            .and. nsweep >= gs_budget) then
+        if ((.not. accepted .or. s%stall >= 3) .and. s%restarted .and. s%f0 > s%fpre &
+            .and. s%nsweep >= gs_budget) then
           ! Newton stalls from a restart that has not yet improved on the state before it, and
           ! the sweeps' budget is spent: without a further walk the rule above would never take
           ! it back, and the solve would end at the iteration cap there. Take it back, with the
           ! sweeps spent since (taking a restart back at every stall above the state before it
           ! made the starved cold deck at 2001 nodes and 2 deg 4 times slower a run)
-          v = vpre
-          ncoarse = max_coarse
-          restarted = .false.
-          nsweep_back = nsweep_back + nsweep - nsweep_pre
-          nsweep = nsweep_pre
-          nfall = nfall_pre
-       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-          jac_ok = .true.
-          f0 = sumsq(r)
-          fhist = f0
-          stall = 0
-        else if (.not. accepted .or. stall >= 3) then
+          call take_back(s, scratch)
+        else if (.not. accepted .or. s%stall >= 3) then
           ! zero pivot, no descent, or repeated damping: Gauss-Seidel sweeps, then Newton again
           ! (each fallback sweeps twice as long as the previous one, at most 16 gs_sweeps, and
           ! gs_budget in all: where neither converges, as in a few extreme starved designs, a
           ! solve must still end at the iteration cap, flagged, after O(n) work)
-          if (nsweep < gs_budget) &
-       call jfo_gauss_seidel(work, v, min(gs_sweeps * 2**min(nfall, 4), gs_budget - nsweep), nsweep)
-          nfall = nfall + 1
-          jac_ok = .false.
-      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-          f0 = sumsq(r)
-          fhist = f0
-          stall = 0
+          if (s%nsweep < gs_budget) &
+            call jfo_gauss_seidel(work, v, min(gs_sweeps * 2**min(s%nfall, 4), &
+                                               gs_budget - s%nsweep), s%nsweep)
+          s%nfall = s%nfall + 1
+          call fresh_start(s, scratch, .false.)
         end if
-        if (f0 < fbest) then
-          fbest = f0
+        if (s%f0 < fbest) then
+          fbest = s%f0
           vbest = v
         end if
       end do
-      if (use_newton .and. info == JFO_OK .and. maxval(abs(r(2:n - 1))) <= rtol * rscale &
-          .and. maxval(abs(r(2:n - 1))) > polish_tol * rscale) then
+      if (use_newton .and. stats%info == JFO_OK .and. maxval(abs(r(2:n - 1))) <= rtol * s%rscale &
+          .and. maxval(abs(r(2:n - 1))) > polish_tol * s%rscale) then
         ! within the tolerance but above round-off (a damped or Gauss-Seidel last step): one more
         ! Newton step on this piece, kept if it helps, so that the oil balance closes to round-off
-       call jfo_residual(work, v, r, rscale, .true., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+        call jfo_residual(work, v, r, s%rscale, .true., scratch%ev)
         dv(2:n - 1) = -r(2:n - 1)
         call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo)
         if (tinfo == 0) then
           dv(2:n - 1) = vt(2:n - 1)
           vt = v
           vt(2:n - 1) = v(2:n - 1) + dv(2:n - 1)
-    call jfo_residual(work, vt, rt, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
-          if (sumsq(rt) < f0) then
+          call jfo_residual(work, vt, rt, s%rscale, .false., scratch%ev)
+          if (sumsq(rt) < s%f0) then
             v = vt
             r = rt
-            iterations = iterations + 1
+            stats%iterations = stats%iterations + 1
           end if
         end if
-      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+        call jfo_residual(work, v, r, s%rscale, .false., scratch%ev)
       end if
-      if (present(sweeps)) sweeps = nsweep + nsweep_back
-      if (maxval(abs(r(2:n - 1))) > rtol * rscale) then
-        if (info == JFO_OK) info = JFO_NOT_CONVERGED
-        if (fbest < f0) then
+      stats%sweeps = s%nsweep + s%nsweep_back
+      if (maxval(abs(r(2:n - 1))) > rtol * s%rscale) then
+        if (stats%info == JFO_OK) stats%info = JFO_NOT_CONVERGED
+        if (fbest < s%f0) then
           v = vbest
-      call jfo_residual(work, v, r, rscale, .false., pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+          call jfo_residual(work, v, r, s%rscale, .false., scratch%ev)
         end if
       end if
 
       ! outputs (pn, tn, fl hold the state of the last residual evaluation, which is v's)
       p = pn
       theta = tn
-      if (info == JFO_OK .and. minval(theta(2:n - 1)) < -1e-12_dp) info = JFO_DRY
+      if (stats%info == JFO_OK .and. minval(theta(2:n - 1)) < -1e-12_dp) stats%info = JFO_DRY
       theta(2:n - 1) = min(max(theta(2:n - 1), 0.0_dp), 1.0_dp)
-      if (present(q_left)) q_left = fl(1)
-      if (present(q_right)) q_right = fl(n - 1)
+      stats%q_left = fl(1)
+      stats%q_right = fl(n - 1)
     end associate
 
   contains
@@ -406,6 +386,33 @@ contains
       sumsq = sum(x(2:n - 1)**2)
     end function sumsq
 
+    !> The residual at the state v (with jac also its Jacobian) as a fresh start of the merit:
+    !> f0 from it, the non-monotone history all f0, no damped steps counted.
+    pure subroutine fresh_start(s, sc, jac)
+      type(solve_state), intent(inout) :: s
+      type(jfo_scratch), intent(inout) :: sc
+      logical, intent(in) :: jac
+      call jfo_residual(work, sc%v, sc%r, s%rscale, jac, sc%ev)
+      s%jac_ok = jac
+      s%f0 = sumsq(sc%r)
+      s%fhist = s%f0
+      s%stall = 0
+    end subroutine fresh_start
+
+    !> Take the last coarse restart back: v the state before it with its counters, no further
+    !> restart; the sweeps spent since count in nsweep_back.
+    pure subroutine take_back(s, sc)
+      type(solve_state), intent(inout) :: s
+      type(jfo_scratch), intent(inout) :: sc
+      sc%v = sc%vpre
+      s%ncoarse = max_coarse
+      s%restarted = .false.
+      s%nsweep_back = s%nsweep_back + s%nsweep - s%nsweep_pre
+      s%nsweep = s%nsweep_pre
+      s%nfall = s%nfall_pre
+      call fresh_start(s, sc, .true.)
+    end subroutine take_back
+
     !> The coarse-grid predictor (see walk_steps): the step's system restricted to every k-th
     !> node (k the smallest of 4, 2, 3, 5 dividing n - 1; none: v unchanged), solved, and its
     !> pressure and fill interpolated linearly to the fine nodes; v is the warm start of that
@@ -414,10 +421,12 @@ contains
     !> (hat weights), the cavity pressure and the current state sampled.
     pure recursive subroutine coarse_start(v, pn, tn)
       real(dp), intent(inout) :: v(:), pn(:), tn(:)
-      integer :: k, nc, ic, i0, j, cit, cinfo
+      integer :: k, nc, ic, i0, j
       real(dp), allocatable :: hc(:), hmc(:), kmc(:), coc(:), pcc(:), ppc(:), thc(:)
       real(dp) :: wsum, wj, s
       type(jfo_options) :: copt
+      type(jfo_problem) :: coarse
+      type(jfo_stats) :: cstats
       k = coarse_factor(n)
       if (k == 0) return
       nc = (n - 1) / k + 1
@@ -450,8 +459,9 @@ contains
       end do
       copt = opt
       copt%coarse_from = coarse_min
-      call jfo_solve(dx * k, hc, hmc, kmc, u, dt, coc, p_left, p_right, theta_left, theta_right, &
-                     pcc, ppc, thc, cit, cinfo, options=copt, cap_left=qcl, cap_right=qcr)
+      coarse = problem
+      coarse%dx = problem%dx * k
+      call jfo_solve(coarse, hc, hmc, kmc, coc, pcc, ppc, thc, cstats, copt)
       do ic = 1, nc - 1
         i0 = 1 + (ic - 1) * k
         do j = 1, k

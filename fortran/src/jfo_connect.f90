@@ -5,7 +5,8 @@
 module ringlube_jfo_connect
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_kinds, only: dp
-  use ringlube_jfo, only: jfo_solve, jfo_options, JFO_OK, JFO_DRY, JFO_CONNECTIVITY, JFO_BAD_INPUT
+  use ringlube_jfo, only: jfo_solve, jfo_options, jfo_problem, jfo_stats, JFO_OK, JFO_DRY, &
+                          JFO_CONNECTIVITY, JFO_BAD_INPUT
   use ringlube_jfo_system, only: jfo_system, jfo_scratch
   implicit none
   private
@@ -13,7 +14,8 @@ module ringlube_jfo_connect
 
 contains
 
-  !> Cavity pressure per node by the connectivity rule of SPEC section 13.
+  !> Cavity pressure per node by the connectivity rule of SPEC section 13, for the sliding speed,
+  !> edge pressures, p_cav, trailing_gas and leading_gas of problem (jfo_problem).
   !>
   !> Cavities are the runs of interior nodes with theta < 1. An edge is open to its gas when
   !> it is the trailing edge and trailing_gas is set, or the leading edge and leading_gas is set
@@ -30,10 +32,9 @@ contains
   !> blown (out, optional): the face is partly filled across its width at a level above the
   !> leading edge's gas pressure, so that the gas in it blows out through the leading edge
   !> (see jfo_solve_connected).
-  pure subroutine jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, &
-                                      leading_gas, pc, p, blown)
-    real(dp), intent(in) :: theta(:), u, p_left, p_right, p_cav
-    logical, intent(in) :: trailing_gas, leading_gas
+  pure subroutine jfo_cavity_pressure(problem, theta, pc, p, blown)
+    type(jfo_problem), intent(in) :: problem
+    real(dp), intent(in) :: theta(:)
     real(dp), intent(out) :: pc(:)
     real(dp), intent(in), optional :: p(:)
     logical, intent(out), optional :: blown
@@ -42,24 +43,24 @@ contains
     real(dp) :: lev_l, lev_r
 
     n = size(theta)
-    pc = p_cav
+    pc = problem%p_cav
     if (present(blown)) blown = .false.
-    if (u > 0.0_dp) then
-      open_left = trailing_gas
-      open_right = leading_gas
-    else if (u < 0.0_dp) then
-      open_left = leading_gas
-      open_right = trailing_gas
+    if (problem%u > 0.0_dp) then
+      open_left = problem%trailing_gas
+      open_right = problem%leading_gas
+    else if (problem%u < 0.0_dp) then
+      open_left = problem%leading_gas
+      open_right = problem%trailing_gas
     else
-      open_left = trailing_gas .or. leading_gas
+      open_left = problem%trailing_gas .or. problem%leading_gas
       open_right = open_left
     end if
     ! an edge is a gas interface (film below its pressure next to it joins its gas) when it
     ! admits gas (fill < 1: a starved inlet) or it is the trailing edge with trailing_gas
-    gas_left = theta(1) < 1.0_dp .or. (trailing_gas .and. u >= 0.0_dp)
-    gas_right = theta(n) < 1.0_dp .or. (trailing_gas .and. u <= 0.0_dp)
-    lev_l = max(p_left, p_cav)
-    lev_r = max(p_right, p_cav)
+    gas_left = theta(1) < 1.0_dp .or. (problem%trailing_gas .and. problem%u >= 0.0_dp)
+    gas_right = theta(n) < 1.0_dp .or. (problem%trailing_gas .and. problem%u <= 0.0_dp)
+    lev_l = max(problem%p_left, problem%p_cav)
+    lev_r = max(problem%p_right, problem%p_cav)
     ! il: last node of the zone open at the left edge (1: none); ir: first of the right one (n)
     il = 1
     if (open_left) then
@@ -83,8 +84,8 @@ contains
       ! the face is partly filled across its width: open to the higher of the two gas pressures
       pc(2:n - 1) = max(lev_l, lev_r)
       if (present(blown)) then
-        if (u > 0.0_dp) blown = max(lev_l, lev_r) > p_right
-        if (u < 0.0_dp) blown = max(lev_l, lev_r) > p_left
+        if (problem%u > 0.0_dp) blown = max(lev_l, lev_r) > problem%p_right
+        if (problem%u < 0.0_dp) blown = max(lev_l, lev_r) > problem%p_left
       end if
     else
       ! each open zone at its own gas pressure; where they overlap through full film below
@@ -120,25 +121,19 @@ contains
   !> back out over one cell at a rate k dp/dx, so the face's fill, its shear and the energy
   !> scaled with the cell size (issue 16).
   !>
-  !> Arguments as jfo_solve, plus p_cav, trailing_gas, leading_gas (see jfo_cavity_pressure);
-  !> pc (out) the cavity pressures of the solution; outer (out) the number of solves;
-  !> iterations (out) the Newton iterations summed over them; blown (out, optional) the state
-  !> above. info JFO_CONNECTIVITY if the
-  !> loop did not settle in max_outer solves (default 200; a warm start needs 1-2).
-  pure subroutine jfo_solve_connected(dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
-                                      theta_left, theta_right, p_cav, trailing_gas, leading_gas, &
-                                      pc, p, theta, iterations, outer, info, q_left, q_right, &
-                                      options, cap_left, cap_right, blown, work, scratch)
-    real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
-    real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, p_cav
-    logical, intent(in) :: trailing_gas, leading_gas
+  !> Arguments as jfo_solve, the problem's p_cav, trailing_gas and leading_gas included (see
+  !> jfo_cavity_pressure); pc (out) the cavity pressures of the solution; stats (out) as
+  !> jfo_solve's, with the iterations and sweeps summed over the solves, outer the number of
+  !> solves and blown the state above. stats%info JFO_CONNECTIVITY if the loop did not settle
+  !> in max_outer solves (default 200; a warm start needs 1-2).
+  pure subroutine jfo_solve_connected(problem, h, hmid, kmid, content_old, pc, p, theta, stats, &
+                                      options, work, scratch)
+    type(jfo_problem), intent(in) :: problem
+    real(dp), intent(in) :: h(:), hmid(:), kmid(:), content_old(:)
     real(dp), intent(out) :: pc(:)
     real(dp), intent(inout) :: p(:), theta(:)
-    integer, intent(out) :: iterations, outer, info
-    real(dp), intent(out), optional :: q_left, q_right
+    type(jfo_stats), intent(out) :: stats
     type(jfo_options), intent(in), optional :: options
-    real(dp), intent(in), optional :: cap_left, cap_right
-    logical, intent(out), optional :: blown
     !> jfo_solve's system and working arrays, kept between calls (optional)
     type(jfo_system), intent(inout), optional :: work
     type(jfo_scratch), intent(inout), optional :: scratch
@@ -147,51 +142,47 @@ contains
     real(dp), allocatable :: hist(:, :)
     logical, allocatable :: hist_bl(:)
     logical :: bl, bln, final
-    real(dp) :: tl, tr, pl, pr
-    integer :: k, kmax, it, i, j, n
+    integer :: k, kmax, i, j, n
     type(jfo_options) :: opt
+    ! the problem of one solve (the edges of a blown face changed) and what it reports
+    type(jfo_problem) :: step
+    type(jfo_stats) :: last
 
     if (present(options)) opt = options
     kmax = opt%max_outer
     n = size(h)
-    iterations = 0
-    outer = 0
-    if (present(blown)) blown = .false.
     if (size(pc) /= size(h) .or. size(theta) /= size(h)) then
-      info = JFO_BAD_INPUT
+      stats%info = JFO_BAD_INPUT
       return
     end if
     allocate (hist(size(pc), max(kmax, 1)), hist_bl(max(kmax, 1)))
     th = theta
     where (.not. ieee_is_finite(th)) th = 1.0_dp
     ! first guess from the warm-start fill only (its pressures may belong to another pc)
-    call jfo_cavity_pressure(th, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pc, &
-                             blown=bl)
+    call jfo_cavity_pressure(problem, th, pc, blown=bl)
     ! final: the set of a cycle, solved once more and kept whatever the solve's state
     final = .false.
     do k = 1, kmax + 1
       if (k > kmax .and. .not. final) exit
-      outer = k
-      tl = theta_left
-      tr = theta_right
-      pl = p_left
-      pr = p_right
-      if (bl .and. leading_gas) then
-        if (u > 0.0_dp) pr = maxval(pc(2:n - 1))
-        if (u < 0.0_dp) pl = maxval(pc(2:n - 1))
+      stats%outer = k
+      step = problem
+      if (bl .and. problem%leading_gas) then
+        if (problem%u > 0.0_dp) step%p_right = maxval(pc(2:n - 1))
+        if (problem%u < 0.0_dp) step%p_left = maxval(pc(2:n - 1))
       else
-        if (bl .and. u > 0.0_dp) tr = 0.0_dp
-        if (bl .and. u < 0.0_dp) tl = 0.0_dp
+        if (bl .and. problem%u > 0.0_dp) step%theta_right = 0.0_dp
+        if (bl .and. problem%u < 0.0_dp) step%theta_left = 0.0_dp
       end if
-      if (present(blown)) blown = bl
-      call jfo_solve(dx, h, hmid, kmid, u, dt, content_old, pl, pr, tl, tr, pc, p, &
-                     theta, it, info, q_left, q_right, options, cap_left=cap_left, &
-                     cap_right=cap_right, work=work, scratch=scratch)
-      iterations = iterations + it
+      stats%blown = bl
+      call jfo_solve(step, h, hmid, kmid, content_old, pc, p, theta, last, options, work, scratch)
+      stats%iterations = stats%iterations + last%iterations
+      stats%sweeps = stats%sweeps + last%sweeps
+      stats%info = last%info
+      stats%q_left = last%q_left
+      stats%q_right = last%q_right
       if (final) return
-      if (info /= JFO_OK .and. info /= JFO_DRY) return
-     call jfo_cavity_pressure(theta, u, p_left, p_right, p_cav, trailing_gas, leading_gas, pcn, p, &
-                               bln)
+      if (stats%info /= JFO_OK .and. stats%info /= JFO_DRY) return
+      call jfo_cavity_pressure(problem, theta, pcn, p, bln)
       if (all(pcn == pc) .and. (bln .eqv. bl)) return
       ! a cycle: pcn equals one of the sets solved with before (a two-cycle is a meniscus
       ! between two nodes: a node joined to the gas-connected zone rises above the gas pressure,
@@ -220,7 +211,7 @@ contains
       pc = pcn
       bl = bln
     end do
-    info = JFO_CONNECTIVITY
+    stats%info = JFO_CONNECTIVITY
 
   end subroutine jfo_solve_connected
 end module ringlube_jfo_connect

@@ -1,13 +1,40 @@
 !> The discretised system of one time step of the mass-conserving film (ringlube_jfo): the
-!> face coefficients of the upwind finite-volume scheme, its residual and Jacobian at a state
-!> of the universal variable v, and the projected Gauss-Seidel sweeps of the fallback. The
-!> scheme and the method are described in ringlube_jfo and docs/film_model.md.
+!> step's problem (`jfo_problem`), the face coefficients of the upwind finite-volume scheme, its
+!> residual and Jacobian at a state of the universal variable v, and the projected Gauss-Seidel
+!> sweeps of the fallback. The scheme and the method are described in ringlube_jfo and
+!> docs/film_model.md.
 module ringlube_jfo_system
   use ringlube_kinds, only: dp
   implicit none
   private
-  public :: jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel, jfo_scratch, &
-            jfo_scratch_size
+  public :: jfo_problem, jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel, &
+            jfo_eval, jfo_scratch, jfo_scratch_size
+
+  !> One step of the mass-conserving film: its scalars, the record jfo_solve and
+  !> jfo_solve_connected take beside the film's arrays (the gap, the conductances, the content
+  !> of the last step, the cavity pressures). dx, u, dt, p_left and p_right have no default
+  !> and must be given.
+  type :: jfo_problem
+    !> node spacing [m]
+    real(dp) :: dx
+    !> sliding speed [m/s]: the content moves at -u/2
+    real(dp) :: u
+    !> backward Euler step on the content [s]; dt <= 0: a steady solve
+    real(dp) :: dt
+    !> pressures held at the left (node 1) and right (node n) edge [Pa]
+    real(dp) :: p_left, p_right
+    !> fill of whatever enters through the left (right) edge, by Couette transport at the
+    !> inflow edge or pushed in by pressure at either edge: 1 oil, 0 gas only
+    real(dp) :: theta_left = 1.0_dp, theta_right = 1.0_dp
+    !> caps on the oil entering the gap through the left (right) edge face [m^2/s] (the oil
+    !> there; beyond it the edge admits gas); negative counts as 0; default none
+    real(dp) :: cap_left = huge(1.0_dp), cap_right = huge(1.0_dp)
+    !> jfo_solve_connected only: the film's cavity pressure [Pa] (ringlube_jfo_connect)
+    real(dp) :: p_cav = 0.0_dp
+    !> jfo_solve_connected only: a cavity reaching the trailing edge is open to its gas; the
+    !> partly filled zone at the leading edge (a starved inlet) is open to the leading edge's gas
+    logical :: trailing_gas = .false., leading_gas = .false.
+  end type jfo_problem
 
   !> One step's system: n nodes; a = -U/2 the Couette speed of the content; w = dx/dt (0 for a
   !> steady solve); ca = a hmid and kd = kmid/dx per face; ps the pressure per unit v of each
@@ -21,12 +48,30 @@ module ringlube_jfo_system
     real(dp), allocatable :: ca(:), kd(:), ps(:), h(:), content_old(:), pc(:)
   end type jfo_system
 
-  !> jfo_solve's working arrays (n x n_scratch, allocated once for a film's n nodes and
-  !> kept, like jfo_system: no allocation per solve).
+  !> The residual's evaluation at a state v (jfo_residual), all per node or per face (n).
+  type :: jfo_eval
+    !> pressure and fill of each node
+    real(dp), allocatable :: pn(:), tn(:)
+    !> flux through each face f (nodes f, f+1)
+    real(dp), allocatable :: fl(:)
+    !> the flux's derivatives by the pressure (dfpl, dfpr) and the fill (dftl, dftr) of the
+    !> face's left and right node
+    real(dp), allocatable :: dfpl(:), dfpr(:), dftl(:), dftr(:)
+    !> the residual's Jacobian rows by v on the current piece: sub-, main and super-diagonal
+    real(dp), allocatable :: jl(:), jd(:), ju(:)
+  end type jfo_eval
+
+  !> jfo_solve's working arrays (allocated once for a film's n nodes and kept, like
+  !> jfo_system: no allocation per solve).
   type :: jfo_scratch
-    real(dp), allocatable :: a(:, :)
+    !> the state v, a trial state vt, the state before the last coarse restart vpre, the best
+    !> state vbest and the Newton step dv
+    real(dp), allocatable :: v(:), vt(:), vpre(:), vbest(:), dv(:)
+    !> the residuals at v and at vt, and the Thomas solve's work array
+    real(dp), allocatable :: r(:), rt(:), tw(:)
+    !> the residual's evaluation at the last state evaluated
+    type(jfo_eval) :: ev
   end type jfo_scratch
-  integer, parameter, public :: n_scratch = 18
 
 contains
 
@@ -34,20 +79,23 @@ contains
   pure subroutine jfo_scratch_size(s, n)
     type(jfo_scratch), intent(inout) :: s
     integer, intent(in) :: n
-    if (allocated(s%a)) then
-      if (size(s%a, 1) == n) return
-      deallocate (s%a)
+    if (allocated(s%v)) then
+      if (size(s%v) == n) return
+      deallocate (s%v, s%vt, s%vpre, s%vbest, s%dv, s%r, s%rt, s%tw)
+      deallocate (s%ev%pn, s%ev%tn, s%ev%fl, s%ev%dfpl, s%ev%dfpr, s%ev%dftl, s%ev%dftr, &
+                  s%ev%jl, s%ev%jd, s%ev%ju)
     end if
-    allocate (s%a(n, n_scratch))
+    allocate (s%v(n), s%vt(n), s%vpre(n), s%vbest(n), s%dv(n), s%r(n), s%rt(n), s%tw(n))
+    allocate (s%ev%pn(n), s%ev%tn(n), s%ev%fl(n), s%ev%dfpl(n), s%ev%dfpr(n), s%ev%dftl(n), &
+              s%ev%dftr(n), s%ev%jl(n), s%ev%jd(n), s%ev%ju(n))
   end subroutine jfo_scratch_size
 
-  !> The discretised system of one jfo_solve call (arguments as jfo_solve; qcl, qcr the caps),
-  !> in sys's arrays (allocated once for a film's n nodes and kept: jfo_solve's `work`).
-  pure subroutine jfo_system_setup(sys, dx, h, hmid, kmid, u, dt, content_old, p_left, p_right, &
-                                   theta_left, theta_right, pc, qcl, qcr)
+  !> The discretised system of one jfo_solve call (arguments as jfo_solve; the caps clipped at
+  !> 0), in sys's arrays (allocated once for a film's n nodes and kept: jfo_solve's `work`).
+  pure subroutine jfo_system_setup(sys, problem, h, hmid, kmid, content_old, pc)
     type(jfo_system), intent(inout) :: sys
-    real(dp), intent(in) :: dx, h(:), hmid(:), kmid(:), u, dt, content_old(:)
-    real(dp), intent(in) :: p_left, p_right, theta_left, theta_right, pc(:), qcl, qcr
+    type(jfo_problem), intent(in) :: problem
+    real(dp), intent(in) :: h(:), hmid(:), kmid(:), content_old(:), pc(:)
     real(dp) :: t
     integer :: i, n
     n = size(h)
@@ -55,18 +103,19 @@ contains
     sys%h = h
     sys%content_old = content_old
     sys%pc = pc
-    sys%p_left = p_left
-    sys%p_right = p_right
-    sys%theta_left = theta_left
-    sys%theta_right = theta_right
-    sys%qcl = qcl
-    sys%qcr = qcr
+    sys%p_left = problem%p_left
+    sys%p_right = problem%p_right
+    sys%theta_left = problem%theta_left
+    sys%theta_right = problem%theta_right
+    sys%qcl = max(problem%cap_left, 0.0_dp)
+    sys%qcr = max(problem%cap_right, 0.0_dp)
     if (allocated(sys%ca)) then
       if (size(sys%ca) /= n) deallocate (sys%ca, sys%kd, sys%ps)
     end if
     if (.not. allocated(sys%ca)) allocate (sys%ca(n), sys%kd(n), sys%ps(n))
-    associate (a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, ps => sys%ps)
-      a = -0.5_dp * u
+    associate (a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, ps => sys%ps, dx => problem%dx, &
+               dt => problem%dt)
+      a = -0.5_dp * problem%u
       w = 0.0_dp
       if (dt > 0.0_dp) w = dx / dt
       ca(1:n - 1) = a * hmid
@@ -83,25 +132,27 @@ contains
     end associate
   end subroutine jfo_system_setup
 
-  !> Node states pn, tn from x, face fluxes fl, the residual of the interior finite volumes
-  !> and the scale of its terms; with jac also the Jacobian rows jl, jd, ju on this piece.
+  !> The residual res of the interior finite volumes at the state x and the scale of its
+  !> terms; in ev the node states pn, tn, the face fluxes fl and their derivatives, and with jac
+  !> also the Jacobian rows jl, jd, ju on this piece.
   !> Face f (nodes f, f+1): F = a theta_up hmid - g theta_P, g = kmid (p(f+1) - p(f))/dx, the
   !> Couette content upwind by the sign of a, the pressure-driven content upwind by the sign of g
   !> (full film: theta_P = 1; a cavity pushed out by a higher pressure carries oil fraction
   !> theta, the rest is gas).
-  pure subroutine jfo_residual(sys, x, res, scale, jac, pn, tn, fl, dfpl, dfpr, dftl, dftr, jl, jd, ju)
+  pure subroutine jfo_residual(sys, x, res, scale, jac, ev)
     type(jfo_system), intent(in) :: sys
     real(dp), intent(in) :: x(:)
     real(dp), intent(out) :: res(:), scale
     logical, intent(in) :: jac
-    real(dp), intent(inout) :: pn(:), tn(:), fl(:), dfpl(:), dfpr(:), dftl(:), dftr(:)
-    real(dp), intent(inout) :: jl(:), jd(:), ju(:)
+    type(jfo_eval), intent(inout) :: ev
     real(dp) :: g, tp, s
     integer :: j
-    associate (n => sys%n, a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, ps => sys%ps, h => sys%h, &
-               content_old => sys%content_old, p_left => sys%p_left, p_right => sys%p_right, &
-               theta_left => sys%theta_left, theta_right => sys%theta_right, qcl => sys%qcl, &
-               qcr => sys%qcr)
+    associate (n => sys%n, a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, ps => sys%ps, &
+               h => sys%h, content_old => sys%content_old, p_left => sys%p_left, &
+               p_right => sys%p_right, theta_left => sys%theta_left, &
+               theta_right => sys%theta_right, qcl => sys%qcl, qcr => sys%qcr, pn => ev%pn, &
+               tn => ev%tn, fl => ev%fl, dfpl => ev%dfpl, dfpr => ev%dfpr, dftl => ev%dftl, &
+               dftr => ev%dftr, jl => ev%jl, jd => ev%jd, ju => ev%ju)
       pn(1) = p_left
       pn(n) = p_right
       tn(1) = theta_left

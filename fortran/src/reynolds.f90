@@ -17,7 +17,22 @@ module ringlube_reynolds
   use ringlube_tridiag, only: thomas_fixed
   implicit none
   private
-  public :: reynolds_solve, reynolds_work, reynolds_work_init
+  public :: reynolds_solve, reynolds_problem, reynolds_work, reynolds_work_init
+
+  !> One solve of the Swift-Stieber film: its scalars, the record reynolds_solve takes beside
+  !> the film's conductances and gaps. All components must be given.
+  type :: reynolds_problem
+    !> node spacing [m]
+    real(dp) :: dx
+    !> sliding speed [m/s]
+    real(dp) :: u
+    !> the squeeze term 2 dh0/dt [m/s]
+    real(dp) :: sq
+    !> Dirichlet pressures at x = -b/2 (node 1) and x = +b/2 (node n) [Pa]
+    real(dp) :: p_left, p_right
+    !> cavitation pressure [Pa]: the pressure of the cavitated nodes, the least of the others
+    real(dp) :: p_cav
+  end type reynolds_problem
 
   !> Scratch arrays of reynolds_solve (kept by the caller between solves, so that a
   !> solve allocates nothing).
@@ -36,13 +51,13 @@ contains
 
   !> Solve for the nodal pressures p(1:n).
   !>
-  !> `kmid(i)` and `hmid(i)` are K and h between nodes i and i+1; `sq = 2 dh0/dt`;
-  !> `p_left`, `p_right` the Dirichlet values at x = -b/2 and x = +b/2. `active` (in/out)
-  !> is the cavitated set, used as the warm start. `info`: 0 converged, 1 active-set loop
-  !> did not settle, 2 singular system. `work`: optional scratch (reynolds_work_init(n)).
-  pure recursive subroutine reynolds_solve(dx, kmid, hmid, u, sq, p_left, p_right, p_cav, p, &
-                                           active, iterations, info, work)
-    real(dp), intent(in) :: dx, kmid(:), hmid(:), u, sq, p_left, p_right, p_cav
+  !> `problem` (reynolds_problem) the solve's scalars; `kmid(i)` and `hmid(i)` are K and h
+  !> between nodes i and i+1. `active` (in/out) is the cavitated set, used as the warm start.
+  !> `iterations` the Thomas solves of the active-set loop; `info`: 0 converged, 1 active-set
+  !> loop did not settle, 2 singular system. `work`: optional scratch (reynolds_work_init(n)).
+  pure recursive subroutine reynolds_solve(problem, kmid, hmid, p, active, iterations, info, work)
+    type(reynolds_problem), intent(in) :: problem
+    real(dp), intent(in) :: kmid(:), hmid(:)
     real(dp), intent(out) :: p(:)
     logical, intent(inout) :: active(:)
     integer, intent(out) :: iterations, info
@@ -54,13 +69,14 @@ contains
 
     if (.not. present(work)) then
       call reynolds_work_init(local, size(p))
-      call reynolds_solve(dx, kmid, hmid, u, sq, p_left, p_right, p_cav, p, active, iterations, &
-                          info, local)
+      call reynolds_solve(problem, kmid, hmid, p, active, iterations, info, local)
       return
     end if
     n = size(p)
     info = 0
-    associate (a0 => work%a0, b0 => work%b0, c0 => work%c0, r => work%r)
+    associate (a0 => work%a0, b0 => work%b0, c0 => work%c0, r => work%r, dx => problem%dx, &
+               u => problem%u, sq => problem%sq, p_left => problem%p_left, &
+               p_right => problem%p_right, p_cav => problem%p_cav)
       a0(1) = 0.0_dp; b0(1) = 1.0_dp; c0(1) = 0.0_dp; r(1) = p_left
       a0(n) = 0.0_dp; b0(n) = 1.0_dp; c0(n) = 0.0_dp; r(n) = p_right
       do i = 2, n - 1

@@ -12,8 +12,8 @@
 !> Each size runs three times (the machine may be shared); quote the fastest.
 program bench_jfo
   use ringlube_kinds, only: dp, pi
-  use ringlube_jfo, only: jfo_solve
-  use ringlube_reynolds, only: reynolds_solve
+  use ringlube_jfo, only: jfo_solve, jfo_problem, jfo_stats
+  use ringlube_reynolds, only: reynolds_solve, reynolds_problem
   use jfo_reference, only: elrod_solve
   implicit none
   integer, parameter :: sizes(2) = [51, 201]
@@ -40,6 +40,7 @@ contains
     real(dp) :: dx, dt, t, u, hm, tin, tn, te, ts
     integer :: i, j, it, info, sw, itsum, itmax, swsum, swmax, ssum, smax, nsolve
     integer(8) :: c0, c1, rate
+    type(jfo_stats) :: st
 
     dx = b / (n - 1)
     x = [(-0.5_dp * b + (i - 1) * dx, i=1, n)]
@@ -72,9 +73,10 @@ contains
       tin = merge(0.6_dp, 1.0_dp, u < 0.0_dp)
       cold = th * hold
       call system_clock(c0, rate)
-      call jfo_solve(dx, h, hmid, kmid, u, dt, cold, 3e5_dp, 1e5_dp, tin, 1.0_dp, pc, p, th, it, &
-                     info)
+      call jfo_solve(jfo_problem(dx=dx, u=u, dt=dt, p_left=3e5_dp, p_right=1e5_dp, &
+                                 theta_left=tin), h, hmid, kmid, cold, pc, p, th, st)
       call system_clock(c1)
+      it = st%iterations
       if (j <= nsteps) cycle   ! first period: settle the periodic state
       tn = tn + real(c1 - c0, dp) / rate
       itsum = itsum + it
@@ -90,8 +92,9 @@ contains
       swsum = swsum + sw
       swmax = max(swmax, sw)
       call system_clock(c0)
-      call reynolds_solve(dx, 2 * kmid, hmid, u, 2 * (h(1) - hold(1)) / dt, 3e5_dp, 1e5_dp, &
-                          0.5e5_dp, ps, active, it, info)
+      call reynolds_solve(reynolds_problem(dx=dx, u=u, sq=2 * (h(1) - hold(1)) / dt, &
+                                           p_left=3e5_dp, p_right=1e5_dp, p_cav=0.5e5_dp), &
+                          2 * kmid, hmid, ps, active, it, info)
       call system_clock(c1)
       ts = ts + real(c1 - c0, dp) / rate
       ssum = ssum + it

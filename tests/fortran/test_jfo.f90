@@ -13,7 +13,7 @@ program test_jfo
   use ringlube_kinds, only: dp, pi
   use ringlube_jfo
   use ringlube_jfo_connect
-  use ringlube_reynolds, only: reynolds_solve
+  use ringlube_reynolds, only: reynolds_solve, reynolds_problem
   use jfo_reference, only: elrod_solve
   use ringlube_check
   use squeeze_exact
@@ -39,6 +39,7 @@ contains
     logical, allocatable :: active(:)
     real(dp) :: dx, xc, err(4), dss(4), ql, qr, q_exact
     integer :: k, n, it, info, itw, its
+    type(jfo_stats) :: st
     xc = rupture_point(10.0_dp, 2e5_dp, 0.0_dp)
     write (*, '(a)') '1. flooded steady slider against Swift-Stieber (closed form and '// &
       'reynolds_solve)'
@@ -50,8 +51,9 @@ contains
       pc = 0.0_dp
       p = 0.0_dp
       th = 1.0_dp
-      call jfo_solve(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 0.0_dp, 2e5_dp, 1.0_dp, 1.0_dp, pc, &
-                     p, th, it, info, ql, qr)
+      call jfo_solve(jfo_problem(dx=dx, u=10.0_dp, dt=0.0_dp, p_left=0.0_dp, p_right=2e5_dp), h, &
+                     hmid, kmid, h, pc, p, th, st)
+      it = st%iterations; info = st%info; ql = st%q_left; qr = st%q_right
       call check(info == JFO_OK, 'flooded slider converges')
       pe = merge(p_film(x + xs, xc + xs, hz(xc + xs), 0.0_dp, 10.0_dp), 0.0_dp, x > xc)
       err(k) = maxval(abs(p - pe)) / maxval(pe)
@@ -62,12 +64,14 @@ contains
       call check_close(ql, qr, 1e-10_dp, 'flooded slider: steady, q_left = q_right')
       ! Swift-Stieber on the same grid (K = h^3/(6 eta))
       active = .false.
-      call reynolds_solve(dx, 2 * kmid, hmid, 10.0_dp, 0.0_dp, 0.0_dp, 2e5_dp, 0.0_dp, pss, &
+      call reynolds_solve(reynolds_problem(dx=dx, u=10.0_dp, sq=0.0_dp, p_left=0.0_dp, &
+                                           p_right=2e5_dp, p_cav=0.0_dp), 2 * kmid, hmid, pss, &
                           active, its, info)
       dss(k) = maxval(abs(p - pss)) / maxval(pe)
       ! warm start from the solution, slightly perturbed step: 1 iteration
-      call jfo_solve(dx, h, hmid, kmid, 10.0_dp * (1 + 1e-3_dp), 0.0_dp, h, 0.0_dp, 2e5_dp, &
-                     1.0_dp, 1.0_dp, pc, p, th, itw, info)
+      call jfo_solve(jfo_problem(dx=dx, u=10.0_dp * (1 + 1e-3_dp), dt=0.0_dp, p_left=0.0_dp, &
+                                 p_right=2e5_dp), h, hmid, kmid, h, pc, p, th, st)
+      itw = st%iterations; info = st%info
       write (*, '(i5, es16.3, es22.3, 6x, i3, i4)') n, err(k), dss(k), it, itw
       call check(itw <= 3, 'flooded slider: warm start needs at most 3 iterations')
       call check(all(th >= 0.0_dp .and. th <= 1.0_dp), 'flooded slider: theta in [0, 1]')
@@ -94,6 +98,7 @@ contains
     real(dp) :: t, s, k1, k2, k3, k4, errv(4), errp(4), errs(4), dx, dt, vex, vnum, pex
     real(dp) :: hh, hd, b0, sn, smin, perr, pref, pnorm, order
     integer :: nt, i, j, k, n, nsteps, it, info, itmax, itsum
+    type(jfo_stats) :: st
     ! --- exact front: growth from t1 (Sigma_eq = 1/2) to t2 (Sigma_eq minimal), then the ODE
     t1 = bisect_t(0.25_dp + 1e-9_dp, 0.375_dp, 0.5_dp)
     t = t1
@@ -156,8 +161,9 @@ contains
         h = sq_h(t)
         hmid = h(1)
         kmid = hmid**3
-        call jfo_solve(dx, h, hmid, kmid, 0.0_dp, dt, cold, pa, pa, 1.0_dp, 1.0_dp, pc, p, th, &
-                       it, info)
+        call jfo_solve(jfo_problem(dx=dx, u=0.0_dp, dt=dt, p_left=pa, p_right=pa), h, hmid, kmid, &
+                       cold, pc, p, th, st)
+        it = st%iterations; info = st%info
         if (info /= JFO_OK) call check(.false., 'squeeze step converges')
         itmax = max(itmax, it)
         itsum = itsum + it
@@ -218,6 +224,7 @@ contains
     real(dp) :: dx, dt, t, u, v0, v1, ql, qr, bal, balmax, total_in, vstart, dev_p, dev_t
     real(dp) :: pmax, tin_l, tin_r, compl, hmin_t
     integer :: j, it, info, sw, itmax, itsum, swmax, ncav, nref, outer, outmax, outsum
+    type(jfo_stats) :: st
     logical :: ok_bounds, reformed, ruptured
     call grid(n, x, h, hmid, kmid, dx)
     allocate (p(n), th(n), pc(n), cold(n), pr(n), tr(n))
@@ -253,8 +260,10 @@ contains
       tin_l = merge(0.6_dp, 1.0_dp, u < 0.0_dp)
       tin_r = 1.0_dp
       v0 = jfo_film_volume(dx, h, cold / h)
-      call jfo_solve(dx, h, hmid, kmid, u, dt, cold, 3e5_dp, 1e5_dp, tin_l, tin_r, pc, p, th, &
-                     it, info, ql, qr)
+      call jfo_solve(jfo_problem(dx=dx, u=u, dt=dt, p_left=3e5_dp, p_right=1e5_dp, &
+                                 theta_left=tin_l, theta_right=tin_r), h, hmid, kmid, cold, pc, &
+                     p, th, st)
+      it = st%iterations; info = st%info; ql = st%q_left; qr = st%q_right
       call check(info == JFO_OK, 'transient step converges')
       v1 = jfo_film_volume(dx, h, th)
       bal = abs((v1 - v0) - dt * (ql - qr))
@@ -318,8 +327,11 @@ contains
       tin_l = merge(0.6_dp, 0.0_dp, u < 0.0_dp)
       tin_r = merge(0.0_dp, 1.0_dp, u < 0.0_dp)
       v0 = jfo_film_volume(dx, h, cold / h)
-      call jfo_solve_connected(dx, h, hmid, kmid, u, dt, cold, 3e5_dp, 1e5_dp, tin_l, tin_r, &
-                               0.5e5_dp, .true., .true., pc, p, th, it, outer, info, ql, qr)
+      call jfo_solve_connected(jfo_problem(dx=dx, u=u, dt=dt, p_left=3e5_dp, p_right=1e5_dp, &
+                                           theta_left=tin_l, theta_right=tin_r, p_cav=0.5e5_dp, &
+                                           trailing_gas=.true., leading_gas=.true.), &
+                               h, hmid, kmid, cold, pc, p, th, st)
+      it = st%iterations; outer = st%outer; info = st%info; ql = st%q_left; qr = st%q_right
       if (info /= JFO_OK) call check(.false., 'connected transient step converges')
       v1 = jfo_film_volume(dx, h, th)
       balmax = max(balmax, abs((v1 - v0) - dt * (ql - qr)))
@@ -359,6 +371,8 @@ contains
     integer, parameter :: ntrial = 2000, count_converged_in_one = 0
     real(dp) :: hh(n), hmm(n - 1), km(n - 1), cold(n), hm, tinr, dtr
     real(dp) :: u, pl, pr, tinl
+    type(jfo_problem) :: prob
+    type(jfo_stats) :: st
     call grid(n, x, h, hmid, kmid, dx)
     allocate (p(n), th(n), pc(n), p0(n), t0(n), pg(n), tg(n))
     itmx = 0
@@ -366,13 +380,14 @@ contains
     ! reference solution of a case with an enclosed cavity
     p0 = 1e5_dp
     t0 = 1.0_dp
-    call jfo_solve(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 1e5_dp, 1e5_dp, 1.0_dp, 1.0_dp, pc, &
-                   p0, t0, it, info)
+    prob = jfo_problem(dx=dx, u=10.0_dp, dt=0.0_dp, p_left=1e5_dp, p_right=1e5_dp)
+    call jfo_solve(prob, h, hmid, kmid, h, pc, p0, t0, st)
     ! the Gauss-Seidel fallback alone reaches the same solution
     p = 1e5_dp
     th = 1.0_dp
-    call jfo_solve(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 1e5_dp, 1e5_dp, 1.0_dp, 1.0_dp, pc, &
-                  p, th, it, info, options=jfo_options(newton=.false., max_iter=2000000), sweeps=sw)
+    call jfo_solve(prob, h, hmid, kmid, h, pc, p, th, st, &
+                   jfo_options(newton=.false., max_iter=2000000))
+    it = st%iterations; info = st%info; sw = st%sweeps
     write (*, '(a, i0, a, es10.3)') '7. Gauss-Seidel fallback alone: ', sw, &
       ' sweeps, max |p - p_newton|/max p = ', maxval(abs(p - p0)) / maxval(p0)
     call check(info == JFO_OK .and. maxval(abs(p - p0)) <= 1e-8_dp * maxval(p0) &
@@ -396,21 +411,24 @@ contains
       cold = hh * min(1.0_dp, t0 + 0.2_dp)
       p = p0
       th = t0
-      call jfo_solve(dx, hh, hmm, km, u, dtr, cold, pl, pr, tinl, tinr, pc, p, th, it, info, &
-                     options=jfo_options(guard=.false., max_iter=200))
+      prob = jfo_problem(dx=dx, u=u, dt=dtr, p_left=pl, p_right=pr, theta_left=tinl, &
+                         theta_right=tinr)
+      call jfo_solve(prob, hh, hmm, km, cold, pc, p, th, st, &
+                     jfo_options(guard=.false., max_iter=200))
+      info = st%info
       if (info /= JFO_OK) nfail_plain = nfail_plain + 1
       pg = p0
       tg = t0
-      call jfo_solve(dx, hh, hmm, km, u, dtr, cold, pl, pr, tinl, tinr, pc, pg, tg, it, info, &
-                     sweeps=sw)
+      call jfo_solve(prob, hh, hmm, km, cold, pc, pg, tg, st)
+      it = st%iterations; info = st%info; sw = st%sweeps
       if (info /= JFO_OK) nfail_guard = nfail_guard + 1
       if (sw > 0) nguarded = nguarded + 1
       itmx = max(itmx, it)
       ! one iteration only: not converged, flagged, finite and within bounds
       p = p0
       th = t0
-      call jfo_solve(dx, hh, hmm, km, u, dtr, cold, pl, pr, tinl, tinr, pc, p, th, it, info, &
-                     options=jfo_options(max_iter=1))
+      call jfo_solve(prob, hh, hmm, km, cold, pc, p, th, st, jfo_options(max_iter=1))
+      info = st%info
       if (info == JFO_NOT_CONVERGED .and. all(abs(p) < huge(1.0_dp)) &
           .and. all(p(2:n - 1) >= pc(2:n - 1)) &
           .and. all(th >= 0.0_dp .and. th <= 1.0_dp)) nflagged = nflagged + 1
@@ -428,15 +446,17 @@ contains
 
   subroutine case_bad_input()
     real(dp) :: h(2), hm(1), km(1), p(2), th(2), pc(2)
-    integer :: it, info
+    integer :: info
+    type(jfo_stats) :: st
     h = 1e-6_dp
     hm = 1e-6_dp
     km = 1e-18_dp
     p = 0.0_dp
     th = 1.0_dp
     pc = 0.0_dp
-    call jfo_solve(1e-5_dp, h, hm, km, 1.0_dp, 0.0_dp, h, 0.0_dp, 0.0_dp, 1.0_dp, 1.0_dp, pc, p, &
-                   th, it, info)
+    call jfo_solve(jfo_problem(dx=1e-5_dp, u=1.0_dp, dt=0.0_dp, p_left=0.0_dp, p_right=0.0_dp), &
+                   h, hm, km, h, pc, p, th, st)
+    info = st%info
     call check(info == JFO_BAD_INPUT, 'bad input: n < 3 flagged')
   end subroutine case_bad_input
 
@@ -447,7 +467,8 @@ contains
     integer, parameter :: n = 61
     real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:)
     real(dp) :: dx, p(n), th(n), p2(n), th2(n), pc(n)
-    integer :: it, info, it2, info2
+    integer :: info
+    type(jfo_stats) :: st
     call grid(n, x, h, hmid, kmid, dx)
     pc = 0.0_dp
     p = 1e5_dp
@@ -455,10 +476,11 @@ contains
     p(20:25) = huge(1.0_dp)
     p2 = 1e5_dp
     th2 = 1.0_dp
-    call jfo_solve(dx, h, hmid, kmid, 10.0_dp, 1e-5_dp, h, 3e5_dp, 1e5_dp, 1.0_dp, 1.0_dp, pc, p, &
-                   th, it, info)
-    call jfo_solve(dx, h, hmid, kmid, 10.0_dp, 1e-5_dp, h, 3e5_dp, 1e5_dp, 1.0_dp, 1.0_dp, pc, p2, &
-                   th2, it2, info2)
+    call jfo_solve(jfo_problem(dx=dx, u=10.0_dp, dt=1e-5_dp, p_left=3e5_dp, p_right=1e5_dp), h, &
+                   hmid, kmid, h, pc, p, th, st)
+    info = st%info
+    call jfo_solve(jfo_problem(dx=dx, u=10.0_dp, dt=1e-5_dp, p_left=3e5_dp, p_right=1e5_dp), h, &
+                   hmid, kmid, h, pc, p2, th2, st)
     call check(info == JFO_OK .and. all(ieee_is_finite(p)), 'huge warm start: converges, finite')
   call check(maxval(abs(p - p2)) <= 1e-10_dp * maxval(p2) .and. maxval(abs(th - th2)) <= 1e-10_dp, &
                'huge warm start: the solution of an ordinary warm start')

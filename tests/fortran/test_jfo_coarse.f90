@@ -36,6 +36,8 @@ contains
     real(dp) :: dx, u, pl, pr, tl, tr
     integer :: k, setup, n, it_on, it_off, info_on, info_off, its(size(sizes))
     type(jfo_options) :: off
+    type(jfo_problem) :: prob
+    type(jfo_stats) :: st
     character(len=100) :: what
     off%coarse = .false.
     do setup = 1, 2
@@ -66,10 +68,12 @@ contains
         end if
         p2 = p
         th2 = th
-        call jfo_solve(dx, h, hmid, kmid, u, 1e-5_dp, cold, pl, pr, tl, tr, pc, p, th, it_on, &
-                       info_on)
-        call jfo_solve(dx, h, hmid, kmid, u, 1e-5_dp, cold, pl, pr, tl, tr, pc, p2, th2, it_off, &
-                       info_off, options=off)
+        prob = jfo_problem(dx=dx, u=u, dt=1e-5_dp, p_left=pl, p_right=pr, theta_left=tl, &
+                           theta_right=tr)
+        call jfo_solve(prob, h, hmid, kmid, cold, pc, p, th, st)
+        it_on = st%iterations; info_on = st%info
+        call jfo_solve(prob, h, hmid, kmid, cold, pc, p2, th2, st, off)
+        it_off = st%iterations; info_off = st%info
         its(k) = it_on
         write (*, '(2x, a, i0, a, i5, a, i4, a, i4)') 'set-up ', setup, ', nodes', n, &
           ': iterations with the predictor', it_on, ', without', it_off
@@ -111,6 +115,8 @@ contains
     integer :: k, n, trial, i, j, a, w, it1, it2, in1, in2, nbroken, nfixed, ndiff, nsame
     logical :: capped
     type(jfo_options) :: off
+    type(jfo_problem) :: prob
+    type(jfo_stats) :: st
     character(len=100) :: what
     off%coarse = .false.
     do k = 1, size(sizes)
@@ -153,10 +159,12 @@ contains
         th1 = t0
         p2 = p0
         th2 = t0
-        call jfo_solve(dx, hh, hmm, km, u, dtr, cold, pl, pr, tl, tr, pc, p1, th1, it1, in1, &
-                       cap_left=capl, cap_right=capr)
-        call jfo_solve(dx, hh, hmm, km, u, dtr, cold, pl, pr, tl, tr, pc, p2, th2, it2, in2, &
-                       options=off, cap_left=capl, cap_right=capr)
+        prob = jfo_problem(dx=dx, u=u, dt=dtr, p_left=pl, p_right=pr, theta_left=tl, &
+                           theta_right=tr, cap_left=capl, cap_right=capr)
+        call jfo_solve(prob, hh, hmm, km, cold, pc, p1, th1, st)
+        it1 = st%iterations; in1 = st%info
+        call jfo_solve(prob, hh, hmm, km, cold, pc, p2, th2, st, off)
+        it2 = st%iterations; in2 = st%info
         if (in1 /= JFO_OK .and. in2 == JFO_OK) nbroken = nbroken + 1
         if (in1 == JFO_OK .and. in2 /= JFO_OK) nfixed = nfixed + 1
         dpm = maxval(abs(p1 - p2)) / maxval(abs(p2))

@@ -32,6 +32,7 @@ contains
     real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), pe(:)
     real(dp) :: dx, xc, err(4), pt
     integer :: k, n, it, outer, info
+    type(jfo_stats) :: st
     pt = 1e5_dp
     xc = rupture_point(10.0_dp, 2e5_dp, pt)
     write (*, '(a)') '6a. trailing gas: film ruptures at p_t with dp/dx = 0 (closed form)'
@@ -42,8 +43,10 @@ contains
       p = pt
       th = 1.0_dp
       ! the trailing edge admits gas only (theta_left = 0): no oil is pushed in from there
-      call jfo_solve_connected(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, pt, 2e5_dp, 0.0_dp, 1.0_dp, &
-                               0.0_dp, .true., .false., pc, p, th, it, outer, info)
+      call jfo_solve_connected(jfo_problem(dx=dx, u=10.0_dp, dt=0.0_dp, p_left=pt, p_right=2e5_dp, &
+                                           theta_left=0.0_dp, p_cav=0.0_dp, trailing_gas=.true.), &
+                               h, hmid, kmid, h, pc, p, th, st)
+      it = st%iterations; outer = st%outer; info = st%info
       call check(info == JFO_OK, 'trailing gas converges')
       pe = merge(p_film(x + xs, xc + xs, hz(xc + xs), pt, 10.0_dp), pt, x > xc)
       err(k) = maxval(abs(p - pe)) / maxval(pe)
@@ -72,6 +75,7 @@ contains
                                         0.05_dp, 0.01_dp, 0.0_dp]
     integer :: k, n, it, outer, info, i
     logical :: thin, finite_ok
+    type(jfo_stats) :: st
     pl = 2e5_dp
     tin = 0.12_dp
     hle = hz(0.5_dp * b + xs)
@@ -98,8 +102,10 @@ contains
       allocate (p(n), th(n), pc(n), pf(n), tf(n))
       p = 0.0_dp
       th = 1.0_dp
-      call jfo_solve_connected(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 0.0_dp, pl, 1.0_dp, tin, &
-                               0.0_dp, .false., .true., pc, p, th, it, outer, info)
+      call jfo_solve_connected(jfo_problem(dx=dx, u=10.0_dp, dt=0.0_dp, p_left=0.0_dp, p_right=pl, &
+                                           theta_right=tin, p_cav=0.0_dp, leading_gas=.true.), &
+                               h, hmid, kmid, h, pc, p, th, st)
+      it = st%iterations; outer = st%outer; info = st%info
       call check(info == JFO_OK, 'starved ring converges')
       pe = merge(p_film(x + xs, zc, hc, 0.0_dp, 10.0_dp), 0.0_dp, x > zc - xs)
       where (x >= xm) pe = pl
@@ -115,13 +121,14 @@ contains
       ! theta_in = 1 with the leading-gas rule is the flooded film, exactly
       pf = 0.0_dp
       tf = 1.0_dp
-      call jfo_solve_connected(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 0.0_dp, pl, 1.0_dp, 1.0_dp, &
-                               0.0_dp, .false., .true., pc, pf, tf, it, outer, info)
+      call jfo_solve_connected(jfo_problem(dx=dx, u=10.0_dp, dt=0.0_dp, p_left=0.0_dp, p_right=pl, &
+                                           p_cav=0.0_dp, leading_gas=.true.), &
+                               h, hmid, kmid, h, pc, pf, tf, st)
       p = 0.0_dp
       th = 1.0_dp
       pc = 0.0_dp
-      call jfo_solve(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 0.0_dp, pl, 1.0_dp, 1.0_dp, pc, p, th, &
-                     it, info)
+      call jfo_solve(jfo_problem(dx=dx, u=10.0_dp, dt=0.0_dp, p_left=0.0_dp, p_right=pl), h, hmid, &
+                     kmid, h, pc, p, th, st)
       call check(all(pf == p) .and. all(tf == th), 'starved: theta_in = 1 equals the flooded film')
       deallocate (p, th, pc, pf, tf)
     end do
@@ -140,8 +147,10 @@ contains
     finite_ok = .true.
     write (*, '(a)') '  theta_in   load (N/m)   oil volume (m^2)  info'
     do k = 1, size(fills)
-      call jfo_solve_connected(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 0.0_dp, pl, 1.0_dp, &
-                               fills(k), 0.0_dp, .false., .true., pc, p, th, it, outer, info)
+      call jfo_solve_connected(jfo_problem(dx=dx, u=10.0_dp, dt=0.0_dp, p_left=0.0_dp, p_right=pl, &
+                                           theta_right=fills(k), p_cav=0.0_dp, &
+                                           leading_gas=.true.), h, hmid, kmid, h, pc, p, th, st)
+      info = st%info
       load = dx * sum(p(2:n - 1))
       vol = jfo_film_volume(dx, h, th)
       write (*, '(f10.2, es13.4, es16.4, i5)') fills(k), load, vol, info
@@ -165,42 +174,51 @@ contains
     write (*, '(a)') '6. cavity-pressure connectivity rule on constructed fills'
     ! downstroke (u > 0): trailing = chamber (left), leading = crankcase (right)
     th = [1.0_dp, 0.5_dp, 0.5_dp, 1.0_dp, 0.3_dp, 0.3_dp, 1.0_dp, 1.0_dp, 0.4_dp, 0.4_dp]
-    call jfo_cavity_pressure(th, 5.0_dp, pch, pcc, pcav, .true., .true., pc)
+    call jfo_cavity_pressure(rule(5.0_dp, pch, pcc, pcav, .true., .true.), th, pc)
     call check(all(pc == [pcav, pch, pch, pcav, pcav, pcav, pcav, pcav, pcc, pcav]), &
                'rule: trailing run at p_t, enclosed at p_cav, leading zone at p_l (u > 0)')
-    call jfo_cavity_pressure(th, 5.0_dp, pch, pcc, pcav, .false., .true., pc)
+    call jfo_cavity_pressure(rule(5.0_dp, pch, pcc, pcav, .false., .true.), th, pc)
     call check(all(pc == [pcav, pcav, pcav, pcav, pcav, pcav, pcav, pcav, pcc, pcav]), &
                'rule: vapour trailing cavity, starved leading zone')
-    call jfo_cavity_pressure(th, 5.0_dp, pch, pcc, pcav, .true., .false., pc)
+    call jfo_cavity_pressure(rule(5.0_dp, pch, pcc, pcav, .true., .false.), th, pc)
     call check(all(pc == [pcav, pch, pch, pcav, pcav, pcav, pcav, pcav, pcav, pcav]), &
                'rule: trailing gas, flooded leading side')
     ! upstroke (u < 0): trailing = crankcase (right), leading = chamber (left)
-    call jfo_cavity_pressure(th, -5.0_dp, pch, pcc, pcav, .true., .true., pc)
+    call jfo_cavity_pressure(rule(-5.0_dp, pch, pcc, pcav, .true., .true.), th, pc)
     call check(all(pc == [pcav, pch, pch, pcav, pcav, pcav, pcav, pcav, pcc, pcav]), &
                'rule: upstroke, both edge runs open to their gas')
     ! gas below the cavitation pressure: the cavity stays at p_cav
-    call jfo_cavity_pressure(th, -5.0_dp, 0.0_dp, 0.0_dp, pcav, .true., .true., pc)
+    call jfo_cavity_pressure(rule(-5.0_dp, 0.0_dp, 0.0_dp, pcav, .true., .true.), th, pc)
     call check(all(pc == pcav), 'rule: gas below p_cav leaves the cavity at p_cav')
     ! partly filled across the whole width: the higher gas pressure
     th = 0.5_dp
-    call jfo_cavity_pressure(th, 5.0_dp, pch, pcc, pcav, .false., .true., pc)
+    call jfo_cavity_pressure(rule(5.0_dp, pch, pcc, pcav, .false., .true.), th, pc)
     call check(all(pc(2:9) == pch), 'rule: face partly filled across its width at the higher gas')
     ! all full: p_cav everywhere
     th = 1.0_dp
-    call jfo_cavity_pressure(th, 5.0_dp, pch, pcc, pcav, .true., .true., pc)
+    call jfo_cavity_pressure(rule(5.0_dp, pch, pcc, pcav, .true., .true.), th, pc)
     call check(all(pc == pcav), 'rule: full film at p_cav')
     ! a starved inlet zone, then full film below the leading gas pressure up to the trailing
     ! edge: the zone reaches across the face only through full film, so the face is not partly
     ! filled across its width: the leading gas pressure, not the higher chamber pressure
     th = [1.0_dp, 1.0_dp, 1.0_dp, 1.0_dp, 1.0_dp, 1.0_dp, 1.0_dp, 0.5_dp, 0.5_dp, 0.5_dp]
     pp = 0.5e5_dp
-    call jfo_cavity_pressure(th, 5.0_dp, pch, pcc, pcav, .false., .true., pc, pp)
+    call jfo_cavity_pressure(rule(5.0_dp, pch, pcc, pcav, .false., .true.), th, pc, pp)
     call check(all(pc(2:9) == pcc), &
                'rule: full film below the gas joins the zone, not a partly filled face')
     ! both edges open, their zones overlapping through full film below both: the lower gas
-    call jfo_cavity_pressure(th, 5.0_dp, pch, pcc, pcav, .true., .true., pc, pp)
+    call jfo_cavity_pressure(rule(5.0_dp, pch, pcc, pcav, .true., .true.), th, pc, pp)
     call check(all(pc(2:9) == min(pch, pcc)), 'rule: overlapping zones at the lower gas')
   end subroutine case_connectivity_rule
+
+  !> The problem the connectivity rule reads: sliding speed, edge pressures, p_cav and the two
+  !> switches (the node spacing and the time step do not enter it).
+  pure type(jfo_problem) function rule(u, p_left, p_right, p_cav, trailing_gas, leading_gas)
+    real(dp), intent(in) :: u, p_left, p_right, p_cav
+    logical, intent(in) :: trailing_gas, leading_gas
+    rule = jfo_problem(dx=1.0_dp, u=u, dt=0.0_dp, p_left=p_left, p_right=p_right, p_cav=p_cav, &
+                       trailing_gas=trailing_gas, leading_gas=leading_gas)
+  end function rule
 
   !> Both edges at 1 bar, U = 10 (the trailing edge is the left one), p_cav = 0. 'vapour' (both
   !> edges liquid, SPEC 13): the cavity that forms on the diverging side re-forms before the
@@ -212,12 +230,15 @@ contains
     real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:)
     real(dp) :: dx, ql, qr
     integer :: it, outer, info
+    type(jfo_stats) :: st
     call grid(n, x, h, hmid, kmid, dx)
     allocate (p(n), th(n), pc(n))
     p = 1e5_dp
     th = 1.0_dp
-    call jfo_solve_connected(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 1e5_dp, 1e5_dp, 1.0_dp, &
-                             1.0_dp, 0.0_dp, .false., .false., pc, p, th, it, outer, info, ql, qr)
+    call jfo_solve_connected(jfo_problem(dx=dx, u=10.0_dp, dt=0.0_dp, p_left=1e5_dp, &
+                                         p_right=1e5_dp, p_cav=0.0_dp), h, hmid, kmid, h, pc, p, &
+                             th, st)
+    it = st%iterations; outer = st%outer; info = st%info; ql = st%q_left; qr = st%q_right
     write (*, '(a, i0, a, i0, a, i0)') '6c. enclosed cavity: ', count(th < 1.0_dp), &
       ' cavity nodes, outer loops ', outer, ', Newton its ', it
     call check(info == JFO_OK, 'enclosed cavity converges')
@@ -228,8 +249,10 @@ contains
     call check_close(ql, qr, 1e-10_dp, 'enclosed cavity: steady flux through the face')
     p = 1e5_dp
     th = 1.0_dp
-    call jfo_solve_connected(dx, h, hmid, kmid, 10.0_dp, 0.0_dp, h, 1e5_dp, 1e5_dp, 1.0_dp, &
-                             1.0_dp, 0.0_dp, .true., .false., pc, p, th, it, outer, info, ql, qr)
+    call jfo_solve_connected(jfo_problem(dx=dx, u=10.0_dp, dt=0.0_dp, p_left=1e5_dp, &
+                                         p_right=1e5_dp, p_cav=0.0_dp, trailing_gas=.true.), &
+                             h, hmid, kmid, h, pc, p, th, st)
+    info = st%info; ql = st%q_left; qr = st%q_right
     call check(info == JFO_OK, 'open cavity converges')
     call check(count(th < 1.0_dp) > 3 .and. th(2) < 1.0_dp .and. th(n - 1) == 1.0_dp, &
                'trailing gas: the cavity reaches the trailing edge')
@@ -248,6 +271,8 @@ contains
     real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), pb(:), tb(:)
     real(dp) :: dx, dt, u, q0, qcap, ql, qr, lo, hi, tl, v0, v1
     integer :: it, info, k
+    type(jfo_problem) :: prob
+    type(jfo_stats) :: st
     call grid(n, x, h, hmid, kmid, dx)
     allocate (p(n), th(n), pc(n), pb(n), tb(n))
     pc = 0.0_dp
@@ -256,14 +281,16 @@ contains
     ! uncapped: a starved inlet (fill 0.5) at 3 bar drawn in by a film below it
     p = 1e5_dp
     th = 1.0_dp
-    call jfo_solve(dx, h, hmid, kmid, u, dt, 0.6_dp * h, 3e5_dp, 1e5_dp, 0.5_dp, 1.0_dp, pc, p, &
-                   th, it, info, q0, qr)
+    prob = jfo_problem(dx=dx, u=u, dt=dt, p_left=3e5_dp, p_right=1e5_dp, theta_left=0.5_dp)
+    call jfo_solve(prob, h, hmid, kmid, 0.6_dp * h, pc, p, th, st)
+    info = st%info; q0 = st%q_left
     call check(info == JFO_OK .and. q0 > 0.0_dp, 'inflow cap: the uncapped inlet draws oil in')
     qcap = 0.6_dp * q0
     p = 1e5_dp
     th = 1.0_dp
-    call jfo_solve(dx, h, hmid, kmid, u, dt, 0.6_dp * h, 3e5_dp, 1e5_dp, 0.5_dp, 1.0_dp, pc, p, &
-                   th, it, info, ql, qr, cap_left=qcap)
+    prob%cap_left = qcap
+    call jfo_solve(prob, h, hmid, kmid, 0.6_dp * h, pc, p, th, st)
+    info = st%info; ql = st%q_left; qr = st%q_right
     v0 = jfo_film_volume(dx, h, 0.6_dp * h / h)
     v1 = jfo_film_volume(dx, h, th)
     call check(info == JFO_OK, 'inflow cap: converges')
@@ -276,8 +303,9 @@ contains
       tl = 0.5_dp * (lo + hi)
       pb = 1e5_dp
       tb = 1.0_dp
-      call jfo_solve(dx, h, hmid, kmid, u, dt, 0.6_dp * h, 3e5_dp, 1e5_dp, tl, 1.0_dp, pc, pb, &
-                     tb, it, info, ql, qr)
+      call jfo_solve(jfo_problem(dx=dx, u=u, dt=dt, p_left=3e5_dp, p_right=1e5_dp, theta_left=tl), &
+                     h, hmid, kmid, 0.6_dp * h, pc, pb, tb, st)
+      ql = st%q_left
       if (ql > qcap) then
         hi = tl
       else
@@ -295,8 +323,9 @@ contains
     ! the Gauss-Seidel fallback alone applies the cap too and reaches the same film
     pb = 1e5_dp
     tb = 1.0_dp
-    call jfo_solve(dx, h, hmid, kmid, u, dt, 0.6_dp * h, 3e5_dp, 1e5_dp, 0.5_dp, 1.0_dp, pc, pb, &
-         tb, it, info, ql, qr, cap_left=qcap, options=jfo_options(newton=.false., max_iter=2000000))
+    call jfo_solve(prob, h, hmid, kmid, 0.6_dp * h, pc, pb, tb, st, &
+                   jfo_options(newton=.false., max_iter=2000000))
+    it = st%iterations; info = st%info; ql = st%q_left
     write (*, '(a, i0, a, es10.3)') '   Gauss-Seidel alone with the cap: ', it, &
       ' sweeps, max |dp|/max p ', maxval(abs(pb - p)) / maxval(p)
     call check(info == JFO_OK .and. maxval(abs(pb - p)) <= 1e-8_dp * maxval(p) &
@@ -306,8 +335,9 @@ contains
     ! a cap above the inflow changes nothing
     pb = 1e5_dp
     tb = 1.0_dp
-    call jfo_solve(dx, h, hmid, kmid, u, dt, 0.6_dp * h, 3e5_dp, 1e5_dp, 0.5_dp, 1.0_dp, pc, pb, &
-                   tb, it, info, ql, qr, cap_left=2.0_dp * q0)
+    prob%cap_left = 2.0_dp * q0
+    call jfo_solve(prob, h, hmid, kmid, 0.6_dp * h, pc, pb, tb, st)
+    ql = st%q_left
     call check_close(ql, q0, 1e-12_dp, 'inflow cap: a cap above the inflow is inactive')
   end subroutine case_inflow_cap
 
@@ -320,9 +350,10 @@ contains
   subroutine case_blown_face()
     real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:)
     real(dp), parameter :: u = 10.0_dp, tin = 0.1_dp, dt = 1e-5_dp, pt = 5e5_dp, pl = 1e5_dp
-    real(dp) :: dx, ql, qr, q_exact
-    integer :: k, n, it, outer, info
+    real(dp) :: dx, qr, q_exact
+    integer :: k, n, info
     logical :: blown
+    type(jfo_stats) :: st
     write (*, '(a)') '9. blown face: the leading edge of a face open to the trailing gas'
     do k = 1, size(ns)
       n = ns(k)
@@ -330,9 +361,11 @@ contains
       allocate (p(n), th(n), pc(n))
       p = 0.0_dp
       th = 0.05_dp
-      call jfo_solve_connected(dx, h, hmid, kmid, u, dt, 0.05_dp * h, pt, pl, 1.0_dp, tin, &
-                               0.0_dp, .true., .true., pc, p, th, it, outer, info, ql, qr, &
-                               blown=blown)
+      call jfo_solve_connected(jfo_problem(dx=dx, u=u, dt=dt, p_left=pt, p_right=pl, &
+                                           theta_right=tin, p_cav=0.0_dp, trailing_gas=.true., &
+                                           leading_gas=.true.), h, hmid, kmid, 0.05_dp * h, pc, p, &
+                               th, st)
+      info = st%info; qr = st%q_right; blown = st%blown
       q_exact = -0.5_dp * u * tin * hmid(n - 1)
       write (*, '(a, i4, a, l1, a, es12.5, a, es12.5)') '  N=', n, ' blown ', blown, &
         '  starved inflow ', -qr, '  theta_in U h_le / 2 ', -q_exact
@@ -340,9 +373,10 @@ contains
       call check_close(qr, q_exact, 1e-9_dp, 'blown face, starved: Couette inflow of its fill')
       p = 0.0_dp
       th = 0.05_dp
-      call jfo_solve_connected(dx, h, hmid, kmid, u, dt, 0.05_dp * h, pt, pl, 1.0_dp, 1.0_dp, &
-                               0.0_dp, .true., .false., pc, p, th, it, outer, info, ql, qr, &
-                               blown=blown)
+      call jfo_solve_connected(jfo_problem(dx=dx, u=u, dt=dt, p_left=pt, p_right=pl, &
+                                           p_cav=0.0_dp, trailing_gas=.true.), &
+                               h, hmid, kmid, 0.05_dp * h, pc, p, th, st)
+      info = st%info; qr = st%q_right; blown = st%blown
       call check(info == JFO_OK .and. blown, 'blown face, flooded: solved, blown')
       call check(qr >= 0.0_dp, 'blown face, flooded: the leading edge admits gas only')
       deallocate (p, th, pc)

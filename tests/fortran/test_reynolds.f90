@@ -3,7 +3,7 @@
 !> and pure squeeze (U = 0); observed convergence order in N.
 program test_reynolds
   use ringlube_kinds, only: dp
-  use ringlube_reynolds, only: reynolds_solve
+  use ringlube_reynolds, only: reynolds_solve, reynolds_problem
   use ringlube_check
   use slider_closed_form, only: b, xs, h0, eta, kk, ns, hz, j2, j3
   implicit none
@@ -71,7 +71,8 @@ contains
     call grid(n, x, hmid, kmid, dx)
     allocate (p(n), active(n))
     active = .false.
-    call reynolds_solve(dx, kmid, hmid, u, 0.0_dp, pa, pb, -1e30_dp, p, active, it, info)
+    call reynolds_solve(reynolds_problem(dx=dx, u=u, sq=0.0_dp, p_left=pa, p_right=pb, &
+                                         p_cav=-1e30_dp), kmid, hmid, p, active, it, info)
     call check(info == 0, 'full film solve')
     za = x(1) + xs
     zb = x(n) + xs
@@ -92,7 +93,8 @@ contains
     call grid(n, x, hmid, kmid, dx)
     allocate (p(n), active(n))
     active = .false.
-    call reynolds_solve(dx, kmid, hmid, 0.0_dp, 2 * hdot, pa, pa, 0.0_dp, p, active, it, info)
+    call reynolds_solve(reynolds_problem(dx=dx, u=0.0_dp, sq=2 * hdot, p_left=pa, p_right=pa, &
+                                         p_cav=0.0_dp), kmid, hmid, p, active, it, info)
     call check(info == 0 .and. .not. any(active), 'squeeze solve without cavitation')
     za = x(1) + xs
     zb = x(n) + xs
@@ -142,7 +144,8 @@ contains
     call grid(n, x, hmid, kmid, dx)
     allocate (p(n), active(n), pe(n))
     active = .false.
-    call reynolds_solve(dx, kmid, hmid, u, 0.0_dp, 0.0_dp, pin, 0.0_dp, p, active, it, info)
+    call reynolds_solve(reynolds_problem(dx=dx, u=u, sq=0.0_dp, p_left=0.0_dp, p_right=pin, &
+                                         p_cav=0.0_dp), kmid, hmid, p, active, it, info)
     call check(info == 0, 'reynolds solve')
     call check(all(p >= 0.0_dp), 'p >= p_cav everywhere')
     zin = 0.5_dp * b + xs
@@ -177,7 +180,8 @@ contains
     call grid(n, x, hmid, kmid, dx)
     allocate (p(n), active(n))
     active = .false.
-    call reynolds_solve(dx, kmid, hmid, u, 0.0_dp, 1e5_dp, 1e5_dp, 0.0_dp, p, active, it, info)
+    call reynolds_solve(reynolds_problem(dx=dx, u=u, sq=0.0_dp, p_left=1e5_dp, p_right=1e5_dp, &
+                                         p_cav=0.0_dp), kmid, hmid, p, active, it, info)
     call check(info == 0 .and. count(active) > 0, 'ambient outlet: cavitation zone found')
     call check(all(p >= 0.0_dp), 'ambient: p >= p_cav')
     do i = 2, n - 1
