@@ -52,7 +52,15 @@ VARIANTS = [
     ("starved_half_hot", "crf450r_3000rpm_half_hot.nml", "cavitation = 'jfo', inlet = 'starved'"),
     ("gas_jfo_flooded", "crf450r_4000rpm_full_hot_gas.nml", "cavitation = 'jfo'"),
     ("gas_starved", "crf450r_4000rpm_full_hot_gas.nml", "cavitation = 'jfo', inlet = 'starved'"),
+    # a distorted bore (order 4 beyond its conformability limit, 8 sectors): the sectors' films
+    (
+        "distorted_starved",
+        "crf450r_4000rpm_full_cold.nml",
+        "cavitation = 'jfo', inlet = 'starved', bore = 'distorted'",
+    ),
 ]
+#: groups added to a variant's deck
+EXTRA = {"distorted_starved": "&bore order = 4, amplitude = 10e-6, sectors = 8 /\n"}
 
 
 def case_decks() -> list[tuple[str, str, str]]:
@@ -95,9 +103,9 @@ def build_base(commit: str, folder: Path) -> tuple[Path, str]:
     return build / "ringlube-solve", sha[:12]
 
 
-def write_deck(folder: Path, deck: str, physics: str) -> Path:
+def write_deck(folder: Path, deck: str, physics: str, extra: str = "") -> Path:
     """A copy of the shipped `deck` (with its calibration file and traces) in `folder`,
-    with `physics` added to its &physics group."""
+    with `physics` added to its &physics group and the groups `extra` at its end."""
     if not (folder / "pressure").exists():
         shutil.copytree(INPUTS / "pressure", folder / "pressure")
         shutil.copy(INPUTS / "calibration.nml", folder / "calibration.nml")
@@ -105,6 +113,7 @@ def write_deck(folder: Path, deck: str, physics: str) -> Path:
     if physics:
         text, n = re.subn(r"&physics\b", f"&physics {physics},", text, count=1)
         assert n == 1, deck
+    text += extra
     path = folder / f"{Path(deck).stem}{'_' + re.sub(r'[^a-z]+', '_', physics) if physics else ''}.nml"
     path.write_text(text)
     return path
@@ -187,7 +196,7 @@ def main(argv: list[str] | None = None) -> int:
         bad = 0
         added: set[str] = set()
         for name, deck, physics in case_decks():
-            path = write_deck(tmp, deck, physics)
+            path = write_deck(tmp, deck, physics, EXTRA.get(name, ""))
             runs = []
             for tag, solver in (("base", base), ("new", args.solver)):
                 out = tmp / f"{name}.{tag}.h5"
