@@ -48,6 +48,11 @@ module ringlube_sectors
     real(dp), allocatable :: w(:), slope(:), u(:)
     !> the centre's translation [m] and the mean position of the last evaluation (0: none)
     real(dp) :: xc = 0.0_dp, yc = 0.0_dp, c_last = 0.0_dp
+    !> the mean position of the last two accepted steps, how many steps were accepted, and
+    !> whether the next evaluation is a step's first
+    real(dp) :: chist(2) = 0.0_dp
+    integer :: steps = 0
+    logical :: fresh = .true.
     !> Newton iterations over the run, and trials whose sectors missed the tolerance
     integer :: iterations = 0, missed = 0
   end type sector_ring
@@ -97,13 +102,13 @@ contains
     real(dp), intent(in) :: cc, sq_a, dt, u, p_chamber, load, floor, ceiling
     integer :: m, it, j, info, nfs, nrs, ls
     real(dp) :: q, tol_f, t, merit, merit_new, w_tol
-    real(dp), allocatable :: r(:), a(:, :), b(:), h_old(:), w_old(:), xc_old(:), dy(:)
+    real(dp), allocatable :: r(:), a(:, :), b(:), h_old(:), w_old(:), xc_old(:), dy(:), h_prev(:)
     integer, allocatable :: ipiv(:)
-    logical :: done
+    logical :: done, have_prev
 
     m = ring%bore%m
     allocate (r(m + 2), a(m + 2, m + 2), b(m + 2), h_old(m), w_old(m), xc_old(2), dy(m), &
-              ipiv(m + 2))
+              ipiv(m + 2), h_prev(m))
     nfs = sum(ring%films%film_solves)
     nrs = sum(ring%films%reynolds_solves)
     do j = 1, m
@@ -116,9 +121,21 @@ contains
     w_tol = c%load_tol * max(load, 1e-3_dp)
     q = max(load, 1e-3_dp) / g%circ
     tol_f = 0.5_dp * m * q * c%load_tol
-    ! first trial: the centre and the deflection of the last evaluation; where that puts a
-    ! sector below the floor (a trial far below the last), the last sectors scaled to cc
-    h_old = cc - ring%xc * ring%bore%cos1 - ring%yc * ring%bore%sin1 + ring%d + ring%u
+    h_prev = ring%h
+    have_prev = ring%c_last > 0.0_dp
+    ! first trial: the last evaluation's sectors moved with the mean position (at a step's
+    ! first trial: each sector's h0 extrapolated from its last steps, moved like the mean
+    ! position's extrapolation); where that puts a sector below the floor (a trial far below
+    ! the last), the last sectors scaled to cc
+    if (ring%fresh .and. ring%steps >= 2) then
+      h_old = cc + (predicted(ring%hist(1, :), ring%hist(2, :)) &
+                    - predicted(ring%chist(1), ring%chist(2)))
+    else if (ring%c_last > 0.0_dp) then
+      h_old = cc + (ring%h - ring%c_last)
+    else
+      h_old = cc - ring%xc * ring%bore%cos1 - ring%yc * ring%bore%sin1 + ring%d + ring%u
+    end if
+    ring%fresh = .false.
     if (any(h_old < floor) .and. ring%c_last > 0.0_dp) then
       ring%h = min(max(ring%h * (cc / ring%c_last), floor), ceiling)
       ring%xc = ring%xc * (cc / ring%c_last)
@@ -127,6 +144,25 @@ contains
       ring%h = min(max(h_old, floor), ceiling)
     end if
     ring%c_last = cc
+    if (have_prev) then
+      ! one Newton step on the films' linear models about the last evaluation (no film solve;
+      ! none where the first trial already satisfies them, as without distortion)
+      ring%w = ring%w + ring%slope * (ring%h - h_prev)
+      call deflection()
+      call residuals(r, merit, done)
+      if (.not. done) then
+        call jacobian()
+        b = -r
+        call dgesv(m + 2, 1, a, m + 2, ipiv, b, m + 2, info)
+        if (info == 0) then
+          dy = b(1:m)
+          t = min(1.0_dp, max_dlog / max(maxval(abs(dy)), tiny(1.0_dp)))
+          ring%h = min(max(ring%h * exp(t * dy), floor), ceiling)
+          ring%xc = ring%xc + t * b(m + 1)
+          ring%yc = ring%yc + t * b(m + 2)
+        end if
+      end if
+    end if
     call solve_films()
     call residuals(r, merit, done)
     do it = 1, max_inner
@@ -264,7 +300,18 @@ where ((ring%h >= ceiling .and. res(1:m) < 0.0_dp) .or. (ring%h <= floor .and. r
     ring%hist(3, :) = ring%hist(2, :)
     ring%hist(2, :) = ring%hist(1, :)
     ring%hist(1, :) = ring%h
+    ring%chist(2) = ring%chist(1)
+    ring%chist(1) = ring%c_last
+    ring%steps = ring%steps + 1
+    ring%fresh = .true.
   end subroutine ring_accept
+
+  !> The next step's value of a series from its last two (h1 the last), linear in ln,
+  !> within a factor 1.2 of h1.
+  elemental real(dp) function predicted(h1, h2)
+    real(dp), intent(in) :: h1, h2
+    predicted = h1 * min(max(h1 / h2, 1.0_dp / 1.2_dp), 1.2_dp)
+  end function predicted
 
   !> Loads per unit circumference of the sectors' films [N/m].
   pure function ring_loads(ring, circ) result(w)
