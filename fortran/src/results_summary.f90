@@ -69,9 +69,10 @@ contains
       if (present(orders) .and. present(conformability)) then
         b = ''
         do i = 1, size(orders)
-          write (w, '(a, i0, a, f0.2)') 'k=', orders(i), ': ', conformability(i)
+          write (w, '(f10.2)') conformability(i)
+          write (a, '(a, i0, a)') 'k=', orders(i), ': '
           if (i > 1) b = trim(b)//', '
-          b = trim(b)//trim(w)
+          b = trim(b)//trim(a)//' '//trim(adjustl(w))
         end do
         write (a, '(f10.2)') v(sc_conformability)
 call line('conformability', a, 'A_k / limit, the largest ('//trim(b)//'; > 1 does not conform dry)')

@@ -51,6 +51,8 @@ module ringlube_sectors
     !> the mean position of the last two accepted steps, how many steps were accepted, and
     !> whether the next evaluation is a step's first
     real(dp) :: chist(2) = 0.0_dp
+    !> the sectors' loads at the last two accepted steps [N/m] (2, M)
+    real(dp), allocatable :: whist(:, :)
     integer :: steps = 0
     logical :: fresh = .true.
     !> Newton iterations over the run, and trials whose sectors missed the tolerance
@@ -130,6 +132,9 @@ contains
     if (ring%fresh .and. ring%steps >= 2) then
       h_old = cc + (predicted(ring%hist(1, :), ring%hist(2, :)) &
                     - predicted(ring%chist(1), ring%chist(2)))
+      ! the last evaluation for the linear models below: the loads extrapolated in time too
+      h_prev = predicted(ring%hist(1, :), ring%hist(2, :))
+      ring%w = 2.0_dp * ring%whist(1, :) - ring%whist(2, :)
     else if (ring%c_last > 0.0_dp) then
       h_old = cc + (ring%h - ring%c_last)
     else
@@ -167,12 +172,19 @@ contains
     call residuals(r, merit, done)
     do it = 1, max_inner
       if (done) exit
-      ring%iterations = ring%iterations + 1
       call jacobian()
       b = -r
       call dgesv(m + 2, 1, a, m + 2, ipiv, b, m + 2, info)
       if (info /= 0) exit
       dy = b(1:m)
+      ! converged when the next step would change no sector's load by more than load_tol q
+      ! and no h0 by more than load_tol of itself (the centre's force within its tolerance)
+      if (maxval(abs(ring%slope * ring%h * dy)) <= c%load_tol * q .and. &
+          maxval(abs(dy)) <= c%load_tol .and. maxval(abs(r(m + 1:m + 2))) * m * q <= tol_f) then
+        done = .true.
+        exit
+      end if
+      ring%iterations = ring%iterations + 1
       t = min(1.0_dp, max_dlog / max(maxval(abs(dy)), tiny(1.0_dp)))
       h_old = ring%h
       w_old = ring%w
@@ -302,6 +314,9 @@ where ((ring%h >= ceiling .and. res(1:m) < 0.0_dp) .or. (ring%h <= floor .and. r
     ring%hist(1, :) = ring%h
     ring%chist(2) = ring%chist(1)
     ring%chist(1) = ring%c_last
+    if (.not. allocated(ring%whist)) allocate (ring%whist(2, size(ring%w)))
+    ring%whist(2, :) = ring%whist(1, :)
+    ring%whist(1, :) = ring%w
     ring%steps = ring%steps + 1
     ring%fresh = .true.
   end subroutine ring_accept
