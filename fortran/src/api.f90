@@ -6,6 +6,11 @@
 !> same handle give identical results; a run writes its own HDF5 file when given a path
 !> (`api_run`), so results never come back to the kernel to be written. The tables of
 !> inputs, presets and results are exported as tab-separated text (`api_table`).
+!>
+!> The store is module state and not safe to call from several threads at once. Python never
+!> does: the f2py layer holds the GIL for the whole of every call (no `threadsafe`), so
+!> calls from several Python threads take turns (tests/python/test_run.py,
+!> test_runs_from_several_threads_equal_serial); parallel studies use processes.
 module ringlube_api
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_input_error

@@ -126,6 +126,19 @@ def test_run_many_equals_serial(quick_case):
     assert len({r.energy_loss for r in parallel}) == 3
 
 
+def test_runs_from_several_threads_equal_serial(quick_case):
+    """The kernel's case store is module state: the f2py layer holds the GIL for the whole of
+    each call, so runs from several Python threads take turns and give the serial answers
+    (opening, running and closing handles in between)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    cases = [quick_case.with_ring(crown_offset=x) for x in (-40e-6, -20e-6, 0.0, 20e-6, 40e-6, 30e-6)]
+    serial = [ringlube.run(c).energy_loss for c in cases]
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        threaded = list(pool.map(lambda c: ringlube.run(c).energy_loss, cases))
+    assert threaded == serial and len(set(serial)) == len(serial)
+
+
 def test_a_design_scales_the_trace_as_read(quick_case):
     """A design's pressure_scale multiplies the trace as read, as a deck with that value
     does: run_designs and run() give the same bits (the kernel rescaled the already scaled
