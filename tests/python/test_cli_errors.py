@@ -289,15 +289,15 @@ def test_dask_study_is_quiet_and_interrupts_in_one_line(tmp_path):
 def test_output_piped_into_head_ends_quietly():
     """`ringlube show DECK --set | head -1` printed 'ringlube: error: Broken pipe' when the
     reader left before the output was written (forced here: the reader exits at once, the
-    command writes unbuffered after a second)."""
+    command waits until the pipe reports that its reader is gone, then writes unbuffered)."""
     import subprocess
     import sys
 
     from conftest import COLD
 
     code = (
-        "import sys, time; time.sleep(1); from ringlube.cli import main; "
-        "sys.exit(main(['show', sys.argv[1]]))"
+        "import select, sys; p = select.poll(); p.register(1, select.POLLERR); p.poll(); "
+        "from ringlube.cli import main; sys.exit(main(['show', sys.argv[1]]))"
     )
     p = subprocess.run(
         f"'{sys.executable}' -u -c \"{code}\" '{COLD}' | true; echo ${{PIPESTATUS[0]}}",
