@@ -18,7 +18,7 @@ module ringlube_load_balance
   use ringlube_kinematics, only: sliding_speed, deg2rad
   use ringlube_gas, only: gas_pressure
   use ringlube_film, only: film_type, film_evaluate
-  use ringlube_sectors, only: sector_ring, ring_evaluate
+  use ringlube_sectors, only: sector_ring, sector_trial, ring_evaluate
   use ringlube_results, only: flag_floor, flag_ceiling, flag_load
   implicit none
   private
@@ -178,9 +178,11 @@ contains
     real(dp), intent(in) :: h0
     type(sector_ring), intent(inout), optional :: ring
     real(dp) :: sq
+    type(sector_trial) :: tr
     if (present(ring)) then
-      call ring_evaluate(c, ring, g, h0, lp%sq_a, lp%dt, lp%u, lp%pg, lp%load, c%h0_floor, &
-                         c%h0_ceiling)
+      tr = sector_trial(cc=h0, sq_a=lp%sq_a, dt=lp%dt, u=lp%u, p_chamber=lp%pg, load=lp%load, &
+                        floor=c%h0_floor, ceiling=c%h0_ceiling)
+      call ring_evaluate(c, ring, g, tr)
     else
       sq = 0.0_dp
       if (c%squeeze) sq = 2.0_dp * (lp%sq_a * h0 - lp%sq_b) / lp%dt

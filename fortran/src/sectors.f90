@@ -27,7 +27,8 @@ module ringlube_sectors
   use ringlube_results, only: flag_sectors
   implicit none
   private
-  public :: sector_ring, ring_setup, ring_evaluate, ring_accept, exact_mean, ring_loads
+  public :: sector_ring, sector_trial, ring_setup, ring_evaluate, ring_accept, exact_mean, &
+            ring_loads
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
@@ -58,6 +59,26 @@ module ringlube_sectors
     !> Newton iterations over the run, and trials whose sectors missed the tolerance
     integer :: iterations = 0, missed = 0
   end type sector_ring
+
+  !> One trial of the mean position: cc [m]; the squeeze term's scheme sq_a (1: Euler, 1.5:
+  !> BDF2, on each sector's own history) and the step dt [s]; the sliding speed u, the chamber
+  !> edge's pressure, the applied load [N, as a whole ring] and the bounds of every h0_j (set
+  !> by the caller); the films' load tolerance [N], the load per unit circumference q, the
+  !> first harmonic's tolerance [N/m] and the circumference (set by ring_evaluate).
+  type :: sector_trial
+    real(dp) :: cc = 0.0_dp, sq_a = 1.0_dp, dt = 0.0_dp, u = 0.0_dp, p_chamber = 0.0_dp, &
+                load = 0.0_dp, floor = 0.0_dp, ceiling = 0.0_dp
+    real(dp) :: w_tol = 0.0_dp, q = 0.0_dp, tol_f = 0.0_dp, circ = 0.0_dp
+  end type sector_trial
+
+  !> The Newton iteration's arrays: residuals, Jacobian (LU after dgesv), direction, pivots,
+  !> its status, the merit of the last residuals, and the state before the last step.
+  type :: newton_work
+    real(dp), allocatable :: r(:), a(:, :), b(:), dy(:), h_old(:), w_old(:)
+    integer, allocatable :: ipiv(:)
+    integer :: info = 0
+    real(dp) :: merit = 0.0_dp
+  end type newton_work
 
 contains
 
@@ -90,221 +111,286 @@ contains
     m = x(1) + sum(x - x(1)) / size(x)
   end function exact_mean
 
-  !> Solve the sectors for the trial mean position cc (see the module's description) and
+  !> Solve the sectors for the trial mean position tr%cc (see the module's description) and
   !> leave the films solved there; g is the ring's summary film: its edge state (leading
-  !> edge, gas pressures) is given to every sector, and it receives the trial's h0 (cc), the
-  !> mean loads (as a whole ring: N), the union of the sectors' flags and their solve counts.
-  !> sq_a: the squeeze term's scheme (1: Euler, 1.5: BDF2, on each sector's own history); dt
-  !> the step [s]; u the sliding speed, p_chamber the chamber edge's pressure, load [N] the
-  !> applied load (as a whole ring), floor and ceiling the bounds of every h0_j.
-  subroutine ring_evaluate(c, ring, g, cc, sq_a, dt, u, p_chamber, load, floor, ceiling)
+  !> edge, gas pressures) is given to every sector, and it receives the trial's h0, the mean
+  !> loads (as a whole ring: N), the union of the sectors' flags and their solve counts.
+  subroutine ring_evaluate(c, ring, g, tr)
     type(case_type), intent(in) :: c
     type(sector_ring), intent(inout) :: ring
     type(film_type), intent(inout) :: g
-    real(dp), intent(in) :: cc, sq_a, dt, u, p_chamber, load, floor, ceiling
-    integer :: m, it, j, info, nfs, nrs, ls
-    real(dp) :: q, tol_f, t, merit, merit_new, w_tol
-    real(dp), allocatable :: r(:), a(:, :), b(:), h_old(:), w_old(:), xc_old(:), dy(:), h_prev(:)
-    integer, allocatable :: ipiv(:)
-    logical :: done, have_prev
-
-    m = ring%bore%m
-    allocate (r(m + 2), a(m + 2, m + 2), b(m + 2), h_old(m), w_old(m), xc_old(2), dy(m), &
-              ipiv(m + 2), h_prev(m))
+    type(sector_trial), intent(inout) :: tr
+    type(newton_work) :: nw
+    integer :: it, j, nfs, nrs
+    logical :: done
     nfs = sum(ring%films%film_solves)
     nrs = sum(ring%films%reynolds_solves)
-    do j = 1, m
+    do j = 1, ring%bore%m
       ring%films(j)%lead_left = g%lead_left
       ring%films(j)%p_back = g%p_back
       ring%films(j)%p_lower = g%p_lower
     end do
-    ! the films' load tolerance (as the round film's), the load per unit circumference the
-    ! balance asks for, and the first harmonic's tolerance
-    w_tol = c%load_tol * max(load, 1e-3_dp)
-    q = max(load, 1e-3_dp) / g%circ
-    tol_f = 0.5_dp * m * q * c%load_tol
-    h_prev = ring%h
-    have_prev = ring%c_last > 0.0_dp
-    ! first trial: the last evaluation's sectors moved with the mean position (at a step's
-    ! first trial: each sector's h0 extrapolated from its last steps, moved like the mean
-    ! position's extrapolation); where that puts a sector below the floor (a trial far below
-    ! the last), the last sectors scaled to cc
-    if (ring%fresh .and. ring%steps >= 2) then
-      h_old = cc + (predicted(ring%hist(1, :), ring%hist(2, :)) &
-                    - predicted(ring%chist(1), ring%chist(2)))
-      ! the last evaluation for the linear models below: the loads extrapolated in time too
-      h_prev = predicted(ring%hist(1, :), ring%hist(2, :))
-      ring%w = 2.0_dp * ring%whist(1, :) - ring%whist(2, :)
-    else if (ring%c_last > 0.0_dp) then
-      h_old = cc + (ring%h - ring%c_last)
-    else
-      h_old = cc - ring%xc * ring%bore%cos1 - ring%yc * ring%bore%sin1 + ring%d + ring%u
-    end if
-    ring%fresh = .false.
-    if (any(h_old < floor) .and. ring%c_last > 0.0_dp) then
-      ring%h = min(max(ring%h * (cc / ring%c_last), floor), ceiling)
-      ring%xc = ring%xc * (cc / ring%c_last)
-      ring%yc = ring%yc * (cc / ring%c_last)
-    else
-      ring%h = min(max(h_old, floor), ceiling)
-    end if
-    ring%c_last = cc
-    if (have_prev) then
-      ! one Newton step on the films' linear models about the last evaluation (no film solve;
-      ! none where the first trial already satisfies them, as without distortion)
-      ring%w = ring%w + ring%slope * (ring%h - h_prev)
-      call deflection()
-      call residuals(r, merit, done)
-      if (.not. done) then
-        call jacobian()
-        b = -r
-        call dgesv(m + 2, 1, a, m + 2, ipiv, b, m + 2, info)
-        if (info == 0) then
-          dy = b(1:m)
-          t = min(1.0_dp, max_dlog / max(maxval(abs(dy)), tiny(1.0_dp)))
-          ring%h = min(max(ring%h * exp(t * dy), floor), ceiling)
-          ring%xc = ring%xc + t * b(m + 1)
-          ring%yc = ring%yc + t * b(m + 2)
-        end if
-      end if
-    end if
-    call solve_films()
-    call residuals(r, merit, done)
+    call trial_setup(c, ring, g, tr, nw)
+    call first_guess(c, ring, tr, nw)
+    call solve_films(c, ring, tr)
+    call residuals(c, ring, tr, nw%r, nw%merit, done)
     do it = 1, max_inner
       if (done) exit
-      call jacobian()
-      b = -r
-      call dgesv(m + 2, 1, a, m + 2, ipiv, b, m + 2, info)
-      if (info /= 0) exit
-      dy = b(1:m)
-      ! converged when the next step would change no sector's load by more than load_tol q
-      ! and no h0 by more than load_tol of itself (the centre's force within its tolerance)
-      if (maxval(abs(ring%slope * ring%h * dy)) <= c%load_tol * q .and. &
-          maxval(abs(dy)) <= c%load_tol .and. maxval(abs(r(m + 1:m + 2))) * m * q <= tol_f) then
+      call newton_direction(ring, tr, nw)
+      if (nw%info /= 0) exit
+      if (step_within_tolerance(c, ring, tr, nw)) then
         done = .true.
         exit
       end if
       ring%iterations = ring%iterations + 1
-      t = min(1.0_dp, max_dlog / max(maxval(abs(dy)), tiny(1.0_dp)))
-      h_old = ring%h
-      w_old = ring%w
-      xc_old = [ring%xc, ring%yc]
-      do ls = 1, 4
-        ring%h = min(max(h_old * exp(t * dy), floor), ceiling)
-        ring%xc = xc_old(1) + t * b(m + 1)
-        ring%yc = xc_old(2) + t * b(m + 2)
-        call solve_films()
-        call residuals(r, merit_new, done)
-        if (done .or. merit_new < merit) exit
-        t = 0.5_dp * t
-      end do
-      merit = merit_new
-      ! the secant of each sector's load against its h0 (kept where it is not a descent)
-      ! (from a change of load well above a film's own noise, its load tolerance; a smaller
-      ! change over a step in h0 bounds the slope's size: an open face's load hardly depends
-      ! on its h0)
-      do j = 1, m
-        if (ring%h(j) == h_old(j)) cycle
-        if (abs(ring%w(j) - w_old(j)) > w_tol / g%circ) then
-          if ((ring%w(j) - w_old(j)) / (ring%h(j) - h_old(j)) < 0.0_dp) &
-            ring%slope(j) = (ring%w(j) - w_old(j)) / (ring%h(j) - h_old(j))
-        else
-          ring%slope(j) = -min(abs(ring%slope(j)), w_tol / g%circ / abs(ring%h(j) - h_old(j)))
-        end if
-      end do
+      call take_step(c, ring, tr, nw, done)
+      call update_slopes(ring, tr, nw)
     end do
     if (.not. done) ring%missed = ring%missed + 1
-    g%h0 = cc
+    call summarise(ring, g, tr, nfs, nrs, done)
+  end subroutine ring_evaluate
+
+  !> The trial's tolerances (the films' load tolerance as the round film's, the load per
+  !> unit circumference the balance asks for, the first harmonic's tolerance) and the Newton
+  !> iteration's arrays.
+  pure subroutine trial_setup(c, ring, g, tr, nw)
+    type(case_type), intent(in) :: c
+    type(sector_ring), intent(in) :: ring
+    type(film_type), intent(in) :: g
+    type(sector_trial), intent(inout) :: tr
+    type(newton_work), intent(out) :: nw
+    integer :: m
+    m = ring%bore%m
+    tr%w_tol = c%load_tol * max(tr%load, 1e-3_dp)
+    tr%q = max(tr%load, 1e-3_dp) / g%circ
+    tr%tol_f = 0.5_dp * m * tr%q * c%load_tol
+    tr%circ = g%circ
+    allocate (nw%r(m + 2), nw%a(m + 2, m + 2), nw%b(m + 2), nw%dy(m), nw%ipiv(m + 2), &
+              nw%h_old(m), nw%w_old(m))
+  end subroutine trial_setup
+
+  !> The first trial: the last evaluation's sectors moved with the mean position (at a step's
+  !> first trial: each sector's h0 extrapolated from its last steps, moved like the mean
+  !> position's extrapolation, and the loads extrapolated too); where that puts a sector below
+  !> the floor (a trial far below the last), the last sectors scaled to cc. Then one Newton
+  !> step on the films' linear models about the last evaluation (no film solve; none where
+  !> the first trial already satisfies them, as without distortion).
+  subroutine first_guess(c, ring, tr, nw)
+    type(case_type), intent(in) :: c
+    type(sector_ring), intent(inout) :: ring
+    type(sector_trial), intent(in) :: tr
+    type(newton_work), intent(inout) :: nw
+    real(dp) :: h_prev(ring%bore%m), guess(ring%bore%m), t
+    logical :: have_prev, done
+    h_prev = ring%h
+    have_prev = ring%c_last > 0.0_dp
+    if (ring%fresh .and. ring%steps >= 2) then
+      guess = tr%cc + (predicted(ring%hist(1, :), ring%hist(2, :)) &
+                       - predicted(ring%chist(1), ring%chist(2)))
+      h_prev = predicted(ring%hist(1, :), ring%hist(2, :))
+      ring%w = 2.0_dp * ring%whist(1, :) - ring%whist(2, :)
+    else if (ring%c_last > 0.0_dp) then
+      guess = tr%cc + (ring%h - ring%c_last)
+    else
+      guess = tr%cc - ring%xc * ring%bore%cos1 - ring%yc * ring%bore%sin1 + ring%d + ring%u
+    end if
+    ring%fresh = .false.
+    if (any(guess < tr%floor) .and. ring%c_last > 0.0_dp) then
+      ring%h = min(max(ring%h * (tr%cc / ring%c_last), tr%floor), tr%ceiling)
+      ring%xc = ring%xc * (tr%cc / ring%c_last)
+      ring%yc = ring%yc * (tr%cc / ring%c_last)
+    else
+      ring%h = min(max(guess, tr%floor), tr%ceiling)
+    end if
+    ring%c_last = tr%cc
+    if (.not. have_prev) return
+    ring%w = ring%w + ring%slope * (ring%h - h_prev)
+    call deflection(ring)
+    call residuals(c, ring, tr, nw%r, nw%merit, done)
+    if (done) return
+    call newton_direction(ring, tr, nw)
+    if (nw%info /= 0) return
+    t = min(1.0_dp, max_dlog / max(maxval(abs(nw%dy)), tiny(1.0_dp)))
+    ring%h = min(max(ring%h * exp(t * nw%dy), tr%floor), tr%ceiling)
+    ring%xc = ring%xc + t * nw%b(ring%bore%m + 1)
+    ring%yc = ring%yc + t * nw%b(ring%bore%m + 2)
+  end subroutine first_guess
+
+  !> Every sector's film at its h0 (its own squeeze term), the loads W_j and the deflection.
+  subroutine solve_films(c, ring, tr)
+    type(case_type), intent(in) :: c
+    type(sector_ring), intent(inout) :: ring
+    type(sector_trial), intent(in) :: tr
+    integer :: jj
+    real(dp) :: sq, sq_b
+    !$omp parallel do private(jj, sq, sq_b) schedule(static) if (c%threads > 1) &
+    !$omp num_threads(c%threads)
+    do jj = 1, ring%bore%m
+      sq = 0.0_dp
+      if (c%squeeze) then
+        if (tr%sq_a == 1.0_dp) then
+          sq_b = ring%hist(1, jj)
+        else
+          sq_b = 2.0_dp * ring%hist(1, jj) - 0.5_dp * ring%hist(2, jj)
+        end if
+        sq = 2.0_dp * (tr%sq_a * ring%h(jj) - sq_b) / tr%dt
+      end if
+      call film_evaluate(c, ring%films(jj), ring%h(jj), sq, tr%u, tr%p_chamber, tr%w_tol)
+    end do
+    !$omp end parallel do
+    ring%w = (ring%films%wh + ring%films%wa) / tr%circ
+    call deflection(ring)
+    ! a first slope: the hydrodynamic film's W ~ 1/h0^2 (the secants refine it)
+    where (ring%slope >= 0.0_dp) ring%slope = -2.0_dp * max(ring%w, tr%q) / ring%h
+  end subroutine solve_films
+
+  !> u = C (W - mean W) (exactly 0 for equal loads).
+  pure subroutine deflection(ring)
+    type(sector_ring), intent(inout) :: ring
+    ring%u = matmul(ring%bore%cmat, ring%w - exact_mean(ring%w))
+  end subroutine deflection
+
+  !> The residuals: the sectors' positions h0_j - (c - x_c cos - y_c sin + D + u)_j (m) and
+  !> the first harmonics of the load (N/m, as res(m+1:m+2) relative to M q); mx the largest
+  !> of them against its tolerance, ok when all are within it. The positions' orders 2..M/2
+  !> are measured as the load that would bend the ring by them (C^+ R): for a ring far more
+  !> compliant than the film (order 2) a position error of a nanometre is a negligible load,
+  !> for a stiff order a large one, and the load tolerance is load_tol q, as the balance's.
+  !> Their orders 0 and 1 (no elastic load) are positions, within 0.1 load_tol of the mean
+  !> position.
+  pure subroutine residuals(c, ring, tr, res, mx, ok)
+    type(case_type), intent(in) :: c
+    type(sector_ring), intent(in) :: ring
+    type(sector_trial), intent(in) :: tr
+    real(dp), intent(out) :: res(:), mx
+    logical, intent(out) :: ok
+    real(dp) :: wm, fx, fy, rl(ring%bore%m), rg(ring%bore%m), tol_g
+    integer :: m
+    m = ring%bore%m
+    wm = exact_mean(ring%w)
+    res(1:m) = ring%h - (tr%cc - ring%xc * ring%bore%cos1 - ring%yc * ring%bore%sin1 + ring%d &
+                         + ring%u)
+    ! (a sector held at a bound that its position lies beyond has no residual)
+    where ((ring%h >= tr%ceiling .and. res(1:m) < 0.0_dp) .or. &
+           (ring%h <= tr%floor .and. res(1:m) > 0.0_dp)) res(1:m) = 0.0_dp
+    fx = sum((ring%w - wm) * ring%bore%cos1)
+    fy = sum((ring%w - wm) * ring%bore%sin1)
+    res(m + 1) = fx / (m * tr%q)
+    res(m + 2) = fy / (m * tr%q)
+    rl = matmul(ring%bore%cinv, res(1:m))
+    rg = matmul(ring%bore%p01, res(1:m))
+    tol_g = 0.1_dp * c%load_tol * tr%cc
+    mx = max(maxval(abs(rl)) / (c%load_tol * tr%q), maxval(abs(rg)) / tol_g, &
+             max(abs(fx), abs(fy)) / tr%tol_f)
+    ok = mx <= 1.0_dp
+  end subroutine residuals
+
+  !> The Newton direction (ln h0_j, x_c, y_c) of the residuals nw%r: the Jacobian (exact up to
+  !> the sectors' slopes) solved by LAPACK's dgesv; nw%info its status.
+  subroutine newton_direction(ring, tr, nw)
+    type(sector_ring), intent(in) :: ring
+    type(sector_trial), intent(in) :: tr
+    type(newton_work), intent(inout) :: nw
+    integer :: l, m
+    real(dp) :: gl
+    m = ring%bore%m
+    nw%a = 0.0_dp
+    do l = 1, m
+      gl = ring%slope(l) * ring%h(l)
+      nw%a(1:m, l) = -ring%bore%cmat(:, l) * gl
+      nw%a(l, l) = nw%a(l, l) + ring%h(l)
+      nw%a(m + 1, l) = gl * ring%bore%cos1(l) / (m * tr%q)
+      nw%a(m + 2, l) = gl * ring%bore%sin1(l) / (m * tr%q)
+    end do
+    nw%a(1:m, m + 1) = ring%bore%cos1
+    nw%a(1:m, m + 2) = ring%bore%sin1
+    nw%b = -nw%r
+    call dgesv(m + 2, 1, nw%a, m + 2, nw%ipiv, nw%b, m + 2, nw%info)
+    nw%dy = nw%b(1:m)
+  end subroutine newton_direction
+
+  !> The next step would change no sector's load by more than load_tol q and no h0 by more
+  !> than load_tol of itself, and the centre's force is within its tolerance.
+  pure logical function step_within_tolerance(c, ring, tr, nw) result(ok)
+    type(case_type), intent(in) :: c
+    type(sector_ring), intent(in) :: ring
+    type(sector_trial), intent(in) :: tr
+    type(newton_work), intent(in) :: nw
+    integer :: m
+    m = ring%bore%m
+    ok = maxval(abs(ring%slope * ring%h * nw%dy)) <= c%load_tol * tr%q .and. &
+         maxval(abs(nw%dy)) <= c%load_tol .and. &
+         maxval(abs(nw%r(m + 1:m + 2))) * m * tr%q <= tr%tol_f
+  end function step_within_tolerance
+
+  !> The Newton step, ln h0 changed by at most max_dlog, halved up to three times while the
+  !> residuals grow; the films solved at the step's end.
+  subroutine take_step(c, ring, tr, nw, done)
+    type(case_type), intent(in) :: c
+    type(sector_ring), intent(inout) :: ring
+    type(sector_trial), intent(in) :: tr
+    type(newton_work), intent(inout) :: nw
+    logical, intent(out) :: done
+    real(dp) :: t, xc_old(2), merit_new
+    integer :: ls, m
+    m = ring%bore%m
+    t = min(1.0_dp, max_dlog / max(maxval(abs(nw%dy)), tiny(1.0_dp)))
+    nw%h_old = ring%h
+    nw%w_old = ring%w
+    xc_old = [ring%xc, ring%yc]
+    do ls = 1, 4
+      ring%h = min(max(nw%h_old * exp(t * nw%dy), tr%floor), tr%ceiling)
+      ring%xc = xc_old(1) + t * nw%b(m + 1)
+      ring%yc = xc_old(2) + t * nw%b(m + 2)
+      call solve_films(c, ring, tr)
+      call residuals(c, ring, tr, nw%r, merit_new, done)
+      if (done .or. merit_new < nw%merit) exit
+      t = 0.5_dp * t
+    end do
+    nw%merit = merit_new
+  end subroutine take_step
+
+  !> The secant of each sector's load against its h0 over the last step (kept where it is
+  !> not a descent), from a change of load well above a film's own noise, its load
+  !> tolerance; a smaller change over a step in h0 bounds the slope's size (an open face's
+  !> load hardly depends on its h0).
+  pure subroutine update_slopes(ring, tr, nw)
+    type(sector_ring), intent(inout) :: ring
+    type(sector_trial), intent(in) :: tr
+    type(newton_work), intent(in) :: nw
+    integer :: j
+    do j = 1, ring%bore%m
+      if (ring%h(j) == nw%h_old(j)) cycle
+      if (abs(ring%w(j) - nw%w_old(j)) > tr%w_tol / tr%circ) then
+        if ((ring%w(j) - nw%w_old(j)) / (ring%h(j) - nw%h_old(j)) < 0.0_dp) &
+          ring%slope(j) = (ring%w(j) - nw%w_old(j)) / (ring%h(j) - nw%h_old(j))
+      else
+        ring%slope(j) = -min(abs(ring%slope(j)), tr%w_tol / tr%circ / abs(ring%h(j) - nw%h_old(j)))
+      end if
+    end do
+  end subroutine update_slopes
+
+  !> The ring's summary film: the trial's h0, the sectors' mean loads, their flags (and
+  !> flag_sectors where they missed the tolerance) and solve counts (since nfs, nrs).
+  pure subroutine summarise(ring, g, tr, nfs, nrs, done)
+    type(sector_ring), intent(in) :: ring
+    type(film_type), intent(inout) :: g
+    type(sector_trial), intent(in) :: tr
+    integer, intent(in) :: nfs, nrs
+    logical, intent(in) :: done
+    integer :: j
+    g%h0 = tr%cc
     g%wh = exact_mean(ring%films%wh)
     g%wa = exact_mean(ring%films%wa)
     g%aa = exact_mean(ring%films%aa)
     g%flags = 0
-    do j = 1, m
+    do j = 1, ring%bore%m
       g%flags = ior(g%flags, ring%films(j)%flags)
     end do
     if (.not. done) g%flags = ior(g%flags, flag_sectors)
     g%film_solves = g%film_solves + sum(ring%films%film_solves) - nfs
     g%reynolds_solves = g%reynolds_solves + sum(ring%films%reynolds_solves) - nrs
-
-  contains
-
-    !> Every sector's film at its h0 (its own squeeze term), the loads W_j and the deflection.
-    subroutine solve_films()
-      integer :: jj
-      real(dp) :: sq, sq_b
-      !$omp parallel do private(jj, sq, sq_b) schedule(static) if (c%threads > 1) &
-      !$omp num_threads(c%threads)
-      do jj = 1, m
-        sq = 0.0_dp
-        if (c%squeeze) then
-          if (sq_a == 1.0_dp) then
-            sq_b = ring%hist(1, jj)
-          else
-            sq_b = 2.0_dp * ring%hist(1, jj) - 0.5_dp * ring%hist(2, jj)
-          end if
-          sq = 2.0_dp * (sq_a * ring%h(jj) - sq_b) / dt
-        end if
-        call film_evaluate(c, ring%films(jj), ring%h(jj), sq, u, p_chamber, w_tol)
-      end do
-      !$omp end parallel do
-      ring%w = (ring%films%wh + ring%films%wa) / g%circ
-      call deflection()
-      ! a first slope: the hydrodynamic film's W ~ 1/h0^2 (the secants refine it)
-      where (ring%slope >= 0.0_dp) ring%slope = -2.0_dp * max(ring%w, q) / ring%h
-    end subroutine solve_films
-
-    !> u = C (W - mean W) (exactly 0 for equal loads).
-    subroutine deflection()
-      real(dp) :: wm
-      wm = exact_mean(ring%w)
-      ring%u = matmul(ring%bore%cmat, ring%w - wm)
-    end subroutine deflection
-
-    !> The residuals: the sectors' positions h0_j - (c - x_c cos - y_c sin + D + u)_j (m)
-    !> and the first harmonics of the load (N/m); mx the largest of them against its
-    !> tolerance, ok when all are within it. The positions' orders 2..M/2 are measured as the
-    !> load that would bend the ring by them (C^+ R): for a ring far more compliant than the
-    !> film (order 2) a position error of a nanometre is a negligible load, for a stiff order a
-    !> large one, and the load tolerance is load_tol q, as the balance's. Their orders 0 and 1
-    !> (no elastic load) are positions, within 0.1 load_tol of the mean position.
-    subroutine residuals(res, mx, ok)
-      real(dp), intent(out) :: res(:), mx
-      logical, intent(out) :: ok
-      real(dp) :: wm, fx, fy, rl(m), rg(m), tol_g
-      wm = exact_mean(ring%w)
-      res(1:m) = ring%h - (cc - ring%xc * ring%bore%cos1 - ring%yc * ring%bore%sin1 + ring%d &
-                           + ring%u)
-      ! (a sector held at a bound that its position lies beyond has no residual)
-where ((ring%h >= ceiling .and. res(1:m) < 0.0_dp) .or. (ring%h <= floor .and. res(1:m) > 0.0_dp)) &
-        res(1:m) = 0.0_dp
-      fx = sum((ring%w - wm) * ring%bore%cos1)
-      fy = sum((ring%w - wm) * ring%bore%sin1)
-      res(m + 1) = fx / (m * q)
-      res(m + 2) = fy / (m * q)
-      rl = matmul(ring%bore%cinv, res(1:m))
-      rg = matmul(ring%bore%p01, res(1:m))
-      tol_g = 0.1_dp * c%load_tol * cc
-      mx = max(maxval(abs(rl)) / (c%load_tol * q), maxval(abs(rg)) / tol_g, &
-               max(abs(fx), abs(fy)) / tol_f)
-      ok = mx <= 1.0_dp
-    end subroutine residuals
-
-    !> The Jacobian of the residuals with respect to (ln h0_j, x_c, y_c).
-    subroutine jacobian()
-      integer :: l
-      real(dp) :: gl
-      a = 0.0_dp
-      do l = 1, m
-        gl = ring%slope(l) * ring%h(l)
-        a(1:m, l) = -ring%bore%cmat(:, l) * gl
-        a(l, l) = a(l, l) + ring%h(l)
-        a(m + 1, l) = gl * ring%bore%cos1(l) / (m * q)
-        a(m + 2, l) = gl * ring%bore%sin1(l) / (m * q)
-      end do
-      a(1:m, m + 1) = ring%bore%cos1
-      a(1:m, m + 2) = ring%bore%sin1
-    end subroutine jacobian
-  end subroutine ring_evaluate
+  end subroutine summarise
 
   !> The step is accepted at the ring's last evaluation: its h0_j enter the history.
   pure subroutine ring_accept(ring)
