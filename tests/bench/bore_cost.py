@@ -62,7 +62,8 @@ def bench(deck: Path, overrides: str, runs: int) -> dict[str, float]:
 
 def cost_table() -> None:
     print(
-        "| deck | film | round ms/cycle | distorted ms per sector-cycle | ratio | film solves per sector-step / round's per step |"
+        "| deck | film | round ms/cycle | distorted ms per sector-cycle | ratio |"
+        " film solves per sector-step / round's per step |"
     )
     print("|---|---|---|---|---|---|")
     for label, name in DECKS:
@@ -76,10 +77,8 @@ def cost_table() -> None:
             per_d = d["ms_per_run"] / d["cycles_computed"] / 24
             fs_r = r["film_solves"] / (r["steps"] * r["cycles_computed"])
             fs_d = d["film_solves"] / (d["steps"] * d["cycles_computed"]) / 24
-            print(
-                f"| {label} | {model} | {per_r:.2f} | {per_d:.2f} | {per_d / per_r:.2f} | {fs_d:.2f} / {fs_r:.2f} |",
-                flush=True,
-            )
+            row = f"| {label} | {model} | {per_r:.2f} | {per_d:.2f} | {per_d / per_r:.2f}"
+            print(f"{row} | {fs_d:.2f} / {fs_r:.2f} |", flush=True)
 
 
 def solve(deck: Path, extra: str, folder: Path) -> tuple[float, dict]:
@@ -114,9 +113,8 @@ def thread_table(folder: Path) -> None:
             t1, a1 = solve(deck, f"{base}\n{phys_d}\n&numerics threads = 1 /", folder)
             t2, a2 = solve(deck, f"{base}\n{phys_d}\n&numerics threads = 2 /", folder)
             same = a1["energy_loss_J"] == a2["energy_loss_J"]
-            print(
-                f"| {label} | {model} | {t1:.2f} | {t2:.2f} | {t1 / t2:.2f}{'' if same else ' (energies differ!)'} |"
-            )
+            note = "" if same else " (energies differ!)"
+            print(f"| {label} | {model} | {t1:.2f} | {t2:.2f} | {t1 / t2:.2f}{note} |")
     print(f"load average after: {os.getloadavg()[0]:.2f}")
 
 
@@ -132,7 +130,8 @@ def sector_table(folder: Path) -> None:
     ref = rows[96][1]
     keys = ("energy_loss_J", "face_leakage_mg_per_cycle", "light_gap_share_pct", "blowby_l_min")
     print(
-        "\n| sectors | energy J | face leakage mg | light gaps % | blowby L/min | energy vs 96 | leakage vs 96 | s |"
+        "\n| sectors | energy J | face leakage mg | light gaps % | blowby L/min |"
+        " energy vs 96 | leakage vs 96 | s |"
     )
     print("|---|---|---|---|---|---|---|---|")
     for m, (t, a) in rows.items():
