@@ -38,9 +38,9 @@ module ringlube_api
 
   character(len=1), parameter :: tab = achar(9), nl = achar(10)
   !> what the inputs of a run are, in output-file messages
-  character(len=*), parameter :: input_labels(3) = [character(len=20) :: &
+  character(len=*), parameter :: input_labels(4) = [character(len=20) :: &
                                                     'the deck', 'the pressure file', &
-                                                    'the calibration file']
+                                                    'the calibration file', 'the profile file']
 
 contains
 
@@ -137,9 +137,10 @@ contains
     associate (c => store(handle))
       if (to_file) then
         call check_output(out_path, [character(len=max(len(c%deck_path), len(c%pressure_file), &
-                                                       len(c%calibration_file), 1)) :: &
-                                     c%deck_path, c%pressure_file, c%calibration_file], &
-                          input_labels, err)
+                                                       len(c%calibration_file), &
+                                                       len(c%profile_file), 1)) :: &
+                                     c%deck_path, c%pressure_file, c%calibration_file, &
+                                     c%profile_file], input_labels, err)
         if (allocated(err)) return
       end if
       call system_clock(t0, rate)
@@ -150,7 +151,9 @@ contains
       ! the file records where it was written, not the deck's &output file
       cw = c
       cw%output_file = out_path
-      call write_result(out_path, cw, res, err, [c%calibration_file], [input_labels(3)])
+      call write_result(out_path, cw, res, err, &
+                        [character(len=max(len(c%calibration_file), len(c%profile_file))) :: &
+                         c%calibration_file, c%profile_file], input_labels(3:4))
     end associate
   end subroutine api_run
 

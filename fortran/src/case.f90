@@ -11,12 +11,14 @@ module ringlube_case
   use ringlube_textio, only: itoa
   use ringlube_namelist, only: lower
   use ringlube_viscosity, only: roelands_law_at, roelands_eta
+  use ringlube_profile, only: gauge_profile, gauge_area, table_profile, table_area, &
+                              check_profile_table
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
   public :: case_type, default_case, apply_preset, case_access, validate_case, parse_real, &
          real_text, choice_list, composite_sigma, reduced_modulus, elastic_pressure, ring_profile, &
-            ring_mass, steps_per_cycle
+            ring_mass, steps_per_cycle, face_profile
 
   !> Most crank steps per cycle (0.01 deg): bounds the memory of a run.
   integer, parameter, public :: max_steps_per_cycle = 72000
@@ -36,6 +38,10 @@ module ringlube_case
     real(dp) :: width = 0.0_dp, crown_height = 0.0_dp, crown_offset = 0.0_dp, tension = 0.0_dp
     character(len=:), allocatable :: tension_unit
     real(dp) :: radial_depth = 0.0_dp, density = 0.0_dp, lower_ring_distance = 0.0_dp
+    character(len=:), allocatable :: profile
+    real(dp) :: gauge_length = 0.0_dp, gauge_drop_top = 0.0_dp, gauge_drop_bottom = 0.0_dp
+    !> face-profile CSV as resolved against the deck folder (profile = 'table')
+    character(len=:), allocatable :: profile_file
     ! &lubricant
     real(dp) :: eta0 = 0.0_dp, theta0 = 0.0_dp, beta = 0.0_dp, alpha = 0.0_dp, supply_film = 0.0_dp
     real(dp) :: oil_density = 0.0_dp
@@ -75,6 +81,8 @@ module ringlube_case
     real(dp), allocatable :: gas_psi(:)        !< deg, 0..720, increasing
     real(dp), allocatable :: gas_p(:)          !< Pa abs, pressure_scale x gas_p_trace
     real(dp), allocatable :: gas_p_trace(:)    !< Pa abs, the trace as read (scale_trace)
+    !> the face profile of profile = 'table' as read: position from the top edge and drop [m]
+    real(dp), allocatable :: profile_x(:), profile_s(:)
     character(len=:), allocatable :: deck_path  !< where the case came from (in messages)
     character(len=:), allocatable :: deck_text  !< the deck's text (and included files')
     !> the bore's distortion as read from distortion_file: rows (z [m], order, amplitude [m],
@@ -106,7 +114,7 @@ contains
     c%deck_path = '<memory>'
     c%notes = ''
     c%deck_text = ''
-    allocate (c%gas_psi(0), c%gas_p(0), c%gas_p_trace(0))
+    allocate (c%gas_psi(0), c%gas_p(0), c%gas_p_trace(0), c%profile_x(0), c%profile_s(0))
   end function default_case
 
   !> Set the numerics of a named preset; `why` is allocated if the name is unknown.
@@ -156,6 +164,11 @@ contains
     case ('ring.width'); call r(c%width)
     case ('ring.crown_height'); call r(c%crown_height)
     case ('ring.crown_offset'); call r(c%crown_offset)
+    case ('ring.profile'); call s(c%profile)
+    case ('ring.gauge_length'); call r(c%gauge_length)
+    case ('ring.gauge_drop_top'); call r(c%gauge_drop_top)
+    case ('ring.gauge_drop_bottom'); call r(c%gauge_drop_bottom)
+    case ('ring.profile_file'); call s(c%profile_file)
     case ('ring.tension'); call r(c%tension)
     case ('ring.tension_unit'); call s(c%tension_unit)
     case ('ring.radial_depth'); call r(c%radial_depth)
@@ -564,12 +577,57 @@ contains
     ring_profile = crown_height * (x + crown_offset)**2 / (0.5_dp * width)**2
   end function ring_profile
 
-  !> Ring mass [kg]: rho 2 pi (r0 - a/2) (a b - int S dx) (SPEC section 8).
+  !> The face profile S [m] of the case (`profile`) at the nodes x(1:n) of the film's grid
+  !> (x(i) = -b/2 + (i - 1) dx, x(n) = b/2) in `s` and at their midpoints in `smid`.
+  !> A table is evaluated at the same points from the top edge, (i - 1) dx, b and their
+  !> midpoints (a table holding them gives its values there exactly).
+  pure subroutine face_profile(c, x, s, smid)
+    type(case_type), intent(in) :: c
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: s(:), smid(:)
+    real(dp) :: xi(size(x)), s_min, area
+    integer :: i, n
+    n = size(x)
+    select case (c%profile)
+    case ('gauge')
+      s = gauge_profile(x, c%crown_offset, c%gauge_length, c%gauge_drop_top, c%gauge_drop_bottom)
+      smid = gauge_profile(0.5_dp * (x(1:n - 1) + x(2:n)), c%crown_offset, c%gauge_length, &
+                           c%gauge_drop_top, c%gauge_drop_bottom)
+    case ('table')
+      do i = 1, n
+        xi(i) = (i - 1) * (c%width / (n - 1))
+      end do
+      xi(n) = c%width
+      call table_area(c%width, c%profile_x, c%profile_s, s_min, area)
+      do i = 1, n
+        s(i) = table_profile(xi(i), c%profile_x, c%profile_s, s_min)
+      end do
+      do i = 1, n - 1
+        smid(i) = table_profile(0.5_dp * (xi(i) + xi(i + 1)), c%profile_x, c%profile_s, s_min)
+      end do
+    case default
+      s = ring_profile(x, c%width, c%crown_height, c%crown_offset)
+      smid = ring_profile(0.5_dp * (x(1:n - 1) + x(2:n)), c%width, c%crown_height, c%crown_offset)
+    end select
+  end subroutine face_profile
+
+  !> Ring mass [kg]: rho 2 pi (r0 - a/2) (a b - int S dx) (SPEC section 8), with the face
+  !> profile of the case (closed form for 'edge' and 'gauge', exact for a table's linear
+  !> interpolant).
   pure real(dp) function ring_mass(c)
     type(case_type), intent(in) :: c
-    real(dp) :: hb, area_s
+    real(dp) :: hb, area_s, s_min
     hb = 0.5_dp * c%width
-    area_s = c%crown_height / hb**2 * ((hb + c%crown_offset)**3 - (c%crown_offset - hb)**3) / 3.0_dp
+    select case (c%profile)
+    case ('gauge')
+      area_s = gauge_area(c%width, c%crown_offset, c%gauge_length, c%gauge_drop_top, &
+                          c%gauge_drop_bottom)
+    case ('table')
+      call table_area(c%width, c%profile_x, c%profile_s, s_min, area_s)
+    case default
+      area_s = c%crown_height / hb**2 * ((hb + c%crown_offset)**3 - (c%crown_offset - hb)**3) &
+               / 3.0_dp
+    end select
     ring_mass = c%density * 2.0_dp * pi * (c%bore_radius - 0.5_dp * c%radial_depth) &
                 * (c%radial_depth * c%width - area_s)
   end function ring_mass
@@ -607,6 +665,18 @@ contains
     end if
     if (c%radial_depth >= c%bore_radius) then
       call bad('ring', 'radial_depth', 'must be smaller than bore_radius'); return
+    end if
+    if (c%profile == 'table') then
+      if (len(c%profile_file) == 0) then
+        call bad('ring', 'profile_file', "must name the profile's CSV file with profile = 'table'")
+        return
+      end if
+      if (allocated(c%profile_x)) then
+        call check_profile_table(c%profile_x, c%profile_s, c%width, why)
+        if (allocated(why)) then
+          call bad('ring', 'profile_file', c%profile_file//': '//why); return
+        end if
+      end if
     end if
     if (abs(720.0_dp / c%dpsi_deg - nint(720.0_dp / c%dpsi_deg)) > 1e-6_dp) then
       call bad('numerics', 'dpsi_deg', 'must divide 720 deg into a whole number of steps'); return

@@ -3,7 +3,7 @@
 !> Every group is optional (a missing group means all its defaults); an unknown group or
 !> variable, a malformed value, a variable given twice or a value outside its range (the
 !> table of ringlube_inputs) is an input error naming the file, the line, the group and the
-!> variable. Relative paths (`pressure_file`, output `file`, `&calibration file`) are
+!> variable. Relative paths (`pressure_file`, `profile_file`, output `file`, `&calibration file`) are
 !> relative to the deck's folder (the base folder given with text from memory).
 !>
 !> Steps: scan the text into items; add the items of the `&calibration file`; check that
@@ -20,6 +20,7 @@ module ringlube_deck
   use ringlube_textio, only: read_text_file, itoa
   use ringlube_gas, only: read_pressure_csv, max_pressure
   use ringlube_bore, only: read_distortion_csv
+  use ringlube_profile, only: read_profile_csv
   use ringlube_fsys, only: dir_prefix
   implicit none
   private
@@ -106,6 +107,7 @@ contains
     if (allocated(err)) return
     call note_unused(c, items, nitems)
     c%pressure_file = resolve_path(c%pressure_file, base_dir)
+    c%profile_file = resolve_path(c%profile_file, base_dir)
     c%output_file = resolve_path(c%output_file, base_dir)
     c%calibration_file = resolve_path(c%calibration_file, base_dir)
     c%distortion_file = resolve_path(c%distortion_file, base_dir)
@@ -318,12 +320,14 @@ contains
 
   !> A warning (c%notes) for inputs set for a model that is off: `&bore` variables (and
   !> back_clearance) with `&physics bore = 'round'`, `&ring_pack` variables with `&physics
-  !> ring_pack = 'none'` (but those a distorted bore uses) are not used (the first one is
-  !> named, at its line).
+  !> ring_pack = 'none'` (but those a distorted bore uses), the face-profile variables of
+  !> another `&ring profile` than the case's, are not used (the first one is named, at its
+  !> line).
   subroutine note_unused(c, items, nitems)
     type(case_type), intent(inout) :: c
     type(nml_item), intent(in) :: items(:)
     integer, intent(in) :: nitems
+    character(len=:), allocatable :: uses
     integer :: i
     c%notes = ''
     if (c%bore == 'round') then
@@ -336,8 +340,8 @@ contains
         return
       end do
     end if
-    if (c%ring_pack /= 'none') return
     do i = 1, nitems
+      if (c%ring_pack /= 'none') exit
       if (items(i)%group /= 'ring_pack') cycle
       ! (the gas's temperature and viscosity also set the face leakage of a distorted bore)
       if (c%bore == 'distorted' .and. any(items(i)%name == [character(len=16) :: &
@@ -346,6 +350,24 @@ contains
       c%notes = items(i)%file//':'//itoa(items(i)%line)//': &ring_pack '//items(i)%name// &
                 ' is set, but &physics ring_pack = ''none'': the ring pack is off and '// &
                 'its inputs are not used'
+      return
+    end do
+    do i = 1, nitems
+      if (items(i)%group /= 'ring') cycle
+      select case (items(i)%name)
+      case ('crown_height')
+        uses = 'edge'
+      case ('gauge_length', 'gauge_drop_top', 'gauge_drop_bottom')
+        uses = 'gauge'
+      case ('profile_file')
+        uses = 'table'
+      case default
+        cycle
+      end select
+      if (uses == c%profile) cycle
+      c%notes = items(i)%file//':'//itoa(items(i)%line)//': &ring '//items(i)%name// &
+                ' is set, but &ring profile = '''//c%profile//''': it is used with profile = '''// &
+                uses//''' only'
       return
     end do
   end subroutine note_unused
@@ -399,6 +421,18 @@ contains
     type(error_type), allocatable, intent(out) :: err
     logical, intent(in), optional :: load_trace
     logical :: exists, load
+    ! the face profile's table first: validate_case checks it against the width
+    if (allocated(c%profile_x)) deallocate (c%profile_x)
+    if (allocated(c%profile_s)) deallocate (c%profile_s)
+    if (c%profile == 'table' .and. len(c%profile_file) > 0) then
+      call read_profile_csv(c%profile_file, c%profile_x, c%profile_s, err)
+      if (allocated(err)) then
+        err%message = c%deck_path//': &ring profile_file: '//err%message
+        return
+      end if
+    else
+      allocate (c%profile_x(0), c%profile_s(0))
+    end if
     call validate_case(c, err)
     if (allocated(err)) return
     if (allocated(c%distortion)) deallocate (c%distortion)

@@ -3,7 +3,7 @@
 !> pressure-viscosity loop's start and step, and the loads of a solved film.
 module ringlube_film_state
   use ringlube_kinds, only: dp, pi
-  use ringlube_case, only: case_type, composite_sigma, reduced_modulus, ring_profile
+  use ringlube_case, only: case_type, composite_sigma, reduced_modulus, face_profile
   use ringlube_viscosity, only: roelands_law, roelands_law_at, roelands_eta
   use ringlube_contact, only: asperity_contact, contact_params
   use ringlube_reynolds, only: reynolds_work, reynolds_work_init
@@ -94,8 +94,7 @@ contains
       f%x(i) = -hb + (i - 1) * f%dx
     end do
     f%x(n) = hb
-    f%s = ring_profile(f%x, c%width, c%crown_height, c%crown_offset)
-  f%smid = ring_profile(0.5_dp * (f%x(1:n - 1) + f%x(2:n)), c%width, c%crown_height, c%crown_offset)
+    call face_profile(c, f%x, f%s, f%smid)
     f%p = c%crankcase_pressure
     f%eta = f%eta_e
     ! the viscosity of the pressure held (see film_evaluate)

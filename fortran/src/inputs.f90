@@ -63,6 +63,16 @@ module ringlube_inputs
       'crown height c of the parabolic face'), &
     input_spec('ring', 'crown_offset', kind_real, '-38.3e-6', -0.025_dp, 0.025_dp, 'm', '', &
       'crown offset x_s (minimum at x = -x_s; |x_s| < b/2)'), &
+    input_spec('ring', 'profile', kind_choice, 'edge', 0.0_dp, 0.0_dp, '', 'edge|gauge|table', &
+"face profile: crown_height at the edges, drops at gauge_length from the crown, or profile_file"), &
+    input_spec('ring', 'gauge_length', kind_real, '502e-6', 1e-6_dp, 0.025_dp, 'm', '', &
+      "profile = 'gauge': distance from the crown point at which the drops are given"), &
+    input_spec('ring', 'gauge_drop_top', kind_real, '9.31e-6', 0.0_dp, 1e-3_dp, 'm', '', &
+      "profile = 'gauge': drop of the face at gauge_length on the chamber (top) side"), &
+    input_spec('ring', 'gauge_drop_bottom', kind_real, '9.31e-6', 0.0_dp, 1e-3_dp, 'm', '', &
+      "profile = 'gauge': drop of the face at gauge_length on the crankcase (bottom) side"), &
+    input_spec('ring', 'profile_file', kind_string, '', 0.0_dp, 0.0_dp, '', '', &
+      "profile = 'table': CSV x from the top edge, drop S (m; header may name mm, um)"), &
     input_spec('ring', 'tension', kind_real, '8.0', 0.0_dp, 1e4_dp, '(unit)', '', &
       'ring tension, in the unit given by tension_unit'), &
     input_spec('ring', 'tension_unit', kind_choice, 'N', 0.0_dp, 0.0_dp, '', 'N|N/m', &

@@ -49,6 +49,7 @@ MODULE_LABELS = {
     "test_convergence_progress": ("numerics",),
     "test_docs": ("unit",),
     "test_docstrings": ("unit",),
+    "test_face_profile": ("numerics",),
     "test_gas": ("unit",),
     "test_gas_model": ("unit", "numerics"),
     "test_hdf5_layout": ("io",),
