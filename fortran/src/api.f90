@@ -15,7 +15,7 @@ module ringlube_api
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, case_access, access_set, access_get, validate_case, &
-                           real_text
+                           real_text, uses_oil_data
   use ringlube_inputs, only: inputs, n_inputs, find_input, presets, n_presets, kind_int, kind_real
   use ringlube_deck, only: read_deck_text, scale_trace
   use ringlube_gas, only: check_pressure_trace, max_pressure
@@ -179,6 +179,13 @@ contains
       if (k == 0) then
         call fatal_error(err, c%deck_path//': '//trim(keys(j))//': unknown variable', &
                          rl_input_error)
+        return
+      end if
+      if (uses_oil_data(c) .and. trim(inputs(k)%group) == 'lubricant' .and. &
+          any(trim(inputs(k)%name) == [character(len=6) :: 'eta0', 'theta0', 'beta'])) then
+        call fatal_error(err, c%deck_path//': &lubricant '//trim(inputs(k)%name)//': the '// &
+                         'case takes its viscosity from the oil''s grade or kv40 and kv100, '// &
+                         'which give eta0, theta0 and beta: vary those instead', rl_input_error)
         return
       end if
       if (inputs(k)%kind == kind_int) then

@@ -10,7 +10,8 @@ module ringlube_case
                              preset_names, kind_choice, kind_int, max_list
   use ringlube_textio, only: itoa
   use ringlube_namelist, only: lower
-  use ringlube_viscosity, only: roelands_law_at, roelands_eta
+  use ringlube_viscosity, only: roelands_law_at, roelands_eta, roelands_through
+  use ringlube_oil, only: grade_viscosities, theta40, theta100
   use ringlube_profile, only: gauge_profile, gauge_area, table_profile, table_area, &
                               check_profile_table
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -18,7 +19,7 @@ module ringlube_case
   private
   public :: case_type, default_case, apply_preset, case_access, validate_case, parse_real, &
          real_text, choice_list, composite_sigma, reduced_modulus, elastic_pressure, ring_profile, &
-            ring_mass, steps_per_cycle, face_profile
+            ring_mass, steps_per_cycle, face_profile, uses_oil_data
 
   !> Most crank steps per cycle (0.01 deg): bounds the memory of a run.
   integer, parameter, public :: max_steps_per_cycle = 72000
@@ -44,7 +45,9 @@ module ringlube_case
     character(len=:), allocatable :: profile_file
     ! &lubricant
     real(dp) :: eta0 = 0.0_dp, theta0 = 0.0_dp, beta = 0.0_dp, alpha = 0.0_dp, supply_film = 0.0_dp
-    real(dp) :: oil_density = 0.0_dp
+    real(dp) :: oil_density = 0.0_dp, kv40 = 0.0_dp, kv100 = 0.0_dp
+    !> SAE J300 grade ('' none)
+    character(len=:), allocatable :: grade
     ! &surface
     real(dp) :: rq_liner = 0.0_dp, rq_ring = 0.0_dp, zeta_kappa_sigma = 0.0_dp, &
          sigma_over_kappa = 0.0_dp, tau0 = 0.0_dp, boundary_coefficient = 0.0_dp, e_ring = 0.0_dp, &
@@ -180,6 +183,9 @@ contains
     case ('lubricant.alpha'); call r(c%alpha)
     case ('lubricant.supply_film'); call r(c%supply_film)
     case ('lubricant.oil_density'); call r(c%oil_density)
+    case ('lubricant.kv40'); call r(c%kv40)
+    case ('lubricant.kv100'); call r(c%kv100)
+    case ('lubricant.grade'); call s(c%grade)
     case ('surface.rq_liner'); call r(c%rq_liner)
     case ('surface.rq_ring'); call r(c%rq_ring)
     case ('surface.zeta_kappa_sigma'); call r(c%zeta_kappa_sigma)
@@ -685,6 +691,10 @@ contains
       call bad('numerics', 'dpsi_deg', 'gives more than '//itoa(max_steps_per_cycle)// &
                ' crank steps per cycle'); return
     end if
+    if (uses_oil_data(c)) then
+      call oil_law(why)
+      if (allocated(why)) return
+    end if
     eta = roelands_eta(roelands_law_at(c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta), &
                        0.0_dp)
     if (.not. (eta >= 1e-5_dp .and. eta <= 100.0_dp)) then
@@ -751,5 +761,61 @@ contains
                  'amplitude, phase or as a file, not both'); return
       end if
     end subroutine check_bore
+
+    !> eta0, theta0 and beta of the law through the oil's kinematic viscosities at 40 and
+    !> 100 degC (its grade's or its data sheet's) times oil_density; `fail` set (and `err`)
+    !> for inconsistent oil data.
+    subroutine oil_law(fail)
+      character(len=:), allocatable, intent(out) :: fail
+      real(dp) :: kv40, kv100
+      character(len=:), allocatable :: whyg
+      if (len(c%grade) > 0) then
+        if (c%kv40 > 0.0_dp .or. c%kv100 > 0.0_dp) then
+          call bad('lubricant', 'grade', 'and the data sheet''s kv40, kv100 are both given: '// &
+                   'give one of them')
+          fail = 'x'
+          return
+        end if
+        call grade_viscosities(c%grade, kv40, kv100, whyg)
+        if (allocated(whyg)) then
+          call bad('lubricant', 'grade', whyg)
+          fail = 'x'
+          return
+        end if
+      else
+        kv40 = c%kv40
+        kv100 = c%kv100
+        if (.not. (kv40 > 0.0_dp)) then
+          call bad('lubricant', 'kv40', 'must be given with kv100 (the data sheet''s '// &
+                   'kinematic viscosities at 40 and 100 degC)')
+        else if (.not. (kv100 > 0.0_dp)) then
+          call bad('lubricant', 'kv100', 'must be given with kv40 (the data sheet''s '// &
+                   'kinematic viscosities at 40 and 100 degC)')
+        else if (.not. (kv40 > kv100)) then
+          call bad('lubricant', 'kv40', 'must exceed kv100 (an oil thins as it warms)')
+        end if
+        if (allocated(err)) then
+          fail = 'x'
+          return
+        end if
+      end if
+      if (.not. (min(kv40, kv100) * 1e-6_dp * c%oil_density > 7e-5_dp)) then
+        call bad('lubricant', 'kv100', 'with oil_density gives a viscosity below the '// &
+                 'Roelands reference 6.3e-5 Pa s')
+        fail = 'x'
+        return
+      end if
+      call roelands_through(theta40, kv40 * 1e-6_dp * c%oil_density, theta100, &
+                            kv100 * 1e-6_dp * c%oil_density, c%eta0, c%theta0, c%beta)
+    end subroutine oil_law
   end subroutine validate_case
+
+  !> Does the case take its viscosity law from oil data (a grade, or kv40 and kv100) rather
+  !> than eta0, theta0 and beta?
+  pure logical function uses_oil_data(c)
+    type(case_type), intent(in) :: c
+    uses_oil_data = .false.
+    if (allocated(c%grade)) uses_oil_data = len(c%grade) > 0
+    uses_oil_data = uses_oil_data .or. c%kv40 > 0.0_dp .or. c%kv100 > 0.0_dp
+  end function uses_oil_data
 end module ringlube_case

@@ -13,7 +13,7 @@ module ringlube_deck
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, default_case, apply_preset, case_access, access_set, &
-                           validate_case, real_text
+                           validate_case, real_text, uses_oil_data
   use ringlube_inputs, only: inputs, n_inputs, find_input, input_key, kind_string, kind_choice, &
                              kind_real_list, kind_int_list
   use ringlube_namelist, only: nml_item, scan_namelist
@@ -104,6 +104,8 @@ contains
     if (allocated(err)) return
     call apply_overrides(items, nitems, oitems, noitems)
     call assign_items(c, items, nitems, err)
+    if (allocated(err)) return
+    call check_oil_sources(c, items, nitems, err)
     if (allocated(err)) return
     call note_unused(c, items, nitems)
     c%pressure_file = resolve_path(c%pressure_file, base_dir)
@@ -317,6 +319,35 @@ contains
       if (inputs(i)%group /= inputs(i - 1)%group) t = t//', '//trim(inputs(i)%group)
     end do
   end function group_list
+
+  !> The viscosity law comes from one source: eta0, theta0 and beta, or the oil's grade or data
+  !> sheet (kv40, kv100), which give all three; a deck that sets both is an error at the line
+  !> of the first of eta0, theta0 or beta.
+  subroutine check_oil_sources(c, items, nitems, err)
+    type(case_type), intent(in) :: c
+    type(nml_item), intent(in) :: items(:)
+    integer, intent(in) :: nitems
+    type(error_type), allocatable, intent(out) :: err
+    integer :: i
+    if (.not. uses_oil_data(c)) return
+    do i = 1, nitems
+      if (items(i)%group /= 'lubricant') cycle
+      select case (items(i)%name)
+      case ('eta0', 'theta0', 'beta')
+        call item_error(items(i), 'set together with the oil''s '//oil_source()// &
+                        ', which gives eta0, theta0 and beta: set one or the other', err)
+        return
+      end select
+    end do
+
+  contains
+
+    function oil_source() result(t)
+      character(len=:), allocatable :: t
+      t = 'kv40 and kv100'
+      if (len(c%grade) > 0) t = 'grade'
+    end function oil_source
+  end subroutine check_oil_sources
 
   !> A warning (c%notes) for inputs set for a model that is off: `&bore` variables (and
   !> back_clearance) with `&physics bore = 'round'`, `&ring_pack` variables with `&physics

@@ -94,7 +94,13 @@ module ringlube_inputs
     input_spec('lubricant', 'supply_film', kind_real, '1e-6', 0.0_dp, 1e-3_dp, 'm', '', &
       'oil film the lower rings leave on the liner for the top ring (starved inlet)'), &
     input_spec('lubricant', 'oil_density', kind_real, '850', 600.0_dp, 1200.0_dp, 'kg/m^3', '', &
-      'oil density, for the oil to the chamber in g/h (results only; docs/model.md)'), &
+      'oil density: the oil to the chamber in g/h; kv40, kv100 to viscosities (docs/model.md)'), &
+    input_spec('lubricant', 'kv40', kind_real, '0', 0.0_dp, 1e5_dp, 'mm^2/s', '', &
+      "data sheet: kinematic viscosity at 40 degC (with kv100 replaces eta0, theta0, beta; 0: none)"), &
+    input_spec('lubricant', 'kv100', kind_real, '0', 0.0_dp, 1e4_dp, 'mm^2/s', '', &
+      'data sheet: kinematic viscosity at 100 degC (with kv40; 0: none)'), &
+    input_spec('lubricant', 'grade', kind_string, '', 0.0_dp, 0.0_dp, '', '', &
+      "SAE J300 grade, e.g. '5W-30' or '40': kv40 and kv100 of a typical oil (docs/model.md)"), &
     input_spec('surface', 'rq_liner', kind_real, '0.378e-6', 1e-9_dp, 1e-4_dp, 'm', '', &
       'liner roughness Rq'), &
     input_spec('surface', 'rq_ring', kind_real, '0.238e-6', 1e-9_dp, 1e-4_dp, 'm', '', &

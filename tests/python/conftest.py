@@ -51,6 +51,7 @@ MODULE_LABELS = {
     "test_docstrings": ("unit",),
     "test_face_profile": ("numerics",),
     "test_gas": ("unit",),
+    "test_oil": ("unit", "numerics"),
     "test_gas_model": ("unit", "numerics"),
     "test_hdf5_layout": ("io",),
     "test_hostile_inputs": ("unit", "io"),
