@@ -19,7 +19,8 @@ module ringlube_case
   private
   public :: case_type, default_case, apply_preset, case_access, validate_case, parse_real, &
          real_text, choice_list, composite_sigma, reduced_modulus, elastic_pressure, ring_profile, &
-            ring_mass, steps_per_cycle, face_profile, uses_oil_data
+            ring_mass, steps_per_cycle, face_profile, uses_oil_data, liner_temperature_at, &
+            uniform_liner
 
   !> Most crank steps per cycle (0.01 deg): bounds the memory of a run.
   integer, parameter, public :: max_steps_per_cycle = 72000
@@ -32,6 +33,7 @@ module ringlube_case
     ! &operating
     real(dp) :: speed_rpm = 0.0_dp, liner_temperature = 0.0_dp, crankcase_pressure = 0.0_dp, &
                 cavitation_pressure = 0.0_dp, pressure_scale = 0.0_dp
+    real(dp) :: liner_temperature_top = 0.0_dp, liner_temperature_bottom = 0.0_dp
     !> Gas-pressure CSV as resolved against the deck folder; empty: chamber at
     !> crankcase pressure all cycle (no compression, no combustion).
     character(len=:), allocatable :: pressure_file
@@ -160,6 +162,8 @@ contains
     case ('engine.bore_radius'); call r(c%bore_radius)
     case ('operating.speed_rpm'); call r(c%speed_rpm)
     case ('operating.liner_temperature'); call r(c%liner_temperature)
+    case ('operating.liner_temperature_top'); call r(c%liner_temperature_top)
+    case ('operating.liner_temperature_bottom'); call r(c%liner_temperature_bottom)
     case ('operating.pressure_file'); call s(c%pressure_file)
     case ('operating.crankcase_pressure'); call r(c%crankcase_pressure)
     case ('operating.cavitation_pressure'); call r(c%cavitation_pressure)
@@ -638,6 +642,26 @@ contains
                 * (c%radial_depth * c%width - area_s)
   end function ring_mass
 
+  !> The liner temperature [K] where the ring is when the piston is at s [m] from TDC:
+  !> linear from liner_temperature_top (s = 0) to liner_temperature_bottom (s = 2 r), each
+  !> liner_temperature where it is 0.
+  pure real(dp) function liner_temperature_at(c, s) result(t)
+    type(case_type), intent(in) :: c
+    real(dp), intent(in) :: s
+    real(dp) :: top, bottom
+    top = c%liner_temperature
+    bottom = c%liner_temperature
+    if (c%liner_temperature_top > 0.0_dp) top = c%liner_temperature_top
+    if (c%liner_temperature_bottom > 0.0_dp) bottom = c%liner_temperature_bottom
+    t = top + (bottom - top) * (s / (2.0_dp * c%crank_radius))
+  end function liner_temperature_at
+
+  !> One liner temperature over the whole stroke, liner_temperature (neither end given)?
+  pure logical function uniform_liner(c)
+    type(case_type), intent(in) :: c
+    uniform_liner = c%liner_temperature_top == 0.0_dp .and. c%liner_temperature_bottom == 0.0_dp
+  end function uniform_liner
+
   !> Number of crank steps in one 720 deg cycle.
   pure integer function steps_per_cycle(c)
     type(case_type), intent(in) :: c
@@ -695,13 +719,24 @@ contains
       call oil_law(why)
       if (allocated(why)) return
     end if
-    eta = roelands_eta(roelands_law_at(c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta), &
-                       0.0_dp)
-    if (.not. (eta >= 1e-5_dp .and. eta <= 100.0_dp)) then
-      call bad('lubricant', 'eta0', 'with theta0, beta and the liner temperature gives a '// &
-               'viscosity of '//real_text(eta)//' Pa s at the liner temperature, outside the '// &
-               'plausible 1e-5 .. 100 Pa s'); return
+    if (c%liner_temperature_top > 0.0_dp .and. c%liner_temperature_top < 200.0_dp) then
+      call bad('operating', 'liner_temperature_top', 'must be 0 (liner_temperature) or at '// &
+               'least 200 K'); return
     end if
+    if (c%liner_temperature_bottom > 0.0_dp .and. c%liner_temperature_bottom < 200.0_dp) then
+      call bad('operating', 'liner_temperature_bottom', 'must be 0 (liner_temperature) or at '// &
+               'least 200 K'); return
+    end if
+    do i = 1, 2
+      eta = roelands_eta(roelands_law_at(liner_temperature_at(c, (i - 1) * 2.0_dp * &
+                                                              c%crank_radius), c%eta0, &
+                                         c%theta0, c%alpha, c%beta), 0.0_dp)
+      if (.not. (eta >= 1e-5_dp .and. eta <= 100.0_dp)) then
+        call bad('lubricant', 'eta0', 'with theta0, beta and the liner temperature gives a '// &
+                 'viscosity of '//real_text(eta)//' Pa s at the liner temperature, outside the '// &
+                 'plausible 1e-5 .. 100 Pa s'); return
+      end if
+    end do
     if (c%cavity_pressure == 'trailing_gas' .and. c%cavitation /= 'jfo') then
       call bad('physics', 'cavity_pressure', "'trailing_gas' is implemented for "// &
                "cavitation = 'jfo' only"); return

@@ -49,6 +49,10 @@ module ringlube_inputs
       'engine speed'), &
     input_spec('operating', 'liner_temperature', kind_real, '348.0', 200.0_dp, 700.0_dp, 'K', '', &
       'liner (film) temperature theta_e'), &
+    input_spec('operating', 'liner_temperature_top', kind_real, '0', 0.0_dp, 700.0_dp, 'K', '', &
+      "liner temperature where the ring is at TDC, linear to _bottom; 0: liner_temperature"), &
+    input_spec('operating', 'liner_temperature_bottom', kind_real, '0', 0.0_dp, 700.0_dp, 'K', '', &
+      "liner temperature where the ring is at BDC; 0: liner_temperature"), &
     input_spec('operating', 'pressure_file', kind_string, '', 0.0_dp, 0.0_dp, '', '', &
       'gas-pressure CSV (deg, Pa abs); relative to the deck folder; empty: crankcase pressure'), &
     input_spec('operating', 'crankcase_pressure', kind_real, '101325', 0.0_dp, 1e7_dp, 'Pa', '', &

@@ -83,6 +83,8 @@ module ringlube_results
     field_spec('power_loss', 'power_loss_W', 'W', 'real', 'friction power loss |f U|'), &
     field_spec('load_residual', 'load_residual', '1', 'real', &
       'load balance residual (W_h + W_a - F) / F'), &
+    field_spec('film_temperature', 'film_temperature_K', 'K', 'real', &
+      'film temperature: the liner temperature where the ring is (its viscosity law''s)'), &
     field_spec('inlet_fill', 'inlet_fill', '1', 'real', &
       'fill theta of the oil entering at the leading edge (1: flooded)', 'jfo'), &
     field_spec('wetted_width', 'wetted_width_m', 'm', 'real', &
@@ -262,6 +264,7 @@ module ringlube_results
     s_friction = row(findloc(series_spec%short, 'friction', dim=1)), &
     s_power_loss = row(findloc(series_spec%short, 'power_loss', dim=1)), &
     s_load_residual = row(findloc(series_spec%short, 'load_residual', dim=1)), &
+    s_film_temperature = row(findloc(series_spec%short, 'film_temperature', dim=1)), &
     s_inlet_fill = row(findloc(series_spec%short, 'inlet_fill', dim=1)), &
     s_wetted_width = row(findloc(series_spec%short, 'wetted_width', dim=1)), &
     s_oil_left = row(findloc(series_spec%short, 'oil_left', dim=1)), &

@@ -58,6 +58,7 @@ MODULE_LABELS = {
     "test_implausible_inputs": ("numerics",),
     "test_input_mistakes": ("unit",),
     "test_liner_film": ("numerics",),
+    "test_liner_temperature": ("numerics",),
     "test_markers": ("unit",),
     "test_oil_supply": ("numerics",),
     "test_output_safety": ("io",),
