@@ -337,10 +337,12 @@ contains
     integer, intent(in) :: n
     character(len=:), allocatable :: t
     integer :: i
-    t = line('short', 'stored', 'unit', 'kind', 'long_name', 'requires', 'objective')
+    t = line('short', 'stored', 'unit', 'kind', 'long_name', 'requires', 'objective', &
+             'optimisable')
     do i = 1, n
       t = t//line(spec(i)%short, spec(i)%stored, spec(i)%unit, spec(i)%kind, spec(i)%long_name, &
-                  spec(i)%requires, merge('1', '0', spec(i)%objective))
+                  spec(i)%requires, merge('1', '0', spec(i)%objective), &
+                  merge('1', '0', spec(i)%objective .or. spec(i)%optimisable))
     end do
   end function fields
 

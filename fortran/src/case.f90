@@ -30,6 +30,7 @@ module ringlube_case
   type :: case_type
     ! &engine
     real(dp) :: crank_radius = 0.0_dp, conrod_length = 0.0_dp, bore_radius = 0.0_dp
+    integer :: cylinders = 0
     ! &operating
     real(dp) :: speed_rpm = 0.0_dp, liner_temperature = 0.0_dp, crankcase_pressure = 0.0_dp, &
                 cavitation_pressure = 0.0_dp, pressure_scale = 0.0_dp
@@ -160,6 +161,7 @@ contains
     case ('engine.crank_radius'); call r(c%crank_radius)
     case ('engine.conrod_length'); call r(c%conrod_length)
     case ('engine.bore_radius'); call r(c%bore_radius)
+    case ('engine.cylinders'); call n(c%cylinders)
     case ('operating.speed_rpm'); call r(c%speed_rpm)
     case ('operating.liner_temperature'); call r(c%liner_temperature)
     case ('operating.liner_temperature_top'); call r(c%liner_temperature_top)

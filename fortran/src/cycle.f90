@@ -351,7 +351,7 @@ contains
     end associate
     if (allocated(st%rst)) call ring_pack_scalars(st%rcyc, res%scalars)
     call derive_results(res, c%speed_rpm, pi * c%bore_radius**2 * 2.0_dp * c%crank_radius, &
-                        c%oil_density)
+                        c%oil_density, c%cylinders)
     if (allocated(st%ring)) call ring_results(st, c, res)
   end subroutine cycle_results
 

@@ -45,6 +45,8 @@ module ringlube_inputs
       'connecting-rod length l_c (must exceed crank_radius)'), &
     input_spec('engine', 'bore_radius', kind_real, '48e-3', 1e-3_dp, 1.0_dp, 'm', '', &
       'bore radius r0 (ring circumference 2 pi r0)'), &
+    input_spec('engine', 'cylinders', kind_int, '1', 1.0_dp, 64.0_dp, '1', '', &
+      "cylinders, alike: the engine's totals (friction power, displacement) of its top rings"), &
     input_spec('operating', 'speed_rpm', kind_real, '4000', 1.0_dp, 50000.0_dp, 'r/min', '', &
       'engine speed'), &
     input_spec('operating', 'liner_temperature', kind_real, '348.0', 200.0_dp, 700.0_dp, 'K', '', &
@@ -100,7 +102,7 @@ module ringlube_inputs
     input_spec('lubricant', 'oil_density', kind_real, '850', 600.0_dp, 1200.0_dp, 'kg/m^3', '', &
       'oil density: the oil to the chamber in g/h; kv40, kv100 to viscosities (docs/model.md)'), &
     input_spec('lubricant', 'kv40', kind_real, '0', 0.0_dp, 1e5_dp, 'mm^2/s', '', &
-      "data sheet: kinematic viscosity at 40 degC (with kv100 replaces eta0, theta0, beta; 0: none)"), &
+  "data sheet: kinematic viscosity at 40 degC (with kv100 replaces eta0, theta0, beta; 0: none)"), &
     input_spec('lubricant', 'kv100', kind_real, '0', 0.0_dp, 1e4_dp, 'mm^2/s', '', &
       'data sheet: kinematic viscosity at 100 degC (with kv40; 0: none)'), &
     input_spec('lubricant', 'grade', kind_string, '', 0.0_dp, 0.0_dp, '', '', &

@@ -41,6 +41,8 @@ module ringlube_results
     character(len=10) :: requires = ''
     !> a design quantity a study records for every design (and may optimise)
     logical :: objective = .false.
+    !> a design quantity a study may optimise, recorded when a study names it
+    logical :: optimisable = .false.
   end type field_spec
 
   !> An optional model: the results whose `requires` is `name` exist when the input
@@ -163,9 +165,17 @@ module ringlube_results
     field_spec('oil_balance_error', 'oil_balance_error', '1', 'real', &
       'relative closure error of the oil balance over the reported cycle', 'starved'), &
     field_spec('friction_power', 'friction_power_W', 'W', 'real', &
-      'mean friction power of the ring: energy_loss x cycles per second (four-stroke, rpm/120)'), &
+      'mean friction power of the ring: energy_loss x cycles per second (four-stroke, rpm/120)', &
+      '', .false., .true.), &
     field_spec('fmep', 'fmep_kPa', 'kPa', 'real', &
-      "the ring's friction mean effective pressure: energy_loss / swept volume pi r0^2 2 r"), &
+      "the ring's friction mean effective pressure: energy_loss / swept volume pi r0^2 2 r", &
+      '', .false., .true.), &
+  field_spec('fmep_bar', 'fmep_bar', 'bar', 'real', 'fmep in bar (100 kPa)', '', .false., .true.), &
+    field_spec('displacement', 'displacement_L', 'L', 'real', &
+      "the engine's swept volume: cylinders x pi r0^2 2 r"), &
+    field_spec('engine_friction_power', 'engine_friction_power_W', 'W', 'real', &
+     "the engine's top rings' mean friction power: friction_power x cylinders (its FMEP is fmep)", &
+      '', .false., .true.), &
     field_spec('oil_to_chamber_rate', 'oil_to_chamber_g_h', 'g/h', 'real', &
       'oil to the chamber per hour: oil_to_chamber x oil_density x cycles per hour', 'starved'), &
     field_spec('flagged_steps', 'flagged_steps', '1', 'integer', &
@@ -307,6 +317,9 @@ module ringlube_results
     sc_oil_balance_error = row(findloc(scalar_spec%short, 'oil_balance_error', dim=1)), &
     sc_friction_power = row(findloc(scalar_spec%short, 'friction_power', dim=1)), &
     sc_fmep = row(findloc(scalar_spec%short, 'fmep', dim=1)), &
+    sc_fmep_bar = row(findloc(scalar_spec%short, 'fmep_bar', dim=1)), &
+    sc_displacement = row(findloc(scalar_spec%short, 'displacement', dim=1)), &
+    sc_engine_friction_power = row(findloc(scalar_spec%short, 'engine_friction_power', dim=1)), &
     sc_oil_to_chamber_rate = row(findloc(scalar_spec%short, 'oil_to_chamber_rate', dim=1)), &
     sc_flagged_steps = row(findloc(scalar_spec%short, 'flagged_steps', dim=1)), &
     sc_liner_lift_share = row(findloc(scalar_spec%short, 'liner_lift_share', dim=1)), &
@@ -322,7 +335,8 @@ module ringlube_results
     sc_radial_collapse_share = row(findloc(scalar_spec%short, 'radial_collapse_share', dim=1))
   !> The cycle quantities a period of several cycles reports as the means over them.
   integer, parameter, public :: mean_over_period(*) = [sc_energy_loss, sc_mixed_share, &
-    sc_friction_power, sc_fmep, sc_oil_to_chamber, sc_oil_to_chamber_rate, sc_liner_lift_share, &
+    sc_friction_power, sc_fmep, sc_fmep_bar, sc_engine_friction_power, sc_oil_to_chamber, &
+    sc_oil_to_chamber_rate, sc_liner_lift_share, &
     sc_blowby, sc_blowby_mass, sc_blowback_mass, sc_ring_lift_share, sc_flutter_events, &
     sc_light_gap_share, sc_face_leakage, sc_radial_collapse_share]
   !> Columns of the liner film (`liner_spec`).
@@ -435,14 +449,23 @@ contains
 
   !> The results engineers quote, from the cycle's (called at the end of a run): mean
   !> friction power [W] (energy per cycle x speed_rpm / 120 cycles per second, four-stroke),
-  !> FMEP [kPa] (energy per cycle / swept volume [m^3]), the oil to the chamber in g/h
-  !> (oil_density [kg/m^3]), the count of flagged crank steps and the share lifted off.
-  pure subroutine derive_results(res, speed_rpm, swept_volume, oil_density)
+  !> FMEP [kPa, bar] (energy per cycle / swept volume [m^3] of one cylinder), the engine's
+  !> displacement [L] and its top rings' friction power [W] (`cylinders` alike, 1 if absent),
+  !> the oil to the chamber in g/h (oil_density [kg/m^3]), the count of flagged crank steps
+  !> and the share lifted off.
+  pure subroutine derive_results(res, speed_rpm, swept_volume, oil_density, cylinders)
     type(result_type), intent(inout) :: res
     real(dp), intent(in) :: speed_rpm, swept_volume, oil_density
+    integer, intent(in), optional :: cylinders
+    integer :: nc
+    nc = 1
+    if (present(cylinders)) nc = cylinders
     associate (v => res%scalars)
       v(sc_friction_power) = v(sc_energy_loss) * speed_rpm / 120.0_dp
       v(sc_fmep) = v(sc_energy_loss) / swept_volume * 1e-3_dp
+      v(sc_fmep_bar) = v(sc_fmep) * 1e-2_dp
+      v(sc_displacement) = nc * swept_volume * 1e3_dp
+      v(sc_engine_friction_power) = nc * v(sc_friction_power)
       ! mm^3/cycle x 1e-9 m^3/mm^3 x kg/m^3 x 1e3 g/kg x 30 speed_rpm cycles per hour
       v(sc_oil_to_chamber_rate) = v(sc_oil_to_chamber) * 1e-6_dp * oil_density * 30.0_dp &
                                   * speed_rpm

@@ -4,6 +4,7 @@ module ringlube_results_summary
   use ringlube_kinds, only: dp
   use ringlube_inputs, only: inputs, find_input
   use ringlube_results, only: n_scalars, sc_energy_loss, sc_friction_power, sc_fmep, &
+                              sc_fmep_bar, sc_displacement, sc_engine_friction_power, &
                               sc_mixed_share, sc_oil_to_chamber, sc_oil_to_chamber_rate, &
                               sc_liner_lift_share, sc_blowby, sc_blowby_mass, sc_ring_lift_share, &
                               sc_flutter_events, sc_ring_mass, sc_min_film, sc_max_friction, &
@@ -44,7 +45,16 @@ contains
     write (a, '(f10.2)') v(sc_friction_power)
     call line('mean friction power', a, 'W (energy per cycle x cycles per second)')
     write (a, '(f10.3)') v(sc_fmep)
-    call line('FMEP of the ring', a, 'kPa (energy per cycle / swept volume)')
+    write (w, '(f12.5)') v(sc_fmep_bar)
+    call line('FMEP of the ring', a, 'kPa = '//trim(adjustl(w))//' bar (energy per cycle / '// &
+              'swept volume)')
+    ! (the engine's cylinders: its friction power over the ring's)
+    if (v(sc_engine_friction_power) > 1.5_dp * v(sc_friction_power)) then
+      write (a, '(f10.2)') v(sc_engine_friction_power)
+      write (w, '(i0)') nint(v(sc_engine_friction_power) / v(sc_friction_power))
+      write (b, '(f8.3)') v(sc_displacement)
+      call line('engine, top rings', a, 'W ('//trim(w)//' cylinders, '//trim(adjustl(b))//' L)')
+    end if
     write (a, '(f10.3)') v(sc_mixed_share)
     call line('mixed/boundary share', a, '% of the cycle (h0/sigma < 4)')
     if (made(sc_oil_to_chamber)) then

@@ -79,6 +79,7 @@ MODULE_LABELS = {
     "test_study_outputs": ("io",),
     "test_study_resume": ("io",),
     "test_study_verification": ("numerics",),
+    "test_study_weighting": ("numerics",),
     "test_unclear_inputs": ("unit",),
     "test_validation": ("numerics",),
     "test_validation_sections": ("numerics",),
