@@ -349,7 +349,7 @@ contains
       v(sc_min_film) = minval(res%series(:, s_lambda_min)) * st%sigma
       v(sc_max_friction) = maxval(abs(res%series(:, s_friction)))
     end associate
-    if (allocated(st%rst)) call ring_pack_scalars(st%rcyc, res%scalars)
+    if (allocated(st%rst)) call ring_pack_scalars(st%rcyc, res)
     call derive_results(res, c%speed_rpm, pi * c%bore_radius**2 * 2.0_dp * c%crank_radius, &
                         c%oil_density, c%cylinders)
     if (allocated(st%ring)) call ring_results(st, c, res)

@@ -197,6 +197,20 @@ module ringlube_results
       'times per cycle the top ring leaves its lower flank while the chamber pressure exceeds '// &
       'the land''s', &
       'gas', .true.), &
+    field_spec('flutter_margin', 'flutter_margin_N', 'N', 'real', &
+      'least net force holding the top ring on its lower flank while chamber pressure > '// &
+      'land''s (< 0: flutter)', 'gas', .false., .true.), &
+    field_spec('flutter_margin_ratio', 'flutter_margin_ratio', '1', 'real', &
+      'flutter_margin over the largest inertia force of the ring, m_r max|a_p|', 'gas', .false., &
+      .true.), &
+    field_spec('peak_groove_pressure', 'peak_groove_pressure_Pa', 'Pa', 'real', &
+      'highest groove pressure of the cycle', 'gas'), &
+    field_spec('peak_groove_angle', 'peak_groove_angle_deg', 'deg', 'real', &
+      'crank angle of the highest groove pressure', 'gas'), &
+    field_spec('peak_land_pressure', 'peak_land_pressure_Pa', 'Pa', 'real', &
+      'highest second-land pressure of the cycle', 'gas'), &
+    field_spec('peak_land_angle', 'peak_land_angle_deg', 'deg', 'real', &
+      'crank angle of the highest second-land pressure', 'gas'), &
     field_spec('gas_balance_error', 'gas_balance_error', '1', 'real', &
       'relative closure of the ring pack''s gas mass over the reported cycle', 'gas'), &
     field_spec('conformability', 'conformability', '1', 'real', &
@@ -332,7 +346,13 @@ module ringlube_results
     sc_conformability = row(findloc(scalar_spec%short, 'conformability', dim=1)), &
     sc_light_gap_share = row(findloc(scalar_spec%short, 'light_gap_share', dim=1)), &
     sc_face_leakage = row(findloc(scalar_spec%short, 'face_leakage', dim=1)), &
-    sc_radial_collapse_share = row(findloc(scalar_spec%short, 'radial_collapse_share', dim=1))
+    sc_radial_collapse_share = row(findloc(scalar_spec%short, 'radial_collapse_share', dim=1)), &
+    sc_flutter_margin = row(findloc(scalar_spec%short, 'flutter_margin', dim=1)), &
+    sc_flutter_margin_ratio = row(findloc(scalar_spec%short, 'flutter_margin_ratio', dim=1)), &
+    sc_peak_groove_pressure = row(findloc(scalar_spec%short, 'peak_groove_pressure', dim=1)), &
+    sc_peak_groove_angle = row(findloc(scalar_spec%short, 'peak_groove_angle', dim=1)), &
+    sc_peak_land_pressure = row(findloc(scalar_spec%short, 'peak_land_pressure', dim=1)), &
+    sc_peak_land_angle = row(findloc(scalar_spec%short, 'peak_land_angle', dim=1))
   !> The cycle quantities a period of several cycles reports as the means over them.
   integer, parameter, public :: mean_over_period(*) = [sc_energy_loss, sc_mixed_share, &
     sc_friction_power, sc_fmep, sc_fmep_bar, sc_engine_friction_power, sc_oil_to_chamber, &

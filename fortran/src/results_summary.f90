@@ -3,8 +3,12 @@
 module ringlube_results_summary
   use ringlube_kinds, only: dp
   use ringlube_inputs, only: inputs, find_input
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_results, only: n_scalars, sc_energy_loss, sc_friction_power, sc_fmep, &
                               sc_fmep_bar, sc_displacement, sc_engine_friction_power, &
+                              sc_flutter_margin, sc_flutter_margin_ratio, &
+                              sc_peak_groove_pressure, sc_peak_groove_angle, &
+                              sc_peak_land_pressure, sc_peak_land_angle, &
                               sc_mixed_share, sc_oil_to_chamber, sc_oil_to_chamber_rate, &
                               sc_liner_lift_share, sc_blowby, sc_blowby_mass, sc_ring_lift_share, &
                               sc_flutter_events, sc_ring_mass, sc_min_film, sc_max_friction, &
@@ -35,7 +39,7 @@ contains
     character(len=:), allocatable :: t
     character(len=64) :: a
     character(len=128) :: b
-    character(len=16) :: w
+    character(len=16) :: w, wl
     character(len=1), parameter :: nl = achar(10)
     integer :: i
     t = ''
@@ -74,6 +78,18 @@ contains
         write (b, '(i8)') nint(v(sc_flutter_events))
       call line('ring lift in its groove', a, '% of the cycle ('//trim(adjustl(b))// &
                 ' flutter events)')
+      if (ieee_is_finite(v(sc_flutter_margin))) then
+        write (a, '(f10.2)') v(sc_flutter_margin)
+        write (b, '(f8.3)') v(sc_flutter_margin_ratio)
+        call line('flutter margin', a, 'N ('//trim(adjustl(b))//' x peak inertia; < 0: '// &
+                  'lifts against the gas)')
+      end if
+      write (a, '(f10.3)') v(sc_peak_groove_pressure) * 1e-5_dp
+      write (w, '(f6.1)') v(sc_peak_groove_angle)
+      write (b, '(f8.3)') v(sc_peak_land_pressure) * 1e-5_dp
+      write (wl, '(f6.1)') v(sc_peak_land_angle)
+      call line('peak groove pressure', a, 'bar at '//trim(adjustl(w))//' deg (land '// &
+                trim(adjustl(b))//' bar at '//trim(adjustl(wl))//' deg)')
     end if
     if (made(sc_conformability)) then
       if (present(orders) .and. present(conformability)) then

@@ -50,6 +50,7 @@ MODULE_LABELS = {
     "test_docs": ("unit",),
     "test_docstrings": ("unit",),
     "test_face_profile": ("numerics",),
+    "test_flutter_margin": ("numerics",),
     "test_gas": ("unit",),
     "test_oil": ("unit", "numerics"),
     "test_gas_model": ("unit", "numerics"),
