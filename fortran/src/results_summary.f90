@@ -3,7 +3,6 @@
 module ringlube_results_summary
   use ringlube_kinds, only: dp
   use ringlube_inputs, only: inputs, find_input
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_results, only: n_scalars, sc_energy_loss, sc_friction_power, sc_fmep, &
                               sc_fmep_bar, sc_displacement, sc_engine_friction_power, &
                               sc_flutter_margin, sc_flutter_margin_ratio, &
@@ -78,12 +77,10 @@ contains
         write (b, '(i8)') nint(v(sc_flutter_events))
       call line('ring lift in its groove', a, '% of the cycle ('//trim(adjustl(b))// &
                 ' flutter events)')
-      if (ieee_is_finite(v(sc_flutter_margin))) then
-        write (a, '(f10.2)') v(sc_flutter_margin)
-        write (b, '(f8.3)') v(sc_flutter_margin_ratio)
-        call line('flutter margin', a, 'N ('//trim(adjustl(b))//' x peak inertia; < 0: '// &
-                  'lifts against the gas)')
-      end if
+      write (a, '(f10.2)') v(sc_flutter_margin)
+      write (b, '(f8.3)') v(sc_flutter_margin_ratio)
+      call line('flutter margin', a, 'N ('//trim(adjustl(b))//' x peak inertia; < 0: '// &
+                'lifts against the gas)')
       write (a, '(f10.3)') v(sc_peak_groove_pressure) * 1e-5_dp
       write (w, '(f6.1)') v(sc_peak_groove_angle)
       write (b, '(f8.3)') v(sc_peak_land_pressure) * 1e-5_dp

@@ -10,7 +10,6 @@ module ringlube_ring_pack_cycle
                                 ring_pack_init, ring_pack_step, ring_pack_gas_mass, &
                                 ring_pack_params_from_case, ring_pack_inputs
   use ringlube_case, only: case_type
-  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
   use ringlube_results, only: sc_blowby, sc_blowby_mass, sc_blowback_mass, sc_ring_lift_share, &
                               sc_flutter_events, sc_gas_balance_error, sc_flutter_margin, &
                               sc_flutter_margin_ratio, sc_peak_groove_pressure, &
@@ -63,7 +62,8 @@ module ringlube_ring_pack_cycle
     logical :: converged = .false.
     !> the least force holding the ring on its lower flank while the chamber pressure exceeds
     !> the land's [N] (negative: it lifts, a flutter event), and over the largest inertia force
-    !> m_r |a_p| of the cycle; +infinity (both) with no such instant
+    !> m_r |a_p| of the cycle; with no such instant (no gas above the land) that inertia force
+    !> and 1: the gas never pushes on the ring, a margin as large as anything that could lift it
     real(dp) :: flutter_margin = huge(1.0_dp), flutter_margin_ratio = 1.0_dp
   end type ring_pack_cycle_out
 
@@ -266,9 +266,8 @@ contains
       cyc%flutter_margin = tot%hold_margin
       cyc%flutter_margin_ratio = tot%hold_margin / max(tot%inertia, tiny(1.0_dp))
     else
-      ! (the least of no instants)
-      cyc%flutter_margin = ieee_value(1.0_dp, ieee_positive_inf)
-      cyc%flutter_margin_ratio = cyc%flutter_margin
+      cyc%flutter_margin = tot%inertia
+      cyc%flutter_margin_ratio = 1.0_dp
     end if
     cyc%gas_balance_error = abs((stored_end - tot%stored_start) &
                                 - (tot%inflow_mass - tot%blowby_mass)) / gross

@@ -81,6 +81,15 @@ def test_margins_and_peaks_in_the_file_and_the_summary(base, tmp_path):
     assert not hasattr(plain, "flutter_margin") or "flutter margin" not in plain.summary()
 
 
+def test_no_gas_above_the_land_is_the_whole_inertia_force():
+    # no trace and no crankcase pressure: the chamber never exceeds the land, nothing holds the
+    # ring down or could make it flutter: the margin is the largest inertia force, ratio 1
+    case = ringlube.Case().with_numerics(nodes=31, dpsi_deg=4.0).with_("physics", ring_pack="gas")
+    r = ringlube.run(case.with_("operating", crankcase_pressure=0.0))
+    assert r.flutter_events == 0 and r.flutter_margin_ratio == 1.0
+    assert np.isfinite(r.flutter_margin) and r.flutter_margin > 0
+
+
 def test_the_margin_is_a_study_constraint(tmp_path):
     from ringlube.study_deck import read_study
 
