@@ -86,3 +86,11 @@ def test_profile_mistakes_are_named(base):
         base.with_operating(liner_temperature_top=150.0).validate()
     with pytest.raises(InputError, match=r"&operating liner_temperature_bottom: must be in \[0"):
         base.with_operating(liner_temperature_bottom=800.0).validate()
+
+
+def test_a_distorted_bore_takes_the_profile_in_every_sector(base):
+    # the sectors' films take the liner temperature of the step as the ring's does: a bore
+    # "distorted" by a zero amplitude is the round bore (its sectors alike), with a profile too
+    profile = base.with_operating(liner_temperature_top=400.0, liner_temperature_bottom=340.0)
+    zero = profile.with_physics(bore="distorted").with_("bore", order=[4], amplitude=[0.0], sectors=8)
+    same(ringlube.run(zero), ringlube.run(profile), rtol=1e-12)
