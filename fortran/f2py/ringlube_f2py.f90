@@ -309,6 +309,40 @@ subroutine rl_kinematics(n, psi_deg, crank_radius, conrod_length, omega, x, u)
   u = sliding_speed(deg2rad(psi_deg), crank_radius, conrod_length, omega)
 end subroutine rl_kinematics
 
+!> The kernel's viscosity law (Roelands): eta [Pa s] at temperatures theta [K] and absolute
+!> pressures p [Pa], for eta0 [Pa s] at theta0 [K], alpha [1/Pa] and beta [1/K].
+subroutine rl_viscosity(n, theta, p, eta0, theta0, alpha, beta, eta)
+  use, intrinsic :: iso_c_binding, only: c_int, c_double
+  use ringlube_viscosity, only: roelands
+  implicit none
+  integer(c_int), intent(in) :: n
+  real(c_double), intent(in) :: theta(n), p(n), eta0, theta0, alpha, beta
+  real(c_double), intent(out) :: eta(n)
+  eta = roelands(p, theta, eta0, theta0, alpha, beta)
+end subroutine rl_viscosity
+
+!> An SAE J300 grade's kinematic viscosities at 40 and 100 degC and its window at 100 degC
+!> [mm^2/s]; `code` nonzero (and `message`) for a name that is not a grade.
+subroutine rl_grade(name, kv40, kv100, kv100_min, kv100_max, code, message)
+  use, intrinsic :: iso_c_binding, only: c_int, c_double
+  use ringlube_oil, only: grade_viscosities
+  implicit none
+  character(len=*), intent(in) :: name
+  real(c_double), intent(out) :: kv40, kv100, kv100_min, kv100_max
+  integer(c_int), intent(out) :: code
+  character(len=512), intent(out) :: message
+  character(len=:), allocatable :: why
+  kv100_min = 0
+  kv100_max = 0
+  call grade_viscosities(name, kv40, kv100, why, kv100_min, kv100_max)
+  code = 0
+  message = ''
+  if (allocated(why)) then
+    code = 1
+    message = why
+  end if
+end subroutine rl_grade
+
 !> Greenwood-Tripp functions at the given lambdas ('exact' unless `fit` is nonzero).
 subroutine rl_greenwood_tripp(n, lam, f2, f52, fit)
   use, intrinsic :: iso_c_binding, only: c_int, c_double

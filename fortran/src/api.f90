@@ -15,7 +15,7 @@ module ringlube_api
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, case_access, access_set, access_get, validate_case, &
-                           real_text
+                           real_text, uses_oil_data
   use ringlube_inputs, only: inputs, n_inputs, find_input, presets, n_presets, kind_int, kind_real
   use ringlube_deck, only: read_deck_text, scale_trace
   use ringlube_gas, only: check_pressure_trace, max_pressure
@@ -38,9 +38,9 @@ module ringlube_api
 
   character(len=1), parameter :: tab = achar(9), nl = achar(10)
   !> what the inputs of a run are, in output-file messages
-  character(len=*), parameter :: input_labels(3) = [character(len=20) :: &
+  character(len=*), parameter :: input_labels(4) = [character(len=20) :: &
                                                     'the deck', 'the pressure file', &
-                                                    'the calibration file']
+                                                    'the calibration file', 'the profile file']
 
 contains
 
@@ -137,9 +137,10 @@ contains
     associate (c => store(handle))
       if (to_file) then
         call check_output(out_path, [character(len=max(len(c%deck_path), len(c%pressure_file), &
-                                                       len(c%calibration_file), 1)) :: &
-                                     c%deck_path, c%pressure_file, c%calibration_file], &
-                          input_labels, err)
+                                                       len(c%calibration_file), &
+                                                       len(c%profile_file), 1)) :: &
+                                     c%deck_path, c%pressure_file, c%calibration_file, &
+                                     c%profile_file], input_labels, err)
         if (allocated(err)) return
       end if
       call system_clock(t0, rate)
@@ -150,7 +151,9 @@ contains
       ! the file records where it was written, not the deck's &output file
       cw = c
       cw%output_file = out_path
-      call write_result(out_path, cw, res, err, [c%calibration_file], [input_labels(3)])
+      call write_result(out_path, cw, res, err, &
+                        [character(len=max(len(c%calibration_file), len(c%profile_file))) :: &
+                         c%calibration_file, c%profile_file], input_labels(3:4))
     end associate
   end subroutine api_run
 
@@ -176,6 +179,13 @@ contains
       if (k == 0) then
         call fatal_error(err, c%deck_path//': '//trim(keys(j))//': unknown variable', &
                          rl_input_error)
+        return
+      end if
+      if (uses_oil_data(c) .and. trim(inputs(k)%group) == 'lubricant' .and. &
+          any(trim(inputs(k)%name) == [character(len=6) :: 'eta0', 'theta0', 'beta'])) then
+        call fatal_error(err, c%deck_path//': &lubricant '//trim(inputs(k)%name)//': the '// &
+                         'case takes its viscosity from the oil''s grade or kv40 and kv100, '// &
+                         'which give eta0, theta0 and beta: vary those instead', rl_input_error)
         return
       end if
       if (inputs(k)%kind == kind_int) then
@@ -327,10 +337,12 @@ contains
     integer, intent(in) :: n
     character(len=:), allocatable :: t
     integer :: i
-    t = line('short', 'stored', 'unit', 'kind', 'long_name', 'requires', 'objective')
+    t = line('short', 'stored', 'unit', 'kind', 'long_name', 'requires', 'objective', &
+             'optimisable')
     do i = 1, n
       t = t//line(spec(i)%short, spec(i)%stored, spec(i)%unit, spec(i)%kind, spec(i)%long_name, &
-                  spec(i)%requires, merge('1', '0', spec(i)%objective))
+                  spec(i)%requires, merge('1', '0', spec(i)%objective), &
+                  merge('1', '0', spec(i)%objective .or. spec(i)%optimisable))
     end do
   end function fields
 

@@ -10,13 +10,17 @@ module ringlube_case
                              preset_names, kind_choice, kind_int, max_list
   use ringlube_textio, only: itoa
   use ringlube_namelist, only: lower
-  use ringlube_viscosity, only: roelands_law_at, roelands_eta
+  use ringlube_viscosity, only: roelands_law_at, roelands_eta, roelands_through
+  use ringlube_oil, only: grade_viscosities, theta40, theta100
+  use ringlube_profile, only: gauge_profile, gauge_area, table_profile, table_area, &
+                              check_profile_table
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
   public :: case_type, default_case, apply_preset, case_access, validate_case, parse_real, &
          real_text, choice_list, composite_sigma, reduced_modulus, elastic_pressure, ring_profile, &
-            ring_mass, steps_per_cycle
+            ring_mass, steps_per_cycle, face_profile, uses_oil_data, liner_temperature_at, &
+            uniform_liner
 
   !> Most crank steps per cycle (0.01 deg): bounds the memory of a run.
   integer, parameter, public :: max_steps_per_cycle = 72000
@@ -26,9 +30,11 @@ module ringlube_case
   type :: case_type
     ! &engine
     real(dp) :: crank_radius = 0.0_dp, conrod_length = 0.0_dp, bore_radius = 0.0_dp
+    integer :: cylinders = 0
     ! &operating
     real(dp) :: speed_rpm = 0.0_dp, liner_temperature = 0.0_dp, crankcase_pressure = 0.0_dp, &
                 cavitation_pressure = 0.0_dp, pressure_scale = 0.0_dp
+    real(dp) :: liner_temperature_top = 0.0_dp, liner_temperature_bottom = 0.0_dp
     !> Gas-pressure CSV as resolved against the deck folder; empty: chamber at
     !> crankcase pressure all cycle (no compression, no combustion).
     character(len=:), allocatable :: pressure_file
@@ -36,9 +42,15 @@ module ringlube_case
     real(dp) :: width = 0.0_dp, crown_height = 0.0_dp, crown_offset = 0.0_dp, tension = 0.0_dp
     character(len=:), allocatable :: tension_unit
     real(dp) :: radial_depth = 0.0_dp, density = 0.0_dp, lower_ring_distance = 0.0_dp
+    character(len=:), allocatable :: profile
+    real(dp) :: gauge_length = 0.0_dp, gauge_drop_top = 0.0_dp, gauge_drop_bottom = 0.0_dp
+    !> face-profile CSV as resolved against the deck folder (profile = 'table')
+    character(len=:), allocatable :: profile_file
     ! &lubricant
     real(dp) :: eta0 = 0.0_dp, theta0 = 0.0_dp, beta = 0.0_dp, alpha = 0.0_dp, supply_film = 0.0_dp
-    real(dp) :: oil_density = 0.0_dp
+    real(dp) :: oil_density = 0.0_dp, kv40 = 0.0_dp, kv100 = 0.0_dp
+    !> SAE J300 grade ('' none)
+    character(len=:), allocatable :: grade
     ! &surface
     real(dp) :: rq_liner = 0.0_dp, rq_ring = 0.0_dp, zeta_kappa_sigma = 0.0_dp, &
          sigma_over_kappa = 0.0_dp, tau0 = 0.0_dp, boundary_coefficient = 0.0_dp, e_ring = 0.0_dp, &
@@ -75,6 +87,8 @@ module ringlube_case
     real(dp), allocatable :: gas_psi(:)        !< deg, 0..720, increasing
     real(dp), allocatable :: gas_p(:)          !< Pa abs, pressure_scale x gas_p_trace
     real(dp), allocatable :: gas_p_trace(:)    !< Pa abs, the trace as read (scale_trace)
+    !> the face profile of profile = 'table' as read: position from the top edge and drop [m]
+    real(dp), allocatable :: profile_x(:), profile_s(:)
     character(len=:), allocatable :: deck_path  !< where the case came from (in messages)
     character(len=:), allocatable :: deck_text  !< the deck's text (and included files')
     !> the bore's distortion as read from distortion_file: rows (z [m], order, amplitude [m],
@@ -106,7 +120,7 @@ contains
     c%deck_path = '<memory>'
     c%notes = ''
     c%deck_text = ''
-    allocate (c%gas_psi(0), c%gas_p(0), c%gas_p_trace(0))
+    allocate (c%gas_psi(0), c%gas_p(0), c%gas_p_trace(0), c%profile_x(0), c%profile_s(0))
   end function default_case
 
   !> Set the numerics of a named preset; `why` is allocated if the name is unknown.
@@ -147,8 +161,11 @@ contains
     case ('engine.crank_radius'); call r(c%crank_radius)
     case ('engine.conrod_length'); call r(c%conrod_length)
     case ('engine.bore_radius'); call r(c%bore_radius)
+    case ('engine.cylinders'); call n(c%cylinders)
     case ('operating.speed_rpm'); call r(c%speed_rpm)
     case ('operating.liner_temperature'); call r(c%liner_temperature)
+    case ('operating.liner_temperature_top'); call r(c%liner_temperature_top)
+    case ('operating.liner_temperature_bottom'); call r(c%liner_temperature_bottom)
     case ('operating.pressure_file'); call s(c%pressure_file)
     case ('operating.crankcase_pressure'); call r(c%crankcase_pressure)
     case ('operating.cavitation_pressure'); call r(c%cavitation_pressure)
@@ -156,6 +173,11 @@ contains
     case ('ring.width'); call r(c%width)
     case ('ring.crown_height'); call r(c%crown_height)
     case ('ring.crown_offset'); call r(c%crown_offset)
+    case ('ring.profile'); call s(c%profile)
+    case ('ring.gauge_length'); call r(c%gauge_length)
+    case ('ring.gauge_drop_top'); call r(c%gauge_drop_top)
+    case ('ring.gauge_drop_bottom'); call r(c%gauge_drop_bottom)
+    case ('ring.profile_file'); call s(c%profile_file)
     case ('ring.tension'); call r(c%tension)
     case ('ring.tension_unit'); call s(c%tension_unit)
     case ('ring.radial_depth'); call r(c%radial_depth)
@@ -167,6 +189,9 @@ contains
     case ('lubricant.alpha'); call r(c%alpha)
     case ('lubricant.supply_film'); call r(c%supply_film)
     case ('lubricant.oil_density'); call r(c%oil_density)
+    case ('lubricant.kv40'); call r(c%kv40)
+    case ('lubricant.kv100'); call r(c%kv100)
+    case ('lubricant.grade'); call s(c%grade)
     case ('surface.rq_liner'); call r(c%rq_liner)
     case ('surface.rq_ring'); call r(c%rq_ring)
     case ('surface.zeta_kappa_sigma'); call r(c%zeta_kappa_sigma)
@@ -564,15 +589,80 @@ contains
     ring_profile = crown_height * (x + crown_offset)**2 / (0.5_dp * width)**2
   end function ring_profile
 
-  !> Ring mass [kg]: rho 2 pi (r0 - a/2) (a b - int S dx) (SPEC section 8).
+  !> The face profile S [m] of the case (`profile`) at the nodes x(1:n) of the film's grid
+  !> (x(i) = -b/2 + (i - 1) dx, x(n) = b/2) in `s` and at their midpoints in `smid`.
+  !> A table is evaluated at the same points from the top edge, (i - 1) dx, b and their
+  !> midpoints (a table holding them gives its values there exactly).
+  pure subroutine face_profile(c, x, s, smid)
+    type(case_type), intent(in) :: c
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: s(:), smid(:)
+    real(dp) :: xi(size(x)), s_min, area
+    integer :: i, n
+    n = size(x)
+    select case (c%profile)
+    case ('gauge')
+      s = gauge_profile(x, c%crown_offset, c%gauge_length, c%gauge_drop_top, c%gauge_drop_bottom)
+      smid = gauge_profile(0.5_dp * (x(1:n - 1) + x(2:n)), c%crown_offset, c%gauge_length, &
+                           c%gauge_drop_top, c%gauge_drop_bottom)
+    case ('table')
+      do i = 1, n
+        xi(i) = (i - 1) * (c%width / (n - 1))
+      end do
+      xi(n) = c%width
+      call table_area(c%width, c%profile_x, c%profile_s, s_min, area)
+      do i = 1, n
+        s(i) = table_profile(xi(i), c%profile_x, c%profile_s, s_min)
+      end do
+      do i = 1, n - 1
+        smid(i) = table_profile(0.5_dp * (xi(i) + xi(i + 1)), c%profile_x, c%profile_s, s_min)
+      end do
+    case default
+      s = ring_profile(x, c%width, c%crown_height, c%crown_offset)
+      smid = ring_profile(0.5_dp * (x(1:n - 1) + x(2:n)), c%width, c%crown_height, c%crown_offset)
+    end select
+  end subroutine face_profile
+
+  !> Ring mass [kg]: rho 2 pi (r0 - a/2) (a b - int S dx) (SPEC section 8), with the face
+  !> profile of the case (closed form for 'edge' and 'gauge', exact for a table's linear
+  !> interpolant).
   pure real(dp) function ring_mass(c)
     type(case_type), intent(in) :: c
-    real(dp) :: hb, area_s
+    real(dp) :: hb, area_s, s_min
     hb = 0.5_dp * c%width
-    area_s = c%crown_height / hb**2 * ((hb + c%crown_offset)**3 - (c%crown_offset - hb)**3) / 3.0_dp
+    select case (c%profile)
+    case ('gauge')
+      area_s = gauge_area(c%width, c%crown_offset, c%gauge_length, c%gauge_drop_top, &
+                          c%gauge_drop_bottom)
+    case ('table')
+      call table_area(c%width, c%profile_x, c%profile_s, s_min, area_s)
+    case default
+      area_s = c%crown_height / hb**2 * ((hb + c%crown_offset)**3 - (c%crown_offset - hb)**3) &
+               / 3.0_dp
+    end select
     ring_mass = c%density * 2.0_dp * pi * (c%bore_radius - 0.5_dp * c%radial_depth) &
                 * (c%radial_depth * c%width - area_s)
   end function ring_mass
+
+  !> The liner temperature [K] where the ring is when the piston is at s [m] from TDC:
+  !> linear from liner_temperature_top (s = 0) to liner_temperature_bottom (s = 2 r), each
+  !> liner_temperature where it is 0.
+  pure real(dp) function liner_temperature_at(c, s) result(t)
+    type(case_type), intent(in) :: c
+    real(dp), intent(in) :: s
+    real(dp) :: top, bottom
+    top = c%liner_temperature
+    bottom = c%liner_temperature
+    if (c%liner_temperature_top > 0.0_dp) top = c%liner_temperature_top
+    if (c%liner_temperature_bottom > 0.0_dp) bottom = c%liner_temperature_bottom
+    t = top + (bottom - top) * (s / (2.0_dp * c%crank_radius))
+  end function liner_temperature_at
+
+  !> One liner temperature over the whole stroke, liner_temperature (neither end given)?
+  pure logical function uniform_liner(c)
+    type(case_type), intent(in) :: c
+    uniform_liner = c%liner_temperature_top == 0.0_dp .and. c%liner_temperature_bottom == 0.0_dp
+  end function uniform_liner
 
   !> Number of crank steps in one 720 deg cycle.
   pure integer function steps_per_cycle(c)
@@ -608,6 +698,18 @@ contains
     if (c%radial_depth >= c%bore_radius) then
       call bad('ring', 'radial_depth', 'must be smaller than bore_radius'); return
     end if
+    if (c%profile == 'table') then
+      if (len(c%profile_file) == 0) then
+        call bad('ring', 'profile_file', "must name the profile's CSV file with profile = 'table'")
+        return
+      end if
+      if (allocated(c%profile_x)) then
+        call check_profile_table(c%profile_x, c%profile_s, c%width, why)
+        if (allocated(why)) then
+          call bad('ring', 'profile_file', c%profile_file//': '//why); return
+        end if
+      end if
+    end if
     if (abs(720.0_dp / c%dpsi_deg - nint(720.0_dp / c%dpsi_deg)) > 1e-6_dp) then
       call bad('numerics', 'dpsi_deg', 'must divide 720 deg into a whole number of steps'); return
     end if
@@ -615,13 +717,28 @@ contains
       call bad('numerics', 'dpsi_deg', 'gives more than '//itoa(max_steps_per_cycle)// &
                ' crank steps per cycle'); return
     end if
-    eta = roelands_eta(roelands_law_at(c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta), &
-                       0.0_dp)
-    if (.not. (eta >= 1e-5_dp .and. eta <= 100.0_dp)) then
-      call bad('lubricant', 'eta0', 'with theta0, beta and the liner temperature gives a '// &
-               'viscosity of '//real_text(eta)//' Pa s at the liner temperature, outside the '// &
-               'plausible 1e-5 .. 100 Pa s'); return
+    if (uses_oil_data(c)) then
+      call oil_law(why)
+      if (allocated(why)) return
     end if
+    if (c%liner_temperature_top > 0.0_dp .and. c%liner_temperature_top < 200.0_dp) then
+      call bad('operating', 'liner_temperature_top', 'must be 0 (liner_temperature) or at '// &
+               'least 200 K'); return
+    end if
+    if (c%liner_temperature_bottom > 0.0_dp .and. c%liner_temperature_bottom < 200.0_dp) then
+      call bad('operating', 'liner_temperature_bottom', 'must be 0 (liner_temperature) or at '// &
+               'least 200 K'); return
+    end if
+    do i = 1, 2
+      eta = roelands_eta(roelands_law_at(liner_temperature_at(c, (i - 1) * 2.0_dp * &
+                                                              c%crank_radius), c%eta0, &
+                                         c%theta0, c%alpha, c%beta), 0.0_dp)
+      if (.not. (eta >= 1e-5_dp .and. eta <= 100.0_dp)) then
+        call bad('lubricant', 'eta0', 'with theta0, beta and the liner temperature gives a '// &
+                 'viscosity of '//real_text(eta)//' Pa s at the liner temperature, outside the '// &
+                 'plausible 1e-5 .. 100 Pa s'); return
+      end if
+    end do
     if (c%cavity_pressure == 'trailing_gas' .and. c%cavitation /= 'jfo') then
       call bad('physics', 'cavity_pressure', "'trailing_gas' is implemented for "// &
                "cavitation = 'jfo' only"); return
@@ -681,5 +798,61 @@ contains
                  'amplitude, phase or as a file, not both'); return
       end if
     end subroutine check_bore
+
+    !> eta0, theta0 and beta of the law through the oil's kinematic viscosities at 40 and
+    !> 100 degC (its grade's or its data sheet's) times oil_density; `fail` set (and `err`)
+    !> for inconsistent oil data.
+    subroutine oil_law(fail)
+      character(len=:), allocatable, intent(out) :: fail
+      real(dp) :: kv40, kv100
+      character(len=:), allocatable :: whyg
+      if (len(c%grade) > 0) then
+        if (c%kv40 > 0.0_dp .or. c%kv100 > 0.0_dp) then
+          call bad('lubricant', 'grade', 'and the data sheet''s kv40, kv100 are both given: '// &
+                   'give one of them')
+          fail = 'x'
+          return
+        end if
+        call grade_viscosities(c%grade, kv40, kv100, whyg)
+        if (allocated(whyg)) then
+          call bad('lubricant', 'grade', whyg)
+          fail = 'x'
+          return
+        end if
+      else
+        kv40 = c%kv40
+        kv100 = c%kv100
+        if (.not. (kv40 > 0.0_dp)) then
+          call bad('lubricant', 'kv40', 'must be given with kv100 (the data sheet''s '// &
+                   'kinematic viscosities at 40 and 100 degC)')
+        else if (.not. (kv100 > 0.0_dp)) then
+          call bad('lubricant', 'kv100', 'must be given with kv40 (the data sheet''s '// &
+                   'kinematic viscosities at 40 and 100 degC)')
+        else if (.not. (kv40 > kv100)) then
+          call bad('lubricant', 'kv40', 'must exceed kv100 (an oil thins as it warms)')
+        end if
+        if (allocated(err)) then
+          fail = 'x'
+          return
+        end if
+      end if
+      if (.not. (min(kv40, kv100) * 1e-6_dp * c%oil_density > 7e-5_dp)) then
+        call bad('lubricant', 'kv100', 'with oil_density gives a viscosity below the '// &
+                 'Roelands reference 6.3e-5 Pa s')
+        fail = 'x'
+        return
+      end if
+      call roelands_through(theta40, kv40 * 1e-6_dp * c%oil_density, theta100, &
+                            kv100 * 1e-6_dp * c%oil_density, c%eta0, c%theta0, c%beta)
+    end subroutine oil_law
   end subroutine validate_case
+
+  !> Does the case take its viscosity law from oil data (a grade, or kv40 and kv100) rather
+  !> than eta0, theta0 and beta?
+  pure logical function uses_oil_data(c)
+    type(case_type), intent(in) :: c
+    uses_oil_data = .false.
+    if (allocated(c%grade)) uses_oil_data = len(c%grade) > 0
+    uses_oil_data = uses_oil_data .or. c%kv40 > 0.0_dp .or. c%kv100 > 0.0_dp
+  end function uses_oil_data
 end module ringlube_case

@@ -15,7 +15,7 @@ module ringlube_cycle
   use ringlube_oil_supply, only: supply_type, supply_reset_counters, supply_stored, &
                                  supply_balance_error
   use ringlube_liner, only: liner_positions
-  use ringlube_film, only: film_type, film_setup
+  use ringlube_film, only: film_type, film_setup, film_temperature
   use ringlube_load_balance, only: balance
   use ringlube_cycle_state, only: film_track, cycle_state, step_out, cycle_setup, advance, &
                                   solve_step, prepare_inlet, ring_pack_advance, take_film, &
@@ -276,10 +276,12 @@ contains
       g%f = f
       g%mem = st%film%mem
       call prepare_inlet(c, g%f, sup, st%s_prev, 0.0_dp)
+      call film_temperature(c, g%f, 0.0_dp)
       if (allocated(st%ring)) then
         gring = st%ring
         do j = 1, size(st%sups)
           call prepare_inlet(c, gring%films(j), st%sups(j), st%s_prev, 0.0_dp)
+          call film_temperature(c, gring%films(j), 0.0_dp)
         end do
         call bore_distortion(gring%bore, position(c, 720.0_dp), gring%d)
       end if
@@ -347,9 +349,9 @@ contains
       v(sc_min_film) = minval(res%series(:, s_lambda_min)) * st%sigma
       v(sc_max_friction) = maxval(abs(res%series(:, s_friction)))
     end associate
-    if (allocated(st%rst)) call ring_pack_scalars(st%rcyc, res%scalars)
+    if (allocated(st%rst)) call ring_pack_scalars(st%rcyc, res)
     call derive_results(res, c%speed_rpm, pi * c%bore_radius**2 * 2.0_dp * c%crank_radius, &
-                        c%oil_density)
+                        c%oil_density, c%cylinders)
     if (allocated(st%ring)) call ring_results(st, c, res)
   end subroutine cycle_results
 

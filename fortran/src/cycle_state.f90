@@ -24,10 +24,10 @@ module ringlube_cycle_state
                               si_film_solves, s_inlet_fill, s_wetted_width, s_oil_left, &
                               s_oil_bank, s_groove_pressure, s_land_pressure, s_ring_lift, &
                               s_top_gap_flow, s_second_gap_flow, s_face_flow, sec_h0, &
-                              sec_load, flag_ceiling
+                              sec_load, flag_ceiling, s_film_temperature
   use ringlube_oil_supply, only: supply_type, supply_setup, supply_edges, supply_step, &
                                  supply_to_chamber
-  use ringlube_film, only: film_type, film_setup, film_friction
+  use ringlube_film, only: film_type, film_setup, film_friction, film_temperature
   use ringlube_load_balance, only: step_context, load_problem, balance_memory, balance, &
                                    start_history
   use ringlube_sectors, only: sector_ring, ring_setup, ring_accept, exact_mean
@@ -181,6 +181,7 @@ contains
     end if
     associate (f => st%film%f, sup => st%film%sup)
       call prepare_inlet(c, f, sup, st%s_prev, psi)
+      call film_temperature(c, f, psi)
       if (allocated(st%rst)) then
         call ring_pack_advance(c, st%ctx, st%rpar, st%fric_prev, st%rst, st%rout, psi, st%err)
         f%p_back = st%rst%p2
@@ -225,8 +226,10 @@ contains
     integer :: j, m
     m = size(st%sups)
     associate (f => st%film%f, ring => st%ring)
+      call film_temperature(c, f, psi)
       do j = 1, m
         call prepare_inlet(c, ring%films(j), st%sups(j), st%s_prev, psi)
+        call film_temperature(c, ring%films(j), psi)
       end do
       s = position(c, psi)
       call bore_distortion(ring%bore, s, ring%d)
@@ -328,6 +331,7 @@ contains
       res%series(k, s_friction) = st%fv + st%fb
       res%series(k, s_power_loss) = abs((st%fv + st%fb) * lp%u)
       res%series(k, s_load_residual) = out%resid
+      res%series(k, s_film_temperature) = f%temperature
       res%int_series(k, si_flags) = out%flags
       res%int_series(k, si_film_solves) = f%film_solves - nev
       if (allocated(st%ring)) then

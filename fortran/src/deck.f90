@@ -3,7 +3,7 @@
 !> Every group is optional (a missing group means all its defaults); an unknown group or
 !> variable, a malformed value, a variable given twice or a value outside its range (the
 !> table of ringlube_inputs) is an input error naming the file, the line, the group and the
-!> variable. Relative paths (`pressure_file`, output `file`, `&calibration file`) are
+!> variable. Relative paths (`pressure_file`, `profile_file`, output `file`, `&calibration file`) are
 !> relative to the deck's folder (the base folder given with text from memory).
 !>
 !> Steps: scan the text into items; add the items of the `&calibration file`; check that
@@ -13,13 +13,14 @@ module ringlube_deck
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, default_case, apply_preset, case_access, access_set, &
-                           validate_case, real_text
+                           validate_case, real_text, uses_oil_data
   use ringlube_inputs, only: inputs, n_inputs, find_input, input_key, kind_string, kind_choice, &
                              kind_real_list, kind_int_list
   use ringlube_namelist, only: nml_item, scan_namelist
   use ringlube_textio, only: read_text_file, itoa
   use ringlube_gas, only: read_pressure_csv, max_pressure
   use ringlube_bore, only: read_distortion_csv
+  use ringlube_profile, only: read_profile_csv
   use ringlube_fsys, only: dir_prefix
   implicit none
   private
@@ -104,8 +105,11 @@ contains
     call apply_overrides(items, nitems, oitems, noitems)
     call assign_items(c, items, nitems, err)
     if (allocated(err)) return
+    call check_oil_sources(c, items, nitems, err)
+    if (allocated(err)) return
     call note_unused(c, items, nitems)
     c%pressure_file = resolve_path(c%pressure_file, base_dir)
+    c%profile_file = resolve_path(c%profile_file, base_dir)
     c%output_file = resolve_path(c%output_file, base_dir)
     c%calibration_file = resolve_path(c%calibration_file, base_dir)
     c%distortion_file = resolve_path(c%distortion_file, base_dir)
@@ -316,14 +320,45 @@ contains
     end do
   end function group_list
 
+  !> The viscosity law comes from one source: eta0, theta0 and beta, or the oil's grade or data
+  !> sheet (kv40, kv100), which give all three; a deck that sets both is an error at the line
+  !> of the first of eta0, theta0 or beta.
+  subroutine check_oil_sources(c, items, nitems, err)
+    type(case_type), intent(in) :: c
+    type(nml_item), intent(in) :: items(:)
+    integer, intent(in) :: nitems
+    type(error_type), allocatable, intent(out) :: err
+    integer :: i
+    if (.not. uses_oil_data(c)) return
+    do i = 1, nitems
+      if (items(i)%group /= 'lubricant') cycle
+      select case (items(i)%name)
+      case ('eta0', 'theta0', 'beta')
+        call item_error(items(i), 'set together with the oil''s '//oil_source()// &
+                        ', which gives eta0, theta0 and beta: set one or the other', err)
+        return
+      end select
+    end do
+
+  contains
+
+    function oil_source() result(t)
+      character(len=:), allocatable :: t
+      t = 'kv40 and kv100'
+      if (len(c%grade) > 0) t = 'grade'
+    end function oil_source
+  end subroutine check_oil_sources
+
   !> A warning (c%notes) for inputs set for a model that is off: `&bore` variables (and
   !> back_clearance) with `&physics bore = 'round'`, `&ring_pack` variables with `&physics
-  !> ring_pack = 'none'` (but those a distorted bore uses) are not used (the first one is
-  !> named, at its line).
+  !> ring_pack = 'none'` (but those a distorted bore uses), the face-profile variables of
+  !> another `&ring profile` than the case's, are not used (the first one is named, at its
+  !> line).
   subroutine note_unused(c, items, nitems)
     type(case_type), intent(inout) :: c
     type(nml_item), intent(in) :: items(:)
     integer, intent(in) :: nitems
+    character(len=:), allocatable :: uses
     integer :: i
     c%notes = ''
     if (c%bore == 'round') then
@@ -336,8 +371,8 @@ contains
         return
       end do
     end if
-    if (c%ring_pack /= 'none') return
     do i = 1, nitems
+      if (c%ring_pack /= 'none') exit
       if (items(i)%group /= 'ring_pack') cycle
       ! (the gas's temperature and viscosity also set the face leakage of a distorted bore)
       if (c%bore == 'distorted' .and. any(items(i)%name == [character(len=16) :: &
@@ -346,6 +381,24 @@ contains
       c%notes = items(i)%file//':'//itoa(items(i)%line)//': &ring_pack '//items(i)%name// &
                 ' is set, but &physics ring_pack = ''none'': the ring pack is off and '// &
                 'its inputs are not used'
+      return
+    end do
+    do i = 1, nitems
+      if (items(i)%group /= 'ring') cycle
+      select case (items(i)%name)
+      case ('crown_height')
+        uses = 'edge'
+      case ('gauge_length', 'gauge_drop_top', 'gauge_drop_bottom')
+        uses = 'gauge'
+      case ('profile_file')
+        uses = 'table'
+      case default
+        cycle
+      end select
+      if (uses == c%profile) cycle
+      c%notes = items(i)%file//':'//itoa(items(i)%line)//': &ring '//items(i)%name// &
+                ' is set, but &ring profile = '''//c%profile//''': it is used with profile = '''// &
+                uses//''' only'
       return
     end do
   end subroutine note_unused
@@ -399,6 +452,18 @@ contains
     type(error_type), allocatable, intent(out) :: err
     logical, intent(in), optional :: load_trace
     logical :: exists, load
+    ! the face profile's table first: validate_case checks it against the width
+    if (allocated(c%profile_x)) deallocate (c%profile_x)
+    if (allocated(c%profile_s)) deallocate (c%profile_s)
+    if (c%profile == 'table' .and. len(c%profile_file) > 0) then
+      call read_profile_csv(c%profile_file, c%profile_x, c%profile_s, err)
+      if (allocated(err)) then
+        err%message = c%deck_path//': &ring profile_file: '//err%message
+        return
+      end if
+    else
+      allocate (c%profile_x(0), c%profile_s(0))
+    end if
     call validate_case(c, err)
     if (allocated(err)) return
     if (allocated(c%distortion)) deallocate (c%distortion)

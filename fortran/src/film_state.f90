@@ -3,7 +3,9 @@
 !> pressure-viscosity loop's start and step, and the loads of a solved film.
 module ringlube_film_state
   use ringlube_kinds, only: dp, pi
-  use ringlube_case, only: case_type, composite_sigma, reduced_modulus, ring_profile
+  use ringlube_case, only: case_type, composite_sigma, reduced_modulus, face_profile, &
+                           liner_temperature_at, uniform_liner
+  use ringlube_kinematics, only: deg2rad, piston_position
   use ringlube_viscosity, only: roelands_law, roelands_law_at, roelands_eta
   use ringlube_contact, only: asperity_contact, contact_params
   use ringlube_reynolds, only: reynolds_work, reynolds_work_init
@@ -12,7 +14,7 @@ module ringlube_film_state
   implicit none
   private
   public :: film_type, film_setup, lower_edge_pressure, start_viscosity, conductance, &
-            update_viscosity, film_loads
+            update_viscosity, film_loads, film_temperature
 
   !> Roelands is evaluated with the pressure clipped here [Pa]. Ring pressures are far
   !> lower; only trial films far below the load-balance root reach it, where an unclipped
@@ -32,8 +34,9 @@ module ringlube_film_state
     real(dp), allocatable :: pold(:), eta_new(:)
     logical :: lead_left = .true.          !< leading edge is the chamber edge (x = -b/2)
     logical :: trailing_cavitated = .false.  !< Reynolds outlet: trailing edge at p_cav
-    !> Roelands' law at the film temperature of the run
+    !> Roelands' law at the film's temperature, the liner's where the ring is [K]
     type(roelands_law) :: law
+    real(dp) :: temperature = 0.0_dp
     ! state of the last evaluation
     real(dp) :: h0 = -1.0_dp, wh = 0.0_dp, wa = 0.0_dp, aa = 0.0_dp
     integer :: flags = 0
@@ -85,6 +88,7 @@ contains
                                sigma_over_kappa=c%sigma_over_kappa, e_reduced=reduced_modulus(c), &
                                fit=c%gt_functions == 'fit', lumped=c%contact_area == 'lumped', &
                                width=c%width, circumference=f%circ)
+    f%temperature = c%liner_temperature
     f%law = roelands_law_at(c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta)
     f%eta_e = roelands_eta(f%law, 0.0_dp)
     allocate (f%x(n), f%s(n), f%h(n), f%p(n), f%eta(n), f%active(n))
@@ -94,8 +98,7 @@ contains
       f%x(i) = -hb + (i - 1) * f%dx
     end do
     f%x(n) = hb
-    f%s = ring_profile(f%x, c%width, c%crown_height, c%crown_offset)
-  f%smid = ring_profile(0.5_dp * (f%x(1:n - 1) + f%x(2:n)), c%width, c%crown_height, c%crown_offset)
+    call face_profile(c, f%x, f%s, f%smid)
     f%p = c%crankcase_pressure
     f%eta = f%eta_e
     ! the viscosity of the pressure held (see film_evaluate)
@@ -108,6 +111,29 @@ contains
     f%pc = c%cavitation_pressure
     f%content_old = f%s   ! a full film at h0 = 0: the caller sets it at the first h0
   end subroutine film_setup
+
+  !> The film's temperature for the step to crank angle psi [deg]: the liner's where the ring
+  !> is (liner_temperature_at), with Roelands' law at it and the viscosity of the pressure
+  !> held (the warm start of the next solve) under that law. One liner temperature: the law of
+  !> film_setup, unchanged.
+  pure subroutine film_temperature(c, f, psi)
+    type(case_type), intent(in) :: c
+    type(film_type), intent(inout) :: f
+    real(dp), intent(in) :: psi
+    real(dp) :: theta
+    if (uniform_liner(c)) return
+    theta = liner_temperature_at(c, piston_position(deg2rad(psi), c%crank_radius, &
+                                                    c%conrod_length))
+    if (theta == f%temperature) return
+    f%temperature = theta
+    f%law = roelands_law_at(theta, c%eta0, c%theta0, c%alpha, c%beta)
+    f%eta_e = roelands_eta(f%law, 0.0_dp)
+    if (c%roelands) then
+      f%eta = roelands_eta(f%law, min(max(f%p, 0.0_dp), roelands_p_max))
+    else
+      f%eta = f%eta_e
+    end if
+  end subroutine film_temperature
 
   !> Gas pressure at the ring's lower (crankcase) edge [Pa]: the land pressure with the ring
   !> pack, else the crankcase pressure.

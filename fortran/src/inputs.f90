@@ -45,10 +45,16 @@ module ringlube_inputs
       'connecting-rod length l_c (must exceed crank_radius)'), &
     input_spec('engine', 'bore_radius', kind_real, '48e-3', 1e-3_dp, 1.0_dp, 'm', '', &
       'bore radius r0 (ring circumference 2 pi r0)'), &
+    input_spec('engine', 'cylinders', kind_int, '1', 1.0_dp, 64.0_dp, '1', '', &
+      "cylinders, alike: the engine's totals (friction power, displacement) of its top rings"), &
     input_spec('operating', 'speed_rpm', kind_real, '4000', 1.0_dp, 50000.0_dp, 'r/min', '', &
       'engine speed'), &
     input_spec('operating', 'liner_temperature', kind_real, '348.0', 200.0_dp, 700.0_dp, 'K', '', &
       'liner (film) temperature theta_e'), &
+    input_spec('operating', 'liner_temperature_top', kind_real, '0', 0.0_dp, 700.0_dp, 'K', '', &
+      "liner temperature where the ring is at TDC, linear to _bottom; 0: liner_temperature"), &
+    input_spec('operating', 'liner_temperature_bottom', kind_real, '0', 0.0_dp, 700.0_dp, 'K', '', &
+      "liner temperature where the ring is at BDC; 0: liner_temperature"), &
     input_spec('operating', 'pressure_file', kind_string, '', 0.0_dp, 0.0_dp, '', '', &
       'gas-pressure CSV (deg, Pa abs); relative to the deck folder; empty: crankcase pressure'), &
     input_spec('operating', 'crankcase_pressure', kind_real, '101325', 0.0_dp, 1e7_dp, 'Pa', '', &
@@ -63,6 +69,16 @@ module ringlube_inputs
       'crown height c of the parabolic face'), &
     input_spec('ring', 'crown_offset', kind_real, '-38.3e-6', -0.025_dp, 0.025_dp, 'm', '', &
       'crown offset x_s (minimum at x = -x_s; |x_s| < b/2)'), &
+    input_spec('ring', 'profile', kind_choice, 'edge', 0.0_dp, 0.0_dp, '', 'edge|gauge|table', &
+"face profile: crown_height at the edges, drops at gauge_length from the crown, or profile_file"), &
+    input_spec('ring', 'gauge_length', kind_real, '502e-6', 1e-6_dp, 0.025_dp, 'm', '', &
+      "profile = 'gauge': distance from the crown point at which the drops are given"), &
+    input_spec('ring', 'gauge_drop_top', kind_real, '9.31e-6', 0.0_dp, 1e-3_dp, 'm', '', &
+      "profile = 'gauge': drop of the face at gauge_length on the chamber (top) side"), &
+    input_spec('ring', 'gauge_drop_bottom', kind_real, '9.31e-6', 0.0_dp, 1e-3_dp, 'm', '', &
+      "profile = 'gauge': drop of the face at gauge_length on the crankcase (bottom) side"), &
+    input_spec('ring', 'profile_file', kind_string, '', 0.0_dp, 0.0_dp, '', '', &
+      "profile = 'table': CSV x from the top edge, drop S (m; header may name mm, um)"), &
     input_spec('ring', 'tension', kind_real, '8.0', 0.0_dp, 1e4_dp, '(unit)', '', &
       'ring tension, in the unit given by tension_unit'), &
     input_spec('ring', 'tension_unit', kind_choice, 'N', 0.0_dp, 0.0_dp, '', 'N|N/m', &
@@ -84,7 +100,13 @@ module ringlube_inputs
     input_spec('lubricant', 'supply_film', kind_real, '1e-6', 0.0_dp, 1e-3_dp, 'm', '', &
       'oil film the lower rings leave on the liner for the top ring (starved inlet)'), &
     input_spec('lubricant', 'oil_density', kind_real, '850', 600.0_dp, 1200.0_dp, 'kg/m^3', '', &
-      'oil density, for the oil to the chamber in g/h (results only; docs/model.md)'), &
+      'oil density: the oil to the chamber in g/h; kv40, kv100 to viscosities (docs/model.md)'), &
+    input_spec('lubricant', 'kv40', kind_real, '0', 0.0_dp, 1e5_dp, 'mm^2/s', '', &
+  "data sheet: kinematic viscosity at 40 degC (with kv100 replaces eta0, theta0, beta; 0: none)"), &
+    input_spec('lubricant', 'kv100', kind_real, '0', 0.0_dp, 1e4_dp, 'mm^2/s', '', &
+      'data sheet: kinematic viscosity at 100 degC (with kv40; 0: none)'), &
+    input_spec('lubricant', 'grade', kind_string, '', 0.0_dp, 0.0_dp, '', '', &
+      "SAE J300 grade, e.g. '5W-30' or '40': kv40 and kv100 of a typical oil (docs/model.md)"), &
     input_spec('surface', 'rq_liner', kind_real, '0.378e-6', 1e-9_dp, 1e-4_dp, 'm', '', &
       'liner roughness Rq'), &
     input_spec('surface', 'rq_ring', kind_real, '0.238e-6', 1e-9_dp, 1e-4_dp, 'm', '', &

@@ -6,6 +6,8 @@ module ringlube_periodicity
   use ringlube_case, only: case_type
   use ringlube_ring_pack, only: ring_pack_state
   use ringlube_ring_pack_cycle, only: ring_pack_distance
+  use ringlube_results, only: sc_flutter_margin, sc_flutter_margin_ratio, sc_peak_groove_pressure, &
+                              sc_peak_groove_angle, sc_peak_land_pressure, sc_peak_land_angle
   implicit none
   private
   public :: max_period, cycle_history, history_start, history_h0, history_end, &
@@ -212,19 +214,31 @@ contains
     map_change = sum(abs(a - b)) / max(sum(abs(a)), tiny(1.0_dp))
   end function map_change
 
-  !> The means of results idx over the last p cycles (p >= 2; p = 1 leaves v alone).
+  !> The means of results idx over the last p cycles (p >= 2; p = 1 leaves v alone), and the
+  !> extremes of the ring pack's: the least flutter margin of the cycles (negative if one
+  !> flutters, as their mean flutter_events is positive), and the highest groove and land
+  !> pressures with their crank angles.
   pure subroutine history_mean(hist, p, idx, v)
     type(cycle_history), intent(in) :: hist
     integer, intent(in) :: p, idx(:)
     real(dp), intent(inout) :: v(:)
     real(dp) :: s(size(idx))
-    integer :: i
+    integer :: i, ks(p)
     if (p < 2) return
     s = hist%scalars(idx, slot(hist%cycles))
     do i = 1, p - 1
       s = s + hist%scalars(idx, slot(hist%cycles - i))
     end do
     v(idx) = s / p
+    ks = [(slot(hist%cycles - i), i=0, p - 1)]
+    v(sc_flutter_margin) = minval(hist%scalars(sc_flutter_margin, ks))
+    v(sc_flutter_margin_ratio) = minval(hist%scalars(sc_flutter_margin_ratio, ks))
+    i = ks(maxloc(hist%scalars(sc_peak_groove_pressure, ks), dim=1))
+    v([sc_peak_groove_pressure, sc_peak_groove_angle]) = &
+      hist%scalars([sc_peak_groove_pressure, sc_peak_groove_angle], i)
+    i = ks(maxloc(hist%scalars(sc_peak_land_pressure, ks), dim=1))
+    v([sc_peak_land_pressure, sc_peak_land_angle]) = &
+      hist%scalars([sc_peak_land_pressure, sc_peak_land_angle], i)
   end subroutine history_mean
 
   !> No flag but lift-off in any of the last p (>= 1) cycles.

@@ -41,6 +41,8 @@ module ringlube_results
     character(len=10) :: requires = ''
     !> a design quantity a study records for every design (and may optimise)
     logical :: objective = .false.
+    !> a design quantity a study may optimise, recorded when a study names it
+    logical :: optimisable = .false.
   end type field_spec
 
   !> An optional model: the results whose `requires` is `name` exist when the input
@@ -83,6 +85,8 @@ module ringlube_results
     field_spec('power_loss', 'power_loss_W', 'W', 'real', 'friction power loss |f U|'), &
     field_spec('load_residual', 'load_residual', '1', 'real', &
       'load balance residual (W_h + W_a - F) / F'), &
+    field_spec('film_temperature', 'film_temperature_K', 'K', 'real', &
+      'film temperature: the liner temperature where the ring is (its viscosity law''s)'), &
     field_spec('inlet_fill', 'inlet_fill', '1', 'real', &
       'fill theta of the oil entering at the leading edge (1: flooded)', 'jfo'), &
     field_spec('wetted_width', 'wetted_width_m', 'm', 'real', &
@@ -161,9 +165,17 @@ module ringlube_results
     field_spec('oil_balance_error', 'oil_balance_error', '1', 'real', &
       'relative closure error of the oil balance over the reported cycle', 'starved'), &
     field_spec('friction_power', 'friction_power_W', 'W', 'real', &
-      'mean friction power of the ring: energy_loss x cycles per second (four-stroke, rpm/120)'), &
+      'mean friction power of the ring: energy_loss x cycles per second (four-stroke, rpm/120)', &
+      '', .false., .true.), &
     field_spec('fmep', 'fmep_kPa', 'kPa', 'real', &
-      "the ring's friction mean effective pressure: energy_loss / swept volume pi r0^2 2 r"), &
+      "the ring's friction mean effective pressure: energy_loss / swept volume pi r0^2 2 r", &
+      '', .false., .true.), &
+  field_spec('fmep_bar', 'fmep_bar', 'bar', 'real', 'fmep in bar (100 kPa)', '', .false., .true.), &
+    field_spec('displacement', 'displacement_L', 'L', 'real', &
+      "the engine's swept volume: cylinders x pi r0^2 2 r"), &
+    field_spec('engine_friction_power', 'engine_friction_power_W', 'W', 'real', &
+     "the engine's top rings' mean friction power: friction_power x cylinders (its FMEP is fmep)", &
+      '', .false., .true.), &
     field_spec('oil_to_chamber_rate', 'oil_to_chamber_g_h', 'g/h', 'real', &
       'oil to the chamber per hour: oil_to_chamber x oil_density x cycles per hour', 'starved'), &
     field_spec('flagged_steps', 'flagged_steps', '1', 'integer', &
@@ -185,6 +197,20 @@ module ringlube_results
       'times per cycle the top ring leaves its lower flank while the chamber pressure exceeds '// &
       'the land''s', &
       'gas', .true.), &
+    field_spec('flutter_margin', 'flutter_margin_N', 'N', 'real', &
+      'least net force holding the top ring on its lower flank while chamber pressure > '// &
+      'land''s (< 0: flutter)', 'gas', .false., .true.), &
+    field_spec('flutter_margin_ratio', 'flutter_margin_ratio', '1', 'real', &
+      'flutter_margin over the largest inertia force of the ring, m_r max|a_p|', 'gas', .false., &
+      .true.), &
+    field_spec('peak_groove_pressure', 'peak_groove_pressure_Pa', 'Pa', 'real', &
+      'highest groove pressure of the cycle', 'gas'), &
+    field_spec('peak_groove_angle', 'peak_groove_angle_deg', 'deg', 'real', &
+      'crank angle of the highest groove pressure', 'gas'), &
+    field_spec('peak_land_pressure', 'peak_land_pressure_Pa', 'Pa', 'real', &
+      'highest second-land pressure of the cycle', 'gas'), &
+    field_spec('peak_land_angle', 'peak_land_angle_deg', 'deg', 'real', &
+      'crank angle of the highest second-land pressure', 'gas'), &
     field_spec('gas_balance_error', 'gas_balance_error', '1', 'real', &
       'relative closure of the ring pack''s gas mass over the reported cycle', 'gas'), &
     field_spec('conformability', 'conformability', '1', 'real', &
@@ -262,6 +288,7 @@ module ringlube_results
     s_friction = row(findloc(series_spec%short, 'friction', dim=1)), &
     s_power_loss = row(findloc(series_spec%short, 'power_loss', dim=1)), &
     s_load_residual = row(findloc(series_spec%short, 'load_residual', dim=1)), &
+    s_film_temperature = row(findloc(series_spec%short, 'film_temperature', dim=1)), &
     s_inlet_fill = row(findloc(series_spec%short, 'inlet_fill', dim=1)), &
     s_wetted_width = row(findloc(series_spec%short, 'wetted_width', dim=1)), &
     s_oil_left = row(findloc(series_spec%short, 'oil_left', dim=1)), &
@@ -304,6 +331,9 @@ module ringlube_results
     sc_oil_balance_error = row(findloc(scalar_spec%short, 'oil_balance_error', dim=1)), &
     sc_friction_power = row(findloc(scalar_spec%short, 'friction_power', dim=1)), &
     sc_fmep = row(findloc(scalar_spec%short, 'fmep', dim=1)), &
+    sc_fmep_bar = row(findloc(scalar_spec%short, 'fmep_bar', dim=1)), &
+    sc_displacement = row(findloc(scalar_spec%short, 'displacement', dim=1)), &
+    sc_engine_friction_power = row(findloc(scalar_spec%short, 'engine_friction_power', dim=1)), &
     sc_oil_to_chamber_rate = row(findloc(scalar_spec%short, 'oil_to_chamber_rate', dim=1)), &
     sc_flagged_steps = row(findloc(scalar_spec%short, 'flagged_steps', dim=1)), &
     sc_liner_lift_share = row(findloc(scalar_spec%short, 'liner_lift_share', dim=1)), &
@@ -316,10 +346,17 @@ module ringlube_results
     sc_conformability = row(findloc(scalar_spec%short, 'conformability', dim=1)), &
     sc_light_gap_share = row(findloc(scalar_spec%short, 'light_gap_share', dim=1)), &
     sc_face_leakage = row(findloc(scalar_spec%short, 'face_leakage', dim=1)), &
-    sc_radial_collapse_share = row(findloc(scalar_spec%short, 'radial_collapse_share', dim=1))
+    sc_radial_collapse_share = row(findloc(scalar_spec%short, 'radial_collapse_share', dim=1)), &
+    sc_flutter_margin = row(findloc(scalar_spec%short, 'flutter_margin', dim=1)), &
+    sc_flutter_margin_ratio = row(findloc(scalar_spec%short, 'flutter_margin_ratio', dim=1)), &
+    sc_peak_groove_pressure = row(findloc(scalar_spec%short, 'peak_groove_pressure', dim=1)), &
+    sc_peak_groove_angle = row(findloc(scalar_spec%short, 'peak_groove_angle', dim=1)), &
+    sc_peak_land_pressure = row(findloc(scalar_spec%short, 'peak_land_pressure', dim=1)), &
+    sc_peak_land_angle = row(findloc(scalar_spec%short, 'peak_land_angle', dim=1))
   !> The cycle quantities a period of several cycles reports as the means over them.
   integer, parameter, public :: mean_over_period(*) = [sc_energy_loss, sc_mixed_share, &
-    sc_friction_power, sc_fmep, sc_oil_to_chamber, sc_oil_to_chamber_rate, sc_liner_lift_share, &
+    sc_friction_power, sc_fmep, sc_fmep_bar, sc_engine_friction_power, sc_oil_to_chamber, &
+    sc_oil_to_chamber_rate, sc_liner_lift_share, &
     sc_blowby, sc_blowby_mass, sc_blowback_mass, sc_ring_lift_share, sc_flutter_events, &
     sc_light_gap_share, sc_face_leakage, sc_radial_collapse_share]
   !> Columns of the liner film (`liner_spec`).
@@ -432,14 +469,23 @@ contains
 
   !> The results engineers quote, from the cycle's (called at the end of a run): mean
   !> friction power [W] (energy per cycle x speed_rpm / 120 cycles per second, four-stroke),
-  !> FMEP [kPa] (energy per cycle / swept volume [m^3]), the oil to the chamber in g/h
-  !> (oil_density [kg/m^3]), the count of flagged crank steps and the share lifted off.
-  pure subroutine derive_results(res, speed_rpm, swept_volume, oil_density)
+  !> FMEP [kPa, bar] (energy per cycle / swept volume [m^3] of one cylinder), the engine's
+  !> displacement [L] and its top rings' friction power [W] (`cylinders` alike, 1 if absent),
+  !> the oil to the chamber in g/h (oil_density [kg/m^3]), the count of flagged crank steps
+  !> and the share lifted off.
+  pure subroutine derive_results(res, speed_rpm, swept_volume, oil_density, cylinders)
     type(result_type), intent(inout) :: res
     real(dp), intent(in) :: speed_rpm, swept_volume, oil_density
+    integer, intent(in), optional :: cylinders
+    integer :: nc
+    nc = 1
+    if (present(cylinders)) nc = cylinders
     associate (v => res%scalars)
       v(sc_friction_power) = v(sc_energy_loss) * speed_rpm / 120.0_dp
       v(sc_fmep) = v(sc_energy_loss) / swept_volume * 1e-3_dp
+      v(sc_fmep_bar) = v(sc_fmep) * 1e-2_dp
+      v(sc_displacement) = nc * swept_volume * 1e3_dp
+      v(sc_engine_friction_power) = nc * v(sc_friction_power)
       ! mm^3/cycle x 1e-9 m^3/mm^3 x kg/m^3 x 1e3 g/kg x 30 speed_rpm cycles per hour
       v(sc_oil_to_chamber_rate) = v(sc_oil_to_chamber) * 1e-6_dp * oil_density * 30.0_dp &
                                   * speed_rpm

@@ -4,6 +4,10 @@ module ringlube_results_summary
   use ringlube_kinds, only: dp
   use ringlube_inputs, only: inputs, find_input
   use ringlube_results, only: n_scalars, sc_energy_loss, sc_friction_power, sc_fmep, &
+                              sc_fmep_bar, sc_displacement, sc_engine_friction_power, &
+                              sc_flutter_margin, sc_flutter_margin_ratio, &
+                              sc_peak_groove_pressure, sc_peak_groove_angle, &
+                              sc_peak_land_pressure, sc_peak_land_angle, &
                               sc_mixed_share, sc_oil_to_chamber, sc_oil_to_chamber_rate, &
                               sc_liner_lift_share, sc_blowby, sc_blowby_mass, sc_ring_lift_share, &
                               sc_flutter_events, sc_ring_mass, sc_min_film, sc_max_friction, &
@@ -34,7 +38,7 @@ contains
     character(len=:), allocatable :: t
     character(len=64) :: a
     character(len=128) :: b
-    character(len=16) :: w
+    character(len=16) :: w, wl
     character(len=1), parameter :: nl = achar(10)
     integer :: i
     t = ''
@@ -44,7 +48,16 @@ contains
     write (a, '(f10.2)') v(sc_friction_power)
     call line('mean friction power', a, 'W (energy per cycle x cycles per second)')
     write (a, '(f10.3)') v(sc_fmep)
-    call line('FMEP of the ring', a, 'kPa (energy per cycle / swept volume)')
+    write (w, '(f12.5)') v(sc_fmep_bar)
+    call line('FMEP of the ring', a, 'kPa = '//trim(adjustl(w))//' bar (energy per cycle / '// &
+              'swept volume)')
+    ! (the engine's cylinders: its friction power over the ring's)
+    if (v(sc_engine_friction_power) > 1.5_dp * v(sc_friction_power)) then
+      write (a, '(f10.2)') v(sc_engine_friction_power)
+      write (w, '(i0)') nint(v(sc_engine_friction_power) / v(sc_friction_power))
+      write (b, '(f8.3)') v(sc_displacement)
+      call line('engine, top rings', a, 'W ('//trim(w)//' cylinders, '//trim(adjustl(b))//' L)')
+    end if
     write (a, '(f10.3)') v(sc_mixed_share)
     call line('mixed/boundary share', a, '% of the cycle (h0/sigma < 4)')
     if (made(sc_oil_to_chamber)) then
@@ -64,6 +77,16 @@ contains
         write (b, '(i8)') nint(v(sc_flutter_events))
       call line('ring lift in its groove', a, '% of the cycle ('//trim(adjustl(b))// &
                 ' flutter events)')
+      write (a, '(f10.2)') v(sc_flutter_margin)
+      write (b, '(f8.3)') v(sc_flutter_margin_ratio)
+      call line('flutter margin', a, 'N ('//trim(adjustl(b))//' x peak inertia; < 0: '// &
+                'lifts against the gas)')
+      write (a, '(f10.3)') v(sc_peak_groove_pressure) * 1e-5_dp
+      write (w, '(f6.1)') v(sc_peak_groove_angle)
+      write (b, '(f8.3)') v(sc_peak_land_pressure) * 1e-5_dp
+      write (wl, '(f6.1)') v(sc_peak_land_angle)
+      call line('peak groove pressure', a, 'bar at '//trim(adjustl(w))//' deg (land '// &
+                trim(adjustl(b))//' bar at '//trim(adjustl(wl))//' deg)')
     end if
     if (made(sc_conformability)) then
       if (present(orders) .and. present(conformability)) then

@@ -116,6 +116,8 @@ module ringlube_ring_pack
     !> step): sum over its sectors of l_j h_gas,j^3 [m^4], a laminar channel of length b
     !> from space 1 to space 3
     real(dp) :: face_k = 0.0_dp
+    !> off its lower flank since it left it while p1 > p3 (a flutter lift), and p1 > p3 since
+    logical :: fluttering = .false.
   end type ring_pack_state
 
   !> What one crank step did. Flows are means over the step (mass through / dt), kg/s,
@@ -135,6 +137,17 @@ module ringlube_ring_pack
     real(dp) :: lift_time_against_gas = 0.0_dp  !< of which while p1 > p3 [s]
     integer :: lift_offs = 0        !< times the ring left its lower flank
     integer :: flutter_events = 0   !< of which while p1 > p3
+    !> The smallest net force holding the ring on its lower flank while p1 > p3 [N]: over the
+    !> sub-steps with p1 > p3 (the chamber pressure at their middle, the land's at their start)
+    !> that start with the ring on its lower flank, in which it leaves it, or in which it is
+    !> off it since a flutter lift, the force pressing it there,
+    !> -(l d (p3 - p1)/2 + f_f - m_r a_p); huge when there is none. Negative exactly when the
+    !> step has a flutter event or continues one (the same force decides the ring's
+    !> departure); past the first event it goes on to the least force of the lift (how far the
+    !> gas is from holding the ring), not the sampled instant of the departure.
+    real(dp) :: hold_margin = huge(1.0_dp)
+    !> the largest inertia force m_r |a_p| of the step [N]
+    real(dp) :: inertia = 0.0_dp
     integer :: substeps = 0
     logical :: on_lower = .false., on_upper = .false.  !< at the end of the step
   end type ring_pack_step_out
@@ -212,7 +225,7 @@ contains
     type(ring_pack_step_out), intent(out) :: out
     type(error_type), allocatable, intent(out) :: err
     type(ring_pack_state) :: trial
-    real(dp) :: t, h, hmin, q(5), lift_time, against, pa, pb, blowback, gross, used
+    real(dp) :: t, h, hmin, q(5), lift_time, against, pa, pb, blowback, gross, used, hold
     integer :: lift_offs, flutter
     logical :: ok, accept
     real(dp) :: mass(5)
@@ -236,7 +249,7 @@ contains
       pb = p1_old + (p1_new - p1_old) * ((t + h) / dt)
       trial = st
       call substep(par, oc, trial, pa, pb, p4, f_f, a_p, h, q, lift_time, lift_offs, flutter, &
-                   against, ok)
+                   against, hold, ok)
       accept = ok
       used = 0.0_dp
       if (accept .and. par%adaptive) then
@@ -264,6 +277,7 @@ contains
       out%lift_time_against_gas = out%lift_time_against_gas + against
       out%lift_offs = out%lift_offs + lift_offs
       out%flutter_events = out%flutter_events + flutter
+      out%hold_margin = min(out%hold_margin, hold)
       out%substeps = out%substeps + 1
       st%h_next = h
       ! the next sub-step twice as long only if this one used at most half the allowance
@@ -281,30 +295,41 @@ contains
     out%gross_mass = gross
     out%on_lower = st%flank == flank_lower
     out%on_upper = st%flank == flank_upper
+    out%inertia = par%ring_mass * abs(a_p)
   end subroutine ring_pack_step
 
   !> One sub-step of length h: the ring under a constant force, then backward Euler on
-  !> the gas masses. q: flows at the end (top gap, second gap, upper, lower channel, face).
+  !> the gas masses. q: flows at the end (top gap, second gap, upper, lower channel, face);
+  !> hold: the force holding the ring on its lower flank while p1 > p3 (ring_pack_step_out's
+  !> hold_margin; huge if the sub-step does not count).
   pure subroutine substep(par, oc, st, p1a, p1b, p4, f_f, a_p, h, q, lift_time, lift_offs, &
-                          flutter, against, ok)
+                          flutter, against, hold, ok)
     type(ring_pack_params), intent(in) :: par
     type(orifice_consts), intent(in) :: oc
     type(ring_pack_state), intent(inout) :: st
     real(dp), intent(in) :: p1a, p1b, p4, f_f, a_p, h
-    real(dp), intent(out) :: q(5), lift_time, against
+    real(dp), intent(out) :: q(5), lift_time, against, hold
     integer, intent(out) :: lift_offs, flutter
     logical, intent(out) :: ok
     real(dp) :: force, p1m
+    logical :: on_lower
     p1m = 0.5_dp * (p1a + p1b)
     force = ring_gas_force(par, p1m, st%p3) + f_f - par%ring_mass * a_p
+    on_lower = st%flank == flank_lower
     call move_ring(st%x, st%v, st%flank, force, par%ring_mass, par%groove_clearance, h, &
                    lift_time, lift_offs)
     flutter = 0
     against = 0.0_dp
+    hold = huge(1.0_dp)
     if (p1m > st%p3) then
       flutter = lift_offs
       against = lift_time
+      if (on_lower .or. lift_offs > 0 .or. st%fluttering) hold = -force
+      if (lift_offs > 0) st%fluttering = .true.
+    else
+      st%fluttering = .false.
     end if
+    if (st%flank == flank_lower) st%fluttering = .false.
     call gas_backward_euler(par, oc, st, p1b, p4, h, q, ok)
   end subroutine substep
 

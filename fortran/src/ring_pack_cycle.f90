@@ -11,7 +11,10 @@ module ringlube_ring_pack_cycle
                                 ring_pack_params_from_case, ring_pack_inputs
   use ringlube_case, only: case_type
   use ringlube_results, only: sc_blowby, sc_blowby_mass, sc_blowback_mass, sc_ring_lift_share, &
-                              sc_flutter_events, sc_gas_balance_error
+                              sc_flutter_events, sc_gas_balance_error, sc_flutter_margin, &
+                              sc_flutter_margin_ratio, sc_peak_groove_pressure, &
+                              sc_peak_groove_angle, sc_peak_land_pressure, sc_peak_land_angle, &
+                              result_type, s_groove_pressure, s_land_pressure, s_crank_angle_deg
   implicit none
   private
   public :: ring_pack_totals, ring_pack_cycle_out, ring_pack_accumulate, ring_pack_finish, &
@@ -34,6 +37,9 @@ module ringlube_ring_pack_cycle
                 lift_time_against_gas = 0.0_dp
     integer :: flutter_events = 0, lift_offs = 0
     real(dp) :: stored_start = -1.0_dp  !< m2 + m3 at the start (set by the caller) [kg]
+    !> the least force holding the ring on its lower flank while p1 > p3, the largest inertia
+    !> force [N] (ring_pack_step_out)
+    real(dp) :: hold_margin = huge(1.0_dp), inertia = 0.0_dp
   end type ring_pack_totals
 
   !> One periodic cycle (ring_pack_cycle): per crank step (at its end) and totals.
@@ -54,6 +60,11 @@ module ringlube_ring_pack_cycle
     real(dp) :: contraction = 0.0_dp
     integer :: flutter_events = 0, cycles_run = 0, substeps = 0
     logical :: converged = .false.
+    !> the least force holding the ring on its lower flank while the chamber pressure exceeds
+    !> the land's [N] (negative: it lifts, a flutter event), and over the largest inertia force
+    !> m_r |a_p| of the cycle; with no such instant (no gas above the land) that inertia force
+    !> and 1: the gas never pushes on the ring, a margin as large as anything that could lift it
+    real(dp) :: flutter_margin = huge(1.0_dp), flutter_margin_ratio = 1.0_dp
   end type ring_pack_cycle_out
 
 contains
@@ -73,18 +84,40 @@ contains
     tot%lift_time_against_gas = tot%lift_time_against_gas + out%lift_time_against_gas
     tot%flutter_events = tot%flutter_events + out%flutter_events
     tot%lift_offs = tot%lift_offs + out%lift_offs
+    tot%hold_margin = min(tot%hold_margin, out%hold_margin)
+    tot%inertia = max(tot%inertia, out%inertia)
   end subroutine ring_pack_accumulate
 
-  !> A cycle's quantities into the kernel's scalar results `v` (ringlube_results).
-  pure subroutine ring_pack_scalars(cyc, v)
+  !> A cycle's quantities into the kernel's scalar results of `res` (ringlube_results), and
+  !> the peak groove and land pressures of its series with their crank angles (the first
+  !> step of the highest).
+  pure subroutine ring_pack_scalars(cyc, res)
     type(ring_pack_cycle_out), intent(in) :: cyc
-    real(dp), intent(inout) :: v(:)
-    v(sc_blowby) = cyc%blowby_l_min
-    v(sc_blowby_mass) = cyc%blowby_mg_per_cycle
-    v(sc_blowback_mass) = cyc%blowback_mg_per_cycle
-    v(sc_ring_lift_share) = cyc%ring_lift_share_pct
-    v(sc_flutter_events) = cyc%flutter_events
-    v(sc_gas_balance_error) = cyc%gas_balance_error
+    type(result_type), intent(inout) :: res
+    integer :: k
+    associate (v => res%scalars, series => res%series)
+      k = maxloc(series(:, s_groove_pressure), dim=1)
+      v(sc_peak_groove_pressure) = series(k, s_groove_pressure)
+      v(sc_peak_groove_angle) = series(k, s_crank_angle_deg)
+      k = maxloc(series(:, s_land_pressure), dim=1)
+      v(sc_peak_land_pressure) = series(k, s_land_pressure)
+      v(sc_peak_land_angle) = series(k, s_crank_angle_deg)
+      call cycle_scalars(v)
+    end associate
+
+  contains
+
+    pure subroutine cycle_scalars(v)
+      real(dp), intent(inout) :: v(:)
+      v(sc_blowby) = cyc%blowby_l_min
+      v(sc_blowby_mass) = cyc%blowby_mg_per_cycle
+      v(sc_blowback_mass) = cyc%blowback_mg_per_cycle
+      v(sc_ring_lift_share) = cyc%ring_lift_share_pct
+      v(sc_flutter_events) = cyc%flutter_events
+      v(sc_flutter_margin) = cyc%flutter_margin
+      v(sc_flutter_margin_ratio) = cyc%flutter_margin_ratio
+      v(sc_gas_balance_error) = cyc%gas_balance_error
+    end subroutine cycle_scalars
   end subroutine ring_pack_scalars
 
   !> The ring pack of case c at the start of the warm-up (crank step kstart of a cycle of m):
@@ -229,6 +262,13 @@ contains
     cyc%ring_lift_share_pct = 100.0_dp * tot%lift_time / tot%time
     cyc%lift_against_gas_pct = 100.0_dp * tot%lift_time_against_gas / tot%time
     cyc%flutter_events = tot%flutter_events
+    if (tot%hold_margin < huge(1.0_dp)) then
+      cyc%flutter_margin = tot%hold_margin
+      cyc%flutter_margin_ratio = tot%hold_margin / max(tot%inertia, tiny(1.0_dp))
+    else
+      cyc%flutter_margin = tot%inertia
+      cyc%flutter_margin_ratio = 1.0_dp
+    end if
     cyc%gas_balance_error = abs((stored_end - tot%stored_start) &
                                 - (tot%inflow_mass - tot%blowby_mass)) / gross
     cyc%periodicity_error = abs(tot%inflow_mass - tot%blowby_mass) / gross

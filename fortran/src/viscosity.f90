@@ -3,7 +3,7 @@ module ringlube_viscosity
   use ringlube_kinds, only: dp
   implicit none
   private
-  public :: roelands_law, roelands_law_at, roelands_eta, roelands
+  public :: roelands_law, roelands_law_at, roelands_eta, roelands, roelands_through
 
   !> The constants of Roelands' law at one film temperature:
   !> `eta = eta0 exp(lnc (-1 + rtheta (1 + 5.1e-9 p)^z0))`.
@@ -28,6 +28,25 @@ contains
     law%z0 = alpha / (5.1e-9_dp * law%lnc)
     law%rtheta = ((theta - 138.0_dp) / (theta0 - 138.0_dp))**(-beta * (theta0 - 138.0_dp) / law%lnc)
   end function roelands_law_at
+
+  !> The law's eta0 [Pa s], theta0 [K] and beta [1/K] through two viscosities at p = 0:
+  !> eta1 at theta1 and eta2 at theta2 [K] (theta1 < theta2, both viscosities above the
+  !> Roelands reference 6.3e-5 Pa s). At p = 0 the law is
+  !> `ln eta + 9.67 = (ln eta0 + 9.67) ((theta - 138)/(theta0 - 138))^(-s0)`: with theta0 =
+  !> theta1 and eta0 = eta1 it passes through the first point for every s0, and
+  !> `s0 = -ln((ln eta2 + 9.67)/(ln eta1 + 9.67)) / ln((theta2 - 138)/(theta1 - 138))` puts it
+  !> through the second; beta = s0 (ln eta0 + 9.67)/(theta0 - 138) (the law's slope
+  !> -d ln eta/d theta at theta0).
+  pure subroutine roelands_through(theta1, eta1, theta2, eta2, eta0, theta0, beta)
+    real(dp), intent(in) :: theta1, eta1, theta2, eta2
+    real(dp), intent(out) :: eta0, theta0, beta
+    real(dp) :: lnc1, s0
+    lnc1 = log(eta1) + 9.67_dp
+    s0 = -log((log(eta2) + 9.67_dp) / lnc1) / log((theta2 - 138.0_dp) / (theta1 - 138.0_dp))
+    eta0 = eta1
+    theta0 = theta1
+    beta = s0 * lnc1 / (theta1 - 138.0_dp)
+  end subroutine roelands_through
 
   !> Viscosity [Pa s] at absolute pressure p >= 0 [Pa] (one exp-log pair per call for the
   !> pressure factor, the temperature factor folded into the law).

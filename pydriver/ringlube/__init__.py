@@ -26,7 +26,7 @@ def _interrupted_at_start(kind, value, tb, _previous=_sys.excepthook):
 if _os.path.basename(_sys.argv[0] if _sys.argv else "") in ("ringlube", "-m"):
     _sys.excepthook = _interrupted_at_start
 
-from . import gas  # noqa: E402
+from . import gas, oil  # noqa: E402
 from ._version import __version__, kernel_id  # noqa: E402
 from .case import GROUPS, Case  # noqa: E402
 from .case_kernel import UnusedInputWarning  # noqa: E402
@@ -49,6 +49,7 @@ __all__ = [
     "UnusedInputWarning",
     "gas",
     "load",
+    "oil",
     "run",
     "run_designs",
     "run_many",

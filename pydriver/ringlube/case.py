@@ -35,7 +35,12 @@ def _groups() -> tuple[str, ...]:
 
 #: Namelist groups of a deck (from the kernel's input table; set at the end of the module).
 GROUPS: tuple[str, ...] = ()
-_PATH_VARS = {("operating", "pressure_file"), ("output", "file"), ("calibration", "file")}
+_PATH_VARS = {
+    ("operating", "pressure_file"),
+    ("ring", "profile_file"),
+    ("output", "file"),
+    ("calibration", "file"),
+}
 _NAME = re.compile(r"[a-z_][a-z0-9_]*")
 
 

@@ -34,6 +34,14 @@ SOURCE_ENGINE_INPUTS: tuple[tuple[str, str], ...] = (
     ("ring", "tension"),
     ("ring", "radial_depth"),
 )
+#: The face-profile inputs among them, by ``&ring profile``: a case's own profile's count
+#: (their defaults are the source ring's crown, as a drop at its half width for 'gauge'; a
+#: table is the case's own).
+PROFILE_INPUTS: dict[str, tuple[tuple[str, str], ...]] = {
+    "edge": (("ring", "crown_height"),),
+    "gauge": (("ring", "gauge_length"), ("ring", "gauge_drop_top"), ("ring", "gauge_drop_bottom")),
+    "table": (),
+}
 
 
 class SourceEngineDefaultWarning(UserWarning):
@@ -185,8 +193,12 @@ class _InputOrigins:
         ([('engine', 'bore_radius')], [('engine', 'crank_radius'), ('engine', 'conrod_length')])
         """
         calibration = self._calibration_keys() if self.get("calibration", "file") else set()
+        profile = PROFILE_INPUTS.get(str(self.get("ring", "profile") or "edge"), ())
+        # (the crown height's place taken by the case's own profile's inputs)
+        crown = ("ring", "crown_height")
+        inputs = [k for key in SOURCE_ENGINE_INPUTS for k in (profile if key == crown else [key])]
         own, filled = [], []
-        for group, name in SOURCE_ENGINE_INPUTS:
+        for group, name in inputs:
             is_set = name in self._nml.get(group, {}) or (group, name) in calibration
             (own if is_set else filled).append((group, name))
         return own, filled
@@ -235,16 +247,21 @@ def _kernel_texts(case: Any) -> dict[tuple[str, str], tuple[int, str]]:
 
 def _files_seen(case: Any) -> tuple:
     """What the kernel reads of the files a case names, as they are now: the calibration
-    file's bytes, whether the pressure file is there and what it is (None: missing). A kept
-    reading of the case holds only while these do not change."""
+    file's and the face profile's bytes, whether the pressure file is there and what it is
+    (None: missing). A kept reading of the case holds only while these do not change."""
     cal, trace = case.get("calibration", "file"), case.get("operating", "pressure_file")
-    try:
-        with open(cal, "rb") as fh:
-            cal_bytes = fh.read()
-    except (OSError, TypeError, ValueError):
-        cal_bytes = None
+    cal_bytes, profile_bytes = (_bytes(p) for p in (cal, case.get("ring", "profile_file")))
     try:
         mode = os.stat(trace).st_mode if trace else None
     except (OSError, TypeError, ValueError):
         mode = None
-    return cal_bytes, mode
+    return cal_bytes, mode, profile_bytes
+
+
+def _bytes(path: Any) -> bytes | None:
+    """The bytes of a file (None: no file, or not readable)."""
+    try:
+        with open(path, "rb") as fh:
+            return fh.read()
+    except (OSError, TypeError, ValueError):
+        return None

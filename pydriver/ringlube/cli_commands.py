@@ -36,7 +36,15 @@ def _cmd_run(args: argparse.Namespace) -> int:
     out = Path(args.output) if args.output is not None else Path(case.value("output", "file"))
     inputs = [
         Path(args.deck),
-        *(Path(p) for p in (case.get("operating", "pressure_file"), case.get("calibration", "file")) if p),
+        *(
+            Path(p)
+            for p in (
+                case.get("operating", "pressure_file"),
+                case.get("calibration", "file"),
+                case.get("ring", "profile_file"),
+            )
+            if p
+        ),
     ]
     _output_file("-o" if args.output is not None else f"{args.deck}: &output file", out, inputs)
     result = run(case, output=out)

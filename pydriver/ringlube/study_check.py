@@ -242,7 +242,7 @@ def check_designs(study: Study, ex: Executor, which: tuple[str, ...] = ("chosen"
             where.append((j, base_label))
     results: dict[tuple[int, str], tuple] = {}
     ex.map(study_runs._run_designs, tasks, lambda i, res: results.__setitem__(where[i], res))
-    w = dict(zip(s.labels, np.array(s.weights) / sum(s.weights)))
+    w = dict(zip(s.labels, s.scene_weights()))
     for j, (label, key, names, xs) in enumerate(jobs):
         parts = [(bl, results[(j, bl)]) for bl in ([label] if label in bases else s.labels)]
         if len(parts) == 1:

@@ -157,6 +157,7 @@ def read_study(path: str | os.PathLike) -> StudySettings:
     for o in objectives:
         if o not in units:
             chk.bad("objectives", f"unknown objective '{o}' (known: {', '.join(units)})")
+    weighting = _given(s, "weighting")
     if not objectives or len(set(objectives)) != len(objectives):
         chk.bad("objectives", "one or more distinct objectives")
     sampler, surrogate = _given(s, "sampler"), _given(s, "surrogate")
@@ -175,6 +176,7 @@ def read_study(path: str | os.PathLike) -> StudySettings:
         reference=reference,
         constraints=constraints,
         **({"scene": s["scene"]} if "scene" in s else {}),
+        weighting=weighting,
         **ints,
         deck_text=path.read_text(errors="replace"),  # as stored in study files so far
         source=str(path),
@@ -187,6 +189,15 @@ def read_study(path: str | os.PathLike) -> StudySettings:
             f"{len(variables)} variables with {st.folds}-fold cross-validation",
         )
     st.inputs, st.units = _check_cases(chk, st, pairs)
+    if weighting == "time":
+        if ("operating", "speed_rpm") in pairs:
+            chk.bad(
+                "weighting",
+                "'time' weighs results per cycle by each case's cycles per second: "
+                "operating:speed_rpm cannot be a design variable then",
+            )
+        speeds = [float(Case.from_namelist(deck).value("operating", "speed_rpm")) for deck in cases]
+        st.cycle_rates = [n / 120 for n in speeds]
     from .tables import MODELS, SCALARS
 
     for var, o in [("objectives", o) for o in objectives] + [

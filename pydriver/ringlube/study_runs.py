@@ -202,7 +202,7 @@ def scene_results(study: Study) -> None:
     (1025, 5)
     """
     s = study.s
-    w = np.array(s.weights) / sum(s.weights)
+    w = s.scene_weights()
     runs = [study.cases[label].runs for label in s.labels]
     out = Runs(
         sum(wi * r.outputs for wi, r in zip(w, runs)),

@@ -10,9 +10,11 @@ from __future__ import annotations
 import dataclasses
 import json
 
+import numpy as np
+
 from .study_constraints import Constraint, parse_constraint
 from .study_table import STUDY
-from .study_variables import OUTPUTS, split_variable
+from .study_variables import OUTPUTS, PER_CYCLE, split_variable
 
 __all__ = ["StudySettings"]
 
@@ -65,6 +67,9 @@ class StudySettings:
     direct_population: int = STUDY["direct_population"].default
     direct_generations: int = STUDY["direct_generations"].default
     batch: int = STUDY["batch"].default
+    weighting: str = STUDY["weighting"].default
+    #: cycles per second of each case (its speed_rpm / 120; with ``weighting = 'time'``)
+    cycle_rates: list[float] = dataclasses.field(default_factory=list)
     #: results recorded for every design: :data:`~ringlube.study_variables.OUTPUTS` plus the
     #: objectives only some film models produce (e.g. ``oil_to_chamber`` with a starved inlet)
     outputs: list[str] = dataclasses.field(default_factory=lambda: list(OUTPUTS))
@@ -186,6 +191,8 @@ class StudySettings:
             names.append("reference")
         if label == "scene":
             names += ["weights", "scene"]
+            if self.weighting != "case":
+                names += ["weighting", "cycle_rates"]
         if direct:
             names += ["direct_population", "direct_generations"]
         d = dataclasses.asdict(self)
@@ -193,6 +200,39 @@ class StudySettings:
         if direct:  # what the direct NSGA-II records and ranks (checkpoints before it: redone)
             key["direct_outputs"] = self.direct_outputs()
         return json.dumps(key)
+
+    def scene_weights(self, outputs: list[str] | None = None) -> np.ndarray:
+        """The weight of each case in the scene's value of each result, (case, result), each
+        column summing to 1.
+
+        ``weighting = 'case'``: the weights, normalised, for every result. ``'time'``: the
+        weights are the cases' running times; a result per cycle
+        (:data:`~ringlube.study_variables.PER_CYCLE`) weighs by the cycles run, time x
+        cycles per second, so that the scene's energy per cycle is the energy of all cycles
+        over their number, and its friction power their energy over the time.
+
+        Parameters
+        ----------
+        outputs : list of str, optional
+            The results (default: ``outputs``).
+
+        Returns
+        -------
+        ndarray
+
+        Example
+        -------
+        >>> s = StudySettings("s", ["a", "b"], ["a", "b"], [3.0, 1.0], [], [], [], [],
+        ...                   weighting="time", cycle_rates=[50.0, 16.0])
+        >>> s.scene_weights(["friction_power", "energy_loss"]).round(4).tolist()
+        [[0.75, 0.9036], [0.25, 0.0964]]
+        """
+        outputs = list(self.outputs if outputs is None else outputs)
+        w = np.array(self.weights, float)[:, None] * np.ones((1, len(outputs)))
+        if self.weighting == "time":
+            per_cycle = np.array([o in PER_CYCLE for o in outputs])
+            w[:, per_cycle] *= np.array(self.cycle_rates, float)[:, None]
+        return w / w.sum(axis=0)
 
     def to_json(self) -> str:
         """The settings as JSON (stored in the study file).

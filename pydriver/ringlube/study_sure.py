@@ -66,7 +66,7 @@ def how_sure(study: Study, ex: Executor) -> None:
     """
     s = study.s
     bases = dict(zip(s.labels, _bases(s)))
-    w = dict(zip(s.labels, np.array(s.weights) / sum(s.weights)))
+    w = dict(zip(s.labels, s.scene_weights()))
     plans = {}  # label -> (names, xs, nominal, inputs)
     tasks, where = [], []
     kernel = study_runs.study_kernel()

@@ -116,6 +116,15 @@ def _rows() -> tuple[StudyInput, ...]:
         ),
         I("weights", "reals", None, "1 per case", "weight of each case in the weighted scene (positive)"),
         I(
+            "weighting",
+            "choice",
+            "case",
+            "'case'",
+            "'case': the scene is the weighted mean of every result; 'time': the weights are the "
+            "cases' running times, results per cycle weigh by the cycles run (time x speed/120)",
+            choices=("case", "time"),
+        ),
+        I(
             "variables",
             "names",
             None,

@@ -18,6 +18,7 @@ from .errors import InputError
 __all__ = [
     "DESIGN_RANGES",
     "OUTPUTS",
+    "PER_CYCLE",
     "output_units",
     "variable_unit",
     "effective",
@@ -35,6 +36,13 @@ DESIGN_RANGES = {
     "crown_offset": (-54e-6, 67e-6),
     "tension": (8.0, 26.0),
 }
+#: The results that are amounts per cycle (energy, gas and oil per cycle, events per cycle, and
+#: FMEP, the work per cycle over the swept volume): with ``&study weighting = 'time'`` the
+#: scene weighs them by the cycles each case runs; every other result (a rate such as friction
+#: power or blowby, a share of the cycle's time) by its running time.
+PER_CYCLE = frozenset(
+    {"energy_loss", "fmep", "fmep_bar", "oil_to_chamber", "blowby_mass", "blowback_mass", "flutter_events"}
+)
 #: Study variables given without a group belong to this group.
 DEFAULT_GROUP = "ring"
 
@@ -98,11 +106,12 @@ def _text_input(group: str, name: str) -> str:
 
 
 def _model_units() -> dict[str, str]:
-    """Every design quantity a study may record, with its unit: the objective results of the
-    kernel's table, including those only some film models produce (``oil_to_chamber``)."""
+    """Every design quantity a study may optimise, with its unit: the objective results of the
+    kernel's table, including those only some film models produce (``oil_to_chamber``), and
+    those it records when a study names them (``friction_power``, ``fmep``)."""
     from .tables import SCALARS
 
-    return {k: v.unit for k, v in SCALARS.items() if v.objective}
+    return {k: v.unit for k, v in SCALARS.items() if v.optimisable}
 
 
 def _produces(case: Case, requires: str) -> bool:

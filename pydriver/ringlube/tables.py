@@ -88,7 +88,9 @@ class FieldSpec:
     ``unit``, ``kind`` ('real'; 'integer', a count, or 'logical', 1 or 0: whole numbers,
     stored as integers), ``long_name`` and ``requires`` ('' always produced, 'jfo' only by
     the mass-conserving film, 'starved' only with a starved inlet, 'gas' only with the ring
-    pack) and ``objective`` (a design quantity a study records and may optimise).
+    pack), ``objective`` (a design quantity a study records for every design and may
+    optimise) and ``optimisable`` (a study may optimise it: the objectives, and results it
+    records when a study names them, e.g. ``friction_power``).
 
     Examples
     --------
@@ -103,6 +105,7 @@ class FieldSpec:
     long_name: str
     requires: str = ""
     objective: bool = False
+    optimisable: bool = False
 
     def value(self, x: float):
         """A stored number as this quantity's Python value: bool for 'logical', int for
@@ -188,7 +191,7 @@ def _load():
         presets.setdefault(preset, {})[name] = _value(kind, value)
 
     def fields(which):
-        return {r[0]: FieldSpec(r[0], r[1], r[2], r[3], r[4], r[5], r[6] == "1") for r in _rows(which)}
+        return {r[0]: FieldSpec(*r[:6], r[6] == "1", r[7] == "1") for r in _rows(which)}
 
     flags = {int(b): desc for b, _, desc in _rows("flags")}
     return (

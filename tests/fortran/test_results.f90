@@ -9,7 +9,8 @@ program test_results
                               is_true, produced, produced_models, flag_ceiling, flag_load, &
                               s_crank_angle_deg, s_h0, s_second_gap_flow, si_flags, &
                               si_film_solves, sc_energy_loss, sc_ring_mass, sc_converged, &
-                              sc_oil_to_chamber, sc_friction_power, sc_fmep, &
+                              sc_oil_to_chamber, sc_friction_power, sc_fmep, sc_fmep_bar, &
+                              sc_displacement, sc_engine_friction_power, &
                               sc_oil_to_chamber_rate, sc_flagged_steps, sc_liner_lift_share, &
                               sc_blowby, sc_min_film, l_liner_position, l_liner_oil_film, &
                               models, m_jfo, m_gas
@@ -95,6 +96,17 @@ program test_results
   call check_close(r%scalars(sc_oil_to_chamber_rate), 30.6_dp, 1e-13_dp, &
                    'oil to the chamber in g/h')
   call check(r%scalars(sc_flagged_steps) == 2.0_dp, 'flagged steps counted')
+  call check_close(r%scalars(sc_fmep_bar), 1.5_dp / 4.5e-4_dp / 1e5_dp, 1e-14_dp, 'FMEP in bar')
+  call check_close(r%scalars(sc_displacement), 0.45_dp, 1e-14_dp, 'one cylinder: 0.45 L')
+  call check(r%scalars(sc_engine_friction_power) == r%scalars(sc_friction_power), &
+             'one cylinder: the engine is the ring')
+  ! four cylinders: 1.8 L, 200 W; FMEP x displacement x cycles per second = friction power
+  call derive_results(r, 4000.0_dp, 4.5e-4_dp, 850.0_dp, 4)
+  call check_close(r%scalars(sc_displacement), 1.8_dp, 1e-14_dp, 'four cylinders: 1.8 L')
+  call check_close(r%scalars(sc_engine_friction_power), 200.0_dp, 1e-14_dp, 'engine: 4 x 50 W')
+  call check_close(r%scalars(sc_fmep) * 1e3_dp * r%scalars(sc_displacement) * 1e-3_dp &
+                   * 4000.0_dp / 120.0_dp, r%scalars(sc_engine_friction_power), 1e-14_dp, &
+                   'FMEP x displacement x cycles per second = friction power')
 
   ! the summary: a line per quantity with its unit, the oil only when the run made it
   made = .true.

@@ -36,6 +36,7 @@ program test_ring_pack
   if (run_case('blowdown')) call test_blowdown()
   if (run_case('constant_force')) call test_constant_force()
   if (run_case('newton_predictor')) call test_newton_predictor()
+  if (run_case('hold_margin')) call test_hold_margin()
   call report('test_ring_pack')
 
 contains
@@ -297,6 +298,43 @@ contains
                      -par%circumference * par%radial_depth * 0.5e5_dp, 1e-14_dp, &
                      'gas force l d (p3 - p1)/2')
   end subroutine test_constant_force
+
+  !> The flutter margin of a step: with the chamber above the land, the net force pressing the
+  !> ring on its lower flank, -(l d (p3 - p1)/2 + F_f - m a_p); negative exactly when the ring
+  !> leaves the flank (a flutter event); not counted with the land above the chamber.
+  subroutine test_hold_margin()
+    type(ring_pack_params) :: par
+    type(ring_pack_state) :: st
+    type(ring_pack_step_out) :: out
+    type(error_type), allocatable :: err
+    real(dp) :: gas, m, want
+    real(dp), parameter :: wants(2) = [3.0_dp, -2.0_dp]
+    integer :: i
+    par = base
+    par%top_gap_area = 0.0_dp     ! no flow into or out of the land: p3 stays
+    par%second_gap_area = 0.0_dp
+    m = par%ring_mass
+    gas = ring_gas_force(par, 2e5_dp, 1e5_dp)   ! (negative: presses the ring down)
+    do i = 1, 2
+      want = wants(i)
+      call ring_pack_init(st, 2e5_dp, 1e5_dp)
+      ! the inertia force -m a_p makes the net force -want
+      call ring_pack_step(par, st, 2e5_dp, 2e5_dp, 1e5_dp, 0.0_dp, (gas + want) / m, 1e-7_dp, &
+                          out, err)
+      call check(.not. allocated(err), 'hold margin: the step runs')
+      call check_close(out%hold_margin, want, 1e-9_dp, 'hold margin: the force pressing the '// &
+                       'ring on its lower flank while p1 > p3')
+      call check((out%hold_margin < 0.0_dp) .eqv. (out%flutter_events > 0), &
+                 'hold margin: negative exactly with a flutter event')
+      call check_close(out%inertia, abs(gas + want), 1e-14_dp, 'hold margin: the inertia m |a_p|')
+    end do
+    ! the land above the chamber: the ring may lift, but that is not flutter, nor counted
+    call ring_pack_init(st, 1e5_dp, 1e5_dp)
+    st%p3 = 2e5_dp
+    call ring_pack_step(par, st, 1e5_dp, 1e5_dp, 1e5_dp, 0.0_dp, 0.0_dp, 1e-7_dp, out, err)
+    call check(out%hold_margin == huge(1.0_dp) .and. out%flutter_events == 0 .and. &
+               out%lift_offs == 1, 'hold margin: none while the land is above the chamber')
+  end subroutine test_hold_margin
 
   !> Newton's method in the backward-Euler step starts from the pressures' last rate (a
   !> predictor) and stops at a step of 1e-8 of the pressure scale taken with linearised flows:

@@ -215,6 +215,7 @@ def test_units_in_every_scalar_name(result):
 
     suffix = {"J": "_J", "%": "_pct", "g": "_g", "m": "_m", "N": "_N", "s": "_s", "W": "_W"}
     suffix.update({"kPa": "_kPa", "mm^3": "_mm3", "g/h": "_g_h", "L/min": "_l_min", "mg": "_mg_per_cycle"})
+    suffix.update({"bar": "_bar", "L": "_L", "K": "_K", "Pa": "_Pa", "deg": "_deg"})
     for s in SCALARS.values():
         if s.unit != "1":
             assert s.stored.endswith(suffix[s.unit]), (s.stored, s.unit)

@@ -192,6 +192,18 @@ def test_friction_power_fmep_and_oil_per_hour(cold_case_starved):
     assert r.oil_to_chamber > 0
     assert r.oil_to_chamber_rate == pytest.approx(r.oil_to_chamber * 1e-9 * rho * 1e3 * n / 2 * 60, rel=1e-14)
     assert r.flagged_steps == int(np.count_nonzero(r.flags))
+    # the engine: FMEP x displacement x cycles per second is the friction power, and energy
+    # per cycle x cycles per second x cylinders too (both 1e-14: a few roundings apart)
+    four = ringlube.run(case.with_("engine", cylinders=4))
+    assert four.energy_loss == r.energy_loss and four.fmep == r.fmep and four.fmep_bar == r.fmep / 100
+    assert four.displacement == pytest.approx(4 * np.pi * r0**2 * 2 * crank * 1e3, rel=1e-14)
+    cycles_per_second = n / 120
+    assert four.fmep * 1e3 * four.displacement * 1e-3 * cycles_per_second == pytest.approx(
+        four.engine_friction_power, rel=1e-14
+    )
+    assert four.energy_loss * cycles_per_second * 4 == pytest.approx(four.engine_friction_power, rel=1e-14)
+    assert r.engine_friction_power == r.friction_power and "engine, top rings" not in r.summary()
+    assert "engine, top rings" in four.summary() and "(4 cylinders, " in four.summary()
     # the oil density converts, nothing else
     heavy = ringlube.run(case.with_("lubricant", oil_density=900.0))
     assert heavy.energy_loss == r.energy_loss and heavy.oil_to_chamber == r.oil_to_chamber
