@@ -227,12 +227,14 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     base = strip_calibrated(Case.from_namelist(args.deck))
     jac, corr = correlation(base, fit)
     path = write_calibration(args.out, fit, fits, jac, corr, args.deck)
-    t = fit.targets
-    print(
-        f"chosen: {fit.values()}\n  energy {fit.energy_loss:.4f} J (target "
-        f"{t['energy_loss']:g} J), mixed {fit.mixed_share:.3f} % (target {t['mixed_share']:g} %), "
-        f"correlation of fitted inputs {corr:+.3f}"
-    )
+    shown = {"energy_loss": ("energy", ".4f", "J"), "mixed_share": ("mixed", ".3f", "%")}
+    shown |= {"friction_power": ("friction power", ".4f", "W"), "fmep": ("FMEP", ".4f", "kPa")}
+    reached = [
+        f"{shown[q][0]} {fit.value_of(q):{shown[q][1]}} {shown[q][2]} (target {v:g} {shown[q][2]})"
+        for q, v in fit.targets.items()
+    ]
+    tail = f"correlation of fitted inputs {corr:+.3f}" if len(fit.fitted) > 1 else "one fitted input"
+    print(f"chosen: {fit.values()}\n  {', '.join(reached)}, {tail}")
     print(f"written {path}")
     return 0
 

@@ -162,7 +162,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--targets",
         default=None,
-        help="CSV of measured or published results (condition 'cold' is fitted; "
+        help="CSV of measured or published results (condition 'cold' is fitted: its friction, "
+        "energy_loss, friction_power or fmep, and its mixed_share if given; "
         "default: inputs/targets_table2.csv, Table 2 of the study)",
     )
     p = _command(
