@@ -454,8 +454,8 @@ def heat_transfer_coefficient(m: GasModel, p, v, temperature, motored_pressure=N
       velocity ``w = 2.28 S_p + C2 (Vd T_r / (p_r V_r)) (p - p_m)`` [m/s], S_p the mean
       piston speed, ``C2 = 3.24e-3 m/(s K)`` from the start of combustion (0 before it and
       in the motored trace), p_m the motored pressure and r the state at intake valve
-      closing. (Heywood prints the combustion term with ``(p - p_m)`` in the same unit as
-      ``p_r``; ``2.28`` is the compression-and-expansion value of C1.)
+      closing (``(p - p_m) / p_r`` is a ratio; ``2.28`` is C1 of compression and expansion,
+      the closed cycle this model integrates).
     * Hohenberg (1979, SAE 790825): ``h = 130 V^-0.06 p^0.8 T^-0.4 (S_p + 1.4)^0.8`` with
       V in m^3, p in bar, T in K.
 

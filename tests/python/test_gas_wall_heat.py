@@ -112,7 +112,6 @@ def test_wall_loss_closes_the_first_law():
     assert internal + work == pytest.approx(q * m.burned(m.evo) - qw[-1], rel=1e-9)
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("correlation", ["woschni", "hohenberg"])
 def test_a_trace_fitted_to_peak_and_imep_reproduces_both(tmp_path, capsys, correlation):
     """The engine the single-zone trace could not match without wall heat loss: a turbocharged
@@ -178,7 +177,6 @@ def test_motored_trace(tmp_path, monkeypatch, capsys):
     assert pc.max() < p.max() and gas.wall_heat(cooled) > 0
 
 
-@pytest.mark.slow
 def test_the_pages_gas_lines_are_what_the_commands_print(tmp_path, monkeypatch, capsys):
     """docs/own_engine.md quotes `ringlube gas` commands with the line each prints (the fitted
     turbocharged trace and the overrun trace): each is run here and prints that line."""
