@@ -710,6 +710,14 @@ contains
         end if
       end if
     end if
+    if (c%groove_volume > 0.0_dp .and. c%groove_volume < 1e-10_dp) then
+      call bad('ring_pack', 'groove_volume', 'must be 0 (from the groove) or at least 1e-10 m^3'); return
+    end if
+    if (c%ring_pack == 'gas' .and. c%groove_volume == 0.0_dp .and. &
+        c%radial_depth + c%back_clearance >= c%bore_radius) then
+    call bad('ring_pack', 'back_clearance', "with the ring's radial_depth must be smaller than "// &
+               'bore_radius (the groove root), or give groove_volume'); return
+    end if
     if (abs(720.0_dp / c%dpsi_deg - nint(720.0_dp / c%dpsi_deg)) > 1e-6_dp) then
       call bad('numerics', 'dpsi_deg', 'must divide 720 deg into a whole number of steps'); return
     end if

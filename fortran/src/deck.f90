@@ -363,8 +363,11 @@ contains
     c%notes = ''
     if (c%bore == 'round') then
       do i = 1, nitems
+        ! (back_clearance also sizes the ring pack's groove with groove_volume = 0)
         if (items(i)%group /= 'bore' .and. .not. (items(i)%group == 'ring_pack' .and. &
-                                                  items(i)%name == 'back_clearance')) cycle
+                                                  items(i)%name == 'back_clearance' .and. &
+                                                  .not. (c%ring_pack == 'gas' .and. &
+                                                         c%groove_volume == 0.0_dp))) cycle
         c%notes = items(i)%file//':'//itoa(items(i)%line)//': &'//items(i)%group//' '// &
                   items(i)%name//' is set, but &physics bore = ''round'': the bore is round '// &
                   'and its distortion is not used'

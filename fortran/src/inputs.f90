@@ -173,12 +173,12 @@ module ringlube_inputs
       'flow area of the second ring end gap'), &
     input_spec('ring_pack', 'groove_clearance', kind_real, '40e-6', 1e-6_dp, 1e-3_dp, 'm', '', &
       'axial clearance c_a of the top ring in its groove'), &
-    input_spec('ring_pack', 'groove_volume', kind_real, '1e-7', 1e-10_dp, 1e-3_dp, 'm^3', '', &
-      'gas volume of the groove behind the top ring (whole circumference)'), &
+    input_spec('ring_pack', 'groove_volume', kind_real, '1e-7', 0.0_dp, 1e-3_dp, 'm^3', '', &
+      'gas volume of the top ring groove (whole circumference); 0: the groove of the ring'), &
     input_spec('ring_pack', 'land_volume', kind_real, '5e-7', 1e-10_dp, 1e-2_dp, 'm^3', '', &
       'gas volume of the second land between the top and second rings'), &
     input_spec('ring_pack', 'back_clearance', kind_real, '0.3e-3', 1e-6_dp, 0.01_dp, 'm', '', &
-      "radial clearance behind the ring: h0 of a ring pushed off the liner (bore = 'distorted')"), &
+      "radial clearance behind the ring (the groove's depth); h0 of a ring pushed off the liner"), &
     input_spec('numerics', 'preset', kind_choice, 'default', 0.0_dp, 0.0_dp, '', &
       'fast|default|accurate', 'numerics preset (nodes, crank step, tolerances); explicit values override'), &
     input_spec('numerics', 'nodes', kind_int, '(preset)', 5.0_dp, 20001.0_dp, '1', '', &

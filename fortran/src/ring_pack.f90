@@ -61,7 +61,7 @@ module ringlube_ring_pack
   implicit none
   private
   public :: ring_pack_params, ring_pack_state, ring_pack_step_out
-  public :: ring_pack_params_from_case, ring_pack_init, ring_pack_step, ring_pack_gas_mass, &
+  public :: ring_pack_params_from_case, groove_gas_volume, ring_pack_init, ring_pack_step, ring_pack_gas_mass, &
             ring_pack_inputs
   public :: orifice_flow, channel_flow, orifice_psi, ring_gas_force, gas_constant, orifice_linear
 
@@ -162,12 +162,31 @@ contains
                            gas_viscosity=c%gas_viscosity, &
                            discharge_coefficient=c%discharge_coefficient, &
                            top_gap_area=c%top_gap_area, second_gap_area=c%second_gap_area, &
-                           groove_clearance=c%groove_clearance, groove_volume=c%groove_volume, &
+                          groove_clearance=c%groove_clearance, groove_volume=groove_gas_volume(c), &
                            land_volume=c%land_volume, circumference=2.0_dp * pi * c%bore_radius, &
                            radial_depth=c%radial_depth, ring_mass=ring_mass(c), width=c%width)
     par%oc = orifice_constants(par%gamma)
     par%oc_gamma = par%gamma
   end function ring_pack_params_from_case
+
+  !> Gas volume of the top ring groove [m^3]: `&ring_pack groove_volume` if given (> 0), else
+  !> the groove cut for the ring (docs/ring_pack.md): the space behind the ring, between its
+  !> back (radius r0 - a) and the groove root (r0 - a - e), over the groove height b + c_a,
+  !> plus the side clearance c_a over the ring's radial depth a,
+  !> `pi ((r0 - a)^2 - (r0 - a - e)^2) (b + c_a) + pi (r0^2 - (r0 - a)^2) c_a`
+  !> (r0 bore radius, b ring width, e back_clearance, c_a groove_clearance).
+  pure real(dp) function groove_gas_volume(c)
+    type(case_type), intent(in) :: c
+    real(dp) :: r0, a
+    if (c%groove_volume > 0.0_dp) then
+      groove_gas_volume = c%groove_volume
+      return
+    end if
+    r0 = c%bore_radius
+    a = c%radial_depth
+    groove_gas_volume = pi * ((r0 - a)**2 - (r0 - a - c%back_clearance)**2) &
+                  * (c%width + c%groove_clearance) + pi * (r0**2 - (r0 - a)**2) * c%groove_clearance
+  end function groove_gas_volume
 
   !> The prescribed inputs of a gas-only cycle of case c (ringlube_ring_pack_cycle): the
   !> chamber pressure p1 and the piston's acceleration a_p (towards the chamber) at the crank

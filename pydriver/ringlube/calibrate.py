@@ -18,6 +18,15 @@ the mixed-share quantum (one crank step) go to the one whose continuous inputs l
 closest to their nominal values (0.04 and 1.0).
 The hot case is never used: it is the prediction the validation checks.
 
+**Your own engine's targets.** The friction target may be given as the energy per cycle
+(``energy_loss``, J), as a friction test measures it, the mean friction power
+(``friction_power``, W) or the ring's FMEP (``fmep``, kPa) (one of the three: at one speed and
+displacement they are proportional), and the mixed share is optional, for no engine test
+measures it. With the friction alone, one target determines one input: only
+``zeta_kappa_sigma`` is fitted (method 'brent'), ``pressure_scale`` and the modelling options
+are the deck's own (nothing is enumerated), and the calibration file holds
+``zeta_kappa_sigma`` alone.
+
 The mixed share varies continuously with the inputs (a crossing of lambda = 4 inside a crank
 step counts the part of the step below it) but only piecewise smoothly; the fit is
 therefore nested: for a pressure scale, zeta_kappa_sigma is solved by Brent's method for
@@ -45,6 +54,7 @@ from .solve import run
 
 __all__ = [
     "FITTED",
+    "FRICTION",
     "BOUNDS",
     "NOMINAL",
     "PARAMS",
@@ -55,8 +65,18 @@ __all__ = [
     "cold_targets",
 ]
 
-#: The two target quantities of the fit (read from the targets file).
+#: The two target quantities of the shipped fit (read from the targets file).
 FITTED = ("energy_loss", "mixed_share")
+#: The friction target: one of these (proportional at one speed and displacement); the
+#: mixed share is the optional second target.
+FRICTION = ("energy_loss", "friction_power", "fmep")
+#: How a target is named and printed in the calibration file (its unit is the result's).
+_SHOWN = {
+    "energy_loss": ("energy", "{:.4f} J"),
+    "friction_power": ("friction power", "{:.4f} W"),
+    "fmep": ("FMEP", "{:.4f} kPa"),
+    "mixed_share": ("mixed share", "{:.3f} %"),
+}
 #: Declared bounds of the fitted inputs.
 BOUNDS = {"zeta_kappa_sigma": (0.02, 0.10), "pressure_scale": (0.8, 1.2)}
 NOMINAL = {"zeta_kappa_sigma": 0.04, "pressure_scale": 1.0}
@@ -75,7 +95,8 @@ DISCRETE = {
 
 
 def cold_targets(targets: str | os.PathLike | None = None, condition: str = "cold"):
-    """(deck, {quantity: target}) of the calibrated condition in a targets file.
+    """(deck, {quantity: target}) of the calibrated condition in a targets file: its friction
+    target (one of :data:`FRICTION`) and, if given, its mixed share.
 
     Parameters
     ----------
@@ -91,7 +112,8 @@ def cold_targets(targets: str | os.PathLike | None = None, condition: str = "col
     Raises
     ------
     InputError
-        If the condition or one of its two quantities is missing.
+        If the condition or its friction target is missing, the friction is given twice
+        (say, as energy and as FMEP), or a target is not positive.
 
     Examples
     --------
@@ -105,16 +127,25 @@ def cold_targets(targets: str | os.PathLike | None = None, condition: str = "col
     if condition not in conds:
         raise InputError(f"{path}: no condition '{condition}' (has: {', '.join(conds)})")
     c = conds[condition]
-    missing = [q for q in FITTED if q not in c.values]
-    if missing:
-        raise InputError(f"{path}: condition '{condition}' lacks {', '.join(missing)}")
-    for q in FITTED:
+    friction = [q for q in FRICTION if q in c.values]
+    if not friction:
+        raise InputError(
+            f"{path}: condition '{condition}' lacks its friction: energy_loss (J per cycle), "
+            "friction_power (W) or fmep (kPa)"
+        )
+    if len(friction) > 1:
+        raise InputError(
+            f"{path}: condition '{condition}' gives the friction twice ({', '.join(friction)}); "
+            "keep one row (the fit matches one friction target)"
+        )
+    chosen = [friction[0]] + (["mixed_share"] if "mixed_share" in c.values else [])
+    for q in chosen:
         if not c.values[q] > 0:
             raise InputError(
                 f"{path}: condition '{condition}' {q} = {c.values[q]:g}: must be positive "
                 "(the fit matches each target relative to its value)"
             )
-    return c.deck, {q: c.values[q] for q in FITTED}
+    return c.deck, {q: c.values[q] for q in chosen}
 
 
 @dataclasses.dataclass
@@ -138,14 +169,26 @@ class Fit:
     targets: dict = dataclasses.field(default_factory=dict)
     #: what :func:`ringlube.calibrator.calibrate_inputs` returned
     result: object = dataclasses.field(default=None, compare=False, repr=False)
+    #: the fitted run's value of each target quantity (default: its energy and mixed share)
+    reached: dict = dataclasses.field(default_factory=dict)
+
+    @property
+    def fitted(self) -> tuple[str, ...]:
+        """The inputs fitted: ``zeta_kappa_sigma``, and ``pressure_scale`` with a mixed-share
+        target."""
+        if "mixed_share" in self.targets:
+            return ("zeta_kappa_sigma", "pressure_scale")
+        return ("zeta_kappa_sigma",)
+
+    def value_of(self, quantity: str) -> float:
+        """The fitted run's value of a target quantity."""
+        reached = {"energy_loss": self.energy_loss, "mixed_share": self.mixed_share, **self.reached}
+        return reached[quantity]
 
     @property
     def residual(self) -> float:
-        """Root-sum-square of the relative misfits of the two targets."""
-        t = self.targets
-        e = (self.energy_loss - t["energy_loss"]) / t["energy_loss"]
-        m = (self.mixed_share - t["mixed_share"]) / t["mixed_share"]
-        return math.hypot(e, m)
+        """Root-sum-square of the relative misfits of the targets."""
+        return math.hypot(*((self.value_of(q) - t) / t for q, t in self.targets.items()))
 
     @property
     def distance_from_nominal(self) -> float:
@@ -158,8 +201,9 @@ class Fit:
         return apply(base, self.options, self.zeta_kappa_sigma, self.pressure_scale)
 
     def values(self) -> dict:
-        out = {"zeta_kappa_sigma": self.zeta_kappa_sigma, "pressure_scale": self.pressure_scale}
-        out.update({f"{g}.{k}": v for (g, k), v in self.options.items()})
+        out = {k: getattr(self, k) for k in self.fitted}
+        if len(self.targets) > 1:  # with one target the options are the deck's, not chosen
+            out.update({f"{g}.{k}": v for (g, k), v in self.options.items()})
         return out
 
 
@@ -177,18 +221,35 @@ def strip_calibrated(case: Case) -> Case:
 
 
 def fit_options(base: Case, options: dict, targets: dict) -> Fit:
-    """Nested fit of the two continuous inputs for one combination of options (the one
-    calibrator, :func:`ringlube.calibrator.calibrate_inputs`, method 'bracket')."""
+    """Fit of the continuous inputs for one combination of options (the one calibrator,
+    :func:`ringlube.calibrator.calibrate_inputs`): with a mixed-share target both inputs,
+    nested (method 'bracket'); with the friction alone ``zeta_kappa_sigma`` (method 'brent'),
+    ``pressure_scale`` the deck's own."""
     results: dict[tuple, object] = {}
+    friction = next(q for q in targets if q != "mixed_share")
 
-    def misfits(x) -> tuple[float, float]:
+    def result(x: tuple):
         r = results[x] = run(apply(base, options, *x))
-        return r.energy_loss - targets["energy_loss"], r.mixed_share - targets["mixed_share"]
+        return r
 
-    sol = calibrate_inputs(
-        misfits, PARAMS, "bracket", xtol=1e-5, rtol=1e-6, nominal=NOMINAL["pressure_scale"]
-    )
-    z, s = sol.x
+    if "mixed_share" in targets:
+
+        def misfits(x) -> tuple[float, float]:
+            r = result(tuple(x))
+            return getattr(r, friction) - targets[friction], r.mixed_share - targets["mixed_share"]
+
+        sol = calibrate_inputs(
+            misfits, PARAMS, "bracket", xtol=1e-5, rtol=1e-6, nominal=NOMINAL["pressure_scale"]
+        )
+        z, s = sol.x
+    else:
+        s = float(base.value("operating", "pressure_scale"))
+
+        def misfit(x) -> tuple[float]:
+            return (getattr(result((x[0], s)), friction) - targets[friction],)
+
+        sol = calibrate_inputs(misfit, PARAMS[:1], "brent", xtol=1e-5, rtol=1e-6)
+        z = sol.x[0]
     r = results[(z, s)]
     return Fit(
         dict(options),
@@ -200,6 +261,7 @@ def fit_options(base: Case, options: dict, targets: dict) -> Fit:
         sol.within_bounds,
         dict(targets),
         sol,
+        {q: getattr(r, q) for q in targets},
     )
 
 
@@ -232,9 +294,13 @@ def calibrate(
 
     target_deck, tvals = cold_targets(targets)
     base = strip_calibrated(Case.from_namelist(deck or target_deck))
-    combos = [dict(zip(DISCRETE, values)) for values in itertools.product(*DISCRETE.values())]
+    if "mixed_share" in tvals:
+        combos = [dict(zip(DISCRETE, values)) for values in itertools.product(*DISCRETE.values())]
+    else:  # one target cannot tell the options apart: the deck's own
+        combos = [{key: base.value(*key) for key in DISCRETE}]
     fits = [fit_options(base, o, tvals) for o in tqdm(combos, desc="calibration", disable=not progress)]
-    quantum = 100.0 / 720.0 / tvals["mixed_share"]  # one 1-deg step, relative
+    # one 1-deg step of the mixed share, relative
+    quantum = 100.0 / 720.0 / tvals["mixed_share"] if "mixed_share" in tvals else 0.0
     # the bounds are hard limits of each fit; a fit that ends on a bound is reported as such
     best_res = min(f.residual for f in fits)
     near = [f for f in fits if f.residual <= best_res + quantum]
@@ -244,19 +310,19 @@ def calibrate(
 
 def correlation(base: Case, fit: Fit, rel_step: float = 0.05) -> tuple[np.ndarray, float]:
     """Sensitivity matrix d(targets)/d(log inputs) by central differences, and the
-    correlation of the two fitted inputs implied by it (from (J^T J)^-1)."""
+    correlation of the two fitted inputs implied by it (from (J^T J)^-1; NaN with one)."""
     cols = []
-    for name in ("zeta_kappa_sigma", "pressure_scale"):
+    for name in fit.fitted:
         vals = []
         for sgn in (-1, 1):
             z = fit.zeta_kappa_sigma * (1 + sgn * rel_step * (name == "zeta_kappa_sigma"))
             s = fit.pressure_scale * (1 + sgn * rel_step * (name == "pressure_scale"))
             r = run(apply(base, fit.options, z, s))
-            vals.append(
-                (r.energy_loss / fit.targets["energy_loss"], r.mixed_share / fit.targets["mixed_share"])
-            )
+            vals.append([getattr(r, q) / t for q, t in fit.targets.items()])
         cols.append((np.array(vals[1]) - np.array(vals[0])) / (2 * rel_step))
     jac = np.column_stack(cols)
+    if jac.shape[1] < 2:
+        return jac, float("nan")
     cov = np.linalg.pinv(jac.T @ jac)
     corr = float(cov[0, 1] / math.sqrt(cov[0, 0] * cov[1, 1]))
     return jac, corr
@@ -290,30 +356,53 @@ def write_calibration(
     >>> write_calibration("inputs/calibration.nml", fit, fits, jac, corr, deck)  # doctest: +SKIP
     """
     t = fit.targets
+
+    def shown(q: str, v: float) -> str:
+        name, form = _SHOWN[q]
+        return f"{name} {form.format(v)}"
+
+    rows = ", ".join(
+        f"{_SHOWN[q][0].split()[0]} [{', '.join(f'{x:.3f}' for x in jac[i])}]" for i, q in enumerate(t)
+    )
+    units = {"energy_loss": "J", "mixed_share": "%", "friction_power": "W", "fmep": "kPa"}
     lines = [
-        f"! ringlube calibration: fitted to the COLD case only ({t['energy_loss']} J, {t['mixed_share']} %).",
+        f"! ringlube calibration: fitted to the COLD case only "
+        f"({', '.join(f'{v} {units[q]}' for q, v in t.items())}).",
         f"! Regenerate: ringlube calibrate {deck}",
-        f"! Fit: energy {fit.energy_loss:.4f} J, mixed share {fit.mixed_share:.3f} % "
+        f"! Fit: {', '.join(shown(q, fit.value_of(q)) for q in t)} "
         f"(residual {fit.residual:.2e}); {sum(f.runs for f in fits)} runs.",
-        f"! Bounds: zeta_kappa_sigma {BOUNDS['zeta_kappa_sigma']}, pressure_scale "
-        f"{BOUNDS['pressure_scale']}.",
-        f"! Sensitivity d(target/target0)/d(ln input): energy [{jac[0, 0]:.3f}, {jac[0, 1]:.3f}], "
-        f"mixed [{jac[1, 0]:.3f}, {jac[1, 1]:.3f}]; correlation of the fitted inputs {corr:+.3f}.",
-        "! The decks using this file must set the chosen options themselves: "
-        + ", ".join(f"&{g} {k} = '{v}'" for (g, k), v in fit.options.items())
-        + ".",
-        "! Every combination of the discrete options (tension_unit, contact_area, outlet):",
+        "! Bounds: " + ", ".join(f"{k} {BOUNDS[k]}" for k in fit.fitted) + ".",
+        f"! Sensitivity d(target/target0)/d(ln input): {rows}; "
+        + (f"correlation of the fitted inputs {corr:+.3f}." if len(fit.fitted) > 1 else "one fitted input."),
     ]
-    for f in sorted(fits, key=lambda f: f.residual):
-        opts = ", ".join(f"{k[1]}={v}" for k, v in f.options.items())
-        lines.append(
-            f"!   {opts}: zks {f.zeta_kappa_sigma:.4f}, scale {f.pressure_scale:.4f}, "
-            f"E {f.energy_loss:.4f} J, mixed {f.mixed_share:.3f} %, residual {f.residual:.2e}"
-            f"{'' if f.within_bounds else ' (at a bound)'}"
-        )
-    lines += [
-        f"&surface   zeta_kappa_sigma = {fit.zeta_kappa_sigma!r} /",
-        f"&operating pressure_scale = {fit.pressure_scale!r} /",
-        "",
-    ]
+    if len(fit.fitted) > 1:
+        lines += [
+            "! The decks using this file must set the chosen options themselves: "
+            + ", ".join(f"&{g} {k} = '{v}'" for (g, k), v in fit.options.items())
+            + ".",
+            "! Every combination of the discrete options (tension_unit, contact_area, outlet):",
+        ]
+        for f in sorted(fits, key=lambda f: f.residual):
+            opts = ", ".join(f"{k[1]}={v}" for k, v in f.options.items())
+            lines.append(
+                f"!   {opts}: zks {f.zeta_kappa_sigma:.4f}, scale {f.pressure_scale:.4f}, "
+                f"E {f.energy_loss:.4f} J, mixed {f.mixed_share:.3f} %, residual {f.residual:.2e}"
+                f"{'' if f.within_bounds else ' (at a bound)'}"
+            )
+        lines += [
+            f"&surface   zeta_kappa_sigma = {fit.zeta_kappa_sigma!r} /",
+            f"&operating pressure_scale = {fit.pressure_scale!r} /",
+            "",
+        ]
+    else:
+        lines += [
+            f"! One target fits one input: pressure_scale ({fit.pressure_scale:g}) and the modelling "
+            "options ("
+            + ", ".join(f"{k} = '{v}'" for (_, k), v in fit.options.items())
+            + ") are the deck's own, not fitted"
+            + ("" if fit.within_bounds else "; the fit ends on a bound")
+            + ".",
+            f"&surface   zeta_kappa_sigma = {fit.zeta_kappa_sigma!r} /",
+            "",
+        ]
     return write_text(path, "\n".join(lines), [deck], "--out")

@@ -22,6 +22,9 @@ Two methods, each the one its command has always used (a refactor: no number cha
     second input, the first is solved by Brent's method for the first residual (ending on a
     bound when the root lies outside); the second input is then found by bisection on the
     second residual, keeping the point closest to its target.
+``'brent'`` (``ringlube calibrate`` with one target)
+    One input, one residual increasing in it: Brent's method, ending on a bound when the
+    root lies outside (the inner solve of 'bracket').
 """
 
 from __future__ import annotations
@@ -36,7 +39,7 @@ from scipy.optimize import OptimizeResult
 __all__ = ["Param", "start_design", "calibrate_inputs", "METHODS"]
 
 #: The methods of :func:`calibrate_inputs`.
-METHODS = ("least_squares", "bracket")
+METHODS = ("least_squares", "bracket", "brent")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -126,7 +129,8 @@ def calibrate_inputs(
         pointing inside the box, default 0.02), ``tol`` (``xtol`` in the normalised inputs,
         default 1e-3). 'bracket': ``xtol``, ``rtol`` (of Brent's method, default 1e-5, 1e-6),
         ``bisections`` (default 12), ``nominal`` (of the second input: of two points equally
-        close to the second target, the one closer to it wins; default: mid-range).
+        close to the second target, the one closer to it wins; default: mid-range). 'brent':
+        ``xtol``, ``rtol``.
 
     Returns
     -------
@@ -148,11 +152,16 @@ def calibrate_inputs(
     >>> r = calibrate_inputs(g, [Param("a", "", 0, 1), Param("b", "", 0, 1)], "bracket")
     >>> np.round(r.x, 3).tolist(), r.nfev, r.active_mask.tolist()
     ([0.75, 0.25], 82, [0, 0])
+    >>> r = calibrate_inputs(lambda x: (x[0] ** 2 - 0.25,), [Param("a", "", 0, 1)], "brent")
+    >>> round(float(r.x[0]), 6), r.within_bounds
+    (0.5, True)
     """
     if method == "least_squares":
         return _least_squares(fun, params, **options)
     if method == "bracket":
         return _bracket(fun, params, **options)
+    if method == "brent":
+        return _brent(fun, params, **options)
     raise ValueError(f"unknown calibration method '{method}' (one of {', '.join(METHODS)})")
 
 
@@ -240,6 +249,43 @@ def _bracket(
         r,
         nfev=nfev,
         nit=nit,
+        status=1 if within else 2,
+        message=message + ("" if within else "; the fit ends on a bound"),
+        success=True,
+        within_bounds=within,
+    )
+
+
+def _brent(fun, params, xtol: float = 1e-5, rtol: float = 1e-6) -> OptimizeResult:
+    """One input for one residual increasing in it ('brent')."""
+    from scipy.optimize import brentq
+
+    params = params or _unit_params(1)
+    if len(params) != 1:
+        raise ValueError(f"method 'brent' fits one input, not {len(params)}")
+    nfev = 0
+
+    def f(x: float):
+        nonlocal nfev
+        nfev += 1
+        return fun((x,))
+
+    lo, hi = params[0].lo, params[0].hi
+    if f(lo)[0] > 0:
+        x, message = lo, "the residual is positive at the lower bound"
+    elif f(hi)[0] < 0:
+        x, message = hi, "the residual is negative at the upper bound"
+    else:
+        x = float(brentq(lambda z: f(z)[0], lo, hi, xtol=xtol, rtol=rtol))
+        message = "Brent's method"
+    r = f(x)
+    within = lo < x < hi
+    return _finish(
+        [x],
+        [params[0].normalised(x)],
+        r,
+        nfev=nfev,
+        nit=nfev,
         status=1 if within else 2,
         message=message + ("" if within else "; the fit ends on a bound"),
         success=True,

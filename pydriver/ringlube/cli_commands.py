@@ -105,42 +105,57 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 def _cmd_gas(args: argparse.Namespace) -> int:
     from . import gas
+    from .gas_model import range_problem
 
     given = {f: getattr(args, f) for f in gas.OPTIONS if hasattr(args, f)}
-    args.output, args.name = getattr(args, "output", None), getattr(args, "name", None)
-    args.names = getattr(args, "names", [])
-    if args.output is None:
-        if given:
-            option = gas.OPTIONS[next(iter(given))][0]
+    output, folder = getattr(args, "output", None), getattr(args, "out", None)
+    names, motored = getattr(args, "names", []), getattr(args, "motored", False)
+    if output is None:
+        if given or motored:
+            option = gas.OPTIONS[next(iter(given))][0] if given else "--motored"
             raise InputError(f"gas: {option} describes your own engine; give -o FILE.csv, the trace to write")
-        _output_folder("--out", Path(args.out))
-        unknown = [n for n in args.names if n not in gas.PRESETS]
+        unknown = [n for n in names if n not in gas.PRESETS]
         if unknown:
             raise InputError(
                 f"gas: unknown trace {', '.join(unknown)} (known: {', '.join(sorted(gas.PRESETS))}; "
                 "for your own engine: ringlube gas -o FILE.csv --bore ... , see ringlube gas --help)"
             )
-        gas.main(["--out", args.out, *args.names])
+        if folder is None:  # never rewrite the shipped traces unasked
+            raise InputError(
+                "gas: nothing written: give -o FILE.csv with your engine (--bore, --stroke, --conrod, "
+                "--compression-ratio) for its trace, or --out DIR for the shipped traces "
+                f"({', '.join(sorted(gas.PRESETS))}; --out inputs/pressure rewrites them)"
+            )
+        _output_folder("--out", Path(folder))
+        for line in gas.write_presets(folder, names):
+            print(line)
         return 0
-    if args.names:
-        raise InputError(f"gas: -o writes one trace of your own engine; drop {' '.join(args.names)}")
+    if folder is not None:
+        raise InputError("gas: --out writes the shipped traces, -o your engine's; give one of them")
+    if names:
+        raise InputError(f"gas: -o writes one trace of your own engine; drop {' '.join(names)}")
+    if not output.strip():
+        raise InputError("gas: -o: the output file name is empty")
     missing = [gas.OPTIONS[f][0] for f in _GAS_REQUIRED if f not in given]
     if missing:
-        raise InputError(f"gas: -o {args.output}: give {', '.join(missing)} (your engine's, in SI units)")
-    out = Path(args.output)
+        raise InputError(f"gas: -o {output}: give {', '.join(missing)} (your engine's, in SI units)")
+    out = Path(output)
     if out.suffix.lower() != ".csv":
         raise InputError(f"gas: -o {out}: the trace is a CSV file; name it *.csv")
-    if out.exists() and not out.is_file():
-        raise InputError(f"gas: -o {out}: exists and is not a regular file")
-    if given["crank_radius"] <= 0:  # --stroke, named with its own value
-        raise InputError(f"gas: --stroke: must be a positive number, not {given['crank_radius']:g}")
+    if motored:
+        burning = [gas.OPTIONS[f][0] for f in gas.COMBUSTION_OPTIONS if f in given]
+        if burning:
+            raise InputError(f"gas: --motored: a motored trace has no combustion; drop {', '.join(burning)}")
+        given["heat_fraction"] = 0.0
+    why = range_problem("crank_radius", given["crank_radius"], factor=2.0)
+    if why:  # --stroke, named with its own value and range
+        raise InputError(f"gas: --stroke: {why}")
     given["crank_radius"] = given["crank_radius"] / 2
     try:
         model = gas.GasModel(**given)
-        files = gas.write_trace(model, out, name=args.name, figures=not args.no_figure)
+        files, psi, p = gas.write_trace(model, out, name=args.name, figures=not args.no_figure, option="-o")
     except ValueError as exc:
         raise InputError(f"gas: {_gas_options(str(exc))}") from None
-    psi, p = gas.read_csv(out)  # as the kernel reads it
     print(f"written {', '.join(map(str, files))}\n{out}: {gas.describe(model, psi, p)}")
     speed = f"speed_rpm = {model.speed_rpm:g}, " if model.speed_rpm else ""
     print(
@@ -160,8 +175,10 @@ def _gas_options(message: str) -> str:
     from .gas import OPTIONS
 
     names, _, why = message.partition(": ")
-    opts = [OPTIONS[n.strip()][0] if n.strip() in OPTIONS else n for n in names.split(",")]
-    return f"{', '.join(opts)}: {why}" if why else message
+    parts = [n.strip() for n in names.split(",")]
+    if not why or not all(n in OPTIONS for n in parts):
+        return message
+    return f"{', '.join(OPTIONS[n][0] for n in parts)}: {why}"
 
 
 def _cmd_show(args: argparse.Namespace) -> int:
@@ -218,12 +235,14 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     base = strip_calibrated(Case.from_namelist(args.deck))
     jac, corr = correlation(base, fit)
     path = write_calibration(args.out, fit, fits, jac, corr, args.deck)
-    t = fit.targets
-    print(
-        f"chosen: {fit.values()}\n  energy {fit.energy_loss:.4f} J (target "
-        f"{t['energy_loss']:g} J), mixed {fit.mixed_share:.3f} % (target {t['mixed_share']:g} %), "
-        f"correlation of fitted inputs {corr:+.3f}"
-    )
+    shown = {"energy_loss": ("energy", ".4f", "J"), "mixed_share": ("mixed", ".3f", "%")}
+    shown |= {"friction_power": ("friction power", ".4f", "W"), "fmep": ("FMEP", ".4f", "kPa")}
+    reached = [
+        f"{shown[q][0]} {fit.value_of(q):{shown[q][1]}} {shown[q][2]} (target {v:g} {shown[q][2]})"
+        for q, v in fit.targets.items()
+    ]
+    tail = f"correlation of fitted inputs {corr:+.3f}" if len(fit.fitted) > 1 else "one fitted input"
+    print(f"chosen: {fit.values()}\n  {', '.join(reached)}, {tail}")
     print(f"written {path}")
     return 0
 

@@ -89,37 +89,53 @@ def _parser() -> argparse.ArgumentParser:
         _cmd_gas,
         "gas",
         help="a gas-pressure trace for your engine, or the shipped ones",
-        description="Without -o: regenerate the shipped synthetic traces (CSV) in --out. With -o "
-        "FILE.csv: the single-zone trace of your own engine (bore, stroke, conrod, compression ratio "
-        "required; SI units), with its inputs in the file's header and a figure beside it (PNG, PDF). "
-        "The load is --imep or --peak-pressure if given, else the fuel of the trapped charge "
-        "(--manifold-pressure, --heat-fraction; 0 gives the motored trace). See docs/own_engine.md.",
+        description="With -o FILE.csv: the single-zone trace of your own engine (bore, stroke, conrod, "
+        "compression ratio required; SI units), with its inputs in the file's header and a figure "
+        "beside it (PNG, PDF). The load is --imep or --peak-pressure if given (both with wall heat "
+        "loss, --heat-transfer), else the fuel of the trapped charge (--manifold-pressure, "
+        "--heat-fraction); --motored gives the trace without combustion (overrun: a closed throttle "
+        "with the fuel cut). With --out DIR: the shipped synthetic traces (--out inputs/pressure "
+        "rewrites them). Without either nothing is written. See docs/own_engine.md.",
     )
     p.add_argument(
-        "names", nargs="*", default=argparse.SUPPRESS, help="shipped traces to write (none given: all)"
+        "names",
+        nargs="*",
+        default=argparse.SUPPRESS,
+        help="shipped traces to write with --out (none given: all)",
     )
-    p.add_argument("--out", default="inputs/pressure", help="output folder of the shipped traces")
+    p.add_argument("--out", default=argparse.SUPPRESS, help="output folder of the shipped traces")
     p.add_argument("-o", "--output", default=argparse.SUPPRESS, help="your engine's trace (CSV) to write")
-    p.add_argument(
-        "--name", default=argparse.SUPPRESS, help="name in the trace's header (none given: the file's name)"
-    )
+    p.add_argument("--name", default=None, help="name in the trace's header (none given: the file's name)")
     p.add_argument("--no-figure", action="store_true", help="no PNG/PDF figure beside the CSV")
+    p.add_argument(
+        "--motored",
+        action="store_true",
+        default=argparse.SUPPRESS,
+        help="no combustion: the motored trace (overrun with --manifold-pressure of a closed throttle)",
+    )
     import dataclasses
 
     from .gas import OPTIONS as gas_options, GasModel
+    from .gas_model import HEAT_TRANSFER
 
     defaults = {f.name: f.default for f in dataclasses.fields(GasModel)}
     for field, (option, help_text) in gas_options.items():
         default = defaults[field]
-        shown = (
-            "required with -o" if field in _GAS_REQUIRED else "none" if default is None else f"{default:g}"
-        )
+        if field in _GAS_REQUIRED:
+            shown = "required with -o"
+        elif field == "heat_fraction":
+            shown = "0.75; 0.95 with --heat-transfer"
+        elif field == "heat_transfer_scale":
+            shown = "1"
+        else:
+            shown = "none" if default is None else default if isinstance(default, str) else f"{default:g}"
+        kind = dict(choices=HEAT_TRANSFER, metavar="NAME") if field == "heat_transfer" else {}
         p.add_argument(
             option,
             dest=field,
-            type=_finite_float,
+            type=str if kind else _finite_float,
             default=argparse.SUPPRESS,
-            metavar="X",
+            **({"metavar": "X"} | kind),
             help=f"{help_text} ({shown})",
         )
     p = _command(
@@ -146,7 +162,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--targets",
         default=None,
-        help="CSV of measured or published results (condition 'cold' is fitted; "
+        help="CSV of measured or published results (condition 'cold' is fitted: its friction, "
+        "energy_loss, friction_power or fmep, and its mixed_share if given; "
         "default: inputs/targets_table2.csv, Table 2 of the study)",
     )
     p = _command(

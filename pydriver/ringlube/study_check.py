@@ -11,6 +11,8 @@ model rejects, as long as one of the candidates is good.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from . import study_runs
@@ -30,6 +32,7 @@ __all__ = [
     "check_designs",
     "good_designs",
     "pick_designs",
+    "run_at_every_point",
 ]
 
 #: Designs of the merged Pareto set re-simulated per case to choose from (the surrogate's
@@ -100,7 +103,7 @@ def good_designs(study: Study, label: str, ch: Checked) -> np.ndarray:
     """
     f = np.atleast_2d(ch.f_true)
     ok = np.asarray(ch.converged, bool) & np.isfinite(f[:, study.objective_columns()]).all(axis=1)
-    ok &= feasibility(study, label, f)
+    ok &= feasibility(study, label, f, ch.points)
     ok &= np.array([lift_share(study, ft) == 0 for ft in f], bool)
     return ok
 
@@ -137,14 +140,7 @@ def pick_designs(study: Study, label: str, cand: Checked) -> Checked:
         f = np.atleast_2d(cand.f_true)[good][:, study.objective_columns()]
         keep = np.asarray(nondominated(f), int)
         rows = [int(good[keep[i]]) for i in extremes_and_knee(f[keep])]
-    return Checked(
-        names,
-        np.asarray(cand.x)[rows],
-        np.atleast_2d(cand.f_true)[rows],
-        np.atleast_2d(cand.f_surrogate)[rows],
-        np.asarray(cand.converged, bool)[rows],
-        [cand.errors[i] for i in rows],
-    )
+    return dataclasses.replace(cand.rows(rows), names=names)
 
 
 def candidates_text(study: Study, label: str) -> str:
@@ -179,7 +175,7 @@ def candidates_text(study: Study, label: str) -> str:
         "failed": failed,
         "not converged": ran & ~np.asarray(cand.converged, bool),
         "lifted off the liner": ran & np.array([lift_share(study, ft) > 0 for ft in f]),
-        "outside the constraints": ran & ~feasibility(study, label, f),
+        "outside the constraints": ran & ~feasibility(study, label, f, cand.points),
     }
     counts = [f"{int(good.sum())} good"] + [f"{int(m.sum())} {k}" for k, m in why.items() if m.any()]
     text = (
@@ -208,7 +204,11 @@ def check_designs(study: Study, ex: Executor, which: tuple[str, ...] = ("chosen"
     """Re-simulate the candidates (:func:`candidate_designs`) and the reference design with
     the true model, and choose the designs among the candidates (:func:`pick_designs`).
 
-    For the scene, each design runs on every base deck and the results are weighted.
+    For the scene, each design runs on every base deck and the results are weighted (the
+    results at each point are kept too, :attr:`Checked.points`). With several operating
+    points and constraints, each case's chosen designs are also run at the other points
+    (:func:`run_at_every_point`) and the reference's results at every point are gathered, so the
+    report can say which designs satisfy every point's constraints.
 
     Parameters
     ----------
@@ -245,9 +245,11 @@ def check_designs(study: Study, ex: Executor, which: tuple[str, ...] = ("chosen"
     w = dict(zip(s.labels, s.scene_weights()))
     for j, (label, key, names, xs) in enumerate(jobs):
         parts = [(bl, results[(j, bl)]) for bl in ([label] if label in bases else s.labels)]
+        points = None
         if len(parts) == 1:
             values, conv, errors = parts[0][1]
         else:
+            points = {bl: np.asarray(r[0]) for bl, r in parts}
             values = sum(w[bl] * r[0] for bl, r in parts)
             conv = np.all([r[1] for _, r in parts], axis=0)
             errors = [
@@ -264,8 +266,56 @@ def check_designs(study: Study, ex: Executor, which: tuple[str, ...] = ("chosen"
                 predict(study, label, np.asarray(xs)),
                 np.asarray(conv, bool),
                 list(errors),
+                points,
             ),
         )
+    refs = [study.cases[label].reference for label in s.labels]
+    if ref is not None and "reference" in which and all(r is not None for r in refs) and len(refs) > 1:
+        at = {label: r.f_true for label, r in zip(s.labels, refs)}  # the same design at every point
+        for r in refs:
+            r.points = dict(at)
     if "chosen" in which:
         for label, c in study.cases.items():
             c.chosen = pick_designs(study, label, c.candidates)
+        run_at_every_point(study, ex)
+
+
+def run_at_every_point(study: Study, ex: Executor) -> None:
+    """Run each case's chosen designs at the other operating points (when the study has
+    several and constraints), keeping their results there in :attr:`Checked.points`; a run
+    that failed or did not converge there counts as not computed (NaN).
+
+    Parameters
+    ----------
+    study : Study
+        With chosen designs.
+    ex : Executor
+
+    Example
+    -------
+    >>> run_at_every_point(study, Executor(serial=True))        # doctest: +SKIP
+    """
+    s = study.s
+    if len(s.labels) < 2 or not s.constraints:
+        return
+    bases = dict(zip(s.labels, _bases(s)))
+    tasks, where = [], []
+    for label in s.labels:
+        chosen = study.cases[label].chosen
+        for point in s.labels:
+            if chosen is not None and point != label:
+                kernel = study_runs.study_kernel()
+                tasks.append((bases[point], s.groups_names, chosen.x, list(s.outputs), kernel))
+                where.append((label, point))
+    results: dict[tuple[str, str], tuple] = {}
+    ex.map(study_runs._run_designs, tasks, lambda i, res: results.__setitem__(where[i], res))
+    for label in s.labels:
+        chosen = study.cases[label].chosen
+        if chosen is None:
+            continue
+        chosen.points = {label: np.atleast_2d(chosen.f_true)}
+        for point in s.labels:
+            if point != label:
+                values, conv, _ = results[(label, point)]
+                chosen.points[point] = np.where(np.asarray(conv, bool)[:, None], values, np.nan)
+        chosen.points = {p: chosen.points[p] for p in s.labels}  # in the study's order

@@ -149,6 +149,13 @@ def read_study(path: str | os.PathLike) -> StudySettings:
             chk.bad("constraints", str(exc))
         if c.uses_reference and reference is None:
             chk.bad("constraints", f"'{text}' is bounded by the reference design: give &study reference")
+        scene = _given(s, "scene") and len(labels) > 1
+        if c.at is not None and c.at not in labels and not (c.at == "scene" and scene):
+            chk.bad(
+                "constraints",
+                f"'{text}': at '{c.at}' is not a case label ({', '.join(labels)})"
+                + (" nor the scene" if scene else "; 'at scene' needs scene = .true. and two cases or more"),
+            )
         constraints.append(str(c))
     if len(set(constraints)) != len(constraints):
         chk.bad("constraints", "a constraint is given twice")

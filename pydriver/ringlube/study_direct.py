@@ -97,9 +97,9 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
             ok = gen.converged & ~gen.failed
             lift = np.nan_to_num(gen.f[:, names.index("liner_lift_share")], nan=0.0).clip(0.0, 100.0)
             g = [np.where(ok, lift / 200.0, 1.0)]
-            for k, _, b in self.limits:
-                y = gen.f[:, names.index(k.name)]
-                g.append(np.where(ok, np.nan_to_num(k.violation(y, b), nan=1.0), 1.0))
+            for b in self.limits:  # (a case's own: the direct NSGA-II runs no scene)
+                y = gen.f[:, names.index(b.constraint.name)]
+                g.append(np.where(ok, np.nan_to_num(b.constraint.violation(y, b.value), nan=1.0), 1.0))
             out["G"] = np.column_stack(g)
 
         def _run(self, x) -> DirectGeneration:

@@ -155,12 +155,16 @@ def tradeoff_figures(study: Study, out: str | os.PathLike) -> list[Path]:
             for label in fronts
         ]
         title = f"trade-off: {s.objectives[a]} against {s.objectives[b]} (both minimised)"
-        limits = [
-            ("x" if k.name == s.objectives[b] else "y", bound * shown[idx][1], f"{label}: {k} (constraint)")
+        limits = [  # (a scene's point constraints bound no mean: not drawn)
+            (
+                "x" if bd.constraint.name == s.objectives[b] else "y",
+                bd.value * shown[idx][1],
+                f"{label}: {bd.constraint} (constraint)",
+            )
             for label in fronts
-            for k, _, bound in constraint_bounds(study, label)
+            for bd in constraint_bounds(study, label)
             for idx in (a, b)
-            if k.name == s.objectives[idx]
+            if bd.constraint.name == s.objectives[idx] and bd.point == label
         ]
         files += sp.save(sp.tradeoff_figure(series, labels[b], labels[a], title, limits), out, stem)
     if len(s.objectives) >= 3:

@@ -116,14 +116,18 @@ def _lift_mark(study: Study, values: np.ndarray) -> str:
     return f"{LIFTED} ({share:.3g} % of the cycle)" if share > 0 else ""
 
 
-def _feasible_text(study: Study, label: str, ft: np.ndarray) -> str:
-    """'feasible' or which constraints the true results violate."""
+def _feasible_text(study: Study, label: str, ft: np.ndarray, points: dict | None = None) -> str:
+    """'feasible' or which constraints the true results violate (``points``: a scene design's
+    results at each operating point, for its point constraints)."""
     bad = []
-    for k, j, b in constraint_bounds(study, label):
+    for bd in constraint_bounds(study, label):
+        k, j, b = bd.constraint, bd.column, bd.value
         unit, scale = result_display(k.name)
-        if not np.isfinite(ft[j]) or k.violation(ft[j], b) > 0:
+        at = "" if bd.point == label else f" at {bd.point}"
+        y = ft[j] if bd.point == label else (points[bd.point][j] if points else np.nan)
+        if not np.isfinite(y) or k.violation(y, b) > 0:
             rel = ">" if k.sense == "<=" else "<"
-            bad.append(f"{k.name} {ft[j] * scale:.6g} {rel} {b * scale:.6g} {unit}")
+            bad.append(f"{k.name}{at} {y * scale:.6g} {rel} {b * scale:.6g} {unit}".rstrip())
     return "feasible" if not bad else "INFEASIBLE: " + "; ".join(bad)
 
 
@@ -156,3 +160,9 @@ def surrogate_error(name: str, predicted: float, true: float) -> str:
         return f"{(predicted - true) / abs(true):+.1%}"
     unit, scale = result_display(name)
     return f"{(predicted - true) * scale:+.3g}{' ' + unit if unit not in ('', '1') else ''} (true 0)"
+
+
+def design_points(ch, i: int) -> dict | None:
+    """The results of design ``i`` of a :class:`~ringlube.study_state_checks.Checked` at each
+    operating point (None when not run there)."""
+    return None if ch.points is None else {p: np.atleast_2d(v)[i] for p, v in ch.points.items()}

@@ -152,7 +152,10 @@ def optimise(study: Study, ex: Executor, progress: bool = True) -> None:
     tasks, where = [], []
     for label, c in study.cases.items():
         surfs = [c.surfaces[o] for o in s.objectives]
-        cons = [(c.surfaces[k.name], k.sense, b) for k, _, b in constraint_bounds(study, label)]
+        cons = [  # the scene's point constraints on that point's surfaces
+            (study.cases[b.point].surfaces[b.constraint.name], b.constraint.sense, b.value)
+            for b in constraint_bounds(study, label)
+        ]
         for r in range(s.repeats):
             if r not in c.repeats:
                 tasks.append((surfs, s.lower, s.upper, s.population, s.generations, s.seed + 1000 * r, cons))

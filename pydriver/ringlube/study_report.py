@@ -15,7 +15,7 @@ import numpy as np
 
 from .outputs import check_output, write_text
 from .study_check import FRONT_CHECKS, candidates_text
-from .study_constraints import constraint_bounds
+from .study_constraints import constraint_bounds, point_violations
 from .study_figures import study_figures, tradeoff_stems
 from .study_format import (
     LIFTED,
@@ -23,6 +23,7 @@ from .study_format import (
     NOT_CONVERGED,
     _feasible_text,
     _lift_mark,
+    design_points,
     lift_share,
     result_display,
     surrogate_error,
@@ -33,7 +34,14 @@ from .study_state_checks import Checked
 from .study_store import Study
 from .study_variables import display, output_units
 
-__all__ = ["write_report", "how_sure_lines", "write_outputs", "output_names", "study_inputs"]
+__all__ = [
+    "write_report",
+    "how_sure_lines",
+    "every_point_lines",
+    "write_outputs",
+    "output_names",
+    "study_inputs",
+]
 
 
 def _design_table(study: Study, ch: Checked, label: str = "") -> list[str]:
@@ -52,7 +60,9 @@ def _design_table(study: Study, ch: Checked, label: str = "") -> list[str]:
         "|" + "---|" * (2 + len(heads) + len(s.outputs) + cons),
     ]
     cols = [s.outputs.index(o) for o in s.objectives]
-    for n, x, ft, fs, e, ok in zip(ch.names, ch.x, ch.f_true, ch.f_surrogate, ch.errors, ch.converged):
+    for i, (n, x, ft, fs, e, ok) in enumerate(
+        zip(ch.names, ch.x, ch.f_true, ch.f_surrogate, ch.errors, ch.converged)
+    ):
         xs = " | ".join(f"{xi * k:.4g}" for xi, k in zip(x, scales))
         if e:
             rows.append(
@@ -72,9 +82,73 @@ def _design_table(study: Study, ch: Checked, label: str = "") -> list[str]:
                 for k, j in enumerate(cols)
             )
             + " |"
-            + (f" {_feasible_text(study, label, ft)} |" if cons else "")
+            + (f" {_feasible_text(study, label, ft, design_points(ch, i))} |" if cons else "")
         )
     return rows
+
+
+def every_point_lines(study: Study) -> list[str]:
+    """The section of ``report.md`` that says which chosen designs (and the reference)
+    satisfy every operating point's constraints, and which only their own point's (a study of
+    several points with constraints; [] otherwise).
+
+    Parameters
+    ----------
+    study : Study
+
+    Returns
+    -------
+    list of str
+        Markdown lines.
+
+    Example
+    -------
+    >>> every_point_lines(study)[1]                          # doctest: +SKIP
+    '## Constraints at every operating point'
+    """
+    s = study.s
+    if len(s.labels) < 2 or not s.constraints:
+        return []
+    L = [
+        "",
+        "## Constraints at every operating point",
+        "",
+        "A case's designs were chosen against the constraints of its own point; here each chosen "
+        "design (and the reference) is also run at the other operating points and checked against "
+        "their constraints (true model; a run that failed or did not converge there counts as "
+        "not computed). The scene's designs were chosen against every point's constraints.",
+        "",
+        "| case | design | its own point's constraints | every point's constraints |",
+        "|---|---|---|---|",
+    ]
+    every, own_only = [], []
+    for label, c in study.cases.items():
+        for ch in (c.chosen, c.reference):
+            if ch is None:
+                continue
+            if ch.points is None:
+                for n in ch.names:
+                    L.append(f"| {label} | {n} | - | not run at the other points |")
+                continue
+            bad = point_violations(study, ch.points)
+            for i, (n, ft) in enumerate(zip(ch.names, ch.f_true)):
+                own = _feasible_text(study, label, ft, design_points(ch, i))
+                if ch.errors[i]:
+                    own = "failed"
+                all_ok = not bad[i] and own == "feasible"
+                L.append(
+                    f"| {label} | {n} | {own} | "
+                    + ("all satisfied" if all_ok else "INFEASIBLE " + "; ".join(bad[i] or ["(its own)"]))
+                    + " |"
+                )
+                if ch is c.chosen:
+                    (every if all_ok else own_only if own == "feasible" else []).append(f"{label} {n}")
+    L += [
+        "",
+        "Chosen designs that satisfy every point's constraints: " + (", ".join(every) or "none") + ".",
+        "Chosen designs that satisfy only their own point's: " + (", ".join(own_only) or "none") + ".",
+    ]
+    return L
 
 
 def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | None = None) -> Path:
@@ -115,15 +189,25 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
             "Every design of the Pareto sets satisfies these on the fitted surfaces (pymoo's "
             "constraint handling, `G <= 0`); the chosen designs are re-simulated and marked "
             "feasible or not by the true model. `reference` is the reference design's "
-            "true-model value on the same case.",
+            "true-model value at the same point (times its factor). A constraint without `at` "
+            "holds at every operating point, one `at LABEL` at that point only; the scene's "
+            "designs are bound at every point by that point's constraints (`at scene`: their "
+            "weighted mean).",
             "",
-            "| constraint | case | bound |",
-            "|---|---|---|",
+            "| constraint | case | binds the values | bound |",
+            "|---|---|---|---|",
         ]
         for label in study.cases:
-            for k, _, b in constraint_bounds(study, label):
-                unit, scale = result_display(k.name)
-                L.append(f"| `{k}` | {label} | {k.sense} {b * scale:.4g} {unit} |")
+            for bd in constraint_bounds(study, label):
+                unit, scale = result_display(bd.constraint.name)
+                unit = "" if unit == "1" else unit  # a count
+                where = "its own" if bd.point == label else f"at {bd.point}"
+                if bd.point == "scene":
+                    where = "their weighted mean"
+                L.append(
+                    f"| `{bd.constraint}` | {label} | {where} | {bd.constraint.sense} "
+                    f"{bd.value * scale:.4g} {unit} |".replace("  |", " |")
+                )
         L.append("")
     L += ["## Design variables", ""]
     has_ref = s.reference is not None
@@ -229,6 +313,7 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
                     "The reference design lies outside the design box: its surrogate "
                     "values are extrapolated.",
                 ]
+    L += every_point_lines(study)
     L += how_sure_lines(study)
     direct = [(label, c.direct) for label, c in study.cases.items() if c.direct is not None]
     if direct:

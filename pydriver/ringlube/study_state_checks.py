@@ -39,6 +39,10 @@ class Checked:
         Whether each true-model run converged.
     errors : list of str
         Error of each failed run ("" otherwise).
+    points : dict of str to ndarray, optional
+        The true results at each operating point (case label -> shape (k, len(OUTPUTS))):
+        the scene's designs, and the chosen designs of a case re-run at the other points, so
+        that every point's constraints can be checked (None: not run there).
 
     Example
     -------
@@ -54,6 +58,26 @@ class Checked:
     f_surrogate: np.ndarray
     converged: np.ndarray
     errors: list[str]
+    points: dict[str, np.ndarray] | None = None
+
+    def rows(self, rows: list[int]) -> Checked:
+        """The designs ``rows`` alone (with their results at every point).
+
+        Example
+        -------
+        >>> Checked(["a", "b"], np.zeros((2, 1)), np.ones((2, 5)), np.ones((2, 5)), np.ones(2, bool),
+        ...         ["", ""]).rows([1]).names
+        ['b']
+        """
+        return Checked(
+            [self.names[i] for i in rows],
+            np.asarray(self.x)[rows],
+            np.atleast_2d(self.f_true)[rows],
+            np.atleast_2d(self.f_surrogate)[rows],
+            np.asarray(self.converged, bool)[rows],
+            [self.errors[i] for i in rows],
+            None if self.points is None else {p: np.atleast_2d(v)[rows] for p, v in self.points.items()},
+        )
 
     @property
     def rel_error(self) -> np.ndarray:
@@ -97,6 +121,8 @@ class Checked:
         put(group, "rel_error", self.rel_error, list(s.outputs), ["1"] * len(s.outputs))
         group.create_dataset("converged", data=self.converged)
         put_strings(group, "errors", self.errors)
+        for point, values in (self.points or {}).items():
+            put(group, f"points/{point}", values, list(s.outputs), out_units)
 
     @classmethod
     def from_h5(cls, group: h5py.Group) -> Checked:
@@ -108,6 +134,7 @@ class Checked:
             group["f_surrogate"][()],
             group["converged"][()].astype(bool),
             strings(group["errors"]),
+            {p: v[()] for p, v in group["points"].items()} if "points" in group else None,
         )
 
 

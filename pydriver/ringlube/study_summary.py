@@ -5,7 +5,16 @@ from __future__ import annotations
 import numpy as np
 
 from .study_check import candidates_text
-from .study_format import NOT_CONVERGED, _feasible_text, _lift_mark, _values, format_design, surrogate_error
+from .study_constraints import point_violations
+from .study_format import (
+    NOT_CONVERGED,
+    _feasible_text,
+    _lift_mark,
+    _values,
+    design_points,
+    format_design,
+    surrogate_error,
+)
 from .study_store import Study
 from .study_variables import output_units
 
@@ -73,8 +82,13 @@ def summary(study: Study) -> str:
         for ch in (c.chosen, c.reference):
             if ch is None:
                 continue
-            for n, x, ft, fs, e, ok in zip(
-                ch.names, ch.x, ch.f_true, ch.f_surrogate, ch.errors, ch.converged
+            elsewhere = None
+            if s.constraints and ch.points and label != "scene":  # (its own point's: above)
+                own = f"at {label}:"
+                found = point_violations(study, ch.points)
+                elsewhere = [[v for v in d if not v.startswith(own)] for d in found]
+            for i, (n, x, ft, fs, e, ok) in enumerate(
+                zip(ch.names, ch.x, ch.f_true, ch.f_surrogate, ch.errors, ch.converged)
             ):
                 cols = [study.s.outputs.index(o) for o in s.objectives]
                 if e:
@@ -89,7 +103,12 @@ def summary(study: Study) -> str:
                     + "  (surrogate error "
                     + ", ".join(surrogate_error(study.s.outputs[j], fs[j], ft[j]) for j in cols)
                     + ")"
-                    + (f"; {_feasible_text(study, label, ft)}" if s.constraints else "")
+                    + (f"; {_feasible_text(study, label, ft, design_points(ch, i))}" if s.constraints else "")
+                    + (
+                        f"; at the other points INFEASIBLE ({'; '.join(elsewhere[i])})"
+                        if elsewhere and elsewhere[i]
+                        else ""
+                    )
                 )
         d = c.direct
         if d is not None:

@@ -162,7 +162,14 @@ def _rows() -> tuple[StudyInput, ...]:
             "'energy_loss', 'mixed_share', 'ring_mass'",
             "results to minimise (distinct)",
         ),
-        I("constraints", "names", (), "none", "'NAME <= VALUE', 'NAME >= VALUE' or 'NAME <= reference'"),
+        I(
+            "constraints",
+            "names",
+            (),
+            "none",
+            "'NAME <= VALUE', 'NAME >= VALUE' or 'NAME <= [FACTOR *] reference', each optionally "
+            "'at LABEL' (one point, or 'scene')",
+        ),
         I("sampler", "choice", "sobol", "'sobol'", "design of experiments", choices=("sobol", "lhs")),
         I(
             "samples",

@@ -26,7 +26,9 @@ __all__ = ["Condition", "read_targets", "DEFAULT_TARGETS"]
 
 
 #: Results that cannot be negative (a negative target is a typing mistake).
-_NON_NEGATIVE = frozenset({"energy_loss", "mixed_share", "ring_mass", "min_film", "max_friction"})
+_NON_NEGATIVE = frozenset(
+    {"energy_loss", "mixed_share", "ring_mass", "min_film", "max_friction", "friction_power", "fmep"}
+)
 
 
 def _default() -> Path:

@@ -51,6 +51,21 @@ contains
     call check_close(base%second_gap_area, 1.5e-7_dp, 0.0_dp, 'default second_gap_area')
     call check_close(base%groove_clearance, 40e-6_dp, 0.0_dp, 'default groove_clearance')
     call check_close(base%groove_volume, 1e-7_dp, 0.0_dp, 'default groove_volume 0.1 cm^3')
+    ! groove_volume = 0: the groove cut for the default ring (r0 48 mm, radial depth 3.5 mm,
+    ! back clearance 0.3 mm, width 1.004 mm, side clearance 40 um), the differences of squares
+    ! worked out by hand: (44.5^2 - 44.2^2) = 0.3 x 88.7 and (48^2 - 44.5^2) = 3.5 x 92.5 mm^2
+    c%groove_volume = 0.0_dp
+    call check_close(groove_gas_volume(c), pi * (0.3e-3_dp * 88.7e-3_dp * 1.044e-3_dp &
+                                                 + 3.5e-3_dp * 92.5e-3_dp * 40e-6_dp), 1e-13_dp, &
+                     'groove_volume 0: the groove of the ring (0.128 cm^3)')
+    c%width = 2e-3_dp  ! a wider ring, a higher groove: only the back space grows
+    call check_close(groove_gas_volume(c) - pi * (0.3e-3_dp * 88.7e-3_dp * 1.044e-3_dp &
+                                                  + 3.5e-3_dp * 92.5e-3_dp * 40e-6_dp), &
+                     pi * 0.3e-3_dp * 88.7e-3_dp * 0.996e-3_dp, 1e-11_dp, &
+                     'groove_volume follows the ring width')
+    c%groove_volume = 1e-7_dp  ! given: used as it is
+    call check_close(groove_gas_volume(c), 1e-7_dp, 0.0_dp, 'a given groove_volume is used')
+    c = default_case()
     call check_close(base%land_volume, 5e-7_dp, 0.0_dp, 'default land_volume 0.5 cm^3')
     call check_close(base%circumference, 2 * pi * 48e-3_dp, 1e-15_dp, 'circumference 2 pi r0')
     call check(base%ring_mass > 1e-3_dp .and. base%ring_mass < 2e-2_dp, 'ring mass of grams')

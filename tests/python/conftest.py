@@ -40,6 +40,7 @@ def quick_case():
 #: `pytest -m numerics`, `pytest -m "not slow"`.
 MODULE_LABELS = {
     "test_batch_and_deck_edge_cases": ("unit", "io"),
+    "test_calibration_targets": ("unit", "cli"),
     "test_calibrator": ("unit",),
     "test_case": ("unit",),
     "test_case_api": ("unit",),
@@ -54,6 +55,8 @@ MODULE_LABELS = {
     "test_gas": ("unit",),
     "test_oil": ("unit", "numerics"),
     "test_gas_model": ("unit", "numerics"),
+    "test_gas_wall_heat": ("unit", "numerics"),
+    "test_groove_volume": ("unit",),
     "test_hdf5_layout": ("io",),
     "test_hostile_inputs": ("unit", "io"),
     "test_implausible_inputs": ("numerics",),
@@ -78,6 +81,7 @@ MODULE_LABELS = {
     "test_study_docstrings": ("unit",),
     "test_study_mistakes_and_interruptions": ("io",),
     "test_study_outputs": ("io",),
+    "test_study_point_constraints": ("unit",),
     "test_study_resume": ("io",),
     "test_study_verification": ("numerics",),
     "test_study_weighting": ("numerics",),
@@ -110,6 +114,12 @@ SLOW = {
     "test_figure_beside_the_trace",
     "test_direct_nsga2_resumes_from_its_last_generation",
     "test_unreachable_scheduler_is_one_error",
+    "test_a_trace_fitted_to_peak_and_imep_reproduces_both[woschni]",
+    "test_a_trace_fitted_to_peak_and_imep_reproduces_both[hohenberg]",
+    "test_the_pages_gas_lines_are_what_the_commands_print",
+    "test_a_relative_constraint_is_the_absolute_one_from_the_references_value",
+    "test_a_per_point_constraint_binds_only_its_point",
+    "test_the_report_says_which_designs_satisfy_every_points_constraints",
 }
 
 

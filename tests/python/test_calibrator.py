@@ -51,6 +51,19 @@ def test_bracket_ends_on_a_bound_when_a_target_is_out_of_reach():
         calibrate_inputs(lambda x: x, p, "nelder-mead")
 
 
+def test_brent_solves_one_input_or_ends_on_a_bound():
+    """One residual increasing in one input: its root (x^3 = 0.2 on [0, 1]: 0.2^(1/3)); a
+    root outside the bounds ends on the bound, marked."""
+    p = [Param("z", "", 0.0, 1.0)]
+    r = calibrate_inputs(lambda x: (x[0] ** 3 - 0.2,), p, "brent", xtol=1e-12, rtol=1e-14)
+    assert isinstance(r, OptimizeResult) and all(k in r for k in FIELDS)
+    assert r.x[0] == pytest.approx(0.2 ** (1 / 3), abs=1e-11) and r.within_bounds and r.status == 1
+    r = calibrate_inputs(lambda x: (x[0] - 2.0,), p, "brent")
+    assert r.x[0] == 1.0 and r.active_mask.tolist() == [1] and not r.within_bounds and "bound" in r.message
+    with pytest.raises(ValueError, match="'brent' fits one input, not 2"):
+        calibrate_inputs(lambda x: x, [p[0], p[0]], "brent")
+
+
 def test_calibrate_and_readings_fit_the_same_inputs_on_the_same_bounds():
     assert [(p.name, p.lo, p.hi) for p in cal.PARAMS] == [(k, *cal.BOUNDS[k]) for k in cal.BOUNDS]
     assert rd._params(rd.Reading("JFO flooded", "lumped", "N/m")) == cal.PARAMS

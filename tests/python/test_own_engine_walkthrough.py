@@ -53,7 +53,7 @@ def _small(name: str, text: str) -> str:
 def test_page_blocks_are_all_checked():
     kinds = [_kind(info, text) for info, text in blocks()]
     assert "unknown" not in kinds, [b for b, k in zip(blocks(), kinds) if k == "unknown"]
-    assert kinds.count("deck") == 2 and kinds.count("sh") == 3 and kinds.count("python") == 1
+    assert kinds.count("deck") == 2 and kinds.count("sh") == 4 and kinds.count("python") == 1
 
 
 def _kind(info: str, text: str) -> str:
