@@ -9,11 +9,11 @@ import inspect
 import pkgutil
 
 import pytest
+from test_study_docstrings import MODULES as STUDY_MODULES
 
 import ringlube
 
 from conftest import ROOT
-from test_study_docstrings import MODULES as STUDY_MODULES
 
 MODULES = [m.name for m in pkgutil.iter_modules(ringlube.__path__) if not m.name.startswith("_")]
 #: the modules whose examples this file runs (the study and CLI modules' run in
