@@ -40,16 +40,18 @@ subroutine rl_kernel_id(text)
 end subroutine rl_kernel_id
 
 !> Parse deck text (named `name` in messages, relative paths against `base_dir`) with the
-!> variables of `overrides` replacing the deck's. Returns a handle and the crank steps.
+!> variables of `overrides` replacing the deck's. Returns a handle, the crank steps, the liner
+!> cells, the sectors (0 for a round bore) and the orders of the distortion a run reports.
 subroutine rl_open(text, name, base_dir, overrides, overrides_name, load_trace, handle, &
-                   nsteps, nliner, code, message, notes)
+                   nsteps, nliner, nsectors, norders, code, message, notes)
   use, intrinsic :: iso_c_binding, only: c_int
   use ringlube_error, only: error_type, error_status
-  use ringlube_api, only: api_open, api_nsteps, api_liner_cells, api_notes
+  use ringlube_api, only: api_open, api_nsteps, api_liner_cells, api_notes, api_sectors, &
+                          api_bore_orders
   implicit none
   character(len=*), intent(in) :: text, name, base_dir, overrides, overrides_name
   integer(c_int), intent(in) :: load_trace
-  integer(c_int), intent(out) :: handle, nsteps, nliner, code
+  integer(c_int), intent(out) :: handle, nsteps, nliner, nsectors, norders, code
   character(len=4096), intent(out) :: message
   !> the case's warning ('' none; ringlube-solve prints it on stderr)
   character(len=1024), intent(out) :: notes
@@ -58,6 +60,8 @@ subroutine rl_open(text, name, base_dir, overrides, overrides_name, load_trace, 
   handle = 0
   nsteps = 0
   nliner = 0
+  nsectors = 0
+  norders = 0
   notes = ''
   call api_open(text, name, base_dir, overrides, overrides_name, load_trace /= 0, h, err)
   call error_status(err, code, message)
@@ -65,6 +69,8 @@ subroutine rl_open(text, name, base_dir, overrides, overrides_name, load_trace, 
   handle = h
   nsteps = api_nsteps(h)
   nliner = api_liner_cells(h)
+  nsectors = api_sectors(h)
+  norders = size(api_bore_orders(h))
   notes = api_notes(h)
 end subroutine rl_open
 
@@ -165,38 +171,48 @@ end subroutine rl_set_trace
 
 !> Run the case. Columns of `series`, `iseries`, `scalars` and `liner` are the rows of the
 !> tables 'series', 'int_series', 'scalars' and 'liner' (the liner film at the end of the
-!> reported cycle, nliner cells: a starved inlet); `made` names the models whose results
-!> the run produced (the `requires` of the rows it has, blank-separated). With a non-empty
-!> `out_path` the kernel also writes the result there (HDF5, atomically; the path is
-!> checked before the run).
-subroutine rl_run(handle, out_path, nsteps, ns, ni, nc, nl, nliner, series, iseries, scalars, &
-                  liner, made, code, message)
+!> reported cycle, nliner cells: a starved inlet); `sectors(k, j, i)` is row i of the table
+!> 'sectors' at crank step k and sector j (nm sectors of a distorted bore, from rl_open), and
+!> `conform(i)` A_k over its conformability limit of the distortion's order `orders(i)` (nk
+!> orders, from rl_open); `made` names the models whose results the run produced (the
+!> `requires` of the rows it has, blank-separated). With a non-empty `out_path` the kernel
+!> also writes the result there (HDF5, atomically; the path is checked before the run).
+subroutine rl_run(handle, out_path, nsteps, ns, ni, nc, nl, nliner, nm, nsec, nk, series, &
+                  iseries, scalars, liner, sectors, orders, conform, made, code, message)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
   use ringlube_error, only: error_type, error_status, rl_runtime_error, rl_interrupted, fatal_error
   use ringlube_fsys, only: interrupt_catch_begin, interrupt_catch_end
   use ringlube_api, only: api_run
   use ringlube_results, only: result_type, n_series, n_int_series, n_scalars, n_liner, &
-                              produced_models
+                              n_sector_series, produced_models
   implicit none
-  integer(c_int), intent(in) :: handle, nsteps, ns, ni, nc, nl, nliner
+  integer(c_int), intent(in) :: handle, nsteps, ns, ni, nc, nl, nliner, nm, nsec, nk
   character(len=*), intent(in) :: out_path
   real(c_double), intent(out) :: series(nsteps, ns)
   integer(c_int), intent(out) :: iseries(nsteps, ni)
   real(c_double), intent(out) :: scalars(nc)
   real(c_double), intent(out) :: liner(nliner, nl)
+  real(c_double), intent(out) :: sectors(nsteps, nm, nsec)
+  integer(c_int), intent(out) :: orders(nk)
+  real(c_double), intent(out) :: conform(nk)
   character(len=64), intent(out) :: made
   integer(c_int), intent(out) :: code
   character(len=4096), intent(out) :: message
   type(result_type) :: r
   type(error_type), allocatable :: err
+  integer :: m, k
   series = 0.0_c_double
   iseries = 0
   scalars = 0.0_c_double
   liner = 0.0_c_double
+  sectors = 0.0_c_double
+  orders = 0
+  conform = 0.0_c_double
   made = ''
   code = 0
   message = ''
-  if (ns /= n_series .or. ni /= n_int_series .or. nc /= n_scalars .or. nl /= n_liner) then
+  if (ns /= n_series .or. ni /= n_int_series .or. nc /= n_scalars .or. nl /= n_liner .or. &
+      nsec /= n_sector_series) then
     code = rl_runtime_error
     message = 'rl_run: result table sizes differ from the caller''s'
     return
@@ -208,15 +224,24 @@ subroutine rl_run(handle, out_path, nsteps, ns, ni, nc, nl, nliner, series, iser
     call fatal_error(err, 'interrupted', rl_interrupted)
   call error_status(err, code, message)
   if (allocated(err)) return
-  if (r%nsteps /= nsteps .or. size(r%liner, 1) /= nliner) then
+  m = 0
+  if (allocated(r%sectors)) m = size(r%sectors, 2)
+  k = 0
+  if (allocated(r%conformability)) k = size(r%conformability)
+  if (r%nsteps /= nsteps .or. size(r%liner, 1) /= nliner .or. m /= nm .or. k /= nk) then
     code = rl_runtime_error
-    message = 'rl_run: number of crank steps or liner cells differs from rl_open''s'
+   message = 'rl_run: number of crank steps, liner cells, sectors or orders differs from rl_open''s'
     return
   end if
   series = r%series
   iseries = r%int_series
   scalars = r%scalars
   liner = r%liner
+  if (nm > 0) sectors = r%sectors
+  if (nk > 0) then
+    orders = r%conformability_orders
+    conform = r%conformability
+  end if
   made = produced_models(r)
 end subroutine rl_run
 
@@ -274,21 +299,29 @@ end subroutine rl_run_batch
 
 !> The summary `ringlube-solve` prints, from the scalar results `scalars` (table
 !> 'scalars') of which the run produced those with `made` nonzero; `title` and `written`
-!> (the first and last line) left out when blank. `n` is the text's length.
-subroutine rl_summary(nc, scalars, made, title, written, text, n)
+!> (the first and last line) left out when blank. A run that produced the conformability (a
+!> distorted bore) gives it per order: `conform(i)` for the order `orders(i)`, i = 1 .. nk
+!> (the arrays hold na >= nk values: f2py passes no empty array). `n` is the text's length.
+subroutine rl_summary(nc, scalars, made, nk, na, orders, conform, title, written, text, n)
   use, intrinsic :: iso_c_binding, only: c_int, c_double
-  use ringlube_results, only: n_scalars
+  use ringlube_kinds, only: dp
+  use ringlube_results, only: n_scalars, sc_conformability
   use ringlube_results_summary, only: summary_text
   implicit none
-  integer(c_int), intent(in) :: nc
+  integer(c_int), intent(in) :: nc, nk, na
   real(c_double), intent(in) :: scalars(nc)
   integer(c_int), intent(in) :: made(nc)
+  integer(c_int), intent(in) :: orders(na)
+  real(c_double), intent(in) :: conform(na)
   character(len=*), intent(in) :: title, written
   character(len=8192), intent(out) :: text
   integer(c_int), intent(out) :: n
   character(len=:), allocatable :: t
-  if (nc /= n_scalars) then
-    t = 'rl_summary: scalar table size differs from the caller''s'
+  if (nc /= n_scalars .or. nk < 0 .or. nk > na) then
+    t = 'rl_summary: scalar table size or orders differ from the caller''s'
+  else if (made(sc_conformability) /= 0) then
+    ! (as ringlube-solve: a distorted bore's run has its orders, none or several)
+    t = summary_text(scalars, made /= 0, title, written, int(orders(1:nk)), real(conform(1:nk), dp))
   else
     t = summary_text(scalars, made /= 0, title, written)
   end if

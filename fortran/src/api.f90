@@ -21,17 +21,20 @@ module ringlube_api
   use ringlube_gas, only: check_pressure_trace, max_pressure
   use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
                               n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, &
-                              field_spec, liner_spec, n_liner, sc_run_time, models, n_models
+                              field_spec, liner_spec, n_liner, sc_run_time, models, n_models, &
+                              sector_spec, n_sector_series
   use ringlube_hdf5_output, only: write_result
   use ringlube_output_path, only: check_output
   use ringlube_cycle, only: solve_cycle
   use ringlube_oil_supply, only: supply_type, supply_setup
+  use ringlube_bore, only: bore_type, bore_setup, conformability_orders
   use ringlube_textio, only: itoa
   use, intrinsic :: iso_fortran_env, only: int64
   implicit none
   private
   public :: api_open, api_close, api_notes, api_case_ok, api_run, api_get, api_set, api_set_trace, &
-            api_run_design, api_table, api_nsteps, api_deck_text, api_trace, api_liner_cells
+            api_run_design, api_table, api_nsteps, api_deck_text, api_trace, api_liner_cells, &
+            api_sectors, api_bore_orders
 
   type(case_type), allocatable, save :: store(:)
   logical, allocatable, save :: used(:)
@@ -107,6 +110,26 @@ contains
     api_liner_cells = 0
     if (api_case_ok(handle)) api_liner_cells = liner_cells(store(handle))
   end function api_liner_cells
+
+  !> Sectors of the circumference a run of the case reports (0 for a round bore).
+  integer function api_sectors(handle)
+    integer, intent(in) :: handle
+    api_sectors = 0
+    if (.not. api_case_ok(handle)) return
+    if (store(handle)%bore == 'distorted') api_sectors = store(handle)%sectors
+  end function api_sectors
+
+  !> The orders of a distorted bore's distortion, as a run reports their conformability
+  !> (`result_type%conformability_orders`; none for a round bore or an unknown handle).
+  function api_bore_orders(handle) result(orders)
+    integer, intent(in) :: handle
+    integer, allocatable :: orders(:)
+    type(bore_type) :: b
+    allocate (orders(0))
+    if (api_sectors(handle) == 0) return
+    call bore_setup(store(handle), b)
+    orders = conformability_orders(b)
+  end function api_bore_orders
 
   !> The gas-pressure trace of a case (empty for an unknown handle or no trace).
   subroutine api_trace(handle, psi, p)
@@ -291,7 +314,8 @@ contains
   end subroutine api_set_trace
 
   !> A table as tab-separated text with a header line: 'inputs', 'presets', 'series',
-  !> 'int_series', 'scalars', 'liner', 'flags' or 'models' ('' for an unknown name).
+  !> 'int_series', 'scalars', 'liner', 'sectors', 'flags' or 'models' ('' for an unknown
+  !> name).
   function api_table(which) result(t)
     character(len=*), intent(in) :: which
     character(len=:), allocatable :: t
@@ -319,6 +343,8 @@ contains
       t = fields(scalar_spec, n_scalars)
     case ('liner')
       t = fields(liner_spec, n_liner)
+    case ('sectors')
+      t = fields(sector_spec, n_sector_series)
     case ('flags')
       t = line('bit', 'name', 'description')
       do i = 1, n_flags

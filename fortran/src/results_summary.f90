@@ -94,8 +94,12 @@ contains
         do i = 1, size(orders)
           write (w, '(f10.2)') conformability(i)
           write (a, '(a, i0, a)') 'k=', orders(i), ': '
-          if (i > 1) b = trim(b)//', '
-          b = trim(b)//trim(a)//' '//trim(adjustl(w))
+          ! (', ' with its blank: trim(b)//', ' would drop it)
+          if (i > 1) then
+            b = trim(b)//', '//trim(a)//' '//trim(adjustl(w))
+          else
+            b = trim(a)//' '//trim(adjustl(w))
+          end if
         end do
         write (a, '(f10.2)') v(sc_conformability)
 call line('conformability', a, 'A_k / limit, the largest ('//trim(b)//'; > 1 does not conform dry)')

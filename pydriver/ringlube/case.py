@@ -120,8 +120,14 @@ class Case(_InputOrigins):
         case._base = str(path.resolve().parent)
         with kernel_case(case, load_trace=False, warn=False):
             pass  # the kernel's reader first: every error names file:line, group and variable
-        for item in items(text, str(path)):  # the same scanner: values as written
-            case._set(item.group, {item.name: python_value(item)}, record=False)
+        from .tables import INPUTS
+
+        for item in items(text, str(path), lists=True):  # the same scanner: values as written
+            value = python_value(item)
+            spec = INPUTS.get((item.group, item.name))
+            if spec is not None and spec.kind.endswith("_list"):  # (&bore order = 2, 4)
+                value = [*case._nml.get(item.group, {}).get(item.name, [])[: item.index - 1], value]
+            case._set(item.group, {item.name: value}, record=False)
         for group, var in _PATH_VARS:
             value = case.get(group, var)
             if value and not os.path.isabs(value):

@@ -57,17 +57,20 @@ def _arg(s: str) -> bytes:
 
 
 class KernelCase(NamedTuple):
-    """A case parsed by the kernel: its handle, crank steps and liner cells of a run.
+    """A case parsed by the kernel: its handle, and the crank steps, liner cells, sectors (0
+    for a round bore) and orders of the distortion of a run.
 
     Examples
     --------
-    >>> KernelCase(1, 720, 0).nsteps
-    720
+    >>> KernelCase(1, 720, 0).nsteps, KernelCase(1, 720, 0).nsectors
+    (720, 0)
     """
 
     handle: int
     nsteps: int
     nliner: int
+    nsectors: int = 0
+    norders: int = 0
 
 
 @contextlib.contextmanager
@@ -101,7 +104,7 @@ def kernel_case(case: Case, load_trace: bool = True, warn: bool = True) -> Itera
     text, name, base, overrides, overrides_name = case.kernel_inputs()
     if base and not base.endswith("/"):
         base += "/"
-    handle, nsteps, nliner, code, message, notes = _kernel.rl_open(
+    handle, nsteps, nliner, nsectors, norders, code, message, notes = _kernel.rl_open(
         _deck_text(text, name),
         _arg(name),
         _arg(base),
@@ -116,6 +119,6 @@ def kernel_case(case: Case, load_trace: bool = True, warn: bool = True) -> Itera
         if _text(notes):
             warnings.warn(_text(notes), UnusedInputWarning, stacklevel=3)
     try:
-        yield KernelCase(int(handle), int(nsteps), int(nliner))
+        yield KernelCase(int(handle), int(nsteps), int(nliner), int(nsectors), int(norders))
     finally:
         _kernel.rl_close(handle)

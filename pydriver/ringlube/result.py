@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError, input_file
-from .tables import FLAG_BITS, INT_SERIES, LINER, SCALARS, SERIES
+from .tables import FLAG_BITS, INT_SERIES, LINER, SCALARS, SECTORS, SERIES
 
 __all__ = [
     "CycleResult",
@@ -27,6 +27,7 @@ __all__ = [
     "SCALARS",
     "FLAG_BITS",
     "LINER",
+    "SECTORS",
 ]
 
 #: the scalars :func:`compare` shows by default (those a run has), in this order
@@ -38,6 +39,9 @@ COMPARED = (
     "oil_to_chamber",
     "oil_to_chamber_rate",
     "blowby",
+    "face_leakage",
+    "light_gap_share",
+    "conformability",
     "ring_lift_share",
     "flutter_events",
     "ring_mass",
@@ -56,6 +60,13 @@ class CycleResult:
     the chamber in mm^3 per cycle and g/h, FMEP in kPa): :data:`ringlube.tables.SERIES`
     and :data:`ringlube.tables.SCALARS`.
 
+    A distorted bore's run (``&physics bore = 'distorted'``) also has the series of each
+    sector, 2-D arrays (crank step x sector) by their short names in
+    :data:`ringlube.tables.SECTORS` (``result.sector_h0`` [m], ``result.sector_load``
+    [N/m]), the sectors' angles ``result.sector_angle_deg`` (sector j at 360 (j - 1) / M
+    deg) and ``result.conformability_by_order`` ({order k: A_k over its conformability
+    limit}, in the order the distortion gives them). A round bore's run has none of them.
+
     Parameters
     ----------
     series : dict of str to ndarray
@@ -65,6 +76,11 @@ class CycleResult:
     liner : dict of str to ndarray, optional
         The liner film at the end of the cycle (starved inlet only): 'liner_position' and
         'liner_oil_film'.
+    sectors : dict of str to ndarray, optional
+        A distorted bore's series per crank step and sector (shape (steps, sectors)) by
+        short name (:data:`ringlube.tables.SECTORS`).
+    conformability_by_order : dict of int to float, optional
+        A distorted bore's A_k over its conformability limit by order k (None: a round bore).
     deck, deck_path, pressure_file : str
         The deck's text as the kernel read it, where it came from, and the gas trace.
     label : str
@@ -88,6 +104,8 @@ class CycleResult:
         scalars: dict[str, float],
         *,
         liner: dict[str, np.ndarray] | None = None,
+        sectors: dict[str, np.ndarray] | None = None,
+        conformability_by_order: dict[int, float] | None = None,
         deck: str = "",
         deck_path: str = "",
         pressure_file: str = "",
@@ -98,6 +116,11 @@ class CycleResult:
         self.series = dict(series)
         self.scalars = dict(scalars)
         self.liner = dict(liner or {})
+        #: a distorted bore's series per crank step and sector, by short name (else empty)
+        self.sectors = dict(sectors or {})
+        self._conformability = None
+        if conformability_by_order is not None:
+            self._conformability = {int(k): float(v) for k, v in conformability_by_order.items()}
         self.deck = deck
         self.deck_path = deck_path
         self.pressure_file = pressure_file
@@ -112,7 +135,16 @@ class CycleResult:
             return d["series"][name]
         if name in d.get("scalars", {}):
             return SCALARS[name].value(d["scalars"][name])
-        spec = SCALARS.get(name) or SERIES.get(name) or INT_SERIES.get(name)
+        if name in d.get("sectors", {}):
+            return d["sectors"][name]
+        if name == "conformability_by_order" and d.get("_conformability") is not None:
+            return dict(d["_conformability"])
+        if name == "sector_angle_deg" and d.get("sectors"):
+            m = np.shape(next(iter(d["sectors"].values())))[1]
+            return 360.0 * np.arange(m) / m
+        spec = SCALARS.get(name) or SERIES.get(name) or INT_SERIES.get(name) or SECTORS.get(name)
+        if name in _BORE_ATTRIBUTES:
+            spec = SCALARS["conformability"]
         if spec is not None and spec.requires and "series" in d:
             from .tables import MODELS
 
@@ -123,12 +155,19 @@ class CycleResult:
         raise AttributeError(name)
 
     def __dir__(self):
-        return sorted(set(super().__dir__()) | set(self.series) | set(self.scalars))
+        extra = set(self.sectors) | ({"sector_angle_deg"} if self.sectors else set())
+        extra |= {"conformability_by_order"} if self._conformability is not None else set()
+        return sorted(set(super().__dir__()) | set(self.series) | set(self.scalars) | extra)
+
+    @property
+    def distorted(self) -> bool:
+        """Whether the run had a distorted bore (sector series and conformability per order)."""
+        return self.__dict__.get("_conformability") is not None
 
     @staticmethod
     def units(name: str) -> str:
         """Unit of a series or scalar (short name)."""
-        for table in (SERIES, INT_SERIES, SCALARS):
+        for table in (SERIES, INT_SERIES, SCALARS, SECTORS):
             if name in table:
                 return table[name].unit
         raise KeyError(name)
@@ -141,7 +180,9 @@ class CycleResult:
     def summary(self, title: str = "", written: str = "") -> str:
         """The summary ``ringlube-solve`` prints (the kernel formats it): one line per
         quantity with its unit, energy, friction power, FMEP, mixed share, oil to the
-        chamber (starved inlet), ring mass, film, friction, convergence and run time.
+        chamber (starved inlet), blowby (ring pack), the conformability per order, light
+        gaps and face leakage (distorted bore), ring mass, film, friction, convergence and
+        run time.
 
         Parameters
         ----------
@@ -159,7 +200,11 @@ class CycleResult:
 
         v = np.array([float(self.scalars.get(k, 0.0)) for k in SCALARS])
         made = np.array([k in self.scalars for k in SCALARS], dtype=np.int32)
-        text, n = _kernel.rl_summary(v, made, title.encode(), written.encode())
+        conf = self._conformability or {}
+        # (f2py takes no empty array: one element more, nk of them used)
+        orders = np.array([*conf, 0], dtype=np.int32)
+        ratios = np.array([*conf.values(), 0.0])
+        text, n = _kernel.rl_summary(v, made, len(conf), orders, ratios, title.encode(), written.encode())
         text = bytes(text[:n]).decode("utf-8", "replace") if isinstance(text, bytes) else str(text)[:n]
         return text.rstrip("\n")
 
@@ -173,6 +218,11 @@ class CycleResult:
             f"<td>{SCALARS[k].unit}</td><td>{html.escape(SCALARS[k].long_name)}</td></tr>"
             for k in SCALARS
             if k in self.scalars
+        )
+        rows += "".join(
+            f"<tr><td>conformability_{k}</td><td style='text-align:right'>{_num(v)}</td><td>1</td>"
+            f"<td>A_{k} over its conformability limit (order {k})</td></tr>"
+            for k, v in (self._conformability or {}).items()
         )
         title = html.escape(f"CycleResult {self.label}".strip())
         return (
@@ -307,6 +357,32 @@ def _text(value, strip: bool = True) -> str:
     return str(value).strip() if strip else str(value)
 
 
+#: attributes of a distorted bore's result that are not in the kernel's tables
+_BORE_ATTRIBUTES = ("conformability_by_order", "sector_angle_deg")
+
+
+def _conformability_attrs(attrs) -> dict[int, float]:
+    """A distorted bore's ``conformability_<k>`` root attributes as {k: ratio}, in the order
+    of the deck's ``bore.order`` list (as the run reports them), else ascending (a
+    distortion file).
+
+    Examples
+    --------
+    >>> _conformability_attrs({"conformability_2": 0.5, "conformability_4": 3.0, "bore.order": "4, 2"})
+    {4: 3.0, 2: 0.5}
+    >>> _conformability_attrs({"conformability_10": 1.0, "conformability_3": 2.0, "conformability": 2.0})
+    {3: 2.0, 10: 1.0}
+    """
+    found = {}
+    for key in attrs:
+        head, _, k = key.partition("conformability_")
+        if not head and k.isdigit():
+            found[int(k)] = float(attrs[key])
+    listed = _text(attrs.get("bore.order", b"")).replace(",", " ").split()
+    given = [int(k) for k in listed if k.lstrip("-").isdigit() and int(k) in found]
+    return {k: found[k] for k in dict.fromkeys([*given, *sorted(found)])}
+
+
 def load(path: str | os.PathLike) -> CycleResult:
     """Read a result file written by ``ringlube-solve``, ``ringlube run`` or
     ``ringlube.run(case, output=path)``.
@@ -352,10 +428,17 @@ def load(path: str | os.PathLike) -> CycleResult:
                 raise KeyError(f"series of other lengths or missing flags: {odd or ['flags']}")
             scalars = {k: float(a[spec.stored]) for k, spec in SCALARS.items() if spec.stored in a}
             liner = {k: f["liner"][spec.stored][()] for k, spec in LINER.items()} if "liner" in f else {}
+            sectors = {k: c[spec.stored][()] for k, spec in SECTORS.items() if spec.stored in c}
+            odd = [k for k, v in sectors.items() if np.ndim(v) != 2 or len(v) != n]
+            if odd:
+                raise KeyError(f"sector series not of {n} crank steps x sectors: {odd}")
+            conformability = _conformability_attrs(a) if "conformability" in scalars else None
             return CycleResult(
                 series,
                 scalars,
                 liner=liner,
+                sectors=sectors,
+                conformability_by_order=conformability,
                 deck=_text(a.get("deck", b""), strip=False),
                 deck_path=_text(a.get("deck_path", b"")),
                 pressure_file=_text(a.get("pressure_file", b"")),

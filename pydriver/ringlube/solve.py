@@ -13,7 +13,7 @@ from .case import Case
 from .case_kernel import _text, kernel_case
 from .errors import InputError, NotConvergedError, RinglubeError, error_for
 from .result import CycleResult
-from .tables import INT_SERIES, LINER, MODELS, SCALARS, SERIES
+from .tables import INT_SERIES, LINER, MODELS, SCALARS, SECTORS, SERIES
 
 __all__ = ["run", "run_many", "run_designs", "BatchError"]
 
@@ -145,8 +145,18 @@ def run(
             code, message = _kernel.rl_set_trace(k.handle, psi, p)
             if code:
                 raise error_for(code, _text(message))
-        series, iseries, scalars, liner, models, code, message = _kernel.rl_run(
-            k.handle, out, k.nsteps, len(SERIES), len(INT_SERIES), len(SCALARS), len(LINER), k.nliner
+        series, iseries, scalars, liner, sectors, orders, conform, models, code, message = _kernel.rl_run(
+            k.handle,
+            out,
+            k.nsteps,
+            len(SERIES),
+            len(INT_SERIES),
+            len(SCALARS),
+            len(LINER),
+            k.nliner,
+            k.nsectors,
+            len(SECTORS),
+            k.norders,
         )
         if code == INTERRUPTED:  # Ctrl-C: the kernel stopped within a crank step, wrote nothing
             raise KeyboardInterrupt
@@ -160,11 +170,16 @@ def run(
     data = {**_columns(SERIES, series, made), **_columns(INT_SERIES, iseries, made)}
     scal = {k: float(v) for (k, s), v in zip(SCALARS.items(), scalars) if s.requires in made}
     lin = _columns(LINER, liner, made)
+    # a distorted bore: each sector series (crank step x sector), the conformability per order
+    sec = {k: sectors[:, :, j].copy() for j, k in enumerate(SECTORS) if SECTORS[k].requires in made}
+    conf = {int(o): float(v) for o, v in zip(orders, conform)} if "conformability" in scal else None
     name = case.kernel_inputs()[1]
     result = CycleResult(
         data,
         scal,
         liner=lin,
+        sectors=sec,
+        conformability_by_order=conf,
         deck=deck.astype("u1").tobytes().decode("utf-8", errors="replace"),
         deck_path=name,
         pressure_file=_text(pressure_file),

@@ -28,6 +28,7 @@ __all__ = [
     "FLAG_BITS",
     "FLAGS",
     "LINER",
+    "SECTORS",
     "ModelSpec",
     "MODELS",
     "GROUPS",
@@ -143,7 +144,8 @@ def table_text(which: str) -> str:
     Parameters
     ----------
     which : str
-        'inputs', 'presets', 'series', 'int_series', 'scalars', 'flags', 'liner' or 'models'.
+        'inputs', 'presets', 'series', 'int_series', 'scalars', 'flags', 'liner', 'sectors' or
+        'models'.
 
     Returns
     -------
@@ -202,6 +204,7 @@ def _load():
         fields("scalars"),
         flags,
         fields("liner"),
+        fields("sectors"),
     )
 
 
@@ -212,7 +215,9 @@ INT_SERIES: dict[str, FieldSpec]
 SCALARS: dict[str, FieldSpec]
 FLAG_BITS: dict[int, str]
 LINER: dict[str, FieldSpec]
-INPUTS, PRESETS, SERIES, INT_SERIES, SCALARS, FLAG_BITS, LINER = _load()
+#: the series per crank step and sector of a distorted bore (crank angle x sector)
+SECTORS: dict[str, FieldSpec]
+INPUTS, PRESETS, SERIES, INT_SERIES, SCALARS, FLAG_BITS, LINER, SECTORS = _load()
 #: the bit of each ``/cycle/flags`` condition by its name in the kernel's table, e.g.
 #: ``FLAGS["h0_ceiling"]`` (lift-off)
 FLAGS: dict[str, int] = {name: int(b) for b, name, _ in _rows("flags")}
@@ -277,6 +282,8 @@ def results_markdown() -> str:
         row("root attribute", s, s.short)
     for s in [*SERIES.values(), *INT_SERIES.values()]:
         row("`/cycle`", s, s.short)
+    for s in SECTORS.values():
+        row("`/cycle` (crank angle x sector)", s, s.short)
     for s in LINER.values():
         row("`/liner`", s, f"liner['{s.short}']")
     lines += [
@@ -284,6 +291,10 @@ def results_markdown() -> str:
         "Every input of the case is also a root attribute `group.name` (e.g. `ring.width`): its "
         "effective value (deck, calibration file, preset or default; `Case.value(group, name)`) in "
         "the unit of the [input table](#inputs), logicals as 0/1, choices and paths as text.",
+        "",
+        "A distorted bore's run also has a root attribute `conformability_<k>` for each order k of "
+        "its distortion: A_k over its conformability limit (`conformability_by_order[k]` in Python; "
+        "`conformability` is the largest).",
     ]
     lines += ["", "Bits of `/cycle/flags`: " + "; ".join(f"{b}: {d}" for b, d in FLAG_BITS.items()) + "."]
     return "\n".join(lines)

@@ -40,6 +40,7 @@ def quick_case():
 #: `pytest -m numerics`, `pytest -m "not slow"`.
 MODULE_LABELS = {
     "test_batch_and_deck_edge_cases": ("unit", "io"),
+    "test_bore_results": ("numerics", "io"),
     "test_calibration_targets": ("unit", "cli"),
     "test_calibrator": ("unit",),
     "test_case": ("unit",),
