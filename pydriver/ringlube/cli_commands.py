@@ -92,13 +92,18 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             )
     if len(labels) > len(args.results):
         raise InputError(f"--labels: {len(labels)} labels for {len(args.results)} result files")
+    angles = None
+    if args.angles is not None:
+        from .plot_bore import crank_angles
+
+        angles = crank_angles(args.angles)
     results = [_load(p) for p in args.results]
     for r, label in zip(results, labels):
         r.label = label
     for r in results:
         if "/" in r.label or "\\" in r.label:
             raise InputError(f"result label '{r.label}' contains '/'; give --labels")
-    for f in plot_results(results, out, inputs=[Path(p) for p in args.results]):
+    for f in plot_results(results, out, inputs=[Path(p) for p in args.results], angles=angles):
         print(f"written {f}")
     return 0
 

@@ -79,11 +79,18 @@ def _parser() -> argparse.ArgumentParser:
         "plot",
         help="friction, film and gas-pressure plots of one or more results",
         description="Friction, film and gas-pressure plots (PNG and PDF) of result files, and the "
-        "inlet, liner-film and ring-pack plots of the results that have them.",
+        "inlet, liner-film and ring-pack plots of the results that have them; of a distorted bore "
+        "the film/gap around the bore at chosen crank angles (polar), its crank angle x sector map "
+        "and the face flow beside the end-gap flows (docs/bore.md).",
     )
     p.add_argument("results", nargs="+", help="result files (HDF5) to overlay")
     p.add_argument("-o", "--output", default=".", help="output folder")
     p.add_argument("--labels", help="comma-separated legend labels (default: file names)")
+    p.add_argument(
+        "--angles",
+        help="comma-separated crank angles [deg] of the polar plot of a distorted bore's gap "
+        "(default: 0,90,180,270,360,380,540)",
+    )
     p = _command(
         sub,
         _cmd_gas,

@@ -12,6 +12,7 @@ matplotlib.use("Agg")  # files only; no display needed
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .errors import InputError  # noqa: E402
 from .outputs import check_output, save_figure  # noqa: E402
 from .result import CycleResult  # noqa: E402
 
@@ -350,11 +351,14 @@ def plot_results(
     formats: Sequence[str] = ("png", "pdf"),
     stem: str = "",
     inputs: Sequence[str | os.PathLike] = (),
+    angles: Sequence[float] | None = None,
 ) -> list[Path]:
     """Write the friction and film figures for one or several (overlaid) results, and for
     results of the mass-conserving film the inlet fill and wetted width, with a starved
-    inlet the liner oil film, with the ring pack its pressures, lift and gas flows, and the
-    gas pressure each run used (its trace times ``pressure_scale``).
+    inlet the liner oil film, with the ring pack its pressures, lift and gas flows, with a
+    distorted bore the gap around the bore, its map and the face flow
+    (:mod:`ringlube.plot_bore`, of those results only), and the gas pressure each run used
+    (its trace times ``pressure_scale``).
 
     Parameters
     ----------
@@ -369,6 +373,9 @@ def plot_results(
         Files that must not be overwritten (the result files plotted); every figure is
         checked by :func:`ringlube.outputs.check_output` (no symbolic link, no folder, no
         input) before any is written, and written atomically.
+    angles : sequence of float, optional
+        Crank angles [deg] of the polar plot of a distorted bore's gap (default
+        :data:`ringlube.plot_bore.POLAR_ANGLES`); refused when no result has a distorted bore.
 
     Returns
     -------
@@ -382,7 +389,6 @@ def plot_results(
     ['r_friction.png', 'r_film.png', 'r_gas.png']
     """
     outdir = Path(outdir)
-    outdir.mkdir(parents=True, exist_ok=True)
     stem = stem or ("_vs_".join(r.label for r in results if r.label) or "result")
     files = []
     kinds = [("friction", friction_figure), ("film", film_figure)]
@@ -392,7 +398,9 @@ def plot_results(
         kinds.append(("liner", liner_figure))
     if any("groove_pressure" in r.series for r in results):
         kinds.append(("ring_pack", ring_pack_figure))
+    kinds += _bore_kinds(results, angles)
     kinds.append(("gas", _gas_of_results))
+    outdir.mkdir(parents=True, exist_ok=True)
     for kind, _ in kinds:  # every name checked before the first figure is written
         for fmt in formats:
             check_output(outdir / f"{stem}_{kind}.{fmt}", inputs)
@@ -403,6 +411,33 @@ def plot_results(
             files.append(save_figure(fig, path, inputs, dpi=150, metadata=_METADATA[fmt]))
         plt.close(fig)
     return files
+
+
+def _bore_kinds(results: Sequence[CycleResult], angles: Sequence[float] | None) -> list:
+    """The figures of the results with a distorted bore (drawn of those only): the gap around
+    the bore at ``angles``, its map and the face flow; none without such a result (then
+    ``angles`` is refused)."""
+    import copy
+
+    from . import plot_bore as pb
+
+    # (copies labelled as in the other figures: "result 2" is the second result in each)
+    bores = [copy.copy(r) for r in results if r.distorted]
+    for r, i in zip(bores, [i for i, r in enumerate(results) if r.distorted]):
+        r.label = _label(r, i)
+    if not bores:
+        if angles is not None:
+            raise InputError(
+                "--angles: no result has a distorted bore (the polar plot of the gap needs a run "
+                "with &physics bore = 'distorted')"
+            )
+        return []
+    polar = pb.POLAR_ANGLES if angles is None else pb.crank_angles(angles)
+    return [
+        ("bore_polar", lambda _: pb.bore_polar_figure(bores, polar)),
+        ("bore_map", lambda _: pb.bore_map_figure(bores)),
+        ("bore_flow", lambda _: pb.face_flow_figure(bores)),
+    ]
 
 
 def _gas_of_results(results: Sequence[CycleResult]) -> plt.Figure:

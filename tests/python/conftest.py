@@ -121,6 +121,7 @@ SLOW = {
     "test_a_relative_constraint_is_the_absolute_one_from_the_references_value",
     "test_a_per_point_constraint_binds_only_its_point",
     "test_the_report_says_which_designs_satisfy_every_points_constraints",
+    "test_ringlube_plot_draws_the_bore",
 }
 
 

@@ -4,14 +4,17 @@ table, and the figures (made for a distorted result, refused for a round one).""
 
 from __future__ import annotations
 
+import copy
 import subprocess
 
 import h5py
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
 import ringlube
 from ringlube import InputError
+from ringlube.cli import main
 from ringlube.tables import SECTORS
 
 from conftest import COLD, INPUTS
@@ -27,6 +30,12 @@ def distorted(case: ringlube.Case, sectors: int = 8) -> ringlube.Case:
         .with_("bore", order=[4, 2], amplitude=[10e-6, 12e-6], sectors=sectors)
         .with_numerics(preset="fast", nodes=21, dpsi_deg=4.0, max_cycles=3)
     )
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
 
 
 @pytest.fixture(scope="module")
@@ -163,3 +172,62 @@ def test_compare_includes_the_distorted_bore(runs, round_result):
     assert t.values["face_leakage"][0] == runs["py"].face_leakage and np.isnan(t.values["face_leakage"][1])
     assert t.names.index("blowby") < t.names.index("face_leakage")
     assert "face_leakage" not in ringlube.compare([round_result]).names
+
+
+def test_bore_figures_of_a_distorted_result(runs, tmp_path):
+    from ringlube.plot_bore import POLAR_ANGLES, bore_map_figure, bore_polar_figure, face_flow_figure
+
+    r = runs["py"]
+    fig = bore_polar_figure([r])
+    polar = [ax for ax in fig.axes if ax.name == "polar" and ax.get_visible()]
+    assert len(polar) == len(POLAR_ANGLES) == 7
+    # each panel's dots are the sectors' h0 at the crank step nearest its angle
+    for ax, angle in zip(polar, POLAR_ANGLES):
+        k = int(np.argmin(np.abs((r.crank_angle_deg - angle + 360) % 720 - 360)))
+        np.testing.assert_array_equal(ax.lines[1].get_ydata(), r.sector_h0[k] * 1e6)
+        np.testing.assert_array_equal(ax.lines[1].get_xdata(), np.deg2rad(r.sector_angle_deg))
+        assert ax.get_title().startswith(f"{angle:g} deg")
+    assert bore_polar_figure([r], angles=[380]).axes[0].get_title().startswith("380 deg: expansion")
+    fig = bore_map_figure([r])
+    np.testing.assert_array_equal(fig.axes[0].collections[0].get_array().reshape(8, -1), r.sector_h0.T * 1e6)
+    assert fig.axes[0].collections[0].norm.__class__.__name__ == "LogNorm"
+    fig = face_flow_figure([r])
+    labels = [line.get_label() for line in fig.axes[0].lines]
+    assert any("face" in x for x in labels) and any("top gap" in x for x in labels)
+    assert any("blowby" in x for x in labels)
+    np.testing.assert_array_equal(fig.axes[0].lines[0].get_ydata(), r.face_flow * 1e3)
+
+
+def test_bore_figures_refuse_a_round_result(round_result):
+    from ringlube.plot_bore import bore_map_figure, bore_polar_figure, face_flow_figure
+
+    for make in (bore_polar_figure, bore_map_figure, face_flow_figure):
+        with pytest.raises(InputError, match=r"has a round bore \(no sectors\).*bore = 'distorted'"):
+            make([round_result])
+
+
+def test_ringlube_plot_draws_the_bore(runs, round_result, tmp_path, capsys):
+    from ringlube.plot import plot_results
+
+    cli = str(runs["cli_file"])
+    assert main(["plot", cli, "-o", str(tmp_path / "a"), "--angles", "0,380"]) == 0
+    for kind in ("bore_polar", "bore_map", "bore_flow", "ring_pack", "friction"):
+        for fmt in ("png", "pdf"):
+            assert (tmp_path / "a" / f"cli_{kind}.{fmt}").stat().st_size > 1000, kind
+    # a round result beside it: its figures as before, the bore's of the distorted one only
+    rnd = copy.copy(round_result)
+    rnd.label = "round"
+    files = plot_results([runs["py"], rnd], tmp_path / "b", formats=("png",), angles=[90])
+    assert [f.name for f in files if "bore" in f.name] == [
+        f"distorted_vs_round_{kind}.png" for kind in ("bore_polar", "bore_map", "bore_flow")
+    ]
+    assert not [f for f in plot_results([rnd], tmp_path / "c", formats=("png",)) if "bore" in f.name]
+    capsys.readouterr()
+    rnd = tmp_path / "round.h5"
+    ringlube.run(ringlube.Case.from_namelist(COLD).with_numerics(preset="fast"), output=rnd)
+    assert main(["plot", str(rnd), "-o", str(tmp_path / "d"), "--angles", "0,90"]) == 2
+    err = capsys.readouterr().err
+    assert "--angles: no result has a distorted bore" in err and len(err.splitlines()) == 1
+    assert not (tmp_path / "d").exists()
+    assert main(["plot", cli, "-o", str(tmp_path / "e"), "--angles", "0,800"]) == 2
+    assert "800 deg is outside the cycle" in capsys.readouterr().err
