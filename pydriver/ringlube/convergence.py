@@ -5,7 +5,9 @@ and a few combined presets are run too; every run reports its kernel time and it
 in energy loss, mixed share and minimum film against the reference. The reference's own
 error is estimated by Richardson extrapolation from its halvings in N and in the crank
 step (both second order where the solution is smooth). Output: a Markdown table, a CSV
-and a plot of error against time with the Pareto front of settings.
+and a plot of error against time with the Pareto front of settings. A deck with the ring
+pack adds its blowby, one with a distorted bore its face leakage, light gaps and
+conformability (:data:`OPTIONAL`), each with its error against the reference.
 
     ringlube convergence DECK [--out DIR] [--quick]
 """
@@ -24,7 +26,7 @@ from .case import Case
 from .outputs import atomic_path, check_output, save_figure, write_text
 from .solve import run
 
-__all__ = ["Setting", "Row", "REFERENCE", "PRESETS", "ladder", "measure", "convergence_study"]
+__all__ = ["Setting", "Row", "REFERENCE", "PRESETS", "OPTIONAL", "ladder", "measure", "convergence_study"]
 
 #: The reference numerics (finest settings of the ladder).
 REFERENCE = {
@@ -36,6 +38,16 @@ REFERENCE = {
 }
 #: The presets of &numerics preset (the kernel's table).
 from .tables import PRESETS  # noqa: E402
+
+#: Results of the optional models the tables add when the reference run has them, and how
+#: their error is measured: 'rel' relative to the reference, 'pts' in percentage points.
+#: (The conformability comes from the inputs alone: the same at every setting.)
+OPTIONAL = (
+    ("blowby", "rel"),
+    ("face_leakage", "rel"),
+    ("light_gap_share", "pts"),
+    ("conformability", "rel"),
+)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -75,6 +87,49 @@ class Row:
     err_min_film: float  # relative
     converged: bool
     film_solves: int
+    #: the results of :data:`OPTIONAL` the reference has: name -> (value, error)
+    extra: dict = dataclasses.field(default_factory=dict)
+
+
+def _extra(r, ref) -> dict:
+    """The results of :data:`OPTIONAL` that the reference run ``ref`` has, in run ``r``,
+    with their errors against the reference (relative, or in percentage points; NaN for a
+    relative error against a reference of 0 that ``r`` does not match).
+
+    Examples
+    --------
+    >>> class R:
+    ...     scalars = {"face_leakage": 2.2, "light_gap_share": 11.0}
+    >>> class Ref:
+    ...     scalars = {"face_leakage": 2.0, "light_gap_share": 10.0}
+    >>> {k: (round(v, 6), round(e, 6)) for k, (v, e) in _extra(R, Ref).items()}
+    {'face_leakage': (2.2, 0.1), 'light_gap_share': (11.0, 1.0)}
+    """
+    out = {}
+    for name, kind in OPTIONAL:
+        if name not in ref.scalars:
+            continue
+        v, v0 = float(r.scalars.get(name, np.nan)), float(ref.scalars[name])
+        if kind == "pts":
+            err = abs(v - v0)
+        elif v0 != 0:
+            err = abs(v - v0) / abs(v0)
+        else:
+            err = 0.0 if v == v0 else float("nan")
+        out[name] = (v, err)
+    return out
+
+
+def _csv_name(name: str, unit: str) -> str:
+    """A CSV column of a result with its unit ('%' as pct, '/' as _per_, none for '1').
+
+    Examples
+    --------
+    >>> _csv_name("light_gap_share", "%"), _csv_name("blowby", "L/min"), _csv_name("conformability", "1")
+    ('light_gap_share_pct', 'blowby_L_per_min', 'conformability')
+    """
+    tag = {"%": "pct", "1": ""}.get(unit, unit.replace("/", "_per_"))
+    return f"{name}_{tag}" if tag else name
 
 
 def ladder(quick: bool = False) -> list[Setting]:
@@ -244,6 +299,7 @@ def convergence_study(
         "richardson_energy": ref.energy_loss - rich_n - rich_t,
         "est_err_n": abs(rich_n) / ref.energy_loss,
         "est_err_t": abs(rich_t) / ref.energy_loss,
+        "extra": {k: v for k, (v, _) in _extra(ref, ref).items()},
     }
     rows: list[Row] = []
     for s in settings:
@@ -263,6 +319,7 @@ def convergence_study(
                 err_min_film=abs(r.min_film - ref.min_film) / ref.min_film,
                 converged=r.converged,
                 film_solves=int(r.film_solves.sum()),
+                extra=_extra(r, ref),
             )
         )
     bar.close()
@@ -287,10 +344,27 @@ def write_report(
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from .tables import SCALARS
+
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     stem = Path(deck).stem
     front = {id(r) for r in pareto(rows)}
+    extra = list(reference.get("extra", {}))  # (the optional results the reference has)
+    kinds = dict(OPTIONAL)
+
+    def err_text(name: str, e: float) -> str:
+        return "-" if not np.isfinite(e) else f"{e:.3f}" if kinds[name] == "pts" else f"{e:.2e}"
+
+    def err_head(name: str) -> str:
+        return f"err {name} (pts)" if kinds[name] == "pts" else f"err {name}"
+
+    ref_extra = reference.get("extra", {})
+    extra_text = "".join(
+        f" Reference {k.replace('_', ' ')}: {v:.5g} {SCALARS[k].unit}." for k, v in ref_extra.items()
+    )
+    if "conformability" in extra:
+        extra_text += " (The conformability comes from the inputs: the same at every setting.)"
     md = [
         f"### `{stem}`",
         "",
@@ -302,18 +376,20 @@ def write_report(
         f"{reference['min_film'] * 1e6:.4f} um, {reference['time_ms']:.0f} ms. Observed order of the "
         f"energy from three levels: {reference['order_n']:.2f} in N, {reference['order_t']:.2f} in the "
         f"crank step; Richardson estimate of the reference's own energy error: "
-        f"{reference['est_err_n']:.1e} (N), {reference['est_err_t']:.1e} (crank step).",
+        f"{reference['est_err_n']:.1e} (N), {reference['est_err_t']:.1e} (crank step)." + extra_text,
         "",
         "| kind | setting | ms/run | ms/cycle | film solves | energy J | err energy | err mixed (pts) "
-        "| err min film | converged | front |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "| err min film |" + "".join(f" {k} [{SCALARS[k].unit}] | {err_head(k)} |" for k in extra)
+        + " converged | front |",
+        "|---|---|---|---|---|---|---|---|---|" + "---|---|" * len(extra) + "---|---|",
     ]
     for r in rows:
         md.append(
             f"| {r.setting.kind} | {r.setting.label} | {r.time_ms:.1f} | {r.ms_per_cycle:.1f} | "
             f"{r.film_solves} | {r.energy:.5f} | {r.err_energy:.2e} | {r.err_mixed:.3f} | "
-            f"{r.err_min_film:.2e} | {'yes' if r.converged else 'NO'} | "
-            f"{'*' if id(r) in front else ''} |"
+            f"{r.err_min_film:.2e} |"
+            + "".join(f" {r.extra[k][0]:.5g} | {err_text(k, r.extra[k][1])} |" for k in extra)
+            + f" {'yes' if r.converged else 'NO'} | {'*' if id(r) in front else ''} |"
         )
     md_path = outdir / f"convergence_{stem}.md"
     csv_path = outdir / f"convergence_{stem}.csv"
@@ -334,6 +410,8 @@ def write_report(
                 "err_energy",
                 "err_mixed_pts",
                 "err_min_film",
+                *(_csv_name(k, SCALARS[k].unit) for k in extra),
+                *(f"err_{k}_pts" if kinds[k] == "pts" else f"err_{k}" for k in extra),
                 "converged",
             ]
         )
@@ -349,6 +427,8 @@ def write_report(
                     r.err_energy,
                     r.err_mixed,
                     r.err_min_film,
+                    *(r.extra[k][0] for k in extra),
+                    *(r.extra[k][1] for k in extra),
                     int(r.converged),
                 ]
             )

@@ -231,3 +231,51 @@ def test_ringlube_plot_draws_the_bore(runs, round_result, tmp_path, capsys):
     assert not (tmp_path / "d").exists()
     assert main(["plot", cli, "-o", str(tmp_path / "e"), "--angles", "0,800"]) == 2
     assert "800 deg is outside the cycle" in capsys.readouterr().err
+
+
+def test_convergence_tables_add_the_distorted_bore(runs, round_result, monkeypatch, tmp_path):
+    """`ringlube convergence` of a distorted deck adds its face leakage, light gaps and
+    conformability (and the ring pack's blowby) with their errors against the reference; the
+    runs here are the distorted result with the face leakage and light gaps moved by the
+    nodes (known errors), the kernel's ladder logic unchanged."""
+    import csv
+
+    import ringlube.convergence as conv
+
+    base = runs["py"]
+
+    def run(case):
+        n = case.value("numerics", "nodes")
+        r = copy.copy(base)
+        r.scalars = {
+            **base.scalars,
+            "face_leakage": base.face_leakage * (1 + 1 / n),
+            "light_gap_share": base.light_gap_share + 100 / n,
+        }
+        return r
+
+    monkeypatch.setattr(conv, "run", run)
+    reference, rows = conv.convergence_study(runs["deck"], quick=True, repeats=1, progress=False)
+    assert list(reference["extra"]) == ["blowby", "face_leakage", "light_gap_share", "conformability"]
+    row = next(r for r in rows if r.setting.label == "nodes = 25")
+    ref_n = conv.REFERENCE["nodes"]
+    value, err = row.extra["face_leakage"]
+    assert value == base.face_leakage * (1 + 1 / 25)
+    assert err == pytest.approx((1 / 25 - 1 / ref_n) / (1 + 1 / ref_n), rel=1e-12)
+    assert row.extra["light_gap_share"][1] == pytest.approx(100 / 25 - 100 / ref_n, rel=1e-12)
+    assert row.extra["conformability"] == (base.conformability, 0.0)
+    files = conv.write_report(str(runs["deck"]), reference, rows, tmp_path, "ringlube convergence x")
+    md = files[0].read_text()
+    assert "| face_leakage [mg] | err face_leakage | light_gap_share [%] | err light_gap_share (pts) |" in md
+    assert "Reference conformability:" in md and "the same at every setting" in md
+    with open(files[1]) as fh:
+        table = list(csv.DictReader(fh))
+    assert float(table[0]["err_face_leakage"]) == rows[0].extra["face_leakage"][1]
+    for column in ("blowby_L_per_min", "face_leakage_mg", "light_gap_share_pct", "conformability"):
+        assert column in table[0], column
+    assert "err_light_gap_share_pts" in table[0]
+    # a round deck's tables as before: none of these columns
+    monkeypatch.setattr(conv, "run", lambda case: round_result)
+    reference, rows = conv.convergence_study(COLD, quick=True, repeats=1, progress=False)
+    md = conv.write_report(str(COLD), reference, rows, tmp_path / "round", "x")[0].read_text()
+    assert reference["extra"] == {} and "face_leakage" not in md and "blowby" not in md
