@@ -13,7 +13,10 @@ from .study_format import result_display
 from .study_store import Study
 from .study_variables import display, output_units
 
-__all__ = ["study_figures", "tradeoff_stems", "tradeoff_figures"]
+__all__ = ["study_figures", "tradeoff_stems", "tradeoff_figures", "bore_figures", "BORE_FIGURES"]
+
+#: the figures of a case with a distorted bore (its chosen knee re-run): ``bore_LABEL_KIND``
+BORE_FIGURES = ("polar", "map", "flow")
 
 
 def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
@@ -75,6 +78,51 @@ def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
                 f"map_{label}_{o}",
             )
     files += tradeoff_figures(study, out)
+    files += bore_figures(study, out)
+    return files
+
+
+def bore_figures(study: Study, out: str | os.PathLike) -> list[Path]:
+    """The figures of each case with a distorted bore (``&physics bore = 'distorted'``): its
+    chosen knee re-run with the true model for its series, then the film/gap around the bore
+    at the crank angles of :data:`~ringlube.plot_bore.POLAR_ANGLES`, its crank angle x sector
+    map and the face flow beside the end gaps (``bore_LABEL_polar``, ``_map``, ``_flow``; none
+    for a round bore or a case without a chosen knee).
+
+    Parameters
+    ----------
+    study : Study
+    out : path
+
+    Returns
+    -------
+    list of Path
+
+    Example
+    -------
+    >>> bore_figures(study, "out/s")                          # doctest: +SKIP
+    """
+    from . import plot_bore as pb, study_plots as sp
+    from .solve import run
+    from .study_runs import _bases
+    from .tables import INPUTS
+
+    s, files = study.s, []
+    for label, base in zip(s.labels, _bases(s)):
+        c = study.cases.get(label)
+        if base.value("physics", "bore") != "distorted" or c is None or c.chosen is None:
+            continue
+        if "knee" not in c.chosen.names:
+            continue
+        x = c.chosen.x[c.chosen.names.index("knee")]
+        case = base
+        for (group, name), v in zip(s.groups_names, x):
+            whole = INPUTS[group, name].kind == "integer"
+            case = case.with_(group, **{name: int(round(v)) if whole else float(v)})
+        r = run(case)
+        r.label = f"{label} knee" + ("" if r.converged else " (not converged)")
+        for kind, make in zip(BORE_FIGURES, (pb.bore_polar_figure, pb.bore_map_figure, pb.face_flow_figure)):
+            files += sp.save(make([r]), out, f"bore_{label}_{kind}")
     return files
 
 

@@ -16,7 +16,7 @@ import numpy as np
 from .outputs import check_output, write_text
 from .study_check import FRONT_CHECKS, candidates_text
 from .study_constraints import constraint_bounds, point_violations
-from .study_figures import study_figures, tradeoff_stems
+from .study_figures import BORE_FIGURES, study_figures, tradeoff_stems
 from .study_format import (
     LIFTED,
     LIFTED_COLUMN,
@@ -338,6 +338,14 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
             )
     if figures:
         L += ["", "## Figures", ""]
+        if any(f.stem.startswith("bore_") for f in figures):  # (docs/bore.md)
+            L += [
+                "`bore_CASE_*`: the chosen knee of a case with a distorted bore, re-run with the true "
+                "model: the film/gap of each sector around the bore at chosen crank angles (a light gap "
+                "bulges out), its crank angle x sector map, and the gas through the faces beside the end "
+                "gaps.",
+                "",
+            ]
         L += [f"![{f.stem}]({f.name})" for f in figures]
     return write_text(out / "report.md", "\n".join(L) + "\n", [study.path, *study_inputs(s)])
 
@@ -586,6 +594,7 @@ def output_names(s: StudySettings) -> list[str]:
     stems = [f"fit_{label}" for label in labels]
     stems += [f"map_{label}_{o}" for label in labels for o in s.objectives]
     stems += tradeoff_stems(list(s.objectives))
+    stems += [f"bore_{label}_{kind}" for label in s.labels for kind in BORE_FIGURES]  # a distorted bore
     return [
         "report.md",
         *(f"pareto_{label}.csv" for label in labels),

@@ -122,6 +122,7 @@ SLOW = {
     "test_a_per_point_constraint_binds_only_its_point",
     "test_the_report_says_which_designs_satisfy_every_points_constraints",
     "test_ringlube_plot_draws_the_bore",
+    "test_study_draws_the_knee_of_a_distorted_case",
 }
 
 

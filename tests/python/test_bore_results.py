@@ -279,3 +279,37 @@ def test_convergence_tables_add_the_distorted_bore(runs, round_result, monkeypat
     reference, rows = conv.convergence_study(COLD, quick=True, repeats=1, progress=False)
     md = conv.write_report(str(COLD), reference, rows, tmp_path / "round", "x")[0].read_text()
     assert reference["extra"] == {} and "face_leakage" not in md and "blowby" not in md
+
+
+def test_study_draws_the_knee_of_a_distorted_case(runs, tmp_path, monkeypatch):
+    """A study's figures of a case with a distorted bore: its chosen knee re-run with the true
+    model (the design's values set), drawn as bore_LABEL_polar, _map and _flow; none for a
+    round case. (The study is reduced to what the figures read.)"""
+    from types import SimpleNamespace
+
+    import ringlube.plot_bore as pb
+    from ringlube.study_figures import bore_figures
+    from ringlube.study_report import output_names
+
+    drawn = []
+    map_figure = pb.bore_map_figure
+    monkeypatch.setattr(pb, "bore_map_figure", lambda rs: drawn.append(rs[0]) or map_figure(rs))
+    knee = np.array([1.2e-3, 12.0])
+    chosen = SimpleNamespace(names=["min energy_loss", "knee"], x=np.array([[1.0e-3, 8.0], knee]))
+    s = SimpleNamespace(
+        labels=["bent", "round"],
+        cases=[str(runs["deck"]), str(COLD)],
+        groups_names=[("ring", "width"), ("ring", "tension")],
+    )
+    cases = {"bent": SimpleNamespace(chosen=chosen), "round": SimpleNamespace(chosen=chosen)}
+    files = bore_figures(SimpleNamespace(s=s, cases=cases), tmp_path)
+    assert sorted(f.name for f in files) == sorted(
+        f"bore_bent_{kind}.{fmt}" for kind in ("polar", "map", "flow") for fmt in ("png", "pdf")
+    )
+    names = output_names(SimpleNamespace(labels=["bent", "round"], objectives=["energy_loss"]))
+    assert {f.name for f in files} <= set(names) and "bore_round_map.png" in names
+    # the figures are of the knee: the run made here of the same design
+    r = ringlube.run(ringlube.Case.from_namelist(runs["deck"]).with_ring(width=knee[0], tension=knee[1]))
+    assert len(drawn) == 1 and drawn[0].label.startswith("bent knee")
+    np.testing.assert_array_equal(drawn[0].sector_h0, r.sector_h0)
+    assert not np.array_equal(r.sector_h0, runs["py"].sector_h0)  # (not the deck's own design)
