@@ -379,7 +379,8 @@ def write_report(
         f"{reference['est_err_n']:.1e} (N), {reference['est_err_t']:.1e} (crank step)." + extra_text,
         "",
         "| kind | setting | ms/run | ms/cycle | film solves | energy J | err energy | err mixed (pts) "
-        "| err min film |" + "".join(f" {k} [{SCALARS[k].unit}] | {err_head(k)} |" for k in extra)
+        "| err min film |"
+        + "".join(f" {k} [{SCALARS[k].unit}] | {err_head(k)} |" for k in extra)
         + " converged | front |",
         "|---|---|---|---|---|---|---|---|---|" + "---|---|" * len(extra) + "---|---|",
     ]
