@@ -71,8 +71,9 @@ def render_validation(data: ValidationData) -> str:
         f"Hot against cold: energy {rh.energy_loss / rc.energy_loss - 1:+.1%} "
         f"(study +26.6 %), mixed share {rh.mixed_share - rc.mixed_share:+.2f} points (study +4.03).",
         "",
-        f"**Ring mass.** ringlube gives {rc.ring_mass:.2f} g from SPEC 8 with the assumed radial depth "
-        "3.5 mm and steel density 7800 kg/m^3. The study reports 24 g, which no realistic radial depth "
+        f"**Ring mass.** ringlube gives {rc.ring_mass:.2f} g (docs/model.md, 'Ring mass') "
+        "with the assumed radial depth 3.5 mm and steel density 7800 kg/m^3. The study reports 24 g, "
+        "which no realistic radial depth "
         f"gives for a 1 mm wide ring in a 96 mm bore: 24 g would need a radial depth of "
         f"{data.depth_24g * 1e3:.1f} mm. We report our mass and do not tune to 24 g.",
         "",
@@ -205,17 +206,17 @@ def render_validation(data: ValidationData) -> str:
         "lower energy, because on the high-load expansion stroke the inlet is the crankcase edge and a "
         "minimum towards the chamber gives that inlet a longer converging wedge. The study's opposite "
         "finding may reflect a different sign convention for x_s or the measured, not synthetic, gas "
-        "pressure; SPEC 3 fixes the convention used here.",
+        "pressure; docs/model.md ('Film shape') fixes the convention used here.",
         "- *width*: energy rises monotonically with width over 0.54-1.34 mm (larger wetted area, more "
         "viscous and boundary shear); the mixed share falls with width, so the study's interior optimum "
-        "appears only when the mixed share is traded against energy (the optimisation, issue 5), not in "
+        "appears only when the mixed share is traded against energy (the optimisation), not in "
         "energy alone.",
         "",
     ]
 
     # readings of the open modelling choices (issue 9)
     md += [
-        "## Readings of the open choices: film model, contact area, tension unit (issue 9)",
+        "## Readings of the open choices: film model, contact area, tension unit",
         "",
         "Each reading with the shipped calibration (`zeta_kappa_sigma`, `pressure_scale`, fitted "
         "for the first row's reading), **not re-fitted per reading**: the per-reading calibration "
@@ -291,7 +292,7 @@ def _render_oil(oil: dict) -> list[str]:
     """The oil-sensitivity section (issue 16): energy and oil to the chamber against the
     supply film on the shipped decks with the starved JFO film."""
     md = [
-        "## Oil to the chamber against the supply film (issue 16)",
+        "## Oil to the chamber against the supply film",
         "",
         "The starved JFO film (`&physics cavitation = 'jfo', inlet = 'starved'`) on the four shipped "
         "decks with their calibration and preset ('default'), `&lubricant supply_film` (the oil film "
@@ -338,7 +339,7 @@ def _render_ring_pack(rp: dict, cold: Case) -> list[str]:
     work says about blowby and the land pressure, and the ring engineer's story."""
     charge = _charge_mg(cold)
     md = [
-        "## The gas around the ring: blowby, inter-ring pressure, ring lift (SPEC 14, issue 17)",
+        "## The gas around the ring: blowby, inter-ring pressure, ring lift",
         "",
         "The shipped decks with `&physics ring_pack = 'gas'` (groove and second-land gas, end-gap "
         "orifices, flank channels, the ring's axial motion: docs/ring_pack.md), the `&ring_pack` "

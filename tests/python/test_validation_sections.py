@@ -32,6 +32,7 @@ def test_ring_pack_section_renders_the_computed_runs():
 
 def test_generated_validation_has_the_sections():
     text = (ROOT / "docs" / "validation.md").read_text()
-    assert "## Oil to the chamber against the supply film (issue 16)" in text
-    assert "## The gas around the ring: blowby, inter-ring pressure, ring lift" in text
+    lines = text.splitlines()
+    assert "## Oil to the chamber against the supply film" in lines
+    assert "## The gas around the ring: blowby, inter-ring pressure, ring lift" in lines
     assert "**For a ring engineer**" in text
