@@ -6,7 +6,8 @@
   the 'accurate' preset shown beside);
 * the roofline pieces (bench_kernel --micro: one Thomas solve, one Roelands evaluation of
   every node, one film solve) against the cost per film solve of a whole run;
-* the speed/accuracy front of the numerics (front.py), each lever alone (levers.py);
+* the speed/accuracy front of the numerics (front.py), the cost of the film models
+  (film_models.py) and their convergence in nodes and crank step (film_presets.py --convergence);
 * a 10,001-run DOE through ringlube.run_designs batches on all cores (doe.py), for the
   presets 'default' and 'fast'.
 
@@ -53,7 +54,7 @@ def main() -> None:
     if not args.only_sweep:
         tables(cold)
         roofline(cold)
-        for script in ("front.py", "levers.py", "film_models.py", "film_presets.py --convergence"):
+        for script in ("front.py", "film_models.py", "film_presets.py --convergence"):
             print(f"\n== {script}", flush=True)
             name, *opts = script.split()
             subprocess.run([sys.executable, str(HERE / name), *opts], check=True)
