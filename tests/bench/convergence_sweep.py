@@ -1,5 +1,5 @@
 """How often runs converge, over random designs and over the corners of the inputs (a hostile
-sweep; docs/performance.md, "A new sweep").
+sweep; docs/performance.md, "Convergence over the design space", which gives its run time).
 
 Seeded and reproducible. Part ``a``: 250 random designs at preset 'default' on the 4000 r/min
 cold and hot decks (width 0.40-1.60 mm, tension 0-40 N/m, speed log-uniform 1000-12,000 r/min,
@@ -7,8 +7,8 @@ one of five film models, ring pack on or off). Part ``b``: 330 stratified corner
 0.3 / 1.004 / 2 mm, tensions 0 / 8 / 40 N/m, 1000 / 4000 / 12,000 r/min, 0.25-4 deg, 31-201
 nodes; 33 per film model and ring pack) and 50 runs on the 12,000 r/min hot 'gas' deck.
 
-    .venv/bin/python tests/bench/convergence_sweep.py a out/sweep_a.jsonl       # about 1 min
-    .venv/bin/python tests/bench/convergence_sweep.py b out/sweep_b.jsonl       # some minutes
+    .venv/bin/python tests/bench/convergence_sweep.py a out/sweep_a.jsonl
+    .venv/bin/python tests/bench/convergence_sweep.py b out/sweep_b.jsonl
     .venv/bin/python tests/bench/convergence_sweep.py --table out/sweep_a.jsonl out/sweep_b.jsonl
 
 Each run goes to a worker process (one at a time), so a crash is recorded, not fatal; results

@@ -6,7 +6,7 @@ inputs/crf450r_4000rpm_full_cold.nml and inputs/crf450r_4000rpm_full_hot.nml, th
 `ringlube.validate_compute.reading_rows` with `Case.with_physics(ring_pack=...)`. Prints the
 table in markdown (each cell 'none / gas'), then the range of the blowby and of the ring's lift
 share over the 'gas' cold and hot runs, and which trends each reading does not give. Nothing is
-written. Run from the project folder (about 10 s on two cores):
+written. Run from the project folder (run time: docs/performance.md, "Run times"):
 
     .venv/bin/python tests/bench/readings_ring_pack.py
 """
