@@ -255,6 +255,7 @@ contains
           ! a ring pushed off the liner, held at the back clearance: its face open to the gas
           if (iand(out%flags, flag_ceiling) /= 0) hgas(j) = ring%h(j)
           if (.not. fj%jfo) cycle
+          fj%face_open = all(fj%theta(2:fj%n - 1) < 1.0_dp)
           fj%content_old = fj%theta * fj%h
           if (fj%lead_left) then
             vin(j) = fj%q_left * st%ctx%dt

@@ -68,10 +68,12 @@ contains
     end if
     f%cap_left = prob%cap_left
     f%cap_right = prob%cap_right
+    if (f%gas_channel .and. f%face_open) &
+      prob%gas_channel = gas_channel_pressure(f, prob%p_left, prob%p_right)
     call start_viscosity(c, f)
     do it = 1, c%max_pressure_iterations
       call conductance(f, 12.0_dp)
-      if (prob%leading_gas .or. prob%trailing_gas) then
+      if (prob%leading_gas .or. prob%trailing_gas .or. allocated(prob%gas_channel)) then
         call jfo_solve_connected(prob, f%h, f%hmid, f%kmid, f%content_old, f%pc, f%p, f%theta, &
                                  stats, work=f%jfo_work, scratch=f%jfo_scratch)
       else
@@ -101,4 +103,28 @@ contains
 
     call film_loads(c, f)
   end subroutine jfo_evaluate
+
+  !> The pressure of the gas flowing through the face of film f from the left edge (at p_l)
+  !> to the right (at p_r), a face open from edge to edge (SPEC 15): an isothermal laminar
+  !> channel whose gap is the gap not taken by the oil, g = h - theta h (the content of the
+  !> last accepted step), so that p^2 falls along the face as the integral of dx / g^3:
+  !> linearly across a uniform gap, and nearly all at once where the oil almost closes it.
+  !> Whether the face is open is decided at the last step (film_type%face_open), so that the
+  !> film's load is continuous in h0 within a step (a full zone forming in a trial builds its
+  !> pressure from the channel's).
+  pure function gas_channel_pressure(f, p_l, p_r) result(pg)
+    type(film_type), intent(in) :: f
+    real(dp), intent(in) :: p_l, p_r
+    real(dp) :: pg(f%n), g(f%n), r(f%n - 1), cum
+    integer :: i
+    g = max(f%h - f%content_old, 1e-6_dp * f%h)
+    r = 1.0_dp / (0.5_dp * (g(1:f%n - 1) + g(2:f%n)))**3
+    pg(1) = p_l
+    cum = 0.0_dp
+    do i = 2, f%n
+      cum = cum + r(i - 1)
+      pg(i) = cum
+    end do
+    pg(2:f%n) = sqrt(max(p_l**2 + (p_r**2 - p_l**2) * pg(2:f%n) / cum, 0.0_dp))
+  end function gas_channel_pressure
 end module ringlube_film_jfo

@@ -68,6 +68,9 @@ module ringlube_film_state
     !> on a face with no full zone (an open face: all its hydrodynamic load; 0 while it seals)
     logical :: gas_channel = .false.
     real(dp) :: w_gas = 0.0_dp
+    !> a sector's face had no full zone at the last accepted step (set by the cycle): it passes
+    !> gas from edge to edge over this step
+    logical :: face_open = .false.
   end type film_type
 
 contains

@@ -45,6 +45,12 @@ contains
     n = size(theta)
     pc = problem%p_cav
     if (present(blown)) blown = .false.
+    if (allocated(problem%gas_channel)) then
+      ! a face open at the last step passes the gas from edge to edge: its cavities at the gas
+      ! channel's pressure (each edge at its own; no face is blown)
+      pc(2:n - 1) = max(problem%gas_channel(2:n - 1), problem%p_cav)
+      return
+    end if
     if (problem%u > 0.0_dp) then
       open_left = problem%trailing_gas
       open_right = problem%leading_gas

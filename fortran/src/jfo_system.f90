@@ -34,6 +34,11 @@ module ringlube_jfo_system
     !> jfo_solve_connected only: a cavity reaching the trailing edge is open to its gas; the
     !> partly filled zone at the leading edge (a starved inlet) is open to the leading edge's gas
     logical :: trailing_gas = .false., leading_gas = .false.
+    !> jfo_solve_connected only: the pressure [Pa] at each node of the gas flowing through a
+    !> face open from edge to edge (a distorted bore's sector whose face had no full zone at
+    !> the last step), which its cavities take instead of the connectivity rule's levels; not
+    !> allocated: the rule
+    real(dp), allocatable :: gas_channel(:)
   end type jfo_problem
 
   !> One step's system: n nodes; a = -U/2 the Couette speed of the content; w = dx/dt (0 for a
