@@ -11,6 +11,7 @@ program ringlube_solve
   use ringlube_case, only: case_type, composite_sigma
   use ringlube_deck, only: read_deck
   use ringlube_cycle, only: solve_cycle
+  use ringlube_ring_pack_cycle, only: ring_pack_check
   use ringlube_results, only: result_type, produced, scalar_spec, n_scalars, is_true, &
                               sc_run_time, sc_converged
   use ringlube_results_summary, only: summary_text
@@ -87,6 +88,7 @@ program ringlube_solve
   call system_clock(t0, rate)
   call solve_cycle(c, res, err)
   call system_clock(t1)
+  if (.not. allocated(err)) call ring_pack_check(c, res%scalars, err)
   if (allocated(err)) call die(err%message, err%code)
   runtime = real(t1 - t0, dp) / real(rate, dp)
   res%scalars(sc_run_time) = runtime

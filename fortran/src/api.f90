@@ -26,6 +26,7 @@ module ringlube_api
   use ringlube_hdf5_output, only: write_result
   use ringlube_output_path, only: check_output
   use ringlube_cycle, only: solve_cycle
+  use ringlube_ring_pack_cycle, only: ring_pack_check
   use ringlube_oil_supply, only: supply_type, supply_setup
   use ringlube_bore, only: bore_type, bore_setup, conformability_orders
   use ringlube_textio, only: itoa
@@ -170,6 +171,7 @@ contains
       call solve_cycle(c, res, err)
       call system_clock(t1)
       res%scalars(sc_run_time) = real(t1 - t0, dp) / real(rate, dp)
+      if (.not. allocated(err)) call ring_pack_check(c, res%scalars, err)
       if (allocated(err) .or. .not. to_file) return
       ! the file records where it was written, not the deck's &output file
       cw = c
@@ -240,6 +242,8 @@ contains
     call system_clock(t0, rate)
     call solve_cycle(c, res, err)
     call system_clock(t1)
+    if (allocated(err)) return
+    call ring_pack_check(c, res%scalars, err)
     if (allocated(err)) return
     res%scalars(sc_run_time) = real(t1 - t0, dp) / real(rate, dp)
     scalars = res%scalars

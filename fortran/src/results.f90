@@ -213,6 +213,10 @@ module ringlube_results
       'crank angle of the highest second-land pressure', 'gas'), &
     field_spec('gas_balance_error', 'gas_balance_error', '1', 'real', &
       'relative closure of the ring pack''s gas mass over the reported cycle', 'gas'), &
+    field_spec('gas_exchange', 'gas_exchange_mg_per_cycle', 'mg', 'real', &
+      'gas through the second land''s boundaries per cycle, or the groove''s and land''s '// &
+      'if less (0: trapped)', &
+      'gas'), &
     field_spec('conformability', 'conformability', '1', 'real', &
       'largest A_k over its conformability limit q C_k of the orders given (> 1: light gaps '// &
       'open without a film)', 'distorted', .true.), &
@@ -343,6 +347,7 @@ module ringlube_results
     sc_ring_lift_share = row(findloc(scalar_spec%short, 'ring_lift_share', dim=1)), &
     sc_flutter_events = row(findloc(scalar_spec%short, 'flutter_events', dim=1)), &
     sc_gas_balance_error = row(findloc(scalar_spec%short, 'gas_balance_error', dim=1)), &
+    sc_gas_exchange = row(findloc(scalar_spec%short, 'gas_exchange', dim=1)), &
     sc_conformability = row(findloc(scalar_spec%short, 'conformability', dim=1)), &
     sc_light_gap_share = row(findloc(scalar_spec%short, 'light_gap_share', dim=1)), &
     sc_face_leakage = row(findloc(scalar_spec%short, 'face_leakage', dim=1)), &
@@ -358,7 +363,7 @@ module ringlube_results
     sc_friction_power, sc_fmep, sc_fmep_bar, sc_engine_friction_power, sc_oil_to_chamber, &
     sc_oil_to_chamber_rate, sc_liner_lift_share, &
     sc_blowby, sc_blowby_mass, sc_blowback_mass, sc_ring_lift_share, sc_flutter_events, &
-    sc_light_gap_share, sc_face_leakage, sc_radial_collapse_share]
+    sc_gas_exchange, sc_light_gap_share, sc_face_leakage, sc_radial_collapse_share]
   !> Columns of the liner film (`liner_spec`).
   integer, parameter, public :: &
     l_liner_position = row(findloc(liner_spec%short, 'liner_position', dim=1)), &

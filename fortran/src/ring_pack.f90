@@ -133,6 +133,8 @@ module ringlube_ring_pack
     real(dp) :: blowback_mass = 0.0_dp
     !> Gross mass through the boundaries of spaces 2+3, sum of |flow| h [kg].
     real(dp) :: gross_mass = 0.0_dp
+    !> Gross mass through the boundaries of space 3 alone (end gaps, lower channel, face) [kg].
+    real(dp) :: land_gross_mass = 0.0_dp
     real(dp) :: lift_time = 0.0_dp  !< time off the lower flank [s]
     real(dp) :: lift_time_against_gas = 0.0_dp  !< of which while p1 > p3 [s]
     integer :: lift_offs = 0        !< times the ring left its lower flank
@@ -244,7 +246,8 @@ contains
     type(ring_pack_step_out), intent(out) :: out
     type(error_type), allocatable, intent(out) :: err
     type(ring_pack_state) :: trial
-    real(dp) :: t, h, hmin, q(5), lift_time, against, pa, pb, blowback, gross, used, hold
+    real(dp) :: t, h, hmin, q(5), lift_time, against, pa, pb, blowback, gross, land_gross, used, &
+                hold
     integer :: lift_offs, flutter
     logical :: ok, accept
     real(dp) :: mass(5)
@@ -258,6 +261,7 @@ contains
     mass = 0.0_dp
     blowback = 0.0_dp
     gross = 0.0_dp
+    land_gross = 0.0_dp
     hmin = dt / 2.0_dp**par%max_halvings
     h = dt
     if (par%adaptive .and. st%h_next > 0.0_dp) h = min(dt, st%h_next)
@@ -292,6 +296,7 @@ contains
       mass = mass + h * q
       blowback = blowback + h * (max(0.0_dp, -q(1)) + max(0.0_dp, -q(3)) + max(0.0_dp, -q(5)))
       gross = gross + h * (abs(q(1)) + abs(q(2)) + abs(q(3)) + abs(q(5)))
+      land_gross = land_gross + h * (abs(q(1)) + abs(q(2)) + abs(q(4)) + abs(q(5)))
       out%lift_time = out%lift_time + lift_time
       out%lift_time_against_gas = out%lift_time_against_gas + against
       out%lift_offs = out%lift_offs + lift_offs
@@ -312,6 +317,7 @@ contains
     out%face_flow = mass(5) / dt
     out%blowback_mass = blowback
     out%gross_mass = gross
+    out%land_gross_mass = land_gross
     out%on_lower = st%flank == flank_lower
     out%on_upper = st%flank == flank_upper
     out%inertia = par%ring_mass * abs(a_p)

@@ -4,7 +4,7 @@
 !> chamber pressure, piston acceleration and friction.
 module ringlube_ring_pack_cycle
   use ringlube_kinds, only: dp
-  use ringlube_error, only: error_type
+  use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_ring_pack_flow, only: gas_constant
   use ringlube_ring_pack, only: ring_pack_params, ring_pack_state, ring_pack_step_out, &
                                 ring_pack_init, ring_pack_step, ring_pack_gas_mass, &
@@ -14,12 +14,13 @@ module ringlube_ring_pack_cycle
                               sc_flutter_events, sc_gas_balance_error, sc_flutter_margin, &
                               sc_flutter_margin_ratio, sc_peak_groove_pressure, &
                               sc_peak_groove_angle, sc_peak_land_pressure, sc_peak_land_angle, &
-                              result_type, s_groove_pressure, s_land_pressure, s_crank_angle_deg
+                              result_type, s_groove_pressure, s_land_pressure, s_crank_angle_deg, &
+                              sc_gas_exchange
   implicit none
   private
   public :: ring_pack_totals, ring_pack_cycle_out, ring_pack_accumulate, ring_pack_finish, &
             ring_pack_cycle, ring_pack_scalars, ring_pack_start, ring_pack_restart, &
-            ring_pack_distance
+            ring_pack_distance, ring_pack_check
 
   !> Standard state of the blowby volume flow: 101325 Pa, 293.15 K.
   real(dp), parameter, public :: std_pressure = 101325.0_dp, std_temperature = 293.15_dp
@@ -34,7 +35,7 @@ module ringlube_ring_pack_cycle
   type :: ring_pack_totals
     real(dp) :: time = 0.0_dp, blowby_mass = 0.0_dp, blowback_mass = 0.0_dp, &
                 inflow_mass = 0.0_dp, gross_mass = 0.0_dp, lift_time = 0.0_dp, &
-                lift_time_against_gas = 0.0_dp
+                lift_time_against_gas = 0.0_dp, land_gross_mass = 0.0_dp
     integer :: flutter_events = 0, lift_offs = 0
     real(dp) :: stored_start = -1.0_dp  !< m2 + m3 at the start (set by the caller) [kg]
     !> the least force holding the ring on its lower flank while p1 > p3, the largest inertia
@@ -49,6 +50,9 @@ module ringlube_ring_pack_cycle
     real(dp) :: blowby_l_min = 0.0_dp, blowby_mg_per_cycle = 0.0_dp, &
                 blowback_mg_per_cycle = 0.0_dp, ring_lift_share_pct = 0.0_dp, &
                 gas_balance_error = 0.0_dp
+    !> Gas mass over the cycle through the boundaries of space 3, or of spaces 2+3 together
+    !> where that is less, every way [mg]: 0 where the land's gas is trapped (ring_pack_check).
+    real(dp) :: gas_exchange_mg_per_cycle = 0.0_dp
     !> Share of the cycle the ring is off its lower flank while the chamber pressure exceeds
     !> the land pressure (lift against the gas: inertia or friction beat the gas force) [%].
     real(dp) :: lift_against_gas_pct = 0.0_dp
@@ -80,6 +84,7 @@ contains
     tot%inflow_mass = tot%inflow_mass + (out%top_gap_flow + out%upper_channel_flow &
                                          + out%face_flow) * dt
     tot%gross_mass = tot%gross_mass + out%gross_mass
+    tot%land_gross_mass = tot%land_gross_mass + out%land_gross_mass
     tot%lift_time = tot%lift_time + out%lift_time
     tot%lift_time_against_gas = tot%lift_time_against_gas + out%lift_time_against_gas
     tot%flutter_events = tot%flutter_events + out%flutter_events
@@ -117,8 +122,32 @@ contains
       v(sc_flutter_margin) = cyc%flutter_margin
       v(sc_flutter_margin_ratio) = cyc%flutter_margin_ratio
       v(sc_gas_balance_error) = cyc%gas_balance_error
+      v(sc_gas_exchange) = cyc%gas_exchange_mg_per_cycle
     end subroutine cycle_scalars
   end subroutine ring_pack_scalars
+
+  !> A run of case c with a sealed ring pack is refused: a land without end gaps
+  !> (top_gap_area = second_gap_area = 0) that exchanged no gas over the reported cycle (its
+  !> scalar results v: `gas_exchange` 0), with the groove through the lower channel while the
+  !> top ring rested on its upper flank all cycle (closing the groove as well), or with
+  !> anything while it rested on its lower flank. The gas trapped there is whatever the
+  !> warm-up left, which no cycle decides (the warm-up and the crank step change it, and with
+  !> it the land pressure and the friction). (With an end gap open, no exchange means equal
+  !> pressures everywhere, which the gap decides.)
+  subroutine ring_pack_check(c, v, err)
+    type(case_type), intent(in) :: c
+    real(dp), intent(in) :: v(:)
+    type(error_type), allocatable, intent(out) :: err
+    if (c%ring_pack /= 'gas' .or. c%top_gap_area > 0.0_dp .or. c%second_gap_area > 0.0_dp) return
+    if (v(sc_gas_exchange) > 0.0_dp) return
+    call fatal_error(err, c%deck_path//': &ring_pack: a sealed ring pack: no gas reached '// &
+                     'the second land from the chamber or the crankcase over the cycle '// &
+                     '(top_gap_area and second_gap_area 0 give it no end gap, and the top '// &
+                     'ring stayed on one flank of its groove all cycle, closing the way past '// &
+                     'it), so its pressure is whatever gas the warm-up trapped, not a result '// &
+                     'of the cycle; give the top or the second ring an end gap (top_gap_area '// &
+                     'or second_gap_area > 0)', rl_input_error)
+  end subroutine ring_pack_check
 
   !> The ring pack of case c at the start of the warm-up (crank step kstart of a cycle of m):
   !> its parameters `par`, and the gas network alone (no friction, one step per crank step)
@@ -254,7 +283,9 @@ contains
     real(dp), intent(in) :: stored_end
     type(ring_pack_cycle_out), intent(inout) :: cyc
     real(dp) :: gross
-    gross = max(tot%gross_mass, tiny(1.0_dp))
+    gross = tot%gross_mass
+    ! a sealed cycle (no gas through the boundaries): its closure relative to the gas held
+    if (.not. gross > 0.0_dp) gross = max(tot%stored_start, stored_end, tiny(1.0_dp))
     cyc%blowby_mg_per_cycle = 1e6_dp * tot%blowby_mass
     cyc%blowby_l_min = tot%blowby_mass / tot%time * gas_constant * std_temperature &
                        / std_pressure * 6e4_dp
@@ -269,6 +300,7 @@ contains
       cyc%flutter_margin = tot%inertia
       cyc%flutter_margin_ratio = 1.0_dp
     end if
+    cyc%gas_exchange_mg_per_cycle = 1e6_dp * min(tot%gross_mass, tot%land_gross_mass)
     cyc%gas_balance_error = abs((stored_end - tot%stored_start) &
                                 - (tot%inflow_mass - tot%blowby_mass)) / gross
     cyc%periodicity_error = abs(tot%inflow_mass - tot%blowby_mass) / gross

@@ -10,6 +10,7 @@ program test_ring_pack_cycle
   use ringlube_kinematics, only: sliding_speed, piston_acceleration, deg2rad
   use ringlube_ring_pack
   use ringlube_ring_pack_cycle
+  use ringlube_results, only: n_scalars, sc_gas_exchange
   use ringlube_check
   implicit none
   real(dp), parameter :: rgas = 287.0_dp
@@ -32,6 +33,7 @@ program test_ring_pack_cycle
   if (run_case('dt_convergence')) call test_dt_convergence()
   if (run_case('aitken')) call test_aitken()
   if (run_case('start')) call test_start()
+  if (run_case('sealed')) call test_sealed()
   call report('test_ring_pack_cycle')
 
 contains
@@ -324,6 +326,84 @@ contains
       ', one fine cycle in ', first
     call check(first > 0, 'start: the first fine cycle passes in some')
   end subroutine test_start
+
+  !> A sealed ring pack: no end gaps, and a land holding twice the peak chamber pressure that
+  !> keeps the top ring on its upper flank all cycle (1 um clearance). No gas crosses the
+  !> boundaries of the groove and the land: the exchange is 0, the gas balance is measured
+  !> against the gas held (not round-off / tiny, 3e287 in a coupled run), and ring_pack_check
+  !> refuses such a run by name, while a run that exchanged gas passes, and so does one with
+  !> an end gap. Likewise a land closed off by a ring held on its lower flank.
+  subroutine test_sealed()
+    type(ring_pack_params) :: par
+    type(ring_pack_state) :: st
+    type(ring_pack_cycle_out) :: cyc
+    type(case_type) :: cg
+    real(dp), allocatable :: p1(:), ap(:), ff(:)
+    real(dp) :: v(n_scalars), p_held
+    par = base
+    par%top_gap_area = 0.0_dp
+    par%second_gap_area = 0.0_dp
+    par%groove_clearance = 1e-6_dp
+    call prescribed(4000.0_dp, 0.5_dp, p1, ap, ff)
+    p_held = 2.0_dp * maxval(p1)
+    st%p2 = p_held
+    st%p3 = p_held
+    st%x = par%groove_clearance
+    st%flank = flank_upper
+    call ring_pack_cycle(par, p1, ap, ff, 0.5_dp, 4000.0_dp, c%crankcase_pressure, st, cyc, err, &
+                         max_cycles=3)
+    call check(.not. allocated(err), 'sealed: cycle ran')
+    if (allocated(err)) return
+    if (verbose) print '(a, 2es12.4)', 'sealed: exchange mg, gas_balance_error: ', &
+      cyc%gas_exchange_mg_per_cycle, cyc%gas_balance_error
+    call check(cyc%converged, 'sealed: periodic (nothing changes)')
+    call check(st%p3 == p_held .and. st%flank == flank_upper, 'sealed: the land keeps its gas')
+    call check(cyc%gas_exchange_mg_per_cycle == 0.0_dp, 'sealed: no gas exchanged')
+    call check(cyc%gas_balance_error <= 1e-12_dp, 'sealed: gas balance relative to the gas held')
+    cg = c
+    cg%ring_pack = 'gas'
+    cg%top_gap_area = 0.0_dp
+    cg%second_gap_area = 0.0_dp
+    cg%deck_path = 'sealed.nml'
+    v = 0.0_dp
+    v(sc_gas_exchange) = cyc%gas_exchange_mg_per_cycle
+    call ring_pack_check(cg, v, err)
+    call check(allocated(err), 'sealed: ring_pack_check refuses the run')
+    if (allocated(err)) then
+      call check(index(err%message, 'sealed.nml: &ring_pack: a sealed ring pack') == 1 &
+                 .and. index(err%message, 'top_gap_area or second_gap_area > 0') > 0, &
+                 'sealed: the refusal names the deck, the group and the inputs: '//err%message)
+      deallocate (err)
+    end if
+    v(sc_gas_exchange) = 1e-9_dp
+    call ring_pack_check(cg, v, err)
+    call check(.not. allocated(err), 'sealed: a run that exchanged gas passes ring_pack_check')
+    ! no exchange with an end gap open: pressures equal everywhere, which the gap decides
+    cg%top_gap_area = 1e-7_dp
+    v(sc_gas_exchange) = 0.0_dp
+    call ring_pack_check(cg, v, err)
+    call check(.not. allocated(err), 'sealed: with an end gap, no exchange is no refusal')
+
+    ! the ring held on its lower flank (a_p = +1e6 m/s^2): the groove follows the chamber
+    ! through the upper channel, but the land, 3 x the crankcase pressure, keeps its gas
+    par%groove_clearance = 40e-6_dp
+    ap = 1e6_dp
+    st = ring_pack_state()
+    st%p2 = p1(0)
+    st%p3 = 3.0_dp * c%crankcase_pressure
+    p_held = st%p3
+    call ring_pack_cycle(par, p1, ap, ff, 0.5_dp, 4000.0_dp, c%crankcase_pressure, st, cyc, err, &
+                         max_cycles=3)
+    call check(.not. allocated(err), 'sealed land: cycle ran')
+    if (allocated(err)) return
+    call check(cyc%substeps > size(p1) .and. st%p3 == p_held .and. st%flank == flank_lower, &
+               'sealed land: the groove fills and empties, the land keeps its gas')
+    call check(cyc%gas_exchange_mg_per_cycle == 0.0_dp, 'sealed land: no exchange of the land')
+    cg%top_gap_area = 0.0_dp
+    v(sc_gas_exchange) = cyc%gas_exchange_mg_per_cycle
+    call ring_pack_check(cg, v, err)
+    call check(allocated(err), 'sealed land: ring_pack_check refuses the run')
+  end subroutine test_sealed
 
   !> p1, a_p (towards the chamber) and f_f at psi_k = k dpsi from the shipped trace and the
   !> kinematics of the default case; f_f a friction of 10 N opposing the sliding (on
