@@ -290,8 +290,10 @@ contains
     cyc%blowby_l_min = tot%blowby_mass / tot%time * gas_constant * std_temperature &
                        / std_pressure * 6e4_dp
     cyc%blowback_mg_per_cycle = 1e6_dp * tot%blowback_mass
-    cyc%ring_lift_share_pct = 100.0_dp * tot%lift_time / tot%time
-    cyc%lift_against_gas_pct = 100.0_dp * tot%lift_time_against_gas / tot%time
+    ! (at most the whole cycle: the sub-steps' times add up to the cycle's within round-off,
+    ! and 100 t / t can round above 100, a ring lifted all cycle read 100.00000000000001 %)
+    cyc%ring_lift_share_pct = min(100.0_dp, 100.0_dp * tot%lift_time / tot%time)
+    cyc%lift_against_gas_pct = min(100.0_dp, 100.0_dp * tot%lift_time_against_gas / tot%time)
     cyc%flutter_events = tot%flutter_events
     if (tot%hold_margin < huge(1.0_dp)) then
       cyc%flutter_margin = tot%hold_margin
