@@ -112,6 +112,8 @@ def read_study(path: str | os.PathLike) -> StudySettings:
         chk.bad("labels", "'scene' is reserved for the weighted scene")
     if len(weights) != len(cases) or any(w <= 0 for w in weights):
         chk.bad("weights", f"one positive weight per case ({len(cases)} cases)")
+    if not all(w / max(weights) > 0 for w in weights):
+        chk.bad("weights", f"{min(weights):g} is 0 beside {max(weights):g} in floating point")
 
     pairs = []
     for v in variables:

@@ -228,10 +228,13 @@ class StudySettings:
         [[0.75, 0.9036], [0.25, 0.0964]]
         """
         outputs = list(self.outputs if outputs is None else outputs)
-        w = np.array(self.weights, float)[:, None] * np.ones((1, len(outputs)))
+        # each factor and each column scaled by its largest before the sum: weights near the
+        # largest float (1e308) overflowed the sum to inf and made every weight 0
+        w = _by_largest(self.weights)[:, None] * np.ones((1, len(outputs)))
         if self.weighting == "time":
             per_cycle = np.array([o in PER_CYCLE for o in outputs])
-            w[:, per_cycle] *= np.array(self.cycle_rates, float)[:, None]
+            w[:, per_cycle] *= _by_largest(self.cycle_rates)[:, None]
+        w = w / w.max(axis=0)
         return w / w.sum(axis=0)
 
     def to_json(self) -> str:
@@ -247,3 +250,10 @@ class StudySettings:
         True
         """
         return json.dumps(dataclasses.asdict(self))
+
+
+def _by_largest(values) -> np.ndarray:
+    """Positive values over the largest of them (each in (0, 1]; 0 where one is below the
+    largest by more than the float range, refused by :func:`~ringlube.study_deck.read_study`)."""
+    v = np.asarray(values, float)
+    return v / v.max()

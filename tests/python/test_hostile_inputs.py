@@ -318,3 +318,39 @@ def test_a_land_without_end_gaps_fed_past_the_ring_is_a_result():
     assert r.converged and r.scalars["gas_exchange"] > 0 and r.gas_balance_error < 1e-12
     again = ringlube.run(case.with_numerics(warmup_deg=0.0))
     assert again.energy_loss == pytest.approx(r.energy_loss, rel=1e-3)
+
+
+def test_scene_weights_near_the_largest_float_do_not_overflow(tmp_path):
+    """Weights of 1e308: the scene is their mean (their sum overflowed, every weight became 0
+    and every scene result a 'feasible' 0, exit 0); weights beyond the float range of each
+    other are refused by name."""
+    from types import SimpleNamespace as NS
+
+    from ringlube.study_deck import read_study
+    from ringlube.study_runs import scene_results
+    from ringlube.study_settings import StudySettings
+    from ringlube.study_state import CaseState, Runs
+
+    def runs(v):
+        ones = np.ones(2, bool)
+        return Runs(np.full((2, 1), v), ones, ones, ~ones, ["", ""])
+
+    def settings(weights, **kw):
+        return StudySettings(
+            "s", ["a", "b"], ["a", "b"], weights, [], [], [], [], outputs=["energy_loss"], **kw
+        )
+
+    cases = {"a": CaseState(runs(1.0)), "b": CaseState(runs(3.0))}
+    study = NS(s=settings([1e308, 1e308]), cases=cases)
+    scene_results(study)
+    np.testing.assert_array_equal(study.cases["scene"].runs.outputs, [[2.0], [2.0]])
+    timed = settings([1e308, 1e308], weighting="time", cycle_rates=[1e308, 1e308])
+    np.testing.assert_array_equal(timed.scene_weights(), [[0.5], [0.5]])
+
+    deck = tmp_path / "w.nml"
+    body = f"cases = '{COLD}', '{INPUTS / 'crf450r_4000rpm_full_hot.nml'}'"
+    deck.write_text(f"&study {body}, weights = 1e308, 1e308 /\n")
+    assert read_study(deck).weights == [1e308, 1e308]
+    deck.write_text(f"&study {body}, weights = 1e308, 1e-20 /\n")
+    with pytest.raises(InputError, match=r"w\.nml:\d+: &study weights: 1e-20 is 0 beside 1e\+308"):
+        read_study(deck)
