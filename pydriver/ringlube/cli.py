@@ -57,19 +57,22 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _one_line_warnings() -> None:
-    """Source-engine-default and unused-input warnings as one line on stderr: ``ringlube:
-    warning: ...`` (the kernel's message names the deck, not ringlube's source)."""
+    """Source-engine-default, unused-input and unconverged-reference warnings as one line on
+    stderr: ``ringlube: warning: ...`` (the kernel's message names the deck, not ringlube's
+    source)."""
     import warnings
 
     from .case_kernel import UnusedInputWarning
     from .case_origins import SourceEngineDefaultWarning
+    from .study_constraints import UnconvergedReferenceWarning
 
     show = warnings.showwarning
     if getattr(show, "_ringlube", False):
         return
 
     def one_line(message, category, filename, lineno, file=None, line=None):
-        if issubclass(category, (SourceEngineDefaultWarning, UnusedInputWarning)):
+        one = (SourceEngineDefaultWarning, UnusedInputWarning, UnconvergedReferenceWarning)
+        if issubclass(category, one):
             print(f"ringlube: warning: {message}", file=sys.stderr)
         else:
             show(message, category, filename, lineno, file, line)

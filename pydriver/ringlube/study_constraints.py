@@ -18,6 +18,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
+import warnings
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -28,7 +29,16 @@ from .study_variables import output_units
 if TYPE_CHECKING:
     from .study_store import Study
 
-__all__ = ["Constraint", "Bound", "parse_constraint", "constraint_bounds", "feasibility", "point_violations"]
+__all__ = [
+    "Constraint",
+    "Bound",
+    "parse_constraint",
+    "constraint_bounds",
+    "feasibility",
+    "point_violations",
+    "UnconvergedReferenceWarning",
+    "unconverged_reference",
+]
 
 #: The label of the weighted scene (``at scene``).
 SCENE = "scene"
@@ -243,7 +253,52 @@ def _reference_value(study: Study, point: str, k: Constraint, j: int) -> float:
             f"case '{point}': constraint '{k}': the reference design's run failed "
             f"({ref.errors[0] if ref is not None else 'not run'}), so it bounds nothing"
         )
+    if unconverged_reference(study, point):  # (said once per point and text)
+        warnings.warn(unconverged_reference(study, point), UnconvergedReferenceWarning, stacklevel=1)
     return value
+
+
+class UnconvergedReferenceWarning(UserWarning):
+    """A constraint takes its bound from a reference design whose run did not converge
+    (``ringlube optimise`` shows it as one line on stderr).
+
+    Example
+    -------
+    >>> issubclass(UnconvergedReferenceWarning, UserWarning)
+    True
+    """
+
+
+def unconverged_reference(study: Study, point: str) -> str:
+    """'' or why the ``reference`` bounds at a point are not earned: its reference design's
+    true-model run there did not converge (the bound is the last cycle's value).
+
+    Parameters
+    ----------
+    study : Study
+    point : str
+        Case label or ``scene``.
+
+    Returns
+    -------
+    str
+        The warning's text, or '' (a converged reference, none checked, or no constraint
+        bounded by a reference).
+
+    Example
+    -------
+    >>> unconverged_reference(study, "cold")                 # doctest: +SKIP
+    "case 'cold': the reference design did NOT CONVERGE: ..."
+    """
+    ref = study.cases[point].reference if point in study.cases else None
+    names = [str(k) for k in study.s.parsed_constraints if k.uses_reference]
+    if not names or ref is None or bool(np.asarray(ref.converged)[0]):
+        return ""
+    return (
+        f"case '{point}': the reference design did NOT CONVERGE, so {', '.join(names)} "
+        "takes its bound from a cycle that is not periodic (give the base deck a larger "
+        "max_cycles or a looser cycle_tol)"
+    )
 
 
 def constraint_bounds(study: Study, label: str) -> list[Bound]:

@@ -31,6 +31,7 @@ __all__ = [
     "format_design",
     "result_display",
     "surrogate_error",
+    "with_unit",
 ]
 
 
@@ -84,11 +85,33 @@ def result_display(name: str) -> tuple[str, float]:
     return ("µm", 1e6) if unit == "m" else (unit, 1.0)
 
 
+def with_unit(number: str, unit: str) -> str:
+    """A number as text with its unit, none for a unit-less result (unit '1').
+
+    Parameters
+    ----------
+    number : str
+        The number as text.
+    unit : str
+        Its unit (``result_display``).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> with_unit("2.5", "J"), with_unit("1", "1"), with_unit("3", "")
+    ('2.5 J', '1', '3')
+    """
+    return number if unit in ("", "1") else f"{number} {unit}"
+
+
 def _values(names, values) -> str:
     out = []
     for o, v in zip(names, values):
         unit, k = result_display(o)
-        out.append(f"{o} {v * k:.4g} {unit}")
+        out.append(f"{o} {with_unit(f'{v * k:.4g}', unit)}")
     return ", ".join(out)
 
 
@@ -127,7 +150,7 @@ def _feasible_text(study: Study, label: str, ft: np.ndarray, points: dict | None
         y = ft[j] if bd.point == label else (points[bd.point][j] if points else np.nan)
         if not np.isfinite(y) or k.violation(y, b) > 0:
             rel = ">" if k.sense == "<=" else "<"
-            bad.append(f"{k.name}{at} {y * scale:.6g} {rel} {b * scale:.6g} {unit}".rstrip())
+            bad.append(f"{k.name}{at} {y * scale:.6g} {rel} {with_unit(f'{b * scale:.6g}', unit)}")
     return "feasible" if not bad else "INFEASIBLE: " + "; ".join(bad)
 
 
@@ -159,7 +182,7 @@ def surrogate_error(name: str, predicted: float, true: float) -> str:
     if true != 0:
         return f"{(predicted - true) / abs(true):+.1%}"
     unit, scale = result_display(name)
-    return f"{(predicted - true) * scale:+.3g}{' ' + unit if unit not in ('', '1') else ''} (true 0)"
+    return f"{with_unit(f'{(predicted - true) * scale:+.3g}', unit)} (true 0)"
 
 
 def design_points(ch, i: int) -> dict | None:

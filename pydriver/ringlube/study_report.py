@@ -15,7 +15,7 @@ import numpy as np
 
 from .outputs import check_output, write_text
 from .study_check import FRONT_CHECKS, candidates_text
-from .study_constraints import constraint_bounds, point_violations
+from .study_constraints import constraint_bounds, point_violations, unconverged_reference
 from .study_figures import BORE_FIGURES, study_figures, tradeoff_stems
 from .study_format import (
     LIFTED,
@@ -27,6 +27,7 @@ from .study_format import (
     lift_share,
     result_display,
     surrogate_error,
+    with_unit,
 )
 from .study_pareto import write_pareto_csv
 from .study_settings import StudySettings
@@ -200,15 +201,18 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
         for label in study.cases:
             for bd in constraint_bounds(study, label):
                 unit, scale = result_display(bd.constraint.name)
-                unit = "" if unit == "1" else unit  # a count
                 where = "its own" if bd.point == label else f"at {bd.point}"
                 if bd.point == "scene":
                     where = "their weighted mean"
+                late = bd.constraint.uses_reference and unconverged_reference(study, bd.point)
+                mark = " (its reference did NOT CONVERGE)" if late else ""
                 L.append(
                     f"| `{bd.constraint}` | {label} | {where} | {bd.constraint.sense} "
-                    f"{bd.value * scale:.4g} {unit} |".replace("  |", " |")
+                    f"{with_unit(f'{bd.value * scale:.4g}', unit)}{mark} |"
                 )
         L.append("")
+        warned = [unconverged_reference(study, label) for label in study.cases]
+        L += [f"Warning: {w}." for w in warned if w] + ([""] if any(warned) else [])
     L += ["## Design variables", ""]
     has_ref = s.reference is not None
     L += [
@@ -260,7 +264,7 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
                 unit, k = result_display(o)
                 L.append(
                     f"| {label} | {o} | {sf.r2:.4f} | {sf.r2_adj:.4f} | "
-                    f"{sf.cv_rmse * k:.4g} {unit} | {sf.cv_rel:.2%} |"
+                    f"{with_unit(f'{sf.cv_rmse * k:.4g}', unit)} | {sf.cv_rel:.2%} |"
                 )
     L += [
         "",

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from .study_check import candidates_text
-from .study_constraints import point_violations
+from .study_constraints import point_violations, unconverged_reference
 from .study_format import (
     NOT_CONVERGED,
     _feasible_text,
@@ -14,6 +14,7 @@ from .study_format import (
     design_points,
     format_design,
     surrogate_error,
+    with_unit,
 )
 from .study_store import Study
 from .study_variables import output_units
@@ -60,13 +61,15 @@ def summary(study: Study) -> str:
         lines.append(f"constraints: {'; '.join(s.constraints)} (feasibility below by the true model)")
     for label, c in study.cases.items():
         lines.append(f"[{label}]")
+        if unconverged_reference(study, label):
+            lines.append(f"  warning: {unconverged_reference(study, label)}")
         lines.append(_failed_line(c))
         for o in s.objectives:
             sf = c.surfaces.get(o)
             if sf:
                 lines.append(
                     f"  surface {o:12s} R2 {sf.r2:.4f}  adj {sf.r2_adj:.4f}  "
-                    f"{s.folds}-fold CV rmse {sf.cv_rmse:.4g} {units[o]} "
+                    f"{s.folds}-fold CV rmse {with_unit(f'{sf.cv_rmse:.4g}', units[o])} "
                     f"({sf.cv_rel:.2%})"
                 )
         fr = c.front

@@ -320,6 +320,21 @@ def test_a_land_without_end_gaps_fed_past_the_ring_is_a_result():
     assert again.energy_loss == pytest.approx(r.energy_loss, rel=1e-3)
 
 
+def test_unit_less_results_show_no_unit_1():
+    """'flutter_events 1' and 'INFEASIBLE: flutter_events 1 > 0', not 'flutter_events 1 1'
+    and '> 0 1'."""
+    from types import SimpleNamespace as NS
+
+    from ringlube.study_constraints import parse_constraint
+    from ringlube.study_format import _feasible_text, _values, with_unit
+
+    assert _values(["flutter_events", "energy_loss"], [1.0, 2.5]) == "flutter_events 1, energy_loss 2.5 J"
+    s = NS(parsed_constraints=[parse_constraint("flutter_events <= 0")], outputs=["flutter_events"])
+    study = NS(s=s, cases={"a": NS(reference=None)})
+    assert _feasible_text(study, "a", np.array([1.0])) == "INFEASIBLE: flutter_events 1 > 0"
+    assert with_unit("0", "1") == "0" and with_unit("3", "mg") == "3 mg"
+
+
 def test_scene_weights_near_the_largest_float_do_not_overflow(tmp_path):
     """Weights of 1e308: the scene is their mean (their sum overflowed, every weight became 0
     and every scene result a 'feasible' 0, exit 0); weights beyond the float range of each

@@ -278,3 +278,36 @@ def test_unchanged_resume_keeps_the_how_sure_runs(tmp_path, monkeypatch):
     again = run_study(path, tmp_path / "out", serial=True, progress=False, figures=False)
     np.testing.assert_array_equal(again.cases["cold"].sure.high, first.cases["cold"].sure.high)
     assert again.cases["cold"].sure.names == first.cases["cold"].sure.names
+
+
+def test_a_reference_that_did_not_converge_is_said_where_it_bounds(constrained, tmp_path):
+    """'max_friction <= reference' with a reference design marked NOT CONVERGED: the bound is
+    still its value, but a warning says so (one line from the command), and so do the
+    report's constraint table and the summary (the bound was taken without a word)."""
+    import dataclasses
+    import warnings
+
+    from ringlube.study_constraints import UnconvergedReferenceWarning, constraint_bounds
+    from ringlube.study_report import write_report
+    from ringlube.study_summary import summary
+
+    study = constrained[0]
+    c = study.cases["cold"]
+    kept = c.reference
+    assert "did NOT CONVERGE" not in summary(study)  # a converged reference: no word
+    try:
+        c.reference = dataclasses.replace(kept, converged=np.array([False]))
+        said = r"case 'cold': the reference design did NOT CONVERGE"
+        with pytest.warns(UnconvergedReferenceWarning, match=said):
+            bounds = constraint_bounds(study, "cold")
+        assert bounds[0].value == _reference_friction(study)  # the bound is still its value
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UnconvergedReferenceWarning)
+            text = summary(study)
+            report = write_report(study, tmp_path).read_text()
+        assert f"warning: {said}, so max_friction <= reference" in text
+        row = next(line for line in report.splitlines() if line.startswith("| `max_friction <= reference` |"))
+        assert row.endswith("N (its reference did NOT CONVERGE) |"), row
+        assert "Warning: case 'cold': the reference design did NOT CONVERGE" in report
+    finally:
+        c.reference = kept
