@@ -6,8 +6,9 @@ in energy loss, mixed share and minimum film against the reference. The referenc
 error is estimated by Richardson extrapolation from its halvings in N and in the crank
 step (both second order where the solution is smooth). Output: a Markdown table, a CSV
 and a plot of error against time with the Pareto front of settings. A deck with the ring
-pack adds its blowby, one with a distorted bore its face leakage, light gaps and
-conformability (:data:`OPTIONAL`), each with its error against the reference.
+pack adds its blowby, ring lift share and flutter events, one with a distorted bore its face
+leakage, light gaps and conformability (:data:`OPTIONAL`), each with its error against the
+reference.
 
     ringlube convergence DECK [--out DIR] [--quick]
 """
@@ -40,10 +41,13 @@ REFERENCE = {
 from .tables import PRESETS  # noqa: E402
 
 #: Results of the optional models the tables add when the reference run has them, and how
-#: their error is measured: 'rel' relative to the reference, 'pts' in percentage points.
+#: their error is measured: 'rel' relative to the reference, 'pts' in percentage points,
+#: 'abs' the difference in the result's unit (flutter events per cycle).
 #: (The conformability comes from the inputs alone: the same at every setting.)
 OPTIONAL = (
     ("blowby", "rel"),
+    ("ring_lift_share", "pts"),
+    ("flutter_events", "abs"),
     ("face_leakage", "rel"),
     ("light_gap_share", "pts"),
     ("conformability", "rel"),
@@ -110,7 +114,7 @@ def _extra(r, ref) -> dict:
         if name not in ref.scalars:
             continue
         v, v0 = float(r.scalars.get(name, np.nan)), float(ref.scalars[name])
-        if kind == "pts":
+        if kind in ("pts", "abs"):
             err = abs(v - v0)
         elif v0 != 0:
             err = abs(v - v0) / abs(v0)
@@ -354,10 +358,12 @@ def write_report(
     kinds = dict(OPTIONAL)
 
     def err_text(name: str, e: float) -> str:
-        return "-" if not np.isfinite(e) else f"{e:.3f}" if kinds[name] == "pts" else f"{e:.2e}"
+        if not np.isfinite(e):
+            return "-"
+        return {"pts": f"{e:.3f}", "abs": f"{e:.3g}"}.get(kinds[name], f"{e:.2e}")
 
     def err_head(name: str) -> str:
-        return f"err {name} (pts)" if kinds[name] == "pts" else f"err {name}"
+        return {"pts": f"err {name} (pts)", "abs": f"err {name} (difference)"}.get(kinds[name], f"err {name}")
 
     ref_extra = reference.get("extra", {})
     extra_text = "".join(

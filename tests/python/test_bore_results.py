@@ -235,7 +235,7 @@ def test_ringlube_plot_draws_the_bore(runs, round_result, tmp_path, capsys):
 
 def test_convergence_tables_add_the_distorted_bore(runs, round_result, monkeypatch, tmp_path):
     """`ringlube convergence` of a distorted deck adds its face leakage, light gaps and
-    conformability (and the ring pack's blowby) with their errors against the reference; the
+    conformability (and the ring pack's blowby, lift and flutter) with their errors against the reference; the
     runs here are the distorted result with the face leakage and light gaps moved by the
     nodes (known errors), the kernel's ladder logic unchanged."""
     import csv
@@ -256,7 +256,8 @@ def test_convergence_tables_add_the_distorted_bore(runs, round_result, monkeypat
 
     monkeypatch.setattr(conv, "run", run)
     reference, rows = conv.convergence_study(runs["deck"], quick=True, repeats=1, progress=False)
-    assert list(reference["extra"]) == ["blowby", "face_leakage", "light_gap_share", "conformability"]
+    ring_pack = ["blowby", "ring_lift_share", "flutter_events"]
+    assert list(reference["extra"]) == [*ring_pack, "face_leakage", "light_gap_share", "conformability"]
     row = next(r for r in rows if r.setting.label == "nodes = 25")
     ref_n = conv.REFERENCE["nodes"]
     value, err = row.extra["face_leakage"]
