@@ -12,19 +12,44 @@ import os as _os
 import sys as _sys
 
 
-def _interrupted_at_start(kind, value, tb, _previous=_sys.excepthook):
-    """The ``ringlube`` command: a Ctrl-C while it starts (importing numpy, scipy, the
-    kernel) ends as one during its work, in one line and exit 130, not a traceback."""
-    if issubclass(kind, KeyboardInterrupt):
-        print("ringlube: interrupted", file=_sys.stderr, flush=True)
-        _os._exit(130)
-    _previous(kind, value, tb)
+def _interrupted_at_start(signum, frame):
+    """The ``ringlube`` command's SIGINT handler while it starts (importing numpy, scipy, the
+    kernel): a Ctrl-C ends it at once, in one line and exit 130, as during its work. Not a
+    KeyboardInterrupt: raised inside a C extension's import it can come out as another error
+    (numpy's 'PyCapsule_Import could not import module "datetime"', an ImportError traceback
+    and exit 1). Nothing is written yet; :func:`ringlube.cli.main` puts Python's handler back
+    (:func:`_started`), so that a Ctrl-C during the work stops the kernel within a step and
+    removes its temporary files."""
+    _os.write(2, b"ringlube: interrupted\n")
+    _os._exit(130)
 
 
-# the command's start: its script 'ringlube', or `python -m ringlube.cli` (argv[0] is '-m'
-# while the package is imported)
-if _os.path.basename(_sys.argv[0] if _sys.argv else "") in ("ringlube", "-m"):
-    _sys.excepthook = _interrupted_at_start
+def _started() -> None:
+    """The command has started: Python's own SIGINT handler (KeyboardInterrupt) again."""
+    import signal
+
+    try:
+        if signal.getsignal(signal.SIGINT) is _interrupted_at_start:
+            signal.signal(signal.SIGINT, signal.default_int_handler)
+    except ValueError:  # (not the main thread: nothing was set)
+        pass
+
+
+def _is_the_command() -> bool:
+    """Is this the ``ringlube`` command starting: its script ``ringlube``, or
+    ``python -m ringlube.cli``?"""
+    argv = getattr(_sys, "orig_argv", [])
+    module = argv[argv.index("-m") + 1] if "-m" in argv[:-1] else ""
+    return _os.path.basename(_sys.argv[0] if _sys.argv else "") == "ringlube" or module == "ringlube.cli"
+
+
+if _is_the_command():
+    import signal as _signal
+
+    try:
+        _signal.signal(_signal.SIGINT, _interrupted_at_start)
+    except ValueError:  # (imported from another thread)
+        pass
 
 from . import gas, oil  # noqa: E402
 from ._version import __version__, kernel_id  # noqa: E402

@@ -10,6 +10,7 @@ from __future__ import annotations
 import os
 import sys
 
+from . import _started
 from .cli_parser import _parser
 from .errors import RinglubeError
 
@@ -35,6 +36,7 @@ def main(argv: list[str] | None = None) -> int:
     >>> main(["--version"])                                  # doctest: +SKIP
     ringlube 0.1.0
     """
+    _started()  # a Ctrl-C from here on is a KeyboardInterrupt (ended in one line below)
     args = None
     try:
         args = _parser().parse_args(argv)

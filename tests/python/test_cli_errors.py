@@ -419,3 +419,54 @@ def test_ctrl_c_while_the_command_starts_ends_in_one_line(tmp_path):
             proc.kill()
     assert proc.returncode == 130 and err == "ringlube: interrupted\n" and out == "", (proc.returncode, err)
     assert list(tmp_path.iterdir()) == [deck]
+
+
+def test_ctrl_c_inside_an_extension_s_import_ends_in_one_line(tmp_path):
+    """A Ctrl-C while the command imports a C extension: numpy turned the KeyboardInterrupt
+    raised inside its import into an ImportError ('PyCapsule_Import could not import module
+    "datetime"', a numpy traceback and exit 1, seen on a loaded machine). The command's SIGINT
+    handler while it starts ends it at the signal: one line, exit 130. Here a script named
+    `ringlube` (as the console script) imports the package, then sends itself SIGINT where
+    such an import would swallow it; and once the command's main has started, Python's own
+    handler is back (a Ctrl-C during the work stops the kernel and cleans up)."""
+    import signal
+    import textwrap
+
+    script = tmp_path / "ringlube"
+    script.write_text(
+        textwrap.dedent(
+            """
+            import os, signal, sys
+            import ringlube  # the command's start, as its console script
+
+            if sys.argv[1] == "started":
+                from ringlube.cli import main
+
+                try:
+                    main(["--version"])
+                except SystemExit:  # (argparse's --version)
+                    pass
+                print(signal.getsignal(signal.SIGINT) is signal.default_int_handler)
+                sys.exit(0)
+            try:  # an extension's import that turns an interrupt into another error
+                os.kill(os.getpid(), signal.SIGINT)
+                sum(range(1000))
+            except KeyboardInterrupt as exc:
+                raise ImportError('PyCapsule_Import could not import module "datetime"') from exc
+            print("not interrupted")
+            """
+        )
+    )
+
+    def run(what):
+        return subprocess.run(
+            [sys.executable, str(script), what],
+            capture_output=True,
+            text=True,
+            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+        )
+
+    p = run("importing")
+    assert (p.returncode, p.stderr, p.stdout) == (130, "ringlube: interrupted\n", "")
+    p = run("started")
+    assert p.returncode == 0 and p.stdout.splitlines()[-1] == "True", (p.stdout, p.stderr)
