@@ -36,18 +36,22 @@ def _started() -> None:
 
 
 def _is_the_command() -> bool:
-    """Is this the ``ringlube`` command starting: its script ``ringlube``, or
-    ``python -m ringlube.cli``?"""
+    """Is this the ``ringlube`` command starting: its script ``ringlube`` as the interpreter
+    ran it, or ``python -m ringlube.cli``? (Not a worker process a study spawned: it inherits
+    the command's ``sys.argv`` but the interpreter ran other code, ``sys.orig_argv``.)"""
     argv = getattr(_sys, "orig_argv", [])
     module = argv[argv.index("-m") + 1] if "-m" in argv[:-1] else ""
-    return _os.path.basename(_sys.argv[0] if _sys.argv else "") == "ringlube" or module == "ringlube.cli"
+    script = _sys.argv[0] if _sys.argv else ""
+    return module == "ringlube.cli" or (_os.path.basename(script) == "ringlube" and script in argv)
 
 
 if _is_the_command():
     import signal as _signal
 
     try:
-        _signal.signal(_signal.SIGINT, _interrupted_at_start)
+        # (a command started with SIGINT ignored, in the background or a study's worker, keeps it)
+        if _signal.getsignal(_signal.SIGINT) is _signal.default_int_handler:
+            _signal.signal(_signal.SIGINT, _interrupted_at_start)
     except ValueError:  # (imported from another thread)
         pass
 

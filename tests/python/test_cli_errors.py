@@ -470,3 +470,15 @@ def test_ctrl_c_inside_an_extension_s_import_ends_in_one_line(tmp_path):
     assert (p.returncode, p.stderr, p.stdout) == (130, "ringlube: interrupted\n", "")
     p = run("started")
     assert p.returncode == 0 and p.stdout.splitlines()[-1] == "True", (p.stdout, p.stderr)
+    # not in a process that only inherits the command's sys.argv (a study's spawned worker),
+    # and not where SIGINT is ignored (started in the background, or a Dask worker)
+    code = "import sys; sys.argv[0] = {!r}; import ringlube, signal; print(signal.getsignal(signal.SIGINT))"
+    p = subprocess.run([sys.executable, "-c", code.format(str(script))], capture_output=True, text=True)
+    assert p.stdout == f"{signal.default_int_handler}\n", (p.stdout, p.stderr)
+    p = subprocess.run(
+        [sys.executable, str(script), "ignored"],
+        capture_output=True,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN),
+    )
+    assert (p.returncode, p.stdout, p.stderr) == (0, "not interrupted\n", "")
