@@ -22,7 +22,8 @@ module ringlube_api
   use ringlube_results, only: result_type, series_spec, n_series, int_series_spec, &
                               n_int_series, scalar_spec, n_scalars, flag_bits, n_flags, &
                               field_spec, liner_spec, n_liner, sc_run_time, models, n_models, &
-                              sector_spec, n_sector_series
+                              sector_spec, n_sector_series, &
+                              margin_thresholds
   use ringlube_hdf5_output, only: write_result
   use ringlube_output_path, only: check_output
   use ringlube_cycle, only: solve_cycle
@@ -318,8 +319,8 @@ contains
   end subroutine api_set_trace
 
   !> A table as tab-separated text with a header line: 'inputs', 'presets', 'series',
-  !> 'int_series', 'scalars', 'liner', 'sectors', 'flags' or 'models' ('' for an unknown
-  !> name).
+  !> 'int_series', 'scalars', 'liner', 'sectors', 'flags', 'models' or 'margins' ('' for an
+  !> unknown name).
   function api_table(which) result(t)
     character(len=*), intent(in) :: which
     character(len=:), allocatable :: t
@@ -358,6 +359,12 @@ contains
       t = line('name', 'group', 'variable', 'value')
       do i = 1, n_models
         t = t//line(models(i)%name, models(i)%group, models(i)%variable, models(i)%value)
+      end do
+    case ('margins')
+      t = line('name', 'threshold', 'reason')
+      do i = 1, size(margin_thresholds)
+        t = t//line(margin_thresholds(i)%name, real_text(margin_thresholds(i)%threshold), &
+                    margin_thresholds(i)%reason)
       end do
     end select
   end function api_table

@@ -24,7 +24,7 @@ module ringlube_cycle_state
                               si_film_solves, s_inlet_fill, s_wetted_width, s_oil_left, &
                               s_oil_bank, s_groove_pressure, s_land_pressure, s_ring_lift, &
                               s_top_gap_flow, s_second_gap_flow, s_face_flow, sec_h0, &
-                              sec_load, flag_ceiling, s_film_temperature
+                              sec_load, flag_ceiling, s_film_temperature, m_trailing
   use ringlube_oil_supply, only: supply_type, supply_setup, supply_edges, supply_step, &
                                  supply_to_chamber
   use ringlube_film, only: film_type, film_setup, film_friction, film_temperature
@@ -335,6 +335,9 @@ contains
       res%series(k, s_film_temperature) = f%temperature
       res%int_series(k, si_flags) = out%flags
       res%int_series(k, si_film_solves) = f%film_solves - nev
+      ! the step's branch risk (ringlube_results, margin_results)
+      res%step_margins(k, :) = [lp%lift_margin, lp%seal_margin, real(lp%margin_solves, dp)]
+      res%made(m_trailing) = f%jfo .and. c%cavity_pressure == 'trailing_gas'
       if (allocated(st%ring)) then
         ! the ring's smallest film (mixed when any sector is), and the sectors' means
         res%series(k, s_h0) = minval(st%ring%h)

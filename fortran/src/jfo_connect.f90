@@ -10,7 +10,7 @@ module ringlube_jfo_connect
   use ringlube_jfo_system, only: jfo_system, jfo_scratch
   implicit none
   private
-  public :: jfo_solve_connected, jfo_cavity_pressure
+  public :: jfo_solve_connected, jfo_cavity_pressure, jfo_seal_margin
 
 contains
 
@@ -220,4 +220,52 @@ contains
     stats%info = JFO_CONNECTIVITY
 
   end subroutine jfo_solve_connected
+
+  !> The margin of the seal of a face with a gas interface at its trailing edge (trailing_gas):
+  !> whether the film holds the trailing edge's gas back from the leading edge, as a number
+  !> that is continuous in the film's solution and changes sign where the state changes.
+  !>
+  !> The gas zone open at the trailing edge takes in every partly filled node and every full
+  !> node whose pressure is at or below the gas level `max(p_trailing, p_cav)` (the
+  !> connectivity rule of jfo_cavity_pressure); it stops only at a full node above that level.
+  !> So the face is sealed when some interior node is full at a pressure above the level, and
+  !> the gas reaches the leading edge (blown) when none is. Each interior node i scores
+  !> - full (theta = 1): (p_i - level) / (p_i - p_leading) where p_i > level (in (0, 1): the
+  !>   share of the film's pressure drop to the leading edge that the gas does not take up),
+  !>   else (p_i - level) / (level - p_leading) clipped at -1;
+  !> - partly filled: theta_i - 1 (in [-1, 0): how far from full it is);
+  !> and the margin is the largest score: > 0 sealed, <= 0 blown, 0 where a node becomes full at
+  !> the gas level or the last full node at it empties. A decision exists only where the
+  !> trailing edge's gas is above the leading edge's (u /= 0); elsewhere `huge(1.0_dp)`.
+  !> u: sliding speed (its sign: the leading edge, as in jfo_cavity_pressure); p_left,
+  !> p_right: the gas pressures at the edges (not the solution's edge values: a blown face
+  !> holds its leading edge at the face's level); theta, p: the solution.
+  pure real(dp) function jfo_seal_margin(u, p_left, p_right, p_cav, theta, p) result(m)
+    real(dp), intent(in) :: u, p_left, p_right, p_cav, theta(:), p(:)
+    real(dp) :: level, p_lead, score
+    integer :: i, n
+    m = huge(1.0_dp)
+    if (u > 0.0_dp) then
+      level = max(p_left, p_cav)
+      p_lead = p_right
+    else if (u < 0.0_dp) then
+      level = max(p_right, p_cav)
+      p_lead = p_left
+    else
+      return
+    end if
+    if (.not. level > p_lead) return
+    n = size(theta)
+    m = -1.0_dp
+    do i = 2, n - 1
+      if (theta(i) < 1.0_dp) then
+        score = theta(i) - 1.0_dp
+      else if (p(i) > level) then
+        score = (p(i) - level) / (p(i) - p_lead)
+      else
+        score = max((p(i) - level) / (level - p_lead), -1.0_dp)
+      end if
+      m = max(m, score)
+    end do
+  end function jfo_seal_margin
 end module ringlube_jfo_connect

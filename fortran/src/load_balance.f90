@@ -18,11 +18,18 @@ module ringlube_load_balance
   use ringlube_kinematics, only: sliding_speed, deg2rad
   use ringlube_gas, only: gas_pressure
   use ringlube_film, only: film_type, film_evaluate
+  use ringlube_film_state, only: lower_edge_pressure
+  use ringlube_jfo_connect, only: jfo_seal_margin
   use ringlube_sectors, only: sector_ring, sector_trial, ring_evaluate
   use ringlube_results, only: flag_floor, flag_ceiling, flag_load
   implicit none
   private
   public :: step_context, load_problem, balance_memory, balance, speed, start_history
+  public :: lift_margin_end
+
+  !> the lift-off margin is measured on the steps of the intake stroke, psi (mod 720) from 0
+  !> to this crank angle [deg]
+  real(dp), parameter :: lift_margin_end = 180.0_dp
 
   !> Constants of a run needed at every step.
   type :: step_context
@@ -40,6 +47,12 @@ module ringlube_load_balance
     real(dp) :: u = 0.0_dp, dt = 0.0_dp, pg = 0.0_dp, load = 0.0_dp
     real(dp) :: sq_a = 1.0_dp, sq_b = 0.0_dp
     real(dp) :: ceiling = 0.0_dp
+    !> branch risk (docs/model.md, "Branch risk"): the lift-off margin (F - W at the ceiling)
+    !> / F on the steps of the intake stroke, the seal margin (jfo_seal_margin) where the
+    !> trailing gas is above the leading edge's; huge(1.0_dp) where not measured
+    real(dp) :: lift_margin = huge(1.0_dp), seal_margin = huge(1.0_dp)
+    !> film solves on a copy of the film for the lift-off margin (not in the film's counters)
+    integer :: margin_solves = 0
   end type load_problem
 
   !> What the root finder remembers between trials and crank steps.
@@ -127,6 +140,7 @@ contains
     mem%trials = 0
     guess = min(max(guess, c%h0_floor), lp%ceiling)
     call find_h0(c, lp, g, mem, guess, h0out, flags, resid, ring)
+    call margins(c, lp, g, psi, h0out, flags, resid, ring)
     mem%h(3) = mem%h(2)
     mem%h(2) = mem%h(1)
     mem%h(1) = h0out
@@ -134,6 +148,67 @@ contains
     if (iand(flags, flag_floor + flag_ceiling) /= 0) mem%nh = 1
     mem%u = u
   end subroutine balance
+
+  !> The step's branch risk in `lp` (docs/model.md, "Branch risk"), from the film `g` solved
+  !> at the accepted h0 (flags and resid the balance's).
+  !>
+  !> Lift-off margin, on the steps of the intake stroke (psi mod 720 in [0, lift_margin_end]),
+  !> where the chamber and the elastic pressure pressing the ring on the liner are closest to the
+  !> gas below it: (F - W) / F with W the load the film carries at the ceiling (the largest
+  !> h0), the squeeze of the step included. The balance holds a step at the ceiling (lift-off,
+  !> flag 2) when W > F there, so the margin is < 0 where the ring can be lifted off and > 0
+  !> where it cannot. A step held at the ceiling has W from the balance's own solve there;
+  !> every other step one film solve more, on a copy of the film (and of a distorted bore's
+  !> sectors), which changes nothing of the step.
+  !>
+  !> Seal margin, with 'trailing_gas' on a step not held at the ceiling: jfo_seal_margin of
+  !> the film (of the sectors of a distorted bore, the smallest: the gas passes where one blows).
+  subroutine margins(c, lp, g, psi, h0out, flags, resid, ring)
+    type(case_type), intent(in) :: c
+    type(load_problem), intent(inout) :: lp
+    type(film_type), intent(in) :: g
+    real(dp), intent(in) :: psi, h0out, resid
+    integer, intent(in) :: flags
+    type(sector_ring), intent(in), optional :: ring
+    type(film_type) :: gc
+    type(sector_ring) :: rc
+    type(sector_trial) :: tr
+    real(dp) :: sq
+    integer :: j
+    if (modulo(psi, 720.0_dp) <= lift_margin_end) then
+      if (iand(flags, flag_ceiling) /= 0 .or. h0out >= lp%ceiling) then
+        lp%lift_margin = -resid
+      else
+        gc = g
+        if (present(ring)) then
+          rc = ring
+          tr = sector_trial(cc=lp%ceiling, sq_a=lp%sq_a, dt=lp%dt, u=lp%u, p_chamber=lp%pg, &
+                            load=lp%load, floor=c%h0_floor, ceiling=c%h0_ceiling)
+          call ring_evaluate(c, rc, gc, tr)
+        else
+          sq = 0.0_dp
+          if (c%squeeze) sq = 2.0_dp * (lp%sq_a * lp%ceiling - lp%sq_b) / lp%dt
+          call film_evaluate(c, gc, lp%ceiling, sq, lp%u, lp%pg, c%load_tol * max(lp%load, 1e-3_dp))
+        end if
+        lp%margin_solves = gc%film_solves - g%film_solves
+        lp%lift_margin = (lp%load - gc%wh - gc%wa) / max(lp%load, 1e-3_dp)
+      end if
+    end if
+    if (.not. g%jfo .or. c%cavity_pressure /= 'trailing_gas') return
+    if (iand(flags, flag_ceiling) /= 0) return
+    if (present(ring)) then
+      do j = 1, size(ring%films)
+        associate (fj => ring%films(j))
+          lp%seal_margin = min(lp%seal_margin, &
+                               jfo_seal_margin(lp%u, lp%pg, lower_edge_pressure(c, fj), &
+                                               c%cavitation_pressure, fj%theta, fj%p))
+        end associate
+      end do
+    else
+      lp%seal_margin = jfo_seal_margin(lp%u, lp%pg, lower_edge_pressure(c, g), &
+                                       c%cavitation_pressure, g%theta, g%p)
+    end if
+  end subroutine margins
 
   !> -1, 0 or 1.
   pure integer function sign_of(x)

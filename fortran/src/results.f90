@@ -17,6 +17,24 @@ module ringlube_results
             allocate_liner, flag_description, liner_spec, n_liner, produced, produced_models, &
             derive_results, truth, is_true, model_spec, models, n_models
 
+  !> Branch risk: a margin below its threshold is warned of in the summary and marks a study's
+  !> design (docs/model.md, "Branch risk"), with the reason given here.
+  type :: margin_spec
+    character(len=24) :: name = ''
+    real(dp) :: threshold = 0.0_dp
+    character(len=300) :: reason = ''
+  end type margin_spec
+  !&<
+  type(margin_spec), parameter, public :: margin_thresholds(*) = [ &
+    margin_spec('lift_margin', 0.01_dp, 'ten times the default load_tol: near the threshold '// &
+      'the balance accepts a ring at h0_ceiling within load_tol and the cycle changes branch '// &
+      'there; and a 1 % change of the gas pressures on the intake stroke, rarely known '// &
+      'better, moves the margin by about 1 %'), &
+    margin_spec('seal_margin', 0.1_dp, 'the crank step alone moved the face between sealed '// &
+      'and blown at margins below 0.1 on the shipped cold deck') &
+  ]
+  !&>
+
   !> Per-step flag bits (dataset `/cycle/flags`).
   integer, parameter, public :: flag_floor = 1        !< h0 held at h0_floor
   integer, parameter, public :: flag_ceiling = 2      !< h0 held at h0_ceiling
@@ -49,7 +67,9 @@ module ringlube_results
   !> &`group` `variable` is `value`.
   type :: model_spec
     character(len=10) :: name = ''
-    character(len=12) :: group = '', variable = '', value = ''
+    character(len=12) :: group = ''
+    character(len=16) :: variable = ''
+    character(len=12) :: value = ''
   end type model_spec
 
   !> One flag bit.
@@ -203,6 +223,19 @@ module ringlube_results
     field_spec('flutter_margin_ratio', 'flutter_margin_ratio', '1', 'real', &
       'flutter_margin over the largest inertia force of the ring, m_r max|a_p|', 'gas', .false., &
       .true.), &
+    field_spec('lift_margin', 'lift_margin', '1', 'real', &
+      'smallest (F - W at h0_ceiling) / F over the intake stroke: < 0 the ring can lift off '// &
+      '(branch risk)'), &
+    field_spec('lift_margin_angle', 'lift_margin_angle_deg', 'deg', 'real', &
+      'crank angle of lift_margin'), &
+    field_spec('seal_margin', 'seal_margin', '1', 'real', &
+     'margin of the state (sealed > 0, blown <= 0) the face ends its trailing-gas decisions in '// &
+      '(branch risk)', 'trailing'), &
+    field_spec('seal_margin_angle', 'seal_margin_angle_deg', 'deg', 'real', &
+      'crank angle of seal_margin', 'trailing'), &
+    field_spec('margin_film_solves', 'margin_film_solves', '1', 'integer', &
+      'film solves of the reported cycle on copies of the film for lift_margin (not in '// &
+      'film_solves)'), &
     field_spec('peak_groove_pressure', 'peak_groove_pressure_Pa', 'Pa', 'real', &
       'highest groove pressure of the cycle', 'gas'), &
     field_spec('peak_groove_angle', 'peak_groove_angle_deg', 'deg', 'real', &
@@ -245,7 +278,8 @@ module ringlube_results
     model_spec('jfo', 'physics', 'cavitation', 'jfo'), &
     model_spec('starved', 'physics', 'inlet', 'starved'), &
     model_spec('gas', 'physics', 'ring_pack', 'gas'), &
-    model_spec('distorted', 'physics', 'bore', 'distorted') &
+    model_spec('distorted', 'physics', 'bore', 'distorted'), &
+    model_spec('trailing', 'physics', 'cavity_pressure', 'trailing_gas') &
   ]
 
   !> Meaning of the bits of /cycle/flags.
@@ -354,6 +388,11 @@ module ringlube_results
     sc_radial_collapse_share = row(findloc(scalar_spec%short, 'radial_collapse_share', dim=1)), &
     sc_flutter_margin = row(findloc(scalar_spec%short, 'flutter_margin', dim=1)), &
     sc_flutter_margin_ratio = row(findloc(scalar_spec%short, 'flutter_margin_ratio', dim=1)), &
+    sc_lift_margin = row(findloc(scalar_spec%short, 'lift_margin', dim=1)), &
+    sc_lift_margin_angle = row(findloc(scalar_spec%short, 'lift_margin_angle', dim=1)), &
+    sc_seal_margin = row(findloc(scalar_spec%short, 'seal_margin', dim=1)), &
+    sc_seal_margin_angle = row(findloc(scalar_spec%short, 'seal_margin_angle', dim=1)), &
+    sc_margin_film_solves = row(findloc(scalar_spec%short, 'margin_film_solves', dim=1)), &
     sc_peak_groove_pressure = row(findloc(scalar_spec%short, 'peak_groove_pressure', dim=1)), &
     sc_peak_groove_angle = row(findloc(scalar_spec%short, 'peak_groove_angle', dim=1)), &
     sc_peak_land_pressure = row(findloc(scalar_spec%short, 'peak_land_pressure', dim=1)), &
@@ -373,7 +412,8 @@ module ringlube_results
     m_jfo = row(findloc(models%name, 'jfo', dim=1)), &
     m_starved = row(findloc(models%name, 'starved', dim=1)), &
     m_gas = row(findloc(models%name, 'gas', dim=1)), &
-    m_distorted = row(findloc(models%name, 'distorted', dim=1))
+    m_distorted = row(findloc(models%name, 'distorted', dim=1)), &
+    m_trailing = row(findloc(models%name, 'trailing', dim=1))
   !&>
 
   !> Results of one run: the reported (last) cycle and its summary, each table's values by
@@ -398,6 +438,10 @@ module ringlube_results
     !> a distorted bore's conformability: the orders given and A_k over the limit of each
     integer, allocatable :: conformability_orders(:)
     real(dp), allocatable :: conformability(:)
+    !> step_margins(k, i): the branch risk of crank step k (ringlube_load_balance, `margins`):
+    !> i = 1 the lift-off margin, 2 the seal margin (huge(1.0_dp) where not measured), 3 the
+    !> film solves made for them; the scalars lift_margin and seal_margin are made from them
+    real(dp), allocatable :: step_margins(:, :)
   end type result_type
 
 contains
@@ -412,6 +456,10 @@ contains
     allocate (res%series(m, n_series), res%int_series(m, n_int_series))
     res%series = 0.0_dp
     res%int_series = 0
+    if (allocated(res%step_margins)) deallocate (res%step_margins)
+    allocate (res%step_margins(m, 3))
+    res%step_margins(:, 1:2) = huge(1.0_dp)
+    res%step_margins(:, 3) = 0.0_dp
     call allocate_liner(res, 0)
     call allocate_sectors(res, 0)
   end subroutine allocate_result
@@ -502,7 +550,80 @@ contains
         end associate
       end if
     end associate
+    call margin_results(res)
   end subroutine derive_results
+
+  !> The run's branch risk from the margins of its crank steps (`step_margins`; docs/model.md,
+  !> "Branch risk"):
+  !> - lift_margin: the smallest lift-off margin of the cycle (1 if none was measured), at
+  !>   lift_margin_angle;
+  !> - seal_margin: each stretch of consecutive decision steps (the trailing edge's gas above
+  !>   the leading edge's; the cycle is periodic, so a stretch may run over its end) ends in
+  !>   a state, sealed (margin > 0) or blown (<= 0), which it has held since its last change:
+  !>   the margin of that state over those steps is the one nearest the other state (sealed: the
+  !>   smallest, blown: the largest). seal_margin is the smallest of the stretches' margins, at
+  !>   seal_margin_angle (1 with no decision step: nothing to decide): < 0 the face ends a
+  !>   decision blown (and stays blown unless every such decision changes), > 0 it ends every
+  !>   decision sealed (and blows if the weakest changes).
+  !> Both are continuous in the inputs while the state is kept and change sign where it changes.
+  pure subroutine margin_results(res)
+    type(result_type), intent(inout) :: res
+    real(dp), parameter :: none = huge(1.0_dp)
+    real(dp) :: m, best, ang, best_ang
+    integer :: n, k, kk, j0, i
+    logical :: live, was_live
+    associate (v => res%scalars)
+      v(sc_lift_margin) = 1.0_dp
+      v(sc_lift_margin_angle) = 0.0_dp
+      v(sc_seal_margin) = 1.0_dp
+      v(sc_seal_margin_angle) = 0.0_dp
+      v(sc_margin_film_solves) = 0.0_dp
+      if (.not. allocated(res%step_margins)) return
+      n = size(res%step_margins, 1)
+      if (n == 0) return
+      v(sc_margin_film_solves) = sum(res%step_margins(:, 3))
+      k = minloc(res%step_margins(:, 1), dim=1)
+      if (res%step_margins(k, 1) < none) then
+        v(sc_lift_margin) = res%step_margins(k, 1)
+        v(sc_lift_margin_angle) = res%series(k, s_crank_angle_deg)
+      end if
+      associate (sm => res%step_margins(:, 2))
+        ! start after a step without a decision (a stretch over the cycle's end is one)
+        j0 = findloc(sm >= none, .true., dim=1)
+        if (j0 == 0) j0 = n
+        best = none
+        best_ang = 0.0_dp
+        m = none
+        ang = 0.0_dp
+        was_live = .false.
+        do i = 1, n + 1
+          kk = mod(j0 + i - 1, n) + 1
+          live = sm(kk) < none .and. i <= n
+          if (live) then
+            if (.not. was_live .or. (sm(kk) > 0.0_dp .neqv. m > 0.0_dp)) then
+              ! a stretch begins, or its state changes: the margin starts again
+              m = sm(kk)
+              ang = res%series(kk, s_crank_angle_deg)
+            else if (abs(sm(kk)) < abs(m)) then
+              m = sm(kk)
+              ang = res%series(kk, s_crank_angle_deg)
+            end if
+          else if (was_live) then
+            ! the stretch ended: its final state's margin
+            if (m < best) then
+              best = m
+              best_ang = ang
+            end if
+          end if
+          was_live = live
+        end do
+        if (best < none) then
+          v(sc_seal_margin) = best
+          v(sc_seal_margin_angle) = best_ang
+        end if
+      end associate
+    end associate
+  end subroutine margin_results
 
   !> "1: h0 at h0_floor, 2: ..." (the `description` of /cycle/flags).
   function flag_description() result(t)

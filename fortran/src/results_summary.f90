@@ -15,7 +15,8 @@ module ringlube_results_summary
                               sc_run_time, sc_cycles_computed, sc_period, sc_periodic, &
                               sc_energy_change, sc_liner_change, sc_ring_pack_change, &
                               sc_conformability, sc_light_gap_share, sc_face_leakage, &
-                              sc_radial_collapse_share
+                              sc_radial_collapse_share, sc_lift_margin, sc_lift_margin_angle, &
+                              sc_seal_margin, sc_seal_margin_angle, margin_thresholds
   implicit none
   private
   public :: summary_text
@@ -66,6 +67,22 @@ contains
     end if
     write (a, '(f10.2)') v(sc_liner_lift_share)
     call line('lifted off the liner', a, '% of the cycle (h0 at h0_ceiling)')
+    ! branch risk (docs/model.md, "Branch risk")
+    write (a, '(f10.4)') v(sc_lift_margin)
+    write (w, '(f8.1)') v(sc_lift_margin_angle)
+    call line('lift-off margin', a, '(F - W at h0_ceiling) / F, the least on the intake '// &
+              'stroke, at '//trim(adjustl(w))//' deg (< 0: can lift off)')
+    if (made(sc_seal_margin)) then
+      write (a, '(f10.4)') v(sc_seal_margin)
+      write (w, '(f8.1)') v(sc_seal_margin_angle)
+      call line('seal margin', a, 'the least over the trailing gas''s decisions, at '// &
+                trim(adjustl(w))//' deg (> 0: the face ends them sealed, <= 0: blown)')
+    end if
+    call risk(sc_lift_margin, 'lift-off margin', 'whether the ring lifts off the liner on '// &
+              'the intake stroke')
+    if (made(sc_seal_margin)) call risk(sc_seal_margin, 'seal margin', 'whether the face '// &
+                                        'seals or blows where the trailing gas is above the '// &
+                                        'leading edge''s')
     if (made(sc_blowby)) then
       write (a, '(f10.3)') v(sc_blowby)
       write (b, '(f8.2)') v(sc_blowby_mass)
@@ -160,6 +177,27 @@ call line('conformability', a, 'A_k / limit, the largest ('//trim(b)//'; > 1 doe
               trim(adjustl(fixed(v(sc_cycles_computed))))//' cycles incl. warm-up)')
     if (len_trim(written) > 0) call line('written', trim(written), '')
   contains
+    !> A warning line when the margin in column i is below its threshold (margin_thresholds).
+    subroutine risk(i, label, what)
+      integer, intent(in) :: i
+      character(len=*), intent(in) :: label, what
+      integer :: j
+      character(len=16) :: th, val
+      j = findloc(margin_thresholds%name, label_of(i), dim=1)
+      if (j == 0) return
+      if (.not. abs(v(i)) < margin_thresholds(j)%threshold) return
+      write (th, '(f8.3)') margin_thresholds(j)%threshold
+      write (val, '(f9.4)') v(i)
+      t = t//'  WARNING: '//label//' '//trim(adjustl(val))//' is below its threshold '//trim(adjustl(th))// &
+          ': '//what//' may change with a small change of the inputs or the numerics ('// &
+          trim(margin_thresholds(j)%reason)//'; docs/model.md, "Branch risk")'//nl
+    end subroutine risk
+    function label_of(i) result(s)
+      integer, intent(in) :: i
+      character(len=24) :: s
+      s = 'lift_margin'
+      if (i == sc_seal_margin) s = 'seal_margin'
+    end function label_of
     subroutine line(label, value, unit)
       character(len=*), intent(in) :: label, value, unit
       character(len=24) :: l
