@@ -31,6 +31,8 @@ __all__ = [
     "SECTORS",
     "ModelSpec",
     "MODELS",
+    "MarginSpec",
+    "MARGINS",
     "GROUPS",
     "table_text",
 ]
@@ -223,6 +225,27 @@ INPUTS, PRESETS, SERIES, INT_SERIES, SCALARS, FLAG_BITS, LINER, SECTORS = _load(
 FLAGS: dict[str, int] = {name: int(b) for b, name, _ in _rows("flags")}
 #: the optional models by the name results give in ``requires``: which input selects each
 MODELS: dict[str, ModelSpec] = {r[0]: ModelSpec(*r) for r in _rows("models")}
+
+
+
+@dataclasses.dataclass(frozen=True)
+class MarginSpec:
+    """A branch-risk margin's threshold and why (docs/model.md, "Branch risk"): a run whose
+    |margin| is below it is warned of, and a study marks the design.
+
+    Examples
+    --------
+    >>> MARGINS["lift_margin"].threshold
+    0.01
+    """
+
+    name: str
+    threshold: float
+    reason: str
+
+
+#: the branch-risk margins (results ``lift_margin``, ``seal_margin``) by name
+MARGINS: dict[str, MarginSpec] = {r[0]: MarginSpec(r[0], float(r[1]), r[2]) for r in _rows("margins")}
 
 #: Namelist groups of a deck, in table order.
 GROUPS: tuple[str, ...] = tuple(dict.fromkeys(g for g, _ in INPUTS))

@@ -3,7 +3,8 @@
 !>  5. starved inlet (closed form), theta_in -> 0 thins the film;
 !>  6. the cavity-pressure connectivity rule: trailing gas (closed form), leading gas, enclosed;
 !>  8. the inflow cap of the leading edge (the oil there) against a fill found by bisection;
-!>  9. the leading edge of a blown face: starved, Couette inflow of its fill; flooded, gas only.
+!>  9. the leading edge of a blown face: starved, Couette inflow of its fill; flooded, gas only;
+!> 10. the seal margin: exact scores, and its sign against the solver's blown face.
 !> (Items 1-4 and 7: test_jfo.)
 program test_jfo_connect
   use ringlube_kinds, only: dp, pi
@@ -20,6 +21,7 @@ program test_jfo_connect
   if (run_case('enclosed_cavity')) call case_enclosed_cavity()
   if (run_case('inflow_cap')) call case_inflow_cap()
   if (run_case('blown_face')) call case_blown_face()
+  if (run_case('seal_margin')) call case_seal_margin()
   call report('test_jfo_connect')
 
 contains
@@ -382,4 +384,78 @@ contains
       deallocate (p, th, pc)
     end do
   end subroutine case_blown_face
+
+  ! ------------------------------------------------------------------ 10. seal margin
+  !> jfo_seal_margin: the largest node score (full above the trailing gas level: the share of
+  !> its pressure drop to the leading edge above the level; partly filled: theta - 1), by hand
+  !> on a face of 6 nodes, both directions of sliding; no decision at u = 0 or with the
+  !> trailing gas not above the leading edge's. Then on solved films of a sweep of the trailing
+  !> gas pressure: > 0 exactly where jfo_solve_connected finds the face not blown, and no jump
+  !> larger than the change of the scores across the switch.
+  subroutine case_seal_margin()
+    real(dp), parameter :: pt = 5e5_dp, pl = 1e5_dp, none = huge(1.0_dp)
+    real(dp) :: th(6), p(6), m, dx, prev, f
+    real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), pp(:), tt(:), pc(:)
+    integer :: n, j, switches
+    type(jfo_stats) :: st
+    write (*, '(a)') '10. seal margin: node scores by hand; its sign against the blown face'
+    th = [1.0_dp, 0.3_dp, 0.5_dp, 0.2_dp, 0.4_dp, 1.0_dp]
+    p = [pt, pt, pt, pt, pt, pl]
+    call check(jfo_seal_margin(10.0_dp, pt, pl, 0.0_dp, th, p) == -0.5_dp, &
+               'blown: the fullest node, theta 0.5, is 0.5 from full')
+    call check(jfo_seal_margin(-10.0_dp, pl, pt, 0.0_dp, th(6:1:-1), p(6:1:-1)) == -0.5_dp, &
+               'the same face sliding the other way')
+    th(3) = 1.0_dp
+    p(3) = 7e5_dp
+    call check_close(jfo_seal_margin(10.0_dp, pt, pl, 0.0_dp, th, p), 2.0_dp / 6.0_dp, 1e-15_dp, &
+                     'sealed: (7 - 5) / (7 - 1) bar of the full node above the gas')
+    p(3) = pt * (1.0_dp + 1e-12_dp)
+    m = jfo_seal_margin(10.0_dp, pt, pl, 0.0_dp, th, p)
+    call check(m > 0.0_dp .and. m < 1e-11_dp, 'a full node just above the level: just sealed')
+    p(3) = pt
+    call check(jfo_seal_margin(10.0_dp, pt, pl, 0.0_dp, th, p) == 0.0_dp, &
+               'a full node at the level: 0, the state changes here')
+    p(3) = 3e5_dp
+    call check(jfo_seal_margin(10.0_dp, pt, pl, 0.0_dp, th, p) == -0.5_dp, &
+               'a full node below the level joins the gas: (3 - 5) / (5 - 1) bar')
+    th(3) = 1.0_dp - 1e-12_dp
+    p(3) = pt
+    m = jfo_seal_margin(10.0_dp, pt, pl, 0.0_dp, [0.5_dp, 0.1_dp, th(3), 0.1_dp, 0.1_dp, 1.0_dp], p)
+    call check(m < 0.0_dp .and. m > -1e-11_dp, 'a node just below full: just blown')
+    call check(jfo_seal_margin(0.0_dp, pt, pl, 0.0_dp, th, p) == none, 'no decision at u = 0')
+    call check(jfo_seal_margin(10.0_dp, pl, pt, 0.0_dp, th, p) == none, &
+               'no decision with the trailing gas below the leading edge''s')
+    call check(jfo_seal_margin(10.0_dp, pl, pl, 2e5_dp, th, p) /= none, &
+               'a cavity pressure above the leading edge''s: a decision (the zone sits at p_cav)')
+    ! solved films: the face of case 9 (trailing gas at 5 bar, leading edge 1 bar, flooded)
+    ! starting the step with a fill f of the gap from 0.02 to 1
+    n = 51
+    call grid(n, x, h, hmid, kmid, dx)
+    allocate (pp(n), tt(n), pc(n))
+    switches = 0
+    prev = none
+    do j = 0, 49
+      f = 0.02_dp * (j + 1)
+      pp = 0.0_dp
+      tt = f
+      call jfo_solve_connected(jfo_problem(dx=dx, u=10.0_dp, dt=1e-5_dp, p_left=pt, p_right=pl, &
+                                           p_cav=0.0_dp, trailing_gas=.true.), &
+                               h, hmid, kmid, f * h, pc, pp, tt, st)
+      m = jfo_seal_margin(10.0_dp, pt, pl, 0.0_dp, tt, pp)
+      call check(st%info == JFO_OK .and. (m > 0.0_dp .neqv. st%blown), &
+                 'solved film: sealed (margin > 0) exactly where the face is not blown')
+      if (prev < none) then
+        call check(m > prev, 'the margin grows with the oil in the face')
+        if (m > 0.0_dp .neqv. prev > 0.0_dp) then
+          switches = switches + 1
+          write (*, '(a, f5.2, a, f5.2, a, f8.4, a, f8.4)') '  blown at fill ', f - 0.02_dp, &
+            ', sealed at ', f, ': margins ', prev, ', ', m
+          call check(abs(prev) < 0.1_dp .and. abs(m) < 0.1_dp, &
+                     'both sides of the switch within 0.1 of 0')
+        end if
+      end if
+      prev = m
+    end do
+    call check(switches == 1, 'one change of state over the sweep')
+  end subroutine case_seal_margin
 end program test_jfo_connect

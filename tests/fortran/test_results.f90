@@ -13,7 +13,9 @@ program test_results
                               sc_displacement, sc_engine_friction_power, &
                               sc_oil_to_chamber_rate, sc_flagged_steps, sc_liner_lift_share, &
                               sc_blowby, sc_min_film, l_liner_position, l_liner_oil_film, &
-                              models, m_jfo, m_gas
+                              models, m_jfo, m_gas, sc_lift_margin, sc_lift_margin_angle, &
+                              sc_seal_margin, sc_seal_margin_angle, sc_margin_film_solves, &
+                              margin_thresholds
   use ringlube_results_summary, only: summary_text
   use ringlube_check
   implicit none
@@ -126,9 +128,74 @@ program test_results
   call check(index(text, 'oil to the chamber') == 0 .and. index(text, 'blowby') == 0 .and. &
              index(text, 'written') == 0 .and. index(text, '  energy loss per cycle') == 1, &
              'no oil or blowby line, title or file when not made or given')
+  call branch_risk()
   call report('test_results')
 
 contains
+
+  !> The run's margins from its steps' (margin_results, called by derive_results): the least
+  !> lift-off margin measured; of the seal margin, each stretch of decision steps ends in a
+  !> state whose margin is its value nearest 0 since the last change, and the run's is the
+  !> least of the stretches' (a stretch may run over the cycle's end); the summary warns below
+  !> the thresholds.
+  subroutine branch_risk()
+    type(result_type) :: q
+    real(dp), parameter :: no = huge(1.0_dp)
+    logical :: mk(n_scalars)
+    character(len=:), allocatable :: txt
+    call allocate_result(q, 8)
+    q%series(:, s_crank_angle_deg) = [(90.0_dp * i, i=0, 7)]
+    call derive_results(q, 4000.0_dp, 4.5e-4_dp, 850.0_dp)
+    call check(q%scalars(sc_lift_margin) == 1.0_dp .and. q%scalars(sc_seal_margin) == 1.0_dp, &
+               'nothing measured: margins 1')
+    q%step_margins(:, 1) = [0.3_dp, -0.02_dp, 0.01_dp, no, no, no, no, no]
+    q%step_margins(:, 3) = [1, 1, 1, 0, 0, 0, 0, 0]
+    ! two stretches: steps 2-3, blown -0.05 then sealed 0.5 (ends sealed at 0.5), and steps
+    ! 6-8, sealed 0.2, 0.05 then blown -0.1 (ends blown at -0.1): the run's, the least, -0.1
+    q%step_margins(:, 2) = [no, -0.05_dp, 0.5_dp, no, no, 0.2_dp, 0.05_dp, -0.1_dp]
+    call derive_results(q, 4000.0_dp, 4.5e-4_dp, 850.0_dp)
+    call check(q%scalars(sc_lift_margin) == -0.02_dp .and. &
+               q%scalars(sc_lift_margin_angle) == 90.0_dp, 'lift margin: the least, its angle')
+    call check(q%scalars(sc_margin_film_solves) == 3.0_dp, 'film solves for the margins summed')
+    call check(q%scalars(sc_seal_margin) == -0.1_dp .and. &
+               q%scalars(sc_seal_margin_angle) == 630.0_dp, &
+               'seal margin: the least of the stretches'' final states, -0.1 at 630 deg')
+    q%step_margins(2:3, 2) = [-0.05_dp, 0.01_dp]
+    call derive_results(q, 4000.0_dp, 4.5e-4_dp, 850.0_dp)
+    call check(q%scalars(sc_seal_margin) == -0.1_dp, &
+               'a stretch ending sealed at 0.01 does not hide one ending blown')
+    ! one stretch over the cycle's end (steps 6, 7, 8, 1): sealed 0.2, 0.05, then blown -0.1,
+    ! -0.3: ends blown, its margin -0.1 (the blown step nearest 0)
+    q%step_margins(:, 2) = [-0.3_dp, no, no, no, no, 0.2_dp, 0.05_dp, -0.1_dp]
+    call derive_results(q, 4000.0_dp, 4.5e-4_dp, 850.0_dp)
+    call check(q%scalars(sc_seal_margin) == -0.1_dp .and. &
+               q%scalars(sc_seal_margin_angle) == 630.0_dp, &
+               'a stretch over the cycle''s end ends blown, -0.1 at 630 deg')
+    q%step_margins(8, 2) = 0.07_dp
+    q%step_margins(1, 2) = 0.3_dp
+    call derive_results(q, 4000.0_dp, 4.5e-4_dp, 850.0_dp)
+    call check(q%scalars(sc_seal_margin) == 0.05_dp .and. &
+               q%scalars(sc_seal_margin_angle) == 540.0_dp, &
+               'every stretch ends sealed: its weakest step since the last change, 0.05')
+    q%step_margins(:, 2) = 0.2_dp
+    q%step_margins(5, 2) = 0.15_dp
+    call derive_results(q, 4000.0_dp, 4.5e-4_dp, 850.0_dp)
+    call check(q%scalars(sc_seal_margin) == 0.15_dp, 'a decision at every step: one stretch')
+    ! the summary's warnings: below the threshold only, the threshold and its reason stated
+    mk = .true.
+    q%scalars(sc_lift_margin) = 0.5_dp * margin_thresholds(1)%threshold
+    q%scalars(sc_seal_margin) = -2.0_dp * margin_thresholds(2)%threshold
+    txt = summary_text(q%scalars, mk, '', '')
+    call check(index(txt, 'WARNING: lift-off margin') > 0 .and. index(txt, 'WARNING: seal') == 0 &
+               .and. index(txt, trim(margin_thresholds(1)%reason)) > 0, &
+               'a warning for the lift-off margin below its threshold, with its reason: '//txt)
+    mk(sc_seal_margin) = .false.
+    q%scalars(sc_seal_margin) = 0.0_dp
+    q%scalars(sc_lift_margin) = -2.0_dp * margin_thresholds(1)%threshold
+    txt = summary_text(q%scalars, mk, '', '')
+    call check(index(txt, 'WARNING') == 0 .and. index(txt, 'seal margin') == 0, &
+               'no warning above the thresholds, no seal margin where not made')
+  end subroutine branch_risk
 
   !> Every short and every stored name of `spec` once.
   subroutine names_unique(spec, table)

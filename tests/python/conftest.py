@@ -41,6 +41,7 @@ def quick_case():
 MODULE_LABELS = {
     "test_batch_and_deck_edge_cases": ("unit", "io"),
     "test_bore_results": ("numerics", "io"),
+    "test_branch_risk": ("numerics",),
     "test_calibration_targets": ("unit", "cli"),
     "test_calibrator": ("unit",),
     "test_case": ("unit",),
