@@ -2,7 +2,9 @@
 
 Each setting is changed one at a time from a converged reference (the finest settings),
 and a few combined presets are run too; every run reports its kernel time and its error
-in energy loss, mixed share and minimum film against the reference. The reference's own
+in energy loss, mixed share and minimum film against the reference, and which state it took
+(lifted off the liner or not; sealed or blown with 'trailing_gas'), with its margins, so that
+a setting on the other branch shows. The reference's own
 error is estimated by Richardson extrapolation from its halvings in N and in the crank
 step (both second order where the solution is smooth). Output: a Markdown table, a CSV
 and a plot of error against time with the Pareto front of settings. A deck with the ring
@@ -27,7 +29,17 @@ from .case import Case
 from .outputs import atomic_path, check_output, save_figure, write_text
 from .solve import run
 
-__all__ = ["Setting", "Row", "REFERENCE", "PRESETS", "OPTIONAL", "ladder", "measure", "convergence_study"]
+__all__ = [
+    "Setting",
+    "Row",
+    "REFERENCE",
+    "PRESETS",
+    "OPTIONAL",
+    "ladder",
+    "measure",
+    "convergence_study",
+    "state_text",
+]
 
 #: The reference numerics (finest settings of the ladder).
 REFERENCE = {
@@ -93,6 +105,45 @@ class Row:
     film_solves: int
     #: the results of :data:`OPTIONAL` the reference has: name -> (value, error)
     extra: dict = dataclasses.field(default_factory=dict)
+    #: which state the run took: lifted off or not, sealed or blown (:func:`state_text`)
+    state: str = ""
+
+
+def state_text(r) -> str:
+    """Which branch a run took (docs/model.md, "Branch risk"): lifted off the liner or not,
+    and with ``cavity_pressure = 'trailing_gas'`` sealed or blown, each with its margin; a
+    margin below its threshold (:data:`ringlube.tables.MARGINS`) is marked ``(!)``.
+
+    Parameters
+    ----------
+    r : CycleResult
+        A run (its ``liner_lift_share``, ``lift_margin`` and, if made, ``seal_margin``).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> state_text(SimpleNamespace(liner_lift_share=0.0, lift_margin=0.039, scalars={}))
+    'on the liner (lift margin +0.0390)'
+    >>> state_text(SimpleNamespace(liner_lift_share=26.7, lift_margin=-0.0037, scalars={}))
+    'lifted 26.7 % (lift margin -0.0037 (!))'
+    """
+    from .tables import MARGINS
+
+    def margin(name: str, value: float) -> str:
+        risky = abs(value) < MARGINS[name].threshold
+        return f"{name.replace('_', ' ')} {value:+.4f}{' (!)' if risky else ''}"
+
+    lift = r.liner_lift_share
+    out = f"lifted {lift:.3g} %" if lift > 0 else "on the liner"
+    out += f" ({margin('lift_margin', r.lift_margin)})"
+    if "seal_margin" in r.scalars:
+        seal = r.seal_margin
+        out += f", {'sealed' if seal > 0 else 'blown'} ({margin('seal_margin', seal)})"
+    return out
 
 
 def _extra(r, ref) -> dict:
@@ -304,6 +355,7 @@ def convergence_study(
         "est_err_n": abs(rich_n) / ref.energy_loss,
         "est_err_t": abs(rich_t) / ref.energy_loss,
         "extra": {k: v for k, (v, _) in _extra(ref, ref).items()},
+        "state": state_text(ref),
     }
     rows: list[Row] = []
     for s in settings:
@@ -324,6 +376,7 @@ def convergence_study(
                 converged=r.converged,
                 film_solves=int(r.film_solves.sum()),
                 extra=_extra(r, ref),
+                state=state_text(r),
             )
         )
     bar.close()
@@ -382,13 +435,16 @@ def write_report(
         f"{reference['min_film'] * 1e6:.4f} um, {reference['time_ms']:.0f} ms. Observed order of the "
         f"energy from three levels: {reference['order_n']:.2f} in N, {reference['order_t']:.2f} in the "
         f"crank step; Richardson estimate of the reference's own energy error: "
-        f"{reference['est_err_n']:.1e} (N), {reference['est_err_t']:.1e} (crank step)." + extra_text,
+        f"{reference['est_err_n']:.1e} (N), {reference['est_err_t']:.1e} (crank step)." + extra_text
+        + f" The reference's state: {reference.get('state', '')}; a setting whose state differs "
+        "took the other branch (margins marked (!) are below their thresholds: docs/model.md, "
+        '"Branch risk").',
         "",
         "| kind | setting | ms/run | ms/cycle | film solves | energy J | err energy | err mixed (pts) "
         "| err min film |"
         + "".join(f" {k} [{SCALARS[k].unit}] | {err_head(k)} |" for k in extra)
-        + " converged | front |",
-        "|---|---|---|---|---|---|---|---|---|" + "---|---|" * len(extra) + "---|---|",
+        + " converged | state | front |",
+        "|---|---|---|---|---|---|---|---|---|" + "---|---|" * len(extra) + "---|---|---|",
     ]
     for r in rows:
         md.append(
@@ -396,7 +452,7 @@ def write_report(
             f"{r.film_solves} | {r.energy:.5f} | {r.err_energy:.2e} | {r.err_mixed:.3f} | "
             f"{r.err_min_film:.2e} |"
             + "".join(f" {r.extra[k][0]:.5g} | {err_text(k, r.extra[k][1])} |" for k in extra)
-            + f" {'yes' if r.converged else 'NO'} | {'*' if id(r) in front else ''} |"
+            + f" {'yes' if r.converged else 'NO'} | {r.state} | {'*' if id(r) in front else ''} |"
         )
     md_path = outdir / f"convergence_{stem}.md"
     csv_path = outdir / f"convergence_{stem}.csv"
@@ -420,6 +476,7 @@ def write_report(
                 *(_csv_name(k, SCALARS[k].unit) for k in extra),
                 *(f"err_{k}_pts" if kinds[k] == "pts" else f"err_{k}" for k in extra),
                 "converged",
+                "state",
             ]
         )
         for r in rows:
@@ -437,6 +494,7 @@ def write_report(
                     *(r.extra[k][0] for k in extra),
                     *(r.extra[k][1] for k in extra),
                     int(r.converged),
+                    r.state,
                 ]
             )
     fig, ax = plt.subplots(figsize=(7.5, 5), layout="constrained")

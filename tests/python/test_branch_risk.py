@@ -95,3 +95,22 @@ def test_no_seal_margin_without_the_trailing_gas(quick_case):
     with pytest.raises(AttributeError, match="cavity_pressure = 'trailing_gas'"):
         r.seal_margin
     assert "seal margin" not in r.summary()
+
+
+def test_convergence_shows_which_state_each_crank_step_took(monkeypatch, tmp_path, starved):
+    # ringlube convergence: the reference's state in the header and each setting's state in
+    # its row, so that a crank step on the other branch shows (runs faked: a lifted result at
+    # 2 deg, one on the liner at every other setting)
+    import ringlube.convergence as conv
+
+    on = ringlube.run(ringlube.Case.from_namelist(COLD).with_numerics(preset="fast"))
+    lifted = ringlube.run(starved.with_numerics(preset="fast"))
+    assert on.liner_lift_share == 0 and lifted.liner_lift_share > 0
+    monkeypatch.setattr(conv, "run", lambda case: lifted if case.value("numerics", "dpsi_deg") == 2.0 else on)
+    reference, rows = conv.convergence_study(COLD, quick=True, repeats=1, progress=False)
+    md = conv.write_report(str(COLD), reference, rows, tmp_path, "ringlube convergence")[0].read_text()
+    assert f"The reference's state: on the liner (lift margin {on.lift_margin:+.4f})" in md
+    row = next(line for line in md.splitlines() if "| dpsi_deg = 2.0 |" in line)
+    assert f"| lifted {lifted.liner_lift_share:.3g} % (lift margin {lifted.lift_margin:+.4f} (!)) |" in row
+    others = [line for line in md.splitlines() if "| dpsi_deg = 1.0 |" in line or "| nodes = 25 |" in line]
+    assert len(others) == 2 and all("| on the liner (lift margin" in line for line in others)
