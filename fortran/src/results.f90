@@ -225,7 +225,7 @@ module ringlube_results
       .true.), &
     field_spec('lift_margin', 'lift_margin', '1', 'real', &
       'smallest (F - W at h0_ceiling) / F over the intake stroke: < 0 the ring can lift off '// &
-      '(branch risk)'), &
+      '(branch risk)', '', .true.), &
     field_spec('lift_margin_angle', 'lift_margin_angle_deg', 'deg', 'real', &
       'crank angle of lift_margin'), &
     field_spec('seal_margin', 'seal_margin', '1', 'real', &

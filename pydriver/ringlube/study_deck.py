@@ -221,6 +221,15 @@ def read_study(path: str | os.PathLike) -> StudySettings:
                     chk.bad(var, f"'{o}' needs {need} in every base deck ({deck} has not)")
         if o not in st.outputs:
             st.outputs.append(o)  # constrained results are recorded (and fitted) too
+    # the branch-risk margins of every design (lift_margin is one of every study's outputs;
+    # seal_margin where every base deck makes it): a design near a change of state is marked in
+    # the report (docs/model.md, "Branch risk")
+    from .tables import MARGINS
+
+    for o in MARGINS:
+        req = SCALARS[o].requires
+        if o not in st.outputs and all(_produces(Case.from_namelist(d), req) for d in cases):
+            st.outputs.append(o)
     return st
 
 

@@ -3,7 +3,8 @@
 Every number carries its unit; designs are shown in the units of
 :func:`~ringlube.study_variables.display` (lengths in mm or µm, tension in the base decks'
 ``&ring tension_unit``). A re-checked design that did not converge or lifted the ring off the
-liner is marked (:data:`NOT_CONVERGED`, :data:`LIFTED`), never shown as a good design.
+liner is marked (:data:`NOT_CONVERGED`, :data:`LIFTED`), never shown as a good design; one
+that came close to a change of state is marked :data:`BRANCH_RISK`.
 """
 
 from __future__ import annotations
@@ -21,10 +22,16 @@ NOT_CONVERGED = "NOT CONVERGED, not verified"
 #: (``liner_lift_share`` > 0: the film carried no load there and the results at those steps
 #: rest on the lift-off model, issue 16): reported, never ranked as a good design.
 LIFTED = "LIFTED OFF the liner, not a good design"
+#: Mark of a design whose true-model run came close to a change of state: a branch-risk margin
+#: (``lift_margin``, ``seal_margin``) below its threshold (:data:`ringlube.tables.MARGINS`;
+#: docs/model.md, "Branch risk"): its numbers may belong to the other state after a small
+#: change of the inputs or the numerics. Reported, as a run that did not converge is.
+BRANCH_RISK = "BRANCH RISK"
 #: Pareto CSV column marking designs the surfaces predict to lift off the liner.
 LIFTED_COLUMN = "lifted off the liner (surrogate)"
 
 __all__ = [
+    "BRANCH_RISK",
     "LIFTED",
     "LIFTED_COLUMN",
     "NOT_CONVERGED",
@@ -137,6 +144,39 @@ def _lift_mark(study: Study, values: np.ndarray) -> str:
     """'' or the lift-off mark with the share of the cycle lifted."""
     share = lift_share(study, values)
     return f"{LIFTED} ({share:.3g} % of the cycle)" if share > 0 else ""
+
+
+def branch_risks(study: Study, values: np.ndarray) -> list[str]:
+    """The branch-risk marks of a design's true results: one per recorded margin whose
+    magnitude is below its threshold (:data:`ringlube.tables.MARGINS`).
+
+    Parameters
+    ----------
+    study : Study
+    values : ndarray
+        The design's results, one per ``study.s.outputs``.
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> st = SimpleNamespace(s=SimpleNamespace(outputs=["energy_loss", "lift_margin"]))
+    >>> branch_risks(st, np.array([1.5, -0.0037])), branch_risks(st, np.array([1.5, 0.2]))
+    (['BRANCH RISK (lift_margin -0.0037, below 0.01)'], [])
+    """
+    from .tables import MARGINS
+
+    outputs = list(study.s.outputs)
+    out = []
+    for name, spec in MARGINS.items():
+        if name in outputs:
+            v = float(values[outputs.index(name)])
+            if np.isfinite(v) and abs(v) < spec.threshold:
+                out.append(f"{BRANCH_RISK} ({name} {v:+.4f}, below {spec.threshold:g})")
+    return out
 
 
 def _feasible_text(study: Study, label: str, ft: np.ndarray, points: dict | None = None) -> str:

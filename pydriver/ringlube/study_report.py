@@ -18,11 +18,13 @@ from .study_check import FRONT_CHECKS, candidates_text
 from .study_constraints import constraint_bounds, point_violations, unconverged_reference
 from .study_figures import BORE_FIGURES, study_figures, tradeoff_stems
 from .study_format import (
+    BRANCH_RISK,
     LIFTED,
     LIFTED_COLUMN,
     NOT_CONVERGED,
     _feasible_text,
     _lift_mark,
+    branch_risks,
     design_points,
     lift_share,
     result_display,
@@ -38,6 +40,7 @@ from .study_variables import display, output_units
 __all__ = [
     "write_report",
     "how_sure_lines",
+    "branch_risk_lines",
     "every_point_lines",
     "write_outputs",
     "output_names",
@@ -74,6 +77,7 @@ def _design_table(study: Study, ch: Checked, label: str = "") -> list[str]:
             )
             continue
         marks = ([] if ok else [NOT_CONVERGED]) + ([_lift_mark(study, ft)] if lift_share(study, ft) else [])
+        marks += branch_risks(study, ft)
         rows.append(
             f"| {n}{''.join(f' ({m})' for m in marks)} | {xs} | "
             + " | ".join(f"{v * k:.4g}" for v, (_, k) in zip(ft, shown))
@@ -299,7 +303,10 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
         "the liner for the share of the cycle given (`liner_lift_share`: the film carried no "
         "load at those crank steps, which the model bounds by `h0_ceiling`): its numbers rest "
         "on that lift-off and it is not a design to choose. The Pareto CSV files mark the "
-        f"designs the surfaces predict to lift off (column '{LIFTED_COLUMN}').",
+        f"designs the surfaces predict to lift off (column '{LIFTED_COLUMN}'). A design marked "
+        f"'{BRANCH_RISK}' came within a threshold of a change of state (lifting off the liner, "
+        'the face sealing or blowing: `lift_margin`, `seal_margin`, "How sure" below): a small '
+        "change of the inputs or the numerics may put it in the other state, with other numbers.",
     ]
     for label, c in study.cases.items():
         if c.chosen is None:
@@ -399,12 +406,78 @@ def _change(value: float, base: float, digits: int) -> str:
     return f"{(value - base) / abs(base):+.{digits}%}"
 
 
+def branch_risk_lines(study: Study, sures: list) -> list[str]:
+    """The "Branch risk" part of "How sure": each margin's threshold and why, and the chosen
+    designs (and the reference) whose margin is below it at the study's preset or took the
+    other sign at 'accurate' (the other state).
+
+    Parameters
+    ----------
+    study : Study
+    sures : list of (str, Sure)
+        The cases' re-runs (:func:`ringlube.study_sure.how_sure`).
+
+    Returns
+    -------
+    list of str
+        Markdown lines.
+
+    Example
+    -------
+    >>> branch_risk_lines(study, [])[1]                      # doctest: +SKIP
+    '### Branch risk'
+    """
+    from .tables import MARGINS, SCALARS
+
+    s = study.s
+    names = [o for o in MARGINS if o in s.outputs]
+    if not names:
+        return []
+    L = [
+        "",
+        "### Branch risk",
+        "",
+        'How close each design\'s run came to a change of state (docs/model.md, "Branch risk"): '
+        "a margin below its threshold marks the design "
+        f"'{BRANCH_RISK}'; a margin of the other sign at 'accurate' means the finer numerics "
+        "took the other state.",
+        "",
+    ]
+    L += [
+        f"- `{o}` ({SCALARS[o].long_name}): threshold {MARGINS[o].threshold:g}, {MARGINS[o].reason}."
+        for o in names
+    ]
+    found = []
+    for label, su in sures:
+        for n, nom, acc in zip(su.names, su.nominal, su.accurate):
+            for o in names:
+                j = s.outputs.index(o)
+                small = abs(nom[j]) < MARGINS[o].threshold
+                flipped = np.isfinite(acc[j]) and (nom[j] > 0) != (acc[j] > 0)
+                if small or flipped:
+                    found.append(
+                        f"| {label} | {n} | `{o}` | {nom[j]:+.4f} | {acc[j]:+.4f} | "
+                        + ("yes" if flipped else "no")
+                        + " |"
+                    )
+    L.append("")
+    if found:
+        L += ["| case | design | margin | study preset | 'accurate' | other state at 'accurate' |"]
+        L += ["|---|---|---|---|---|---|", *found]
+    else:
+        L.append(
+            "Every chosen design's margins are above their thresholds and keep their sign at 'accurate'."
+        )
+    return L
+
+
 def how_sure_lines(study: Study) -> list[str]:
     """The "How sure is this answer" section of ``report.md``.
 
-    Four parts: the film model's numerical error at the preset used (the chosen designs
+    Five parts: the film model's numerical error at the preset used (the chosen designs
     re-run at preset ``'accurate'``), whether each case is calibrated (a ``&calibration``
-    file), which chosen designs sit on a bound of the design box, and a one-at-a-time
+    file), which chosen designs sit on a bound of the design box, which came close to a change
+    of state (:func:`branch_risk_lines`), and a one-at-a-time
     sensitivity of the chosen designs to the uncertain inputs
     (:data:`ringlube.study_sure.UNCERTAIN`) with whether the ranking of the designs changes.
 
@@ -468,6 +541,7 @@ def how_sure_lines(study: Study) -> list[str]:
     L += on or ["None: every chosen design lies more than 0.1 % of the box's width inside each bound."]
     if on:
         L += ["", "A design on a bound may improve beyond it: widen the box if that is allowed."]
+    L += branch_risk_lines(study, sures)
     L += ["", "### Sensitivity to the uncertain inputs", ""]
     for label, su in sures:
         if not su.inputs:

@@ -11,6 +11,7 @@ from .study_format import (
     _feasible_text,
     _lift_mark,
     _values,
+    branch_risks,
     design_points,
     format_design,
     surrogate_error,
@@ -102,6 +103,7 @@ def summary(study: Study) -> str:
                     f"  {n:18s} {format_design(study, x)} -> "
                     + ("" if ok else f"{NOT_CONVERGED}: ")
                     + (f"{lift}: " if lift else "")
+                    + "".join(f"{m}: " for m in branch_risks(study, ft))
                     + _values(s.objectives, ft[cols])
                     + "  (surrogate error "
                     + ", ".join(surrogate_error(study.s.outputs[j], fs[j], ft[j]) for j in cols)

@@ -227,7 +227,6 @@ FLAGS: dict[str, int] = {name: int(b) for b, name, _ in _rows("flags")}
 MODELS: dict[str, ModelSpec] = {r[0]: ModelSpec(*r) for r in _rows("models")}
 
 
-
 @dataclasses.dataclass(frozen=True)
 class MarginSpec:
     """A branch-risk margin's threshold and why (docs/model.md, "Branch risk"): a run whose

@@ -25,7 +25,8 @@ LOAD_TOL = 1e-3  # preset 'default'
 
 @pytest.fixture(scope="module")
 def starved():
-    return ringlube.Case.from_namelist(COLD).inline_calibration().with_physics(cavitation="jfo", inlet="starved")
+    cold = ringlube.Case.from_namelist(COLD).inline_calibration()
+    return cold.with_physics(cavitation="jfo", inlet="starved")
 
 
 def test_lift_margin_is_continuous_and_changes_sign_where_the_ring_lifts_off(starved):
@@ -93,7 +94,7 @@ def test_seal_margin_changes_sign_with_the_crank_step_where_the_face_blows():
 def test_no_seal_margin_without_the_trailing_gas(quick_case):
     r = ringlube.run(quick_case.with_physics(cavitation="jfo"))
     with pytest.raises(AttributeError, match="cavity_pressure = 'trailing_gas'"):
-        r.seal_margin
+        _ = r.seal_margin
     assert "seal margin" not in r.summary()
 
 
@@ -114,3 +115,32 @@ def test_convergence_shows_which_state_each_crank_step_took(monkeypatch, tmp_pat
     assert f"| lifted {lifted.liner_lift_share:.3g} % (lift margin {lifted.lift_margin:+.4f} (!)) |" in row
     others = [line for line in md.splitlines() if "| dpsi_deg = 1.0 |" in line or "| nodes = 25 |" in line]
     assert len(others) == 2 and all("| on the liner (lift margin" in line for line in others)
+
+
+def test_a_study_marks_designs_near_a_change_of_state():
+    # the design marks (as a design that did not converge is marked) and the "How sure" table:
+    # the designs below a threshold, or whose re-run at 'accurate' took the other sign
+    from types import SimpleNamespace
+
+    from ringlube.study_format import BRANCH_RISK, branch_risks
+    from ringlube.study_report import branch_risk_lines
+
+    study = SimpleNamespace(s=SimpleNamespace(outputs=["energy_loss", "lift_margin", "seal_margin"]))
+    knee = np.array([1.0, -0.0037, 0.5])
+    assert branch_risks(study, knee) == [f"{BRANCH_RISK} (lift_margin -0.0037, below 0.01)"]
+    seal = f"{BRANCH_RISK} (seal_margin +0.0500, below 0.1)"
+    assert branch_risks(study, np.array([1.0, 0.2, 0.05])) == [seal]
+    assert branch_risks(study, np.array([1.0, 0.2, -0.2])) == []
+    sure = SimpleNamespace(
+        names=["knee", "min energy", "far"],
+        nominal=np.array([knee, [1.0, 0.2, 0.05], [1.0, 0.2, -0.2]]),
+        accurate=np.array([[1.0, 0.002, 0.5], [1.0, 0.2, 0.06], [1.0, 0.3, 0.3]]),
+    )
+    text = "\n".join(branch_risk_lines(study, [("cold", sure)]))
+    assert "### Branch risk" in text and "threshold 0.01" in text and "threshold 0.1" in text
+    assert MARGINS["lift_margin"].reason in text
+    assert "| cold | knee | `lift_margin` | -0.0037 | +0.0020 | yes |" in text
+    assert "| cold | min energy | `seal_margin` | +0.0500 | +0.0600 | no |" in text
+    # far from its thresholds, but blown at the study's preset and sealed at 'accurate'
+    assert "| cold | far | `seal_margin` | -0.2000 | +0.3000 | yes |" in text
+    assert "| cold | far | `lift_margin`" not in text
