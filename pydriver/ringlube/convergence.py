@@ -435,7 +435,8 @@ def write_report(
         f"{reference['min_film'] * 1e6:.4f} um, {reference['time_ms']:.0f} ms. Observed order of the "
         f"energy from three levels: {reference['order_n']:.2f} in N, {reference['order_t']:.2f} in the "
         f"crank step; Richardson estimate of the reference's own energy error: "
-        f"{reference['est_err_n']:.1e} (N), {reference['est_err_t']:.1e} (crank step)." + extra_text
+        f"{reference['est_err_n']:.1e} (N), {reference['est_err_t']:.1e} (crank step)."
+        + extra_text
         + f" The reference's state: {reference.get('state', '')}; a setting whose state differs "
         "took the other branch (margins marked (!) are below their thresholds: docs/model.md, "
         '"Branch risk").',
