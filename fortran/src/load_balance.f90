@@ -69,6 +69,9 @@ module ringlube_load_balance
     integer :: nh = 0
     !> sliding speed of the last step (0 at the start)
     real(dp) :: u = 0.0_dp
+    !> the film at h0_ceiling of the last lift-off margin (`margins`), the warm start of the
+    !> next: pressure, viscosity and fill (not allocated before the first)
+    real(dp), allocatable :: p_ceiling(:), eta_ceiling(:), theta_ceiling(:)
   end type balance_memory
 
   !> trials of the damped rule over which its best residual must fall by 1 % (else it stops)
@@ -140,7 +143,7 @@ contains
     mem%trials = 0
     guess = min(max(guess, c%h0_floor), lp%ceiling)
     call find_h0(c, lp, g, mem, guess, h0out, flags, resid, ring)
-    call margins(c, lp, g, psi, h0out, flags, resid, ring)
+    call margins(c, lp, g, mem, psi, h0out, flags, resid, ring)
     mem%h(3) = mem%h(2)
     mem%h(2) = mem%h(1)
     mem%h(1) = h0out
@@ -159,14 +162,18 @@ contains
   !> flag 2) when W > F there, so the margin is < 0 where the ring can be lifted off and > 0
   !> where it cannot. A step held at the ceiling has W from the balance's own solve there;
   !> every other step one film solve more, on a copy of the film (and of a distorted bore's
-  !> sectors), which changes nothing of the step.
+  !> sectors), which changes nothing of the step. The copy starts from the film of the last
+  !> such solve (`mem`), not from the step's film at its h0: the film at the ceiling changes
+  !> little from step to step (from the step's film, a run of the hot deck with a starved inlet
+  !> took 25 % more CPU time than without the margin, from the last ceiling film 4 %).
   !>
   !> Seal margin, with 'trailing_gas' on a step not held at the ceiling: jfo_seal_margin of
   !> the film (of the sectors of a distorted bore, the smallest: the gas passes where one blows).
-  subroutine margins(c, lp, g, psi, h0out, flags, resid, ring)
+  subroutine margins(c, lp, g, mem, psi, h0out, flags, resid, ring)
     type(case_type), intent(in) :: c
     type(load_problem), intent(inout) :: lp
     type(film_type), intent(in) :: g
+    type(balance_memory), intent(inout) :: mem
     real(dp), intent(in) :: psi, h0out, resid
     integer, intent(in) :: flags
     type(sector_ring), intent(in), optional :: ring
@@ -188,7 +195,15 @@ contains
         else
           sq = 0.0_dp
           if (c%squeeze) sq = 2.0_dp * (lp%sq_a * lp%ceiling - lp%sq_b) / lp%dt
+          if (allocated(mem%p_ceiling)) then
+            gc%p = mem%p_ceiling
+            gc%eta = mem%eta_ceiling
+            if (gc%jfo) gc%theta = mem%theta_ceiling
+          end if
           call film_evaluate(c, gc, lp%ceiling, sq, lp%u, lp%pg, c%load_tol * max(lp%load, 1e-3_dp))
+          mem%p_ceiling = gc%p
+          mem%eta_ceiling = gc%eta
+          if (gc%jfo) mem%theta_ceiling = gc%theta
         end if
         lp%margin_solves = gc%film_solves - g%film_solves
         lp%lift_margin = (lp%load - gc%wh - gc%wa) / max(lp%load, 1e-3_dp)
