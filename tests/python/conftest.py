@@ -70,6 +70,7 @@ MODULE_LABELS = {
     "test_own_engine_walkthrough": ("cli",),
     "test_packaging": ("io",),
     "test_plot_cli": ("cli", "io"),
+    "test_periodic_state": ("numerics",),
     "test_pressure_shift": ("numerics",),
     "test_readings": ("numerics",),
     "test_ring_pack_cycle": ("numerics",),
