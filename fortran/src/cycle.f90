@@ -27,6 +27,7 @@ module ringlube_cycle
                                   history_measure, history_period, history_changes, &
                                   history_mean, history_clean, history_extrapolate, &
                                   q_ring_pack, last_slot
+  use ringlube_fsys, only: progress_begin, progress_cycle, progress_end
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -98,8 +99,19 @@ module ringlube_cycle
 
 contains
 
-  !> Run cycles until the ring's state is periodic (or max_cycles) and report the last one.
+  !> Run cycles until the ring's state is periodic (or max_cycles) and report the last one
+  !> (with a progress line on a terminal where the front end asked for one, ringlube_fsys).
   subroutine solve_cycle(c, res, err)
+    type(case_type), intent(in) :: c
+    type(result_type), intent(out) :: res
+    type(error_type), allocatable, intent(out) :: err
+    call progress_begin(c%max_cycles)
+    call run_cycles(c, res, err)
+    call progress_end()
+  end subroutine solve_cycle
+
+  !> Run cycles until the ring's state is periodic (or max_cycles) and report the last one.
+  subroutine run_cycles(c, res, err)
     type(case_type), intent(in) :: c
     type(result_type), intent(out) :: res
     type(error_type), allocatable, intent(out) :: err
@@ -117,6 +129,7 @@ contains
     if (allocated(err)) return
     do icycle = 1, c%max_cycles
       run%cycles_run = icycle
+      call progress_cycle(icycle)
       call run_cycle(st, c, res, run, icycle)
       if (allocated(st%err)) then
         call move_alloc(st%err, err)
@@ -142,7 +155,7 @@ contains
       if (c%accelerate) call extrapolate_liner(st, run)
     end do
     call report(st, c, res, run, err)
-  end subroutine solve_cycle
+  end subroutine run_cycles
 
   !> h0 of the state before the first step: 4 sigma, or &numerics h0_initial, inside the
   !> bounds.
@@ -172,6 +185,7 @@ contains
     integer :: m, k, k_film, k_nodes, j
 
     m = steps_per_cycle(c)
+    call progress_cycle(0)
     run%warmup = c%warmup_deg
     associate (f => st%film%f)
       if (f%starved .or. (f%jfo .and. c%cavity_pressure == 'vapour')) &

@@ -72,6 +72,7 @@ MODULE_LABELS = {
     "test_plot_cli": ("cli", "io"),
     "test_periodic_state": ("numerics",),
     "test_pressure_shift": ("numerics",),
+    "test_progress": ("cli",),
     "test_readings": ("numerics",),
     "test_ring_pack_cycle": ("numerics",),
     "test_ring_pack_study": ("numerics",),
