@@ -19,7 +19,7 @@ program ringlube_solve
   use ringlube_output_path, only: check_output
   use ringlube_version, only: package_version
   use ringlube_kernel_id, only: kernel_id
-  use ringlube_fsys, only: ignore_file_size_signal, remove_temp_on_signal
+  use ringlube_fsys, only: ignore_file_size_signal, remove_temp_on_signal, progress_enable
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64
   implicit none
   type(case_type) :: c
@@ -85,6 +85,8 @@ program ringlube_solve
   ! the file records where it was written (-o, else the deck's &output file)
   c%output_file = out
 
+  ! a line on the terminal (standard error) says where a run of more than a few seconds is
+  call progress_enable(.not. quiet)
   call system_clock(t0, rate)
   call solve_cycle(c, res, err)
   call system_clock(t1)

@@ -245,6 +245,16 @@ subroutine rl_run(handle, out_path, nsteps, ns, ni, nc, nl, nliner, nm, nsec, nk
   made = produced_models(r)
 end subroutine rl_run
 
+!> Ask for a progress line on standard error (a terminal only) in the runs that follow
+!> (on = 1) or not (0): `ringlube run` without -q (ringlube_fsys, fsys.c).
+subroutine rl_progress(on)
+  use, intrinsic :: iso_c_binding, only: c_int
+  use ringlube_fsys, only: progress_enable
+  implicit none
+  integer(c_int), intent(in) :: on
+  call progress_enable(on /= 0)
+end subroutine rl_progress
+
 !> Run `nd` designs of one case: row i of `x` gives the values of the variables named in
 !> `keys` ('group.name' separated by blanks). `out(i, :)` are the scalar results of design
 !> i (table 'scalars'); `codes(i)` its error code (0: ok) and `messages(i)` its error

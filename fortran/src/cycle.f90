@@ -7,7 +7,8 @@ module ringlube_cycle
   use ringlube_case, only: case_type, ring_mass, steps_per_cycle, composite_sigma
   use ringlube_ring_pack, only: ring_pack_state, ring_pack_step_out, ring_pack_gas_mass
   use ringlube_ring_pack_cycle, only: ring_pack_totals, ring_pack_finish, ring_pack_scalars, &
-                                      ring_pack_start, ring_pack_restart
+                                      ring_pack_start, ring_pack_restart, ring_pack_cycle_out, &
+                                      ring_pack_distance
   use ringlube_greenwood_tripp, only: gt_init
   ! the results' table: result_type and the column constants s_* (series), si_* (integer
   ! series), sc_* (scalars), l_* (liner) and m_* (models)
@@ -23,8 +24,10 @@ module ringlube_cycle
   use ringlube_sectors, only: sector_ring, exact_mean
   use ringlube_bore, only: bore_distortion, conformability, conformability_orders
   use ringlube_periodicity, only: cycle_history, history_start, history_h0, history_end, &
-                                  history_period, history_changes, history_mean, &
-                                  history_clean
+                                  history_measure, history_period, history_changes, &
+                                  history_mean, history_clean, history_extrapolate, &
+                                  q_ring_pack, last_slot
+  use ringlube_fsys, only: progress_begin, progress_cycle, progress_end
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -47,6 +50,8 @@ module ringlube_cycle
   !> (it feeds the gas network its friction): the first of these for which the film has 4
   !> times as many intervals or more (none: the film itself)
   integer, parameter :: ring_pack_warmup_nodes(2) = [11, 7]
+  !> the liner film's extrapolations a run makes at most (extrapolate_liner)
+  integer, parameter :: max_extrapolations = 2
 
   !> Where the ring pack's first cycle is solved again from after its restart (the re-warm):
   !> crank step k and the state before it.
@@ -57,6 +62,13 @@ module ringlube_cycle
     type(sector_ring), allocatable :: ring
     type(supply_type), allocatable :: sups(:)
     real(dp) :: s_prev = 0.0_dp, fric_prev = 0.0_dp
+    !> the ring pack before step k of the cycle just run, and its periodic state there under
+    !> that cycle's friction (the gas network alone, ring_pack_restart) where it was computed
+    !> at the cycle's end (`periodic_done`)
+    type(ring_pack_state) :: rp
+    type(ring_pack_state) :: rp_periodic
+    type(ring_pack_cycle_out) :: rp_periodic_cyc
+    logical :: periodic_done = .false.
   end type rewarm_point
 
   !> What a run of cycles keeps between them beside the cycle state.
@@ -66,8 +78,13 @@ module ringlube_cycle
     type(cycle_history) :: hist
     integer :: period = 0, cycles_run = 0
     logical :: periodic = .false.
-    !> the ring pack's start settled (its first cycle's change can then pass the test)
-    logical :: start_settled = .true.
+    !> the next cycle starts where the last one ended (not after the ring pack's restart);
+    !> the cycle being run did; its ring pack asks for a restart
+    logical :: continues = .true., continued = .false., restart = .false.
+    !> the next cycle starts from a liner film extrapolated with this contraction per cycle
+    !> (accelerate; 0: not extrapolated); extrapolations so far
+    real(dp) :: rho_map = 0.0_dp
+    integer :: extrapolations = 0
     !> h0 at psi = 0 of the cycle and at its end (psi = 720 deg) [m]
     real(dp) :: h0_start = 0.0_dp, h0_end = 0.0_dp
     !> starved: stored oil and the gap's oil at the cycle's start of each film (one; a
@@ -82,8 +99,19 @@ module ringlube_cycle
 
 contains
 
-  !> Run cycles until the ring's state is periodic (or max_cycles) and report the last one.
+  !> Run cycles until the ring's state is periodic (or max_cycles) and report the last one
+  !> (with a progress line on a terminal where the front end asked for one, ringlube_fsys).
   subroutine solve_cycle(c, res, err)
+    type(case_type), intent(in) :: c
+    type(result_type), intent(out) :: res
+    type(error_type), allocatable, intent(out) :: err
+    call progress_begin(c%max_cycles)
+    call run_cycles(c, res, err)
+    call progress_end()
+  end subroutine solve_cycle
+
+  !> Run cycles until the ring's state is periodic (or max_cycles) and report the last one.
+  subroutine run_cycles(c, res, err)
     type(case_type), intent(in) :: c
     type(result_type), intent(out) :: res
     type(error_type), allocatable, intent(out) :: err
@@ -101,30 +129,33 @@ contains
     if (allocated(err)) return
     do icycle = 1, c%max_cycles
       run%cycles_run = icycle
+      call progress_cycle(icycle)
       call run_cycle(st, c, res, run, icycle)
       if (allocated(st%err)) then
         call move_alloc(st%err, err)
         return
       end if
-      call end_cycle(st, c, res, run, icycle)
+      call end_cycle(st, c, res, run)
       if (allocated(st%err)) then
         call move_alloc(st%err, err)
         return
       end if
       if (run%periodic) exit
-      ! the first cycle not periodic: the next starts the ring pack from its periodic state
-      ! under this cycle's friction (the land relaxes over several cycles; the friction settles
-      ! with the film at once). Once only: the restart's state differs from the coupled
-      ! cycle's by the half step its friction is shifted by, which a restart every cycle
-      ! would feed back into the film at every cycle boundary.
       ! (not after the last cycle: the cycle's blowby and liner film are the results reported)
-      if (allocated(st%rst) .and. icycle == 1 .and. icycle < c%max_cycles) then
+      if (icycle == c%max_cycles) exit
+      ! a cycle not periodic whose ring pack lies far from its periodic state under the cycle's
+      ! friction (the first cycle, or a slow land that would take more than ten cycles to get
+      ! there): the next starts the ring pack from that state (the land relaxes over several
+      ! cycles; the friction settles with the film at once)
+      if (allocated(st%rst) .and. (icycle == 1 .or. run%restart)) then
         call restart_ring_pack(st, c, res, run, err)
         if (allocated(err)) return
+        run%continues = .false.
       end if
+      if (c%accelerate) call extrapolate_liner(st, run)
     end do
     call report(st, c, res, run, err)
-  end subroutine solve_cycle
+  end subroutine run_cycles
 
   !> h0 of the state before the first step: 4 sigma, or &numerics h0_initial, inside the
   !> bounds.
@@ -154,6 +185,7 @@ contains
     integer :: m, k, k_film, k_nodes, j
 
     m = steps_per_cycle(c)
+    call progress_cycle(0)
     run%warmup = c%warmup_deg
     associate (f => st%film%f)
       if (f%starved .or. (f%jfo .and. c%cavity_pressure == 'vapour')) &
@@ -167,12 +199,10 @@ contains
     st%fric_prev = 0.0_dp
     run%rw%k = min(m, max(2, m - nint(c%warmup_deg / c%dpsi_deg) + 1))
     run%rewarm = 0.0_dp
-    run%start_settled = .true.
     if (allocated(st%rst)) then
       call ring_pack_start(c, m, k, st%rpar, st%rst, st%rcyc, err)
       if (allocated(err)) return
       run%hist%land_contraction = st%rcyc%contraction
-      run%start_settled = st%rcyc%converged
     end if
     k_nodes = findloc(c%nodes >= 4 * ring_pack_warmup_nodes - 3, .true., dim=1)
     if (allocated(st%rst) .and. k < k_film .and. k_nodes > 0 .and. .not. st%film%f%jfo) then
@@ -230,13 +260,19 @@ contains
       end if
       call liner_map(st, map)
       ! (an unallocated state or map is an absent argument: the run has none)
-      call history_start(run%hist, rp=st%rst, map=map)
+      run%continued = run%continues .and. icycle > 1
+      call history_start(run%hist, rp=st%rst, map=map, continued=run%continued, &
+                         rho_map=run%rho_map)
+      run%continues = .true.
+      run%rho_map = 0.0_dp
+      run%rw%periodic_done = .false.
       if (allocated(st%rst)) then
         st%rtot = ring_pack_totals()
         st%rtot%stored_start = ring_pack_gas_mass(st%rpar, st%rst)
       end if
       do k = 1, steps_per_cycle(c)
-        if (allocated(st%rst) .and. icycle == 1 .and. k == run%rw%k) then
+        if (allocated(st%rst) .and. k == run%rw%k) run%rw%rp = st%rst
+        if (allocated(st%rst) .and. k == run%rw%k) then
           run%rw%film%f = f
           run%rw%film%mem = st%film%mem
           if (f%starved) run%rw%film%sup = sup
@@ -259,18 +295,18 @@ contains
   !> which it repeats (starved: the liner film and the energy, since h0 at psi = 0 carries a
   !> slowly decaying mode of the film collected again at the end of the next downstroke;
   !> docs/model.md, "Periodicity").
-  subroutine end_cycle(st, c, res, run, icycle)
+  subroutine end_cycle(st, c, res, run)
     type(cycle_state), intent(inout) :: st
     type(case_type), intent(in) :: c
     type(result_type), intent(inout) :: res
     type(cycle_run), intent(inout) :: run
-    integer, intent(in) :: icycle
     type(film_track) :: g
     type(ring_pack_state), allocatable :: gst
     type(ring_pack_step_out) :: gout
     type(step_out) :: out
     type(sector_ring), allocatable :: gring
     real(dp), allocatable :: map(:), gap_end(:)
+    real(dp) :: direct
     integer :: j
     associate (f => st%film%f, sup => st%film%sup)
       g%f = f
@@ -327,14 +363,25 @@ contains
                        all(iand(res%int_series(:, si_flags), not(flag_ceiling)) == 0), &
                        res%scalars)
       call liner_map(st, map)
-      run%period = history_period(run%hist, c, run%h0_end, run%change_first, &
-                                  rp_end=st%rst, map_end=map)
+      run%restart = .false.
+      if (allocated(st%rst)) then
+        ! the ring pack's distance from the periodic state of the gas network under the
+        ! cycle's friction (a slow land changes little in a cycle far from it)
+        call ring_pack_periodic(st, c, res, run, direct)
+        if (allocated(st%err)) return
+        call history_measure(run%hist, c, run%h0_end, run%change_first, rp_end=st%rst, &
+                             map_end=map, rp_direct=direct)
+        ! a slow approach (contracting by more than a half a cycle, from one side) still more
+        ! than ten of the cycle's own changes away: restart it there
+        run%restart = direct > c%cycle_tol .and. run%hist%rho(q_ring_pack) > 0.5_dp .and. &
+                      direct > 10.0_dp * run%hist%change(q_ring_pack, last_slot(run%hist))
+      else
+        call history_measure(run%hist, c, run%h0_end, run%change_first, map_end=map)
+      end if
+      run%period = history_period(run%hist, c, run%h0_end, rp_end=st%rst, map_end=map)
       res%scalars([sc_cycle_change, sc_energy_change, sc_liner_change, sc_ring_pack_change]) = &
-        history_changes(run%hist, c, run%h0_end, run%change_first, run%period, st%rst, map)
+        history_changes(run%hist, c, run%h0_end, run%period, st%rst, map)
     end associate
-    ! a gas start that did not settle says nothing of the land's distance from its periodic
-    ! state, which a slow land's change over the first cycle does not show: the restart follows
-    if (icycle == 1 .and. allocated(st%rst) .and. .not. run%start_settled) run%period = 0
     run%periodic = run%period > 0
   end subroutine end_cycle
 
@@ -394,6 +441,66 @@ contains
     end if
   end subroutine liner_map
 
+  !> A starved liner film that settles slowly (one mode contracting geometrically over the
+  !> last two cycles) extrapolated toward its periodic state (history_extrapolate): the next
+  !> cycle starts from it, and its change is judged with the contraction extrapolated with.
+  subroutine extrapolate_liner(st, run)
+    type(cycle_state), intent(inout) :: st
+    type(cycle_run), intent(inout) :: run
+    real(dp), allocatable :: map(:), new(:)
+    real(dp) :: rho
+    logical :: ok
+    integer :: j, n
+    ! (twice at most: the approach from the warm-up, where one mode settles; in an orbit of
+    ! several cycles a film building up before it is picked up looks like one too)
+    if (run%extrapolations >= max_extrapolations) return
+    call liner_map(st, map)
+    if (.not. allocated(map)) return
+    allocate (new(size(map)))
+    call history_extrapolate(run%hist, map, new, rho, ok)
+    if (.not. ok) return
+    if (allocated(st%ring)) then
+      n = st%sups(1)%liner%nz
+      do j = 1, size(st%sups)
+        st%sups(j)%liner%h = new((j - 1) * n + 1:j * n)
+      end do
+    else
+      st%film%sup%liner%h = new
+    end if
+    run%continues = .false.
+    run%rho_map = rho
+    run%extrapolations = run%extrapolations + 1
+  end subroutine extrapolate_liner
+
+  !> The ring pack's periodic state before the re-warm's first step under the friction of the
+  !> cycle just run (the gas network alone from the cycle's own state there,
+  !> ring_pack_restart; kept for the restart) and the cycle's distance from it there
+  !> (ring_pack_distance; where the gas network did not settle in its cycles, plus its last
+  !> cycle's change: the coupled state lies within that of an orbit the gas network has not
+  !> left).
+  subroutine ring_pack_periodic(st, c, res, run, distance)
+    type(cycle_state), intent(inout) :: st
+    type(case_type), intent(in) :: c
+    type(result_type), intent(in) :: res
+    type(cycle_run), intent(inout) :: run
+    real(dp), intent(out) :: distance
+    associate (rw => run%rw)
+      rw%rp_periodic = rw%rp
+      if (allocated(st%ring)) then
+        call ring_pack_restart(c, st%rpar, rw%k, res%series(:, s_friction), rw%rp_periodic, &
+                               rw%rp_periodic_cyc, st%err, st%face_ks)
+      else
+        call ring_pack_restart(c, st%rpar, rw%k, res%series(:, s_friction), rw%rp_periodic, &
+                               rw%rp_periodic_cyc, st%err)
+      end if
+      rw%periodic_done = .not. allocated(st%err)
+      distance = huge(1.0_dp)
+      if (rw%periodic_done) distance = ring_pack_distance(c, rw%rp_periodic, rw%rp)
+      if (rw%periodic_done .and. .not. rw%rp_periodic_cyc%converged) &
+        distance = distance + ring_pack_distance(c, rw%rp_periodic, rw%rp_periodic_cyc%start)
+    end associate
+  end subroutine ring_pack_periodic
+
   !> The ring pack from its periodic state under the first cycle's friction, and the film
   !> from its state at the re-warm's first step again to psi = 720 with it: the next cycle
   !> starts without a jump in the groove and land pressures.
@@ -406,7 +513,11 @@ contains
     type(step_out) :: out
     integer :: k, m
     m = steps_per_cycle(c)
-    if (allocated(st%ring)) then
+    if (run%rw%periodic_done) then
+      ! (computed at the cycle's end, ring_pack_periodic)
+      st%rst = run%rw%rp_periodic
+      st%rcyc = run%rw%rp_periodic_cyc
+    else if (allocated(st%ring)) then
       call ring_pack_restart(c, st%rpar, run%rw%k, res%series(:, s_friction), st%rst, st%rcyc, &
                              err, st%face_ks)
     else
@@ -424,7 +535,7 @@ contains
     do k = run%rw%k, m
       call advance(st, c, (k - 1) * c%dpsi_deg, out)
     end do
-    run%rewarm = (m - run%rw%k + 1) * c%dpsi_deg
+    run%rewarm = run%rewarm + (m - run%rw%k + 1) * c%dpsi_deg
     if (allocated(st%err)) call move_alloc(st%err, err)
   end subroutine restart_ring_pack
 

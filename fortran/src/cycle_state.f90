@@ -10,7 +10,7 @@
 module ringlube_cycle_state
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type, fatal_error, rl_interrupted
-  use ringlube_fsys, only: interrupt_requested
+  use ringlube_fsys, only: interrupt_requested, progress_step
   use ringlube_case, only: case_type, elastic_pressure
   use ringlube_kinematics, only: deg2rad, piston_position, piston_acceleration
   use ringlube_gas, only: gas_pressure
@@ -175,6 +175,7 @@ contains
     if (.not. allocated(st%err) .and. interrupt_requested()) &
       call fatal_error(st%err, c%deck_path//': interrupted', rl_interrupted)
     if (allocated(st%err)) return
+    call progress_step(psi)
     if (allocated(st%ring)) then
       call advance_ring(st, c, psi, out)
       return

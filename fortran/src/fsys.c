@@ -52,9 +52,12 @@ int rl_same_file(const char *a, const char *b)
 static char temp_path[4096];
 static volatile sig_atomic_t temp_set = 0;
 
+static void progress_interrupted(void);
+
 static void remove_temp_and_die(int sig)
 {
     if (temp_set) unlink(temp_path);
+    progress_interrupted();
     signal(sig, SIG_DFL);
     raise(sig);
 }
@@ -180,4 +183,117 @@ void rl_ignore_sigxfsz(void)
 #ifdef SIGXFSZ
     signal(SIGXFSZ, SIG_IGN);
 #endif
+}
+
+/* Progress of a long run on the terminal (ringlube-solve and `ringlube run` without -q).
+ * The kernel notes the cycle it is in (rl_progress_cycle: 0 the warm-up) and the crank angle
+ * of every step (rl_progress_step); once a run has lasted progress_after seconds, a line on
+ * standard error, rewritten in place at most every progress_every seconds, says where it is
+ * and about how long the cycle has left; the line is cleared when the run ends. Only when the
+ * front end asked for it (rl_progress_enable) and standard error is a terminal: never in a
+ * pipe, a log file, a batch of designs or a call from the Python API. A step costs one call
+ * and, while enabled, one read of the monotonic clock. */
+static const double progress_after = 2.0, progress_every = 0.5;
+static int progress_wanted = 0, progress_active = 0, progress_shown = 0;
+static int progress_cycle = 0, progress_max = 0;
+static double progress_t0 = 0.0, progress_last = 0.0, progress_cycle_t0 = 0.0;
+static double progress_cycle_s = 0.0, progress_psi0 = 0.0;
+
+static double progress_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Ask for the progress line (on: 1) or not (0) in the runs that follow. */
+void rl_progress_enable(int on) { progress_wanted = on != 0; }
+
+/* A run of at most max_cycles cycles begins. */
+void rl_progress_begin(int max_cycles)
+{
+    progress_active = progress_wanted && isatty(STDERR_FILENO);
+    if (!progress_active) return;
+    progress_t0 = progress_now();
+    progress_last = progress_t0;
+    progress_cycle_t0 = progress_t0;
+    progress_cycle_s = 0.0;
+    progress_cycle = 0;
+    progress_psi0 = -1.0;
+    progress_max = max_cycles;
+    progress_shown = 0;
+}
+
+/* The run enters cycle icycle (0: the warm-up; the same cycle again: its re-warm). */
+void rl_progress_cycle(int icycle)
+{
+    double t;
+    if (!progress_active) return;
+    t = progress_now();
+    /* (the last whole cycle's time: what the next one will about take) */
+    if (progress_cycle >= 1 && icycle > progress_cycle) progress_cycle_s = t - progress_cycle_t0;
+    progress_cycle = icycle;
+    progress_cycle_t0 = t;
+    progress_psi0 = -1.0;
+}
+
+/* The step to crank angle psi [deg] is being solved. */
+void rl_progress_step(double psi)
+{
+    double t, done, left;
+    char line[160];
+    int n;
+    if (!progress_active) return;
+    if (progress_psi0 < 0.0) progress_psi0 = psi;
+    t = progress_now();
+    if (t - progress_t0 < progress_after || t - progress_last < progress_every) return;
+    progress_last = t;
+    if (progress_cycle == 0) {
+        left = psi > progress_psi0 ? (t - progress_cycle_t0) * (720.0 - psi) / (psi - progress_psi0) : -1.0;
+        if (left >= 0.0)
+            n = snprintf(line, sizeof line, "ringlube: warm-up, crank angle %.1f deg, about %.0f s to its end, "
+                         "%.0f s so far", psi, left, t - progress_t0);
+        else
+            n = snprintf(line, sizeof line, "ringlube: warm-up, crank angle %.1f deg, %.0f s so far", psi,
+                         t - progress_t0);
+    } else {
+        /* this cycle's remaining time from its pace so far (or the last cycle's time) */
+        done = (psi - progress_psi0) / 720.0;
+        left = -1.0;
+        if (progress_cycle_s > 0.0) left = progress_cycle_s * (720.0 - psi) / 720.0;
+        else if (done > 0.02) left = (t - progress_cycle_t0) * (720.0 - psi) / (psi - progress_psi0);
+        if (left >= 0.0)
+            n = snprintf(line, sizeof line,
+                         "ringlube: cycle %d (at most %d), crank angle %.1f deg, about %.0f s to the cycle's end, "
+                         "%.0f s so far",
+                         progress_cycle, progress_max, psi, left, t - progress_t0);
+        else
+            n = snprintf(line, sizeof line, "ringlube: cycle %d (at most %d), crank angle %.1f deg, %.0f s so far",
+                         progress_cycle, progress_max, psi, t - progress_t0);
+    }
+    if (n < 0) return;
+    fprintf(stderr, "\r%-*s", progress_shown > n ? progress_shown : n, line);
+    fflush(stderr);
+    if (n > progress_shown) progress_shown = n;
+}
+
+/* The run ends (also on an error or Ctrl-C): the line, if shown, is cleared. */
+void rl_progress_end(void)
+{
+    if (progress_active && progress_shown > 0) {
+        fprintf(stderr, "\r%*s\r", progress_shown, "");
+        fflush(stderr);
+    }
+    progress_active = 0;
+    progress_shown = 0;
+}
+
+/* A signal ends the process with the line shown: end it, so that the shell's prompt starts on
+ * a line of its own (write(2) only: called from a signal handler). */
+static void progress_interrupted(void)
+{
+    if (progress_active && progress_shown > 0) {
+        ssize_t w = write(STDERR_FILENO, "\n", 1);
+        (void)w;
+    }
 }

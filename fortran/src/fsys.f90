@@ -1,13 +1,14 @@
 !> File-system questions Fortran cannot ask portably (stat, O_EXCL creation, errno text),
 !> answered by the small C file fsys.c.
 module ringlube_fsys
-  use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
+  use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_double
   implicit none
   private
   public :: file_kind, is_symlink, same_file, make_temp_file, rename_file, remove_file, dir_name, &
             dir_prefix, last_errno, clear_errno, errno_text, ignore_file_size_signal, &
             remove_temp_on_signal, interrupt_catch_begin, interrupt_catch_end, &
-            interrupt_requested
+            interrupt_requested, progress_enable, progress_begin, progress_cycle, progress_step, &
+            progress_end
 
   !> What `file_kind` returns.
   integer, parameter, public :: fs_missing = 0, fs_regular = 1, fs_directory = 2, &
@@ -59,6 +60,25 @@ module ringlube_fsys
     end subroutine c_forget_temp
     subroutine ignore_file_size_signal() bind(c, name='rl_ignore_sigxfsz')
     end subroutine ignore_file_size_signal
+    subroutine c_progress_enable(on) bind(c, name='rl_progress_enable')
+      import :: c_int
+      integer(c_int), value :: on
+    end subroutine c_progress_enable
+    subroutine c_progress_begin(max_cycles) bind(c, name='rl_progress_begin')
+      import :: c_int
+      integer(c_int), value :: max_cycles
+    end subroutine c_progress_begin
+    subroutine c_progress_cycle(icycle) bind(c, name='rl_progress_cycle')
+      import :: c_int
+      integer(c_int), value :: icycle
+    end subroutine c_progress_cycle
+    subroutine c_progress_step(psi) bind(c, name='rl_progress_step')
+      import :: c_double
+      real(c_double), value :: psi
+    end subroutine c_progress_step
+    !> The run ends: the progress line, if shown, is cleared (fsys.c).
+    subroutine progress_end() bind(c, name='rl_progress_end')
+    end subroutine progress_end
     integer(c_int) function c_rename(old, new) bind(c, name='rename')
       import :: c_int, c_char
       character(kind=c_char), intent(in) :: old(*), new(*)
@@ -70,6 +90,34 @@ module ringlube_fsys
   end interface
 
 contains
+
+  !> Ask for a progress line on standard error (a terminal only) in the runs that follow, or
+  !> not (fsys.c: the line, its timing and cost).
+  subroutine progress_enable(on)
+    logical, intent(in) :: on
+    integer(c_int) :: flag
+    flag = 0
+    if (on) flag = 1
+    call c_progress_enable(flag)
+  end subroutine progress_enable
+
+  !> A run of at most max_cycles cycles begins.
+  subroutine progress_begin(max_cycles)
+    integer, intent(in) :: max_cycles
+    call c_progress_begin(int(max_cycles, c_int))
+  end subroutine progress_begin
+
+  !> The run enters cycle icycle (0: the warm-up).
+  subroutine progress_cycle(icycle)
+    integer, intent(in) :: icycle
+    call c_progress_cycle(int(icycle, c_int))
+  end subroutine progress_cycle
+
+  !> The step to crank angle psi [deg] is being solved.
+  subroutine progress_step(psi)
+    real(c_double), intent(in) :: psi
+    call c_progress_step(psi)
+  end subroutine progress_step
 
   !> Whether `path` itself is a symbolic link.
   logical function is_symlink(path)

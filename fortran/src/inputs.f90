@@ -213,6 +213,8 @@ module ringlube_inputs
       "threads that solve a distorted bore's sectors (OpenMP; 1 per Dask worker)"), &
     input_spec('numerics', 'warmup_deg', kind_real, '90', 0.0_dp, 720.0_dp, 'deg', '', &
       'crank angle solved (not reported) before the first cycle'), &
+    input_spec('numerics', 'accelerate', kind_logical, '.true.', 0.0_dp, 0.0_dp, '', '', &
+      'extrapolate a slowly settling liner film (starved) toward its periodic state'), &
     input_spec('output', 'file', kind_string, 'result.h5', 0.0_dp, 0.0_dp, '', '', &
       'result file (relative to the deck folder); -o overrides it'), &
     input_spec('calibration', 'file', kind_string, '', 0.0_dp, 0.0_dp, '', '', &

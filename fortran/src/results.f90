@@ -160,14 +160,14 @@ module ringlube_results
       '1: periodic within cycle_tol, no flagged step but lift-off (flag 2)'), &
     field_spec('cycles_run', 'cycles_run', '1', 'integer', 'cycles run (the last is reported)'), &
     field_spec('cycle_change', 'cycle_change', '1', 'real', &
-      'relative change of h0 at psi = 0 over the last cycle or period (periodicity test)'), &
+      'h0 at psi = 0: last cycle''s relative change / (1 - contraction), or over the period'), &
     field_spec('energy_change', 'energy_change', '1', 'real', &
-      'relative change of energy_loss over the last cycle or period (first cycle: of h0)'), &
+      'energy_loss: last cycle''s relative change / (1 - contraction), or over the period'), &
     field_spec('liner_change', 'liner_change', '1', 'real', &
-      'relative (L1) change of the liner film over the last cycle or period', &
+      'liner film: last cycle''s L1 change / (1 - contraction), or over the period', &
       'starved'), &
     field_spec('ring_pack_change', 'ring_pack_change', '1', 'real', &
-      'the ring pack''s change over the last cycle or period, as a distance', 'gas'), &
+      'the ring pack''s distance from its periodic state, or its change over the period', 'gas'), &
  field_spec('sigma', 'sigma_m', 'm', 'real', 'composite roughness sqrt(Rq_liner^2 + Rq_ring^2)'), &
     field_spec('run_time', 'run_time_s', 's', 'real', 'kernel time of the run'), &
     field_spec('total_film_solves', 'film_solves', '1', 'integer', &

@@ -138,12 +138,12 @@ call line('conformability', a, 'A_k / limit, the largest ('//trim(b)//'; > 1 doe
     write (a, '(f10.3)') v(sc_max_friction)
     call line('peak friction', a, 'N')
     write (a, '(i10)') nint(v(sc_cycles_run))
-    ! the changes over the last cycle that the test of a period of one compares with cycle_tol
-    ! (starved: the liner film and the energy, else h0; and the ring pack's)
+    ! what the test of a period of one compares with cycle_tol (starved: the liner film, else
+    ! h0; the energy; and the ring pack): each one's last change / (1 - its contraction)
     if (made(sc_liner_change)) then
       b = 'liner film '//e(v(sc_liner_change))//', energy '//e(v(sc_energy_change))
     else
-      b = 'h0 '//e(v(sc_cycle_change))
+      b = 'h0 '//e(v(sc_cycle_change))//', energy '//e(v(sc_energy_change))
     end if
     if (made(sc_ring_pack_change)) b = trim(b)//', ring pack '//e(v(sc_ring_pack_change))
     if (nint(v(sc_period)) >= 2) then

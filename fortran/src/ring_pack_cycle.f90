@@ -3,7 +3,8 @@
 !> gas balance), and the gas network alone run to its periodic state under prescribed
 !> chamber pressure, piston acceleration and friction.
 module ringlube_ring_pack_cycle
-  use ringlube_kinds, only: dp
+  use ringlube_kinds, only: dp, pi
+  use ringlube_kinematics, only: piston_acceleration, deg2rad
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_ring_pack_flow, only: gas_constant
   use ringlube_ring_pack, only: ring_pack_params, ring_pack_state, ring_pack_step_out, &
@@ -29,6 +30,9 @@ module ringlube_ring_pack_cycle
   real(dp), parameter :: start_tol = 1e-4_dp, start_coarse_deg = 8.0_dp
   !> the contraction of the fine cycles taken this many times the coarse cycles' estimate
   real(dp), parameter :: prior_safety = 10.0_dp
+  !> the least land gauge pressure the periodicity test judges the land's change by,
+  !> relative to the peak chamber pressure (ring_pack_distance)
+  real(dp), parameter :: land_floor = 1e-2_dp
 
   !> Sums over a cycle (ring_pack_accumulate), turned into SPEC 14's cycle quantities by
   !> ring_pack_finish.
@@ -69,6 +73,8 @@ module ringlube_ring_pack_cycle
     !> m_r |a_p| of the cycle; with no such instant (no gas above the land) that inertia force
     !> and 1: the gas never pushes on the ring, a margin as large as anything that could lift it
     real(dp) :: flutter_margin = huge(1.0_dp), flutter_margin_ratio = 1.0_dp
+    !> the state at the last cycle's start
+    type(ring_pack_state) :: start
   end type ring_pack_cycle_out
 
 contains
@@ -229,8 +235,10 @@ contains
 
   !> The ring pack before crank step kfrom (psi = (kfrom - 2) dpsi) of a cycle of size(friction)
   !> steps: the gas network run to its periodic state under the friction of the cycle just
-  !> computed (the kernel's, positive towards the crankcase; each step's at its start, as in
-  !> the coupled steps).
+  !> computed (the kernel's, positive towards the crankcase). Each step as the coupled cycle's
+  !> own (cycle_state's ring_pack_advance): the friction at its start, the piston's
+  !> acceleration at mid-step, so that the periodic state of the coupled cycle is this one's
+  !> too.
   subroutine ring_pack_restart(c, par, kfrom, friction, st, cyc, err, face_k)
     type(case_type), intent(in) :: c
     type(ring_pack_params), intent(in) :: par
@@ -241,39 +249,45 @@ contains
     type(ring_pack_state), intent(inout) :: st
     type(ring_pack_cycle_out), intent(out) :: cyc
     type(error_type), allocatable, intent(out) :: err
-    real(dp) :: p1(0:size(friction) - 1), ap(0:size(friction) - 1), ff(0:size(friction) - 1)
+    real(dp) :: p1(0:size(friction) - 1), ap(0:size(friction) - 1), ff(0:size(friction) - 1), &
+                omega
     integer :: j, m
     m = size(friction)
     call ring_pack_inputs(c, kfrom - 2, p1, ap)
+    omega = c%speed_rpm * 2.0_dp * pi / 60.0_dp
+    ap = [(-piston_acceleration(deg2rad((kfrom - 1.5_dp + j) * c%dpsi_deg), c%crank_radius, &
+                                c%conrod_length, omega), j=0, m - 1)]
     ff = [(-friction(modulo(kfrom - 2 + j, m) + 1), j=0, m - 1)]
     if (present(face_k)) then
       call ring_pack_cycle(par, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, st, &
-                           cyc, err, max_cycles=50, tol=1e-6_dp, &
+                           cyc, err, max_cycles=50, tol=1e-6_dp, step_values=.true., &
                            face_k=[(face_k(modulo(kfrom - 2 + j, m) + 1), j=0, m - 1)])
     else
       call ring_pack_cycle(par, p1, ap, ff, c%dpsi_deg, c%speed_rpm, c%crankcase_pressure, st, &
-                           cyc, err, max_cycles=50, tol=1e-6_dp)
+                           cyc, err, max_cycles=50, tol=1e-6_dp, step_values=.true.)
     end if
   end subroutine ring_pack_restart
 
-  !> The ring pack's change from state st0 to st (pressures relative to the peak chamber
-  !> pressure of case c, lift relative to the groove clearance): its periodicity test. With
-  !> the land pressure's contraction per cycle rho in (0, 1), the land's change counts as its
-  !> distance from the periodic state, |d| / (1 - rho): a slow land changes little in a cycle
-  !> far from it.
+  !> The ring pack's change from state st0 to st: its periodicity test. The groove pressure
+  !> relative to the peak chamber pressure of case c, the land pressure relative to its gauge
+  !> pressure above the crankcase (the larger of the two states'; at least land_floor of the
+  !> peak: the blowby follows the land's gauge pressure, which lies far below the chamber's
+  !> peak), the lift relative to the groove clearance. With the land pressure's contraction
+  !> per cycle rho in (0, 1), the land's change counts as its distance from the periodic
+  !> state, |d| / (1 - rho): a slow land changes little in a cycle far from it.
   pure real(dp) function ring_pack_distance(c, st, st0, rho)
     type(case_type), intent(in) :: c
     type(ring_pack_state), intent(in) :: st, st0
     real(dp), intent(in), optional :: rho
-    real(dp) :: land
-    land = abs(st%p3 - st0%p3)
+    real(dp) :: land, peak
+    ! (no trace and no crankcase pressure: no gas anywhere, every pressure stays 0)
+    peak = max(c%crankcase_pressure, maxval(c%gas_p, mask=c%gas_p > 0.0_dp), tiny(1.0_dp))
+    land = abs(st%p3 - st0%p3) / max(max(st%p3, st0%p3) - c%crankcase_pressure, land_floor * peak)
     if (present(rho)) then
       if (rho > 0.0_dp .and. rho < 1.0_dp) land = land / (1.0_dp - rho)
     end if
-    ! (no trace and no crankcase pressure: no gas anywhere, every pressure stays 0)
-    ring_pack_distance = max(abs(st%p2 - st0%p2), land) &
-                         / max(c%crankcase_pressure, maxval(c%gas_p, mask=c%gas_p > 0.0_dp), &
-                               tiny(1.0_dp)) + abs(st%x - st0%x) / c%groove_clearance
+    ring_pack_distance = max(abs(st%p2 - st0%p2) / peak, land) &
+                         + abs(st%x - st0%x) / c%groove_clearance
   end function ring_pack_distance
 
   !> SPEC 14's cycle quantities from a cycle's sums; stored_end = m2 + m3 at the end, and
@@ -315,7 +329,7 @@ contains
   !> max_cycles. st: the start (ring_pack_init if its p2 is not positive), then the state
   !> at the end. cyc: the last cycle.
   subroutine ring_pack_cycle(par, p1, a_p, f_f, dpsi_deg, speed_rpm, p4, st, cyc, err, &
-                             max_cycles, tol, accelerate, rho_prior, face_k)
+                             max_cycles, tol, accelerate, rho_prior, face_k, step_values)
     type(ring_pack_params), intent(in) :: par
     real(dp), intent(in) :: p1(0:), a_p(0:), f_f(0:), dpsi_deg, speed_rpm, p4
     type(ring_pack_state), intent(inout) :: st
@@ -331,12 +345,16 @@ contains
     !> the gas path through the ring's face at each crank angle (ring_pack_state%face_k;
     !> default none)
     real(dp), intent(in), optional :: face_k(0:)
+    !> a_p(k) and f_f(k) are the step's own from psi_k to psi_k+1 and the step's length is the
+    !> coupled cycle's (default .false.: the step takes the mean of its ends)
+    logical, intent(in), optional :: step_values
     type(ring_pack_step_out) :: out
     type(ring_pack_totals) :: tot
     type(ring_pack_state) :: st0
     real(dp) :: dt, tol_, pmax, q(0:2), den, rho, d, dprev, rho_first
     integer :: n, k, kn, icyc, ncyc, nq
-    logical :: acc, jumped
+    logical :: acc, jumped, own
+    real(dp) :: ff_k, ap_k
     n = size(p1)
     ncyc = 200
     if (present(max_cycles)) ncyc = max_cycles
@@ -349,6 +367,11 @@ contains
               cyc%upper_channel_flow(n), cyc%lower_channel_flow(n))
     acc = .true.
     if (present(accelerate)) acc = accelerate
+    own = .false.
+    if (present(step_values)) own = step_values
+    ! (the coupled cycle's step to the last bit, as cycle_state computes it: the sub-step
+    ! control compares times with it)
+    if (own) dt = deg2rad(dpsi_deg) / (speed_rpm * 2.0_dp * pi / 60.0_dp)
     nq = 0
     dprev = 0.0_dp
     do icyc = 1, ncyc
@@ -378,14 +401,20 @@ contains
         end if
       end if
       st0 = st
+      cyc%start = st
       tot = ring_pack_totals()
       tot%stored_start = ring_pack_gas_mass(par, st)
       cyc%substeps = 0
       do k = 0, n - 1
         kn = mod(k + 1, n)
         if (present(face_k)) st%face_k = face_k(k)
-        call ring_pack_step(par, st, p1(k), p1(kn), p4, 0.5_dp * (f_f(k) + f_f(kn)), &
-                            0.5_dp * (a_p(k) + a_p(kn)), dt, out, err)
+        ff_k = 0.5_dp * (f_f(k) + f_f(kn))
+        ap_k = 0.5_dp * (a_p(k) + a_p(kn))
+        if (own) then
+          ff_k = f_f(k)
+          ap_k = a_p(k)
+        end if
+        call ring_pack_step(par, st, p1(k), p1(kn), p4, ff_k, ap_k, dt, out, err)
         if (allocated(err)) return
         call ring_pack_accumulate(tot, out, dt)
         cyc%substeps = cyc%substeps + out%substeps

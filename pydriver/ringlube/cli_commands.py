@@ -47,6 +47,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
         ),
     ]
     _output_file("-o" if args.output is not None else f"{args.deck}: &output file", out, inputs)
+    from . import _kernel
+
+    # a line on the terminal says where a run of more than a few seconds is (not with -q)
+    _kernel.rl_progress(0 if args.quiet else 1)
     result = run(case, output=out)
     if not args.quiet:
         from ._version import __version__

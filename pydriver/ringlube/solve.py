@@ -200,9 +200,10 @@ INTERRUPTED = 130
 
 
 def _changes(result: CycleResult) -> str:
-    """The last cycle's changes the periodicity test compares with ``cycle_tol``, as text
-    (the summary's: starved the liner film and the energy, else h0; and the ring pack's)."""
-    names = ("liner_change", "energy_change") if "liner_change" in result.scalars else ("cycle_change",)
+    """What the periodicity test compares with ``cycle_tol``, as text (the summary's: starved
+    the liner film, else h0; the energy; and the ring pack's)."""
+    film = "liner_change" if "liner_change" in result.scalars else "cycle_change"
+    names = (film, "energy_change")
     names += ("ring_pack_change",) if "ring_pack_change" in result.scalars else ()
     return ", ".join(f"{n} {result.scalars[n]:.2e}" for n in names)
 

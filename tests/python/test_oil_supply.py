@@ -454,9 +454,12 @@ def test_connectivity_cycles_of_a_blown_face_end(deck, ring, ring_pack):
     and with a history of the last 16 it ran to its cap of 200 solves at every
     pressure-viscosity iteration of the step (flags 16, 4 and 8, not converged; the first
     design 0.1 s -> 9-18 s a run). Every cycle is now detected, however long (review of the
-    blown-face change: 3 of 250 random designs of the study's ranges on the shipped decks)."""
+    blown-face change: 3 of 250 random designs of the study's ranges on the shipped decks).
+    (max_cycles 20: the 4000 r/min cold design's liner film settles by 0.74 a cycle after its
+    face's state changes in cycle 8, and is periodic within cycle_tol, judged at that rate,
+    after 12 cycles; judged on its last change alone it was taken after 9.)"""
     width, crown_height, crown_offset, tension = ring
-    case = Case.from_namelist(COLD.with_name(f"crf450r_{deck}.nml"))
+    case = Case.from_namelist(COLD.with_name(f"crf450r_{deck}.nml")).with_numerics(max_cycles=20)
     case = case.with_physics(
         cavitation="jfo", inlet="starved", cavity_pressure="trailing_gas", ring_pack=ring_pack
     )

@@ -152,13 +152,15 @@ def test_ring_pack_restarts_from_its_periodic_state_at_the_rev_limit():
     its periodic state by 3 %: a cycle that is not periodic restarts the ring pack from its
     periodic state under that cycle's friction, 90 deg before the cycle's end, and the film
     runs those 90 deg again from its own state there, so the next cycle starts without a jump
-    in the groove and land pressures. The run needs 2 cycles (3 with the restart at psi = 0,
-    4 without a restart) and the answer is the same (periodicity tolerance)."""
+    in the groove and land pressures. The run needs 3 cycles (4 without a restart) and the
+    answer is the same (periodicity tolerance). (The cycle after the restart is not judged on its
+    energy against the first cycle's, which ran from the old land: on this deck read in N that
+    passed at 0.94 % from the periodic energy; test_the_energy_is_judged_at_the_rate_it_settles.)"""
     from conftest import INPUTS
 
     case = Case.from_namelist(INPUTS / "crf450r_12000rpm_full_hot_gas.nml")
     r = ringlube.run(case)
-    assert r.converged and r.cycles_run <= 2, (r.cycles_run, r.cycle_change)
+    assert r.converged and r.cycles_run <= 3, (r.cycles_run, r.cycle_change)
     tight = ringlube.run(case.with_numerics(cycle_tol=1e-5, max_cycles=20))
     assert tight.periodic
     assert abs(r.energy_loss / tight.energy_loss - 1) <= 1e-3
@@ -288,19 +290,28 @@ def _stopped_after(case, cycles):
 
 
 def test_the_last_cycles_changes_say_why_a_run_is_not_periodic():
-    """A run reports the changes over its last cycle that its test of a period of one compares
-    with cycle_tol (`liner_change` and `energy_change` with a starved inlet, `cycle_change` of
-    h0 without; `ring_pack_change` with the gas), and the summary prints them: before, a starved
-    run that was not converged showed only h0's change, often below cycle_tol. Checked against
-    the runs stopped after 3 and 4 cycles: the liner film's L1 change and the energy's change
-    computed here from them. The cold deck starved with the gas is periodic after 4 cycles
-    (liner film change 6e-5); stopped after 3 it is not (1.4e-3), and says so."""
+    """A run reports what its test of a period of one compares with cycle_tol (`liner_change`
+    and `energy_change` with a starved inlet, `cycle_change` of h0 and `energy_change` without;
+    `ring_pack_change` with the gas), and the summary prints them: before, a starved run that
+    was not converged showed only h0's change, often below cycle_tol. Each is the quantity's
+    distance from its periodic state: its change over the last cycle divided by 1 - its
+    contraction per cycle, the ratio of its last two changes (the liner film's: of their L1
+    norms, where the two point the same way; the energy moves at the liner film's rate). Checked
+    against the runs stopped after 2, 3 and 4 cycles (without the liner film's extrapolation,
+    so that each cycle continues the one before). The cold deck starved with the gas is
+    periodic after 4 cycles (liner film 6.7e-5); stopped after 3 it is not (1.8e-3), and says
+    so."""
     case = Case.from_namelist(COLD).with_physics(cavitation="jfo", inlet="starved", ring_pack="gas")
-    three, four = _stopped_after(case, (3, 4))
-    h3, h4 = three.liner["liner_oil_film"], four.liner["liner_oil_film"]
-    assert four.liner_change == pytest.approx(np.abs(h4 - h3).sum() / np.abs(h4).sum(), rel=1e-12)
+    case = case.with_numerics(accelerate=False)
+    two, three, four = _stopped_after(case, (2, 3, 4))
+    h2, h3, h4 = (r.liner["liner_oil_film"] for r in (two, three, four))
+    change = [np.abs(b - a).sum() / np.abs(b).sum() for a, b in ((h2, h3), (h3, h4))]
+    assert (h4 - h3) @ (h3 - h2) > 0  # (the same sense: else the change counts as it is)
+    rho = min(change[1] / change[0], 0.99)
+    assert 0.0 < rho < 0.99, rho
+    assert four.liner_change == pytest.approx(change[1] / (1 - rho), rel=1e-9)
     de = abs(four.energy_loss - three.energy_loss) / four.energy_loss
-    assert four.energy_change == pytest.approx(de, rel=1e-9, abs=1e-15)
+    assert four.energy_change == pytest.approx(de / (1 - rho), rel=1e-9, abs=1e-15)
     tol = case.value("numerics", "cycle_tol")
     done = ringlube.run(case)
     assert done.converged and done.cycles_run == 4, done.cycles_run
@@ -308,15 +319,17 @@ def test_the_last_cycles_changes_say_why_a_run_is_not_periodic():
     stopped = ringlube.run(case.with_numerics(max_cycles=3))
     assert not stopped.converged and stopped.liner_change > tol
     assert f"liner film {stopped.liner_change:.2E}" in stopped.summary()
-    # without a starved inlet: h0's change and the ring pack's; the first cycle of the rev-limit
-    # deck is not periodic (its land moves with the film's friction) and shows which moved
+    # without a starved inlet: h0's, the energy's and the ring pack's; the first cycle of the
+    # rev-limit deck is not periodic (its land moves with the film's friction) and shows which
+    # moved
     from conftest import INPUTS
 
     rev = Case.from_namelist(INPUTS / "crf450r_12000rpm_full_hot_gas.nml")
     first = ringlube.run(rev.with_numerics(max_cycles=1))
     assert "liner_change" not in first.scalars and not first.converged
     assert max(first.cycle_change, first.ring_pack_change) > rev.value("numerics", "cycle_tol")
-    assert f"h0 {first.cycle_change:.2E}, ring pack {first.ring_pack_change:.2E}" in first.summary()
+    changes = (first.cycle_change, first.energy_change, first.ring_pack_change)
+    assert "h0 {:.2E}, energy {:.2E}, ring pack {:.2E}".format(*changes) in first.summary()
 
 
 def test_a_starved_period_reports_the_changes_its_test_passed():
@@ -422,14 +435,16 @@ def test_period_of_five_cycles_reports_the_means():
 
 def test_a_starved_two_cycle_is_not_taken_against_the_first_cycle():
     """The 4000 r/min hot 'gas' deck starved with 'trailing_gas', a 1.0848 mm ring at 10.64 N/m:
-    cycles 1-5 run 1.19861, 1.04879, 1.19859, 1.19855, 1.19855 J. Cycle 3's energy equals cycle
-    1's, which ran before the ring pack's restart, and the film repeats over two cycles, so a
-    starved two-cycle compared with the first cycle's energy would be reported at cycle 3 with
-    the mean of cycles 2 and 3, 6 % low (found by a review's sweep, 2026-11-26, on a 1.0821 mm
-    ring at 11.61 N/m, which the gas network's faster start of 2026-11-26, fourth session, no
-    longer takes through this path). A starved two-cycle never compares with the first cycle's
-    energy: the run is periodic with period 1 at the energy of a run to cycle_tol 1e-9 (within
-    1e-4), and at 1e-9 no transient is taken for a period."""
+    cycles 1-5 ran 1.19861, 1.04879, 1.19859, 1.19855, 1.19855 J. Cycle 3's energy equalled cycle
+    1's, which ran before the ring pack's restart, and the film repeated over two cycles, so a
+    starved two-cycle compared with the first cycle's energy would have been reported at cycle 3
+    with the mean of cycles 2 and 3, 6 % low (found by a review's sweep). A starved
+    two-cycle never compares with the first cycle's energy (test_periodicity,
+    starved_map_and_energy); with the restart starting the gas network from the coupled cycle's
+    own state at the re-warm's first step and stepping it as the coupled cycle does, cycle 2
+    no longer dips (1.19861, 1.19855, 1.19855 J). The run is periodic with period 1 at
+    the energy of a run to cycle_tol 1e-9 (within 1e-4), and at 1e-9 no transient is taken for a
+    period."""
     from conftest import INPUTS
 
     case = Case.from_namelist(INPUTS / "crf450r_4000rpm_full_hot_gas.nml").with_ring(
@@ -437,10 +452,10 @@ def test_a_starved_two_cycle_is_not_taken_against_the_first_cycle():
     )
     case = case.with_physics(cavitation="jfo", inlet="starved", cavity_pressure="trailing_gas")
     first = [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=n)).energy_loss for n in (1, 2, 3)]
-    assert first[2] == pytest.approx(first[0], rel=1e-4) and first[1] < 0.9 * first[0], first
+    assert first[1:] == pytest.approx([first[0], first[0]], rel=1e-4), first
     r = ringlube.run(case)
     tight = ringlube.run(case.with_numerics(cycle_tol=1e-9, max_cycles=60))
-    assert r.period == 1 and r.cycles_run > 3, (r.period, r.cycles_run)
+    assert r.period == 1 and r.converged, (r.period, r.cycles_run)
     assert tight.period == 1, (tight.period, tight.cycles_run)
     assert r.energy_loss == pytest.approx(tight.energy_loss, rel=1e-4)
 
@@ -469,21 +484,27 @@ def test_flutter_events_of_a_period_of_two_cycles_are_one_number(tmp_path):
 def test_a_period_of_two_cycles_with_a_flagged_cycle_is_not_converged():
     """The means of a period of two cycles take both cycles, so both must be free of flags but
     lift-off for the run to be converged. The 8000 r/min 'gas' deck starved (JFO, 4 um supply
-    film) with a 0.99 mm ring at 20 N/m is a starved two-cycle after 3 cycles; its second
-    cycle has a step outside load_tol (flag 4 at 516 deg) and enters the reported means. It was
-    reported converged from the third cycle's flags alone (found on a 0.84 mm ring, which the
-    gas network's faster start of 2026-11-26 no longer takes through this path)."""
+    film) with a 0.99 mm ring at 20 N/m was a starved two-cycle after 3 cycles whose second
+    cycle had a step outside load_tol (flag 4 at 516 deg); it was reported converged from the
+    third cycle's flags alone. No period contains the cycle after the ring pack's restart now,
+    and the run (without the liner film's extrapolation) is periodic with period 1 after 7
+    cycles, its liner film alternating within cycle_tol, with a flagged step:
+    not converged, and the summary says why. Whichever period is found, a flag in any of its
+    cycles makes the run not converged (test_periodicity, means_and_flags: history_clean over
+    the period's cycles)."""
     from conftest import INPUTS
 
     case = Case.from_namelist(INPUTS / "crf450r_8000rpm_full_hot_gas.nml")
     case = case.with_ring(width=0.99e-3, tension=20.0).with_physics(cavitation="jfo", inlet="starved")
-    case = case.with_lubricant(supply_film=4e-6)
+    case = case.with_lubricant(supply_film=4e-6).with_numerics(accelerate=False)
     r = ringlube.run(case)
-    assert r.period == 2 and r.periodic, (r.period, r.cycles_run)
+    assert r.periodic and r.period in (1, 2), (r.period, r.cycles_run)
     not_lift = ~np.int64(FLAGS["h0_ceiling"])
-    assert not (r.flags & not_lift).any()
-    previous = ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=r.cycles_run - 1))
-    assert (previous.flags & not_lift).any()
+    flagged = (r.flags & not_lift).any()
+    if r.period == 2:
+        previous = ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=r.cycles_run - 1))
+        flagged = flagged or (previous.flags & not_lift).any()
+    assert flagged
     assert not r.converged and "(a step is flagged in the period's cycles)" in r.summary()
 
 
