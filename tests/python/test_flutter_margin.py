@@ -27,7 +27,7 @@ def test_the_margin_is_continuous_and_changes_sign_at_the_first_flutter_event(ba
     # newton), the margin falls by the same step each time (the ring's weight times the
     # acceleration at the critical instant: linear in the density) and is positive exactly
     # where no flutter event is, negative exactly where one is.
-    x = np.arange(5300.0, 5561.0, 10.0)
+    x = np.arange(5300.0, 5541.0, 10.0)
     v, conv, errors = ringlube.run_designs(base, ["ring:density"], x[:, None], OUT)
     assert conv.all() and not any(errors)
     events, margin, ratio = v[:, 0], v[:, 1], v[:, 2]
@@ -37,7 +37,9 @@ def test_the_margin_is_continuous_and_changes_sign_at_the_first_flutter_event(ba
     # no jump: every step of the sweep moves the margin by about the median step (0.24-0.27 N
     # per 10 kg/m^3; the least force is taken over adaptive sub-steps, whose sampling of the
     # critical instant wiggles it by some 0.05 N, and the instant moves, a kink near 5380);
-    # a jump is many steps (the coupled solution's own jump past 5595 is 100 of them)
+    # a jump is many steps (the coupled solution's own jump, between 5540 and 5560 where the
+    # ring pack's periodic state taken at the end of a cycle is another one, with one flutter
+    # event and a margin of -27.7 N, is 100 of them)
     step = np.diff(margin)
     assert np.all(step < 0)
     assert 0.5 < np.min(step / np.median(step)) and np.max(step / np.median(step)) < 1.5, step
