@@ -240,10 +240,19 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     trace = case.value("operating", "pressure_file")
     inputs = [args.deck, args.targets or DEFAULT_TARGETS, target_deck, trace]
     check_output(args.out, inputs, "--out")  # before the ~300 runs, not after
-    fit, fits = calibrate(args.deck, targets=args.targets)
+    fit, fits = calibrate(args.deck, targets=args.targets, tension_unit=args.tension_unit)
     base = strip_calibrated(Case.from_namelist(args.deck))
+    if args.tension_unit:
+        base = base.with_ring(tension_unit=args.tension_unit)
     jac, corr = correlation(base, fit)
-    path = write_calibration(args.out, fit, fits, jac, corr, args.deck)
+    command = f"ringlube calibrate {args.deck}"
+    if args.tension_unit:
+        command += f" --tension-unit {args.tension_unit}"
+    if args.targets:
+        command += f" --targets {args.targets}"
+    if args.out != "inputs/calibration.nml":
+        command += f" --out {args.out}"
+    path = write_calibration(args.out, fit, fits, jac, corr, args.deck, command)
     shown = {"energy_loss": ("energy", ".4f", "J"), "mixed_share": ("mixed", ".3f", "%")}
     shown |= {"friction_power": ("friction power", ".4f", "W"), "fmep": ("FMEP", ".4f", "kPa")}
     reached = [

@@ -167,6 +167,12 @@ def _parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--out", default="inputs/calibration.nml", help="calibration file written")
     p.add_argument(
+        "--tension-unit",
+        choices=("N", "N/m"),
+        help="the reading of the ring's tension fitted: 'N' (tangential force) or 'N/m' (force per "
+        "unit circumference); default: the deck's &ring tension_unit",
+    )
+    p.add_argument(
         "--targets",
         default=None,
         help="CSV of measured or published results (condition 'cold' is fitted: its friction, "

@@ -12,6 +12,20 @@ INPUTS = ROOT / "inputs"
 DECKS = sorted(INPUTS.glob("crf450r_*.nml"))
 COLD = INPUTS / "crf450r_4000rpm_full_cold.nml"
 HOT = INPUTS / "crf450r_4000rpm_full_hot.nml"
+#: The calibration of the tension read in N/m (the shipped decks read it in N).
+PER_LENGTH_CALIBRATION = INPUTS / "calibration_n_per_m.nml"
+
+
+def per_length(case):
+    """A shipped deck's case (a Case or a deck path) with the tension read in N/m and that
+    reading's calibration: the inputs the shipped decks had before they were read in N, for
+    tests whose scenario is that reading (the intake-stroke lift-off, its two-cycles)."""
+    import ringlube
+
+    if not isinstance(case, ringlube.Case):
+        case = ringlube.Case.from_namelist(case)
+    case = case.with_ring(tension_unit="N/m")
+    return case.with_("calibration", file=str(PER_LENGTH_CALIBRATION))
 
 
 @pytest.fixture(scope="session")

@@ -80,7 +80,7 @@ def test_show_lists_every_input_with_its_origin(capsys):
     assert len(lines) == 2 + len(INPUTS) and err == ""
     rows = {tuple(line.split()[:2]): line.split()[2:] for line in lines[2:]}
     assert rows["&ring", "crown_offset"] == ["deck", "-3.83e-05", "[m]"]
-    assert rows["&ring", "tension"] == ["deck", "8.0", "[N/m]"]  # the unit the deck says
+    assert rows["&ring", "tension"] == ["deck", "8.0", "[N]"]  # the unit the deck says
     assert rows["&surface", "zeta_kappa_sigma"][:2] == ["calibration", "file"]
     assert rows["&numerics", "nodes"] == ["preset", "'default'", str(PRESETS["default"]["nodes"])]
     assert rows["&lubricant", "supply_film"][0] == "default"

@@ -60,15 +60,17 @@ def test_pressure_scale_is_held_to_the_limit_of_a_trace(tmp_path, solver):
         INPUTS / "pressure" / "crf450r_4000rpm_full.csv", delimiter=",", comments="#", skiprows=3
     )
     assert 16 * peak[:, 1].max() <= 1e8 < 17 * peak[:, 1].max()
-    deck = own_inputs(
-        tmp_path, lambda t: t.replace("pressure_scale = 0.9290039062500001", "pressure_scale = 17")
-    )
+    deck = own_inputs(tmp_path, lambda t: re.sub(r"pressure_scale = \S+ /", "pressure_scale = 17 /", t))
+    cal = (tmp_path / "calibration.nml").read_text()
+    assert "pressure_scale = 17 /" in cal
+    line = cal[: cal.index("&operating")].count("\n") + 1
     p = subprocess.run(
         [solver, str(deck), "-q", "-o", str(tmp_path / "r.h5")], capture_output=True, text=True
     )
     assert p.returncode == 2, p.stderr
     assert (
-        "calibration.nml:17: &operating pressure_scale: 1.7E+1 times the trace's highest pressure" in p.stderr
+        f"calibration.nml:{line}: &operating pressure_scale: 1.7E+1 times the trace's highest pressure"
+        in p.stderr
     )
     assert "at most 1000 bar" in p.stderr and not (tmp_path / "r.h5").exists()
     case = ringlube.Case.from_namelist(COLD).with_numerics(preset="fast")

@@ -1,6 +1,8 @@
 """The ring pack coupled to the film (SPEC 14, issue 17): the groove pressure is the ring's
 back pressure, the land pressure its lower edge, both advanced with the film at every crank
-step; the results reach Python and the HDF5 file by name."""
+step; the results reach Python and the HDF5 file by name. The tests of a starved lift-off and
+of the periods of several cycles are set on the decks read in N/m (``conftest.per_length``), the
+reading whose intake stroke lifts off and whose designs below have those periods."""
 
 from __future__ import annotations
 
@@ -12,7 +14,7 @@ import ringlube
 from ringlube import Case
 from ringlube.tables import FLAGS
 
-from conftest import COLD
+from conftest import COLD, per_length
 
 FAST = {"preset": "fast"}
 
@@ -28,7 +30,7 @@ def test_gas_keeps_the_starved_ring_on_the_liner(deck):
     crankcase pressure below the ring beats the chamber's behind it); with it the ring rides
     up against its upper flank, the groove sees the land pressure and no step is held at the
     h0 ceiling."""
-    case = Case.from_namelist(COLD.with_name(deck)).with_physics(cavitation="jfo", inlet="starved")
+    case = per_length(COLD.with_name(deck)).with_physics(cavitation="jfo", inlet="starved")
     alone, pack = (ringlube.run(case.with_physics(ring_pack=rp)) for rp in ("none", "gas"))
     lift = FLAGS["h0_ceiling"]
     assert alone.liner_lift_share > 10 and ((alone.flags & lift) > 0).any()
@@ -301,7 +303,7 @@ def test_the_last_cycles_changes_say_why_a_run_is_not_periodic():
     so that each cycle continues the one before). The cold deck starved with the gas is
     periodic after 4 cycles (liner film 6.7e-5); stopped after 3 it is not (1.8e-3), and says
     so."""
-    case = Case.from_namelist(COLD).with_physics(cavitation="jfo", inlet="starved", ring_pack="gas")
+    case = per_length(COLD).with_physics(cavitation="jfo", inlet="starved", ring_pack="gas")
     case = case.with_numerics(accelerate=False)
     two, three, four = _stopped_after(case, (2, 3, 4))
     h2, h3, h4 = (r.liner["liner_oil_film"] for r in (two, three, four))
@@ -324,7 +326,7 @@ def test_the_last_cycles_changes_say_why_a_run_is_not_periodic():
     # moved
     from conftest import INPUTS
 
-    rev = Case.from_namelist(INPUTS / "crf450r_12000rpm_full_hot_gas.nml")
+    rev = per_length(INPUTS / "crf450r_12000rpm_full_hot_gas.nml")
     first = ringlube.run(rev.with_numerics(max_cycles=1))
     assert "liner_change" not in first.scalars and not first.converged
     assert max(first.cycle_change, first.ring_pack_change) > rev.value("numerics", "cycle_tol")
@@ -359,7 +361,7 @@ def test_period_of_two_cycles_reports_the_means():
     1.35e-3, blowby 1.2e-2; docs/model.md, "A period of several cycles")."""
     from conftest import INPUTS
 
-    case = Case.from_namelist(INPUTS / "crf450r_8000rpm_full_hot_gas.nml")
+    case = per_length(INPUTS / "crf450r_8000rpm_full_hot_gas.nml")
     case = case.with_ring(width=0.8788e-3, tension=14.18)
     r = ringlube.run(case)
     assert r.converged and r.periodic and r.period == 2 and r.cycles_run <= 4, r.cycles_run
@@ -374,7 +376,7 @@ def test_period_of_two_cycles_reports_the_means():
         assert getattr(r, name) == pytest.approx(mean, rel=rel), (name, values)
         assert all(abs(v / mean - 1) > 1e-3 for v in values), (name, values)
     # a period of one cycle says so
-    assert ringlube.run(Case.from_namelist(INPUTS / "crf450r_8000rpm_full_hot_gas.nml")).period == 1
+    assert ringlube.run(per_length(INPUTS / "crf450r_8000rpm_full_hot_gas.nml")).period == 1
 
 
 def test_starved_period_of_two_cycles_with_the_ring_pack():
@@ -389,7 +391,7 @@ def test_starved_period_of_two_cycles_with_the_ring_pack():
     (blowby, 8.8e-3) from it."""
     from conftest import INPUTS
 
-    case = Case.from_namelist(INPUTS / "crf450r_8000rpm_full_hot_gas.nml")
+    case = per_length(INPUTS / "crf450r_8000rpm_full_hot_gas.nml")
     case = case.with_ring(width=0.8788e-3, tension=14.18).with_physics(cavitation="jfo", inlet="starved")
     r = ringlube.run(case)
     assert r.converged and r.periodic and r.period == 2, (r.cycles_run, r.energy_loss)
@@ -414,7 +416,7 @@ def test_period_of_five_cycles_reports_the_means():
     than 5 % about it (docs/model.md, "A period of several cycles")."""
     from conftest import INPUTS
 
-    case = Case.from_namelist(INPUTS / "crf450r_8000rpm_full_hot_gas.nml")
+    case = per_length(INPUTS / "crf450r_8000rpm_full_hot_gas.nml")
     case = case.with_ring(width=1.070e-3, tension=5.2).with_physics(cavitation="jfo", inlet="starved")
     r = ringlube.run(case.with_numerics(max_cycles=30))
     assert r.converged and r.periodic and r.period == 5, (r.period, r.cycles_run)
@@ -447,9 +449,7 @@ def test_a_starved_two_cycle_is_not_taken_against_the_first_cycle():
     period."""
     from conftest import INPUTS
 
-    case = Case.from_namelist(INPUTS / "crf450r_4000rpm_full_hot_gas.nml").with_ring(
-        width=1.0848e-3, tension=10.64
-    )
+    case = per_length(INPUTS / "crf450r_4000rpm_full_hot_gas.nml").with_ring(width=1.0848e-3, tension=10.64)
     case = case.with_physics(cavitation="jfo", inlet="starved", cavity_pressure="trailing_gas")
     first = [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=n)).energy_loss for n in (1, 2, 3)]
     assert first[1:] == pytest.approx([first[0], first[0]], rel=1e-4), first
@@ -467,7 +467,7 @@ def test_flutter_events_of_a_period_of_two_cycles_are_one_number(tmp_path):
     mean truncated), 2 in the HDF5 file and the summary (rounded) and 1.5 in the scalars."""
     from conftest import INPUTS
 
-    case = Case.from_namelist(INPUTS / "crf450r_12000rpm_full_hot_gas.nml")
+    case = per_length(INPUTS / "crf450r_12000rpm_full_hot_gas.nml")
     case = case.with_ring(width=0.64e-3, tension=14.0)
     case = case.with_ring_pack(top_gap_area=2e-7, groove_clearance=2e-5)
     r = ringlube.run(case, output=tmp_path / "p2.h5")
@@ -494,7 +494,7 @@ def test_a_period_of_two_cycles_with_a_flagged_cycle_is_not_converged():
     the period's cycles)."""
     from conftest import INPUTS
 
-    case = Case.from_namelist(INPUTS / "crf450r_8000rpm_full_hot_gas.nml")
+    case = per_length(INPUTS / "crf450r_8000rpm_full_hot_gas.nml")
     case = case.with_ring(width=0.99e-3, tension=20.0).with_physics(cavitation="jfo", inlet="starved")
     case = case.with_lubricant(supply_film=4e-6).with_numerics(accelerate=False)
     r = ringlube.run(case)
@@ -544,7 +544,7 @@ def test_a_starved_period_of_one_must_repeat():
     2026-11-26 (the period-one test is older than the periods of several cycles)."""
     from conftest import INPUTS
 
-    case = Case.from_namelist(INPUTS / "crf450r_12000rpm_full_hot_gas.nml")
+    case = per_length(INPUTS / "crf450r_12000rpm_full_hot_gas.nml")
     case = case.with_ring(width=1.205e-3, tension=4.25).with_physics(cavitation="jfo", inlet="starved")
     r = ringlube.run(case.with_numerics(max_cycles=30))
     if r.converged:

@@ -347,7 +347,7 @@ def test_shipped_study_decks_read(tmp_path):
     for deck in ("study_default.nml", "study_full.nml"):
         s = read_study(INPUTS / deck)
         assert s.reference == [1.004e-3, 9.31e-6, -38.3e-6, 8.0]
-        assert s.units == ["m", "m", "m", "N/m"]  # the calibration file sets N/m
+        assert s.units == ["m", "m", "m", "N"]  # the decks read the tension in N
 
 
 def test_reference_added_on_resume_is_computed(tmp_path):

@@ -104,7 +104,7 @@ def test_near_constant_field_says_so():
 
 
 def test_tension_label_follows_the_decks_unit():
-    assert variable_unit(Case.from_namelist(COLD), "tension") == "N/m"  # calibration.nml
+    assert variable_unit(Case.from_namelist(COLD), "tension") == "N"  # the deck says N
     assert variable_unit(Case({"ring": {"tension": 10.0}}), "tension") == "N"  # kernel default
     assert variable_unit(Case({"ring": {"tension_unit": "N/m"}}), "tension") == "N/m"
     assert display("tension", "N", 8, 26) == ("tension [N]", 1.0)

