@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from . import gas
-from .calibrate import calibrate, correlation, strip_calibrated
+from .calibrate import apply, calibrate, choose, correlation, strip_calibrated
 from .case import Case
 from .errors import InputError
 from .solve import run, run_many
@@ -172,10 +172,64 @@ class ValidationData:
     readings: list
     #: the ring pack (SPEC 14, issue 17): see ring_pack_validation
     ring_pack: dict
+    #: the two readings of the tension, each with its own calibration: see tension_readings
+    tension: dict
     #: oil to the chamber against the supply film (issue 16): see oil_sensitivity
     oil: dict
     #: wall time of the whole regeneration [s] (set by validate)
     seconds: float = 0.0
+
+
+#: The two readings of the ring's tension (``&ring tension_unit``) and what each means.
+TENSION_READINGS = {
+    "N": "tangential force F_T, p_e = F_T/(b r0)",
+    "N/m": "force per unit circumference, p_e = tension/b",
+}
+
+
+def tension_readings(cases: dict[str, Case], fits: list, shipped_unit: str) -> dict:
+    """Both readings of the tension on the shipped decks, each with its own calibration (the
+    best fit of that unit among ``fits``, the calibration re-run): Table 2 cold and hot, the
+    trend sweeps cold and hot, and the starved film (1 um, the decks' preset) cold and hot.
+
+    Parameters
+    ----------
+    cases : dict
+        The shipped 'cold' and 'hot' cases.
+    fits : list of Fit
+        Every fit of the calibration re-run (both units).
+    shipped_unit : str
+        The shipped decks' tension unit (listed first).
+
+    Returns
+    -------
+    dict
+        {unit: {'fit', 'elastic_pressure' (Pa, of the shipped ring), 'results', 'sweeps',
+        'verdicts', 'starved' ({k: result})}}, the shipped unit first.
+    """
+    out = {}
+    units = [shipped_unit] + [u for u in TENSION_READINGS if u != shipped_unit]
+    for unit in units:
+        fit = choose(fits, unit)
+        cs = {
+            k: apply(strip_calibrated(c), fit.options, fit.zeta_kappa_sigma, fit.pressure_scale)
+            for k, c in cases.items()
+        }
+        sweeps = {k: trend_sweeps(cs[k]) for k in ("cold", "hot")}
+        starved = [cs[k].with_physics(cavitation="jfo", inlet="starved") for k in ("cold", "hot")]
+        rs = run_many(starved, workers=1, progress=False, on_error="return")
+        b, r0, t = (
+            cs["cold"].value(*k) for k in (("ring", "width"), ("engine", "bore_radius"), ("ring", "tension"))
+        )
+        out[unit] = {
+            "fit": fit,
+            "elastic_pressure": t / (b * r0) if unit == "N" else t / b,
+            "results": {k: run(cs[k]) for k in ("cold", "hot")},
+            "sweeps": sweeps,
+            "verdicts": {k: trend_verdicts(sweeps[k]) for k in ("cold", "hot")},
+            "starved": dict(zip(("cold", "hot"), rs)),
+        }
+    return out
 
 
 #: Supply films [m] of the oil-sensitivity table (issue 16).
@@ -189,10 +243,10 @@ OIL_DECKS = {
 }
 #: Ring variants of the ring engineer's story (from the study's ranges).
 STORY_RINGS = {
-    "study optimum (1.004 mm, 8 N/m)": {},
+    "study optimum (1.004 mm, tension 8)": {},
     "narrowest (0.54 mm)": {"width": 0.54e-3},
     "widest (1.34 mm)": {"width": 1.34e-3},
-    "26 N/m tension": {"tension": 26.0},
+    "tension 26": {"tension": 26.0},
 }
 #: Engine speeds of the story: the study's and the CRF450R's rev limit [r/min].
 STORY_SPEEDS = (4000.0, 12000.0)
@@ -361,6 +415,7 @@ def compute_validation(root: str | os.PathLike = ".") -> ValidationData:
         readings=reading_rows({"cold": cases["cold"], "hot": cases["hot"]}),
         ring_pack=ring_pack_validation(cases),
         oil=oil_sensitivity(root),
+        tension=tension_readings(cases, fits, cases["cold"].value("ring", "tension_unit")),
     )
 
 
