@@ -17,10 +17,10 @@ base = ringlube.Case.from_namelist(ROOT / "inputs" / "crf450r_4000rpm_full_cold.
     ring_pack="gas"
 )
 rings = {
-    "study optimum (1.004 mm, 8 N/m)": {},
+    "study optimum (1.004 mm, 8 N)": {},
     "narrowest (0.54 mm)": {"width": 0.54e-3},
     "widest (1.34 mm)": {"width": 1.34e-3},
-    "26 N/m tension": {"tension": 26.0},
+    "26 N tension": {"tension": 26.0},
 }
 print(
     "| speed | ring | energy [J/cycle] | friction power [W] | blowby [L/min] "
