@@ -3,10 +3,10 @@ the inputs and change sign where the state changes (docs/model.md, "Branch risk"
 
 - ``lift_margin``: (F - W at h0_ceiling) / F, the least over the intake stroke; < 0 where the
   ring can be lifted off the liner. Swept with ``&operating pressure_scale`` across the
-  intake stroke's threshold, where the shipped decks (tension read in N/m) sit.
+  intake stroke's threshold, where the decks read in N/m (``conftest.per_length``) sit.
 - ``seal_margin`` ('trailing_gas'): the film's barrier against the trailing gas; > 0 where the
   face ends its decisions sealed, <= 0 blown. Swept with the crank step across the switch of
-  the cold deck's expansion stroke between the sealed and the blown face.
+  the cold deck's expansion stroke (read in N/m) between the sealed and the blown face.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import pytest
 import ringlube
 from ringlube.tables import FLAGS, MARGINS
 
-from conftest import COLD
+from conftest import COLD, per_length
 
 OUT = ["lift_margin", "liner_lift_share", "energy_loss", "lift_margin_angle"]
 LOAD_TOL = 1e-3  # preset 'default'
@@ -25,7 +25,7 @@ LOAD_TOL = 1e-3  # preset 'default'
 
 @pytest.fixture(scope="module")
 def starved():
-    cold = ringlube.Case.from_namelist(COLD).inline_calibration()
+    cold = per_length(COLD).inline_calibration()
     return cold.with_physics(cavitation="jfo", inlet="starved")
 
 
@@ -60,7 +60,7 @@ def test_lift_margin_of_a_lifted_step_is_the_balance_residual_there(starved):
     held = (r.flags & FLAGS["h0_ceiling"]) != 0
     assert np.count_nonzero(intake & held) > 10
     assert r.lift_margin <= np.min(-r.load_residual[intake & held])
-    # the shipped deck (tension read in N/m) sits within 0.45 % of the threshold: warned of
+    # the deck read in N/m sits within 0.45 % of the threshold: warned of
     assert -0.0045 < r.lift_margin < 0
     assert "WARNING: lift-off margin" in r.summary()
     assert f"{MARGINS['lift_margin'].threshold:.3f}" in r.summary()
@@ -70,9 +70,9 @@ def test_lift_margin_of_a_lifted_step_is_the_balance_residual_there(starved):
 
 
 def test_seal_margin_changes_sign_with_the_crank_step_where_the_face_blows():
-    # cold deck, flooded 'trailing_gas': after firing TDC the face seals (energy 0.74-0.78 J)
+    # cold deck read in N/m, flooded 'trailing_gas': after firing TDC the face seals (energy 0.74-0.78 J)
     # at the larger steps and blows (0.43-0.44 J) at the smaller ones
-    tg = ringlube.Case.from_namelist(COLD).with_physics(cavitation="jfo", cavity_pressure="trailing_gas")
+    tg = per_length(COLD).with_physics(cavitation="jfo", cavity_pressure="trailing_gas")
     steps = np.array([2.0, 1.5, 1.25, 1.2, 1.0, 0.5])
     v, conv, errors = ringlube.run_designs(
         tg, ["numerics:dpsi_deg"], steps[:, None], ["seal_margin", "energy_loss", "seal_margin_angle"]

@@ -13,7 +13,7 @@ import pytest
 import ringlube
 from ringlube import Case
 
-from conftest import COLD, INPUTS
+from conftest import COLD, INPUTS, per_length
 
 
 def _tight(case: Case) -> ringlube.CycleResult:
@@ -22,13 +22,13 @@ def _tight(case: Case) -> ringlube.CycleResult:
 
 
 def test_the_energy_is_judged_at_the_rate_it_settles():
-    """The 12,000 r/min 'gas' deck read in N: after the ring pack's restart h0 at psi = 0 and
-    the ring pack change by 2e-4 a cycle while the energy still moves by 3.5e-3, then 6.8e-3,
-    2.2e-3 and 4.6e-4 (a mode contracting by 0.23 a cycle, which h0 at psi = 0 barely shows).
-    Judged on h0 alone the run was periodic after 2 cycles at 2.2591 J, 0.94 % above its
-    periodic 2.2380 J; now the energy counts too, at that mode's rate, and the answer lies within
-    cycle_tol of a run to cycle_tol 1e-6."""
-    case = Case.from_namelist(INPUTS / "crf450r_12000rpm_full_hot_gas.nml").with_ring(tension_unit="N")
+    """The 12,000 r/min 'gas' deck read in N with the N/m reading's calibration: after the ring pack's
+    restart h0 at psi = 0 and the ring pack change by 2e-4 a cycle while the energy still moves by
+    3.5e-3, then 6.8e-3, 2.2e-3 and 4.6e-4 (a mode contracting by 0.23 a cycle, which h0 at psi = 0
+    barely shows). Judged on h0 alone the run was periodic after 2 cycles at 2.2591 J, 0.94 % above
+    its periodic 2.2380 J; now the energy counts too, at that mode's rate, and the answer lies
+    within cycle_tol of a run to cycle_tol 1e-6."""
+    case = per_length(INPUTS / "crf450r_12000rpm_full_hot_gas.nml").with_ring(tension_unit="N")
     r, tight = ringlube.run(case), _tight(case)
     tol = case.value("numerics", "cycle_tol")
     assert r.converged and tight.converged
@@ -38,15 +38,15 @@ def test_the_energy_is_judged_at_the_rate_it_settles():
 
 
 def test_a_slow_land_is_judged_against_its_periodic_state():
-    """A 1.8 L land behind a 2.3e-9 m^2 second gap (both in range) on the cold deck with the ring
-    pack, a 0.81 mm ring at 4.76 N/m: the land sits at 5.6 bar and moves a few pascal a cycle,
-    so the first cycle changed the ring pack by 1e-4 and was taken as periodic; the land's
-    periodic state under the film's friction lies 5.4 kPa (1.2 % of its gauge pressure) lower,
-    and the answer was 1.4e-3 low in energy and 0.96 % in blowby. Now the land is judged by
-    its distance from the periodic state of the gas network under the cycle's friction
-    (relative to its gauge pressure), the ring pack restarts there, and energy and blowby lie
-    within cycle_tol of a run to cycle_tol 1e-6."""
-    case = Case.from_namelist(COLD).with_physics(ring_pack="gas")
+    """A 1.8 L land behind a 2.3e-9 m^2 second gap (both in range) on the cold deck with the ring pack
+    read in N/m, a 0.81 mm ring at 4.76 N/m: the land sits at 5.6 bar and moves a few pascal a
+    cycle, so the first cycle changed the ring pack by 1e-4 and was taken as periodic; the land's
+    periodic state under the film's friction lies 5.4 kPa (1.2 % of its gauge pressure) lower, and
+    the answer was 1.4e-3 low in energy and 0.96 % in blowby. Now the land is judged by its distance
+    from the periodic state of the gas network under the cycle's friction (relative to its gauge
+    pressure), the ring pack restarts there, and energy and blowby lie within cycle_tol of a run to
+    cycle_tol 1e-6."""
+    case = per_length(COLD).with_physics(ring_pack="gas")
     case = case.with_ring(width=0.807e-3, tension=4.756)
     case = case.with_ring_pack(land_volume=1.83e-3, second_gap_area=2.26e-9)
     r, tight = ringlube.run(case), _tight(case)
@@ -63,9 +63,8 @@ def test_acceleration_changes_no_answer_beyond_cycle_tol(deck):
     (`accelerate`, the default) the run takes fewer cycles, and its answers (energy, oil to the
     chamber, mixed share, liner film) equal those of a run without it and those of a run to
     cycle_tol 1e-6 within cycle_tol."""
-    case = Case.from_namelist(INPUTS / deck).with_physics(
-        cavitation="jfo", inlet="starved", cavity_pressure="trailing_gas"
-    )
+    case = per_length(INPUTS / deck)
+    case = case.with_physics(cavitation="jfo", inlet="starved", cavity_pressure="trailing_gas")
     fast, plain = ringlube.run(case), ringlube.run(case.with_numerics(accelerate=False))
     tight = _tight(case.with_numerics(accelerate=False))
     tol = case.value("numerics", "cycle_tol")
@@ -80,13 +79,13 @@ def test_acceleration_changes_no_answer_beyond_cycle_tol(deck):
 
 
 def test_a_single_excursion_is_not_a_period_of_two():
-    """The distorted bore of identical.py's variant (order 4, 10 um, 8 sectors; starved, read in
-    N): after its liner film's extrapolation cycle 5 ran one cycle in another state, 1.865 J
-    between cycles of 1.597 J, and cycle 6 equalled cycle 4, so a period of two was taken with
-    the mean of cycles 5 and 6, 1.7310 J, 8 % high (a period of two checked only its last
-    cycle's energy against two cycles before). Both cycles of a period of two repeat now: the
-    run is periodic with the energy of a run without the extrapolation, within cycle_tol."""
-    case = Case.from_namelist(COLD).with_physics(cavitation="jfo", inlet="starved", bore="distorted")
+    """The distorted bore of identical.py's variant (order 4, 10 um, 8 sectors; starved, read in N,
+    with the N/m reading's calibration): after its liner film's extrapolation cycle 5 ran one cycle
+    in another state, 1.865 J between cycles of 1.597 J, and cycle 6 equalled cycle 4, so a period
+    of two was taken with the mean of cycles 5 and 6, 1.7310 J, 8 % high (a period of two checked
+    only its last cycle's energy against two cycles before). Both cycles of a period of two repeat
+    now: the run is periodic with the energy of a run without the extrapolation, within cycle_tol."""
+    case = per_length(COLD).with_physics(cavitation="jfo", inlet="starved", bore="distorted")
     case = case.with_("bore", order=[4], amplitude=[10e-6], sectors=8).with_ring(tension_unit="N")
     r, plain = ringlube.run(case), ringlube.run(case.with_numerics(accelerate=False))
     assert r.converged and plain.converged

@@ -246,7 +246,7 @@ def test_a_slow_land_starts_where_its_coarse_cycles_settled():
 
 
 def test_a_start_that_does_not_settle_does_not_vouch_for_the_first_cycle():
-    """A 0.4 L land with a 0.2 mm^2 top gap on the 4000 r/min hot deck at 'fast' (a review,
+    """A 0.4 L land with a 0.2 mm^2 top gap on the 4000 r/min hot deck read in N/m at 'fast' (a review,
     2026-11-26): neither the gas start's coarse nor its fine cycles settle in 50, the start
     leaves the land at 526 kPa against a periodic 300 kPa, its contraction is unknown, and the
     first coupled cycle moved the land by 1 kPa and passed: 2.372 J and 6.28 l/min reported
@@ -255,7 +255,7 @@ def test_a_start_that_does_not_settle_does_not_vouch_for_the_first_cycle():
     of a run to cycle_tol 1e-6 (energy to 1e-4, blowby to 1e-3)."""
     from conftest import INPUTS
 
-    case = Case.from_namelist(INPUTS / "crf450r_4000rpm_full_hot.nml")
+    case = per_length(INPUTS / "crf450r_4000rpm_full_hot.nml")
     case = case.with_physics(ring_pack="gas").with_numerics(preset="fast")
     case = case.with_ring_pack(
         top_gap_area=2e-7, groove_clearance=8.87e-5, second_gap_area=1.85e-7, land_volume=4e-4
