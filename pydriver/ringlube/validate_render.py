@@ -215,10 +215,12 @@ def render_validation(data: ValidationData) -> str:
         "minimum towards the chamber gives that inlet a longer converging wedge. The study's opposite "
         "finding may reflect a different sign convention for x_s or the measured, not synthetic, gas "
         "pressure; docs/model.md ('Film shape') fixes the convention used here.",
-        "- *width*: energy rises monotonically with width over 0.54-1.34 mm (larger wetted area, more "
-        "viscous and boundary shear); the mixed share falls with width, so the study's interior optimum "
-        "appears only when the mixed share is traded against energy (the optimisation), not in "
-        "energy alone.",
+        "- *width*: energy rises monotonically with width over 0.54-1.34 mm (with `profile = 'edge'` "
+        "a wider ring with the same crown is a flatter one: more viscous shear over a larger wetted "
+        "face); the mixed share falls with width, so the study's interior optimum appears only when "
+        "the mixed share is traded against energy (the optimisation), not in energy alone. With the "
+        "barrel given as a drop at a gauge length (`profile = 'gauge'`, as drawn) an interior optimum "
+        "appears in many readings: [width.md](width.md).",
         "",
     ]
 
