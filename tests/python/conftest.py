@@ -106,6 +106,7 @@ MODULE_LABELS = {
     "test_unclear_inputs": ("unit",),
     "test_validation": ("numerics",),
     "test_validation_sections": ("numerics",),
+    "test_width_story": ("numerics",),
 }
 
 
@@ -117,6 +118,8 @@ SLOW = {
     "test_starved_hot_energy_converges_in_the_crank_step",
     "test_dask_cluster_matches_serial_and_survives_a_killed_worker",
     "test_own_engine_walkthrough",
+    "test_width_page_blocks_are_the_script_s_output[mechanism]",
+    "test_width_page_blocks_are_the_script_s_output[gas]",
     "test_study_trades_friction_against_oil_transport",
     "test_tradeoff_is_drawn_without_ring_mass_and_names_designs",
     "test_tradeoff_files_follow_the_objectives",
