@@ -64,8 +64,8 @@ def _one_line_warnings() -> None:
     source)."""
     import warnings
 
-    from .case_kernel import UnusedInputWarning
-    from .case_origins import SourceEngineDefaultWarning
+    from .case.kernel import UnusedInputWarning
+    from .case.origins import SourceEngineDefaultWarning
     from .study_constraints import UnconvergedReferenceWarning
 
     show = warnings.showwarning

@@ -192,7 +192,7 @@ def _gas_options(message: str) -> str:
 
 def _cmd_show(args: argparse.Namespace) -> int:
     from .case import Case
-    from .case_text import _format
+    from .case.text import _format
 
     case = Case.from_namelist(args.deck)
     rows = case.effective_inputs()

@@ -256,7 +256,7 @@ def check_trace(psi: np.ndarray, p: np.ndarray) -> None:
     """
     from . import _kernel
     from .case import Case
-    from .case_kernel import _text, kernel_case
+    from .case.kernel import _text, kernel_case
 
     with kernel_case(Case(), warn=False) as k:
         code, message = _kernel.rl_set_trace(k.handle, np.asarray(psi, float), np.asarray(p, float))
@@ -293,7 +293,7 @@ def read_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     """
     from . import _kernel
     from .case import Case
-    from .case_kernel import kernel_case
+    from .case.kernel import kernel_case
 
     path = Path(path)
     resolved = str(path.resolve())

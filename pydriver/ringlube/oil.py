@@ -63,7 +63,7 @@ def grade(name: str) -> Grade:
     (10.9, (9.3, 12.5), 64.85)
     """
     from . import _kernel
-    from .case_kernel import _text
+    from .case.kernel import _text
 
     kv40, kv100, lo, hi, code, message = _kernel.rl_grade(name.encode())
     if code:

@@ -12,15 +12,7 @@ import numpy as np
 from .calibrate import BOUNDS
 from .calibrator import Param
 from .outputs import write_text
-from .readings import (
-    GOAL,
-    RELAXED_BOUNDS,
-    RING,
-    STEP,
-    SUPPLY_BOUNDS,
-    SWEEP_POINTS,
-    Point,
-)
+from .readings import GOAL, RELAXED_BOUNDS, RING, STEP, SUPPLY_BOUNDS, SWEEP_POINTS, Point
 from .readings_fit import _bound_sides, _on_bound
 
 __all__ = ["write_readings"]

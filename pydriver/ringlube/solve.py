@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from .case import Case
-from .case_kernel import _text, kernel_case
+from .case.kernel import _text, kernel_case
 from .errors import InputError, NotConvergedError, RinglubeError, error_for
 from .result import CycleResult
 from .tables import INT_SERIES, LINER, MODELS, SCALARS, SECTORS, SERIES

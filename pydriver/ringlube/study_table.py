@@ -3,7 +3,7 @@ default, range or choices, unit and meaning (as ``fortran/src/inputs.f90`` is fo
 decks).
 
 The table drives :func:`study_values` (a ``&study`` deck read by the kernel's scanner,
-:mod:`ringlube.deck_items`, each value typed and range-checked, every error naming
+:mod:`ringlube.case.items`, each value typed and range-checked, every error naming
 file:line, ``&study`` and the variable), the defaults of
 :class:`~ringlube.study_settings.StudySettings`, and the generated table of
 docs/optimisation.md (:func:`study_markdown`, ``python -m ringlube.docgen``). Checks that
@@ -21,7 +21,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from .deck_items import _LOGICAL, Item, items
+from .case.items import _LOGICAL, Item, items
 from .errors import InputError
 
 __all__ = ["StudyInput", "STUDY", "MAX_SAMPLES", "MAX_SEED", "study_values", "study_markdown"]

@@ -1,5 +1,5 @@
 """One deck parser (issue 19, item 3): the kernel's scanner exported as ``rl_items``
-(:mod:`ringlube.deck_items`) reads kernel decks, calibration files and ``&study`` decks."""
+(:mod:`ringlube.case.items`) reads kernel decks, calibration files and ``&study`` decks."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import pytest
 
 import ringlube
 from ringlube import InputError
-from ringlube.case_text import _format
-from ringlube.deck_items import items, python_value
+from ringlube.case.items import items, python_value
+from ringlube.case.text import _format
 
 from conftest import COLD, INPUTS
 

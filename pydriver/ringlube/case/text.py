@@ -6,7 +6,7 @@ import decimal
 import numbers
 from typing import Any
 
-from .errors import InputError
+from ..errors import InputError
 
 __all__: list[str] = []
 
@@ -33,7 +33,7 @@ def _plain_number(group: str, name: str, value: Any) -> Any:
     if isinstance(value, int):
         return value
     value = float(value)  # Decimal, Fraction: numbers, not strings
-    from .tables import INPUTS
+    from ..tables import INPUTS
 
     spec = INPUTS.get((group, name))
     if spec is not None and spec.kind == "integer":

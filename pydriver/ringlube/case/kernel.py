@@ -7,7 +7,7 @@ import warnings
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, NamedTuple
 
-from .errors import error_for
+from ..errors import error_for
 
 if TYPE_CHECKING:
     from .case import Case
@@ -43,7 +43,7 @@ def _deck_text(text: str, name: str) -> bytes:
     """Deck text for the kernel; a NUL byte is an input error naming the file and line (the
     f2py layer would end the text there, where ringlube-solve reads on: two readings)."""
     if "\0" in text:
-        from .errors import InputError
+        from ..errors import InputError
 
         line = text.count("\n", 0, text.index("\0")) + 1
         raise InputError(f"{name}:{line}: a NUL byte (binary data, not text) in the deck")
@@ -84,7 +84,7 @@ def kernel_case(case: Case, load_trace: bool = True, warn: bool = True) -> Itera
         Read the gas-pressure file (else only check it exists).
     warn : bool
         Warn if source-engine defaults fill part of the case's engine geometry or ring
-        (:class:`~ringlube.case_origins.SourceEngineDefaultWarning`), once the kernel has
+        (:class:`~ringlube.case.origins.SourceEngineDefaultWarning`), once the kernel has
         accepted the case.
 
     Examples
@@ -99,7 +99,7 @@ def kernel_case(case: Case, load_trace: bool = True, warn: bool = True) -> Itera
     InputError
         If the kernel rejects the case (its message names file, line, group, variable).
     """
-    from . import _kernel
+    from .. import _kernel
 
     text, name, base, overrides, overrides_name = case.kernel_inputs()
     if base and not base.endswith("/"):

@@ -12,9 +12,9 @@ import os
 import warnings
 from typing import Any, NamedTuple
 
-from .case_kernel import _text, kernel_case
-from .deck_items import items
-from .errors import InputError, error_for
+from ..errors import InputError, error_for
+from .items import items
+from .kernel import _text, kernel_case
 
 __all__ = ["EffectiveInput", "SOURCE_ENGINE_INPUTS", "SourceEngineDefaultWarning"]
 
@@ -116,7 +116,7 @@ class _InputOrigins:
         >>> o["numerics", "nodes"], o["lubricant", "supply_film"]
         ("preset 'default'", 'default')
         """
-        from .tables import INPUTS, PRESETS
+        from ..tables import INPUTS, PRESETS
 
         calibration = self._calibration_keys()
         preset = str(self.get("numerics", "preset", "default")).lower()
@@ -156,7 +156,7 @@ class _InputOrigins:
         >>> [r for r in rows if r.name == "crown_offset"][0]
         EffectiveInput(group='ring', name='crown_offset', value=-3.83e-05, unit='m', origin='deck')
         """
-        from .tables import INPUTS
+        from ..tables import INPUTS
 
         origins = self.origins()
         return [
@@ -169,7 +169,7 @@ class _InputOrigins:
         as the kernel reads this case. One kernel handle reads every input's text on first
         use; the texts are kept until the case, the working directory its relative paths
         mean, or a file it names (calibration, pressure trace) changes."""
-        from .tables import _value
+        from ..tables import _value
 
         key = (self.kernel_inputs(), _files_seen(self))
         seen = getattr(self, "_effective_texts", None)
@@ -234,8 +234,8 @@ class _InputOrigins:
 def _kernel_texts(case: Any) -> dict[tuple[str, str], tuple[int, str]]:
     """Every input of ``case`` as the kernel reads it, through one handle: (0, value as
     text), or (error code, message) where the kernel refuses to give it."""
-    from . import _kernel
-    from .tables import INPUTS
+    from .. import _kernel
+    from ..tables import INPUTS
 
     texts = {}
     with kernel_case(case, load_trace=False, warn=False) as k:

@@ -21,8 +21,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from .case_kernel import _arg, _deck_text, _text
-from .errors import error_for
+from ..errors import error_for
+from .kernel import _arg, _deck_text, _text
 
 __all__ = ["Item", "items", "python_value"]
 
@@ -111,7 +111,7 @@ def items(text: str, name: str, lists: bool = False) -> list[Item]:
     ...
     ringlube.errors.InputError: d.nml:1: &ring width: malformed value "1 2" (one value per variable)
     """
-    from . import _kernel
+    from .. import _kernel
 
     flag = 1 if lists else 0
     n, nbytes, code, message = _kernel.rl_items_count(_deck_text(text, name), _arg(name), flag)

@@ -6,7 +6,7 @@ A case read from a file keeps the file's text, so kernel messages name the real 
 line; values changed in Python travel as overrides that replace the deck's (messages about
 them name ``<case NAME: changed in Python>``). A case built in Python resolves relative
 paths against the working directory. The values a case shows (``case[group, name]``) are
-the deck's items as the kernel's scanner reads them (:mod:`ringlube.deck_items`): one
+the deck's items as the kernel's scanner reads them (:mod:`ringlube.case.items`): one
 reader, no second namelist parser.
 """
 
@@ -18,17 +18,17 @@ import re
 from pathlib import Path
 from typing import Any
 
-from .case_kernel import kernel_case
-from .case_origins import _InputOrigins
-from .case_text import _format, _plain_number, _serialise
-from .deck_items import items, python_value
-from .errors import InputError, input_file
+from ..errors import InputError, input_file
+from .items import items, python_value
+from .kernel import kernel_case
+from .origins import _InputOrigins
+from .text import _format, _plain_number, _serialise
 
 __all__ = ["Case", "GROUPS"]
 
 
 def _groups() -> tuple[str, ...]:
-    from .tables import GROUPS as groups
+    from ..tables import GROUPS as groups
 
     return groups
 
@@ -120,7 +120,7 @@ class Case(_InputOrigins):
         case._base = str(path.resolve().parent)
         with kernel_case(case, load_trace=False, warn=False):
             pass  # the kernel's reader first: every error names file:line, group and variable
-        from .tables import INPUTS
+        from ..tables import INPUTS
 
         for item in items(text, str(path), lists=True):  # the same scanner: values as written
             value = python_value(item)
@@ -188,7 +188,7 @@ class Case(_InputOrigins):
         >>> Case().value("ring", "tension_unit")
         'N'
         """
-        from .tables import INPUTS
+        from ..tables import INPUTS
 
         spec = INPUTS.get((group.lower(), name.lower()))
         if spec is None:
@@ -248,7 +248,7 @@ class Case(_InputOrigins):
     def __getitem__(self, key: tuple[str, str]) -> Any:
         if not (isinstance(key, tuple) and len(key) == 2 and all(isinstance(k, str) for k in key)):
             raise KeyError(f"use case[group, name], not case[{key!r}]{_close_input(key)}")
-        from .tables import INPUTS
+        from ..tables import INPUTS
 
         if (key[0].lower(), key[1].lower()) not in INPUTS:
             raise KeyError(f"&{key[0]} {key[1]}: not an input{_close_input(key)}")
@@ -288,7 +288,7 @@ class Case(_InputOrigins):
 
     def _repr_html_(self) -> str:
         """A table of the values set (Jupyter)."""
-        from .tables import INPUTS
+        from ..tables import INPUTS
 
         where = f" from <code>{html.escape(self.source)}</code>" if self.source else ""
         rows = []
@@ -386,7 +386,7 @@ class Case(_InputOrigins):
 
 def _with_group(group: str):
     """The method ``Case.with_<group>``, its docstring listing the group's variables."""
-    from .tables import INPUTS, PRESETS
+    from ..tables import INPUTS, PRESETS
 
     specs = [s for (g, _), s in INPUTS.items() if g == group]
     known = [s.name for s in specs]
@@ -426,7 +426,7 @@ def _with_group(group: str):
 
 def _example(spec) -> str:
     """A value of ``spec`` as Python text (the default where there is one)."""
-    from .tables import PRESETS, _value
+    from ..tables import PRESETS, _value
 
     if spec.kind == "choice":
         return repr(spec.choices[-1])
@@ -446,7 +446,7 @@ def _close_input(key: Any) -> str:
     pair near one, or a word near a group or the name of a variable."""
     import difflib
 
-    from .tables import INPUTS
+    from ..tables import INPUTS
 
     if isinstance(key, tuple) and len(key) == 2:
         pairs = {f"{g}, {n}": (g, n) for g, n in INPUTS}
