@@ -114,7 +114,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 def _cmd_gas(args: argparse.Namespace) -> int:
     from . import gas
-    from .gas_model import range_problem
+    from .gas import range_problem
 
     given = {f: getattr(args, f) for f in gas.OPTIONS if hasattr(args, f)}
     output, folder = getattr(args, "output", None), getattr(args, "out", None)

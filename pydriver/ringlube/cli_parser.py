@@ -122,8 +122,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     import dataclasses
 
-    from .gas import OPTIONS as gas_options, GasModel
-    from .gas_model import HEAT_TRANSFER
+    from .gas import HEAT_TRANSFER, OPTIONS as gas_options, GasModel
 
     defaults = {f.name: f.default for f in dataclasses.fields(GasModel)}
     for field, (option, help_text) in gas_options.items():

@@ -152,7 +152,7 @@ def limits(name: str) -> tuple[float, float, str]:
     (0.002, 2.0, 'm')
     """
     if name in _KERNEL_RANGES:
-        from .tables import INPUTS
+        from ..tables import INPUTS
 
         group, var, k = _KERNEL_RANGES[name]
         spec = INPUTS[group, var]
@@ -398,7 +398,7 @@ class GasModel:
 
     def volume(self, psi_deg: np.ndarray) -> np.ndarray:
         """Cylinder volume [m^3] at crank angles [deg] (the kernel's slider-crank)."""
-        from . import _kernel
+        from .. import _kernel
 
         psi = np.atleast_1d(np.asarray(psi_deg, dtype=float))
         x, _ = _kernel.rl_kinematics(psi, self.crank_radius, self.conrod_length, 1.0)

@@ -1,7 +1,7 @@
 """Synthetic in-cylinder gas-pressure traces for any engine: trace files, figures and the command.
 
 The single-zone model itself (volume, Wiebe heat release, closed cycle, the shipped presets)
-is :mod:`ringlube.gas_model`; its names are re-exported here. A trace file is CSV (crank
+is :mod:`ringlube.gas.model`; its names are re-exported here. A trace file is CSV (crank
 angle in deg, absolute pressure in Pa) whose ``#`` header records every parameter of the
 :class:`GasModel` and the command that regenerates it. ``ringlube gas -o FILE.csv ...`` writes
 the trace of your engine; ``ringlube gas --out DIR`` writes the shipped traces
@@ -17,8 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
-from .gas_model import (
+from ..errors import InputError
+from .model import (
     CRF450R,
     PRESETS,
     R_AIR,
@@ -217,7 +217,7 @@ def write_csv(path: str | Path, psi: np.ndarray, p: np.ndarray, header: str = ""
     >>> read_csv(f)[1].tolist()
     [100000.0, 200000.0, 100000.0]
     """
-    from .outputs import atomic_path
+    from ..outputs import atomic_path
 
     with atomic_path(path) as tmp:
         _write_rows(tmp, psi, p, header)
@@ -254,9 +254,9 @@ def check_trace(psi: np.ndarray, p: np.ndarray) -> None:
     ...
     ValueError: the trace reaches 20000 bar at 360.0 deg, which the kernel refuses: point 2: ...
     """
-    from . import _kernel
-    from .case import Case
-    from .case.kernel import _text, kernel_case
+    from .. import _kernel
+    from ..case import Case
+    from ..case.kernel import _text, kernel_case
 
     with kernel_case(Case(), warn=False) as k:
         code, message = _kernel.rl_set_trace(k.handle, np.asarray(psi, float), np.asarray(p, float))
@@ -291,9 +291,9 @@ def read_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     InputError
         Naming the file and line of a bad row (the rules of the deck's pressure_file).
     """
-    from . import _kernel
-    from .case import Case
-    from .case.kernel import kernel_case
+    from .. import _kernel
+    from ..case import Case
+    from ..case.kernel import kernel_case
 
     path = Path(path)
     resolved = str(path.resolve())
@@ -332,7 +332,7 @@ def figure(m: GasModel, psi: np.ndarray, p: np.ndarray, title: str = ""):
     """
     import matplotlib.pyplot as plt
 
-    from .plot import _crank_axis
+    from ..plot import _crank_axis
 
     fig, (ax, axv) = plt.subplots(
         1, 2, figsize=(11, 4.2), layout="constrained", gridspec_kw={"width_ratios": [1.7, 1]}
@@ -415,7 +415,7 @@ def write_trace(
     """
     import contextlib
 
-    from .outputs import atomic_path, check_output
+    from ..outputs import atomic_path, check_output
 
     output = Path(output)
     name = name or output.stem
@@ -440,8 +440,8 @@ def write_trace(
 def _write_figures(m: GasModel, psi, p, name: str, derived: str, paths: list[Path], stack) -> None:
     import matplotlib.pyplot as plt
 
-    from .outputs import atomic_path
-    from .plot import save_metadata
+    from ..outputs import atomic_path
+    from ..plot import save_metadata
 
     parts = derived.split(", ")
     fig = figure(m, psi, p, title=f"'{name}': {', '.join(parts[:3])}\n{', '.join(parts[3:])}")
