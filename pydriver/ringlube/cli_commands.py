@@ -274,7 +274,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
 
 def _cmd_readings(args: argparse.Namespace) -> int:
-    from .readings_cli import run_args
+    from .readings.cli import run_args
 
     return run_args(args)
 

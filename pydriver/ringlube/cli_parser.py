@@ -195,7 +195,7 @@ def _parser() -> argparse.ArgumentParser:
         description="Fit every reading (film model x contact area x tension unit) to the cold "
         "Table 2 case and the published trends; write docs/readings.md.",
     )
-    from .readings_cli import add_arguments as readings_arguments
+    from .readings.cli import add_arguments as readings_arguments
 
     readings_arguments(p)
     p = _command(

@@ -7,8 +7,9 @@ import numpy as np
 import pytest
 from scipy.optimize import OptimizeResult
 
-from ringlube import calibrate as cal, readings as rd, trends, validate_compute as vc
+from ringlube import calibrate as cal, trends, validate_compute as vc
 from ringlube.calibrator import Param, calibrate_inputs, start_design
+from ringlube.readings import reading as rd
 
 FIELDS = ("x", "u", "fun", "score", "nfev", "nit", "status", "message", "success", "active_mask")
 

@@ -21,13 +21,13 @@ The score is the root-sum-square of that vector; the discrete yes/no verdicts
 not smooth). Each point costs one base run and the trend sweeps of :data:`SWEEP_POINTS`.
 
 Optimiser: the one calibrator, :func:`ringlube.calibrator.calibrate_inputs` (method
-'least_squares', called by :func:`ringlube.readings_fit.fit_reading`): a 9-point coarse
+'least_squares', called by :func:`ringlube.readings.fit.fit_reading`): a 9-point coarse
 design of the (normalised) input box, then ``scipy.optimize.least_squares`` (trust-region
 reflective, bounded) from its best point, with a forward-difference Jacobian whose steps are
 run as one batch; every point evaluated is kept and the best one is the fit. Each reading is one task;
 readings run in parallel worker processes, and each point's runs go to the kernel as one
-``run_designs`` batch (:func:`evaluate`). The report is :mod:`ringlube.readings_report`, the
-command (``ringlube readings``) :mod:`ringlube.readings_cli`.
+``run_designs`` batch (:func:`evaluate`). The report is :mod:`ringlube.readings.report`, the
+command (``ringlube readings``) :mod:`ringlube.readings.cli`.
 """
 
 from __future__ import annotations
@@ -38,12 +38,12 @@ import math
 
 import numpy as np
 
-from .calibrate import BOUNDS
-from .calibrator import Param
-from .case import Case
-from .errors import InputError
-from .trends import TRENDS, trend_measures, trend_verdicts
-from .validate_compute import READINGS
+from ..calibrate import BOUNDS
+from ..calibrator import Param
+from ..case import Case
+from ..errors import InputError
+from ..trends import TRENDS, trend_measures, trend_verdicts
+from ..validate_compute import READINGS
 
 __all__ = [
     "SUPPLY_BOUNDS",
@@ -235,7 +235,7 @@ def residuals(energy: float, mixed: float, measures: dict[str, float], targets: 
 
 def _run_batch(case: Case, variables: list[str], x: np.ndarray):
     """(values (n, 2): energy, mixed; converged (n,)) of designs ``x`` (the one kernel call)."""
-    from .solve import run_designs
+    from ..solve import run_designs
 
     values, converged, _ = run_designs(case, variables, x, _OUTPUTS)
     return values, converged

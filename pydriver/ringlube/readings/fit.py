@@ -13,10 +13,11 @@ import time
 
 import numpy as np
 
-from .calibrate import cold_targets
-from .calibrator import Param, calibrate_inputs, start_design
-from .case import Case
-from .readings import (
+from ..calibrate import cold_targets
+from ..calibrator import Param, calibrate_inputs, start_design
+from ..case import Case
+from ..validate_compute import READINGS
+from .reading import (
     AT_BOUND,
     EVALS,
     RELAXED_BOUNDS,
@@ -29,7 +30,6 @@ from .readings import (
     evaluate,
     residuals,
 )
-from .validate_compute import READINGS
 
 __all__ = ["fit_reading", "calibrate_readings"]
 
@@ -165,7 +165,7 @@ def calibrate_readings(
     >>> len(out["rows"])
     1
     """
-    from .executor import Executor
+    from ..executor import Executor
 
     readings = all_readings() if readings is None else list(readings)
     cold, hot, targets, hot_targets, shipped, shipped_hot = _cases(quick)

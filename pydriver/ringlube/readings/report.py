@@ -1,5 +1,5 @@
 """The report of ``ringlube readings`` (docs/readings.md), rendered from what
-:func:`ringlube.readings_fit.calibrate_readings` returns."""
+:func:`ringlube.readings.fit.calibrate_readings` returns."""
 
 from __future__ import annotations
 
@@ -9,11 +9,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .calibrate import BOUNDS
-from .calibrator import Param
-from .outputs import write_text
-from .readings import GOAL, RELAXED_BOUNDS, RING, STEP, SUPPLY_BOUNDS, SWEEP_POINTS, Point
-from .readings_fit import _bound_sides, _on_bound
+from ..calibrate import BOUNDS
+from ..calibrator import Param
+from ..outputs import write_text
+from .fit import _bound_sides, _on_bound
+from .reading import GOAL, RELAXED_BOUNDS, RING, STEP, SUPPLY_BOUNDS, SWEEP_POINTS, Point
 
 __all__ = ["write_readings"]
 
@@ -97,7 +97,7 @@ def write_readings(out: dict, path: str | os.PathLike, command: str, seconds: fl
     Examples
     --------
     >>> from ringlube.readings import select_readings
-    >>> from ringlube.readings_fit import calibrate_readings
+    >>> from ringlube.readings.fit import calibrate_readings
     >>> out = calibrate_readings(select_readings(["swift-stieber/lumped/N/m"]), budget=10,
     ...                          quick=True, workers=1, relax=0, progress=False)
     >>> write_readings(out, "/tmp/readings.md", "ringlube readings", 0.0).name
@@ -126,7 +126,7 @@ def write_readings(out: dict, path: str | os.PathLike, command: str, seconds: fl
         "The goal: all four trends, and Table 2 within "
         f"{e_tol:.0%} energy and {m_tol:g} points mixed share, cold fitted and hot predicted.",
         "",
-        "How (`pydriver/ringlube/readings.py`): the score is the root-sum-square of a residual "
+        "How (`pydriver/ringlube/readings/reading.py`): the score is the root-sum-square of a residual "
         "vector in units of that goal: the cold energy's relative error over "
         f"{e_tol:.0%}, the cold mixed share's error over {m_tol:g} points, "
         "and for each trend a continuous measure (the fraction of the sweep's mean energy by which "

@@ -2,7 +2,7 @@
 
 The command ``ringlube readings``: fit every reading on the cold case and write
 docs/readings.md (the score in :mod:`ringlube.readings`, the optimiser in
-:mod:`ringlube.readings_fit`, the report in :mod:`ringlube.readings_report`).
+:mod:`ringlube.readings.fit`, the report in :mod:`ringlube.readings.report`).
 
     ringlube readings [--out docs/readings.md] [--readings ID ...] [--evals 60] [--quick]
 """
@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import time
 
-from .errors import InputError
-from .outputs import check_output
-from .readings import EVALS, all_readings, select_readings
-from .readings_fit import calibrate_readings
-from .readings_report import write_readings
+from ..errors import InputError
+from ..outputs import check_output
+from .fit import calibrate_readings
+from .reading import EVALS, all_readings, select_readings
+from .report import write_readings
 
 __all__ = ["add_arguments", "run_args", "main"]
 
