@@ -283,8 +283,7 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
     import signal
 
     from .executor import check_where
-    from .study import run_study
-    from .study_summary import summary
+    from .study import run_study, summary
 
     def terminate(signum, frame):  # a batch system's SIGTERM: save finished runs, then stop
         raise KeyboardInterrupt(f"signal {signum}")

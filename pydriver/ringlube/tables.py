@@ -326,7 +326,7 @@ _MARK = "<!-- {} {} (generated from {}: python -m ringlube.docgen) -->"
 
 
 def _study_markdown() -> str:
-    from .study_table import study_markdown
+    from .study.table import study_markdown
 
     return study_markdown()
 

@@ -161,7 +161,7 @@ def _study(tmp_path, body: str):
     ],
 )
 def test_study_errors_carry_file_line_group_and_variable(tmp_path, body, message):
-    from ringlube.study_deck import read_study
+    from ringlube.study.deck import read_study
 
     with pytest.raises(InputError, match=message) as exc:
         read_study(_study(tmp_path, body))
@@ -169,8 +169,8 @@ def test_study_errors_carry_file_line_group_and_variable(tmp_path, body, message
 
 
 def test_study_table_drives_the_settings_and_the_docs():
-    from ringlube.study_settings import StudySettings
-    from ringlube.study_table import STUDY, study_markdown
+    from ringlube.study.settings import StudySettings
+    from ringlube.study.table import STUDY, study_markdown
 
     fields = {f.name: f for f in dataclasses.fields(StudySettings)}
     for row in STUDY.values():

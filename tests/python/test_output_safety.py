@@ -14,7 +14,7 @@ from ringlube import InputError
 from ringlube.cli import main
 from ringlube.outputs import check_output, write_text
 from ringlube.study import run_study
-from ringlube.study_plots import save
+from ringlube.study.plots import save
 
 from conftest import COLD, INPUTS
 

@@ -118,8 +118,8 @@ def test_own_engine_walkthrough(tmp_path, monkeypatch, capsys):
     assert header.startswith("width [m],crown_height [m],")
     # the reference row is the deck's own ring, run as it stands
     import ringlube
-    from ringlube.study_deck import read_study
-    from ringlube.study_store import Study
+    from ringlube.study.deck import read_study
+    from ringlube.study.store import Study
 
     r = ringlube.run(ringlube.Case.from_namelist(root / "ring.nml"))
     settings = read_study(root / "study.nml")

@@ -9,7 +9,7 @@ import re
 import numpy as np
 
 from ringlube.study import run_study
-from ringlube.study_deck import read_study
+from ringlube.study.deck import read_study
 
 from conftest import INPUTS
 

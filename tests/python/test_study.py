@@ -17,10 +17,10 @@ import ringlube
 from ringlube.case import Case
 from ringlube.executor import Executor
 from ringlube.study import run_study
-from ringlube.study_deck import read_study
-from ringlube.study_runs import run_samples, sample
-from ringlube.study_store import Study
-from ringlube.surrogate import fit_quadratic, quadratic_features
+from ringlube.study.deck import read_study
+from ringlube.study.runs import run_samples, sample
+from ringlube.study.store import Study
+from ringlube.study.surrogate import fit_quadratic, quadratic_features
 
 from conftest import INPUTS
 

@@ -13,11 +13,11 @@ from ringlube.case import Case
 from ringlube.errors import InputError
 from ringlube.solve import run_designs
 from ringlube.study import run_study
-from ringlube.study_constraints import feasibility, parse_constraint
-from ringlube.study_deck import read_study
-from ringlube.study_figures import tradeoff_stems
-from ringlube.study_sure import UNCERTAIN
-from ringlube.study_surfaces import surfaces_of
+from ringlube.study.constraints import feasibility, parse_constraint
+from ringlube.study.deck import read_study
+from ringlube.study.figures import tradeoff_stems
+from ringlube.study.sure import UNCERTAIN
+from ringlube.study.surfaces import surfaces_of
 
 from conftest import INPUTS
 
@@ -242,7 +242,7 @@ def test_uncalibrated_case_is_said(tmp_path):
 
 
 def test_constraint_bound_on_a_drawn_objective_is_a_line():
-    from ringlube.study_plots import TradeoffSeries, tradeoff_figure
+    from ringlube.study.plots import TradeoffSeries, tradeoff_figure
 
     fig = tradeoff_figure(
         [TradeoffSeries("rated", np.array([[0.3, 2.0], [0.4, 1.9]]), [("knee", 0.35, 1.95, "chosen")])],
@@ -258,7 +258,7 @@ def test_constraint_bound_on_a_drawn_objective_is_a_line():
 
 
 def test_summary_gives_constraints_and_feasibility(constrained):
-    from ringlube.study_summary import summary
+    from ringlube.study.summary import summary
 
     text = summary(constrained[0])
     assert "constraints: max_friction <= reference; min_film >= 7e-07" in text
@@ -266,7 +266,7 @@ def test_summary_gives_constraints_and_feasibility(constrained):
 
 
 def test_unchanged_resume_keeps_the_how_sure_runs(tmp_path, monkeypatch):
-    import ringlube.study as study_module
+    import ringlube.study.pipeline as study_module
 
     path = deck(tmp_path, name="keep", extra="constraints = 'max_friction <= reference'")
     first = run_study(path, tmp_path / "out", serial=True, progress=False, figures=False)
@@ -287,9 +287,9 @@ def test_a_reference_that_did_not_converge_is_said_where_it_bounds(constrained, 
     import dataclasses
     import warnings
 
-    from ringlube.study_constraints import UnconvergedReferenceWarning, constraint_bounds
-    from ringlube.study_report import write_report
-    from ringlube.study_summary import summary
+    from ringlube.study.constraints import UnconvergedReferenceWarning, constraint_bounds
+    from ringlube.study.report import write_report
+    from ringlube.study.summary import summary
 
     study = constrained[0]
     c = study.cases["cold"]

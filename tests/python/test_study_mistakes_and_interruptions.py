@@ -16,10 +16,10 @@ from ringlube import InputError, RinglubeError
 from ringlube.case import Case
 from ringlube.executor import Executor
 from ringlube.study import run_study
-from ringlube.study_deck import read_study
-from ringlube.study_runs import _run_designs, sample
-from ringlube.study_store import Study
-from ringlube.study_variables import OUTPUTS
+from ringlube.study.deck import read_study
+from ringlube.study.runs import _run_designs, sample
+from ringlube.study.store import Study
+from ringlube.study.variables import OUTPUTS
 
 from conftest import INPUTS
 
@@ -116,7 +116,7 @@ def test_a_worker_with_another_kernel_refuses_the_batches(tmp_path, monkeypatch)
     study (the resume check compares the study file with the client's kernel only): every batch
     carries the study's kernel id and a worker whose own differs refuses it with a message naming
     both (noticed 2026-11-26). Here the study's id is made to differ from the worker's."""
-    from ringlube import study_runs
+    from ringlube.study import runs as study_runs
 
     case = Case.from_namelist(COLD)
     args = (case, [("ring", "width")], np.array([[1e-3]]), ["energy_loss"])
@@ -265,7 +265,7 @@ def test_invalid_designs_are_recorded_and_the_study_goes_on(tmp_path):
     assert r.done.all() and np.isnan(r.outputs[r.failed]).all()
     assert all("crown_offset" in r.errors[i] for i in np.flatnonzero(expect))
     assert study.cases["cold"].surfaces["energy_loss"].n == int((~expect & r.converged).sum())
-    from ringlube.study_summary import summary
+    from ringlube.study.summary import summary
 
     text = summary(study)
     assert f"{int(expect.sum())} failed (invalid designs)" in text

@@ -12,10 +12,10 @@ import pytest
 from ringlube import InputError
 from ringlube.case import Case
 from ringlube.study import run_study
-from ringlube.study_format import LIFTED_COLUMN
-from ringlube.study_plots import Axis, Mark, TradeoffSeries, map_figure, tradeoff_figure
-from ringlube.study_summary import summary
-from ringlube.study_variables import OUTPUTS, display, output_units, variable_unit
+from ringlube.study.format import LIFTED_COLUMN
+from ringlube.study.plots import Axis, Mark, TradeoffSeries, map_figure, tradeoff_figure
+from ringlube.study.summary import summary
+from ringlube.study.variables import OUTPUTS, display, output_units, variable_unit
 
 from conftest import INPUTS
 
@@ -158,7 +158,7 @@ def test_how_sure_ranking_counts_strict_reorders_only():
     """The ranking of the designs "changes" only if two designs ranked strictly one way are
     ranked strictly the other way: with half the supply film no design puts oil in the chamber,
     and four zeros reorder nothing (before, their index order was reported as a new ranking)."""
-    from ringlube.study_report import _order, _reordered
+    from ringlube.study.report import _order, _reordered
 
     assert not _reordered(np.array([0.3, 0.2, 0.4]), np.zeros(3))
     assert not _reordered(np.array([1.0, 1.0, 2.0]), np.array([3.0, 2.0, 4.0]))

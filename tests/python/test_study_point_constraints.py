@@ -14,9 +14,9 @@ from ringlube.case import Case
 from ringlube.errors import InputError
 from ringlube.solve import run_designs
 from ringlube.study import run_study
-from ringlube.study_constraints import constraint_bounds, parse_constraint
-from ringlube.study_deck import read_study
-from ringlube.study_surfaces import surfaces_of
+from ringlube.study.constraints import constraint_bounds, parse_constraint
+from ringlube.study.deck import read_study
+from ringlube.study.surfaces import surfaces_of
 
 from conftest import INPUTS
 

@@ -74,7 +74,7 @@ def test_fit_and_ga_settings_are_in_the_key_of_derived_results(setting):
 
 
 def read_study_settings():
-    from ringlube.study_settings import StudySettings
+    from ringlube.study.settings import StudySettings
 
     return StudySettings("s", ["a.nml"], ["cold"], [1.0], ["width"], [0.0], [1.0], ["energy_loss"])
 
@@ -84,7 +84,7 @@ def test_a_finished_scene_study_resumes_unchanged(tmp_path):
     of the scene: before, the scene's state was rebuilt by position and, with the candidates
     added to it, its chosen designs became the candidates, the reference the chosen and the
     direct results the reference; the report then failed ('surrogate knee' not in list)."""
-    import ringlube.study as study_mod
+    import ringlube.study.pipeline as study_mod
 
     deck = write(tmp_path, scene=".true.", reference="1.0e-3, 0.0")
     out = tmp_path / "out"

@@ -6,11 +6,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import ringlube.study_runs as runs_mod
+import ringlube.study.runs as runs_mod
 from ringlube.study import run_study
-from ringlube.study_format import NOT_CONVERGED
-from ringlube.study_report import write_report
-from ringlube.study_summary import summary
+from ringlube.study.format import NOT_CONVERGED
+from ringlube.study.report import write_report
+from ringlube.study.summary import summary
 
 from conftest import COLD
 
@@ -128,9 +128,9 @@ def test_lifted_design_is_marked_in_summary_report_and_pareto_csv(tmp_path, monk
     the designs the surfaces predict to lift off."""
     import csv
 
-    import ringlube.study_pareto as pareto_mod
-    from ringlube.study_format import LIFTED, LIFTED_COLUMN
-    from ringlube.study_pareto import write_pareto_csv
+    import ringlube.study.pareto as pareto_mod
+    from ringlube.study.format import LIFTED, LIFTED_COLUMN
+    from ringlube.study.pareto import write_pareto_csv
 
     study = run_study(
         write(tmp_path, generations=1), tmp_path / "out", serial=True, progress=False, figures=False

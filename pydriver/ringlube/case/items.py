@@ -1,7 +1,7 @@
 """Namelist text split into items by the kernel's own scanner (``fortran/src/namelist.f90``).
 
 One reader for every deck: the kernel's decks (:class:`~ringlube.case.Case`), the calibration
-files they include and the ``&study`` decks (:mod:`ringlube.study_deck`). The scanner gives
+files they include and the ``&study`` decks (:mod:`ringlube.study.deck`). The scanner gives
 each ``name = value`` with its file and line, so every error can name file:line, group and
 variable. Kernel decks take one value per variable; a caller that allows lists (``&study``)
 gets one :class:`Item` per value, numbered by ``index``.

@@ -1,5 +1,5 @@
 """The figures of a design study: the study turned into the plain arrays that
-:mod:`ringlube.study_plots` draws (fits, response maps, trade-offs)."""
+:mod:`ringlube.study.plots` draws (fits, response maps, trade-offs)."""
 
 from __future__ import annotations
 
@@ -8,10 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .study_constraints import constraint_bounds
-from .study_format import result_display
-from .study_store import Study
-from .study_variables import display, output_units
+from .constraints import constraint_bounds
+from .format import result_display
+from .store import Study
+from .variables import display, output_units
 
 __all__ = ["study_figures", "tradeoff_stems", "tradeoff_figures", "bore_figures", "BORE_FIGURES"]
 
@@ -20,7 +20,7 @@ BORE_FIGURES = ("polar", "map", "flow")
 
 
 def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
-    """The study's figures, drawn from plain arrays (see :mod:`ringlube.study_plots`).
+    """The study's figures, drawn from plain arrays (see :mod:`ringlube.study.plots`).
 
     Parameters
     ----------
@@ -35,7 +35,7 @@ def study_figures(study: Study, out: str | os.PathLike) -> list[Path]:
     -------
     >>> study_figures(study, "out/s")                          # doctest: +SKIP
     """
-    from . import study_plots as sp
+    from . import plots as sp
 
     s, out = study.s, Path(out)
     units = output_units()
@@ -102,10 +102,11 @@ def bore_figures(study: Study, out: str | os.PathLike) -> list[Path]:
     -------
     >>> bore_figures(study, "out/s")                          # doctest: +SKIP
     """
-    from . import plot_bore as pb, study_plots as sp
-    from .solve import run
-    from .study_runs import _bases
-    from .tables import INPUTS
+    from .. import plot_bore as pb
+    from ..solve import run
+    from ..tables import INPUTS
+    from . import plots as sp
+    from .runs import _bases
 
     s, files = study.s, []
     for label, base in zip(s.labels, _bases(s)):
@@ -172,7 +173,7 @@ def tradeoff_figures(study: Study, out: str | os.PathLike) -> list[Path]:
     """
     import itertools
 
-    from . import study_plots as sp
+    from . import plots as sp
 
     s = study.s
     cols = [s.outputs.index(o) for o in s.objectives]

@@ -8,11 +8,11 @@ import time
 
 import numpy as np
 
-from .case import Case
-from .executor import Executor
-from .study_settings import StudySettings
-from .study_state import CaseState, Runs
-from .study_store import Study
+from ..case import Case
+from ..executor import Executor
+from .settings import StudySettings
+from .state import CaseState, Runs
+from .store import Study
 
 __all__ = ["sample", "run_samples", "scene_results"]
 
@@ -58,9 +58,9 @@ def _run_designs(
     >>> v, ok, err = _run_designs(case, [("ring", "width")], np.array([[1e-3]]),
     ...                           ["energy_loss"])                   # doctest: +SKIP
     """
-    from ._version import kernel_id
-    from .errors import RinglubeError
-    from .solve import run_designs
+    from .._version import kernel_id
+    from ..errors import RinglubeError
+    from ..solve import run_designs
 
     if kernel is not None and kernel != kernel_id():
         import socket
@@ -86,7 +86,7 @@ def study_kernel() -> str:
     >>> len(study_kernel())
     12
     """
-    from ._version import kernel_id
+    from .._version import kernel_id
 
     return kernel_id()
 

@@ -7,7 +7,7 @@
 - :func:`map_figure`: an objective over each pair of variables, the others at mid-range,
   chosen and reference designs marked (Figs 4 and 7).
 
-:func:`ringlube.study_figures.study_figures` turns a study into these inputs.
+:func:`ringlube.study.figures.study_figures` turns a study into these inputs.
 """
 
 from __future__ import annotations
@@ -23,8 +23,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .outputs import save_figure  # noqa: E402
-from .plot import save_metadata  # noqa: E402
+from ..outputs import save_figure  # noqa: E402
+from ..plot import save_metadata  # noqa: E402
 
 __all__ = [
     "Axis",

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .study_check import candidates_text
-from .study_constraints import point_violations, unconverged_reference
-from .study_format import (
+from .check import candidates_text
+from .constraints import point_violations, unconverged_reference
+from .format import (
     NOT_CONVERGED,
     _feasible_text,
     _lift_mark,
@@ -17,8 +17,8 @@ from .study_format import (
     surrogate_error,
     with_unit,
 )
-from .study_store import Study
-from .study_variables import output_units
+from .store import Study
+from .variables import output_units
 
 __all__ = ["summary"]
 

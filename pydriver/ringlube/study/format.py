@@ -1,7 +1,7 @@
 """How a study's designs and results are shown: display units, marks and feasibility.
 
 Every number carries its unit; designs are shown in the units of
-:func:`~ringlube.study_variables.display` (lengths in mm or µm, tension in the base decks'
+:func:`~ringlube.study.variables.display` (lengths in mm or µm, tension in the base decks'
 ``&ring tension_unit``). A re-checked design that did not converge or lifted the ring off the
 liner is marked (:data:`NOT_CONVERGED`, :data:`LIFTED`), never shown as a good design; one
 that came close to a change of state is marked :data:`BRANCH_RISK`.
@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .study_constraints import constraint_bounds
-from .study_store import Study
-from .study_variables import display, output_units
+from .constraints import constraint_bounds
+from .store import Study
+from .variables import display, output_units
 
 #: How a re-checked design whose true-model run did not converge is marked (its numbers are
 #: the last cycle's, not a verified periodic result).
@@ -76,7 +76,7 @@ def result_display(name: str) -> tuple[str, float]:
     Parameters
     ----------
     name : str
-        A result (:func:`~ringlube.study_variables.output_units`).
+        A result (:func:`~ringlube.study.variables.output_units`).
 
     Returns
     -------
@@ -167,7 +167,7 @@ def branch_risks(study: Study, values: np.ndarray) -> list[str]:
     >>> branch_risks(st, np.array([1.5, -0.0037])), branch_risks(st, np.array([1.5, 0.2]))
     (['BRANCH RISK (lift_margin -0.0037, below 0.01)'], [])
     """
-    from .tables import MARGINS
+    from ..tables import MARGINS
 
     outputs = list(study.s.outputs)
     out = []
@@ -226,6 +226,6 @@ def surrogate_error(name: str, predicted: float, true: float) -> str:
 
 
 def design_points(ch, i: int) -> dict | None:
-    """The results of design ``i`` of a :class:`~ringlube.study_state_checks.Checked` at each
+    """The results of design ``i`` of a :class:`~ringlube.study.state_checks.Checked` at each
     operating point (None when not run there)."""
     return None if ch.points is None else {p: np.atleast_2d(v)[i] for p, v in ch.points.items()}

@@ -15,15 +15,15 @@ import dataclasses
 
 import numpy as np
 
-from . import study_runs
-from .executor import Executor
-from .study_constraints import feasibility
-from .study_format import format_design, lift_share
-from .study_optimise import choose_designs, extremes_and_knee, nondominated
-from .study_runs import _bases
-from .study_state_checks import Checked
-from .study_store import Study
-from .study_surfaces import predict
+from ..executor import Executor
+from . import runs
+from .constraints import feasibility
+from .format import format_design, lift_share
+from .optimise import choose_designs, extremes_and_knee, nondominated
+from .runs import _bases
+from .state_checks import Checked
+from .store import Study
+from .surfaces import predict
 
 __all__ = [
     "FRONT_CHECKS",
@@ -42,7 +42,7 @@ FRONT_CHECKS = 32
 
 def candidate_designs(study: Study, n: int = FRONT_CHECKS) -> dict[str, tuple[list[str], np.ndarray]]:
     """The designs of each case's merged Pareto set to re-simulate: the surrogate's extremes
-    and knee (:func:`~ringlube.study_optimise.choose_designs`), then the front's designs
+    and knee (:func:`~ringlube.study.optimise.choose_designs`), then the front's designs
     farthest from those already taken in normalised objectives, up to ``n`` in all.
 
     Parameters
@@ -238,10 +238,10 @@ def check_designs(study: Study, ex: Executor, which: tuple[str, ...] = ("chosen"
     tasks, where = [], []
     for j, (label, _, _, xs) in enumerate(jobs):
         for base_label in [label] if label in bases else s.labels:
-            tasks.append((bases[base_label], s.groups_names, xs, list(s.outputs), study_runs.study_kernel()))
+            tasks.append((bases[base_label], s.groups_names, xs, list(s.outputs), runs.study_kernel()))
             where.append((j, base_label))
     results: dict[tuple[int, str], tuple] = {}
-    ex.map(study_runs._run_designs, tasks, lambda i, res: results.__setitem__(where[i], res))
+    ex.map(runs._run_designs, tasks, lambda i, res: results.__setitem__(where[i], res))
     w = dict(zip(s.labels, s.scene_weights()))
     for j, (label, key, names, xs) in enumerate(jobs):
         parts = [(bl, results[(j, bl)]) for bl in ([label] if label in bases else s.labels)]
@@ -304,11 +304,11 @@ def run_at_every_point(study: Study, ex: Executor) -> None:
         chosen = study.cases[label].chosen
         for point in s.labels:
             if chosen is not None and point != label:
-                kernel = study_runs.study_kernel()
+                kernel = runs.study_kernel()
                 tasks.append((bases[point], s.groups_names, chosen.x, list(s.outputs), kernel))
                 where.append((label, point))
     results: dict[tuple[str, str], tuple] = {}
-    ex.map(study_runs._run_designs, tasks, lambda i, res: results.__setitem__(where[i], res))
+    ex.map(runs._run_designs, tasks, lambda i, res: results.__setitem__(where[i], res))
     for label in s.labels:
         chosen = study.cases[label].chosen
         if chosen is None:

@@ -13,7 +13,7 @@ import h5py
 import numpy as np
 import scipy.linalg
 
-from .study_h5 import put
+from .h5 import put
 
 __all__ = [
     "QuadraticSurface",

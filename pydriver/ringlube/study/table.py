@@ -5,10 +5,10 @@ decks).
 The table drives :func:`study_values` (a ``&study`` deck read by the kernel's scanner,
 :mod:`ringlube.case.items`, each value typed and range-checked, every error naming
 file:line, ``&study`` and the variable), the defaults of
-:class:`~ringlube.study_settings.StudySettings`, and the generated table of
+:class:`~ringlube.study.settings.StudySettings`, and the generated table of
 docs/optimisation.md (:func:`study_markdown`, ``python -m ringlube.docgen``). Checks that
 involve several variables or the base decks (one label per case, bounds against the
-kernel, ...) are :func:`ringlube.study_deck.read_study`'s.
+kernel, ...) are :func:`ringlube.study.deck.read_study`'s.
 
 >>> STUDY["samples"].kind, STUDY["samples"].upper
 ('integer', 1000000)
@@ -21,8 +21,8 @@ import math
 from pathlib import Path
 from typing import Any
 
-from .case.items import _LOGICAL, Item, items
-from .errors import InputError
+from ..case.items import _LOGICAL, Item, items
+from ..errors import InputError
 
 __all__ = ["StudyInput", "STUDY", "MAX_SAMPLES", "MAX_SEED", "study_values", "study_markdown"]
 
@@ -351,7 +351,7 @@ def study_values(path: str | Path, text: str) -> tuple[dict[str, Any], dict[str,
     opened = sorted({i.group_line for i in its if i.group == "study"})
     for it in its:
         if it.group != "study":
-            from .tables import GROUPS
+            from ..tables import GROUPS
 
             if it.group in GROUPS and not any(i.group == "study" for i in its):
                 raise InputError(

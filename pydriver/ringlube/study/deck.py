@@ -1,6 +1,6 @@
 """The ``&study`` deck, read and checked.
 
-:func:`read_study` reads a study deck into a :class:`~ringlube.study_settings.StudySettings`
+:func:`read_study` reads a study deck into a :class:`~ringlube.study.settings.StudySettings`
 and checks every value (each error names the file, ``&study`` and the variable), checks each
 design variable against every base deck with the kernel's own reader, and fingerprints the
 content of every input file (base decks, the calibration files they include, their pressure
@@ -13,12 +13,12 @@ import os
 from pathlib import Path
 from typing import Any
 
-from .case import Case
-from .errors import InputError, input_file
-from .study_constraints import parse_constraint
-from .study_settings import StudySettings
-from .study_table import MAX_SAMPLES, STUDY, study_values
-from .study_variables import (
+from ..case import Case
+from ..errors import InputError, input_file
+from .constraints import parse_constraint
+from .settings import StudySettings
+from .table import MAX_SAMPLES, STUDY, study_values
+from .variables import (
     DEFAULT_GROUP,
     DESIGN_RANGES,
     _fingerprint,
@@ -207,7 +207,7 @@ def read_study(path: str | os.PathLike) -> StudySettings:
             )
         speeds = [float(Case.from_namelist(deck).value("operating", "speed_rpm")) for deck in cases]
         st.cycle_rates = [n / 120 for n in speeds]
-    from .tables import MODELS, SCALARS
+    from ..tables import MODELS, SCALARS
 
     for var, o in [("objectives", o) for o in objectives] + [
         ("constraints", c.name) for c in st.parsed_constraints
@@ -224,7 +224,7 @@ def read_study(path: str | os.PathLike) -> StudySettings:
     # the branch-risk margins of every design (lift_margin is one of every study's outputs;
     # seal_margin where every base deck makes it): a design near a change of state is marked in
     # the report (docs/model.md, "Branch risk")
-    from .tables import MARGINS
+    from ..tables import MARGINS
 
     for o in MARGINS:
         req = SCALARS[o].requires

@@ -6,15 +6,15 @@ import time
 
 import numpy as np
 
-from . import study_runs
-from .errors import RinglubeError
-from .executor import Executor, require
-from .study_constraints import constraint_bounds
-from .study_optimise import hypervolume
-from .study_runs import _bases
-from .study_settings import StudySettings
-from .study_state_checks import Direct, DirectGeneration
-from .study_store import Study
+from ..errors import RinglubeError
+from ..executor import Executor, require
+from . import runs
+from .constraints import constraint_bounds
+from .optimise import hypervolume
+from .runs import _bases
+from .settings import StudySettings
+from .state_checks import Direct, DirectGeneration
+from .store import Study
 
 __all__ = ["direct", "direct_outputs", "FAILED_PENALTY"]
 
@@ -114,9 +114,9 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
                 failed[chunks[i]] = [bool(e) for e in errors]
 
             t0 = time.perf_counter()
-            kernel = study_runs.study_kernel()
+            kernel = runs.study_kernel()
             tasks = [(self.base, s.groups_names, x[c], names, kernel) for c in chunks]
-            ex.map(study_runs._run_designs, tasks, put)
+            ex.map(runs._run_designs, tasks, put)
             return DirectGeneration(np.array(x), f, converged, failed, time.perf_counter() - t0)
 
     for label, base in zip(s.labels, _bases(s)):

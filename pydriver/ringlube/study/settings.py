@@ -1,7 +1,7 @@
 """The settings of a design study: what a ``&study`` deck says, checked (the variables, their
-types, defaults and ranges: the ``&study`` table, :data:`ringlube.study_table.STUDY`).
+types, defaults and ranges: the ``&study`` table, :data:`ringlube.study.table.STUDY`).
 
-:class:`StudySettings` holds them (read by :func:`ringlube.study_deck.read_study`) and gives
+:class:`StudySettings` holds them (read by :func:`ringlube.study.deck.read_study`) and gives
 the keys that decide what a resumed study keeps.
 """
 
@@ -12,16 +12,16 @@ import json
 
 import numpy as np
 
-from .study_constraints import Constraint, parse_constraint
-from .study_table import STUDY
-from .study_variables import OUTPUTS, PER_CYCLE, split_variable
+from .constraints import Constraint, parse_constraint
+from .table import STUDY
+from .variables import OUTPUTS, PER_CYCLE, split_variable
 
 __all__ = ["StudySettings"]
 
 
 @dataclasses.dataclass
 class StudySettings:
-    """Everything a ``&study`` deck says, checked (see :func:`~ringlube.study_deck.read_study`).
+    """Everything a ``&study`` deck says, checked (see :func:`~ringlube.study.deck.read_study`).
 
     Attributes
     ----------
@@ -32,11 +32,11 @@ class StudySettings:
     variables, lower, upper : list
         Design variables (``'name'`` of ``&ring`` or ``'group:name'``) and their bounds (SI).
     objectives : list of str
-        Results to minimise (names of :data:`~ringlube.study_variables.OUTPUTS`).
+        Results to minimise (names of :data:`~ringlube.study.variables.OUTPUTS`).
     reference : list of float or None
         A reference design (one value per variable) compared in the report and figures.
     inputs : dict of str to str
-        SHA-256 of every input file (:func:`~ringlube.study_variables.input_files`), checked on resume.
+        SHA-256 of every input file (:func:`~ringlube.study.variables.input_files`), checked on resume.
 
     Example
     -------
@@ -53,7 +53,7 @@ class StudySettings:
     lower: list[float]
     upper: list[float]
     objectives: list[str]
-    # defaults: the &study table (ringlube.study_table.STUDY), their one home; the direct
+    # defaults: the &study table (ringlube.study.table.STUDY), their one home; the direct
     # NSGA-II's default is the source study's own size (affordable since issue 11)
     sampler: str = STUDY["sampler"].default
     samples: int = STUDY["samples"].default
@@ -70,7 +70,7 @@ class StudySettings:
     weighting: str = STUDY["weighting"].default
     #: cycles per second of each case (its speed_rpm / 120; with ``weighting = 'time'``)
     cycle_rates: list[float] = dataclasses.field(default_factory=list)
-    #: results recorded for every design: :data:`~ringlube.study_variables.OUTPUTS` plus the
+    #: results recorded for every design: :data:`~ringlube.study.variables.OUTPUTS` plus the
     #: objectives only some film models produce (e.g. ``oil_to_chamber`` with a starved inlet)
     outputs: list[str] = dataclasses.field(default_factory=lambda: list(OUTPUTS))
     reference: list[float] | None = None
@@ -207,7 +207,7 @@ class StudySettings:
 
         ``weighting = 'case'``: the weights, normalised, for every result. ``'time'``: the
         weights are the cases' running times; a result per cycle
-        (:data:`~ringlube.study_variables.PER_CYCLE`) weighs by the cycles run, time x
+        (:data:`~ringlube.study.variables.PER_CYCLE`) weighs by the cycles run, time x
         cycles per second, so that the scene's energy per cycle is the energy of all cycles
         over their number, and its friction power their energy over the time.
 
@@ -254,6 +254,6 @@ class StudySettings:
 
 def _by_largest(values) -> np.ndarray:
     """Positive values over the largest of them (each in (0, 1]; 0 where one is below the
-    largest by more than the float range, refused by :func:`~ringlube.study_deck.read_study`)."""
+    largest by more than the float range, refused by :func:`~ringlube.study.deck.read_study`)."""
     v = np.asarray(values, float)
     return v / v.max()

@@ -12,8 +12,8 @@ import os
 from pathlib import Path
 from typing import Any
 
-from .case import Case
-from .errors import InputError
+from ..case import Case
+from ..errors import InputError
 
 __all__ = [
     "DESIGN_RANGES",
@@ -53,7 +53,7 @@ DEFAULT_GROUP = "ring"
 def _output_units() -> dict[str, str]:
     """Every design quantity a study records for every design, with its unit (the kernel's
     result table: scalars marked as objectives that every film model produces)."""
-    from .tables import SCALARS
+    from ..tables import SCALARS
 
     return {k: v.unit for k, v in SCALARS.items() if v.objective and not v.requires}
 
@@ -67,7 +67,7 @@ def _effective(case: Case, group: str, name: str) -> Any:
 def _input_unit(case: Case, group: str, name: str) -> str:
     """Unit of the input ``&group name`` (from the kernel's input table; the tension's is
     the case's ``tension_unit``)."""
-    from .tables import INPUTS
+    from ..tables import INPUTS
 
     spec = INPUTS.get((group, name))
     if spec is None:
@@ -79,14 +79,14 @@ def _input_unit(case: Case, group: str, name: str) -> str:
 
 def _is_unknown_variable(group: str, name: str) -> bool:
     """Is ``&group name`` missing from the kernel's input table?"""
-    from .tables import INPUTS
+    from ..tables import INPUTS
 
     return (group, name) not in INPUTS
 
 
 def _is_whole_number(group: str, name: str) -> bool:
     """Is ``&group name`` an integer input of the kernel's table?"""
-    from .tables import INPUTS
+    from ..tables import INPUTS
 
     spec = INPUTS.get((group, name))
     return spec is not None and spec.kind == "integer"
@@ -95,7 +95,7 @@ def _is_whole_number(group: str, name: str) -> bool:
 def _text_input(group: str, name: str) -> str:
     """What ``&group name`` takes when it is not a number (``"text"``, ``"one of 'a', 'b'"``,
     ``".true. or .false."``), else ``""``."""
-    from .tables import INPUTS
+    from ..tables import INPUTS
 
     spec = INPUTS.get((group, name))
     if spec is None or spec.kind in ("real", "integer"):
@@ -109,7 +109,7 @@ def _model_units() -> dict[str, str]:
     """Every design quantity a study may optimise, with its unit: the objective results of the
     kernel's table, including those only some film models produce (``oil_to_chamber``), and
     those it records when a study names them (``friction_power``, ``fmep``)."""
-    from .tables import SCALARS
+    from ..tables import SCALARS
 
     return {k: v.unit for k, v in SCALARS.items() if v.optimisable}
 
@@ -117,7 +117,7 @@ def _model_units() -> dict[str, str]:
 def _produces(case: Case, requires: str) -> bool:
     """Does a run of ``case`` produce results that need ``requires`` (a model of the kernel's
     table, :data:`ringlube.tables.MODELS`; '' always)?"""
-    from .tables import MODELS
+    from ..tables import MODELS
 
     m = MODELS.get(requires)
     return m is None or case.value(m.group, m.variable) == m.value
@@ -140,7 +140,7 @@ def output_units() -> dict[str, str]:
     >>> output_units()["energy_loss"], output_units()["fmep"]
     ('J', 'kPa')
     """
-    from .tables import SCALARS
+    from ..tables import SCALARS
 
     return {**_model_units(), **{k: v.unit for k, v in SCALARS.items()}}
 

@@ -1,9 +1,9 @@
 """HDF5 pieces of a study file shared by its records: labelled matrices and UTF-8 strings.
 
-Every record of :mod:`ringlube.study_state` and :mod:`ringlube.study_state_checks`, and
-:class:`~ringlube.surrogate.QuadraticSurface`, writes itself with these in ``to_h5`` and reads
-itself back in ``from_h5``; :mod:`ringlube.study_layout` composes them into a case and
-:class:`~ringlube.study_store.Study` writes the file's attributes and samples with them.
+Every record of :mod:`ringlube.study.state` and :mod:`ringlube.study.state_checks`, and
+:class:`~ringlube.study.surrogate.QuadraticSurface`, writes itself with these in ``to_h5`` and reads
+itself back in ``from_h5``; :mod:`ringlube.study.layout` composes them into a case and
+:class:`~ringlube.study.store.Study` writes the file's attributes and samples with them.
 """
 
 from __future__ import annotations

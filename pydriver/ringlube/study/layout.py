@@ -4,8 +4,8 @@ Layout (format ``ringlube-study`` version 2, documented in docs/optimisation.md)
 matrix carries ``columns`` and ``units`` attributes (UTF-8 strings), e.g.
 ``/cases/cold/outputs`` has ``columns = energy_loss, mixed_share, ...`` and
 ``units = J, %, ...``. A case group holds one group per record, each written and read by the
-record itself (``to_h5``/``from_h5`` of :mod:`ringlube.study_state`,
-:mod:`ringlube.study_state_checks` and :class:`~ringlube.surrogate.QuadraticSurface`):
+record itself (``to_h5``/``from_h5`` of :mod:`ringlube.study.state`,
+:mod:`ringlube.study.state_checks` and :class:`~ringlube.study.surrogate.QuadraticSurface`):
 ``runs``, ``surface/RESULT``, ``repeats/rK/{x,f}``, ``front``, ``candidates``, ``chosen``,
 ``reference``, ``sure``, ``direct_generations/gK`` and ``direct`` (the last two with the
 ``key`` of the direct settings they were computed with).
@@ -15,12 +15,12 @@ from __future__ import annotations
 
 import h5py
 
-from .study_h5 import put, text
-from .study_settings import StudySettings
-from .study_state import CaseState, Front, Runs
-from .study_state_checks import Checked, Direct, DirectGeneration, Sure
-from .study_variables import output_units
+from .h5 import put, text
+from .settings import StudySettings
+from .state import CaseState, Front, Runs
+from .state_checks import Checked, Direct, DirectGeneration, Sure
 from .surrogate import QuadraticSurface
+from .variables import output_units
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "write_case", "read_case"]
 

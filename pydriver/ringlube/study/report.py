@@ -1,9 +1,9 @@
 """The report of a finished design study: ``report.md`` (settings, runs, fits, Pareto
 sets, chosen designs, how sure the answer is, figures), and every output file written at once
-(:func:`write_outputs`: the figures of :mod:`ringlube.study_figures`, the Pareto CSV files of
-:mod:`ringlube.study_pareto` and the report).
+(:func:`write_outputs`: the figures of :mod:`ringlube.study.figures`, the Pareto CSV files of
+:mod:`ringlube.study.pareto` and the report).
 
-Every number carries its unit (:mod:`ringlube.study_format`).
+Every number carries its unit (:mod:`ringlube.study.format`).
 """
 
 from __future__ import annotations
@@ -13,11 +13,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .outputs import check_output, write_text
-from .study_check import FRONT_CHECKS, candidates_text
-from .study_constraints import constraint_bounds, point_violations, unconverged_reference
-from .study_figures import BORE_FIGURES, study_figures, tradeoff_stems
-from .study_format import (
+from ..outputs import check_output, write_text
+from .check import FRONT_CHECKS, candidates_text
+from .constraints import constraint_bounds, point_violations, unconverged_reference
+from .figures import BORE_FIGURES, study_figures, tradeoff_stems
+from .format import (
     BRANCH_RISK,
     LIFTED,
     LIFTED_COLUMN,
@@ -31,11 +31,11 @@ from .study_format import (
     surrogate_error,
     with_unit,
 )
-from .study_pareto import write_pareto_csv
-from .study_settings import StudySettings
-from .study_state_checks import Checked
-from .study_store import Study
-from .study_variables import display, output_units
+from .pareto import write_pareto_csv
+from .settings import StudySettings
+from .state_checks import Checked
+from .store import Study
+from .variables import display, output_units
 
 __all__ = [
     "write_report",
@@ -174,7 +174,7 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
     -------
     >>> write_report(study, "out/s")                         # doctest: +SKIP
     """
-    from . import __version__
+    from .. import __version__
 
     s, units = study.s, output_units()
     out = Path(out)
@@ -415,7 +415,7 @@ def branch_risk_lines(study: Study, sures: list) -> list[str]:
     ----------
     study : Study
     sures : list of (str, Sure)
-        The cases' re-runs (:func:`ringlube.study_sure.how_sure`).
+        The cases' re-runs (:func:`ringlube.study.sure.how_sure`).
 
     Returns
     -------
@@ -427,7 +427,7 @@ def branch_risk_lines(study: Study, sures: list) -> list[str]:
     >>> branch_risk_lines(study, [])[1]                      # doctest: +SKIP
     '### Branch risk'
     """
-    from .tables import MARGINS, SCALARS
+    from ..tables import MARGINS, SCALARS
 
     s = study.s
     names = [o for o in MARGINS if o in s.outputs]
@@ -479,12 +479,12 @@ def how_sure_lines(study: Study) -> list[str]:
     file), which chosen designs sit on a bound of the design box, which came close to a change
     of state (:func:`branch_risk_lines`), and a one-at-a-time
     sensitivity of the chosen designs to the uncertain inputs
-    (:data:`ringlube.study_sure.UNCERTAIN`) with whether the ranking of the designs changes.
+    (:data:`ringlube.study.sure.UNCERTAIN`) with whether the ranking of the designs changes.
 
     Parameters
     ----------
     study : Study
-        With :func:`ringlube.study_sure.how_sure` done.
+        With :func:`ringlube.study.sure.how_sure` done.
 
     Returns
     -------
@@ -496,7 +496,7 @@ def how_sure_lines(study: Study) -> list[str]:
     >>> "## How sure is this answer" in how_sure_lines(study)   # doctest: +SKIP
     True
     """
-    from .case import Case
+    from ..case import Case
 
     s = study.s
     shown = [o for o in s.outputs if o in s.objectives or o in {k.name for k in s.parsed_constraints}]

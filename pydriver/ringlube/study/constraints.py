@@ -23,11 +23,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .errors import RinglubeError
-from .study_variables import output_units
+from ..errors import RinglubeError
+from .variables import output_units
 
 if TYPE_CHECKING:
-    from .study_store import Study
+    from .store import Study
 
 __all__ = [
     "Constraint",
@@ -55,7 +55,7 @@ class Constraint:
     Attributes
     ----------
     name : str
-        A scalar result (:func:`~ringlube.study_variables.output_units`).
+        A scalar result (:func:`~ringlube.study.variables.output_units`).
     sense : str
         ``'<='`` or ``'>='``.
     value : float or None
@@ -168,7 +168,7 @@ def parse_constraint(text: str) -> Constraint:
     ----------
     text : str
         One entry of ``&study constraints``; VALUE in the result's unit
-        (:func:`~ringlube.study_variables.output_units`).
+        (:func:`~ringlube.study.variables.output_units`).
 
     Returns
     -------
@@ -309,7 +309,7 @@ def constraint_bounds(study: Study, label: str) -> list[Bound]:
     point, one ``at LABEL`` at that point (each on the point's values), one ``at scene`` on
     their weighted mean. A bound ``reference`` is the reference design's true-model value at
     the point it binds (times the factor), so the reference must have been re-simulated
-    (:func:`~ringlube.study_check.check_designs` with ``which=("reference",)``).
+    (:func:`~ringlube.study.check.check_designs` with ``which=("reference",)``).
 
     Parameters
     ----------
@@ -410,7 +410,7 @@ def point_violations(study: Study, points: dict[str, np.ndarray]) -> list[list[s
     >>> point_violations(study, study.cases["r4000"].chosen.points)    # doctest: +SKIP
     [[], ['at r12000: flutter_events 2 > 1']]
     """
-    from .study_format import result_display
+    from .format import result_display
 
     k = len(next(iter(points.values()))) if points else 0
     out: list[list[str]] = [[] for _ in range(k)]

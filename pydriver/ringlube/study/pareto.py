@@ -8,11 +8,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .outputs import atomic_path
-from .study_format import LIFTED_COLUMN
-from .study_store import Study
-from .study_surfaces import predict
-from .study_variables import output_units
+from ..outputs import atomic_path
+from .format import LIFTED_COLUMN
+from .store import Study
+from .surfaces import predict
+from .variables import output_units
 
 __all__ = ["write_pareto_csv"]
 

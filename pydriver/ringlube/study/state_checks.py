@@ -1,10 +1,10 @@
 """The records of a study's true-model checks, each written and read beside its fields
-(``to_h5``/``from_h5`` as in :mod:`ringlube.study_state`).
+(``to_h5``/``from_h5`` as in :mod:`ringlube.study.state`).
 
 The designs chosen on the surrogate front and the reference re-simulated (:class:`Checked`),
 how sure the answer is (:class:`Sure`), and the direct NSGA-II on the true model
 (:class:`Direct`) with its per-generation checkpoints (:class:`DirectGeneration`). They are
-part of a case's :class:`~ringlube.study_state.CaseState`; :mod:`ringlube.study_layout`
+part of a case's :class:`~ringlube.study.state.CaseState`; :mod:`ringlube.study.layout`
 places them in the study file (``chosen``, ``reference``, ``sure``, ``direct``,
 ``direct_generations/gK``).
 """
@@ -16,9 +16,9 @@ import dataclasses
 import h5py
 import numpy as np
 
-from .study_h5 import put, put_strings, strings, text
-from .study_settings import StudySettings
-from .study_variables import output_units
+from .h5 import put, put_strings, strings, text
+from .settings import StudySettings
+from .variables import output_units
 
 __all__ = ["Checked", "Sure", "Direct", "DirectGeneration"]
 
@@ -176,7 +176,7 @@ class Direct:
         """Write the direct front and its figures into the empty ``group`` (e.g.
         ``/cases/LABEL/direct``), every matrix labelled.
 
-        The ``key`` attribute (the direct settings) is written by :mod:`ringlube.study_layout`.
+        The ``key`` attribute (the direct settings) is written by :mod:`ringlube.study.layout`.
 
         Example
         -------
@@ -217,7 +217,7 @@ class DirectGeneration:
         The designs pymoo asked for.
     f : ndarray, shape (k, len(direct_outputs))
         Their true objectives, then the constrained results that are not objectives
-        (:meth:`~ringlube.study_settings.StudySettings.direct_outputs`; NaN where the run
+        (:meth:`~ringlube.study.settings.StudySettings.direct_outputs`; NaN where the run
         failed).
     converged, failed : ndarray of bool, shape (k,)
         Whether each run converged, and whether the kernel rejected the design.
@@ -241,7 +241,7 @@ class DirectGeneration:
         """Write the generation into the empty ``group`` (e.g.
         ``/cases/LABEL/direct_generations/gK``), every matrix labelled (``columns``, ``units``).
 
-        The ``key`` attribute (the direct settings) is written by :mod:`ringlube.study_layout`.
+        The ``key`` attribute (the direct settings) is written by :mod:`ringlube.study.layout`.
 
         Example
         -------

@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import RinglubeError
-from .executor import Executor, require
-from .study_constraints import constraint_bounds
-from .study_state import Front
-from .study_store import Study
+from ..errors import RinglubeError
+from ..executor import Executor, require
+from .constraints import constraint_bounds
+from .state import Front
+from .store import Study
 from .surrogate import QuadraticSurface
 
 __all__ = ["ga_repeat", "nondominated", "hypervolume", "optimise", "choose_designs", "extremes_and_knee"]
@@ -36,7 +36,7 @@ def ga_repeat(
         NSGA-II settings.
     constraints : list of (surface, sense, bound)
         Inequalities on fitted surfaces (``sense`` ``'<='`` or ``'>='``), handed to pymoo
-        as ``G <= 0`` (:meth:`~ringlube.study_constraints.Constraint.violation`).
+        as ``G <= 0`` (:meth:`~ringlube.study.constraints.Constraint.violation`).
 
     Returns
     -------
@@ -54,7 +54,7 @@ def ga_repeat(
     from pymoo.core.problem import Problem
     from pymoo.optimize import minimize
 
-    from .study_constraints import Constraint
+    from .constraints import Constraint
 
     lower, upper = np.asarray(lower, float), np.asarray(upper, float)
     surfs = list(surfaces)

@@ -1,15 +1,15 @@
 """The state of a design study as typed records.
 
 Per case (base deck label, or ``scene``) a :class:`CaseState`: the true-model :class:`Runs`,
-the fitted :class:`~ringlube.surrogate.QuadraticSurface` of each result, the GA repeats, the
+the fitted :class:`~ringlube.study.surrogate.QuadraticSurface` of each result, the GA repeats, the
 merged :class:`Front`, and the records of the true-model checks
-(:mod:`ringlube.study_state_checks`: the chosen and reference designs re-simulated, how sure
+(:mod:`ringlube.study.state_checks`: the chosen and reference designs re-simulated, how sure
 the answer is, the direct NSGA-II and its checkpoints). Each record writes itself into an
 HDF5 group (``to_h5(group, s)``: into an empty group, every matrix labelled with the
 columns' names and units from the study settings ``s``) and reads itself back
 (``from_h5(group)``) beside its fields;
-:mod:`ringlube.study_layout` composes them into a case of the study file and
-:class:`~ringlube.study_store.Study` holds them.
+:mod:`ringlube.study.layout` composes them into a case of the study file and
+:class:`~ringlube.study.store.Study` holds them.
 """
 
 from __future__ import annotations
@@ -19,11 +19,11 @@ import dataclasses
 import h5py
 import numpy as np
 
-from .study_h5 import put, put_strings, strings
-from .study_settings import StudySettings
-from .study_state_checks import Checked, Direct, DirectGeneration, Sure
-from .study_variables import OUTPUTS, output_units
+from .h5 import put, put_strings, strings
+from .settings import StudySettings
+from .state_checks import Checked, Direct, DirectGeneration, Sure
 from .surrogate import QuadraticSurface
+from .variables import OUTPUTS, output_units
 
 __all__ = ["CaseState", "Runs", "Front"]
 
@@ -35,7 +35,7 @@ class Runs:
     Attributes
     ----------
     outputs : ndarray, shape (n, len(OUTPUTS))
-        Every scalar result (:data:`~ringlube.study_variables.OUTPUTS`); NaN until run or
+        Every scalar result (:data:`~ringlube.study.variables.OUTPUTS`); NaN until run or
         when the run failed.
     done, converged, failed : ndarray of bool, shape (n,)
         Run (or failed), converged, failed with an error (an invalid design).

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import RinglubeError
-from .study_store import Study
+from ..errors import RinglubeError
+from .store import Study
 
 __all__ = ["fit_surfaces", "surfaces_of", "predict"]
 

@@ -1,17 +1,17 @@
 """Design optimisation (SPEC section 12): sample -> run -> fit -> NSGA-II -> check.
 
 The pipeline of ``ringlube optimise`` (:func:`run_study`). Its stages live in their own
-modules: :mod:`ringlube.study_runs` (sample, run), :mod:`ringlube.study_surfaces` (fit),
-:mod:`ringlube.study_optimise` (NSGA-II on the surfaces, chosen designs),
-:mod:`ringlube.study_check` (the chosen designs re-simulated), :mod:`ringlube.study_sure`
-(how sure the answer is), :mod:`ringlube.study_direct` (NSGA-II on the true model); and
-what they use: :mod:`ringlube.study_deck` (the ``&study`` deck), :mod:`ringlube.study_settings`,
-:mod:`ringlube.study_variables`, :mod:`ringlube.study_constraints`,
-:mod:`ringlube.study_state` (typed state), :mod:`ringlube.study_store` and
-:mod:`ringlube.study_layout` (the HDF5 study file), :mod:`ringlube.executor` (serial,
-processes or Dask), :mod:`ringlube.surrogate` (quadratic surfaces),
-:mod:`ringlube.study_plots` (figures from plain arrays), and :mod:`ringlube.study_summary`,
-:mod:`ringlube.study_report`, :mod:`ringlube.study_pareto` and :mod:`ringlube.study_figures`
+modules: :mod:`ringlube.study.runs` (sample, run), :mod:`ringlube.study.surfaces` (fit),
+:mod:`ringlube.study.optimise` (NSGA-II on the surfaces, chosen designs),
+:mod:`ringlube.study.check` (the chosen designs re-simulated), :mod:`ringlube.study.sure`
+(how sure the answer is), :mod:`ringlube.study.direct` (NSGA-II on the true model); and
+what they use: :mod:`ringlube.study.deck` (the ``&study`` deck), :mod:`ringlube.study.settings`,
+:mod:`ringlube.study.variables`, :mod:`ringlube.study.constraints`,
+:mod:`ringlube.study.state` (typed state), :mod:`ringlube.study.store` and
+:mod:`ringlube.study.layout` (the HDF5 study file), :mod:`ringlube.executor` (serial,
+processes or Dask), :mod:`ringlube.study.surrogate` (quadratic surfaces),
+:mod:`ringlube.study.plots` (figures from plain arrays), and :mod:`ringlube.study.summary`,
+:mod:`ringlube.study.report`, :mod:`ringlube.study.pareto` and :mod:`ringlube.study.figures`
 (summary, report.md, Pareto CSV, figures).
 
 Every finished piece of work is checkpointed, so an interrupted study started again with
@@ -27,18 +27,18 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
-from .executor import Executor, check_where, require
-from .outputs import check_output
-from .study_check import check_designs
-from .study_deck import read_study
-from .study_direct import direct
-from .study_optimise import optimise
-from .study_runs import run_samples, sample, scene_results
-from .study_settings import StudySettings
-from .study_store import Study
-from .study_sure import how_sure
-from .study_surfaces import fit_surfaces
+from ..errors import InputError
+from ..executor import Executor, check_where, require
+from ..outputs import check_output
+from .check import check_designs
+from .deck import read_study
+from .direct import direct
+from .optimise import optimise
+from .runs import run_samples, sample, scene_results
+from .settings import StudySettings
+from .store import Study
+from .sure import how_sure
+from .surfaces import fit_surfaces
 
 __all__ = ["run_study"]
 
@@ -66,8 +66,8 @@ def _other_study(out: Path, name: str) -> str | None:
     its report), else None."""
     import h5py
 
-    from .study_h5 import text
-    from .study_layout import FORMAT
+    from .h5 import text
+    from .layout import FORMAT
 
     for p in sorted(out.glob("*.h5")):
         if p.stem == name or not p.is_file() or not h5py.is_hdf5(p):
@@ -143,7 +143,7 @@ def run_study(
     -------
     >>> study = run_study("inputs/study_default.nml", serial=True)   # doctest: +SKIP
     """
-    from .study_report import output_names, study_inputs
+    from .report import output_names, study_inputs
 
     check_where(scheduler, serial)  # before the study file, not after the samples
     s = read_study(deck)
@@ -164,7 +164,7 @@ def run_study(
             stop_after=stop_after,
             connect_timeout=connect_timeout,
         )
-        from .study_report import write_outputs
+        from .report import write_outputs
 
         write_outputs(study, out, figures=figures)
     finally:

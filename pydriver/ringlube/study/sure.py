@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import study_runs
-from .case import Case
-from .executor import Executor
-from .study_runs import _bases
-from .study_state_checks import Sure
-from .study_store import Study
+from ..case import Case
+from ..executor import Executor
+from . import runs
+from .runs import _bases
+from .state_checks import Sure
+from .store import Study
 
 __all__ = ["how_sure", "UNCERTAIN"]
 
@@ -49,7 +49,7 @@ def _varied(base: Case, group: str, name: str, factor: float) -> Case:
 def how_sure(study: Study, ex: Executor) -> None:
     """Extra true-model runs of the chosen designs (and the reference): at the
     ``'accurate'`` preset, and with each :data:`UNCERTAIN` input multiplied and divided by
-    its factor, one at a time. Stored as :class:`~ringlube.study_state.Sure` per case.
+    its factor, one at a time. Stored as :class:`~ringlube.study.state.Sure` per case.
 
     Costs (chosen designs + reference) x (1 + 2 x inputs) runs per base deck.
 
@@ -69,7 +69,7 @@ def how_sure(study: Study, ex: Executor) -> None:
     w = dict(zip(s.labels, s.scene_weights()))
     plans = {}  # label -> (names, xs, nominal, inputs)
     tasks, where = [], []
-    kernel = study_runs.study_kernel()
+    kernel = runs.study_kernel()
     for label, c in study.cases.items():
         checked = [ch for ch in (c.chosen, c.reference) if ch is not None]
         names = [n for ch in checked for n in ch.names]
@@ -89,7 +89,7 @@ def how_sure(study: Study, ex: Executor) -> None:
                 tasks.append((case, s.groups_names, xs, list(s.outputs), kernel))
                 where.append((label, vname, bl))
     results: dict[tuple, np.ndarray] = {}
-    ex.map(study_runs._run_designs, tasks, lambda i, res: results.__setitem__(where[i], res[0]))
+    ex.map(runs._run_designs, tasks, lambda i, res: results.__setitem__(where[i], res[0]))
 
     def value(label, vname):
         if label in bases:

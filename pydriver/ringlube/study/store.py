@@ -1,11 +1,11 @@
 """The study file of a design study: :class:`Study` (state, lock, atomic checkpoints).
 
 A study's state is a :class:`Study`: the settings, the samples, and per case (base deck
-label, or ``scene``) a :class:`~ringlube.study_state.CaseState` of typed records.
+label, or ``scene``) a :class:`~ringlube.study.state.CaseState` of typed records.
 :meth:`Study.save` rewrites the whole file atomically (a unique temporary name in the same
 folder, then a rename); :meth:`Study.open` reads whatever a file holds, so a study stopped at
 any point (even before its first batch was saved) resumes. The file's layout:
-:mod:`ringlube.study_layout`.
+:mod:`ringlube.study.layout`.
 """
 
 from __future__ import annotations
@@ -19,11 +19,11 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from .errors import InputError, RinglubeError
-from .study_h5 import put, text
-from .study_layout import FORMAT, FORMAT_VERSION, read_case, write_case
-from .study_settings import StudySettings
-from .study_state import CaseState
+from ..errors import InputError, RinglubeError
+from .h5 import put, text
+from .layout import FORMAT, FORMAT_VERSION, read_case, write_case
+from .settings import StudySettings
+from .state import CaseState
 
 __all__ = ["Study"]
 
@@ -232,7 +232,7 @@ class Study:
                 "(edited since); resuming would mix two models in one surface fit. "
                 "Use another --out (or remove the file to start afresh)"
             )
-        from ._version import kernel_id
+        from .._version import kernel_id
 
         kernel = text(f.attrs.get("kernel_id", ""))
         if kernel != kernel_id():
@@ -289,8 +289,8 @@ class Study:
                 os.unlink(tmp)
 
     def _write(self, f: h5py.File) -> None:
-        from . import __version__
-        from ._version import kernel_id
+        from .. import __version__
+        from .._version import kernel_id
 
         s = self.s
         f.attrs["format"] = FORMAT
