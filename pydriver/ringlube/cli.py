@@ -66,7 +66,7 @@ def _one_line_warnings() -> None:
 
     from .case.kernel import UnusedInputWarning
     from .case.origins import SourceEngineDefaultWarning
-    from .study.constraints import UnconvergedReferenceWarning
+    from .study.bounds import UnconvergedReferenceWarning
 
     show = warnings.showwarning
     if getattr(show, "_ringlube", False):

@@ -192,7 +192,7 @@ def _gas_options(message: str) -> str:
 
 def _cmd_show(args: argparse.Namespace) -> int:
     from .case import Case
-    from .case.text import _format
+    from .case.text import format_value
 
     case = Case.from_namelist(args.deck)
     rows = case.effective_inputs()
@@ -204,7 +204,7 @@ def _cmd_show(args: argparse.Namespace) -> int:
     for r in rows:
         unit = {"1": "", "(unit)": f"[{tension_unit}]"}.get(r.unit, f"[{r.unit}]" if r.unit else "")
         group = f"{'&' + r.group:<11} "  # a blank after the longest, '&calibration'
-        print(f"{group}{r.name:<25}{r.origin:<18}{_format(r.value)} {unit}".rstrip())
+        print(f"{group}{r.name:<25}{r.origin:<18}{format_value(r.value)} {unit}".rstrip())
     case.validate()  # its warnings: source-engine defaults, inputs the case does not use
     return 0
 

@@ -10,7 +10,7 @@ import pytest
 import ringlube
 from ringlube import InputError
 from ringlube.case.items import items, python_value
-from ringlube.case.text import _format
+from ringlube.case.text import format_value
 
 from conftest import COLD, INPUTS
 
@@ -44,7 +44,7 @@ def test_rl_items_round_trips_every_shipped_deck(deck):
     assert first and _key(again) == _key(first)
     text = deck.read_text().splitlines()
     for it in first:  # each item's line holds its value (as written, quoted or not)
-        written = _format(it.value) if it.quoted else it.value
+        written = format_value(it.value) if it.quoted else it.value
         assert written.replace("''", "'") in text[it.line - 1].replace("''", "'"), (it, text[it.line - 1])
 
 
@@ -181,7 +181,7 @@ def test_study_table_drives_the_settings_and_the_docs():
 
 
 def test_optimisation_md_study_table_is_current():
-    from ringlube.tables import update_doc
+    from ringlube.docgen import update_doc
 
     from conftest import ROOT
 

@@ -13,7 +13,8 @@ from ringlube.case import Case
 from ringlube.errors import InputError
 from ringlube.solve import run_designs
 from ringlube.study import run_study
-from ringlube.study.constraints import feasibility, parse_constraint
+from ringlube.study.bounds import feasibility
+from ringlube.study.constraints import parse_constraint
 from ringlube.study.deck import read_study
 from ringlube.study.figures import tradeoff_stems
 from ringlube.study.sure import UNCERTAIN
@@ -287,7 +288,7 @@ def test_a_reference_that_did_not_converge_is_said_where_it_bounds(constrained, 
     import dataclasses
     import warnings
 
-    from ringlube.study.constraints import UnconvergedReferenceWarning, constraint_bounds
+    from ringlube.study.bounds import UnconvergedReferenceWarning, constraint_bounds
     from ringlube.study.report import write_report
     from ringlube.study.summary import summary
 

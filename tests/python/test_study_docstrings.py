@@ -13,6 +13,7 @@ MODULES = [
     "ringlube.executor",
     "ringlube.study.variables",
     "ringlube.study.constraints",
+    "ringlube.study.bounds",
     "ringlube.study.settings",
     "ringlube.study.deck",
     "ringlube.study.h5",

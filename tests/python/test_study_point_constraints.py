@@ -14,7 +14,8 @@ from ringlube.case import Case
 from ringlube.errors import InputError
 from ringlube.solve import run_designs
 from ringlube.study import run_study
-from ringlube.study.constraints import constraint_bounds, parse_constraint
+from ringlube.study.bounds import constraint_bounds
+from ringlube.study.constraints import parse_constraint
 from ringlube.study.deck import read_study
 from ringlube.study.surfaces import surfaces_of
 

@@ -22,7 +22,7 @@ from ..errors import InputError, input_file
 from .items import items, python_value
 from .kernel import kernel_case
 from .origins import _InputOrigins
-from .text import _format, _plain_number, _serialise
+from .text import _plain_number, _serialise, format_value
 
 __all__ = ["Case", "GROUPS"]
 
@@ -278,7 +278,7 @@ class Case(_InputOrigins):
         lines = [f"<Case {self.name!r}{where}: {self._count()} inputs set, the rest defaults>"]
         for group, values in self._nml.items():
             items = ", ".join(
-                f"{n} = {_format(v)}{'*' if (group, n) in self._changed and self._text else ''}"
+                f"{n} = {format_value(v)}{'*' if (group, n) in self._changed and self._text else ''}"
                 for n, v in values.items()
             )
             lines.append(f"  &{group:<10} {items}")
@@ -298,7 +298,7 @@ class Case(_InputOrigins):
                 unit = spec.unit if spec and spec.unit not in ("1", "(unit)") else ""
                 origin = "deck" if self._text and (group, n) not in self._changed else "Python"
                 rows.append(
-                    f"<tr><td>&amp;{group}</td><td>{html.escape(n)}</td><td>{html.escape(_format(v))}</td>"
+                    f"<tr><td>&amp;{group}</td><td>{html.escape(n)}</td><td>{html.escape(format_value(v))}</td>"
                     f"<td>{html.escape(unit)}</td><td>{origin}</td></tr>"
                 )
         return (
@@ -426,13 +426,13 @@ def _with_group(group: str):
 
 def _example(spec) -> str:
     """A value of ``spec`` as Python text (the default where there is one)."""
-    from ..tables import PRESETS, _value
+    from ..tables import PRESETS, typed_value
 
     if spec.kind == "choice":
         return repr(spec.choices[-1])
     if spec.default == "(preset)":
         return repr(PRESETS["default"][spec.name])
-    return repr(_value(spec.kind, spec.default))
+    return repr(typed_value(spec.kind, spec.default))
 
 
 GROUPS = _groups()

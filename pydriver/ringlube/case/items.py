@@ -22,14 +22,14 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ..errors import error_for
-from .kernel import _arg, _deck_text, _text
+from .kernel import _arg, _deck_text, kernel_text
 
 __all__ = ["Item", "items", "python_value"]
 
 _INT = re.compile(r"[+-]?\d+")
 #: logicals as the kernel reads them (fortran/src/case.f90)
-_LOGICAL = {".true.": True, ".t.": True, "t": True, "true": True}
-_LOGICAL |= {".false.": False, ".f.": False, "f": False, "false": False}
+LOGICALS = {".true.": True, ".t.": True, "t": True, "true": True}
+LOGICALS |= {".false.": False, ".f.": False, "f": False, "false": False}
 
 
 class Item(NamedTuple):
@@ -116,14 +116,14 @@ def items(text: str, name: str, lists: bool = False) -> list[Item]:
     flag = 1 if lists else 0
     n, nbytes, code, message = _kernel.rl_items_count(_deck_text(text, name), _arg(name), flag)
     if code:
-        raise error_for(code, _text(message))
+        raise error_for(code, kernel_text(message))
     if n == 0:
         return []
     groups, names, chars, vlen, lines, indices, quoted, glines, code, message = _kernel.rl_items(
         _arg(text), _arg(name), flag, n, nbytes
     )
     if code:
-        raise error_for(code, _text(message))
+        raise error_for(code, kernel_text(message))
     raw = chars.tobytes()
     ends = np.cumsum(vlen)
     return [
@@ -170,6 +170,6 @@ def python_value(item: Item) -> Any:
         return v
     if _INT.fullmatch(v):
         return int(v)
-    if v.lower() in _LOGICAL:
-        return _LOGICAL[v.lower()]
+    if v.lower() in LOGICALS:
+        return LOGICALS[v.lower()]
     return float(v.replace("d", "e").replace("D", "e"))

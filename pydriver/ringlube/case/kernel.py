@@ -5,12 +5,9 @@ from __future__ import annotations
 import contextlib
 import warnings
 from collections.abc import Iterator
-from typing import TYPE_CHECKING, NamedTuple
+from typing import NamedTuple, Protocol
 
 from ..errors import error_for
-
-if TYPE_CHECKING:
-    from .case import Case
 
 __all__ = ["KernelCase", "UnusedInputWarning", "kernel_case"]
 
@@ -33,7 +30,9 @@ class UnusedInputWarning(UserWarning):
     """
 
 
-def _text(message) -> str:
+def kernel_text(message) -> str:
+    """A message, name or path the kernel returned, as text (bytes decoded, NULs and blanks
+    stripped)."""
     if isinstance(message, bytes):
         message = message.decode("utf-8", errors="replace")
     return str(message).rstrip("\0 ").strip()
@@ -56,6 +55,14 @@ def _arg(s: str) -> bytes:
     return s.encode("utf-8", "surrogateescape")
 
 
+class _Deck(Protocol):
+    """What the kernel's reader needs of a case (a :class:`~ringlube.case.Case` is one)."""
+
+    def kernel_inputs(self) -> tuple[str, str, str, str, str]: ...
+
+    def warn_source_defaults(self, stacklevel: int = 2) -> str: ...
+
+
 class KernelCase(NamedTuple):
     """A case parsed by the kernel: its handle, and the crank steps, liner cells, sectors (0
     for a round bore) and orders of the distortion of a run.
@@ -74,7 +81,7 @@ class KernelCase(NamedTuple):
 
 
 @contextlib.contextmanager
-def kernel_case(case: Case, load_trace: bool = True, warn: bool = True) -> Iterator[KernelCase]:
+def kernel_case(case: _Deck, load_trace: bool = True, warn: bool = True) -> Iterator[KernelCase]:
     """Context manager: the case parsed by the kernel (a :class:`KernelCase`).
 
     Parameters
@@ -113,11 +120,11 @@ def kernel_case(case: Case, load_trace: bool = True, warn: bool = True) -> Itera
         1 if load_trace else 0,
     )
     if code:
-        raise error_for(code, _text(message))
+        raise error_for(code, kernel_text(message))
     if warn:
         case.warn_source_defaults(stacklevel=4)
-        if _text(notes):
-            warnings.warn(_text(notes), UnusedInputWarning, stacklevel=3)
+        if kernel_text(notes):
+            warnings.warn(kernel_text(notes), UnusedInputWarning, stacklevel=3)
     try:
         yield KernelCase(int(handle), int(nsteps), int(nliner), int(nsectors), int(norders))
     finally:

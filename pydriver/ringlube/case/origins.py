@@ -14,7 +14,7 @@ from typing import Any, NamedTuple
 
 from ..errors import InputError, error_for
 from .items import items
-from .kernel import _text, kernel_case
+from .kernel import kernel_case, kernel_text
 
 __all__ = ["EffectiveInput", "SOURCE_ENGINE_INPUTS", "SourceEngineDefaultWarning"]
 
@@ -169,7 +169,7 @@ class _InputOrigins:
         as the kernel reads this case. One kernel handle reads every input's text on first
         use; the texts are kept until the case, the working directory its relative paths
         mean, or a file it names (calibration, pressure trace) changes."""
-        from ..tables import _value
+        from ..tables import typed_value
 
         key = (self.kernel_inputs(), _files_seen(self))
         seen = getattr(self, "_effective_texts", None)
@@ -179,7 +179,7 @@ class _InputOrigins:
         code, text = seen[1][spec.group, spec.name]
         if code:
             raise error_for(code, text)
-        return _value(spec.kind, text)
+        return typed_value(spec.kind, text)
 
     def source_engine_defaults(self) -> tuple[list[tuple[str, str]], list[tuple[str, str]]]:
         """(inputs of :data:`SOURCE_ENGINE_INPUTS` this case sets, those left to the source
@@ -241,7 +241,7 @@ def _kernel_texts(case: Any) -> dict[tuple[str, str], tuple[int, str]]:
     with kernel_case(case, load_trace=False, warn=False) as k:
         for group, name in INPUTS:
             text, code, message = _kernel.rl_get(k.handle, group.encode(), name.encode())
-            texts[group, name] = (int(code), _text(message)) if code else (0, _text(text))
+            texts[group, name] = (int(code), kernel_text(message)) if code else (0, kernel_text(text))
     return texts
 
 

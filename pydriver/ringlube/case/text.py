@@ -43,7 +43,7 @@ def _plain_number(group: str, name: str, value: Any) -> Any:
     return value
 
 
-def _format(value: Any) -> str:
+def format_value(value: Any) -> str:
     if isinstance(value, bool):
         return ".true." if value else ".false."
     if isinstance(value, int):
@@ -51,7 +51,7 @@ def _format(value: Any) -> str:
     if isinstance(value, float):
         return repr(value) if value == value else "nan"
     if isinstance(value, (list, tuple)):
-        return ", ".join(_format(v) for v in value)
+        return ", ".join(format_value(v) for v in value)
     s = str(value)
     return "'" + s.replace("'", "''") + "'"
 
@@ -61,6 +61,6 @@ def _serialise(groups) -> str:
     for group, values in groups.items():
         out.append(f"&{group}")
         for name, value in values.items():
-            out.append(f"    {name} = {_format(value)}")
+            out.append(f"    {name} = {format_value(value)}")
         out.append("/")
     return "\n".join(out) + "\n"

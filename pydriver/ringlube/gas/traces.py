@@ -256,13 +256,13 @@ def check_trace(psi: np.ndarray, p: np.ndarray) -> None:
     """
     from .. import _kernel
     from ..case import Case
-    from ..case.kernel import _text, kernel_case
+    from ..case.kernel import kernel_case, kernel_text
 
     with kernel_case(Case(), warn=False) as k:
         code, message = _kernel.rl_set_trace(k.handle, np.asarray(psi, float), np.asarray(p, float))
     if code:
         i = int(np.argmax(p))
-        reason = _text(message).split("pressure trace: ", 1)[-1]  # not the default case's name
+        reason = kernel_text(message).split("pressure trace: ", 1)[-1]  # not the default case's name
         raise ValueError(
             f"the trace reaches {p[i] / 1e5:.0f} bar at {psi[i]:.1f} deg, which the kernel refuses: {reason}"
         )
@@ -332,7 +332,7 @@ def figure(m: GasModel, psi: np.ndarray, p: np.ndarray, title: str = ""):
     """
     import matplotlib.pyplot as plt
 
-    from ..plot import _crank_axis
+    from ..plot import crank_axis  # (plot sets the Agg backend: files only)
 
     fig, (ax, axv) = plt.subplots(
         1, 2, figsize=(11, 4.2), layout="constrained", gridspec_kw={"width_ratios": [1.7, 1]}
@@ -352,7 +352,7 @@ def figure(m: GasModel, psi: np.ndarray, p: np.ndarray, title: str = ""):
     ax.axvline(ca50, color="C1", lw=0.8, ls="--", label=f"50 % burned, {ca50:.1f} deg")
     ax.set_ylabel("gas pressure [bar abs]")
     ax.set_ylim(bottom=0)
-    _crank_axis(ax)
+    crank_axis(ax)
     ax.legend(fontsize=8, loc="upper left")
     v = m.volume(psi)
     axv.loglog(v * 1e6, p / 1e5, lw=1.2, color="C0")

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..executor import Executor
 from . import runs
-from .constraints import feasibility
+from .bounds import feasibility
 from .format import format_design, lift_share
 from .optimise import choose_designs, extremes_and_knee, nondominated
 from .runs import _bases

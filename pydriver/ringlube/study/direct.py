@@ -9,7 +9,7 @@ import numpy as np
 from ..errors import RinglubeError
 from ..executor import Executor, require
 from . import runs
-from .constraints import constraint_bounds
+from .bounds import constraint_bounds
 from .optimise import hypervolume
 from .runs import _bases
 from .settings import StudySettings

@@ -8,10 +8,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .constraints import constraint_bounds
-from .format import result_display
+from .bounds import constraint_bounds
 from .store import Study
-from .variables import display, output_units
+from .variables import display, output_units, result_display
 
 __all__ = ["study_figures", "tradeoff_stems", "tradeoff_figures", "bore_figures", "BORE_FIGURES"]
 

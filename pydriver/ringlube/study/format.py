@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .constraints import constraint_bounds
+from .bounds import constraint_bounds
 from .store import Study
-from .variables import display, output_units
+from .variables import display, result_display
 
 #: How a re-checked design whose true-model run did not converge is marked (its numbers are
 #: the last cycle's, not a verified periodic result).
@@ -36,7 +36,6 @@ __all__ = [
     "LIFTED_COLUMN",
     "NOT_CONVERGED",
     "format_design",
-    "result_display",
     "surrogate_error",
     "with_unit",
 ]
@@ -67,29 +66,6 @@ def format_design(study: Study, x) -> str:
         name, _, unit = label.partition(" [")
         parts.append(f"{name} {xi * scale:.4g}" + (f" {unit[:-1]}" if unit else ""))
     return ", ".join(parts)
-
-
-def result_display(name: str) -> tuple[str, float]:
-    """Unit a result is shown in and the factor from its stored unit: lengths (stored in
-    metres, e.g. ``min_film``) in µm, every other result in its own unit.
-
-    Parameters
-    ----------
-    name : str
-        A result (:func:`~ringlube.study.variables.output_units`).
-
-    Returns
-    -------
-    unit : str
-    scale : float
-
-    Example
-    -------
-    >>> result_display("min_film"), result_display("energy_loss")
-    (('µm', 1000000.0), ('J', 1.0))
-    """
-    unit = output_units()[name]
-    return ("µm", 1e6) if unit == "m" else (unit, 1.0)
 
 
 def with_unit(number: str, unit: str) -> str:
@@ -201,7 +177,7 @@ def surrogate_error(name: str, predicted: float, true: float) -> str:
     Parameters
     ----------
     name : str
-        The result (its unit: :func:`result_display`).
+        The result (its unit: :func:`~ringlube.study.variables.result_display`).
     predicted, true : float
         The surrogate's value and the true model's.
 

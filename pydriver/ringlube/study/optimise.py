@@ -7,7 +7,7 @@ import numpy as np
 
 from ..errors import RinglubeError
 from ..executor import Executor, require
-from .constraints import constraint_bounds
+from .bounds import constraint_bounds
 from .state import Front
 from .store import Study
 from .surrogate import QuadraticSurface

@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from ..outputs import check_output, write_text
+from .bounds import constraint_bounds, point_violations, unconverged_reference
 from .check import FRONT_CHECKS, candidates_text
-from .constraints import constraint_bounds, point_violations, unconverged_reference
 from .figures import BORE_FIGURES, study_figures, tradeoff_stems
 from .format import (
     BRANCH_RISK,

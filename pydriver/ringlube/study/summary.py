@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .bounds import point_violations, unconverged_reference
 from .check import candidates_text
-from .constraints import point_violations, unconverged_reference
 from .format import (
     NOT_CONVERGED,
     _feasible_text,

@@ -21,7 +21,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from ..case.items import _LOGICAL, Item, items
+from ..case.items import LOGICALS, Item, items
 from ..errors import InputError
 
 __all__ = ["StudyInput", "STUDY", "MAX_SAMPLES", "MAX_SEED", "study_values", "study_markdown"]
@@ -276,9 +276,9 @@ def _one(spec: StudyInput, its: list[Item]) -> Any:
         elif spec.kind == "integer":
             values.append(_integer(spec, it))
         else:
-            if it.quoted or it.value.lower() not in _LOGICAL:
+            if it.quoted or it.value.lower() not in LOGICALS:
                 _fail(it, f"must be .true. or .false., got {it.value!r}")
-            values.append(_LOGICAL[it.value.lower()])
+            values.append(LOGICALS[it.value.lower()])
     if spec.kind == "choice" and values[0] not in spec.choices:
         if len(spec.choices) == 1:
             _fail(its[0], f"must be '{spec.choices[0]}', got {values[0]!r}")

@@ -16,6 +16,7 @@ from ..case import Case
 from ..errors import InputError
 
 __all__ = [
+    "result_display",
     "DESIGN_RANGES",
     "OUTPUTS",
     "PER_CYCLE",
@@ -293,3 +294,26 @@ def _fingerprint(files: list[Path]) -> dict[str, str]:
         except OSError as exc:
             raise InputError(f"{p}: cannot read ({exc.strerror or exc})") from None
     return out
+
+
+def result_display(name: str) -> tuple[str, float]:
+    """Unit a result is shown in and the factor from its stored unit: lengths (stored in
+    metres, e.g. ``min_film``) in µm, every other result in its own unit.
+
+    Parameters
+    ----------
+    name : str
+        A result (:func:`~ringlube.study.variables.output_units`).
+
+    Returns
+    -------
+    unit : str
+    scale : float
+
+    Example
+    -------
+    >>> result_display("min_film"), result_display("energy_loss")
+    (('µm', 1000000.0), ('J', 1.0))
+    """
+    unit = output_units()[name]
+    return ("µm", 1e6) if unit == "m" else (unit, 1.0)
