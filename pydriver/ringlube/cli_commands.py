@@ -280,9 +280,10 @@ def _cmd_readings(args: argparse.Namespace) -> int:
 
 
 def _cmd_optimise(args: argparse.Namespace) -> int:
+    import functools
     import signal
 
-    from .executor import check_where
+    from .executor import Executor, check_where
     from .study import run_study, summary
 
     def terminate(signum, frame):  # a batch system's SIGTERM: save finished runs, then stop
@@ -293,12 +294,12 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
         _output_folder("--out", Path(args.out))
     signal.signal(signal.SIGTERM, terminate)
     args.interrupt_note = "; finished work is saved (run the same command to resume)"
+    # the executor made once the deck and study file are checked (a Dask cluster starts then)
+    where = functools.partial(Executor, scheduler=args.scheduler, workers=args.workers, serial=args.serial)
     study = run_study(
         args.study,
         args.out,
-        scheduler=args.scheduler,
-        workers=args.workers,
-        serial=args.serial,
+        executor=where,
         with_direct=args.direct,
         progress=not args.quiet,
         restart=args.restart,

@@ -13,6 +13,7 @@ import pytest
 import ringlube
 from ringlube import InputError
 from ringlube.cli import main
+from ringlube.executor import Executor
 
 from conftest import COLD, INPUTS
 
@@ -119,15 +120,15 @@ def test_a_refused_resume_names_what_changed_and_restart(tmp_path):
 
     deck, out = _study(tmp_path / "m.nml"), tmp_path / "out"
     with pytest.raises(KeyboardInterrupt):
-        run_study(deck, out, serial=True, progress=False, figures=False, stop_after=2)
+        run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False, stop_after=2)
     _study(deck, samples=32)
     with pytest.raises(InputError) as e:
-        run_study(deck, out, serial=True, progress=False, figures=False)
+        run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False)
     assert "other samples (24, now 32)" in str(e.value) and "--restart" in str(e.value)
     assert "recorded" not in str(e.value) and "objectives" not in str(e.value)
     _study(deck, constraints="'fmep <= 100'")
     with pytest.raises(InputError) as e:
-        run_study(deck, out, serial=True, progress=False, figures=False)
+        run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False)
     assert "other recorded results (a constraint on a result" in str(e.value)
     assert "samples" not in str(e.value) and "objectives" not in str(e.value)
 
@@ -180,8 +181,6 @@ def test_a_value_of_100000_digits_reads_alike_in_every_front_end(tmp_path, solve
 
 
 def test_serial_and_scheduler_together_are_refused_before_any_work(tmp_path, capsys):
-    from ringlube.executor import Executor
-
     deck = _study(tmp_path / "m.nml")
     assert (
         main(

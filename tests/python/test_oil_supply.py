@@ -14,6 +14,7 @@ import pytest
 
 import ringlube
 from ringlube import Case
+from ringlube.executor import Executor
 from ringlube.study.variables import DESIGN_RANGES
 from ringlube.tables import FLAGS
 
@@ -241,7 +242,7 @@ def test_study_trades_friction_against_oil_transport(tmp_path, cold):
         "  samples = 24, sampler = 'sobol', seed = 3\n"
         "  population = 16, generations = 6, repeats = 2\n/\n"
     )
-    st = run_study(study, tmp_path / "out", serial=True, progress=False, figures=False)
+    st = run_study(study, tmp_path / "out", executor=Executor(serial=True), progress=False, figures=False)
     assert "oil_to_chamber" in st.s.outputs
     j = st.s.outputs.index("oil_to_chamber")
     oil = st.cases["cold"].runs.outputs[:, j]

@@ -27,6 +27,7 @@ MODULES = [
     "ringlube.study.check",
     "ringlube.study.sure",
     "ringlube.study.direct",
+    "ringlube.study.problems",
     "ringlube.study.pipeline",
     "ringlube.study.plots",
     "ringlube.study.format",

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from ringlube.executor import Executor
 from ringlube.study import run_study
 
 from conftest import INPUTS
@@ -42,10 +43,18 @@ def same_study(a, b) -> None:
 def test_resume_after_changed_weights_recomputes_the_scene(tmp_path):
     out = tmp_path / "out"
     first = run_study(
-        write(tmp_path, scene=".true.", weights="1.0, 1.0"), out, serial=True, progress=False, figures=False
+        write(tmp_path, scene=".true.", weights="1.0, 1.0"),
+        out,
+        executor=Executor(serial=True),
+        progress=False,
+        figures=False,
     )
     again = run_study(
-        write(tmp_path, scene=".true.", weights="1.0, 100.0"), out, serial=True, progress=False, figures=False
+        write(tmp_path, scene=".true.", weights="1.0, 100.0"),
+        out,
+        executor=Executor(serial=True),
+        progress=False,
+        figures=False,
     )
     assert again.runs_executed == 0  # no sample re-run
     w = np.array([1.0, 100.0]) / 101.0
@@ -57,7 +66,7 @@ def test_resume_after_changed_weights_recomputes_the_scene(tmp_path):
     fresh = run_study(
         write(tmp_path, name="fresh", scene=".true.", weights="1.0, 100.0"),
         tmp_path / "fresh",
-        serial=True,
+        executor=Executor(serial=True),
         progress=False,
         figures=False,
     )
@@ -88,12 +97,12 @@ def test_a_finished_scene_study_resumes_unchanged(tmp_path):
 
     deck = write(tmp_path, scene=".true.", reference="1.0e-3, 0.0")
     out = tmp_path / "out"
-    first = run_study(deck, out, serial=True, progress=False, figures=False)
+    first = run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False)
     calls = []
     real = study_mod.how_sure
     study_mod.how_sure = lambda *a, **k: (calls.append(1), real(*a, **k))[1]
     try:
-        again = run_study(deck, out, serial=True, progress=False, figures=False)
+        again = run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False)
     finally:
         study_mod.how_sure = real
     assert again.runs_executed == 0 and calls == []  # nothing finished is redone, "how sure" neither

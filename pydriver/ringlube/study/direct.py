@@ -2,32 +2,25 @@
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
 from ..errors import RinglubeError
 from ..executor import Executor, require
-from . import runs
-from .bounds import constraint_bounds
 from .optimise import hypervolume
 from .runs import _bases
 from .settings import StudySettings
-from .state_checks import Direct, DirectGeneration
+from .state_checks import Direct
 from .store import Study
 
-__all__ = ["direct", "direct_outputs", "FAILED_PENALTY"]
-
-#: Objective value given to a design the kernel rejects during the direct NSGA-II (the GA
-#: needs a finite number; any valid design is far better).
-FAILED_PENALTY = 1e10
+__all__ = ["direct", "direct_outputs"]
 
 
 def direct(study: Study, ex: Executor, progress: bool = True) -> None:
     """NSGA-II on the true model (no surrogate); compared with the surrogate front.
 
-    A design the kernel rejects gets :data:`FAILED_PENALTY` for every objective; a design
-    that failed or did not converge violates the problem's first constraint, so pymoo ranks
+    The problem is :class:`~ringlube.study.problems.RingProblem`: a design the kernel rejects
+    gets :data:`~ringlube.study.problems.FAILED_PENALTY` for every objective; a design that
+    failed or did not converge violates the problem's first constraint, so pymoo ranks
     it below every converged design and never returns it in the front; so does, by less, a
     design that lifts the ring off the liner (``liner_lift_share`` > 0: by its share / 200,
     so less lift ranks higher among such designs). The study's
@@ -55,69 +48,15 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
     """
     require("pymoo", "NSGA-II")
     from pymoo.algorithms.moo.nsga2 import NSGA2
-    from pymoo.core.problem import Problem
     from pymoo.indicators.igd import IGD
     from pymoo.optimize import minimize
     from tqdm.auto import tqdm
 
+    from .problems import RingProblem
+
     s = study.s
     names = direct_outputs(s)
-    m = len(s.objectives)
     lift_col = names.index("liner_lift_share")
-
-    class TrueModel(Problem):
-        """The kernel itself as the pymoo problem, for one case (its base deck); inequality
-        constraints: 0 for a converged run, 1 for a failed or unconverged one; then the
-        study's constraints."""
-
-        def __init__(self, label, base, bar):
-            self.limits = constraint_bounds(study, label)
-            super().__init__(
-                n_var=len(s.variables),
-                n_obj=len(s.objectives),
-                n_ieq_constr=1 + len(self.limits),
-                xl=np.array(s.lower),
-                xu=np.array(s.upper),
-            )
-            self.label, self.base, self.bar = label, base, bar
-            self.generation = 0
-
-        def _evaluate(self, x, out, *args, **kwargs):
-            done = study.cases[self.label].direct_generations
-            if self.generation < len(done) and np.array_equal(done[self.generation].x, x):
-                gen = done[self.generation]  # run before an interruption: replayed, not re-run
-            else:
-                del done[self.generation :]
-                gen = self._run(x)
-                done.append(gen)
-                study.save(force=False)
-            self.generation += 1
-            self.bar.update(len(x))
-            out["F"] = np.where(gen.failed[:, None], FAILED_PENALTY, gen.f[:, :m])
-            ok = gen.converged & ~gen.failed
-            lift = np.nan_to_num(gen.f[:, names.index("liner_lift_share")], nan=0.0).clip(0.0, 100.0)
-            g = [np.where(ok, lift / 200.0, 1.0)]
-            for b in self.limits:  # (a case's own: the direct NSGA-II runs no scene)
-                y = gen.f[:, names.index(b.constraint.name)]
-                g.append(np.where(ok, np.nan_to_num(b.constraint.violation(y, b.value), nan=1.0), 1.0))
-            out["G"] = np.column_stack(g)
-
-        def _run(self, x) -> DirectGeneration:
-            chunks = np.array_split(np.arange(len(x)), max(1, len(x) // s.batch))
-            f = np.empty((len(x), len(names)))
-            converged, failed = np.zeros(len(x), bool), np.zeros(len(x), bool)
-
-            def put(i, res):
-                values, conv, errors = res
-                f[chunks[i]] = values
-                converged[chunks[i]] = conv
-                failed[chunks[i]] = [bool(e) for e in errors]
-
-            t0 = time.perf_counter()
-            kernel = runs.study_kernel()
-            tasks = [(self.base, s.groups_names, x[c], names, kernel) for c in chunks]
-            ex.map(runs._run_designs, tasks, put)
-            return DirectGeneration(np.array(x), f, converged, failed, time.perf_counter() - t0)
 
     for label, base in zip(s.labels, _bases(s)):
         if study.cases[label].direct is not None:
@@ -128,7 +67,7 @@ def direct(study: Study, ex: Executor, progress: bool = True) -> None:
             desc=f"direct NSGA-II ({label})",
             disable=not progress,
         )
-        problem = TrueModel(label, base, bar)
+        problem = RingProblem(study, label, base, ex, bar)
         try:
             res = minimize(
                 problem,

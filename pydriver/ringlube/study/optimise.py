@@ -51,33 +51,17 @@ def ga_repeat(
     """
     require("pymoo", "NSGA-II")
     from pymoo.algorithms.moo.nsga2 import NSGA2
-    from pymoo.core.problem import Problem
     from pymoo.optimize import minimize
 
-    from .constraints import Constraint
+    from .problems import SurrogateProblem
 
-    lower, upper = np.asarray(lower, float), np.asarray(upper, float)
-    surfs = list(surfaces)
-    cons = [(f, Constraint("", sense, bound), bound) for f, sense, bound in constraints]
-
-    def violations(x):
-        return np.column_stack([c.violation(f(x), b) for f, c, b in cons])
-
-    class Surrogate(Problem):
-        def __init__(self):
-            super().__init__(n_var=len(lower), n_obj=len(surfs), n_ieq_constr=len(cons), xl=lower, xu=upper)
-
-        def _evaluate(self, x, out, *args, **kwargs):
-            out["F"] = np.column_stack([f(x) for f in surfs])
-            if cons:
-                out["G"] = violations(x)
-
-    res = minimize(Surrogate(), NSGA2(pop_size=population), ("n_gen", generations), seed=seed, verbose=False)
+    problem = SurrogateProblem(surfaces, lower, upper, constraints)
+    res = minimize(problem, NSGA2(pop_size=population), ("n_gen", generations), seed=seed, verbose=False)
     if res.X is None:
-        return np.zeros((0, len(lower))), np.zeros((0, len(surfs)))
+        return np.zeros((0, problem.n_var)), np.zeros((0, problem.n_obj))
     x, f = np.atleast_2d(res.X), np.atleast_2d(res.F)
-    if cons:  # pymoo returns the least infeasible design when none is feasible
-        ok = np.all(violations(x) <= 0, axis=1)
+    if problem.constraints:  # pymoo returns the least infeasible design when none is feasible
+        ok = np.all(problem.violations(x) <= 0, axis=1)
         x, f = x[ok], f[ok]
     return x, f
 

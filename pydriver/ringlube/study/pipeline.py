@@ -23,12 +23,13 @@ study goes on.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
-from ..executor import Executor, check_where, require
+from ..executor import Executor, require
 from ..outputs import check_output
 from .check import check_designs
 from .deck import read_study
@@ -94,16 +95,12 @@ def run_study(
     deck: str | os.PathLike,
     out: str | os.PathLike | None = None,
     *,
-    scheduler: str | None = None,
-    workers: int | None = None,
-    serial: bool = False,
-    backend: str | None = None,
+    executor: Executor | Callable[[], Executor] | None = None,
     with_direct: bool = False,
     figures: bool = True,
     progress: bool = True,
-    stop_after: int | None = None,
-    connect_timeout: float | None = None,
     restart: bool = False,
+    stop_after: int | None = None,
 ) -> Study:
     """The whole pipeline; resumes from the study file in ``out`` if there is one.
 
@@ -113,8 +110,12 @@ def run_study(
         The study deck (``&study``).
     out : path, optional
         Output folder (default ``out/NAME``); the study file is ``OUT/NAME.h5``.
-    scheduler, workers, serial, backend, connect_timeout
-        Where runs go (see :class:`~ringlube.executor.Executor`).
+    executor : Executor or callable, optional
+        Where the runs go. An :class:`~ringlube.executor.Executor` is used as it is and left
+        open (it is the caller's); a function of no arguments that returns one (e.g.
+        ``functools.partial(Executor, workers=4)``) is called once the deck and the study
+        file are checked, and what it returns is closed at the end. Default: ``Executor()``
+        (a local Dask cluster), made and closed the same way.
     with_direct : bool
         Also NSGA-II on the true model, compared with the surrogate front.
     figures : bool
@@ -141,11 +142,10 @@ def run_study(
 
     Example
     -------
-    >>> study = run_study("inputs/study_default.nml", serial=True)   # doctest: +SKIP
+    >>> study = run_study("inputs/study_default.nml", executor=Executor(serial=True))   # doctest: +SKIP
     """
     from .report import output_names, study_inputs
 
-    check_where(scheduler, serial)  # before the study file, not after the samples
     s = read_study(deck)
     out = _out_folder(out, s)
     for name in [f"{s.name}.h5", *output_names(s)]:  # before the work, not after it
@@ -153,17 +153,7 @@ def run_study(
     path = out / f"{s.name}.h5"
     study = Study.open(s, path, lock=True, restart=restart)
     try:
-        _pipeline(
-            study,
-            scheduler=scheduler,
-            workers=workers,
-            serial=serial,
-            backend=backend,
-            with_direct=with_direct,
-            progress=progress,
-            stop_after=stop_after,
-            connect_timeout=connect_timeout,
-        )
+        _pipeline(study, executor, with_direct=with_direct, progress=progress, stop_after=stop_after)
         from .report import write_outputs
 
         write_outputs(study, out, figures=figures)
@@ -173,7 +163,7 @@ def run_study(
 
 
 def _pipeline(
-    study: Study, *, scheduler, workers, serial, backend, with_direct, progress, stop_after, connect_timeout
+    study: Study, executor: Executor | Callable[[], Executor] | None, *, with_direct, progress, stop_after
 ) -> None:
     s = study.s
     if study.x is None:
@@ -181,9 +171,8 @@ def _pipeline(
         study.stages.add("sampled")
         study.save()
     require("pymoo", "ringlube optimise")  # before any run, not hours later
-    ex = Executor(
-        scheduler=scheduler, workers=workers, serial=serial, backend=backend, connect_timeout=connect_timeout
-    )
+    ours = not isinstance(executor, Executor)  # made here: closed here
+    ex = executor if not ours else (executor or Executor)()
     try:
         run_samples(study, ex, progress=progress, stop_after=stop_after)
         study.stages.add("ran")
@@ -217,7 +206,8 @@ def _pipeline(
             study.stages.add("direct")
             study.save()
     finally:
-        ex.close()
+        if ours:
+            ex.close()
 
 
 def _reference_stale(study: Study) -> bool:
