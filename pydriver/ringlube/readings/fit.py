@@ -16,10 +16,10 @@ import numpy as np
 from ..calibrate import cold_targets
 from ..calibrator import Param, calibrate_inputs, start_design
 from ..case import Case
-from ..validate_compute import READINGS
 from .reading import (
     AT_BOUND,
     EVALS,
+    READINGS,
     RELAXED_BOUNDS,
     STEP,
     Point,

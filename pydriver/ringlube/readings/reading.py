@@ -43,9 +43,9 @@ from ..calibrator import Param
 from ..case import Case
 from ..errors import InputError
 from ..trends import TRENDS, trend_measures, trend_verdicts
-from ..validate_compute import READINGS
 
 __all__ = [
+    "READINGS",
     "SUPPLY_BOUNDS",
     "RELAXED_BOUNDS",
     "GOAL",
@@ -57,6 +57,16 @@ __all__ = [
     "Point",
     "evaluate",
 ]
+
+#: The film models of SPEC 13, read one at a time (the other open choices crossed with them).
+READINGS = {
+    "Swift-Stieber (the study)": {},
+    "JFO flooded": {"cavitation": "jfo"},
+    "JFO flooded, trailing gas": {"cavitation": "jfo", "cavity_pressure": "trailing_gas"},
+    "JFO starved": {"cavitation": "jfo", "inlet": "starved"},
+    "JFO starved, trailing gas": {"cavitation": "jfo", "inlet": "starved", "cavity_pressure": "trailing_gas"},
+}
+
 
 #: Bounds of the supply film fitted for starved readings [m] (fitted on a log scale).
 SUPPLY_BOUNDS = (0.1e-6, 10e-6)
@@ -89,7 +99,7 @@ _OUTPUTS = ["energy_loss", "mixed_share"]
 
 @dataclasses.dataclass(frozen=True)
 class Reading:
-    """One reading: film model (a key of :data:`ringlube.validate_compute.READINGS`), contact area
+    """One reading: film model (a key of :data:`READINGS`), contact area
     ('lumped' / 'local') and tension unit ('N/m' / 'N').
 
     Parameters

@@ -1,6 +1,6 @@
 """Validation, rendered: the Markdown of ``docs/validation.md`` from computed numbers.
 
-:func:`render_validation` turns a :class:`~ringlube.validate_compute.ValidationData` into the
+:func:`render_validation` turns a :class:`~ringlube.validate.compute.ValidationData` into the
 report (published against computed, calibration, sensitivity, modelling options, trends,
 readings of the open choices, oil to the chamber, the ring pack, figures); no run, no file.
 """
@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .calibrate import BOUNDS
-from .case import Case
-from .trends import TRENDS
-from .validate_compute import PUBLISHED, SUPPLY_FILMS, TENSION_READINGS, ValidationData
+from ..calibrate import BOUNDS
+from ..case import Case
+from ..trends import TRENDS
+from .compute import PUBLISHED, SUPPLY_FILMS, TENSION_READINGS, ValidationData
 
 __all__ = ["render_validation"]
 
@@ -23,7 +23,7 @@ def render_validation(data: ValidationData) -> str:
     Parameters
     ----------
     data : ValidationData
-        What :func:`~ringlube.validate_compute.compute_validation` returned (``seconds`` set
+        What :func:`~ringlube.validate.compute.compute_validation` returned (``seconds`` set
         by the caller).
 
     Returns

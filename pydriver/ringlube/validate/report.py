@@ -6,8 +6,8 @@ re-run and compared with the shipped file, one-at-a-time sensitivity (+/-10 %) o
 compared number to each assumed input, the effect of each modelling option, the gas
 trace's peak and its crank angle, the published trends, and the study's Figs 2 and 11.
 
-The runs are :func:`ringlube.validate_compute.compute_validation`, the Markdown is
-:func:`ringlube.validate_render.render_validation`; this module writes the figures and the file.
+The runs are :func:`ringlube.validate.compute.compute_validation`, the Markdown is
+:func:`ringlube.validate.render.render_validation`; this module writes the figures and the file.
 """
 
 from __future__ import annotations
@@ -16,11 +16,11 @@ import os
 import time
 from pathlib import Path
 
-from . import gas
-from .outputs import check_output, save_figure, write_text
-from .plot import gas_figure, plot_results, save_metadata
-from .validate_compute import ValidationData, compute_validation
-from .validate_render import render_validation
+from .. import gas
+from ..outputs import check_output, save_figure, write_text
+from ..plot import gas_figure, plot_results, save_metadata
+from .compute import ValidationData, compute_validation
+from .render import render_validation
 
 __all__ = ["validate"]
 

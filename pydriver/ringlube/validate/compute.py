@@ -3,7 +3,7 @@
 :func:`compute_validation` runs the shipped decks, the calibration re-run, the one-at-a-time
 sensitivity, the gas-trace shifts, the modelling options, the published trends, the readings
 of the open choices, the ring pack and the oil sensitivity, and returns them in a
-:class:`ValidationData` (no file is written; :mod:`ringlube.validate_render` turns it into
+:class:`ValidationData` (no file is written; :mod:`ringlube.validate.render` turns it into
 Markdown).
 """
 
@@ -16,12 +16,13 @@ from pathlib import Path
 
 import numpy as np
 
-from . import gas
-from .calibrate import apply, calibrate, choose, correlation, strip_calibrated
-from .case import Case
-from .errors import InputError
-from .solve import run, run_many
-from .trends import TRENDS, trend_verdicts
+from .. import gas
+from ..calibrate import apply, calibrate, choose, correlation, strip_calibrated
+from ..case import Case
+from ..errors import InputError
+from ..readings.reading import READINGS
+from ..solve import run, run_many
+from ..trends import TRENDS, trend_verdicts
 
 __all__ = [
     "PUBLISHED",
@@ -35,7 +36,7 @@ __all__ = [
 
 def published(targets: str | os.PathLike | None = None) -> dict[str, dict[str, float]]:
     """{condition: {quantity: value}} of a targets file (default: Table 2 of the study)."""
-    from .targets import DEFAULT_TARGETS, read_targets
+    from ..targets import DEFAULT_TARGETS, read_targets
 
     return {k: c.values for k, c in read_targets(targets or DEFAULT_TARGETS).items()}
 
@@ -64,14 +65,6 @@ OPTIONS = [
     ("physics", "roelands", {True: False, False: True}),
     ("physics", "squeeze", {True: False, False: True}),
 ]
-#: The film models of SPEC 13, read one at a time (the other open choices crossed with them).
-READINGS = {
-    "Swift-Stieber (the study)": {},
-    "JFO flooded": {"cavitation": "jfo"},
-    "JFO flooded, trailing gas": {"cavitation": "jfo", "cavity_pressure": "trailing_gas"},
-    "JFO starved": {"cavitation": "jfo", "inlet": "starved"},
-    "JFO starved, trailing gas": {"cavitation": "jfo", "inlet": "starved", "cavity_pressure": "trailing_gas"},
-}
 
 
 def reading_rows(cases: dict[str, Case], points: int = 5) -> list[dict]:
@@ -132,7 +125,7 @@ def trend_sweeps(case: Case, points: int = 9) -> dict[str, tuple[np.ndarray, np.
 @dataclass
 class ValidationData:
     """Everything ``docs/validation.md`` reports, computed by :func:`compute_validation` and
-    turned into Markdown by :func:`~ringlube.validate_render.render_validation` (issue 19:
+    turned into Markdown by :func:`~ringlube.validate.render.render_validation` (issue 19:
     compute apart from render).
 
     Numbers only: ``results`` and the other run results are :class:`ringlube.result.Result`
