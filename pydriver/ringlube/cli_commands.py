@@ -229,7 +229,13 @@ def _cmd_convergence(args: argparse.Namespace) -> int:
 
 
 def _cmd_calibrate(args: argparse.Namespace) -> int:
-    from .calibrate import calibrate, cold_targets, correlation, strip_calibrated, write_calibration
+    from .calibrate import (
+        calibrate,
+        cold_targets,
+        correlation,
+        strip_calibrated,
+        write_calibration,
+    )
     from .case import Case
     from .outputs import check_output
     from .targets import DEFAULT_TARGETS

@@ -8,7 +8,7 @@ import pytest
 from scipy.optimize import OptimizeResult
 
 from ringlube import calibrate as cal, trends
-from ringlube.calibrator import Param, calibrate_inputs, start_design
+from ringlube.calibrate.calibrator import Param, calibrate_inputs, start_design
 from ringlube.readings import reading as rd
 from ringlube.validate import compute as vc
 

@@ -1,7 +1,7 @@
 """The fit of every reading of ``ringlube readings`` (issue 9).
 
 :func:`fit_reading` fits one reading on the cold case with the one calibrator,
-:func:`ringlube.calibrator.calibrate_inputs` (method 'least_squares': a 9-point coarse design
+:func:`ringlube.calibrate.calibrator.calibrate_inputs` (method 'least_squares': a 9-point coarse design
 of the normalised input box, then ``scipy.optimize.least_squares`` from its best point) on the
 readings' score (:mod:`ringlube.readings`), and predicts hot; :func:`calibrate_readings` fits
 every reading in parallel worker processes.
@@ -13,8 +13,7 @@ import time
 
 import numpy as np
 
-from ..calibrate import cold_targets
-from ..calibrator import Param, calibrate_inputs, start_design
+from ..calibrate import Param, calibrate_inputs, cold_targets, start_design
 from ..case import Case
 from .reading import (
     AT_BOUND,
@@ -63,7 +62,7 @@ def fit_reading(
     -------
     dict
         'reading', 'params', 'min' (the :class:`scipy.optimize.OptimizeResult` of
-        :func:`ringlube.calibrator.calibrate_inputs`), 'cold' and 'hot' (:class:`Point`),
+        :func:`ringlube.calibrate.calibrator.calibrate_inputs`), 'cold' and 'hot' (:class:`Point`),
         'runs', 'seconds'.
 
     Examples

@@ -20,7 +20,7 @@ The score is the root-sum-square of that vector; the discrete yes/no verdicts
 (:func:`ringlube.trends.trend_verdicts`) are reported beside it but not optimised (they are
 not smooth). Each point costs one base run and the trend sweeps of :data:`SWEEP_POINTS`.
 
-Optimiser: the one calibrator, :func:`ringlube.calibrator.calibrate_inputs` (method
+Optimiser: the one calibrator, :func:`ringlube.calibrate.calibrator.calibrate_inputs` (method
 'least_squares', called by :func:`ringlube.readings.fit.fit_reading`): a 9-point coarse
 design of the (normalised) input box, then ``scipy.optimize.least_squares`` (trust-region
 reflective, bounded) from its best point, with a forward-difference Jacobian whose steps are
@@ -38,8 +38,7 @@ import math
 
 import numpy as np
 
-from ..calibrate import BOUNDS
-from ..calibrator import Param
+from ..calibrate import BOUNDS, Param
 from ..case import Case
 from ..errors import InputError
 from ..trends import TRENDS, trend_measures, trend_verdicts

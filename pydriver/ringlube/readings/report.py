@@ -9,8 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..calibrate import BOUNDS
-from ..calibrator import Param
+from ..calibrate import BOUNDS, Param
 from ..outputs import write_text
 from .fit import _bound_sides, _on_bound
 from .reading import GOAL, RELAXED_BOUNDS, RING, STEP, SUPPLY_BOUNDS, SWEEP_POINTS, Point

@@ -84,7 +84,8 @@ def render_validation(data: ValidationData) -> str:
         "",
         f"Two targets (cold energy {fit.targets['energy_loss']:g} J, cold mixed share "
         f"{fit.targets['mixed_share']:g} %) determine two continuous inputs; "
-        "the discrete options the study leaves open are enumerated (see `pydriver/ringlube/calibrate.py`).",
+        "the discrete options the study leaves open are enumerated "
+        "(see `pydriver/ringlube/calibrate/cold.py`).",
         "",
         "| input | bounds | fitted |",
         "|---|---|---|",

@@ -39,7 +39,7 @@ step counts the part of the step below it) but only piecewise smoothly; the fit 
 therefore nested: for a pressure scale, zeta_kappa_sigma is solved by Brent's method for
 the energy target (energy is continuous and increasing in it); the pressure scale is then
 found by bisection on the mixed share (increasing in it). That is method 'bracket' of the one
-calibrator, :func:`ringlube.calibrator.calibrate_inputs` (``ringlube readings`` uses its
+calibrator, :func:`ringlube.calibrate.calibrator.calibrate_inputs` (``ringlube readings`` uses its
 method 'least_squares'); each :class:`Fit` keeps its :class:`scipy.optimize.OptimizeResult`.
 """
 
@@ -53,11 +53,11 @@ from pathlib import Path
 
 import numpy as np
 
+from ..case import Case
+from ..errors import InputError
+from ..outputs import write_text
+from ..solve import run
 from .calibrator import Param, calibrate_inputs
-from .case import Case
-from .errors import InputError
-from .outputs import write_text
-from .solve import run
 
 __all__ = [
     "FITTED",
@@ -131,7 +131,7 @@ def cold_targets(targets: str | os.PathLike | None = None, condition: str = "col
     >>> cold_targets()[1]
     {'energy_loss': 1.92, 'mixed_share': 8.47}
     """
-    from .targets import DEFAULT_TARGETS, read_targets
+    from ..targets import DEFAULT_TARGETS, read_targets
 
     path = Path(targets) if targets else DEFAULT_TARGETS
     conds = read_targets(path)
@@ -178,7 +178,7 @@ class Fit:
     runs: int
     within_bounds: bool
     targets: dict = dataclasses.field(default_factory=dict)
-    #: what :func:`ringlube.calibrator.calibrate_inputs` returned
+    #: what :func:`ringlube.calibrate.calibrator.calibrate_inputs` returned
     result: object = dataclasses.field(default=None, compare=False, repr=False)
     #: the fitted run's value of each target quantity (default: its energy and mixed share)
     reached: dict = dataclasses.field(default_factory=dict)
@@ -253,7 +253,7 @@ def strip_calibrated(case: Case) -> Case:
 
 def fit_options(base: Case, options: dict, targets: dict) -> Fit:
     """Fit of the continuous inputs for one combination of options (the one calibrator,
-    :func:`ringlube.calibrator.calibrate_inputs`): with a mixed-share target both inputs,
+    :func:`ringlube.calibrate.calibrator.calibrate_inputs`): with a mixed-share target both inputs,
     nested (method 'bracket'); with the friction alone ``zeta_kappa_sigma`` (method 'brent'),
     ``pressure_scale`` the deck's own."""
     results: dict[tuple, object] = {}
