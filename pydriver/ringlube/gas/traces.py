@@ -509,7 +509,7 @@ def main(argv: list[str] | None = None) -> None:
     """
     import argparse
 
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python -m ringlube.gas", description=__doc__.splitlines()[0])
     ap.add_argument("--out", required=True, help="output folder (inputs/pressure: the shipped traces)")
     ap.add_argument("names", nargs="*", help=f"presets to write (default: all, {', '.join(sorted(PRESETS))})")
     args = ap.parse_args(argv)
