@@ -18,7 +18,7 @@ FORTRAN_FORMATTED := $(wildcard fortran/src/*.f90 fortran/app/*.f90 fortran/f2py
 VPY := $(VENV)/bin/python
 PIP := $(VPY) -m pip --disable-pip-version-check
 PY_STAMP := $(VENV)/.ringlube-installed
-PY_SOURCES := $(wildcard fortran/src/*.f90 fortran/src/*.f90.in fortran/f2py/*.f90 pydriver/ringlube/*.py \
+PY_SOURCES := $(wildcard fortran/src/*.f90 fortran/src/*.f90.in fortran/f2py/*.f90 pydriver/ringlube/*.py pydriver/ringlube/*/*.py \
                 inputs/*.nml inputs/*.md inputs/pressure/*.csv) pyproject.toml CMakeLists.txt
 
 # Prints [build-system] requires of pyproject.toml, one a line (tomllib from Python 3.11,

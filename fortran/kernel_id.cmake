@@ -3,7 +3,7 @@
 # Run as a build step (CMakeLists.txt) whenever a kernel source changes:
 #   cmake -DSOURCES="a.f90|b.f90" -DEXTRA="GNU 12.2.0 -O3" -DOUT=kernel_id.f90 -P kernel_id.cmake
 # A study records the id it was run with and refuses to resume under another kernel
-# (pydriver/ringlube/study_store.py): its surfaces would mix two models. Comments count too:
+# (pydriver/ringlube/study/store.py): its surfaces would mix two models. Comments count too:
 # the hash does not know which edits change numbers.
 string(REPLACE "|" ";" SOURCES "${SOURCES}")
 set(all "${EXTRA}")

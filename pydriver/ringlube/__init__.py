@@ -58,8 +58,8 @@ if _is_the_command():
 from . import gas, oil  # noqa: E402
 from ._version import __version__, kernel_id  # noqa: E402
 from .case import GROUPS, Case  # noqa: E402
-from .case_kernel import UnusedInputWarning  # noqa: E402
-from .case_origins import SourceEngineDefaultWarning  # noqa: E402
+from .case.kernel import UnusedInputWarning  # noqa: E402
+from .case.origins import SourceEngineDefaultWarning  # noqa: E402
 from .errors import InputError, NotConvergedError, RinglubeError  # noqa: E402
 from .result import Comparison, CycleResult, compare, load  # noqa: E402
 from .solve import BatchError, run, run_designs, run_many  # noqa: E402

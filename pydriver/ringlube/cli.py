@@ -64,9 +64,9 @@ def _one_line_warnings() -> None:
     source)."""
     import warnings
 
-    from .case_kernel import UnusedInputWarning
-    from .case_origins import SourceEngineDefaultWarning
-    from .study_constraints import UnconvergedReferenceWarning
+    from .case.kernel import UnusedInputWarning
+    from .case.origins import SourceEngineDefaultWarning
+    from .study.bounds import UnconvergedReferenceWarning
 
     show = warnings.showwarning
     if getattr(show, "_ringlube", False):

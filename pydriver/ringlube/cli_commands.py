@@ -114,7 +114,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 def _cmd_gas(args: argparse.Namespace) -> int:
     from . import gas
-    from .gas_model import range_problem
+    from .gas import range_problem
 
     given = {f: getattr(args, f) for f in gas.OPTIONS if hasattr(args, f)}
     output, folder = getattr(args, "output", None), getattr(args, "out", None)
@@ -192,7 +192,7 @@ def _gas_options(message: str) -> str:
 
 def _cmd_show(args: argparse.Namespace) -> int:
     from .case import Case
-    from .case_text import _format
+    from .case.text import format_value
 
     case = Case.from_namelist(args.deck)
     rows = case.effective_inputs()
@@ -204,7 +204,7 @@ def _cmd_show(args: argparse.Namespace) -> int:
     for r in rows:
         unit = {"1": "", "(unit)": f"[{tension_unit}]"}.get(r.unit, f"[{r.unit}]" if r.unit else "")
         group = f"{'&' + r.group:<11} "  # a blank after the longest, '&calibration'
-        print(f"{group}{r.name:<25}{r.origin:<18}{_format(r.value)} {unit}".rstrip())
+        print(f"{group}{r.name:<25}{r.origin:<18}{format_value(r.value)} {unit}".rstrip())
     case.validate()  # its warnings: source-engine defaults, inputs the case does not use
     return 0
 
@@ -229,7 +229,13 @@ def _cmd_convergence(args: argparse.Namespace) -> int:
 
 
 def _cmd_calibrate(args: argparse.Namespace) -> int:
-    from .calibrate import calibrate, cold_targets, correlation, strip_calibrated, write_calibration
+    from .calibrate import (
+        calibrate,
+        cold_targets,
+        correlation,
+        strip_calibrated,
+        write_calibration,
+    )
     from .case import Case
     from .outputs import check_output
     from .targets import DEFAULT_TARGETS
@@ -274,17 +280,17 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
 
 def _cmd_readings(args: argparse.Namespace) -> int:
-    from .readings_cli import run_args
+    from .readings.cli import run_args
 
     return run_args(args)
 
 
 def _cmd_optimise(args: argparse.Namespace) -> int:
+    import functools
     import signal
 
-    from .executor import check_where
-    from .study import run_study
-    from .study_summary import summary
+    from .executor import Executor, check_where
+    from .study import run_study, summary
 
     def terminate(signum, frame):  # a batch system's SIGTERM: save finished runs, then stop
         raise KeyboardInterrupt(f"signal {signum}")
@@ -294,12 +300,12 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
         _output_folder("--out", Path(args.out))
     signal.signal(signal.SIGTERM, terminate)
     args.interrupt_note = "; finished work is saved (run the same command to resume)"
+    # the executor made once the deck and study file are checked (a Dask cluster starts then)
+    where = functools.partial(Executor, scheduler=args.scheduler, workers=args.workers, serial=args.serial)
     study = run_study(
         args.study,
         args.out,
-        scheduler=args.scheduler,
-        workers=args.workers,
-        serial=args.serial,
+        executor=where,
         with_direct=args.direct,
         progress=not args.quiet,
         restart=args.restart,

@@ -122,8 +122,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     import dataclasses
 
-    from .gas import OPTIONS as gas_options, GasModel
-    from .gas_model import HEAT_TRANSFER
+    from .gas import HEAT_TRANSFER, OPTIONS as gas_options, GasModel
 
     defaults = {f.name: f.default for f in dataclasses.fields(GasModel)}
     for field, (option, help_text) in gas_options.items():
@@ -196,7 +195,7 @@ def _parser() -> argparse.ArgumentParser:
         description="Fit every reading (film model x contact area x tension unit) to the cold "
         "Table 2 case and the published trends; write docs/readings.md.",
     )
-    from .readings_cli import add_arguments as readings_arguments
+    from .readings.cli import add_arguments as readings_arguments
 
     readings_arguments(p)
     p = _command(

@@ -63,11 +63,11 @@ def grade(name: str) -> Grade:
     (10.9, (9.3, 12.5), 64.85)
     """
     from . import _kernel
-    from .case_kernel import _text
+    from .case.kernel import kernel_text
 
     kv40, kv100, lo, hi, code, message = _kernel.rl_grade(name.encode())
     if code:
-        raise InputError(f"&lubricant grade: {_text(message)}")
+        raise InputError(f"&lubricant grade: {kernel_text(message)}")
     return Grade(float(kv40), float(kv100), float(lo), float(hi))
 
 

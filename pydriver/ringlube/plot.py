@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import matplotlib
 
@@ -14,7 +15,10 @@ import numpy as np  # noqa: E402
 
 from .errors import InputError  # noqa: E402
 from .outputs import check_output, save_figure  # noqa: E402
-from .result import CycleResult  # noqa: E402
+from .plot_axes import crank_axis, result_label  # noqa: E402
+
+if TYPE_CHECKING:
+    from .result import CycleResult
 
 __all__ = [
     "friction_figure",
@@ -51,34 +55,6 @@ def save_metadata(fmt: str) -> dict:
     return _METADATA.get(fmt, {})
 
 
-_STROKES = (("intake", 90), ("compression", 270), ("expansion", 450), ("exhaust", 630))
-_CENTRES = ((0, "TDC"), (180, "BDC"), (360, "TDC\nfiring"), (540, "BDC"), (720, "TDC"))
-
-
-def _crank_axis(ax: plt.Axes) -> None:
-    ax.set_xlim(0, 720)
-    ax.set_xticks([c for c, _ in _CENTRES])
-    ax.set_xticklabels([f"{c}\n{n}" for c, n in _CENTRES], fontsize=8)
-    ax.set_xlabel("crank angle [deg]")
-    for c, _ in _CENTRES[1:-1]:
-        ax.axvline(c, color="0.8", lw=0.8, zorder=0)
-    for name, mid in _STROKES:
-        ax.text(
-            mid,
-            1.01,
-            name,
-            transform=ax.get_xaxis_transform(),
-            ha="center",
-            va="bottom",
-            fontsize=8,
-            color="0.35",
-        )
-
-
-def _label(r: CycleResult, i: int) -> str:
-    return r.label or f"result {i + 1}"
-
-
 def friction_figure(results: Sequence[CycleResult]) -> plt.Figure:
     """Friction over the cycle with its viscous and boundary parts (study Figs 3, 5, 11b).
 
@@ -104,11 +80,16 @@ def friction_figure(results: Sequence[CycleResult]) -> plt.Figure:
             r.crank_angle_deg,
             r.friction,
             lw=1.4,
-            label=f"{_label(r, i)}: total ({r.energy_loss:.3f} J/cycle)",
+            label=f"{result_label(r, i)}: total ({r.energy_loss:.3f} J/cycle)",
         )
         for part, y, ls in (("viscous", r.viscous_friction, "--"), ("boundary", r.boundary_friction, ":")):
             ax.plot(
-                r.crank_angle_deg, y, lw=0.9, ls=ls, color=line.get_color(), label=f"{_label(r, i)}: {part}"
+                r.crank_angle_deg,
+                y,
+                lw=0.9,
+                ls=ls,
+                color=line.get_color(),
+                label=f"{result_label(r, i)}: {part}",
             )
     ax.axhline(0, color="k", lw=0.6)
     ax.set_ylabel("friction on the ring [N]\n(positive: towards the crankcase)")
@@ -117,7 +98,7 @@ def friction_figure(results: Sequence[CycleResult]) -> plt.Figure:
         "positive on upstrokes, negative on downstrokes)",
         fontsize=9,
     )
-    _crank_axis(ax)
+    crank_axis(ax)
     ax.legend(fontsize=7, ncol=1 if len(results) == 1 else 2, loc="lower left")
     return fig
 
@@ -147,7 +128,7 @@ def film_figure(results: Sequence[CycleResult]) -> plt.Figure:
             r.crank_angle_deg,
             r.lambda_min * r.sigma * 1e6,
             lw=1.4,
-            label=f"{_label(r, i)} (mixed {r.mixed_share:.1f} % of the cycle)",
+            label=f"{result_label(r, i)} (mixed {r.mixed_share:.1f} % of the cycle)",
         )
     sigmas = sorted({r.sigma for r in results})
     for s in sigmas:
@@ -162,7 +143,7 @@ def film_figure(results: Sequence[CycleResult]) -> plt.Figure:
         )
     ax.set_ylabel(r"minimum film thickness [$\mu$m]")
     ax.set_ylim(bottom=0)
-    _crank_axis(ax)
+    crank_axis(ax)
     ax.legend(fontsize=8, loc="upper right")
     return fig
 
@@ -188,7 +169,7 @@ def overlay_figure(results: Sequence[CycleResult], labels: Sequence[str] | None 
     >>> len(overlay_figure([r, r], ["a", "b"]).axes)
     3
     """
-    labels = [_label(r, i) for i, r in enumerate(results)] if labels is None else list(labels)
+    labels = [result_label(r, i) for i, r in enumerate(results)] if labels is None else list(labels)
     fig, axes = plt.subplots(3, 1, figsize=(8, 8), sharex=True, layout="constrained")
     for r, name in zip(results, labels):
         (line,) = axes[0].plot(r.crank_angle_deg, r.friction, lw=1.2, label=name)
@@ -206,7 +187,7 @@ def overlay_figure(results: Sequence[CycleResult], labels: Sequence[str] | None 
     axes[2].set_ylabel(r"film thickness $h_0$ [$\mu$m]")
     axes[2].set_yscale("log")  # a ring that lifts off (h0_ceiling) beside microns
     for ax in axes:
-        _crank_axis(ax)
+        crank_axis(ax)
         ax.legend(fontsize=7, loc="upper right")
     for ax in axes[:-1]:
         ax.set_xlabel("")
@@ -236,13 +217,13 @@ def supply_figure(results: Sequence[CycleResult]) -> plt.Figure:
     for i, r in enumerate(results):
         if "inlet_fill" not in r.series:
             continue
-        ax1.plot(r.crank_angle_deg, r.inlet_fill, lw=1.2, label=_label(r, i))
-        ax2.plot(r.crank_angle_deg, r.wetted_width * 1e3, lw=1.2, label=_label(r, i))
+        ax1.plot(r.crank_angle_deg, r.inlet_fill, lw=1.2, label=result_label(r, i))
+        ax2.plot(r.crank_angle_deg, r.wetted_width * 1e3, lw=1.2, label=result_label(r, i))
     ax1.set_ylabel("inlet fill theta_in [-]")
     ax1.set_ylim(-0.05, 1.05)
     ax2.set_ylabel("wetted (full-film) width [mm]")
     ax2.set_ylim(bottom=0)
-    _crank_axis(ax2)
+    crank_axis(ax2)
     if ax1.lines:
         ax1.legend(fontsize=8, loc="lower right")
     return fig
@@ -273,7 +254,7 @@ def ring_pack_figure(results: Sequence[CycleResult]) -> plt.Figure:
     for i, r in enumerate(results):
         if "groove_pressure" not in r.series:
             continue
-        tag = _label(r, i)
+        tag = result_label(r, i)
         (line,) = ax1.plot(r.crank_angle_deg, r.gas_pressure / 1e5, lw=1.0, label=f"{tag} p1 chamber")
         for part, p, ls in (("p2 groove", r.groove_pressure, "--"), ("p3 land", r.land_pressure, ":")):
             ax1.plot(r.crank_angle_deg, p / 1e5, lw=1.2, ls=ls, color=line.get_color(), label=f"{tag} {part}")
@@ -295,7 +276,7 @@ def ring_pack_figure(results: Sequence[CycleResult]) -> plt.Figure:
     ax1.set_yscale("log")
     ax2.set_ylabel("ring lift above the lower flank [um]")
     ax3.set_ylabel("gas flow [g/s], + towards crankcase")
-    _crank_axis(ax3)
+    crank_axis(ax3)
     for ax in (ax1, ax3):
         if ax.lines:
             ax.legend(fontsize=7, loc="upper right")
@@ -330,7 +311,7 @@ def liner_figure(results: Sequence[CycleResult]) -> plt.Figure:
             r.liner["liner_position"] * 1e3,
             r.liner["liner_oil_film"] * 1e6,
             lw=1.2,
-            label=f"{_label(r, i)} ({r.oil_to_chamber:.3g} mm$^3$ per cycle to the chamber)",
+            label=f"{result_label(r, i)} ({r.oil_to_chamber:.3g} mm$^3$ per cycle to the chamber)",
         )
     ax.set_xlabel("liner position from the top ring at TDC [mm] (towards the crankcase)")
     ax.set_ylabel(r"oil film on the liner [$\mu$m]")
@@ -424,7 +405,7 @@ def _bore_kinds(results: Sequence[CycleResult], angles: Sequence[float] | None) 
     # (copies labelled as in the other figures: "result 2" is the second result in each)
     bores = [copy.copy(r) for r in results if r.distorted]
     for r, i in zip(bores, [i for i, r in enumerate(results) if r.distorted]):
-        r.label = _label(r, i)
+        r.label = result_label(r, i)
     if not bores:
         if angles is not None:
             raise InputError(
@@ -442,7 +423,9 @@ def _bore_kinds(results: Sequence[CycleResult], angles: Sequence[float] | None) 
 
 def _gas_of_results(results: Sequence[CycleResult]) -> plt.Figure:
     """The gas pressure of each result over its cycle (:func:`gas_figure`)."""
-    return gas_figure({_label(r, i): (r.crank_angle_deg, r.gas_pressure) for i, r in enumerate(results)})
+    return gas_figure(
+        {result_label(r, i): (r.crank_angle_deg, r.gas_pressure) for i, r in enumerate(results)}
+    )
 
 
 def gas_figure(traces: dict[str, tuple[np.ndarray, np.ndarray]]) -> plt.Figure:
@@ -470,6 +453,6 @@ def gas_figure(traces: dict[str, tuple[np.ndarray, np.ndarray]]) -> plt.Figure:
         ax.plot(psi, p / 1e5, lw=1.4, label=f"{label} (peak {p[i] / 1e5:.1f} bar at {psi[i]:.1f} deg)")
     ax.set_ylabel("gas pressure [bar abs]")
     ax.set_ylim(bottom=0)
-    _crank_axis(ax)
+    crank_axis(ax)
     ax.legend(fontsize=8)
     return fig

@@ -6,6 +6,7 @@ result that has a distorted bore; a round bore's result is refused with a messag
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import matplotlib
 
@@ -15,9 +16,11 @@ import numpy as np  # noqa: E402
 from matplotlib.colors import LogNorm  # noqa: E402
 
 from .errors import InputError  # noqa: E402
-from .plot import _crank_axis, _label  # noqa: E402
-from .result import CycleResult  # noqa: E402
+from .plot_axes import crank_axis, result_label  # noqa: E402
 from .tables import FLAGS  # noqa: E402
+
+if TYPE_CHECKING:
+    from .result import CycleResult
 
 __all__ = ["POLAR_ANGLES", "bore_polar_figure", "bore_map_figure", "face_flow_figure", "crank_angles"]
 
@@ -37,7 +40,7 @@ def _distorted(results: Sequence[CycleResult], what: str) -> list[tuple[int, Cyc
     for i, r in enumerate(results):
         if not getattr(r, "distorted", False):
             raise InputError(
-                f"{what}: '{_label(r, i)}' has a round bore (no sectors); it needs a run with "
+                f"{what}: '{result_label(r, i)}' has a round bore (no sectors); it needs a run with "
                 "&physics bore = 'distorted' and a &bore group (docs/bore.md)"
             )
     return list(enumerate(results))
@@ -168,7 +171,7 @@ def bore_polar_figure(results: Sequence[CycleResult], angles: Sequence[float] = 
             k = s[n]
             theta, gap = _ring_outline(r, k)
             c = colours[i % len(colours)]
-            ax.plot(theta, gap, lw=1.2, color=c, label=_label(r, i))
+            ax.plot(theta, gap, lw=1.2, color=c, label=result_label(r, i))
             ax.plot(np.deg2rad(r.sector_angle_deg), r.sector_h0[k] * 1e6, "o", ms=2.5, color=c)
         full = np.linspace(0, 2 * np.pi, 181)
         for sg in sigmas:
@@ -186,7 +189,7 @@ def bore_polar_figure(results: Sequence[CycleResult], angles: Sequence[float] = 
         ax.set_visible(False)
     handles = [axes.flat[0].lines[2 * j] for j in range(len(rs))]
     handles.append(axes.flat[0].lines[2 * len(rs)])
-    names = [_label(r, i) for i, r in rs] + [r"4 $\sigma$: mixed/boundary inside"]
+    names = [result_label(r, i) for i, r in rs] + [r"4 $\sigma$: mixed/boundary inside"]
     fig.legend(handles, names, loc="outside lower center", ncol=min(4, len(names)), fontsize=8)
     fig.suptitle(
         r"Film/gap $h_0$ of each sector around the bore [$\mu$m, log radius] at chosen crank angles"
@@ -243,12 +246,12 @@ def bore_map_figure(results: Sequence[CycleResult]) -> plt.Figure:
         ax.set_yticks(np.arange(0, 361, 90))
         ax.set_ylim(y_edges[0], y_edges[-1])
         ax.set_title(
-            f"{_label(r, i)}: {m} sectors; light gaps {r.light_gap_share:.1f} % of sector-steps, "
+            f"{result_label(r, i)}: {m} sectors; light gaps {r.light_gap_share:.1f} % of sector-steps, "
             f"conformability {r.conformability:.2f}",
             fontsize=9,
             pad=14,
         )
-        _crank_axis(ax)
+        crank_axis(ax)
     for ax in axes[:-1, 0]:
         ax.set_xlabel("")
     bar = fig.colorbar(mesh, ax=axes[:, 0], shrink=0.9)
@@ -287,7 +290,7 @@ def face_flow_figure(results: Sequence[CycleResult]) -> plt.Figure:
     rs = _distorted(results, "face flow figure")
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True, layout="constrained")
     for i, r in rs:
-        tag = _label(r, i)
+        tag = result_label(r, i)
         (line,) = ax1.plot(
             r.crank_angle_deg,
             r.face_flow * 1e3,
@@ -318,7 +321,7 @@ def face_flow_figure(results: Sequence[CycleResult]) -> plt.Figure:
     ax2.set_yscale("log")
     ax2.set_ylabel(r"film/gap $h_0$ of the sectors [$\mu$m]")
     for ax in (ax1, ax2):
-        _crank_axis(ax)
+        crank_axis(ax)
         ax.legend(fontsize=7, loc="upper right")
     ax1.set_xlabel("")
     return fig

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from .case import Case
-from .case_kernel import _text, kernel_case
+from .case.kernel import kernel_case, kernel_text
 from .errors import InputError, NotConvergedError, RinglubeError, error_for
 from .result import CycleResult
 from .tables import INT_SERIES, LINER, MODELS, SCALARS, SECTORS, SERIES
@@ -144,7 +144,7 @@ def run(
             psi, p = _trace_arrays(trace)
             code, message = _kernel.rl_set_trace(k.handle, psi, p)
             if code:
-                raise error_for(code, _text(message))
+                raise error_for(code, kernel_text(message))
         series, iseries, scalars, liner, sectors, orders, conform, models, code, message = _kernel.rl_run(
             k.handle,
             out,
@@ -161,12 +161,12 @@ def run(
         if code == INTERRUPTED:  # Ctrl-C: the kernel stopped within a crank step, wrote nothing
             raise KeyboardInterrupt
         if code:
-            raise error_for(code, _text(message))
+            raise error_for(code, kernel_text(message))
         pressure_file, _, _ = _kernel.rl_get(k.handle, b"operating", b"pressure_file")
         calibration_file, _, _ = _kernel.rl_get(k.handle, b"calibration", b"file")
         deck = _kernel.rl_deck_text(k.handle, _kernel.rl_deck_length(k.handle))
     # the rows of the tables the run produced: those whose `requires` the kernel names
-    made = {"", *_text(models).split()}
+    made = {"", *kernel_text(models).split()}
     data = {**_columns(SERIES, series, made), **_columns(INT_SERIES, iseries, made)}
     scal = {k: float(v) for (k, s), v in zip(SCALARS.items(), scalars) if s.requires in made}
     lin = _columns(LINER, liner, made)
@@ -182,9 +182,9 @@ def run(
         conformability_by_order=conf,
         deck=deck.astype("u1").tobytes().decode("utf-8", errors="replace"),
         deck_path=name,
-        pressure_file=_text(pressure_file),
+        pressure_file=kernel_text(pressure_file),
         label=case.name,
-        calibration_file=_text(calibration_file),
+        calibration_file=kernel_text(calibration_file),
         path=Path(os.fsdecode(out)) if out else None,
     )
     if strict and not result.converged:
@@ -302,7 +302,7 @@ def run_designs(
         raise KeyboardInterrupt
     for i, code in enumerate(codes):
         if code:
-            errors[i] = _text(messages[i]) or f"design {i}: error code {int(code)}"
+            errors[i] = kernel_text(messages[i]) or f"design {i}: error code {int(code)}"
             continue
         values[i] = out[i, cols]
         converged[i] = SCALARS["converged"].value(out[i, names.index("converged")])

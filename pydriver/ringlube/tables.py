@@ -82,7 +82,7 @@ class InputSpec:
         """The default as a Python value (None where a preset sets it)."""
         if self.default == "(preset)":
             return PRESETS["default"].get(self.name)
-        return _value(self.kind, self.default)
+        return typed_value(self.kind, self.default)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -170,9 +170,11 @@ def _rows(which: str) -> list[list[str]]:
     return [line.split("\t") for line in lines[1:] if line]
 
 
-def _value(kind: str, text: str):
+def typed_value(kind: str, text: str):
+    """A value of the kernel's tables as Python: ``kind`` 'real', 'integer', 'logical' (a
+    list of them with ``_list``), else the text."""
     if kind.endswith("_list"):
-        return [_value(kind[: -len("_list")], t) for t in text.replace(",", " ").split()]
+        return [typed_value(kind[: -len("_list")], t) for t in text.replace(",", " ").split()]
     if kind == "real":
         return float(text.replace("d", "e").replace("D", "e"))
     if kind == "integer":
@@ -192,7 +194,7 @@ def _load():
     presets: dict[str, dict] = {}
     for preset, name, value in _rows("presets"):
         kind = inputs["numerics", name].kind
-        presets.setdefault(preset, {})[name] = _value(kind, value)
+        presets.setdefault(preset, {})[name] = typed_value(kind, value)
 
     def fields(which):
         return {r[0]: FieldSpec(*r[:6], r[6] == "1", r[7] == "1") for r in _rows(which)}
@@ -320,45 +322,3 @@ def results_markdown() -> str:
     ]
     lines += ["", "Bits of `/cycle/flags`: " + "; ".join(f"{b}: {d}" for b, d in FLAG_BITS.items()) + "."]
     return "\n".join(lines)
-
-
-_MARK = "<!-- {} {} (generated from {}: python -m ringlube.docgen) -->"
-
-
-def _study_markdown() -> str:
-    from .study_table import study_markdown
-
-    return study_markdown()
-
-
-#: The generated sections of the docs: name -> (where the text comes from, its maker).
-_SECTIONS = {
-    "inputs": ("the kernel's tables", inputs_markdown),
-    "results": ("the kernel's tables", results_markdown),
-    "study": ("the &study table", _study_markdown),
-}
-
-
-def update_doc(path: str, write: bool = True) -> bool:
-    """Replace the generated sections of a Markdown file (those it marks: the kernel's input
-    and result tables, the ``&study`` table); returns True if it was current."""
-    from pathlib import Path
-
-    p = Path(path)
-    text = p.read_text(encoding="utf-8")
-    new = text
-    found = []
-    for name, (source, make) in _SECTIONS.items():
-        begin, end = _MARK.format("BEGIN", name, source), _MARK.format("END", name, source)
-        if begin not in new and end not in new:
-            continue
-        if begin not in new or end not in new:
-            raise ValueError(f"{path}: '{begin}' without its '{end}' (or the other way round)")
-        a, b = new.index(begin) + len(begin), new.index(end)
-        new = new[:a] + "\n" + make() + "\n" + new[b:]
-        found.append(name)
-    if not found:
-        raise ValueError(f"{path}: no generated section (known: {', '.join(_SECTIONS)})")
-    if write and new != text:
-        p.write_text(new, encoding="utf-8")
-    return new == text

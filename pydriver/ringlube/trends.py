@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .study_variables import DESIGN_RANGES
+from .study.variables import DESIGN_RANGES
 
 __all__ = ["Trend", "TRENDS", "FAILED_MEASURE", "trend_verdicts", "trend_measures"]
 

@@ -30,7 +30,7 @@ def dump(out: str) -> None:
     import os
 
     import ringlube
-    from ringlube.study_deck import read_study
+    from ringlube.study.deck import read_study
 
     out = os.path.abspath(out)
     os.chdir(ROOT)

@@ -24,7 +24,7 @@ import numpy as np
 from scipy.stats import qmc
 
 import ringlube
-from ringlube.study_variables import DESIGN_RANGES
+from ringlube.study.variables import DESIGN_RANGES
 
 ROOT = Path(__file__).resolve().parents[2]
 COLD = ROOT / "inputs" / "crf450r_4000rpm_full_cold.nml"

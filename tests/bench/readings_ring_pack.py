@@ -3,7 +3,7 @@
 shipped calibration, not re-fitted: Table 2 cold and hot, the four published trends on the cold
 case at 5 points each) run with `&physics ring_pack` 'none' and 'gas' on the shipped decks
 inputs/crf450r_4000rpm_full_cold.nml and inputs/crf450r_4000rpm_full_hot.nml, through
-`ringlube.validate_compute.reading_rows` with `Case.with_physics(ring_pack=...)`. Prints the
+`ringlube.validate.compute.reading_rows` with `Case.with_physics(ring_pack=...)`. Prints the
 table in markdown (each cell 'none / gas'), then the range of the blowby and of the ring's lift
 share over the 'gas' cold and hot runs, and which trends each reading does not give. Nothing is
 written. Run from the project folder (run time: docs/performance.md, "Run times"):
@@ -14,7 +14,7 @@ written. Run from the project folder (run time: docs/performance.md, "Run times"
 from pathlib import Path
 
 from ringlube import Case
-from ringlube.validate_compute import reading_rows
+from ringlube.validate.compute import reading_rows
 
 ROOT = Path(__file__).resolve().parents[2]
 DECKS = {

@@ -290,8 +290,8 @@ def test_study_draws_the_knee_of_a_distorted_case(runs, tmp_path, monkeypatch):
     from types import SimpleNamespace
 
     import ringlube.plot_bore as pb
-    from ringlube.study_figures import bore_figures
-    from ringlube.study_report import output_names
+    from ringlube.study.figures import bore_figures
+    from ringlube.study.report import output_names
 
     drawn = []
     map_figure = pb.bore_map_figure

@@ -122,8 +122,8 @@ def test_a_study_marks_designs_near_a_change_of_state():
     # the designs below a threshold, or whose re-run at 'accurate' took the other sign
     from types import SimpleNamespace
 
-    from ringlube.study_format import BRANCH_RISK, branch_risks
-    from ringlube.study_report import branch_risk_lines
+    from ringlube.study.format import BRANCH_RISK, branch_risks
+    from ringlube.study.report import branch_risk_lines
 
     study = SimpleNamespace(s=SimpleNamespace(outputs=["energy_loss", "lift_margin", "seal_margin"]))
     knee = np.array([1.0, -0.0037, 0.5])

@@ -7,8 +7,10 @@ import numpy as np
 import pytest
 from scipy.optimize import OptimizeResult
 
-from ringlube import calibrate as cal, readings as rd, trends, validate_compute as vc
-from ringlube.calibrator import Param, calibrate_inputs, start_design
+from ringlube import calibrate as cal, trends
+from ringlube.calibrate.calibrator import Param, calibrate_inputs, start_design
+from ringlube.readings import reading as rd
+from ringlube.validate import compute as vc
 
 FIELDS = ("x", "u", "fun", "score", "nfev", "nit", "status", "message", "success", "active_mask")
 

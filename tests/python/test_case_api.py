@@ -10,7 +10,7 @@ import pytest
 
 import ringlube
 from ringlube import Case, InputError, SourceEngineDefaultWarning
-from ringlube.case_origins import SOURCE_ENGINE_INPUTS
+from ringlube.case.origins import SOURCE_ENGINE_INPUTS
 from ringlube.cli import main
 from ringlube.tables import GROUPS, INPUTS, PRESETS
 

@@ -1,5 +1,5 @@
 """One deck parser (issue 19, item 3): the kernel's scanner exported as ``rl_items``
-(:mod:`ringlube.deck_items`) reads kernel decks, calibration files and ``&study`` decks."""
+(:mod:`ringlube.case.items`) reads kernel decks, calibration files and ``&study`` decks."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import pytest
 
 import ringlube
 from ringlube import InputError
-from ringlube.case_text import _format
-from ringlube.deck_items import items, python_value
+from ringlube.case.items import items, python_value
+from ringlube.case.text import format_value
 
 from conftest import COLD, INPUTS
 
@@ -44,7 +44,7 @@ def test_rl_items_round_trips_every_shipped_deck(deck):
     assert first and _key(again) == _key(first)
     text = deck.read_text().splitlines()
     for it in first:  # each item's line holds its value (as written, quoted or not)
-        written = _format(it.value) if it.quoted else it.value
+        written = format_value(it.value) if it.quoted else it.value
         assert written.replace("''", "'") in text[it.line - 1].replace("''", "'"), (it, text[it.line - 1])
 
 
@@ -161,7 +161,7 @@ def _study(tmp_path, body: str):
     ],
 )
 def test_study_errors_carry_file_line_group_and_variable(tmp_path, body, message):
-    from ringlube.study_deck import read_study
+    from ringlube.study.deck import read_study
 
     with pytest.raises(InputError, match=message) as exc:
         read_study(_study(tmp_path, body))
@@ -169,8 +169,8 @@ def test_study_errors_carry_file_line_group_and_variable(tmp_path, body, message
 
 
 def test_study_table_drives_the_settings_and_the_docs():
-    from ringlube.study_settings import StudySettings
-    from ringlube.study_table import STUDY, study_markdown
+    from ringlube.study.settings import StudySettings
+    from ringlube.study.table import STUDY, study_markdown
 
     fields = {f.name: f for f in dataclasses.fields(StudySettings)}
     for row in STUDY.values():
@@ -181,7 +181,7 @@ def test_study_table_drives_the_settings_and_the_docs():
 
 
 def test_optimisation_md_study_table_is_current():
-    from ringlube.tables import update_doc
+    from ringlube.docgen import update_doc
 
     from conftest import ROOT
 

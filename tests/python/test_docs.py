@@ -4,7 +4,8 @@ unit or result name changes and the doc was not regenerated."""
 
 from __future__ import annotations
 
-from ringlube.tables import INPUTS, update_doc
+from ringlube.docgen import update_doc
+from ringlube.tables import INPUTS
 
 from conftest import ROOT
 

@@ -15,7 +15,11 @@ import ringlube
 
 from conftest import ROOT
 
-MODULES = [m.name for m in pkgutil.iter_modules(ringlube.__path__) if not m.name.startswith("_")]
+MODULES = [
+    m.name.removeprefix("ringlube.")
+    for m in pkgutil.walk_packages(ringlube.__path__, "ringlube.")
+    if not any(part.startswith("_") for part in m.name.split("."))
+]
 #: the modules whose examples this file runs (the study and CLI modules' run in
 #: test_study_docstrings.py, in a folder of their own: each example runs once)
 EXAMPLES = [m for m in MODULES if f"ringlube.{m}" not in STUDY_MODULES]

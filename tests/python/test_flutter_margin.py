@@ -94,7 +94,7 @@ def test_no_gas_above_the_land_is_the_whole_inertia_force():
 
 
 def test_the_margin_is_a_study_constraint(tmp_path):
-    from ringlube.study_deck import read_study
+    from ringlube.study.deck import read_study
 
     deck = tmp_path / "s.nml"
     deck.write_text(

@@ -35,3 +35,20 @@ def test_read_csv_is_the_kernels_reader(tmp_path):
     bad.write_text("nan,1e5\n10,2e5\n720,1e5\n")
     with pytest.raises(InputError, match=r"nan\.csv: line 1: crank angle is not a finite number"):
         gas.read_csv(bad)
+
+
+def test_python_m_ringlube_gas_regenerates_a_shipped_trace(tmp_path):
+    """``python -m ringlube.gas --out DIR NAME`` (the command the traces' docstring gives)
+    writes the shipped trace's numbers."""
+    import subprocess
+    import sys
+
+    name = "crf450r_4000rpm_full"
+    out = subprocess.run(
+        [sys.executable, "-m", "ringlube.gas", "--out", str(tmp_path), name], capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr
+    psi, p = gas.read_csv(tmp_path / f"{name}.csv")
+    psi_f, p_f = gas.read_csv(INPUTS / "pressure" / f"{name}.csv")
+    np.testing.assert_array_equal(psi, psi_f)
+    np.testing.assert_array_equal(p, p_f)

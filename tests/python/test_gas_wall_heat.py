@@ -9,8 +9,9 @@ import shlex
 import numpy as np
 import pytest
 
-from ringlube import gas, gas_model
+from ringlube import gas
 from ringlube.cli import main
+from ringlube.gas import model as gas_model
 
 from conftest import ROOT
 

@@ -13,6 +13,7 @@ import pytest
 import ringlube
 from ringlube import InputError
 from ringlube.cli import main
+from ringlube.executor import Executor
 
 from conftest import COLD, INPUTS
 
@@ -119,15 +120,15 @@ def test_a_refused_resume_names_what_changed_and_restart(tmp_path):
 
     deck, out = _study(tmp_path / "m.nml"), tmp_path / "out"
     with pytest.raises(KeyboardInterrupt):
-        run_study(deck, out, serial=True, progress=False, figures=False, stop_after=2)
+        run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False, stop_after=2)
     _study(deck, samples=32)
     with pytest.raises(InputError) as e:
-        run_study(deck, out, serial=True, progress=False, figures=False)
+        run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False)
     assert "other samples (24, now 32)" in str(e.value) and "--restart" in str(e.value)
     assert "recorded" not in str(e.value) and "objectives" not in str(e.value)
     _study(deck, constraints="'fmep <= 100'")
     with pytest.raises(InputError) as e:
-        run_study(deck, out, serial=True, progress=False, figures=False)
+        run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False)
     assert "other recorded results (a constraint on a result" in str(e.value)
     assert "samples" not in str(e.value) and "objectives" not in str(e.value)
 
@@ -141,7 +142,7 @@ def test_a_refused_resume_names_what_changed_and_restart(tmp_path):
     ],
 )
 def test_a_text_input_as_a_study_variable_says_it_is_not_a_number(tmp_path, variable, takes):
-    from ringlube.study_deck import read_study
+    from ringlube.study.deck import read_study
 
     deck = _study(tmp_path / "m.nml").read_text().replace("'width', 'crown_offset'", f"'{variable}', 'width'")
     (tmp_path / "m.nml").write_text(
@@ -180,8 +181,6 @@ def test_a_value_of_100000_digits_reads_alike_in_every_front_end(tmp_path, solve
 
 
 def test_serial_and_scheduler_together_are_refused_before_any_work(tmp_path, capsys):
-    from ringlube.executor import Executor
-
     deck = _study(tmp_path / "m.nml")
     assert (
         main(
@@ -269,7 +268,7 @@ def test_no_gas_anywhere_is_a_defined_periodic_state():
 
 
 def test_a_surrogate_error_on_a_true_zero_is_a_difference_not_inf_or_nan():
-    from ringlube.study_format import surrogate_error
+    from ringlube.study.format import surrogate_error
 
     assert surrogate_error("energy_loss", 1.01, 1.0) == "+1.0%"
     assert surrogate_error("oil_to_chamber", -0.5, 0.0) == "-0.5 mm^3 (true 0)"
@@ -327,8 +326,8 @@ def test_unit_less_results_show_no_unit_1():
     and '> 0 1'."""
     from types import SimpleNamespace as NS
 
-    from ringlube.study_constraints import parse_constraint
-    from ringlube.study_format import _feasible_text, _values, with_unit
+    from ringlube.study.constraints import parse_constraint
+    from ringlube.study.format import _feasible_text, _values, with_unit
 
     assert _values(["flutter_events", "energy_loss"], [1.0, 2.5]) == "flutter_events 1, energy_loss 2.5 J"
     s = NS(parsed_constraints=[parse_constraint("flutter_events <= 0")], outputs=["flutter_events"])
@@ -343,10 +342,10 @@ def test_scene_weights_near_the_largest_float_do_not_overflow(tmp_path):
     other are refused by name."""
     from types import SimpleNamespace as NS
 
-    from ringlube.study_deck import read_study
-    from ringlube.study_runs import scene_results
-    from ringlube.study_settings import StudySettings
-    from ringlube.study_state import CaseState, Runs
+    from ringlube.study.deck import read_study
+    from ringlube.study.runs import scene_results
+    from ringlube.study.settings import StudySettings
+    from ringlube.study.state import CaseState, Runs
 
     def runs(v):
         ones = np.ones(2, bool)

@@ -13,7 +13,7 @@ from ringlube import InputError
 from ringlube.calibrate import cold_targets
 from ringlube.cli import main
 from ringlube.solve import run_designs
-from ringlube.study_deck import read_study
+from ringlube.study.deck import read_study
 from ringlube.targets import read_targets
 
 from conftest import COLD, INPUTS

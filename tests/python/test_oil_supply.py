@@ -14,7 +14,8 @@ import pytest
 
 import ringlube
 from ringlube import Case
-from ringlube.study_variables import DESIGN_RANGES
+from ringlube.executor import Executor
+from ringlube.study.variables import DESIGN_RANGES
 from ringlube.tables import FLAGS
 
 from conftest import COLD, HOT, per_length
@@ -182,7 +183,7 @@ def test_starved_needs_the_mass_conserving_film(cold):
         cold.with_physics(inlet="starved").validate()
 
 
-CORNERS = DESIGN_RANGES  # the study's design box (one home: ringlube.study_variables)
+CORNERS = DESIGN_RANGES  # the study's design box (one home: ringlube.study.variables)
 
 
 @pytest.mark.parametrize(
@@ -228,7 +229,7 @@ def test_study_trades_friction_against_oil_transport(tmp_path, cold):
     base deck, fitted and optimised; refused, naming the deck, where a base deck does not
     produce it."""
     from ringlube.study import run_study
-    from ringlube.study_deck import read_study
+    from ringlube.study.deck import read_study
 
     deck = tmp_path / "starved.nml"
     cold.with_physics(cavitation="jfo", inlet="starved").with_numerics(**FAST).to_namelist(deck)
@@ -241,7 +242,7 @@ def test_study_trades_friction_against_oil_transport(tmp_path, cold):
         "  samples = 24, sampler = 'sobol', seed = 3\n"
         "  population = 16, generations = 6, repeats = 2\n/\n"
     )
-    st = run_study(study, tmp_path / "out", serial=True, progress=False, figures=False)
+    st = run_study(study, tmp_path / "out", executor=Executor(serial=True), progress=False, figures=False)
     assert "oil_to_chamber" in st.s.outputs
     j = st.s.outputs.index("oil_to_chamber")
     oil = st.cases["cold"].runs.outputs[:, j]

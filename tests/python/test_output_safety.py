@@ -12,9 +12,10 @@ import pytest
 import ringlube
 from ringlube import InputError
 from ringlube.cli import main
+from ringlube.executor import Executor
 from ringlube.outputs import check_output, write_text
 from ringlube.study import run_study
-from ringlube.study_plots import save
+from ringlube.study.plots import save
 
 from conftest import COLD, INPUTS
 
@@ -82,7 +83,7 @@ def test_study_report_refuses_symlinked_output(tmp_path):
     (out / "report.md").symlink_to(deck)
     text = deck.read_text()
     with pytest.raises(InputError, match="report.md: is a symbolic link"):
-        run_study(deck, out, serial=True, progress=False, figures=False)
+        run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False)
     assert deck.read_text() == text
     assert not (out / "s.h5").exists()  # refused before the runs
 

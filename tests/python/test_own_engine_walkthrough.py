@@ -164,8 +164,8 @@ def test_own_engine_walkthrough(tmp_path, monkeypatch, capsys):
     assert [x.split(":")[0] for x in check] == ["reference", "min fmep", "min oil_to_chamber", "knee"]
     # the reference row is the deck's own ring, run as it stands
     import ringlube
-    from ringlube.study_deck import read_study
-    from ringlube.study_store import Study
+    from ringlube.study.deck import read_study
+    from ringlube.study.store import Study
 
     r = ringlube.run(ringlube.Case.from_namelist(root / "ring.nml"))
     settings = read_study(root / "study.nml")

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import ringlube
-from ringlube import readings as rd, readings_fit as rf, readings_report as rr
-from ringlube.calibrator import Param, calibrate_inputs, start_design
+from ringlube.calibrate.calibrator import Param, calibrate_inputs, start_design
+from ringlube.readings import fit as rf, reading as rd, report as rr
 from ringlube.trends import FAILED_MEASURE, TRENDS, trend_measures, trend_verdicts
 
 NAMES = [t.name for t in TRENDS]

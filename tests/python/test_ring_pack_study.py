@@ -8,8 +8,9 @@ import re
 
 import numpy as np
 
+from ringlube.executor import Executor
 from ringlube.study import run_study
-from ringlube.study_deck import read_study
+from ringlube.study.deck import read_study
 
 from conftest import INPUTS
 
@@ -44,7 +45,7 @@ def test_shipped_ring_pack_study_reads():
 
 def test_ring_pack_study_runs_at_tiny_sizes(tmp_path):
     out = tmp_path / "out"
-    study = run_study(tiny_deck(tmp_path), out, serial=True, progress=False, figures=False)
+    study = run_study(tiny_deck(tmp_path), out, executor=Executor(serial=True), progress=False, figures=False)
     s = study.s
     jb, jl = s.outputs.index("blowby"), s.outputs.index("ring_lift_share")
     ref = {k: study.cases[k].reference.f_true[0] for k in ("r4000", "r8000", "r12000")}

@@ -15,13 +15,13 @@ import pytest
 
 import ringlube
 from ringlube import Case
-from ringlube.study_variables import DESIGN_RANGES
+from ringlube.study.variables import DESIGN_RANGES
 
 from conftest import COLD, INPUTS
 
 SPEEDS = (500, 3000, 8000, 14000)
 TEMPERATURES = (253.0, 348.0, 391.0, 423.0)
-CORNERS = DESIGN_RANGES  # the study's design box (one home: ringlube.study_variables)
+CORNERS = DESIGN_RANGES  # the study's design box (one home: ringlube.study.variables)
 
 
 def _base() -> Case:

@@ -17,10 +17,10 @@ import ringlube
 from ringlube.case import Case
 from ringlube.executor import Executor
 from ringlube.study import run_study
-from ringlube.study_deck import read_study
-from ringlube.study_runs import run_samples, sample
-from ringlube.study_store import Study
-from ringlube.surrogate import fit_quadratic, quadratic_features
+from ringlube.study.deck import read_study
+from ringlube.study.runs import run_samples, sample
+from ringlube.study.store import Study
+from ringlube.study.surrogate import fit_quadratic, quadratic_features
 
 from conftest import INPUTS
 
@@ -61,7 +61,9 @@ def test_small_study_end_to_end(tmp_path):
     deck = write_study(
         tmp_path, name="e2e", samples=40, cases=("cold", "hot"), scene=".true.", weights="3.0, 1.0"
     )
-    study = run_study(deck, tmp_path / "out", serial=True, with_direct=True, progress=False)
+    study = run_study(
+        deck, tmp_path / "out", executor=Executor(serial=True), with_direct=True, progress=False
+    )
     s = study.s
     with h5py.File(study.path) as f:
         assert f["samples/x"].shape == (40, 4)
@@ -115,16 +117,16 @@ def test_resume_reruns_nothing_that_finished(tmp_path):
     deck = write_study(tmp_path, name="resume", samples=40)
     out = tmp_path / "out"
     with pytest.raises(KeyboardInterrupt):
-        run_study(deck, out, serial=True, progress=False, figures=False, stop_after=12)
+        run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False, stop_after=12)
     with h5py.File(out / "resume.h5") as f:
         done_before = int(f["cases/cold/runs/done"][()].sum())
     assert 12 <= done_before < 40
-    study = run_study(deck, out, serial=True, progress=False, figures=False)
+    study = run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False)
     assert study.runs_executed == 40 - done_before
-    again = run_study(deck, out, serial=True, progress=False, figures=False)
+    again = run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False)
     assert again.runs_executed == 0
     # and the results equal an uninterrupted study
-    fresh = run_study(deck, tmp_path / "fresh", serial=True, progress=False, figures=False)
+    fresh = run_study(deck, tmp_path / "fresh", executor=Executor(serial=True), progress=False, figures=False)
     np.testing.assert_array_equal(again.objectives("cold"), fresh.objectives("cold"))
 
 

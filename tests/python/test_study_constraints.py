@@ -11,13 +11,15 @@ import pytest
 import ringlube
 from ringlube.case import Case
 from ringlube.errors import InputError
+from ringlube.executor import Executor
 from ringlube.solve import run_designs
 from ringlube.study import run_study
-from ringlube.study_constraints import feasibility, parse_constraint
-from ringlube.study_deck import read_study
-from ringlube.study_figures import tradeoff_stems
-from ringlube.study_sure import UNCERTAIN
-from ringlube.study_surfaces import surfaces_of
+from ringlube.study.bounds import feasibility
+from ringlube.study.constraints import parse_constraint
+from ringlube.study.deck import read_study
+from ringlube.study.figures import tradeoff_stems
+from ringlube.study.sure import UNCERTAIN
+from ringlube.study.surfaces import surfaces_of
 
 from conftest import INPUTS
 
@@ -89,7 +91,7 @@ def constrained(tmp_path_factory):
     """Two objectives, a bound by the reference ring and a number, and the direct NSGA-II."""
     d = tmp_path_factory.mktemp("constrained")
     path = deck(d, extra="constraints = 'max_friction <= reference', 'min_film >= 0.7e-6'")
-    study = run_study(path, d / "out", serial=True, progress=False, with_direct=True)
+    study = run_study(path, d / "out", executor=Executor(serial=True), progress=False, with_direct=True)
     return study, d / "out", d
 
 
@@ -108,7 +110,11 @@ def test_constraint_binds_the_surrogate_front(constrained, tmp_path):
     assert feasibility(study, "cold", c.chosen.f_surrogate).all()
     # without the constraint the same study's front goes beyond the reference's friction
     free = run_study(
-        deck(tmp_path, name="free"), tmp_path / "out", serial=True, progress=False, figures=False
+        deck(tmp_path, name="free"),
+        tmp_path / "out",
+        executor=Executor(serial=True),
+        progress=False,
+        figures=False,
     )
     assert np.max(friction(free.cases["cold"].front.x)) > bound
 
@@ -143,7 +149,7 @@ def test_resume_with_changed_constraints_recomputes_the_front(constrained):
     study, out, d = constrained
     path = d / "k.nml"
     path.write_text(path.read_text().replace("min_film >= 0.7e-6", "min_film >= 0.723e-6"))
-    again = run_study(path, out, serial=True, progress=False, figures=False)
+    again = run_study(path, out, executor=Executor(serial=True), progress=False, figures=False)
     assert again.runs_executed == 0  # the samples' runs are kept
     film = surfaces_of(again, "cold", ["min_film"])[0]
     assert np.all(film(again.cases["cold"].front.x) >= 0.723e-6 * (1 - 1e-9))
@@ -151,7 +157,7 @@ def test_resume_with_changed_constraints_recomputes_the_front(constrained):
     # a constraint on a result not recorded before needs new runs: another study
     path.write_text(path.read_text().replace("'min_film >= 0.723e-6'", "'fmep <= 100'"))
     with pytest.raises(InputError, match="recorded results"):
-        run_study(path, out, serial=True, progress=False, figures=False)
+        run_study(path, out, executor=Executor(serial=True), progress=False, figures=False)
 
 
 def test_min_film_in_micrometres(constrained):
@@ -167,7 +173,7 @@ def test_tradeoff_files_follow_the_objectives(constrained, tmp_path):
     three = run_study(
         deck(tmp_path, name="three", objectives="'energy_loss', 'max_friction', 'ring_mass'"),
         tmp_path / "out3",
-        serial=True,
+        executor=Executor(serial=True),
         progress=False,
     )
     stems = tradeoff_stems(three.s.objectives)
@@ -234,7 +240,11 @@ def test_uncalibrated_case_is_said(tmp_path):
     base = tmp_path / "uncal.nml"
     base.write_text(text.replace("'pressure/", f"'{INPUTS}/pressure/"))
     study = run_study(
-        deck(tmp_path, name="u", base=base), tmp_path / "outu", serial=True, progress=False, figures=False
+        deck(tmp_path, name="u", base=base),
+        tmp_path / "outu",
+        executor=Executor(serial=True),
+        progress=False,
+        figures=False,
     )
     assert "cold: **not calibrated**" in (tmp_path / "outu" / "report.md").read_text()
     assert study.cases["cold"].sure is not None
@@ -242,7 +252,7 @@ def test_uncalibrated_case_is_said(tmp_path):
 
 
 def test_constraint_bound_on_a_drawn_objective_is_a_line():
-    from ringlube.study_plots import TradeoffSeries, tradeoff_figure
+    from ringlube.study.plots import TradeoffSeries, tradeoff_figure
 
     fig = tradeoff_figure(
         [TradeoffSeries("rated", np.array([[0.3, 2.0], [0.4, 1.9]]), [("knee", 0.35, 1.95, "chosen")])],
@@ -258,7 +268,7 @@ def test_constraint_bound_on_a_drawn_objective_is_a_line():
 
 
 def test_summary_gives_constraints_and_feasibility(constrained):
-    from ringlube.study_summary import summary
+    from ringlube.study.summary import summary
 
     text = summary(constrained[0])
     assert "constraints: max_friction <= reference; min_film >= 7e-07" in text
@@ -266,16 +276,16 @@ def test_summary_gives_constraints_and_feasibility(constrained):
 
 
 def test_unchanged_resume_keeps_the_how_sure_runs(tmp_path, monkeypatch):
-    import ringlube.study as study_module
+    import ringlube.study.pipeline as study_module
 
     path = deck(tmp_path, name="keep", extra="constraints = 'max_friction <= reference'")
-    first = run_study(path, tmp_path / "out", serial=True, progress=False, figures=False)
+    first = run_study(path, tmp_path / "out", executor=Executor(serial=True), progress=False, figures=False)
 
     def fail(*args, **kwargs):
         raise AssertionError("how_sure re-ran on an unchanged resume")
 
     monkeypatch.setattr(study_module, "how_sure", fail)
-    again = run_study(path, tmp_path / "out", serial=True, progress=False, figures=False)
+    again = run_study(path, tmp_path / "out", executor=Executor(serial=True), progress=False, figures=False)
     np.testing.assert_array_equal(again.cases["cold"].sure.high, first.cases["cold"].sure.high)
     assert again.cases["cold"].sure.names == first.cases["cold"].sure.names
 
@@ -287,9 +297,9 @@ def test_a_reference_that_did_not_converge_is_said_where_it_bounds(constrained, 
     import dataclasses
     import warnings
 
-    from ringlube.study_constraints import UnconvergedReferenceWarning, constraint_bounds
-    from ringlube.study_report import write_report
-    from ringlube.study_summary import summary
+    from ringlube.study.bounds import UnconvergedReferenceWarning, constraint_bounds
+    from ringlube.study.report import write_report
+    from ringlube.study.summary import summary
 
     study = constrained[0]
     c = study.cases["cold"]

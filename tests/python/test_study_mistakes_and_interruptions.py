@@ -16,10 +16,10 @@ from ringlube import InputError, RinglubeError
 from ringlube.case import Case
 from ringlube.executor import Executor
 from ringlube.study import run_study
-from ringlube.study_deck import read_study
-from ringlube.study_runs import _run_designs, sample
-from ringlube.study_store import Study
-from ringlube.study_variables import OUTPUTS
+from ringlube.study.deck import read_study
+from ringlube.study.runs import _run_designs, sample
+from ringlube.study.store import Study
+from ringlube.study.variables import OUTPUTS
 
 from conftest import INPUTS
 
@@ -67,7 +67,7 @@ def test_resume_from_a_file_holding_only_samples(tmp_path):
     early.save()
     with h5py.File(out / "h.h5") as f:
         assert "cases" not in f
-    study = run_study(deck, out, serial=True, progress=False, figures=False)
+    study = run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False)
     assert study.runs_executed == 24 and study.cases["cold"].runs.done.all()
 
 
@@ -88,7 +88,7 @@ def test_corrupt_study_file_is_an_input_error(tmp_path, garbage):
     (tmp_path / "out").mkdir()
     (tmp_path / "out" / "h.h5").write_bytes(garbage)
     with pytest.raises(InputError, match=r"h\.h5: .*(not a study file|not a readable study)"):
-        run_study(deck, tmp_path / "out", serial=True, progress=False, figures=False)
+        run_study(deck, tmp_path / "out", executor=Executor(serial=True), progress=False, figures=False)
 
 
 # --- item 4: the study is keyed on the content of its inputs -----------------------------
@@ -100,7 +100,7 @@ def test_resume_after_an_edited_input_is_refused(tmp_path, edit):
     study = study_deck(tmp_path, cases=(deck,), **TWO_VARS)
     out = tmp_path / "out"
     with pytest.raises(KeyboardInterrupt):
-        run_study(study, out, serial=True, progress=False, figures=False, stop_after=4)
+        run_study(study, out, executor=Executor(serial=True), progress=False, figures=False, stop_after=4)
     target = tmp_path / edit
     target.write_text(
         target.read_text().replace("1", "2", 1)
@@ -108,7 +108,7 @@ def test_resume_after_an_edited_input_is_refused(tmp_path, edit):
         else target.read_text() + "! edited\n"
     )
     with pytest.raises(InputError, match=rf"other contents of .*{edit.split('/')[-1]}"):
-        run_study(study, out, serial=True, progress=False, figures=False)
+        run_study(study, out, executor=Executor(serial=True), progress=False, figures=False)
 
 
 def test_a_worker_with_another_kernel_refuses_the_batches(tmp_path, monkeypatch):
@@ -116,7 +116,7 @@ def test_a_worker_with_another_kernel_refuses_the_batches(tmp_path, monkeypatch)
     study (the resume check compares the study file with the client's kernel only): every batch
     carries the study's kernel id and a worker whose own differs refuses it with a message naming
     both (noticed 2026-11-26). Here the study's id is made to differ from the worker's."""
-    from ringlube import study_runs
+    from ringlube.study import runs as study_runs
 
     case = Case.from_namelist(COLD)
     args = (case, [("ring", "width")], np.array([[1e-3]]), ["energy_loss"])
@@ -136,14 +136,21 @@ def test_a_worker_with_another_kernel_refuses_the_batches(tmp_path, monkeypatch)
 
     with monkeypatch.context() as m:
         m.setattr(study_runs, "_run_designs", spy)
-        run_study(study, tmp_path / "ok", serial=True, with_direct=True, progress=False, figures=False)
+        run_study(
+            study,
+            tmp_path / "ok",
+            executor=Executor(serial=True),
+            with_direct=True,
+            progress=False,
+            figures=False,
+        )
     assert len(sent) > 4 and set(sent) == {ringlube.kernel_id()}, set(sent)
     monkeypatch.setattr(study_runs, "study_kernel", lambda: "0123456789ab")
     with pytest.raises(
         RinglubeError,
         match=rf"runs another ringlube kernel \({ringlube.kernel_id()}\) than this study \(0123456789ab\)",
     ):
-        run_study(study, tmp_path / "out", serial=True, progress=False, figures=False)
+        run_study(study, tmp_path / "out", executor=Executor(serial=True), progress=False, figures=False)
 
 
 def test_resume_under_another_kernel_is_refused(tmp_path):
@@ -155,7 +162,7 @@ def test_resume_under_another_kernel_is_refused(tmp_path):
     study = study_deck(tmp_path, **TWO_VARS)
     out = tmp_path / "out"
     with pytest.raises(KeyboardInterrupt):
-        run_study(study, out, serial=True, progress=False, figures=False, stop_after=4)
+        run_study(study, out, executor=Executor(serial=True), progress=False, figures=False, stop_after=4)
     with h5py.File(out / "h.h5", "r") as f:
         assert f.attrs["kernel_id"] == ringlube.kernel_id()
     with h5py.File(out / "h.h5", "a") as f:
@@ -163,13 +170,13 @@ def test_resume_under_another_kernel_is_refused(tmp_path):
     with pytest.raises(
         InputError, match=r"h\.h5: the study's runs were made by another ringlube kernel \(0123456789ab"
     ):
-        run_study(study, out, serial=True, progress=False, figures=False)
+        run_study(study, out, executor=Executor(serial=True), progress=False, figures=False)
     with h5py.File(out / "h.h5", "a") as f:
         del f.attrs["kernel_id"]  # a study file of a ringlube that did not record it
     with pytest.raises(InputError, match=r"another ringlube kernel \(not recorded"):
-        run_study(study, out, serial=True, progress=False, figures=False)
+        run_study(study, out, executor=Executor(serial=True), progress=False, figures=False)
     # --restart (ringlube optimise) starts afresh under the lock: a new file of this kernel
-    fresh = run_study(study, out, serial=True, progress=False, figures=False, restart=True)
+    fresh = run_study(study, out, executor=Executor(serial=True), progress=False, figures=False, restart=True)
     assert fresh.cases["cold"].runs.done.all()
     with h5py.File(out / "h.h5", "r") as f:
         assert f.attrs["kernel_id"] == ringlube.kernel_id()
@@ -256,7 +263,7 @@ def test_invalid_designs_are_recorded_and_the_study_goes_on(tmp_path):
         lower="0.1e-3, -0.2e-3",
         upper="1.0e-3, 0.2e-3",
     )
-    study = run_study(deck, tmp_path / "out", serial=True, progress=False, figures=False)
+    study = run_study(deck, tmp_path / "out", executor=Executor(serial=True), progress=False, figures=False)
     r = study.cases["cold"].runs
     x = study.x
     expect = np.abs(x[:, 1]) >= x[:, 0] / 2
@@ -265,7 +272,7 @@ def test_invalid_designs_are_recorded_and_the_study_goes_on(tmp_path):
     assert r.done.all() and np.isnan(r.outputs[r.failed]).all()
     assert all("crown_offset" in r.errors[i] for i in np.flatnonzero(expect))
     assert study.cases["cold"].surfaces["energy_loss"].n == int((~expect & r.converged).sum())
-    from ringlube.study_summary import summary
+    from ringlube.study.summary import summary
 
     text = summary(study)
     assert f"{int(expect.sum())} failed (invalid designs)" in text
@@ -321,7 +328,7 @@ def test_process_backend_matches_serial():
 
 def test_study_file_labels_its_columns_and_the_reference(tmp_path):
     deck = study_deck(tmp_path, reference="1.004e-3, -38.3e-6", **TWO_VARS)
-    study = run_study(deck, tmp_path / "out", serial=True, progress=False, figures=False)
+    study = run_study(deck, tmp_path / "out", executor=Executor(serial=True), progress=False, figures=False)
     with h5py.File(study.path) as f:
         d = f["samples/x"]
         assert list(d.attrs["columns"]) == ["width", "crown_offset"]
@@ -338,7 +345,7 @@ def test_study_file_labels_its_columns_and_the_reference(tmp_path):
     assert "reference" in (tmp_path / "out" / "report.md").read_text()
     # without a reference: none computed, none reported
     deck = study_deck(tmp_path, name="noref", **TWO_VARS)
-    study = run_study(deck, tmp_path / "out2", serial=True, progress=False, figures=False)
+    study = run_study(deck, tmp_path / "out2", executor=Executor(serial=True), progress=False, figures=False)
     assert study.cases["cold"].reference is None
     assert "reference" not in (tmp_path / "out2" / "report.md").read_text()
 
@@ -352,11 +359,11 @@ def test_shipped_study_decks_read(tmp_path):
 
 def test_reference_added_on_resume_is_computed(tmp_path):
     deck = study_deck(tmp_path, **TWO_VARS)
-    study = run_study(deck, tmp_path / "out", serial=True, progress=False, figures=False)
+    study = run_study(deck, tmp_path / "out", executor=Executor(serial=True), progress=False, figures=False)
     assert study.cases["cold"].reference is None
     text = open(deck).read().replace("/\n", "  reference = 1.0e-3, 0.0\n/\n")
     open(deck, "w").write(text)
-    study = run_study(deck, tmp_path / "out", serial=True, progress=False, figures=False)
+    study = run_study(deck, tmp_path / "out", executor=Executor(serial=True), progress=False, figures=False)
     assert study.runs_executed == 0
     np.testing.assert_array_equal(study.cases["cold"].reference.x, [[1.0e-3, 0.0]])
 
@@ -368,7 +375,7 @@ def test_old_layout_file_is_refused(tmp_path):
         f.attrs["key"] = read_study(deck).key()
         f["samples/x"] = np.zeros((24, 2))
     with pytest.raises(InputError, match="not a ringlube study file"):
-        run_study(deck, tmp_path / "out", serial=True, progress=False, figures=False)
+        run_study(deck, tmp_path / "out", executor=Executor(serial=True), progress=False, figures=False)
 
 
 @pytest.mark.parametrize("missing, what", [("dask", "--workers"), ("pymoo", "serial")])
@@ -382,6 +389,40 @@ def test_missing_optional_package_says_how_to_install(tmp_path, monkeypatch, mis
     if missing == "dask":
         monkeypatch.setitem(sys.modules, "dask.distributed", None)
     deck = study_deck(tmp_path, **TWO_VARS)
-    kw = dict(workers=1) if what == "--workers" else dict(serial=True)
+    kw = (
+        dict(executor=lambda: Executor(workers=1))
+        if what == "--workers"
+        else dict(executor=Executor(serial=True))
+    )
     with pytest.raises(RinglubeError, match=r"pip install ringlube\[study\]"):
         run_study(deck, tmp_path / "out", progress=False, figures=False, **kw)
+
+
+def test_run_study_leaves_the_callers_executor_open_and_closes_the_one_it_made(tmp_path):
+    """run_study's executor: an Executor given is the caller's (used, left open); a function
+    that makes one is called only once the deck is checked, and what it made is closed."""
+
+    class Counting(Executor):
+        made, closed = 0, 0
+
+        def __init__(self, *args, **kwargs):
+            type(self).made += 1
+            super().__init__(*args, **kwargs)
+
+        def close(self):
+            type(self).closed += 1
+            super().close()
+
+    bad = tmp_path / "bad.nml"
+    bad.write_text("&study\n  name = 'b'\n  samples = -1\n/\n")
+    with pytest.raises(InputError):
+        run_study(bad, tmp_path / "out", executor=lambda: Counting(serial=True), progress=False)
+    assert (Counting.made, Counting.closed) == (0, 0)  # the deck refused before any executor
+    deck = study_deck(tmp_path, **TWO_VARS)
+    mine = Counting(serial=True)
+    run_study(deck, tmp_path / "out", executor=mine, progress=False, figures=False)
+    assert (Counting.made, Counting.closed) == (1, 0)
+    again = run_study(
+        deck, tmp_path / "out", executor=lambda: Counting(serial=True), progress=False, figures=False
+    )
+    assert again.runs_executed == 0 and (Counting.made, Counting.closed) == (2, 1)

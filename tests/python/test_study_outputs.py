@@ -11,11 +11,12 @@ import pytest
 
 from ringlube import InputError
 from ringlube.case import Case
+from ringlube.executor import Executor
 from ringlube.study import run_study
-from ringlube.study_format import LIFTED_COLUMN
-from ringlube.study_plots import Axis, Mark, TradeoffSeries, map_figure, tradeoff_figure
-from ringlube.study_summary import summary
-from ringlube.study_variables import OUTPUTS, display, output_units, variable_unit
+from ringlube.study.format import LIFTED_COLUMN
+from ringlube.study.plots import Axis, Mark, TradeoffSeries, map_figure, tradeoff_figure
+from ringlube.study.summary import summary
+from ringlube.study.variables import OUTPUTS, display, output_units, variable_unit
 
 from conftest import INPUTS
 
@@ -36,7 +37,7 @@ def study(tmp_path_factory):
   reference = 1.004e-3, -38.3e-6
 /
 """)
-    return run_study(deck, d / "out", serial=True, progress=False), d / "out"
+    return run_study(deck, d / "out", executor=Executor(serial=True), progress=False), d / "out"
 
 
 def test_tradeoff_is_drawn_without_ring_mass_and_names_designs(study):
@@ -158,7 +159,7 @@ def test_how_sure_ranking_counts_strict_reorders_only():
     """The ranking of the designs "changes" only if two designs ranked strictly one way are
     ranked strictly the other way: with half the supply film no design puts oil in the chamber,
     and four zeros reorder nothing (before, their index order was reported as a new ranking)."""
-    from ringlube.study_report import _order, _reordered
+    from ringlube.study.report import _order, _reordered
 
     assert not _reordered(np.array([0.3, 0.2, 0.4]), np.zeros(3))
     assert not _reordered(np.array([1.0, 1.0, 2.0]), np.array([3.0, 2.0, 4.0]))
@@ -192,13 +193,13 @@ def test_a_study_refuses_to_write_over_the_files_it_reads(tmp_path):
     before = trace.read_bytes()
     deck = _deck(tmp_path / "s.nml", "s", [base])
     with pytest.raises(InputError, match=r"pareto_r4000.csv: is an input"):
-        run_study(deck, tmp_path, serial=True, progress=False, figures=False)
+        run_study(deck, tmp_path, executor=Executor(serial=True), progress=False, figures=False)
     assert trace.read_bytes() == before and not (tmp_path / "s.h5").exists()
 
     report = _deck(tmp_path / "report.md", "t", [COLD])
     before = report.read_bytes()
     with pytest.raises(InputError, match=r"report.md: is an input"):
-        run_study(report, tmp_path, serial=True, progress=False, figures=False)
+        run_study(report, tmp_path, executor=Executor(serial=True), progress=False, figures=False)
     assert report.read_bytes() == before and not (tmp_path / "t.h5").exists()
 
 
@@ -211,11 +212,11 @@ def test_a_second_study_in_the_same_folder_is_refused(study, tmp_path):
     before = (shared / "report.md").read_bytes()
     deck = _deck(tmp_path / "p.nml", "p", [COLD])
     with pytest.raises(InputError, match=r"holds the outputs of the study 'o'"):
-        run_study(deck, shared, serial=True, progress=False, figures=False)
+        run_study(deck, shared, executor=Executor(serial=True), progress=False, figures=False)
     assert (shared / "report.md").read_bytes() == before and not (shared / "p.h5").exists()
     (shared / "o.h5").unlink()  # the report alone still tells whose outputs these are
     with pytest.raises(InputError, match=r"holds the outputs of the study 'o'"):
-        run_study(deck, shared, serial=True, progress=False, figures=False)
+        run_study(deck, shared, executor=Executor(serial=True), progress=False, figures=False)
 
 
 def test_a_resumed_study_leaves_no_stale_outputs(study, tmp_path):
@@ -229,11 +230,11 @@ def test_a_resumed_study_leaves_no_stale_outputs(study, tmp_path):
     o = (out.parent / "o.nml").read_text()
     deck = tmp_path / "o.nml"
     deck.write_text(o.replace("/\n", "  scene = .true.\n/\n"))
-    run_study(deck, folder, serial=True, progress=False)
+    run_study(deck, folder, executor=Executor(serial=True), progress=False)
     scene = ["pareto_scene.csv", "fit_scene.png", "fit_scene.pdf", "map_scene_energy_loss.png"]
     assert all((folder / f).is_file() for f in scene)
     deck.write_text(o)
-    run_study(deck, folder, serial=True, progress=False)
+    run_study(deck, folder, executor=Executor(serial=True), progress=False)
     assert not [f for f in scene if (folder / f).exists()]
     assert "scene" not in (folder / "report.md").read_text().split("## Cases")[1].split("##")[0]
     assert (folder / "fit_cold.png").is_file() and (folder / "pareto_hot.csv").is_file()

@@ -12,11 +12,13 @@ import pytest
 
 from ringlube.case import Case
 from ringlube.errors import InputError
+from ringlube.executor import Executor
 from ringlube.solve import run_designs
 from ringlube.study import run_study
-from ringlube.study_constraints import constraint_bounds, parse_constraint
-from ringlube.study_deck import read_study
-from ringlube.study_surfaces import surfaces_of
+from ringlube.study.bounds import constraint_bounds
+from ringlube.study.constraints import parse_constraint
+from ringlube.study.deck import read_study
+from ringlube.study.surfaces import surfaces_of
 
 from conftest import INPUTS
 
@@ -109,7 +111,7 @@ def test_a_relative_constraint_is_the_absolute_one_from_the_references_value(dec
     rel = run_study(
         _deck(decks, "relative", "'max_friction <= 1.05 * reference'", two=False),
         decks / "out_relative",
-        serial=True,
+        executor=Executor(serial=True),
         progress=False,
         figures=False,
     )
@@ -120,7 +122,7 @@ def test_a_relative_constraint_is_the_absolute_one_from_the_references_value(dec
     absolute = run_study(
         _deck(decks, "absolute", f"'max_friction <= {1.05 * reference!r}'", two=False),
         decks / "out_absolute",
-        serial=True,
+        executor=Executor(serial=True),
         progress=False,
         figures=False,
     )
@@ -139,7 +141,13 @@ def test_a_relative_constraint_is_the_absolute_one_from_the_references_value(dec
 def per_point(decks):
     """The same two-point study (cold, hot and their scene) without a constraint and with
     'max_friction <= B at hot', B inside the range of the hot front's max_friction."""
-    free = run_study(_deck(decks, "free"), decks / "out_free", serial=True, progress=False, figures=False)
+    free = run_study(
+        _deck(decks, "free"),
+        decks / "out_free",
+        executor=Executor(serial=True),
+        progress=False,
+        figures=False,
+    )
     (friction,) = surfaces_of(free, "hot", ["max_friction"])
     values = friction(free.cases["hot"].front.x)
     bound = float(np.quantile(values, 0.3))
@@ -147,7 +155,7 @@ def per_point(decks):
     study = run_study(
         _deck(decks, "bound", f"'max_friction <= {bound!r} at hot'"),
         decks / "out_bound",
-        serial=True,
+        executor=Executor(serial=True),
         progress=False,
         figures=False,
     )

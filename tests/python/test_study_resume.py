@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from ringlube.executor import Executor
 from ringlube.study import run_study
 
 from conftest import INPUTS
@@ -42,10 +43,18 @@ def same_study(a, b) -> None:
 def test_resume_after_changed_weights_recomputes_the_scene(tmp_path):
     out = tmp_path / "out"
     first = run_study(
-        write(tmp_path, scene=".true.", weights="1.0, 1.0"), out, serial=True, progress=False, figures=False
+        write(tmp_path, scene=".true.", weights="1.0, 1.0"),
+        out,
+        executor=Executor(serial=True),
+        progress=False,
+        figures=False,
     )
     again = run_study(
-        write(tmp_path, scene=".true.", weights="1.0, 100.0"), out, serial=True, progress=False, figures=False
+        write(tmp_path, scene=".true.", weights="1.0, 100.0"),
+        out,
+        executor=Executor(serial=True),
+        progress=False,
+        figures=False,
     )
     assert again.runs_executed == 0  # no sample re-run
     w = np.array([1.0, 100.0]) / 101.0
@@ -57,7 +66,7 @@ def test_resume_after_changed_weights_recomputes_the_scene(tmp_path):
     fresh = run_study(
         write(tmp_path, name="fresh", scene=".true.", weights="1.0, 100.0"),
         tmp_path / "fresh",
-        serial=True,
+        executor=Executor(serial=True),
         progress=False,
         figures=False,
     )
@@ -74,7 +83,7 @@ def test_fit_and_ga_settings_are_in_the_key_of_derived_results(setting):
 
 
 def read_study_settings():
-    from ringlube.study_settings import StudySettings
+    from ringlube.study.settings import StudySettings
 
     return StudySettings("s", ["a.nml"], ["cold"], [1.0], ["width"], [0.0], [1.0], ["energy_loss"])
 
@@ -84,16 +93,16 @@ def test_a_finished_scene_study_resumes_unchanged(tmp_path):
     of the scene: before, the scene's state was rebuilt by position and, with the candidates
     added to it, its chosen designs became the candidates, the reference the chosen and the
     direct results the reference; the report then failed ('surrogate knee' not in list)."""
-    import ringlube.study as study_mod
+    import ringlube.study.pipeline as study_mod
 
     deck = write(tmp_path, scene=".true.", reference="1.0e-3, 0.0")
     out = tmp_path / "out"
-    first = run_study(deck, out, serial=True, progress=False, figures=False)
+    first = run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False)
     calls = []
     real = study_mod.how_sure
     study_mod.how_sure = lambda *a, **k: (calls.append(1), real(*a, **k))[1]
     try:
-        again = run_study(deck, out, serial=True, progress=False, figures=False)
+        again = run_study(deck, out, executor=Executor(serial=True), progress=False, figures=False)
     finally:
         study_mod.how_sure = real
     assert again.runs_executed == 0 and calls == []  # nothing finished is redone, "how sure" neither

@@ -6,11 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import ringlube.study_runs as runs_mod
+import ringlube.study.runs as runs_mod
+from ringlube.executor import Executor
 from ringlube.study import run_study
-from ringlube.study_format import NOT_CONVERGED
-from ringlube.study_report import write_report
-from ringlube.study_summary import summary
+from ringlube.study.format import NOT_CONVERGED
+from ringlube.study.report import write_report
+from ringlube.study.summary import summary
 
 from conftest import COLD
 
@@ -43,7 +44,12 @@ def some_unconverged(real):
 def test_direct_nsga2_never_ranks_an_unconverged_run(tmp_path, monkeypatch):
     monkeypatch.setattr(runs_mod, "_run_designs", some_unconverged(runs_mod._run_designs))
     study = run_study(
-        write(tmp_path), tmp_path / "out", serial=True, with_direct=True, progress=False, figures=False
+        write(tmp_path),
+        tmp_path / "out",
+        executor=Executor(serial=True),
+        with_direct=True,
+        progress=False,
+        figures=False,
     )
     d = study.cases["cold"].direct
     assert d.unconverged > 0
@@ -65,7 +71,12 @@ def test_direct_nsga2_never_ranks_a_lifted_run(tmp_path, monkeypatch):
 
     monkeypatch.setattr(runs_mod, "_run_designs", some_lifted)
     study = run_study(
-        write(tmp_path), tmp_path / "out", serial=True, with_direct=True, progress=False, figures=False
+        write(tmp_path),
+        tmp_path / "out",
+        executor=Executor(serial=True),
+        with_direct=True,
+        progress=False,
+        figures=False,
     )
     d = study.cases["cold"].direct
     assert d.lifted > 0 and d.unconverged == 0
@@ -75,7 +86,11 @@ def test_direct_nsga2_never_ranks_a_lifted_run(tmp_path, monkeypatch):
 
 def test_unconverged_recheck_is_marked_in_summary_and_report(tmp_path):
     study = run_study(
-        write(tmp_path, generations=1), tmp_path / "out", serial=True, progress=False, figures=False
+        write(tmp_path, generations=1),
+        tmp_path / "out",
+        executor=Executor(serial=True),
+        progress=False,
+        figures=False,
     )
     chosen = study.cases["cold"].chosen
     chosen.converged[:] = True
@@ -91,9 +106,9 @@ def test_unconverged_recheck_is_marked_in_summary_and_report(tmp_path):
 def test_direct_nsga2_resumes_from_its_last_generation(tmp_path, monkeypatch):
     real = runs_mod._run_designs
     deck = write(tmp_path)
-    run_study(deck, tmp_path / "out", serial=True, progress=False, figures=False)
+    run_study(deck, tmp_path / "out", executor=Executor(serial=True), progress=False, figures=False)
     fresh_deck = write(tmp_path, name="fresh")
-    run_study(fresh_deck, tmp_path / "fresh", serial=True, progress=False, figures=False)
+    run_study(fresh_deck, tmp_path / "fresh", executor=Executor(serial=True), progress=False, figures=False)
     rows: list[int] = []
 
     def counting(base, variables, x, outputs, kernel=None):  # one call per generation (batch = population)
@@ -105,16 +120,35 @@ def test_direct_nsga2_resumes_from_its_last_generation(tmp_path, monkeypatch):
     monkeypatch.setattr(runs_mod, "_run_designs", counting)
     stop_at = None
     fresh = run_study(
-        fresh_deck, tmp_path / "fresh", serial=True, with_direct=True, progress=False, figures=False
+        fresh_deck,
+        tmp_path / "fresh",
+        executor=Executor(serial=True),
+        with_direct=True,
+        progress=False,
+        figures=False,
     )
     all_rows, rows[:] = list(rows), []
     assert len(all_rows) == 4  # the test's premise: one call per generation
     stop_at = 2
     with pytest.raises(KeyboardInterrupt):
-        run_study(deck, tmp_path / "out", serial=True, with_direct=True, progress=False, figures=False)
+        run_study(
+            deck,
+            tmp_path / "out",
+            executor=Executor(serial=True),
+            with_direct=True,
+            progress=False,
+            figures=False,
+        )
     assert rows == all_rows[:2]
     rows[:], stop_at = [], None
-    resumed = run_study(deck, tmp_path / "out", serial=True, with_direct=True, progress=False, figures=False)
+    resumed = run_study(
+        deck,
+        tmp_path / "out",
+        executor=Executor(serial=True),
+        with_direct=True,
+        progress=False,
+        figures=False,
+    )
     assert rows == all_rows[2:]  # the two finished generations were not re-run
     a, b = resumed.cases["cold"].direct, fresh.cases["cold"].direct
     np.testing.assert_array_equal(a.x, b.x)
@@ -128,12 +162,16 @@ def test_lifted_design_is_marked_in_summary_report_and_pareto_csv(tmp_path, monk
     the designs the surfaces predict to lift off."""
     import csv
 
-    import ringlube.study_pareto as pareto_mod
-    from ringlube.study_format import LIFTED, LIFTED_COLUMN
-    from ringlube.study_pareto import write_pareto_csv
+    import ringlube.study.pareto as pareto_mod
+    from ringlube.study.format import LIFTED, LIFTED_COLUMN
+    from ringlube.study.pareto import write_pareto_csv
 
     study = run_study(
-        write(tmp_path, generations=1), tmp_path / "out", serial=True, progress=False, figures=False
+        write(tmp_path, generations=1),
+        tmp_path / "out",
+        executor=Executor(serial=True),
+        progress=False,
+        figures=False,
     )
     chosen = study.cases["cold"].chosen
     j = list(study.s.outputs).index("liner_lift_share")
@@ -170,7 +208,9 @@ def test_chosen_designs_are_the_true_models_best_of_the_front(tmp_path, monkeypa
     candidates (converged, on the liner), recomputed here by brute force. (The tests' stand-in
     lifts only the surrogate's knee, which is no sample, so the surfaces and the front are
     those of the plain study.)"""
-    plain = run_study(write(tmp_path), tmp_path / "plain", serial=True, progress=False, figures=False)
+    plain = run_study(
+        write(tmp_path), tmp_path / "plain", executor=Executor(serial=True), progress=False, figures=False
+    )
     cand = plain.cases["cold"].candidates
     assert cand.names[: len(plain.s.objectives) + 1] == [
         *(f"surrogate min {o}" for o in plain.s.objectives),
@@ -187,7 +227,9 @@ def test_chosen_designs_are_the_true_models_best_of_the_front(tmp_path, monkeypa
         return values, converged, errors
 
     monkeypatch.setattr(runs_mod, "_run_designs", knee_lifts)
-    study = run_study(write(tmp_path), tmp_path / "out", serial=True, progress=False, figures=False)
+    study = run_study(
+        write(tmp_path), tmp_path / "out", executor=Executor(serial=True), progress=False, figures=False
+    )
     c = study.cases["cold"]
     np.testing.assert_array_equal(c.front.x, plain.cases["cold"].front.x)
     f = c.candidates.f_true

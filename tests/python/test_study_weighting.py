@@ -9,11 +9,11 @@ import pytest
 
 from ringlube.errors import InputError
 from ringlube.executor import Executor
-from ringlube.study_deck import read_study
-from ringlube.study_runs import run_samples, sample, scene_results
-from ringlube.study_settings import StudySettings
-from ringlube.study_store import Study
-from ringlube.study_variables import PER_CYCLE
+from ringlube.study.deck import read_study
+from ringlube.study.runs import run_samples, sample, scene_results
+from ringlube.study.settings import StudySettings
+from ringlube.study.store import Study
+from ringlube.study.variables import PER_CYCLE
 from ringlube.tables import SCALARS
 
 from conftest import INPUTS

@@ -15,7 +15,7 @@ import pytest
 import ringlube
 from ringlube import Case, InputError
 
-pytestmark = pytest.mark.filterwarnings("ignore::ringlube.case_origins.SourceEngineDefaultWarning")
+pytestmark = pytest.mark.filterwarnings("ignore::ringlube.case.origins.SourceEngineDefaultWarning")
 FAST = {"nodes": 31, "dpsi_deg": 4.0}
 PSI = np.linspace(0.0, 720.0, 1441)
 P = np.full(1441, 1.5e5)
@@ -72,7 +72,7 @@ def test_fractional_float_for_integer_input_is_refused_by_name(base):
 
 def test_integer_study_variable_refused_by_name(tmp_path):
     """A study samples reals; an integer input as a variable is refused naming it."""
-    from ringlube.study_deck import read_study
+    from ringlube.study.deck import read_study
 
     (tmp_path / "s.nml").write_text(
         "&study name = 'x', cases = 'a.nml', variables = 'width', 'numerics:nodes',\n"

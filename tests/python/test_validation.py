@@ -17,7 +17,7 @@ import ringlube
 from ringlube import Case
 from ringlube.calibrate import calibrate
 from ringlube.trends import trend_verdicts
-from ringlube.validate_compute import PUBLISHED, trend_sweeps
+from ringlube.validate.compute import PUBLISHED, trend_sweeps
 
 from conftest import INPUTS, PER_LENGTH_CALIBRATION, per_length
 

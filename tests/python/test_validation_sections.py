@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 from ringlube import Case
-from ringlube.validate_compute import STORY_RINGS, STORY_SPEEDS, ring_pack_validation
-from ringlube.validate_render import _charge_mg, _render_ring_pack
+from ringlube.validate.compute import STORY_RINGS, STORY_SPEEDS, ring_pack_validation
+from ringlube.validate.render import _charge_mg, _render_ring_pack
 
 from conftest import COLD, ROOT
 
