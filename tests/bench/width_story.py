@@ -60,7 +60,7 @@ import numpy as np
 import ringlube
 from ringlube import Case
 from ringlube.readings import all_readings
-from ringlube.study_variables import DESIGN_RANGES
+from ringlube.study.variables import DESIGN_RANGES
 
 ROOT = Path(__file__).resolve().parents[2]
 DECKS = {
@@ -88,9 +88,9 @@ UNITS = ("N/m", "N")
 def calibrations(calibration: str | None) -> dict[str, dict]:
     """The calibrated inputs of each tension reading: by default each unit's own cold fit with
     the decks' contact area and outlet ('lumped', 'reynolds'), the fit ``ringlube calibrate``
-    makes for that reading (:func:`ringlube.calibrate.fit_options` on the cold Table 2
+    makes for that reading (:func:`ringlube.calibrate.cold.fit_options` on the cold Table 2
     targets); with ``calibration`` the values of that file for both units."""
-    from ringlube.calibrate import cold_targets, fit_options, strip_calibrated
+    from ringlube.calibrate.cold import cold_targets, fit_options, strip_calibrated
 
     out = {}
     if calibration:
@@ -125,7 +125,7 @@ def calibration_text(cal: dict) -> str:
 def decks(cal: dict, unit: str, preset: str | None = None) -> dict[str, Case]:
     """The shipped cold and hot decks read in ``unit`` with that unit's calibrated inputs (the
     calibration file replaced by its values)."""
-    from ringlube.calibrate import strip_calibrated
+    from ringlube.calibrate.cold import strip_calibrated
 
     out = {}
     for k, path in DECKS.items():
@@ -337,9 +337,9 @@ STUDY = """&study
 
 def doe(cal: dict, workers: int) -> None:
     from ringlube.cli import main as cli
-    from ringlube.study_deck import read_study
-    from ringlube.study_store import Study
-    from ringlube.study_surfaces import predict
+    from ringlube.study.deck import read_study
+    from ringlube.study.store import Study
+    from ringlube.study.surfaces import predict
 
     fine = np.linspace(*DESIGN_RANGES["width"], 161)
     print(
