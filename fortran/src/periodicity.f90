@@ -306,8 +306,9 @@ contains
       if (ok .and. q >= 3) ok = repeats_whole(q)
       ! a period of two: the cycle before the last repeats its energy too (the one two before
       ! it, where that is a cycle of the run after the first: a single cycle of another state
-      ! between two alike is no orbit)
-      if (ok .and. q == 2 .and. k >= 4) ok = energy_change(hist, k - 1, 2) <= tol
+      ! between two alike is no orbit; never against the first cycle's energy, which with the
+      ! ring pack ran before its restart)
+      if (ok .and. q == 2 .and. k - 3 >= 2) ok = energy_change(hist, k - 1, 2) <= tol
       if (ok) return
     end do
     p = 0

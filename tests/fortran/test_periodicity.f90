@@ -21,6 +21,7 @@ program test_periodicity
   if (run_case('longest_period')) call test_longest_period()
   if (run_case('slow_decay')) call test_slow_decay()
   if (run_case('one_odd_cycle')) call test_one_odd_cycle()
+  if (run_case('two_after_restart')) call test_two_after_restart()
   if (run_case('ring_pack_state')) call test_ring_pack_state()
   if (run_case('starved_map_and_energy')) call test_starved_map_and_energy()
   if (run_case('means_and_flags')) call test_means_and_flags()
@@ -159,6 +160,32 @@ contains
     call run_h0(s, 9, p, kf, e)
     call check(p == 1 .and. kf == 6, 'one odd cycle between cycles alike: no period of two')
   end subroutine test_one_odd_cycle
+
+  !> starved, with the ring pack restarted after the first cycle (its energy another one): the
+  !> liner film settles into a period of two from cycle 3 on, every energy after the first the
+  !> same; the period is found in cycle 4 (its film equals cycle 2's end), not refused on the
+  !> first cycle's energy, which the second-to-last cycle's is compared with only from cycle 5
+  subroutine test_two_after_restart()
+    type(cycle_history) :: hist
+    real(dp) :: maps(3, 8), e
+    integer :: k, p
+    maps(:, 1) = 1e-6_dp*[1.0_dp, 1.0_dp, 1.0_dp]
+    maps(:, 2) = 1e-6_dp*[1.5_dp, 1.0_dp, 1.0_dp]
+    do k = 3, 8
+      maps(:, k) = 1e-6_dp*[2.0_dp, 1.0_dp + modulo(k - 1, 2), 1.0_dp]
+    end do
+    do k = 1, 7
+      call history_start(hist, map=maps(:, k), continued=k /= 2)
+      call history_h0(hist, 1e-6_dp)
+      e = 2.0_dp
+      if (k == 1) e = 1.8_dp
+      call history_end(hist, e, .true., [e])
+      call history_measure(hist, c, 1e-6_dp, 1.0_dp, map_end=maps(:, k + 1))
+      p = history_period(hist, c, 1e-6_dp, map_end=maps(:, k + 1))
+      if (p > 0) exit
+    end do
+    call check(p == 2 .and. k == 4, 'starved period of two after a restart: found in cycle 4')
+  end subroutine test_two_after_restart
 
   !> the ring pack repeats too: h0 constant, the land pressure with period 3
   subroutine test_ring_pack_state()

@@ -432,11 +432,15 @@ def test_oil_balance_at_round_off_with_zero_tension(deck):
     """Issue 20 item 10: with zero tension at 3000 r/min half load, starved 'trailing_gas', the
     ring lifts off for 38 % of the cycle and the balance closed only to 3e-8 (cold) and 1.1e-7
     (hot): at a reversal the edges' caps were taken from the liner before the reversal changed
-    it (the bank left on it, the lower rings' film)."""
+    it (the bank left on it, the lower rings' film). The balance holds in every cycle, periodic
+    or not: cold the run has no periodic state within cycle_tol (to cycle_tol 1e-7 its energy
+    wanders over cycles 20-60 between 0.7692 and 0.7743 J, s.d. 0.14 %, and the liner film
+    jumps by up to 2e-3 in a cycle), so whether it is reported converged in max_cycles is
+    chance; the cycle reported has no flag but lift-off."""
     name = f"crf450r_3000rpm_half_{deck}.nml"
     case = per_length(COLD.with_name(name)).with_ring(tension=0)
     r = ringlube.run(case.with_physics(cavitation="jfo", inlet="starved", cavity_pressure="trailing_gas"))
-    assert r.converged and r.liner_lift_share > 30
+    assert not (r.flags & ~FLAGS["h0_ceiling"]).any() and r.liner_lift_share > 30
     assert r.oil_balance_error <= 1e-10, r.oil_balance_error
 
 
