@@ -68,7 +68,7 @@ def case_decks() -> list[tuple[str, str, str]]:
     decks = [
         (p.stem, p.name, "")
         for p in sorted(INPUTS.glob("*.nml"))
-        if "&study" not in p.read_text() and p.name != "calibration.nml"
+        if "&study" not in p.read_text() and not p.name.startswith("calibration")
     ]
     return decks + VARIANTS
 

@@ -40,11 +40,11 @@ KEYS = ("cycles_run", "cycles_computed", "converged", "energy_loss_J", "blowby_l
 
 
 def decks() -> list[Path]:
-    """The shipped case decks."""
+    """The shipped case decks (not the study decks nor the calibration files)."""
     return [
         p
         for p in sorted(INPUTS.glob("*.nml"))
-        if "&study" not in p.read_text() and p.name != "calibration.nml"
+        if "&study" not in p.read_text() and not p.name.startswith("calibration")
     ]
 
 
