@@ -150,9 +150,9 @@ contains
         c_flux = -0.5_dp * u * wc * f%hmid(i)
         p_flux = -g * wp
         if (i == 1) then
-          q_act = f%q_left
+          q_act = f%q_face_left
         else
-          q_act = f%q_right
+          q_act = f%q_face_right
         end if
         if (abs(q_act - (c_flux + p_flux)) > 1e-12_dp * (abs(c_flux) + abs(p_flux))) then
           if (abs(p_flux) > 0.0_dp) wp = wp * min(1.0_dp, max(0.0_dp, (q_act - c_flux) / p_flux))

@@ -49,7 +49,30 @@ module ringlube_film_state
     !> the JFO solve's system, kept between solves (its arrays allocated once)
     type(jfo_system) :: jfo_work
     type(jfo_scratch) :: jfo_scratch
+    !> the oil through the left and right edge faces over the step, per unit time [m^2/s,
+    !> positive towards +x]: what the liner and the bank exchange with the gap (q dt); the
+    !> solve's flux at the step's end with backward Euler, its second-order filtered value
+    !> with BDF2 (ringlube_film_jfo, jfo_history)
     real(dp) :: q_left = 0.0_dp, q_right = 0.0_dp, dt = 0.0_dp
+    !> the solve's flux through the first and last interior faces at the step's end [m^2/s]
+    real(dp) :: q_face_left = 0.0_dp, q_face_right = 0.0_dp
+    !> the content's time history (BDF2 of the content, `&numerics film_time_scheme`): the content
+    !> of the step before content_old (content_prev), the content_old and sliding speed of the
+    !> step being solved (content_key, u_key: a new step starts when they change), theta h at
+    !> the end of the last evaluation (content_end: the state the cycle accepted), the step's
+    !> BDF2 weight r (0: backward Euler; 1/3: BDF2) and history content
+    !> content_old + r (content_old - content_prev), and the number of accepted steps known
+    real(dp), allocatable :: content_prev(:), content_key(:), content_end(:), content_hist(:)
+    real(dp) :: u_key = 0.0_dp, r_step = 0.0_dp
+    integer :: hist_steps = 0
+    !> oil through the left and right faces over the step [m^2], for this evaluation (x_*) and
+    !> the last accepted step (x_*_prev);
+    !> the sign of u at the last four accepted steps and whether h0 was held at a bound at the
+    !> last two
+    real(dp) :: x_left = 0.0_dp, x_right = 0.0_dp
+    real(dp) :: x_left_prev = 0.0_dp, x_right_prev = 0.0_dp
+    integer :: sign_prev(4) = 0
+    logical :: held_prev(2) = .false., held_end = .false.
     !> the face is partly filled across its width at a gas pressure above the leading edge's,
     !> whose meniscus is then at the leading edge (ringlube_jfo, jfo_solve_connected)
     logical :: blown = .false.
@@ -110,6 +133,11 @@ contains
     f%jfo = c%cavitation == 'jfo'
     f%starved = c%inlet == 'starved'
     allocate (f%theta(n), f%content_old(n), f%pc(n))
+    allocate (f%content_prev(n), f%content_key(n), f%content_end(n), f%content_hist(n))
+    f%content_prev = 0.0_dp
+    f%content_key = 0.0_dp
+    f%content_end = 0.0_dp
+    f%content_hist = 0.0_dp
     f%theta = 1.0_dp
     f%pc = c%cavitation_pressure
     f%content_old = f%s   ! a full film at h0 = 0: the caller sets it at the first h0

@@ -191,6 +191,9 @@ module ringlube_inputs
       'load balance tolerance |W_h + W_a - F| / F'), &
     input_spec('numerics', 'time_scheme', kind_choice, 'bdf2', 0.0_dp, 0.0_dp, '', 'bdf2|euler', &
       "squeeze term dh0/dt: BDF2 (second order) or backward Euler (the study's, first order)"), &
+    input_spec('numerics', 'film_time_scheme', kind_choice, 'euler', 0.0_dp, 0.0_dp, '', &
+      'euler|bdf2', &
+      "content theta h of the 'jfo' film and the oil it exchanges: backward Euler or BDF2 (second order)"), &
     input_spec('numerics', 'h0_update', kind_choice, 'safeguarded', 0.0_dp, 0.0_dp, '', &
       'safeguarded|damped', "h0 update: safeguarded secant/Brent, or the study's damped rule"), &
     input_spec('numerics', 'damping', kind_real, '0.005', 1e-6_dp, 0.999_dp, '1', '', &

@@ -32,9 +32,9 @@
 module ringlube_jfo
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_kinds, only: dp
-  use ringlube_tridiag, only: thomas
   use ringlube_jfo_system, only: jfo_problem, jfo_system, jfo_system_setup, jfo_residual, &
-                                 jfo_gauss_seidel, jfo_scratch, jfo_scratch_size
+                                 jfo_gauss_seidel, jfo_scratch, jfo_scratch_size, &
+                                 jfo_newton_eval, jfo_newton_step, jfo_residual_only
   implicit none
   private
   public :: jfo_solve, jfo_film_volume, jfo_options, jfo_problem, jfo_stats
@@ -119,8 +119,11 @@ module ringlube_jfo
     !> ||R||^2 at the state v, the last accepted values of it (the non-monotone rule) and the
     !> scale of the residual's terms
     real(dp) :: f0 = 0.0_dp, fhist(nonmonotone) = 0.0_dp, rscale = 0.0_dp
-    !> the scratch's evaluation holds the Jacobian at v
-    logical :: jac_ok = .false.
+    !> the scratch's cp, y hold the Newton step's forward elimination at v (piv: its pivots
+    !> are nonzero; sgn: the Jacobian has the M-matrix sign pattern), and rmax the largest
+    !> residual at v
+    logical :: jac_ok = .false., piv = .false., sgn = .false.
+    real(dp) :: rmax = 0.0_dp
     !> damped Newton steps since the last fallback or fresh start
     integer :: stall = 0
     !> Gauss-Seidel sweeps and fallbacks so far; sweeps spent in restarts taken back
@@ -167,7 +170,7 @@ contains
     type(jfo_system) :: local
     type(jfo_scratch) :: local_scratch
     type(solve_state) :: s
-    real(dp) :: rtol, ft, fbest, t, rmax
+    real(dp) :: rtol, ft, fbest, t, rmax, vn
     integer :: n, i, it, itmax, tinfo, nls, nsw, walk
     logical :: use_guard, use_newton, accepted
     type(jfo_options) :: opt
@@ -185,9 +188,8 @@ contains
     n = size(h)
     call jfo_scratch_size(scratch, n)
     associate (v => scratch%v, vt => scratch%vt, vpre => scratch%vpre, vbest => scratch%vbest, &
-               dv => scratch%dv, r => scratch%r, rt => scratch%rt, tw => scratch%tw, &
-               pn => scratch%ev%pn, tn => scratch%ev%tn, fl => scratch%ev%fl, &
-               jl => scratch%ev%jl, jd => scratch%ev%jd, ju => scratch%ev%ju)
+               dv => scratch%dv, r => scratch%r, rt => scratch%rt, &
+               pn => scratch%ev%pn, tn => scratch%ev%tn, fl => scratch%ev%fl)
       if (n < 3 .or. size(hmid) /= n - 1 .or. size(kmid) /= n - 1 .or. size(content_old) /= n &
           .or. size(pc) /= n .or. size(p) /= n .or. size(theta) /= n &
           .or. .not. (problem%dx > 0.0_dp)) then
@@ -213,17 +215,16 @@ contains
         if (.not. ieee_is_finite(v(i))) v(i) = 0.0_dp
       end do
 
-      ! s%jac_ok: jl, jd, ju hold the Jacobian at v (the residual of an accepted step is
-      ! evaluated with it, so the next iteration need not evaluate the residual again)
-      call jfo_residual(work, v, r, s%rscale, use_newton, scratch%ev)
+      ! s%jac_ok: the Newton step's elimination at v is in the scratch (the residual of an
+      ! accepted step is evaluated with it, so the next iteration need not evaluate again)
+      call evaluate(s, scratch, .false., use_newton, s%f0)
       if (.not. (ieee_is_finite(s%rscale) .and. ieee_is_finite(sum(abs(r(2:n - 1)))))) then
         ! a warm start whose terms overflow (pressures near huge()) made the scale infinite, and
         ! Inf <= tol * Inf passed as converged: start from full film at the cavity pressure
         v = 0.0_dp
-        call jfo_residual(work, v, r, s%rscale, use_newton, scratch%ev)
+        call evaluate(s, scratch, .false., use_newton, s%f0)
       end if
       s%jac_ok = use_newton
-      s%f0 = sumsq(r)
       vbest = v
       fbest = s%f0
       s%fhist = s%f0
@@ -231,7 +232,7 @@ contains
       if (use_newton .and. opt%coarse .and. n >= max(opt%coarse_from, coarse_min) &
           .and. coarse_factor(n) > 0) s%ncoarse = 0
       do it = 0, itmax
-        rmax = maxval(abs(r(2:n - 1)))
+        rmax = s%rmax
         if (rmax <= rtol * s%rscale .or. it == itmax) exit
         if (walk >= walk_steps .and. (s%ncoarse < max_coarse .or. s%restarted)) then
           ! the boundaries walk a node or two per step: start again from the coarse grids'
@@ -258,45 +259,60 @@ contains
             fbest = s%f0
             vbest = v
           end if
-          rmax = maxval(abs(r(2:n - 1)))
+          rmax = s%rmax
           if (rmax <= rtol * s%rscale) exit
         end if
         stats%iterations = it + 1
         if (.not. use_newton) then
           call jfo_gauss_seidel(work, v, 1, s%nsweep)
-          call jfo_residual(work, v, r, s%rscale, .false., scratch%ev)
-          s%f0 = sumsq(r)
+          call evaluate(s, scratch, .false., .false., s%f0)
           cycle
         end if
-        if (.not. s%jac_ok) call jfo_residual(work, v, r, s%rscale, .true., scratch%ev)
+        if (.not. s%jac_ok) call evaluate(s, scratch, .false., .true., ft)
         s%jac_ok = .false.
-        dv(2:n - 1) = -r(2:n - 1)
         ! the M-matrix sign pattern holds by construction (upwinding); a violation (a degenerate
         ! zero diagonal) is treated like a zero pivot
-        if (use_guard .and. (any(.not. jd(2:n - 1) > 0.0_dp) .or. any(jl(2:n - 1) > 0.0_dp) &
-                             .or. any(ju(2:n - 1) > 0.0_dp))) then
+        if (use_guard .and. .not. s%sgn) then
           tinfo = -1
+        else if (.not. s%piv) then
+          tinfo = 1
         else
-          call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo, tw)
+          tinfo = 0
+          call jfo_newton_step(n, scratch%cp, scratch%y, dv)
         end if
         if (tinfo /= 0 .and. .not. use_guard) then
           stats%info = JFO_SINGULAR
           exit
         end if
         accepted = .false.
-        if (tinfo == 0) then
-          dv(2:n - 1) = vt(2:n - 1)
-          dv(1) = 0.0_dp
-          dv(n) = 0.0_dp
-          ! full step; with the guard and after free_steps iterations, halve it until ||R||^2
-          ! falls below the largest of the last accepted values (non-monotone Armijo)
+        if (tinfo == 0 .and. (.not. use_guard .or. it < free_steps)) then
+          ! a full step, taken whatever it does to ||R||: in place
+          nsw = 0
+          do i = 2, n - 1
+            vn = v(i) + dv(i)
+            if ((v(i) < 0.0_dp) .neqv. (vn < 0.0_dp)) nsw = nsw + 1
+            v(i) = vn
+          end do
+          ! the residual alone: usually the step was the last (the next iteration eliminates)
+          call jfo_residual_only(work, v, r, s%rscale, s%rmax, ft, scratch%ev)
+          accepted = .true.
+          nls = 0
+          if (nsw >= 1 .and. nsw <= 2) then
+            walk = walk + 1
+          else
+            walk = 0
+          end if
+          s%jac_ok = .false.
+          s%f0 = ft
+          s%fhist(mod(it, size(s%fhist)) + 1) = s%f0
+        else if (tinfo == 0) then
+          ! after free_steps iterations, halve the step until ||R||^2 falls below the largest of
+          ! the last accepted values (non-monotone Armijo)
           t = 1.0_dp
           do nls = 0, 30
             vt = v + t * dv
-            call jfo_residual(work, vt, rt, s%rscale, .true., scratch%ev)
-            ft = sumsq(rt)
-            if (.not. use_guard .or. it < free_steps &
-                .or. ft <= (1.0_dp - 1e-4_dp * t) * maxval(s%fhist)) then
+            call evaluate(s, scratch, .true., .true., ft)
+            if (ft <= (1.0_dp - 1e-4_dp * t) * maxval(s%fhist)) then
               accepted = .true.
               exit
             end if
@@ -341,32 +357,30 @@ contains
           vbest = v
         end if
       end do
-      if (use_newton .and. stats%info == JFO_OK .and. maxval(abs(r(2:n - 1))) <= rtol * s%rscale &
-          .and. maxval(abs(r(2:n - 1))) > polish_tol * s%rscale) then
+      if (use_newton .and. stats%info == JFO_OK .and. s%rmax <= rtol * s%rscale &
+          .and. s%rmax > polish_tol * s%rscale) then
         ! within the tolerance but above round-off (a damped or Gauss-Seidel last step): one more
         ! Newton step on this piece, kept if it helps, so that the oil balance closes to round-off
-        call jfo_residual(work, v, r, s%rscale, .true., scratch%ev)
-        dv(2:n - 1) = -r(2:n - 1)
-        call thomas(jl(2:n - 1), jd(2:n - 1), ju(2:n - 1), dv(2:n - 1), vt(2:n - 1), tinfo)
-        if (tinfo == 0) then
-          dv(2:n - 1) = vt(2:n - 1)
+        call evaluate(s, scratch, .false., .true., ft)
+        if (s%piv) then
+          call jfo_newton_step(n, scratch%cp, scratch%y, dv)
           vt = v
           vt(2:n - 1) = v(2:n - 1) + dv(2:n - 1)
-          call jfo_residual(work, vt, rt, s%rscale, .false., scratch%ev)
-          if (sumsq(rt) < s%f0) then
+          call evaluate(s, scratch, .true., .false., ft)
+          if (ft < s%f0) then
             v = vt
             r = rt
             stats%iterations = stats%iterations + 1
           end if
         end if
-        call jfo_residual(work, v, r, s%rscale, .false., scratch%ev)
+        call evaluate(s, scratch, .false., .false., ft)
       end if
       stats%sweeps = s%nsweep + s%nsweep_back
-      if (maxval(abs(r(2:n - 1))) > rtol * s%rscale) then
+      if (s%rmax > rtol * s%rscale) then
         if (stats%info == JFO_OK) stats%info = JFO_NOT_CONVERGED
         if (fbest < s%f0) then
           v = vbest
-          call jfo_residual(work, v, r, s%rscale, .false., scratch%ev)
+          call evaluate(s, scratch, .false., .false., ft)
         end if
       end if
 
@@ -381,10 +395,31 @@ contains
 
   contains
 
-    pure real(dp) function sumsq(x)
-      real(dp), intent(in) :: x(:)
-      sumsq = sum(x(2:n - 1)**2)
-    end function sumsq
+    !> The residual at the state sc%v (trial: sc%vt) into sc%r (sc%rt), its scale (s%rscale),
+    !> largest entry (s%rmax) and sum of squares fsq; with newton also the Newton step's
+    !> elimination there (sc%cp, sc%y; s%piv, s%sgn). sc%ev holds that state's node states and
+    !> face fluxes.
+    pure subroutine evaluate(s, sc, trial, newton, fsq)
+      type(solve_state), intent(inout) :: s
+      type(jfo_scratch), intent(inout) :: sc
+      logical, intent(in) :: trial, newton
+      real(dp), intent(out) :: fsq
+      if (trial .and. newton) then
+        call jfo_newton_eval(work, sc%vt, sc%rt, s%rscale, s%rmax, fsq, sc%ev, sc%cp, sc%y, &
+                             s%piv, s%sgn)
+      else if (newton) then
+        call jfo_newton_eval(work, sc%v, sc%r, s%rscale, s%rmax, fsq, sc%ev, sc%cp, sc%y, &
+                             s%piv, s%sgn)
+      else if (trial) then
+        call jfo_residual(work, sc%vt, sc%rt, s%rscale, .false., sc%ev)
+        s%rmax = maxval(abs(sc%rt(2:n - 1)))
+        fsq = sum(sc%rt(2:n - 1)**2)
+      else
+        call jfo_residual(work, sc%v, sc%r, s%rscale, .false., sc%ev)
+        s%rmax = maxval(abs(sc%r(2:n - 1)))
+        fsq = sum(sc%r(2:n - 1)**2)
+      end if
+    end subroutine evaluate
 
     !> The residual at the state v (with jac also its Jacobian) as a fresh start of the merit:
     !> f0 from it, the non-monotone history all f0, no damped steps counted.
@@ -392,9 +427,8 @@ contains
       type(solve_state), intent(inout) :: s
       type(jfo_scratch), intent(inout) :: sc
       logical, intent(in) :: jac
-      call jfo_residual(work, sc%v, sc%r, s%rscale, jac, sc%ev)
+      call evaluate(s, sc, .false., jac, s%f0)
       s%jac_ok = jac
-      s%f0 = sumsq(sc%r)
       s%fhist = s%f0
       s%stall = 0
     end subroutine fresh_start

@@ -8,7 +8,8 @@ module ringlube_jfo_system
   implicit none
   private
   public :: jfo_problem, jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel, &
-            jfo_eval, jfo_scratch, jfo_scratch_size
+            jfo_eval, jfo_scratch, jfo_scratch_size, jfo_newton_eval, jfo_newton_step, &
+            jfo_residual_only
 
   !> One step of the mass-conserving film: its scalars, the record jfo_solve and
   !> jfo_solve_connected take beside the film's arrays (the gap, the conductances, the content
@@ -74,6 +75,9 @@ module ringlube_jfo_system
     real(dp), allocatable :: v(:), vt(:), vpre(:), vbest(:), dv(:)
     !> the residuals at v and at vt, and the Thomas solve's work array
     real(dp), allocatable :: r(:), rt(:), tw(:)
+    !> the Newton step's forward elimination at the last state jfo_newton_eval evaluated: the
+    !> eliminated upper diagonal and right-hand side of the Jacobian system J dv = -R
+    real(dp), allocatable :: cp(:), y(:)
     !> the residual's evaluation at the last state evaluated
     type(jfo_eval) :: ev
   end type jfo_scratch
@@ -86,11 +90,12 @@ contains
     integer, intent(in) :: n
     if (allocated(s%v)) then
       if (size(s%v) == n) return
-      deallocate (s%v, s%vt, s%vpre, s%vbest, s%dv, s%r, s%rt, s%tw)
+      deallocate (s%v, s%vt, s%vpre, s%vbest, s%dv, s%r, s%rt, s%tw, s%cp, s%y)
       deallocate (s%ev%pn, s%ev%tn, s%ev%fl, s%ev%dfpl, s%ev%dfpr, s%ev%dftl, s%ev%dftr, &
                   s%ev%jl, s%ev%jd, s%ev%ju)
     end if
-    allocate (s%v(n), s%vt(n), s%vpre(n), s%vbest(n), s%dv(n), s%r(n), s%rt(n), s%tw(n))
+    allocate (s%v(n), s%vt(n), s%vpre(n), s%vbest(n), s%dv(n), s%r(n), s%rt(n), s%tw(n), &
+              s%cp(n), s%y(n))
     allocate (s%ev%pn(n), s%ev%tn(n), s%ev%fl(n), s%ev%dfpl(n), s%ev%dfpr(n), s%ev%dftl(n), &
               s%ev%dftr(n), s%ev%jl(n), s%ev%jd(n), s%ev%ju(n))
   end subroutine jfo_scratch_size
@@ -236,6 +241,217 @@ contains
       end do
     end associate
   end subroutine jfo_residual
+
+  !> The residual of jfo_residual at the state x and, in the same pass over the nodes, the
+  !> forward elimination of the Newton system J dv = -R on this piece (J as jfo_residual's
+  !> rows jl, jd, ju, which are not stored): cp the eliminated upper diagonal, y the
+  !> eliminated right-hand side, so that jfo_newton_step's back substitution gives the step.
+  !> One pass instead of jfo_residual's four and the Thomas solve's forward sweep, with the
+  !> same arithmetic (the states, residuals and steps are bit for bit those of jfo_residual
+  !> and `thomas`). Also the residual's largest entry rmax and its sum of squares fsq. pivots:
+  !> every pivot of the elimination nonzero (else y is not a step); signs: the Jacobian has
+  !> the M-matrix sign pattern (diagonal > 0, off-diagonals <= 0; see ringlube_jfo).
+  !> ev%pn, ev%tn, ev%fl hold the node states and face fluxes (ev's derivatives and Jacobian
+  !> rows are not set).
+  pure subroutine jfo_newton_eval(sys, x, res, scale, rmax, fsq, ev, cp, y, pivots, signs)
+    type(jfo_system), intent(in) :: sys
+    real(dp), intent(in), contiguous :: x(:)
+    real(dp), intent(out), contiguous :: res(:), cp(:), y(:)
+    real(dp), intent(out) :: scale, rmax, fsq
+    type(jfo_eval), intent(inout) :: ev
+    logical, intent(out) :: pivots, signs
+    real(dp) :: s, jl, jd, ju, m, rr
+    ! the face before node j (f = j - 1) and after it (f = j): flux derivatives
+    real(dp) :: pl0, pr0, tl0, tr0, pl1, pr1, tl1, tr1
+    integer :: j
+    associate (n => sys%n, a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, ps => sys%ps, &
+               h => sys%h, content_old => sys%content_old, qcl => sys%qcl, qcr => sys%qcr, &
+               pn => ev%pn, tn => ev%tn, fl => ev%fl)
+      pivots = .true.
+      signs = .true.
+      pn(1) = sys%p_left
+      pn(n) = sys%p_right
+      tn(1) = sys%theta_left
+      tn(n) = sys%theta_right
+      pn(2) = node_p(sys, 2, x(2))
+      tn(2) = node_t(x(2))
+      call face_eval(sys, pn, tn, 1, fl(1), pl0, pr0, tl0, tr0)
+      if (fl(1) > qcl) then
+        fl(1) = qcl
+        pr0 = 0.0_dp
+        tr0 = 0.0_dp
+      end if
+      scale = tiny(1.0_dp)
+      rmax = 0.0_dp
+      fsq = 0.0_dp
+      res(1) = 0.0_dp
+      res(n) = 0.0_dp
+      do j = 2, n - 1
+        if (j + 1 < n) then
+          pn(j + 1) = node_p(sys, j + 1, x(j + 1))
+          tn(j + 1) = node_t(x(j + 1))
+        end if
+        call face_eval(sys, pn, tn, j, fl(j), pl1, pr1, tl1, tr1)
+        if (j == n - 1) then
+          if (-fl(n - 1) > qcr) then
+            fl(n - 1) = -qcr
+            pl1 = 0.0_dp
+            tl1 = 0.0_dp
+          end if
+        end if
+        res(j) = w * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
+        s = w * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
+            + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
+        scale = max(scale, s)
+        rmax = max(rmax, abs(res(j)))
+        fsq = fsq + res(j)**2
+        ! the Jacobian's row j on this piece (as jfo_residual)
+        if (x(j) >= 0.0_dp) then
+          jd = (pl1 - pr0) * ps(j)
+        else
+          jd = w * h(j) + tl1 - tr0
+        end if
+        ju = 0.0_dp
+        if (j < n - 1) then
+          if (x(j + 1) >= 0.0_dp) then
+            ju = pr1 * ps(j + 1)
+          else
+            ju = tr1
+          end if
+        end if
+        jl = 0.0_dp
+        if (j > 2) then
+          if (x(j - 1) >= 0.0_dp) then
+            jl = -pl0 * ps(j - 1)
+          else
+            jl = -tl0
+          end if
+        end if
+        if (.not. jd > 0.0_dp .or. jl > 0.0_dp .or. ju > 0.0_dp) signs = .false.
+        ! forward elimination (as `thomas`), right-hand side -R
+        if (pivots) then
+          if (j == 2) then
+            m = jd
+            rr = -res(j)
+          else
+            m = jd - jl * cp(j - 1)
+            rr = -res(j) - jl * y(j - 1)
+          end if
+          if (m == 0.0_dp) then
+            pivots = .false.
+          else
+            m = 1.0_dp / m
+            cp(j) = ju * m
+            y(j) = rr * m
+          end if
+        end if
+        pl0 = pl1
+        pr0 = pr1
+        tl0 = tl1
+        tr0 = tr1
+      end do
+    end associate
+
+  end subroutine jfo_newton_eval
+
+  !> The residual of jfo_residual at the state x alone (no derivatives), in one pass: res, its
+  !> scale, largest entry rmax and sum of squares fsq, the node states and face fluxes in ev
+  !> (bit for bit jfo_residual's). For the test after a Newton step, which is usually the last.
+  pure subroutine jfo_residual_only(sys, x, res, scale, rmax, fsq, ev)
+    type(jfo_system), intent(in) :: sys
+    real(dp), intent(in), contiguous :: x(:)
+    real(dp), intent(out), contiguous :: res(:)
+    real(dp), intent(out) :: scale, rmax, fsq
+    type(jfo_eval), intent(inout) :: ev
+    real(dp) :: s, g
+    integer :: j
+    associate (n => sys%n, a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, h => sys%h, &
+               content_old => sys%content_old, qcl => sys%qcl, qcr => sys%qcr, pn => ev%pn, &
+               tn => ev%tn, fl => ev%fl)
+      pn(1) = sys%p_left
+      pn(n) = sys%p_right
+      tn(1) = sys%theta_left
+      tn(n) = sys%theta_right
+      pn(2) = node_p(sys, 2, x(2))
+      tn(2) = node_t(x(2))
+      scale = tiny(1.0_dp)
+      rmax = 0.0_dp
+      fsq = 0.0_dp
+      res(1) = 0.0_dp
+      res(n) = 0.0_dp
+      do j = 1, n - 1
+        if (j + 1 < n) then
+          pn(j + 1) = node_p(sys, j + 1, x(j + 1))
+          tn(j + 1) = node_t(x(j + 1))
+        end if
+        g = kd(j) * (pn(j + 1) - pn(j))
+        if (a > 0.0_dp) then
+          fl(j) = ca(j) * tn(j) - g * merge(tn(j), tn(j + 1), g <= 0.0_dp)
+        else
+          fl(j) = ca(j) * tn(j + 1) - g * merge(tn(j), tn(j + 1), g <= 0.0_dp)
+        end if
+        if (j == 1) then
+          if (fl(1) > qcl) fl(1) = qcl
+          cycle
+        end if
+        if (j == n - 1) then
+          if (-fl(n - 1) > qcr) fl(n - 1) = -qcr
+        end if
+        res(j) = w * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
+        s = w * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
+            + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
+        scale = max(scale, s)
+        rmax = max(rmax, abs(res(j)))
+        fsq = fsq + res(j)**2
+      end do
+    end associate
+  end subroutine jfo_residual_only
+
+  !> Flux fl through face f (nodes f, f+1) at the node states pn, tn and its derivatives by
+  !> the pressure (dpl, dpr) and fill (dtl, dtr) of its left and right node, as jfo_residual.
+  pure subroutine face_eval(sys, pn, tn, f, fl, dpl, dpr, dtl, dtr)
+    type(jfo_system), intent(in) :: sys
+    real(dp), intent(in), contiguous :: pn(:), tn(:)
+    integer, intent(in) :: f
+    real(dp), intent(out) :: fl, dpl, dpr, dtl, dtr
+    real(dp) :: g, tp
+    associate (kd => sys%kd, ca => sys%ca)
+      g = kd(f) * (pn(f + 1) - pn(f))
+      dtl = 0.0_dp
+      dtr = 0.0_dp
+      if (g <= 0.0_dp) then
+        tp = tn(f)
+        dtl = -g
+      else
+        tp = tn(f + 1)
+        dtr = -g
+      end if
+      if (sys%a > 0.0_dp) then
+        fl = ca(f) * tn(f) - g * tp
+        dtl = dtl + ca(f)
+      else
+        fl = ca(f) * tn(f + 1) - g * tp
+        dtr = dtr + ca(f)
+      end if
+      dpl = kd(f) * tp
+      dpr = -kd(f) * tp
+    end associate
+  end subroutine face_eval
+
+  !> The Newton step from jfo_newton_eval's elimination (back substitution): dv on the
+  !> interior nodes, 0 at the edges.
+  pure subroutine jfo_newton_step(n, cp, y, dv)
+    integer, intent(in) :: n
+    real(dp), intent(in), contiguous :: cp(:), y(:)
+    real(dp), intent(out), contiguous :: dv(:)
+    integer :: j
+    dv(1) = 0.0_dp
+    dv(n) = 0.0_dp
+    dv(n - 1) = y(n - 1)
+    do j = n - 2, 2, -1
+      dv(j) = y(j) - cp(j) * dv(j + 1)
+    end do
+  end subroutine jfo_newton_step
 
   !> Projected Gauss-Seidel on v: each node solves its own equation (monotone in v(j)) with
   !> the neighbours fixed and the upwind choices of the current state, sweeping downstream.

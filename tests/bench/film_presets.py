@@ -4,13 +4,23 @@
 the chamber against a converged reference of the same model (801 nodes, 0.125 deg, tight
 tolerances, the numerics of tests/bench/front.py).
 
-    python3 tests/bench/film_presets.py [--repeats N] [--ring-pack gas]
+    python3 tests/bench/film_presets.py [--repeats N] [--ring-pack gas] [--tension-unit N/m]
     python3 tests/bench/film_presets.py --convergence [--ring-pack gas]
+    python3 tests/bench/film_presets.py --time-order [--tension-unit N/m]
+    python3 tests/bench/film_presets.py --oil-default [--tension-unit N/m]
+    python3 tests/bench/film_presets.py --oil-nodes [--tension-unit N/m]
 
 `--ring-pack gas` runs every model with the gas around the ring (SPEC 14) instead of the
 decks' 'none'. `--convergence` prints instead, for the JFO models, the results as the nodes double at
 0.25 deg and as the crank step halves at 201 nodes (tight tolerances): whether each model
-converges at all, and at what order.
+converges at all, and at what order. `--time-order` prints, for the mass-conserving film starved
+(supply film 1, 2 and 5 um) and flooded at 51 nodes, the error of energy and oil to the chamber
+at 2, 1, 0.5, 0.25 and 0.125 deg against 0.0625 deg (tight tolerances) and the observed slopes,
+with `film_time_scheme` 'bdf2' and 'euler'. `--tension-unit N/m` reads the decks' tension in
+N/m (with its calibration, inputs/calibration_n_per_m.nml) instead of their N.
+`--oil-default` prints the starved film (1, 2, 5 um) at 'default' with each
+`film_time_scheme` against the reference: energy and oil to the chamber; `--oil-nodes` the
+starved film's oil as the nodes double (BDF2, 0.25 deg).
 """
 
 from __future__ import annotations
@@ -30,6 +40,16 @@ ROOT = Path(__file__).resolve().parents[2]
 # and the second-order time scheme
 REFERENCE = {**ringlube.convergence.REFERENCE, "cycle_tol": 1e-6, "time_scheme": "bdf2"}
 PRESETS = ("fast", "default", "accurate")
+
+
+def reading(case: ringlube.Case, unit: str | None) -> ringlube.Case:
+    """The deck with its tension read in `unit` (None: as shipped); N/m with its own
+    calibration (docs/model.md, "The N/m reading stays available")."""
+    if unit == "N/m":
+        return case.with_ring(tension_unit="N/m").with_("calibration", file="calibration_n_per_m.nml")
+    if unit:
+        return case.with_ring(tension_unit=unit)
+    return case
 
 
 def convergence(ring_pack: str) -> None:
@@ -67,6 +87,88 @@ def convergence(ring_pack: str) -> None:
                 )
 
 
+def time_order(decks: list[str], unit: str | None) -> None:
+    """Errors against 0.0625 deg at 51 nodes, and slopes, for both time schemes."""
+    import math
+
+    steps = (2.0, 1.0, 0.5, 0.25, 0.125, 0.0625)
+    tight = {"nodes": 51, "pressure_tol": 1e-8, "load_tol": 1e-6, "cycle_tol": 1e-6, "max_cycles": 40}
+    models = [("starved", {"cavitation": "jfo", "inlet": "starved"}, f) for f in (1e-6, 2e-6, 5e-6)]
+    models.append(("flooded", {"cavitation": "jfo"}, None))
+    print(
+        f"{'deck':5s} {'film':12s} {'scheme':6s} {'energy error % at 2..0.125 deg':44s} "
+        f"{'slope':>5s}  {'oil error % at 2..0.125 deg':44s} {'slope':>5s}"
+    )
+    for stem in decks:
+        base = ringlube.Case.from_namelist(ROOT / "inputs" / f"crf450r_4000rpm_full_{stem}.nml")
+        base = reading(base, unit)
+        for label, physics, film in models:
+            case = base.with_physics(**physics)
+            if film:
+                case = case.with_("lubricant", supply_film=film)
+                label = f"{label} {film * 1e6:.0f} um"
+            for scheme in ("bdf2", "euler"):
+                num = {"film_time_scheme": scheme, **tight}
+                runs = [ringlube.run(case.with_numerics(dpsi_deg=d, **num)) for d in steps]
+                cols = []
+                for name in ("energy_loss", "oil_to_chamber"):
+                    if name == "oil_to_chamber" and not film:
+                        cols.append(f"{'-':44s} {'':>5s}")
+                        continue
+                    ref = getattr(runs[-1], name)
+                    err = [abs(getattr(r, name) / ref - 1) if ref else float("nan") for r in runs[:-1]]
+                    slope = math.log2(err[-2] / err[-1]) if err[-1] > 0 and err[-2] > 0 else float("nan")
+                    cols.append(" ".join(f"{100 * e:8.3f}" for e in err) + f" {slope:5.2f}")
+                print(f"{stem:5s} {label:12s} {scheme:6s} {cols[0]}  {cols[1]}", flush=True)
+
+
+def oil_default(decks: list[str], unit: str | None) -> None:
+    """The starved film (supply film 1, 2 and 5 um) at the 'default' preset with each
+    `film_time_scheme` against the reference (REFERENCE, film_time_scheme 'bdf2'): energy and
+    oil to the chamber, errors in %, and the cycles run."""
+    print(
+        f"{'deck':5s} {'film':6s} {'ref E J':>9s} {'ref oil':>9s} {'scheme':6s} {'E err %':>8s} "
+        f"{'oil mm3':>9s} {'oil err %':>9s} {'cycles':>6s}"
+    )
+    for stem in decks:
+        base = ringlube.Case.from_namelist(ROOT / "inputs" / f"crf450r_4000rpm_full_{stem}.nml")
+        base = reading(base, unit)
+        for film in (1e-6, 2e-6, 5e-6):
+            case = base.with_physics(cavitation="jfo", inlet="starved").with_("lubricant", supply_film=film)
+            ref = ringlube.run(case.with_numerics(film_time_scheme="bdf2", **REFERENCE))
+            for scheme in ("euler", "bdf2"):
+                r = ringlube.run(case.with_numerics(preset="default", film_time_scheme=scheme))
+                oil_ref = ref.oil_to_chamber
+                oil_err = 100 * (r.oil_to_chamber / oil_ref - 1) if oil_ref else float("nan")
+                e_err = 100 * (r.energy_loss / ref.energy_loss - 1)
+                print(
+                    f"{stem:5s} {film * 1e6:4.0f}um {ref.energy_loss:9.5f} {oil_ref:9.5f} {scheme:6s} "
+                    f"{e_err:8.3f} {r.oil_to_chamber:9.5f} {oil_err:9.2f} {r.cycles_run:6d}",
+                    flush=True,
+                )
+
+
+def oil_nodes(decks: list[str], unit: str | None) -> None:
+    """Oil to the chamber and energy of the starved film (1 and 2 um, film_time_scheme 'bdf2')
+    as the nodes double at 0.25 deg (tight tolerances): the grid's share of the oil's error."""
+    tight = {"pressure_tol": 1e-8, "load_tol": 1e-6, "cycle_tol": 1e-6, "max_cycles": 40}
+    print(f"{'deck':5s} {'film':6s} {'nodes':>5s} {'energy J':>9s} {'oil mm3':>9s} {'cycles':>6s}")
+    for stem in decks:
+        base = ringlube.Case.from_namelist(ROOT / "inputs" / f"crf450r_4000rpm_full_{stem}.nml")
+        base = reading(base, unit)
+        for film in (1e-6, 2e-6):
+            case = base.with_physics(cavitation="jfo", inlet="starved").with_("lubricant", supply_film=film)
+            for nodes in (51, 101, 201, 401):
+                r = ringlube.run(
+                    case.with_numerics(nodes=nodes, dpsi_deg=0.25, film_time_scheme="bdf2", **tight)
+                )
+                print(
+                    f"{stem:5s} {film * 1e6:4.0f}um {nodes:5d} {r.energy_loss:9.5f} {r.oil_to_chamber:9.5f} "
+                    f"{r.cycles_run:6d}",
+                    flush=True,
+                )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=3)
@@ -74,7 +176,20 @@ def main() -> None:
     ap.add_argument("--decks", default="cold,hot", help="decks (cold, hot), comma-separated")
     ap.add_argument("--models", default=";".join(MODELS), help="film models, separated by ';'")
     ap.add_argument("--ring-pack", default="none", choices=("none", "gas"))
+    ap.add_argument("--time-order", action="store_true")
+    ap.add_argument("--oil-default", action="store_true")
+    ap.add_argument("--oil-nodes", action="store_true")
+    ap.add_argument("--tension-unit", default=None, choices=("N", "N/m"))
     args = ap.parse_args()
+    if args.oil_nodes:
+        oil_nodes(args.decks.split(","), args.tension_unit)
+        return
+    if args.oil_default:
+        oil_default(args.decks.split(","), args.tension_unit)
+        return
+    if args.time_order:
+        time_order(args.decks.split(","), args.tension_unit)
+        return
     if args.convergence:
         convergence(args.ring_pack)
         return
@@ -92,6 +207,7 @@ def main() -> None:
     for stem in args.decks.split(","):
         base = ringlube.Case.from_namelist(ROOT / "inputs" / f"crf450r_4000rpm_full_{stem}.nml")
         base = base.with_physics(ring_pack=args.ring_pack)
+        base = reading(base, args.tension_unit)
         ss = {}
         for label, physics in MODELS.items():
             if label not in models and label != "swift_stieber":

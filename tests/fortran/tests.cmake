@@ -28,6 +28,7 @@ set(ringlube_labels_cycle "numerics")
 set(ringlube_labels_time_order "numerics")
 set(ringlube_labels_film_viscosity "numerics")
 set(ringlube_labels_film_edges "numerics")
+set(ringlube_labels_film_time "numerics")
 set(ringlube_labels_jfo "numerics;slow")
 set(ringlube_labels_jfo_connect "numerics")
 set(ringlube_labels_jfo_coarse "numerics")
@@ -38,7 +39,7 @@ set(ringlube_labels_bore "numerics")
 
 foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner jfo jfo_connect jfo_coarse
     time_order
-    mixed_share film_viscosity film_edges results ring_pack ring_pack_cycle periodicity bore)
+    mixed_share film_viscosity film_edges film_time results ring_pack ring_pack_cycle periodicity bore)
   set(src ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
   add_executable(test_${t} ${src})
   target_link_libraries(test_${t} PRIVATE ringlube_check ringlube_io ${LAPACK_LIBRARIES})
