@@ -1,3 +1,4 @@
+! ctest labels: numerics
 !> The ring on a distorted bore (docs/bore.md): zero distortion gives the round bore's answer
 !> bit for bit with every film model; orders 0 and 1 only move the ring as a rigid body; a
 !> dry ring conforms to a single order exactly up to the classical limit; the sector solve's

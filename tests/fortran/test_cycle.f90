@@ -1,3 +1,4 @@
+! ctest labels: numerics
 !> Whole-cycle checks on the 4000 r/min cold case at moderate resolution: the load
 !> balance holds at every step, the outputs are consistent with their definitions, and
 !> the damped and safeguarded h0 updates give the same cycle to within the load

@@ -1,3 +1,4 @@
+! ctest labels: numerics
 !> Time integration of the mass-conserving film (`&numerics film_time_scheme`, docs/film_model.md
 !> "Time"): the film's own history of its content, driven step by step as the cycle drives it
 !> (film_evaluate at the step's h0, then content_old = theta h), without the load balance.

@@ -1,3 +1,4 @@
+! ctest labels: numerics
 !> The pressure-viscosity loop's stopping rule (film_evaluate): stopped when the viscosity
 !> update moves the load by less than a tenth of the caller's load tolerance w_tol, the
 !> film's load must lie within w_tol/10 of the fully converged fixed point (pressure_tol

@@ -1,3 +1,4 @@
+! ctest labels: unit;numerics
 !> F_2 and F_5/2 against adaptive quadrature of their defining integral, and the cost
 !> of the power-law fits.
 program test_greenwood_tripp

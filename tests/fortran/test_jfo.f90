@@ -1,3 +1,4 @@
+! ctest labels: numerics;slow
 !> The mass-conserving (JFO) film kernel ringlube_jfo against exact and independent answers
 !> (docs/film_model.md, "Verification"):
 !>  1. flooded steady parabolic ring = the Swift-Stieber closed form (no reformation), order in N;

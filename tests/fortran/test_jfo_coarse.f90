@@ -1,3 +1,4 @@
+! ctest labels: numerics
 !> The coarse-grid predictor of the mass-conserving film solve (ringlube_jfo, `walk_steps`;
 !> docs/film_model.md "Coarse-grid predictor"): a Newton step moves a reformation front that
 !> has to advance against the Couette flow by one node, so without the predictor the

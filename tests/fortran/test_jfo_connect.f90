@@ -1,3 +1,4 @@
+! ctest labels: numerics
 !> The mass-conserving (JFO) film's connectivity rule (ringlube_jfo_connect) and its edges
 !> against exact and independent answers (docs/film_model.md, "Verification"):
 !>  5. starved inlet (closed form), theta_in -> 0 thins the film;

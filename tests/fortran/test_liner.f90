@@ -1,3 +1,4 @@
+! ctest labels: unit
 !> The liner film's strip operations conserve oil to round-off and put it where asked.
 program test_liner
   use ringlube_kinds, only: dp

@@ -1,3 +1,4 @@
+! ctest labels: unit;numerics
 !> The mixed/boundary share (percentage of the cycle with h0/sigma < 4, SPEC section 8)
 !> from lambda at the crank steps, against closed forms: lambda = 3 + 2 cos(psi) is
 !> below 4 where cos(psi) < 1/2, two thirds of the cycle; linear interpolation between

@@ -1,3 +1,4 @@
+! ctest labels: unit
 !> The periodic state of a run of cycles (ringlube_periodicity) on made-up sequences of
 !> cycle-end states whose periods are known: the smallest period, found at the first cycle
 !> that can show it; no period of two or more against the warm-up's end; the starved test on

@@ -1,3 +1,4 @@
+! ctest labels: unit;numerics
 !> Kinematics against a finite difference of the piston position; Roelands against its
 !> defining properties and a hand-computed value; the gas trace's interpolation against a
 !> plain search for the interval.

@@ -1,3 +1,4 @@
+! ctest labels: unit
 !> The result tables and the result stored by their rows: names unique in each table (the
 !> kernel's index constants are found by name), kinds the writers know, storage of every
 !> row, the derived results, the logical convention and the summary.

@@ -1,3 +1,4 @@
+! ctest labels: numerics
 !> The finite-difference Reynolds solver against closed-form pressures of a parabolic
 !> ring at constant viscosity: steady sliding without and with Swift-Stieber rupture,
 !> and pure squeeze (U = 0); observed convergence order in N.

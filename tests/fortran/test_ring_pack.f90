@@ -1,3 +1,4 @@
+! ctest labels: unit;numerics
 !> The ring pack's gas network and the top ring's axial motion in one step (SPEC 14,
 !> ringlube_ring_pack) against exact answers: the parameters from a case, the orifice and
 !> channel formulas, the piston's acceleration, the closed-form isothermal blowdown of one

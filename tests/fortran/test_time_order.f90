@@ -1,3 +1,4 @@
+! ctest labels: numerics
 !> Order of the time schemes of the squeeze term (`&numerics time_scheme`), through the
 !> load balance itself, on a problem with a closed-form answer.
 !>

@@ -1,3 +1,4 @@
+! ctest labels: unit
 !> Thomas algorithm against LAPACK dgtsv on random diagonally dominant systems.
 program test_tridiag
   use ringlube_kinds, only: dp

@@ -1,3 +1,4 @@
+! ctest labels: unit
 !> thomas_fixed (unknowns held at a value without rewriting their rows) against LAPACK
 !> dgtsv on the same systems with those rows replaced by x(i) = value, on random
 !> diagonally dominant systems with random sets of fixed rows (none, some, the first,

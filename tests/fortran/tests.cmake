@@ -1,6 +1,12 @@
 # ctest suite of the Fortran kernel (included from the root CMakeLists.txt).
-# Every test has LABELS (listed below; README "Tests"): select with `ctest -L numerics`,
-# leave out with `ctest -LE slow`, pick by name with `ctest -R jfo`.
+# Every test has LABELS: select with `ctest -L numerics`, leave out with `ctest -LE slow`,
+# pick by name with `ctest -R jfo`. unit: one module or function against an exact or
+# independent answer; numerics: discretisation order, solver convergence and whole-cycle
+# consistency; cli: runs ringlube-solve; io: files (HDF5, temporary files, output checks);
+# slow: over 1 s alone on the reference 2-core machine (`ctest -LE slow` for a quick pass);
+# known_limitation: expected failures (WILL_FAIL) that document what the model does not do.
+# A test program gives its labels on its first line, `! ctest labels: unit;numerics`; the
+# other tests beside their add_test here.
 #
 # One ctest per case: a test program guards each case with `if (run_case('name')) call ...`
 # (tests/fortran/check.f90) and is registered here once per such line as `program/name`
@@ -10,32 +16,6 @@ add_library(ringlube_check STATIC ${CMAKE_CURRENT_LIST_DIR}/check.f90
   ${CMAKE_CURRENT_LIST_DIR}/slider_closed_form.f90 ${CMAKE_CURRENT_LIST_DIR}/jfo_test_tools.f90
   ${CMAKE_CURRENT_LIST_DIR}/squeeze_exact.f90)
 target_link_libraries(ringlube_check PUBLIC ringlube_kernel)
-
-#: labels of each program's tests. unit: one module or function against an exact or
-#: independent answer; numerics: discretisation order, solver convergence and whole-cycle
-#: consistency; cli: runs ringlube-solve; io: files (HDF5, temporary files, output checks);
-#: slow: over 1 s alone on the reference 2-core machine (`ctest -LE slow` for a quick pass);
-#: known_limitation: expected failures (WILL_FAIL) that document what the model does not do.
-set(ringlube_labels_tridiag "unit")
-set(ringlube_labels_tridiag_fixed "unit")
-set(ringlube_labels_liner "unit")
-set(ringlube_labels_results "unit")
-set(ringlube_labels_greenwood_tripp "unit;numerics")
-set(ringlube_labels_physics_basics "unit;numerics")
-set(ringlube_labels_mixed_share "unit;numerics")
-set(ringlube_labels_reynolds "numerics")
-set(ringlube_labels_cycle "numerics")
-set(ringlube_labels_time_order "numerics")
-set(ringlube_labels_film_viscosity "numerics")
-set(ringlube_labels_film_edges "numerics")
-set(ringlube_labels_film_time "numerics")
-set(ringlube_labels_jfo "numerics;slow")
-set(ringlube_labels_jfo_connect "numerics")
-set(ringlube_labels_jfo_coarse "numerics")
-set(ringlube_labels_ring_pack "unit;numerics")
-set(ringlube_labels_ring_pack_cycle "numerics")
-set(ringlube_labels_periodicity "unit")
-set(ringlube_labels_bore "numerics")
 
 foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner jfo jfo_connect jfo_coarse
     time_order
@@ -56,7 +36,13 @@ foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle li
     set(names ${t})
     add_test(NAME ${t} COMMAND test_${t} WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
   endif()
-  set_tests_properties(${names} PROPERTIES LABELS "${ringlube_labels_${t}}")
+  file(STRINGS ${src} labels REGEX "^! ctest labels: [a-z_;]+$")
+  if(NOT labels)
+    message(FATAL_ERROR "${src}: no first line '! ctest labels: LABEL;LABEL'")
+  endif()
+  string(REGEX REPLACE "^! ctest labels: " "" labels "${labels}")
+  string(REPLACE "\\;" ";" labels "${labels}") # file(STRINGS) escapes the ';' of a line
+  set_tests_properties(${names} PROPERTIES LABELS "${labels}")
 endforeach()
 
 # the independent Elrod relaxation used by test_jfo and by the (not run) benchmark bench_jfo
@@ -72,15 +58,19 @@ add_test(NAME bad_decks
 add_test(NAME solve_shipped_deck
   COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/../cli/solve_deck.sh $<TARGET_FILE:ringlube-solve>
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+set_tests_properties(bad_decks solve_shipped_deck PROPERTIES LABELS "cli;io")
 add_test(NAME concurrent_output
   COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/../cli/concurrent_output.sh $<TARGET_FILE:ringlube-solve>
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+set_tests_properties(concurrent_output PROPERTIES LABELS "cli;io;slow")
 add_executable(test_hdf5_output ${CMAKE_CURRENT_LIST_DIR}/test_hdf5_output.f90)
 target_link_libraries(test_hdf5_output PRIVATE ringlube_check ringlube_io)
 add_test(NAME hdf5_output COMMAND test_hdf5_output WORKING_DIRECTORY ${CMAKE_BINARY_DIR})
+set_tests_properties(hdf5_output PROPERTIES LABELS "unit;io")
 # SIGTERM while a temporary file exists: the program ends by the signal, the file is gone
 add_test(NAME temp_removed_on_signal
   COMMAND bash -c "t=$(mktemp -d) && n=$($<TARGET_FILE:test_hdf5_output> signal $t/out.h5); rc=$?; echo \"exit $rc, temporary $n\"; [ $rc -eq 143 ] && [ -n \"$n\" ] && [ ! -e \"$n\" ] && [ -z \"$(ls -A $t)\" ] && rmdir $t")
+set_tests_properties(temp_removed_on_signal PROPERTIES LABELS "io")
 
 # Expected failure: the study's published crown-height trend, which ringlube does not
 # reproduce (docs/validation.md). WILL_FAIL makes ctest count the script's failure as a
@@ -88,14 +78,7 @@ add_test(NAME temp_removed_on_signal
 add_test(NAME study_trend_crown_height
   COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/../cli/study_trend_crown.sh $<TARGET_FILE:ringlube-solve>
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
-set_tests_properties(study_trend_crown_height PROPERTIES WILL_FAIL TRUE)
-
-# Labels of the remaining tests (the meanings are listed above).
-set_tests_properties(bad_decks solve_shipped_deck PROPERTIES LABELS "cli;io")
-set_tests_properties(concurrent_output PROPERTIES LABELS "cli;io;slow")
-set_tests_properties(hdf5_output PROPERTIES LABELS "unit;io")
-set_tests_properties(temp_removed_on_signal PROPERTIES LABELS "io")
-set_tests_properties(study_trend_crown_height PROPERTIES LABELS "cli;known_limitation")
+set_tests_properties(study_trend_crown_height PROPERTIES WILL_FAIL TRUE LABELS "cli;known_limitation")
 
 # Ring-pack gas network benchmark and reference numbers (not a test; docs/ring_pack.md).
 add_executable(bench_ring_pack ${CMAKE_CURRENT_LIST_DIR}/../bench/bench_ring_pack.f90)

@@ -17,6 +17,8 @@ from ringlube import BatchError, Case, InputError
 
 from conftest import COLD, INPUTS
 
+pytestmark = [pytest.mark.unit, pytest.mark.io]
+
 FAST = {"preset": "fast"}
 
 
@@ -100,6 +102,7 @@ def test_implausible_viscosity_at_the_liner_temperature_is_refused():
         Case().with_("lubricant", theta0=700.0).validate()
 
 
+@pytest.mark.cli
 def test_long_quoted_string_reads_in_linear_time(tmp_path, solver):
     """F10: a 320k-character quoted value took 24 s (one character at a time)."""
     deck = tmp_path / "long.nml"
@@ -118,6 +121,7 @@ def test_utf8_bom_deck_is_read(tmp_path):
     assert ringlube.run(deck).converged
 
 
+@pytest.mark.cli
 def test_a_deck_must_be_a_regular_file(solver, tmp_path):
     """F20: as root, `ringlube-solve /dev/null` ran on defaults and wrote /dev/result.h5."""
     p = subprocess.run([solver, "/dev/null"], capture_output=True, text=True)

@@ -19,6 +19,8 @@ from ringlube.tables import SECTORS
 
 from conftest import COLD, INPUTS
 
+pytestmark = [pytest.mark.numerics, pytest.mark.io]
+
 HOT_GAS = INPUTS / "crf450r_4000rpm_full_hot_gas.nml"
 
 
@@ -58,6 +60,7 @@ def round_result():
     return ringlube.run(ringlube.Case.from_namelist(COLD).with_numerics(preset="fast"))
 
 
+@pytest.mark.cli
 def test_a_distorted_deck_reads_in_python(runs):
     """A deck with the lists of &bore reads as a Case (its lists as lists: it was refused,
     'malformed value "4 2" (one value per variable)', so `ringlube run` could not run it)."""
@@ -73,6 +76,7 @@ def test_a_distorted_deck_reads_in_python(runs):
         ringlube.Case.from_namelist(bad)
 
 
+@pytest.mark.cli
 def test_sector_series_and_orders_reach_python(runs):
     r = runs["py"]
     m = 8
@@ -88,6 +92,7 @@ def test_sector_series_and_orders_reach_python(runs):
     assert {"sector_h0", "sector_angle_deg", "conformability_by_order"} <= set(dir(r))
 
 
+@pytest.mark.cli
 def test_conformability_per_order_is_the_closed_form(runs):
     """A_k / (q C_k), q = p_e b (F_T / r0 for a tension read in N, the tension itself in N/m),
     C_k = r0^4 / (E I (k^2 - 1)^2), I = b d^3 / 12: the classical limit, computed here from the
@@ -107,6 +112,7 @@ def test_conformability_per_order_is_the_closed_form(runs):
         assert got[k] == pytest.approx(expected[k], rel=1e-12), k
 
 
+@pytest.mark.cli
 def test_python_run_equals_ringlube_solve(runs):
     """Every series, sector series, scalar (but the run time) and the conformability per
     order, bit for bit; and the same summary (the run time aside)."""
@@ -129,6 +135,7 @@ def test_python_run_equals_ringlube_solve(runs):
     assert lines(cli.summary()) == lines(runs["cli_stdout"])[1:-1]
 
 
+@pytest.mark.cli
 def test_python_results_equal_the_file(runs):
     """The arrays Python holds are the file's datasets and attributes (read with h5py)."""
     py = runs["py"]
@@ -146,6 +153,7 @@ def test_python_results_equal_the_file(runs):
     assert list(back.conformability_by_order.items()) == list(py.conformability_by_order.items())
 
 
+@pytest.mark.cli
 def test_summary_lists_every_order(runs):
     """The summary's conformability line gives each order, separated by ', ' (it read
     'k=4: 25.71,k=2: 1.85': the blank after the comma was trimmed)."""
@@ -166,6 +174,7 @@ def test_round_result_has_no_sectors(round_result):
     assert "conformability" not in r.summary()
 
 
+@pytest.mark.cli
 def test_compare_includes_the_distorted_bore(runs, round_result):
     t = ringlube.compare([runs["py"], round_result], labels=["distorted", "round"])
     for name in ("face_leakage", "light_gap_share", "conformability", "blowby"):
@@ -175,6 +184,7 @@ def test_compare_includes_the_distorted_bore(runs, round_result):
     assert "face_leakage" not in ringlube.compare([round_result]).names
 
 
+@pytest.mark.cli
 def test_bore_figures_of_a_distorted_result(runs, tmp_path):
     from ringlube.plot_bore import POLAR_ANGLES, bore_map_figure, bore_polar_figure, face_flow_figure
 
@@ -207,6 +217,8 @@ def test_bore_figures_refuse_a_round_result(round_result):
             make([round_result])
 
 
+@pytest.mark.cli
+@pytest.mark.slow
 def test_ringlube_plot_draws_the_bore(runs, round_result, tmp_path, capsys):
     from ringlube.plot import plot_results
 
@@ -234,6 +246,7 @@ def test_ringlube_plot_draws_the_bore(runs, round_result, tmp_path, capsys):
     assert "800 deg is outside the cycle" in capsys.readouterr().err
 
 
+@pytest.mark.cli
 def test_convergence_tables_add_the_distorted_bore(runs, round_result, monkeypatch, tmp_path):
     """`ringlube convergence` of a distorted deck adds its face leakage, light gaps and
     conformability (and the ring pack's blowby, lift and flutter) with their errors against the reference; the
@@ -283,6 +296,8 @@ def test_convergence_tables_add_the_distorted_bore(runs, round_result, monkeypat
     assert reference["extra"] == {} and "face_leakage" not in md and "blowby" not in md
 
 
+@pytest.mark.cli
+@pytest.mark.slow
 def test_study_draws_the_knee_of_a_distorted_case(runs, tmp_path, monkeypatch):
     """A study's figures of a case with a distorted bore: its chosen knee re-run with the true
     model (the design's values set), drawn as bore_LABEL_polar, _map and _flow; none for a

@@ -19,6 +19,8 @@ from ringlube.tables import FLAGS, MARGINS
 
 from conftest import COLD, per_length
 
+pytestmark = pytest.mark.numerics
+
 OUT = ["lift_margin", "liner_lift_share", "energy_loss", "lift_margin_angle"]
 LOAD_TOL = 1e-3  # preset 'default'
 

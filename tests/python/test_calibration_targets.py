@@ -15,6 +15,8 @@ from ringlube.cli import main
 
 from conftest import INPUTS
 
+pytestmark = [pytest.mark.unit, pytest.mark.cli]
+
 #: swept volume of the CRF450R [m^3] (bore 96 mm, stroke 63 mm), worked out here
 SWEPT = math.pi / 4 * 0.096**2 * 0.063
 

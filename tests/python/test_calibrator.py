@@ -12,6 +12,8 @@ from ringlube.calibrate.calibrator import Param, calibrate_inputs, start_design
 from ringlube.readings import reading as rd
 from ringlube.validate import compute as vc
 
+pytestmark = pytest.mark.unit
+
 FIELDS = ("x", "u", "fun", "score", "nfev", "nit", "status", "message", "success", "active_mask")
 
 

@@ -9,6 +9,8 @@ from ringlube import Case, InputError, NotConvergedError
 
 from conftest import COLD, DECKS
 
+pytestmark = pytest.mark.unit
+
 
 @pytest.mark.parametrize("deck", DECKS, ids=lambda p: p.stem)
 def test_round_trip(deck, tmp_path):

@@ -16,6 +16,8 @@ from ringlube.tables import GROUPS, INPUTS, PRESETS
 
 from conftest import COLD, DECKS
 
+pytestmark = pytest.mark.unit
+
 FAST = dict(nodes=31, dpsi_deg=4.0)
 
 

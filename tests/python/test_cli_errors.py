@@ -17,6 +17,8 @@ from ringlube.cli import main
 
 from conftest import COLD, INPUTS
 
+pytestmark = pytest.mark.cli
+
 
 @pytest.fixture(scope="module")
 def result_file(tmp_path_factory):
@@ -182,6 +184,7 @@ def test_device_is_untouched(tmp_path, result_file):
     assert not os.path.isfile(os.devnull)
 
 
+@pytest.mark.slow
 def test_real_process_prints_one_line(tmp_path):
     """The installed command in a real process: stderr is one line, exit 2."""
     p = subprocess.run(
@@ -238,6 +241,7 @@ def test_convergence_default_folder_is_the_documented_one():
     assert "docs/convergence/" in readme
 
 
+@pytest.mark.slow
 def test_dask_study_is_quiet_and_interrupts_in_one_line(tmp_path):
     """A LocalCluster study: nothing on stderr with -q; SIGTERM, or Ctrl-C to the process group,
     mid-run gives one line, exit 130, finished runs kept (no CancelledError, no dashboard or port

@@ -10,6 +10,8 @@ from ringlube import Case, InputError
 
 from conftest import COLD
 
+pytestmark = pytest.mark.numerics
+
 
 @pytest.mark.parametrize("scheme, low, high", [("euler", 0.8, 1.4), ("bdf2", 1.6, 2.6)])
 def test_crank_step_convergence_order(scheme, low, high):

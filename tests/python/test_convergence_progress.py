@@ -11,6 +11,8 @@ from ringlube.cli import main
 
 from conftest import COLD
 
+pytestmark = pytest.mark.numerics
+
 
 @pytest.fixture()
 def fake_runs(monkeypatch, capsys):

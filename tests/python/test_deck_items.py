@@ -14,6 +14,8 @@ from ringlube.case.text import format_value
 
 from conftest import COLD, INPUTS
 
+pytestmark = [pytest.mark.unit, pytest.mark.io]
+
 KERNEL_DECKS = sorted(p for p in INPUTS.glob("*.nml") if not p.name.startswith("study_"))
 STUDY_DECKS = sorted(INPUTS.glob("study_*.nml"))
 
@@ -241,6 +243,7 @@ def test_a_component_names_the_variable_meant():
             items(text, "s.nml")
 
 
+@pytest.mark.cli
 def test_a_study_deck_run_as_a_case_says_so(tmp_path, solver):
     """`ringlube-solve STUDY.nml` (and a study deck read as a case) says it is a study deck,
     instead of a malformed value of its first list."""

@@ -4,10 +4,14 @@ unit or result name changes and the doc was not regenerated."""
 
 from __future__ import annotations
 
+import pytest
+
 from ringlube.docgen import update_doc
 from ringlube.tables import INPUTS
 
 from conftest import ROOT
+
+pytestmark = pytest.mark.unit
 
 
 def test_model_md_tables_are_current():

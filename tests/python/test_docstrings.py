@@ -15,6 +15,8 @@ import ringlube
 
 from conftest import ROOT
 
+pytestmark = pytest.mark.unit
+
 MODULES = [
     m.name.removeprefix("ringlube.")
     for m in pkgutil.walk_packages(ringlube.__path__, "ringlube.")
@@ -23,6 +25,9 @@ MODULES = [
 #: the modules whose examples this file runs (the study and CLI modules' run in
 #: test_study_docstrings.py, in a folder of their own: each example runs once)
 EXAMPLES = [m for m in MODULES if f"ringlube.{m}" not in STUDY_MODULES]
+#: the modules whose examples take over 1 s (`slow`)
+SLOW_EXAMPLES = {"gas"}
+assert SLOW_EXAMPLES <= set(EXAMPLES), SLOW_EXAMPLES - set(EXAMPLES)
 
 
 def _public(mod):
@@ -45,7 +50,9 @@ def test_public_names_are_documented(name):
     assert not missing, f"ringlube.{name}: incomplete docstrings: {missing}"
 
 
-@pytest.mark.parametrize("name", EXAMPLES)
+@pytest.mark.parametrize(
+    "name", [pytest.param(m, marks=pytest.mark.slow) if m in SLOW_EXAMPLES else m for m in EXAMPLES]
+)
 def test_docstring_examples_run(name, monkeypatch):
     monkeypatch.chdir(ROOT)  # examples name the shipped inputs by relative path
     mod = importlib.import_module(f"ringlube.{name}")

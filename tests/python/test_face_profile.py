@@ -20,7 +20,7 @@ from ringlube.errors import InputError
 from conftest import COLD
 
 #: the shipped deck sets crown_height, which 'gauge' and 'table' do not use (said once per run)
-pytestmark = pytest.mark.filterwarnings("ignore::ringlube.UnusedInputWarning")
+pytestmark = [pytest.mark.numerics, pytest.mark.filterwarnings("ignore::ringlube.UnusedInputWarning")]
 NODES = 41
 WIDTH, CROWN, OFFSET = 1.004e-3, 9.31e-6, -38.3e-6
 SERIES = ("h0", "friction", "hydrodynamic_load", "asperity_load", "power_loss", "lambda_min")

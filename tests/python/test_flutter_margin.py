@@ -12,6 +12,8 @@ import ringlube
 
 from conftest import INPUTS, per_length
 
+pytestmark = pytest.mark.numerics
+
 DECK = INPUTS / "crf450r_12000rpm_full_hot_gas.nml"
 OUT = ["flutter_events", "flutter_margin", "flutter_margin_ratio", "energy_loss"]
 

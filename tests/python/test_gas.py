@@ -10,6 +10,8 @@ from ringlube import gas
 
 from conftest import INPUTS
 
+pytestmark = pytest.mark.unit
+
 
 @pytest.mark.parametrize("name", sorted(gas.PRESETS))
 def test_shipped_trace_is_the_documented_model(name):

@@ -17,6 +17,8 @@ from ringlube.gas import model as gas_model
 
 from conftest import INPUTS
 
+pytestmark = [pytest.mark.unit, pytest.mark.numerics]
+
 # the own engine of issue 18: 86 x 86 mm, conrod 143.5 mm
 OWN = dict(bore=86e-3, crank_radius=43e-3, conrod_length=143.5e-3, compression_ratio=10.5)
 
@@ -85,6 +87,7 @@ def test_closed_cycle_obeys_the_first_law():
     assert internal + work == pytest.approx(q * m.burned(m.evo), rel=1e-9)
 
 
+@pytest.mark.slow
 def test_imep_of_the_written_trace_is_the_target(tmp_path, capsys):
     """The trace the kernel reads back, interpolated linearly as it does, integrated on a
     200x finer grid against the analytic dV: the net IMEP asked for (1e-4; 9e-6 measured)."""
@@ -139,6 +142,7 @@ def test_header_records_inputs_and_the_command_reproduces_the_file(tmp_path, mon
     assert "speed_rpm = 3000, pressure_file = 'p.csv'" in out
 
 
+@pytest.mark.slow
 def test_figure_beside_the_trace(tmp_path):
     files = gas.write_trace(gas.GasModel(**OWN, imep=9e5), tmp_path / "own.csv")[0]
     assert [f.name for f in files] == ["own.csv", "own.png", "own.pdf"]

@@ -15,6 +15,8 @@ from ringlube.gas import model as gas_model
 
 from conftest import ROOT
 
+pytestmark = [pytest.mark.unit, pytest.mark.numerics]
+
 OWN = dict(bore=86e-3, crank_radius=43e-3, conrod_length=143.5e-3, compression_ratio=10.5)
 ENGINE = "--bore 0.086 --stroke 0.086 --conrod 0.1435 --compression-ratio 10.5"
 
@@ -114,6 +116,7 @@ def test_wall_loss_closes_the_first_law():
 
 
 @pytest.mark.parametrize("correlation", ["woschni", "hohenberg"])
+@pytest.mark.slow
 def test_a_trace_fitted_to_peak_and_imep_reproduces_both(tmp_path, capsys, correlation):
     """The engine the single-zone trace could not match without wall heat loss: a turbocharged
     86 x 86 mm at 3000 r/min, 2 bar in the manifold, with 110 bar peak and 20.5 bar IMEP
@@ -178,6 +181,7 @@ def test_motored_trace(tmp_path, monkeypatch, capsys):
     assert pc.max() < p.max() and gas.wall_heat(cooled) > 0
 
 
+@pytest.mark.slow
 def test_the_pages_gas_lines_are_what_the_commands_print(tmp_path, monkeypatch, capsys):
     """docs/own_engine.md quotes a `ringlube gas` command with the line it prints (the fitted
     turbocharged trace, an illustration block): it is run here and prints that line. (The

@@ -14,6 +14,8 @@ from ringlube import Case, InputError
 
 from conftest import INPUTS
 
+pytestmark = pytest.mark.unit
+
 DECK = INPUTS / "crf450r_12000rpm_full_hot_gas.nml"
 
 

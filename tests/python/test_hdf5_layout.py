@@ -18,6 +18,8 @@ from ringlube.tables import FLAG_BITS, INT_SERIES, SERIES
 
 from conftest import INPUTS, ROOT
 
+pytestmark = pytest.mark.io
+
 MODEL_MD = (ROOT / "docs" / "model.md").read_text()
 
 
@@ -85,6 +87,7 @@ def test_spec_names_are_documented():
     assert set(names) <= set(CYCLE_DSETS), set(names) - set(CYCLE_DSETS)
 
 
+@pytest.mark.cli
 def test_documented_layout(result):
     with h5py.File(result) as f:
         assert set(ROOT_ATTRS) <= set(f.attrs)
@@ -97,6 +100,7 @@ def test_documented_layout(result):
         assert f.attrs["converged"] in (0, 1)
 
 
+@pytest.mark.cli
 def test_crank_angle_is_the_dimension_scale_of_every_dataset(result):
     with h5py.File(result) as f:
         c = f["cycle"]
@@ -109,6 +113,7 @@ def test_crank_angle_is_the_dimension_scale_of_every_dataset(result):
             assert len(attached) == 1 and attached[0] == scale, name
 
 
+@pytest.mark.cli
 def test_long_name_and_units_on_every_dataset(result):
     with h5py.File(result) as f:
         for name, d in f["cycle"].items():
@@ -125,6 +130,7 @@ def test_long_name_and_units_on_every_dataset(result):
             assert f"{bit}: {text}" in description
 
 
+@pytest.mark.cli
 def test_string_attributes_are_utf8_str(result):
     with h5py.File(result) as f:
         for key in STRING_ATTRS:
@@ -137,6 +143,8 @@ def test_string_attributes_are_utf8_str(result):
         assert "&operating" in f.attrs["deck"]
 
 
+@pytest.mark.cli
+@pytest.mark.slow
 def test_deck_over_64_kib_is_kept_whole(solver, tmp_path):
     comments = "".join(f"! comment {i:05d} {'.' * 60}\n" for i in range(1500))
     deck = _deck(tmp_path, "! non-ASCII: 20 µm, ±5 %\n" + comments)
@@ -151,6 +159,7 @@ def test_deck_over_64_kib_is_kept_whole(solver, tmp_path):
     assert (INPUTS / "calibration.nml").read_text().strip() in stored
 
 
+@pytest.mark.cli
 def test_text_that_is_not_utf8_is_still_readable(solver, tmp_path):
     deck = _deck(tmp_path)
     deck.write_bytes(b"! Stra\xdfe (Latin-1)\n" + deck.read_bytes())
@@ -162,6 +171,7 @@ def test_text_that_is_not_utf8_is_still_readable(solver, tmp_path):
     stored.encode("utf-8")  # no lone surrogates: printable and writable as UTF-8
 
 
+@pytest.mark.cli
 def test_xarray_opens_cycle_with_crank_angle_coordinate(result):
     xr = pytest.importorskip("xarray")
     pytest.importorskip("h5netcdf")
@@ -181,6 +191,7 @@ def test_xarray_opens_cycle_with_crank_angle_coordinate(result):
                 assert ds[name].dims == ("crank_angle_deg",), name
 
 
+@pytest.mark.cli
 def test_every_input_is_a_root_attribute(result):
     """The design inputs travel with the result (`group.name`, the effective value; a list as
     its deck text), so files can be compared without parsing their decks."""
@@ -209,6 +220,7 @@ def test_every_input_is_a_root_attribute(result):
         assert a["physics.roelands"] == 1 and a["physics.outlet"] == "reynolds"
 
 
+@pytest.mark.cli
 def test_units_in_every_scalar_name(result):
     """Each stored scalar's name ends in its unit (the README's words: not all SI)."""
     from ringlube.tables import SCALARS
@@ -221,6 +233,7 @@ def test_units_in_every_scalar_name(result):
             assert s.stored.endswith(suffix[s.unit]), (s.stored, s.unit)
 
 
+@pytest.mark.cli
 def test_scalars_stored_and_read_by_their_kind(result):
     """The table's kind of each scalar decides how it is stored and read: 'integer' and
     'logical' as HDF5 integers (a logical 0 or 1), 'real' as floats; ``load`` gives bool,

@@ -17,6 +17,8 @@ from ringlube.executor import Executor
 
 from conftest import COLD, INPUTS
 
+pytestmark = [pytest.mark.unit, pytest.mark.io]
+
 
 def own_inputs(folder, calibration=None):
     """A copy of the cold deck with its calibration file (optionally replaced) and trace."""
@@ -31,6 +33,7 @@ def own_inputs(folder, calibration=None):
 # --- a NUL byte: one reading (a named error) in ringlube-solve, ringlube run/show and the API --
 
 
+@pytest.mark.cli
 def test_a_nul_byte_in_a_deck_is_one_named_error_everywhere(tmp_path, solver, capsys):
     deck = own_inputs(tmp_path)
     text = deck.read_text()
@@ -53,6 +56,7 @@ def test_a_nul_byte_in_a_deck_is_one_named_error_everywhere(tmp_path, solver, ca
 # --- the chamber pressure has one limit: a trace's, also after pressure_scale ----------------
 
 
+@pytest.mark.cli
 def test_pressure_scale_is_held_to_the_limit_of_a_trace(tmp_path, solver):
     """The shipped trace peaks at 60 bar: 16 times is 960 bar and runs, 17 times is refused
     like a trace point above 1000 bar (1e8 Pa), in the deck, through the API and with a trace
@@ -162,6 +166,7 @@ def test_optimise_on_a_case_deck_says_it_is_a_case_deck(capsys):
 # --- front ends agree ------------------------------------------------------------------------
 
 
+@pytest.mark.cli
 def test_a_value_of_100000_digits_reads_alike_in_every_front_end(tmp_path, solver, capsys):
     """ringlube-solve read it; run and show refused it (a 4096-byte limit of the f2py layer)."""
     deck = own_inputs(tmp_path)
@@ -289,6 +294,7 @@ def gas_deck(folder, extra=""):
 SEALED = "&ring_pack top_gap_area = 0, second_gap_area = 0, groove_clearance = 1e-6 /\n"
 
 
+@pytest.mark.cli
 def test_a_sealed_ring_pack_is_refused_by_name(tmp_path, solver, capsys):
     """No end gaps and a 1 um groove clearance: the top ring stays on its upper flank, no gas
     enters or leaves the groove and the land together, and their pressure is whatever the warm-up

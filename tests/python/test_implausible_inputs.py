@@ -16,6 +16,8 @@ from ringlube.tables import FLAGS, INPUTS
 
 from conftest import COLD, INPUTS as INPUT_DIR
 
+pytestmark = pytest.mark.numerics
+
 FAST = {"nodes": 31, "dpsi_deg": 4.0}
 
 

@@ -18,6 +18,8 @@ from ringlube.targets import read_targets
 
 from conftest import COLD, INPUTS
 
+pytestmark = pytest.mark.unit
+
 HEADER = "condition,deck,quantity,value,unit\n"
 
 
@@ -147,6 +149,7 @@ def test_validate_without_a_calibration_file_is_one_line(tmp_path, capsys):
     assert "&calibration file: not given" in err and len(err.strip().splitlines()) == 1
 
 
+@pytest.mark.cli
 def test_ring_pack_inputs_with_the_ring_pack_off_are_said(tmp_path, solver):
     """`&ring_pack` inputs with `ring_pack = 'none'` are not used: ringlube-solve warns on
     stderr (file, line, variable) and Python warns (UnusedInputWarning); with the ring pack on,

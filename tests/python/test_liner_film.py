@@ -14,6 +14,8 @@ from ringlube import Case
 
 from conftest import COLD, INPUTS
 
+pytestmark = pytest.mark.numerics
+
 HOT = INPUTS / "crf450r_4000rpm_full_hot.nml"
 
 

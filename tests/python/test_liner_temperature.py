@@ -12,6 +12,8 @@ from ringlube.errors import InputError
 
 from conftest import COLD
 
+pytestmark = pytest.mark.numerics
+
 SERIES = ("h0", "friction", "hydrodynamic_load", "asperity_load", "power_loss", "film_temperature")
 
 

@@ -1,16 +1,22 @@
-"""The pytest markers are the ctest labels, and every test module has its labels."""
+"""The pytest markers are the ctest labels, and every collected test carries its labels."""
 
 from __future__ import annotations
 
 import re
 
-from conftest import MODULE_LABELS, ROOT, SLOW
+import pytest
+
+from conftest import ROOT
+
+pytestmark = pytest.mark.unit
 
 
 def _ctest_labels() -> set[str]:
-    text = (ROOT / "tests" / "fortran" / "tests.cmake").read_text()
-    found = re.findall(r'LABELS "([a-z_;]+)"', text)
-    found += re.findall(r'set\(ringlube_labels_\w+ "([^"]+)"\)', text)
+    """The labels of the Fortran test programs (their `! ctest labels:` line) and of the
+    other ctests (`LABELS` in tests/fortran/tests.cmake)."""
+    sources = (ROOT / "tests" / "fortran").glob("test_*.f90")
+    found = [m for p in sources for m in re.findall(r"^! ctest labels: ([a-z_;]+)$", p.read_text(), re.M)]
+    found += re.findall(r'LABELS "([a-z_;]+)"', (ROOT / "tests" / "fortran" / "tests.cmake").read_text())
     return {label for labels in found for label in labels.split(";")}
 
 
@@ -22,16 +28,21 @@ def _markers() -> set[str]:
 
 def test_markers_are_the_ctest_labels():
     assert _ctest_labels() == _markers()
-    assert {label for labels in MODULE_LABELS.values() for label in labels} <= _markers()
 
 
-def test_every_test_module_has_labels():
-    modules = {p.stem for p in (ROOT / "tests" / "python").glob("test_*.py")}
-    assert modules == set(MODULE_LABELS), modules ^ set(MODULE_LABELS)
-
-
-def test_slow_tests_exist():
-    """Every name of conftest.SLOW is a test function (a renamed test would lose its label)."""
-    text = "".join(p.read_text() for p in (ROOT / "tests" / "python").glob("test_*.py"))
-    missing = [n for n in SLOW if f"def {n.split('[')[0]}(" not in text]
-    assert not missing, missing
+def test_every_collected_test_has_its_labels(request):
+    """Every test collected with this one has a label of what it checks (`unit` or
+    `numerics` or `cli` or `io`), `cli` if it runs ringlube-solve (the `solver` fixture) and
+    `known_limitation` if it is a strict xfail: a new test without its marks fails here."""
+    kinds = {"unit", "numerics", "cli", "io"}
+    wrong = []
+    for item in request.session.items:
+        marks = {m.name for m in item.iter_markers()}
+        xfail = item.get_closest_marker("xfail")
+        if (
+            not marks & kinds
+            or ("solver" in getattr(item, "fixturenames", ()) and "cli" not in marks)
+            or ((xfail is not None and xfail.kwargs.get("strict", False)) != ("known_limitation" in marks))
+        ):
+            wrong.append(item.nodeid)
+    assert not wrong, wrong

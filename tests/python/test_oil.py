@@ -15,6 +15,8 @@ from ringlube.errors import InputError
 
 from conftest import COLD
 
+pytestmark = [pytest.mark.unit, pytest.mark.numerics]
+
 #: SAE J300 (2015-01): kinematic viscosity at 100 degC [mm^2/s] of the high-temperature
 #: grades, min up to below max
 J300 = {20: (6.9, 9.3), 30: (9.3, 12.5), 40: (12.5, 16.3), 50: (16.3, 21.9), 60: (21.9, 26.1)}

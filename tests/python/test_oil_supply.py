@@ -20,6 +20,8 @@ from ringlube.tables import FLAGS
 
 from conftest import COLD, HOT, per_length
 
+pytestmark = pytest.mark.numerics
+
 FAST = {"preset": "fast"}
 
 
@@ -173,6 +175,7 @@ def test_supply_film_to_zero_never_breaks_the_run(cold):
     assert all(a >= b for a, b in zip(fills, fills[1:])), fills
 
 
+@pytest.mark.cli
 def test_optional_results_round_trip_and_layout(cold, tmp_path, solver):
     import subprocess
 
@@ -247,6 +250,7 @@ def test_liner_and_supply_figures(cold, tmp_path):
     np.testing.assert_array_equal(fig.axes[0].lines[0].get_ydata(), r.inlet_fill)
 
 
+@pytest.mark.slow
 def test_study_trades_friction_against_oil_transport(tmp_path, cold):
     """oil_to_chamber as a study objective (issue 9): recorded for every design of a starved
     base deck, fitted and optimised; refused, naming the deck, where a base deck does not
@@ -283,6 +287,7 @@ def test_study_trades_friction_against_oil_transport(tmp_path, cold):
     assert not flooded.exists()
 
 
+@pytest.mark.slow
 def test_starved_hot_energy_converges_in_the_crank_step():
     """Refining the crank step from 0.25 to 0.125 deg moves the starved hot energy by under 2 %
     (issue 16: with a gas-only trailing edge the face ran dry after TDC at 0.125 deg, 2.03 ->
@@ -326,6 +331,7 @@ def test_trailing_gas_cold_energy_converges_in_nodes():
     ],
     ids=["trailing_gas", "starved"],
 )
+@pytest.mark.known_limitation
 def test_default_preset_takes_the_branch_of_the_converged_run(physics):
     """The 'default' preset (51 nodes, 2 deg) within 0.5 % in energy of 'accurate' (201 nodes,
     0.25 deg; 0.04 % / -0.3 % from the 801-node, 0.125-deg reference) on the cold deck. It is
@@ -400,6 +406,7 @@ def test_oil_balance_at_round_off_at_the_design_corner(cold):
     assert r.oil_balance_error <= 1e-12, r.oil_balance_error
 
 
+@pytest.mark.slow
 def test_damped_rule_that_does_not_contract_ends_flagged(cold):
     """Issue 20 item 8: with damping 0.999 the study's damped rule overshoots and oscillates;
     a starved run then spent max_load_iterations (2000) film solves at every step (over 100 s).
@@ -434,7 +441,16 @@ def test_starved_ring_pack_default_preset_takes_the_branch_of_the_converged_run(
 
 @pytest.mark.parametrize(
     "deck",
-    ["cold", pytest.param("hot", marks=pytest.mark.xfail(strict=True, reason="issue 16: hot +18 %"))],
+    [
+        "cold",
+        pytest.param(
+            "hot",
+            marks=[
+                pytest.mark.xfail(strict=True, reason="issue 16: hot +18 %"),
+                pytest.mark.known_limitation,
+            ],
+        ),
+    ],
 )
 def test_trailing_gas_ring_pack_default_preset_takes_the_branch_of_the_converged_run(deck):
     """Flooded 'trailing_gas' with the ring pack's gas: 'default' (51 nodes, 2 deg) within

@@ -19,6 +19,8 @@ from ringlube.study.plots import save
 
 from conftest import COLD, INPUTS
 
+pytestmark = pytest.mark.io
+
 
 @pytest.fixture()
 def result_file(tmp_path, quick_case):
@@ -136,6 +138,7 @@ def test_written_file_is_readable_by_others(tmp_path):
     assert stat.S_IMODE(path.stat().st_mode) == 0o644
 
 
+@pytest.mark.cli
 def test_result_file_refuses_a_symbolic_link_in_every_front_end(tmp_path, solver, quick_case):
     """A result file named by a symbolic link is refused by `ringlube-solve`, by
     `ringlube.run(output=...)` and by `ringlube run`, and the link and its target are left as
@@ -156,6 +159,7 @@ def test_result_file_refuses_a_symbolic_link_in_every_front_end(tmp_path, solver
     assert sorted(q.name for q in tmp_path.iterdir()) == ["link.h5", "other.h5"]
 
 
+@pytest.mark.cli
 def test_result_file_records_where_it_was_written(tmp_path, solver, quick_case):
     """`output.file` in a result is the path it was written to (-o, output=), not the deck's
     &output file that -o overrode."""

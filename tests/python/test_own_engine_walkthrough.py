@@ -25,10 +25,14 @@ import shlex
 import subprocess
 import warnings
 
+import pytest
+
 from ringlube import SourceEngineDefaultWarning
 from ringlube.cli import main
 
 from conftest import ROOT
+
+pytestmark = pytest.mark.cli
 
 DOC = ROOT / "docs" / "own_engine.md"
 
@@ -103,6 +107,7 @@ def _ringlube(argv: list[str], capsys) -> str:
     return out
 
 
+@pytest.mark.slow
 def test_own_engine_walkthrough(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)  # an empty folder
     ran = []

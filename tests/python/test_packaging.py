@@ -19,6 +19,8 @@ from ringlube.examples import copy_examples, examples_dir
 
 from conftest import INPUTS, ROOT
 
+pytestmark = pytest.mark.io
+
 #: Every shipped input of the repository (what the wheel must carry).
 SHIPPED = sorted(
     p.relative_to(INPUTS) for p in INPUTS.rglob("*") if p.is_file() and p.suffix in {".nml", ".csv", ".md"}
@@ -77,6 +79,7 @@ def _cmake_version() -> str:
     return found[0]
 
 
+@pytest.mark.cli
 def test_one_version_everywhere(solver, tmp_path):
     version = _cmake_version()
     assert importlib.metadata.version("ringlube") == version

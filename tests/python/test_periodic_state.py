@@ -15,6 +15,8 @@ from ringlube import Case
 
 from conftest import COLD, INPUTS, per_length
 
+pytestmark = pytest.mark.numerics
+
 
 def _tight(case: Case) -> ringlube.CycleResult:
     """The same case run to cycle_tol 1e-6."""

@@ -12,6 +12,8 @@ from ringlube.plot import film_figure, friction_figure, plot_results
 
 from conftest import COLD
 
+pytestmark = [pytest.mark.cli, pytest.mark.io]
+
 
 @pytest.fixture(autouse=True)
 def _close_figures():

@@ -22,6 +22,8 @@ from ringlube import Case
 
 from conftest import INPUTS, per_length
 
+pytestmark = pytest.mark.numerics
+
 SHIFT = 3e6  # Pa
 MODELS = {
     "swift_stieber": {},

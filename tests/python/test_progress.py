@@ -17,7 +17,11 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
+
 from conftest import COLD, INPUTS
+
+pytestmark = pytest.mark.cli
 
 #: the kernel's delay before its first progress line [s] (fsys.c, progress_after)
 AFTER = 2.0

@@ -10,6 +10,8 @@ from ringlube.calibrate.calibrator import Param, calibrate_inputs, start_design
 from ringlube.readings import fit as rf, reading as rd, report as rr
 from ringlube.trends import FAILED_MEASURE, TRENDS, trend_measures, trend_verdicts
 
+pytestmark = pytest.mark.numerics
+
 NAMES = [t.name for t in TRENDS]
 
 

@@ -16,6 +16,8 @@ from ringlube.tables import FLAGS
 
 from conftest import COLD, per_length
 
+pytestmark = pytest.mark.numerics
+
 FAST = {"preset": "fast"}
 
 
@@ -535,6 +537,7 @@ def test_a_transient_near_repeat_is_not_a_period():
 
 
 @pytest.mark.xfail(strict=True, reason="starved period test: the L1 map change hides a build-up near BDC")
+@pytest.mark.known_limitation
 def test_a_starved_period_of_one_must_repeat():
     """At 12000 r/min the hot 'gas' deck starved (JFO, 1 um) with a 1.205 mm ring at 4.25 N/m
     has a period of five cycles (2.9475, 2.1830, 2.2059, 2.2166, 2.2166 J; mean 2.354 J, found

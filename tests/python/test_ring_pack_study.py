@@ -7,12 +7,15 @@ from __future__ import annotations
 import re
 
 import numpy as np
+import pytest
 
 from ringlube.executor import Executor
 from ringlube.study import run_study
 from ringlube.study.deck import read_study
 
 from conftest import INPUTS
+
+pytestmark = pytest.mark.numerics
 
 DECK = INPUTS / "study_ring_pack.nml"
 TINY = {

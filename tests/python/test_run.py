@@ -17,8 +17,11 @@ from ringlube.tables import INT_SERIES, SERIES
 
 from conftest import COLD, DECKS
 
+pytestmark = pytest.mark.numerics
+
 
 @pytest.mark.parametrize("deck", DECKS, ids=lambda p: p.stem)
+@pytest.mark.cli
 def test_python_identical_to_cli(deck, solver, tmp_path):
     """Every series and every scalar (but the run time) bit for bit, by name."""
     out = tmp_path / "cli.h5"
@@ -61,6 +64,7 @@ def _layout(path):
         return attrs(f), items
 
 
+@pytest.mark.cli
 def test_cli_and_python_write_identical_files(solver, tmp_path):
     """ringlube-solve and `ringlube run` (the kernel's writer through Python) give the same
     layout, attributes and values (not a subset), the run time and the file each was written
@@ -222,6 +226,7 @@ def test_oil_density_is_range_checked():
         ringlube.Case().with_("lubricant", oil_density=10.0).validate()
 
 
+@pytest.mark.cli
 def test_solve_and_ringlube_run_print_one_summary(solver, tmp_path):
     """ringlube-solve and `ringlube run` print the same summary (the kernel formats it),
     with units and the quoted results; only the run time differs."""

@@ -17,6 +17,8 @@ from ringlube.executor import Executor
 
 from conftest import COLD
 
+pytestmark = pytest.mark.unit
+
 
 @pytest.fixture()
 def silent_socket():
@@ -90,6 +92,7 @@ def test_empty_scheduler_address_is_refused():
         Executor(scheduler="")
 
 
+@pytest.mark.slow
 def test_sigterm_during_cluster_start_ends_quietly(tmp_path):
     deck = tmp_path / "s.nml"
     deck.write_text(

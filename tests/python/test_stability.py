@@ -19,6 +19,8 @@ from ringlube.study.variables import DESIGN_RANGES
 
 from conftest import COLD, INPUTS
 
+pytestmark = pytest.mark.numerics
+
 SPEEDS = (500, 3000, 8000, 14000)
 TEMPERATURES = (253.0, 348.0, 391.0, 423.0)
 CORNERS = DESIGN_RANGES  # the study's design box (one home: ringlube.study.variables)

@@ -24,6 +24,8 @@ from ringlube.study.surrogate import fit_quadratic, quadratic_features
 
 from conftest import INPUTS
 
+pytestmark = pytest.mark.numerics
+
 LOWER = [0.54e-3, 6e-6, -54e-6, 8.0]
 UPPER = [1.34e-3, 13e-6, 67e-6, 26.0]
 
@@ -57,6 +59,7 @@ def test_quadratic_fit_recovers_known_coefficients():
     assert surf.r2 == pytest.approx(1.0, abs=1e-12)
 
 
+@pytest.mark.slow
 def test_small_study_end_to_end(tmp_path):
     deck = write_study(
         tmp_path, name="e2e", samples=40, cases=("cold", "hot"), scene=".true.", weights="3.0, 1.0"
@@ -197,6 +200,7 @@ def loopback_cluster(tmp_path):
                 p.kill()
 
 
+@pytest.mark.slow
 def test_dask_cluster_matches_serial_and_survives_a_killed_worker(tmp_path, loopback_cluster):
     address, workers = loopback_cluster
     s = read_study(write_study(tmp_path, name="dask", samples=64))

@@ -23,6 +23,8 @@ from ringlube.study.surfaces import surfaces_of
 
 from conftest import INPUTS
 
+pytestmark = pytest.mark.unit
+
 COLD = INPUTS / "crf450r_4000rpm_full_cold.nml"
 BOX = "variables = 'width', 'crown_offset', lower = 0.8e-3, -40e-6, upper = 1.2e-3, 40e-6"
 
@@ -100,6 +102,7 @@ def _reference_friction(study):
     return study.cases["cold"].reference.f_true[0, j]
 
 
+@pytest.mark.slow
 def test_constraint_binds_the_surrogate_front(constrained, tmp_path):
     study, _, _ = constrained
     c = study.cases["cold"]
@@ -165,6 +168,7 @@ def test_min_film_in_micrometres(constrained):
     assert "min_film [µm]" in report and "min_film [m]" not in report
 
 
+@pytest.mark.slow
 def test_tradeoff_files_follow_the_objectives(constrained, tmp_path):
     _, out, _ = constrained
     assert tradeoff_stems(["energy_loss", "mixed_share"]) == ["tradeoff_energy_loss_vs_mixed_share"]

@@ -9,6 +9,8 @@ import inspect
 
 import pytest
 
+pytestmark = pytest.mark.unit
+
 MODULES = [
     "ringlube.executor",
     "ringlube.study.variables",

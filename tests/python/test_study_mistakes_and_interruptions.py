@@ -23,6 +23,8 @@ from ringlube.study.variables import OUTPUTS
 
 from conftest import INPUTS
 
+pytestmark = pytest.mark.io
+
 COLD = INPUTS / "crf450r_4000rpm_full_cold.nml"
 
 
@@ -299,6 +301,7 @@ def test_executor_refuses_fewer_than_one_worker(workers):
         Executor(workers=workers, backend="processes")
 
 
+@pytest.mark.slow
 def test_unreachable_scheduler_is_one_error(monkeypatch):
     import ringlube.executor as ex
 

@@ -20,6 +20,8 @@ from ringlube.study.variables import OUTPUTS, display, output_units, variable_un
 
 from conftest import INPUTS
 
+pytestmark = pytest.mark.io
+
 COLD = INPUTS / "crf450r_4000rpm_full_cold.nml"
 HOT = INPUTS / "crf450r_4000rpm_full_hot.nml"
 
@@ -40,6 +42,7 @@ def study(tmp_path_factory):
     return run_study(deck, d / "out", executor=Executor(serial=True), progress=False), d / "out"
 
 
+@pytest.mark.slow
 def test_tradeoff_is_drawn_without_ring_mass_and_names_designs(study):
     st, out = study
     assert (out / "tradeoff_energy_loss_vs_mixed_share.png").stat().st_size > 1000

@@ -22,6 +22,8 @@ from ringlube.study.surfaces import surfaces_of
 
 from conftest import INPUTS
 
+pytestmark = pytest.mark.unit
+
 BOX = "variables = 'width', 'crown_offset', lower = 0.8e-3, -40e-6, upper = 1.2e-3, 40e-6"
 SIZES = "samples = 24, seed = 3, population = 16, generations = 8, repeats = 2, batch = 8"
 
@@ -104,6 +106,7 @@ def test_at_scene_needs_a_scene(decks):
         read_study(path)
 
 
+@pytest.mark.slow
 def test_a_relative_constraint_is_the_absolute_one_from_the_references_value(decks):
     """'max_friction <= 1.05 * reference' and 'max_friction <= B' with B = 1.05 times the
     reference's true max_friction give the same bound and the same study: the same Pareto set
@@ -162,6 +165,7 @@ def per_point(decks):
     return free, study, bound, decks / "out_bound"
 
 
+@pytest.mark.slow
 def test_a_per_point_constraint_binds_only_its_point(per_point):
     """At hot the front holds only designs within the bound (on the surface); the cold front is
     that of the study without the constraint, bit for bit; the scene's designs are bound at
@@ -178,6 +182,7 @@ def test_a_per_point_constraint_binds_only_its_point(per_point):
     assert np.max(friction(free.cases["scene"].front.x)) > bound  # it bound the scene too
 
 
+@pytest.mark.slow
 def test_the_report_says_which_designs_satisfy_every_points_constraints(per_point, decks):
     """Every chosen design of cold is run at hot too; the report's row says 'all satisfied'
     exactly where its max_friction at hot (computed here, independently) is within the bound."""

@@ -11,6 +11,8 @@ from ringlube.study import run_study
 
 from conftest import INPUTS
 
+pytestmark = pytest.mark.io
+
 COLD = INPUTS / "crf450r_4000rpm_full_cold.nml"
 HOT = INPUTS / "crf450r_4000rpm_full_hot.nml"
 
@@ -40,6 +42,7 @@ def same_study(a, b) -> None:
         np.testing.assert_array_equal(ca.chosen.f_true, cb.chosen.f_true)
 
 
+@pytest.mark.slow
 def test_resume_after_changed_weights_recomputes_the_scene(tmp_path):
     out = tmp_path / "out"
     first = run_study(

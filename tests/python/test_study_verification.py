@@ -15,6 +15,8 @@ from ringlube.study.summary import summary
 
 from conftest import COLD
 
+pytestmark = pytest.mark.numerics
+
 #: designs with a crown offset above this are made 'unconverged' by the tests' stand-in
 OFFSET_LIMIT = 0.0
 
@@ -103,6 +105,7 @@ def test_unconverged_recheck_is_marked_in_summary_and_report(tmp_path):
     assert f"| {chosen.names[0]} |" in report
 
 
+@pytest.mark.slow
 def test_direct_nsga2_resumes_from_its_last_generation(tmp_path, monkeypatch):
     real = runs_mod._run_designs
     deck = write(tmp_path)

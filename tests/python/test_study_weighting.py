@@ -18,6 +18,8 @@ from ringlube.tables import SCALARS
 
 from conftest import INPUTS
 
+pytestmark = pytest.mark.numerics
+
 COLD = INPUTS / "crf450r_4000rpm_full_cold.nml"
 
 

@@ -15,7 +15,10 @@ import pytest
 import ringlube
 from ringlube import Case, InputError
 
-pytestmark = pytest.mark.filterwarnings("ignore::ringlube.case.origins.SourceEngineDefaultWarning")
+pytestmark = [
+    pytest.mark.unit,
+    pytest.mark.filterwarnings("ignore::ringlube.case.origins.SourceEngineDefaultWarning"),
+]
 FAST = {"nodes": 31, "dpsi_deg": 4.0}
 PSI = np.linspace(0.0, 720.0, 1441)
 P = np.full(1441, 1.5e5)

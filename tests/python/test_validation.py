@@ -21,6 +21,8 @@ from ringlube.validate.compute import PUBLISHED, trend_sweeps
 
 from conftest import INPUTS, PER_LENGTH_CALIBRATION, per_length
 
+pytestmark = pytest.mark.numerics
+
 DECKS = {"cold": INPUTS / "crf450r_4000rpm_full_cold.nml", "hot": INPUTS / "crf450r_4000rpm_full_hot.nml"}
 #: The calibration file of each reading of the tension (the shipped decks read it in N).
 CALIBRATIONS = {"N": INPUTS / "calibration.nml", "N/m": PER_LENGTH_CALIBRATION}
@@ -98,6 +100,7 @@ def test_ring_mass_against_independent_integral(results):
     assert results["cold"].ring_mass == pytest.approx(grams, rel=1e-9)
 
 
+@pytest.mark.slow
 def test_shipped_calibration_is_the_declared_fit():
     """Re-running the declared fit on the cold case reproduces inputs/calibration.nml (the
     tension read in N, the decks' unit) and inputs/calibration_n_per_m.nml (read in N/m)."""
@@ -128,15 +131,18 @@ def test_energy_rises_with_tension(sweeps):
 # the disagreement stays visible in every test run and the suite notices if it goes away.
 # The explanations are in docs/validation.md ("Published trends").
 @pytest.mark.xfail(strict=True, reason="ringlube: energy rises with crown height (lumped contact)")
+@pytest.mark.known_limitation
 def test_energy_falls_with_crown_height(sweeps):
     assert trend_verdicts(sweeps)["crown_height"]
 
 
 @pytest.mark.xfail(strict=True, reason="ringlube: a positive offset gives the lower energy")
+@pytest.mark.known_limitation
 def test_negative_offset_lowers_energy(sweeps):
     assert trend_verdicts(sweeps)["crown_offset"]
 
 
 @pytest.mark.xfail(strict=True, reason="ringlube: energy rises monotonically with width")
+@pytest.mark.known_limitation
 def test_interior_optimum_in_width(sweeps):
     assert trend_verdicts(sweeps)["width"]

@@ -4,12 +4,15 @@ split of `ringlube validate` into computing and rendering (issue 19)."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from ringlube import Case
 from ringlube.validate.compute import STORY_RINGS, STORY_SPEEDS, ring_pack_validation
 from ringlube.validate.render import _charge_mg, _render_ring_pack
 
 from conftest import COLD, ROOT
+
+pytestmark = pytest.mark.numerics
 
 
 def test_ring_pack_section_renders_the_computed_runs():

@@ -16,6 +16,8 @@ import pytest
 
 from conftest import ROOT
 
+pytestmark = pytest.mark.numerics
+
 DOC = ROOT / "docs" / "width.md"
 SCRIPT = ROOT / "tests" / "bench" / "width_story.py"
 #: lines that carry a wall time, not a result: the calibration's "[1 s]" and "N runs, T s on W workers"
@@ -48,6 +50,7 @@ def page_block(part: str) -> list[str]:
 
 
 @pytest.mark.parametrize("part", ["mechanism", "gas"])
+@pytest.mark.slow
 def test_width_page_blocks_are_the_script_s_output(part, monkeypatch, capsys):
     expected = [x for x in map(_untimed, page_block(part)) if x is not None]
     monkeypatch.setattr(sys, "argv", ["width_story.py", part, "--workers", "1"])
