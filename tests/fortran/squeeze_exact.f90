@@ -60,6 +60,8 @@ contains
     hi = tb
     do q = 1, 100
       mid = 0.5_dp * (lo + hi)
+      ! lo and hi are neighbouring numbers (after about 55 halvings): later ones give mid again
+      if (mid <= lo .or. mid >= hi) exit
       if (sq_sigma_eq(mid) > xx) then
         lo = mid
       else
