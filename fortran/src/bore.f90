@@ -1,4 +1,4 @@
-!> The bore as it is (SPEC section 15): its distortion D(theta, z) from the liner's round
+!> The bore as it is (docs/bore.md): its distortion D(theta, z) from the liner's round
 !> shape, the ring's bending compliance per Fourier order, and the classical conformability
 !> limit.
 !>

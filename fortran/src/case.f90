@@ -576,7 +576,7 @@ contains
                                 + (1.0_dp - c%nu_liner**2) / c%e_liner)
   end function reduced_modulus
 
-  !> Elastic pressure of the ring on the liner p_e [Pa] (SPEC section 7).
+  !> Elastic pressure of the ring on the liner p_e [Pa].
   pure real(dp) function elastic_pressure(c)
     type(case_type), intent(in) :: c
     if (c%tension_unit == 'N/m') then
@@ -626,7 +626,7 @@ contains
     end select
   end subroutine face_profile
 
-  !> Ring mass [kg]: rho 2 pi (r0 - a/2) (a b - int S dx) (SPEC section 8), with the face
+  !> Ring mass [kg]: rho 2 pi (r0 - a/2) (a b - int S dx), with the face
   !> profile of the case (closed form for 'edge' and 'gauge', exact for a table's linear
   !> interpolant).
   pure real(dp) function ring_mass(c)

@@ -1,4 +1,4 @@
-!> Greenwood-Tripp asperity load and contact area over the ring face (SPEC section 6).
+!> Greenwood-Tripp asperity load and contact area over the ring face.
 module ringlube_contact
   use ringlube_kinds, only: dp, pi
   use ringlube_greenwood_tripp, only: f2_exact, f52_exact, f2_fit, f52_fit, gt_lambda_max

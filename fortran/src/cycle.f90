@@ -1,5 +1,5 @@
 !> One engine cycle of the ring: the warm-up, the cycles run until the ring's state is
-!> periodic, and the reported cycle's results (SPEC sections 4, 7, 8, 13 and 14). A crank step
+!> periodic, and the reported cycle's results (docs/model.md "Cycle and periodic state"). A crank step
 !> and what it carries are in ringlube_cycle_state.
 module ringlube_cycle
   use ringlube_kinds, only: dp, pi

@@ -6,7 +6,7 @@
 !> position, the ring pack's gas and the friction that moves the ring in its groove, the first
 !> error of a step). A crank step (`advance`) prepares the starved inlet, advances the ring
 !> pack, balances the load and carries the film content and the oil forward; `solve_step`
-!> does that and stores the step's results (SPEC sections 4-8, 13 and 14).
+!> does that and stores the step's results.
 module ringlube_cycle_state
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type, fatal_error, rl_interrupted

@@ -1,4 +1,4 @@
-!> Reading a case from namelist text (SPEC section 9), from a file or from memory.
+!> Reading a case from namelist text, from a file or from memory.
 !>
 !> Every group is optional (a missing group means all its defaults); an unknown group or
 !> variable, a malformed value, a variable given twice or a value outside its range (the

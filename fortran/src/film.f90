@@ -1,6 +1,6 @@
 !> The film at one crank step: grid and profile, the film solve for a trial h0 (pressure
 !> with the pressure-viscosity loop, hydrodynamic and asperity loads) and the friction
-!> (SPEC sections 3-6 and 8).
+!> (docs/model.md, from "Film shape" to "Friction, power, energy").
 !>
 !> What the load balance (ringlube_load_balance) uses of a film model, and all a second
 !> model has to provide: `film_evaluate` at a trial h0 (given 2 dh0/dt, the sliding speed,
@@ -55,7 +55,7 @@ contains
 
   !> Viscous and boundary friction on the ring [N], positive towards the crankcase.
   !>
-  !> Mass-conserving film: the shear of each interval is weighted like its flux (SPEC 13:
+  !> Mass-conserving film: the shear of each interval is weighted like its flux (
   !> no shear where the flux carries no oil). The Couette shear `eta U / h` by the fill the
   !> Couette flux carries (the upwind node's), the Poiseuille shear `(h/2) dp/dx` by the fill
   !> the pressure-driven flux carries (the node at the higher pressure, as in the flux of

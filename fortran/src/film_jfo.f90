@@ -1,4 +1,4 @@
-!> The mass-conserving film (SPEC section 13) at the trial h0 in f%h: the JFO solve of
+!> The mass-conserving film (docs/film_model.md) at the trial h0 in f%h: the JFO solve of
 !> ringlube_jfo (and its connectivity rule) inside the pressure-viscosity loop.
 module ringlube_film_jfo
   use ringlube_kinds, only: dp
@@ -15,7 +15,7 @@ module ringlube_film_jfo
 
 contains
 
-  !> The mass-conserving film at the trial h0 in f%h (SPEC 13): the JFO solve of
+  !> The mass-conserving film at the trial h0 in f%h: the JFO solve of
   !> ringlube_jfo inside the same pressure-viscosity loop as the Swift-Stieber film. Both
   !> edges are liquid boundaries held at their gas pressures; the content theta h of the last
   !> accepted step gives the time term (`&numerics film_time_scheme`: backward Euler on the
@@ -133,7 +133,7 @@ contains
   end subroutine jfo_evaluate
 
   !> The pressure of the gas flowing through the face of film f from the left edge (at p_l)
-  !> to the right (at p_r), a face open from edge to edge (SPEC 15): an isothermal laminar
+  !> to the right (at p_r), a face open from edge to edge (docs/bore.md): an isothermal laminar
   !> channel whose gap is the gap not taken by the oil, g = h - theta h (the content of the
   !> last accepted step), so that p^2 falls along the face as the integral of dx / g^3:
   !> linearly across a uniform gap, and nearly all at once where the oil almost closes it.

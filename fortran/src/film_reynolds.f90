@@ -1,4 +1,4 @@
-!> The Swift-Stieber film (SPEC sections 3-5): the Reynolds equation with its cavitation
+!> The Swift-Stieber film: the Reynolds equation with its cavitation
 !> condition inside the pressure-viscosity loop, at the trial h0 in f%h.
 module ringlube_film_reynolds
   use ringlube_kinds, only: dp

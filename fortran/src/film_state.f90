@@ -83,11 +83,11 @@ module ringlube_film_state
     !> starved: oil on the liner just behind the trailing edge that it may draw back over the
     !> step [m^2]; the caps on the inflow through the left and right edge faces [m^2/s]
     real(dp) :: behind = 0.0_dp, cap_left = huge(1.0_dp), cap_right = huge(1.0_dp)
-    !> the gas around the ring (SPEC 14, set by the caller with ring_pack = 'gas'): the
+    !> the gas around the ring (docs/ring_pack.md, set by the caller with ring_pack = 'gas'): the
     !> pressure behind the ring (its gas load) and at its lower (crankcase) edge [Pa];
     !> negative: the chamber pressure behind it and the crankcase pressure below it
     real(dp) :: p_back = -1.0_dp, p_lower = -1.0_dp
-    !> a sector of a distorted bore (SPEC 15); w_gas [N, as a whole ring]: the load of the gas
+    !> a sector of a distorted bore (docs/bore.md); w_gas [N, as a whole ring]: the load of the gas
     !> on a face with no full zone (an open face: all its hydrodynamic load; 0 while it seals)
     logical :: gas_channel = .false.
     real(dp) :: w_gas = 0.0_dp

@@ -1,4 +1,4 @@
-!> Chamber gas-pressure trace: CSV reading and periodic interpolation (SPEC section 10).
+!> Chamber gas-pressure trace: CSV reading and periodic interpolation.
 module ringlube_gas
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_input_error

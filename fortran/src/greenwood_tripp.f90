@@ -1,4 +1,4 @@
-!> Greenwood-Tripp statistical functions F_2 and F_5/2 (SPEC section 6).
+!> Greenwood-Tripp statistical functions F_2 and F_5/2.
 !>
 !> `F_n(lambda) = 1/sqrt(2 pi) int_lambda^inf (s - lambda)^n exp(-s^2/2) ds`.
 !>

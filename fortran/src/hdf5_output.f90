@@ -1,6 +1,6 @@
-!> Writing a result to HDF5 in the layout of SPEC section 9 (README "Output").
+!> Writing a result to HDF5 in the layout of docs/model.md "Results" (README "Output").
 !>
-!> Safety (issue 12):
+!> Safety:
 !> - The output is first checked by `check_output` (ringlube_output_path).
 !> - The file is written under a unique temporary name in the destination folder
 !>   (`OUT.<pid>.<random>.part`, created with O_EXCL) and moved into place with one

@@ -36,7 +36,7 @@ module ringlube_inputs
     character(len=100) :: description = ''
   end type input_spec
 
-  !> Every input variable, in deck order (groups as in SPEC section 9).
+  !> Every input variable, in deck order (groups as in docs/model.md "Inputs").
   !&< (a table laid out by hand: not reformatted)
   type(input_spec), parameter :: inputs(*) = [ &
     input_spec('engine', 'crank_radius', kind_real, '31.5e-3', 1e-3_dp, 1.0_dp, 'm', '', &

@@ -1,4 +1,4 @@
-!> Mass-conserving (JFO / Elrod-Adams) 1D film: p-theta complementarity (SPEC section 13).
+!> Mass-conserving (JFO / Elrod-Adams) 1D film: p-theta complementarity.
 !>
 !> Ring frame, x from the chamber edge (node 1) to the crankcase edge (node n), liner at -U:
 !>

@@ -1,4 +1,4 @@
-!> The connectivity rule of the mass-conserving film (SPEC section 13): which cavities are
+!> The connectivity rule of the mass-conserving film: which cavities are
 !> open to an edge's gas and at which pressure (`jfo_cavity_pressure`), and the JFO solve of
 !> ringlube_jfo inside the outer loop that makes the cavity pressures and the solution agree
 !> (`jfo_solve_connected`). Details and verification: docs/film_model.md.
@@ -14,7 +14,7 @@ module ringlube_jfo_connect
 
 contains
 
-  !> Cavity pressure per node by the connectivity rule of SPEC section 13, for the sliding speed,
+  !> Cavity pressure per node by the connectivity rule, for the sliding speed,
   !> edge pressures, p_cav, trailing_gas and leading_gas of problem (jfo_problem).
   !>
   !> Cavities are the runs of interior nodes with theta < 1. An edge is open to its gas when
@@ -125,7 +125,7 @@ contains
   !> over the edge's cell), so a blown face can take in oil again (admitting gas only, it
   !> stayed dry for whole strokes). Without either the oil entering at the leading edge is blown
   !> back out over one cell at a rate k dp/dx, so the face's fill, its shear and the energy
-  !> scaled with the cell size (issue 16).
+  !> scaled with the cell size.
   !>
   !> Arguments as jfo_solve, the problem's p_cav, trailing_gas and leading_gas included (see
   !> jfo_cavity_pressure); pc (out) the cavity pressures of the solution; stats (out) as

@@ -1,4 +1,4 @@
-!> Slider-crank kinematics of the piston (SPEC section 2).
+!> Slider-crank kinematics of the piston.
 module ringlube_kinematics
   use ringlube_kinds, only: dp, pi
   implicit none

@@ -1,4 +1,4 @@
-!> The oil film on the liner (SPEC section 13): a film thickness per cell of a uniform grid
+!> The oil film on the liner: a film thickness per cell of a uniform grid
 !> over the liner position z (m, from the top ring's position at TDC, positive towards the
 !> crankcase), and the exchanges of oil volume with the ring as strips of liner.
 !>
@@ -10,7 +10,7 @@
 !> balance to round-off, and an edge sweeping over a cell in two crank steps, [a, b] then
 !> [b, c], takes all its oil. (With the oil uniform over the whole cell, a cell split f, 1 - f
 !> between the two steps kept f (1 - f) of its oil: a spike of up to a quarter of the film at
-!> every step's boundary on the liner, issue 18.)
+!> every step's boundary on the liner.)
 module ringlube_liner
   use ringlube_kinds, only: dp
   implicit none

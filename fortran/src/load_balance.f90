@@ -1,4 +1,4 @@
-!> The load balance at one crank step (SPEC section 7): h0 such that W_h + W_a = F within
+!> The load balance at one crank step: h0 such that W_h + W_a = F within
 !> load_tol, by the study's damped rule or a safeguarded secant/Brent iteration on ln h0.
 !>
 !> The squeeze term 2 dh0/dt is discretised in time by backward Euler (first order) or

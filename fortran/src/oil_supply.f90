@@ -1,4 +1,4 @@
-!> Oil supply of a starved ring (SPEC section 13): the liner film ahead of the leading
+!> Oil supply of a starved ring: the liner film ahead of the leading
 !> edge, the bank pushed ahead of it, the film left behind the trailing edge, the supply
 !> film laid by the lower rings, and the oil carried past the top of the ring's travel.
 !>
@@ -6,7 +6,7 @@
 !> towards the crankcase; a face node x lies at z = s + x, s the piston's distance from TDC.
 !> Every exchange is a volume per unit circumference (m^2) over the strip of liner an edge
 !> sweeps in a crank step, so the balance of liner, bank and gap closes to round-off; the
-!> rates of SPEC 13 (theta_in = min(1, 2 h_oil / h_le), h_oil = |q_te| / |U|) are the limits
+!> rates of the model (theta_in = min(1, 2 h_oil / h_le), h_oil = |q_te| / |U|) are the limits
 !> of these transfers for small steps.
 module ringlube_oil_supply
   use ringlube_kinds, only: dp

@@ -1,5 +1,5 @@
 !> Where a result may be written: the output-path checks of `ringlube-solve` and of the
-!> f2py runs (issue 12).
+!> f2py runs.
 !>
 !> `check_output` refuses an output that is one of the run's inputs (compared by device
 !> and inode, so other spellings and links count), anything that exists and is not a

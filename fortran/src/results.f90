@@ -3,7 +3,7 @@
 !> The tables drive the storage (a result holds each table's values by row: column i of
 !> `series` is row i of `series_spec`), the HDF5 writer, the f2py export (results reach
 !> Python by name) and the docs. `short` is the name in Python and in studies, `stored` the
-!> HDF5 dataset or root attribute name (SPEC section 9). A new result is a row of its table;
+!> HDF5 dataset or root attribute name (docs/model.md "Results"). A new result is a row of its table;
 !> kernel code that sets it names its column by a constant below (`s_h0`: the row 'h0' of
 !> `series_spec`), found in the table by name when compiling.
 module ringlube_results
@@ -638,7 +638,7 @@ contains
     end do
   end function flag_description
 
-  !> Percentage of the cycle with lambda = h0/sigma < 4 (SPEC section 8), lambda linear
+  !> Percentage of the cycle with lambda = h0/sigma < 4, lambda linear
   !> between crank steps (periodic): a crossing of 4 inside a step counts the part of
   !> the step below it, so the share varies continuously with the inputs instead of in
   !> whole steps.

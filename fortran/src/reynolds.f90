@@ -1,5 +1,5 @@
 !> Finite-difference Reynolds equation with cavitation as a complementarity problem
-!> (SPEC section 4).
+!> (docs/model.md "Film and Reynolds equation").
 !>
 !> On a uniform grid of n nodes the conservative scheme
 !> `[K(i+1/2)(p(i+1)-p(i)) - K(i-1/2)(p(i)-p(i-1))]/dx^2 = -U (h(i+1/2)-h(i-1/2))/dx + 2 dh0/dt`,

@@ -1,4 +1,4 @@
-!> The ring pack's gas (SPEC section 14): groove (space 2) and second land (space 3) as
+!> The ring pack's gas: groove (space 2) and second land (space 3) as
 !> isothermal gas volumes joined by the top and second rings' end gaps (orifices) and the
 !> top ring's groove-flank channels, and the top ring's axial motion in its groove.
 !>

@@ -1,5 +1,5 @@
-!> The ring pack over a cycle (SPEC 14): a cycle's sums of the steps of ringlube_ring_pack,
-!> SPEC 14's cycle quantities from them (blowby, blowback, ring lift share, flutter events,
+!> The ring pack over a cycle: a cycle's sums of the steps of ringlube_ring_pack,
+!> the cycle quantities from them (blowby, blowback, ring lift share, flutter events,
 !> gas balance), and the gas network alone run to its periodic state under prescribed
 !> chamber pressure, piston acceleration and friction.
 module ringlube_ring_pack_cycle
@@ -34,7 +34,7 @@ module ringlube_ring_pack_cycle
   !> relative to the peak chamber pressure (ring_pack_distance)
   real(dp), parameter :: land_floor = 1e-2_dp
 
-  !> Sums over a cycle (ring_pack_accumulate), turned into SPEC 14's cycle quantities by
+  !> Sums over a cycle (ring_pack_accumulate), turned into the cycle quantities by
   !> ring_pack_finish.
   type :: ring_pack_totals
     real(dp) :: time = 0.0_dp, blowby_mass = 0.0_dp, blowback_mass = 0.0_dp, &
@@ -290,7 +290,7 @@ contains
                          + abs(st%x - st0%x) / c%groove_clearance
   end function ring_pack_distance
 
-  !> SPEC 14's cycle quantities from a cycle's sums; stored_end = m2 + m3 at the end, and
+  !> The cycle quantities from a cycle's sums; stored_end = m2 + m3 at the end, and
   !> tot%stored_start must hold m2 + m3 at the start.
   pure subroutine ring_pack_finish(tot, stored_end, cyc)
     type(ring_pack_totals), intent(in) :: tot

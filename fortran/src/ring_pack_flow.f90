@@ -1,4 +1,4 @@
-!> The gas flows of the ring pack (SPEC 14): the end-gap orifice (isentropic nozzle, choked
+!> The gas flows of the ring pack: the end-gap orifice (isentropic nozzle, choked
 !> and unchoked, straight near r = 1 so that Newton's method has a finite slope) and the
 !> groove-flank channels (isothermal viscous flow between parallel plates).
 module ringlube_ring_pack_flow
@@ -7,7 +7,7 @@ module ringlube_ring_pack_flow
   private
   public :: orifice_consts, orifice_constants, orifice_eval, orifice_flow, channel_flow, orifice_psi
 
-  !> Gas constant of air and burnt gas [J/(kg K)] (SPEC 14).
+  !> Gas constant of air and burnt gas [J/(kg K)].
   real(dp), parameter, public :: gas_constant = 287.0_dp
   !> Below a pressure difference of this fraction of the upstream pressure the orifice's
   !> Psi(r) is replaced by the straight line from Psi(1 - orifice_linear) to 0 at r = 1
@@ -35,7 +35,7 @@ contains
   end function orifice_psi
 
   !> Isentropic orifice flow from a to b [kg/s] (negative from b to a):
-  !> C_d A p_u / sqrt(R T) Psi(p_d/p_u) (SPEC 14), with Psi straight within
+  !> C_d A p_u / sqrt(R T) Psi(p_d/p_u), with Psi straight within
   !> `orifice_linear` of r = 1. Optional derivatives with respect to p_a and p_b.
   pure subroutine orifice_flow(cd_area, pa, pb, temperature, gamma, q, dq_dpa, dq_dpb)
     real(dp), intent(in) :: cd_area, pa, pb, temperature, gamma
@@ -111,7 +111,7 @@ contains
   end subroutine orifice_eval
 
   !> Laminar isothermal channel flow from a to b [kg/s] through a gap g of length w and
-  !> width l: l g^3 (p_a^2 - p_b^2) / (24 mu R T w) (SPEC 14); derivatives optional.
+  !> width l: l g^3 (p_a^2 - p_b^2) / (24 mu R T w); derivatives optional.
   pure subroutine channel_flow(width, gap, length, viscosity, temperature, pa, pb, q, &
                                dq_dpa, dq_dpb)
     real(dp), intent(in) :: width, gap, length, viscosity, temperature, pa, pb

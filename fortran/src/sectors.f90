@@ -1,4 +1,4 @@
-!> The ring on a distorted bore (SPEC section 15): a film per sector of the circumference,
+!> The ring on a distorted bore (docs/bore.md): a film per sector of the circumference,
 !> coupled through the ring's bending and its rigid-body modes.
 !>
 !> At a crank step the ring's mean position c is found by the load balance (ringlube_

@@ -1,4 +1,4 @@
-!> Roelands pressure-temperature viscosity (SPEC section 5), the one home of the formula.
+!> Roelands pressure-temperature viscosity, the one home of the formula.
 module ringlube_viscosity
   use ringlube_kinds, only: dp
   implicit none
