@@ -195,7 +195,7 @@ def overlay_figure(results: Sequence[CycleResult], labels: Sequence[str] | None 
 
 
 def supply_figure(results: Sequence[CycleResult]) -> plt.Figure:
-    """Inlet fill and wetted width over the cycle (mass-conserving film, SPEC 13).
+    """Inlet fill and wetted width over the cycle (mass-conserving film).
 
     Parameters
     ----------
@@ -230,7 +230,7 @@ def supply_figure(results: Sequence[CycleResult]) -> plt.Figure:
 
 
 def ring_pack_figure(results: Sequence[CycleResult]) -> plt.Figure:
-    """The gas around the ring over the cycle (``ring_pack = 'gas'``, SPEC 14): chamber p1,
+    """The gas around the ring over the cycle (``ring_pack = 'gas'``): chamber p1,
     groove p2 and land p3 pressures, the ring's lift in its groove and the flows through the
     two end gaps (the second ring's is the blowby).
 

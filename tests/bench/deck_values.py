@@ -1,5 +1,5 @@
 """What every shipped deck and study deck reads to, as JSON, to compare two versions of the
-deck reader (issue 19 item 3: one deck parser changes no value of a valid deck).
+deck reader (one deck parser changes no value of a valid deck).
 
 For each ``inputs/*.nml``: a kernel deck's values as set (``Case.to_dict``, with their Python
 types), where each input comes from (``Case.origins``) and every effective input

@@ -1,4 +1,4 @@
-"""Measurement (not a test): issue 16's equal-load pair. The same applied load, (p_e + p_gas) b l,
+"""Measurement (not a test): the equal-load pair. The same applied load, (p_e + p_gas) b l,
 split two ways between a constant gas pressure and the ring's elastic pressure (1 MPa gas +
 4 MPa elastic against 3 MPa + 2 MPa), cold deck, 201 nodes, 0.5 deg, every JFO film model.
 Prints the energies, the largest relative difference of h0 and the mean downstroke viscous

@@ -1,5 +1,5 @@
-"""Benchmark (make bench; not a test): the numerics presets re-measured for every film model
-(issue 9). For the cold and hot 4000 r/min decks and each film model: kernel time per run
+"""Benchmark (make bench; not a test): the numerics presets re-measured for every film model.
+For the cold and hot 4000 r/min decks and each film model: kernel time per run
 (best of N), cycles computed, and the error of energy loss, mixed share and (starved) oil to
 the chamber against a converged reference of the same model (801 nodes, 0.125 deg, tight
 tolerances, the numerics of tests/bench/front.py).
@@ -10,7 +10,7 @@ tolerances, the numerics of tests/bench/front.py).
     python3 tests/bench/film_presets.py --oil-default [--tension-unit N/m]
     python3 tests/bench/film_presets.py --oil-nodes [--tension-unit N/m]
 
-`--ring-pack gas` runs every model with the gas around the ring (SPEC 14) instead of the
+`--ring-pack gas` runs every model with the gas around the ring instead of the
 decks' 'none'. `--convergence` prints instead, for the JFO models, the results as the nodes double at
 0.25 deg and as the crank step halves at 201 nodes (tight tolerances): whether each model
 converges at all, and at what order. `--time-order` prints, for the mass-conserving film starved

@@ -1,4 +1,4 @@
-"""Is every result bit-identical to another build's? (issue 19: a refactor changes no number.)
+"""Is every result bit-identical to another build's? (A refactor changes no number.)
 
 Runs every shipped case deck (``inputs/*.nml`` but the ``&study`` decks) and three
 variants of the cold 4000 r/min deck through ``&physics`` (the mass-conserving film

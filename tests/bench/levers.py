@@ -1,7 +1,7 @@
-"""Each speed lever of issue 11 measured alone (benchmark, not a test; part of `make bench`).
+"""Each speed lever of the kernel measured alone (benchmark, not a test; part of `make bench`).
 
 Builds ``bench_kernel`` from this checkout (git HEAD, exported to a temporary folder) with
-one lever taken out at a time, and from the commit before the work on issue 11, then times
+one lever taken out at a time, and from the commit before those levers (c27aa15), then times
 the cold deck (CPU time, best of --repeats) at fixed numerics, so that the implementation
 levers are compared at equal work; then the numerics levers (time scheme, crank step,
 warm-up) on the current build.
@@ -97,7 +97,7 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=20)
     ap.add_argument("--rounds", type=int, default=3, help="interleaved rounds (best is kept)")
-    ap.add_argument("--base", default="c27aa15", help="commit before issue 11's work")
+    ap.add_argument("--base", default="c27aa15", help="commit before the levers")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
@@ -119,7 +119,7 @@ def main() -> None:
                 "\nadd_executable(bench_kernel ${CMAKE_CURRENT_LIST_DIR}/../bench/bench_kernel.f90)\n"
                 "target_link_libraries(bench_kernel PRIVATE ringlube_kernel)\n"
             )
-        exes["before issue 11 (" + args.base + ", -O2)"] = build(base)
+        exes["before the levers (" + args.base + ", -O2)"] = build(base)
         head = export("HEAD", tmp / "head")
         exes["now (HEAD)"] = build(head)
         for i, (name, edits) in enumerate(ABLATIONS.items()):

@@ -1,5 +1,5 @@
-"""Not a test: the readings table of docs/ring_pack.md, "The readings with the ring pack
-(issue 17)". Every reading of docs/validation.md (film model x contact area x tension unit, the
+"""Not a test: the readings table of docs/ring_pack.md, "The readings with the ring
+pack". Every reading of docs/validation.md (film model x contact area x tension unit, the
 shipped calibration, not re-fitted: Table 2 cold and hot, the four published trends on the cold
 case at 5 points each) run with `&physics ring_pack` 'none' and 'gas' on the shipped decks
 inputs/crf450r_4000rpm_full_cold.nml and inputs/crf450r_4000rpm_full_hot.nml, through

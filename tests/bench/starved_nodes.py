@@ -1,5 +1,5 @@
-"""Benchmark (not a test): the starved film's cost against nodes (issue 20 item 8,
-docs/performance.md "The starved film's cost against nodes"). The cold 4000 r/min deck at 2 deg
+"""Benchmark (not a test): the starved film's cost against nodes
+(docs/performance.md "The starved film's cost against nodes"). The cold 4000 r/min deck at 2 deg
 with &numerics nodes = N: starved JFO without and with the ring pack's gas, and Swift-Stieber
 for scale. Kernel CPU time per run (`build/bench_kernel`, best of REPEATS runs in one process;
 one run at 2001 nodes and above), computed cycles, solver iterations per film solve (JFO

@@ -59,7 +59,7 @@ expect_error negative_width '&ring width: must be in \[1.0E-5, 5.0E-2\] m, got -
 &ring width = -1e-3 /"
 expect_error bad_option "&physics outlet: must be 'reynolds' or 'ambient'" "$base
 &physics outlet = 'sommerfeld' /"
-# the ring-pack gas network is not yet coupled to the film (issue 17): refused, not ignored
+# the ring-pack gas network is not yet coupled to the film: refused, not ignored
 expect_error ring_pack_range '&ring_pack gamma: must be in' "$base
 &ring_pack gamma = 0.9 /"
 expect_error twice '&ring width: given twice' "$base
@@ -69,7 +69,7 @@ expect_error missing_pressure_file '&operating pressure_file: .*nothere.csv: pre
 printf '# header comment\ncrank_angle_deg,pressure_Pa\n0,1e5\n10,1.1e5\n20;1.2e5\n720,1e5\n' > "$tmp/badrow.csv"
 expect_error csv_bad_row 'badrow.csv: line 5: expected "crank angle deg, pressure Pa"' "&output file = 'out.h5' /
 &operating pressure_file = 'badrow.csv' /"
-# a first row that is a number or nan/inf is data, never a header (issue 12, item 12)
+# a first row that is a number or nan/inf is data, never a header
 for row in 'nan,1e5' 'inf,1e5' '-Infinity,1e5' 'NaN,1e5'; do
   printf '%s\n10,1.1e5\n720,1e5\n' "$row" > "$tmp/nan_first.csv"
   expect_error "csv_first_row_${row//[^a-zA-Z]/_}" 'nan_first.csv: line 1: crank angle is not a finite number' \

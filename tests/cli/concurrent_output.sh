@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Two ringlube-solve runs writing the same -o at the same time (issue 12, item 2): each
+# Two ringlube-solve runs writing the same -o at the same time: each
 # writes a uniquely named temporary file and renames it into place, so for every pair
 # both runs exit 0, the final file is complete and equals the result of one of the two
 # runs (byte for byte in h5dump, run time aside), and no temporary file is left.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The shipped cold deck runs, converges and writes the SPEC layout with finite numbers.
+# The shipped cold deck runs, converges and writes the layout of docs/model.md "Results" with finite numbers.
 set -eu
 solve=$1
 tmp=$(mktemp -d)

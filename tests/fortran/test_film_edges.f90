@@ -1,5 +1,5 @@
 ! ctest labels: numerics
-!> The edges of the mass-conserving film (SPEC 13): both edges are liquid boundaries at their
+!> The edges of the mass-conserving film: both edges are liquid boundaries at their
 !> gas pressures; the net oil entering through an edge is capped at the oil there; the shear
 !> of an interval is weighted like its flux (no shear where the flux carries no oil).
 !>

@@ -30,7 +30,7 @@ contains
   ! ------------------------------------------------------------------ 6a. trailing gas
   !> Trailing edge at p_t = 1 bar > p_cav = 0 with cavity_pressure = 'trailing_gas': the cavity
   !> touching the trailing edge sits at p_t, and the film ruptures with p = p_t, p' = 0
-  !> (SPEC 13: the Reynolds exit condition at the downstream gas pressure).
+  !> (the Reynolds exit condition at the downstream gas pressure).
   subroutine case_trailing_gas()
     real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), pe(:)
     real(dp) :: dx, xc, err(4), pt
@@ -224,7 +224,7 @@ contains
   end function rule
 
   !> Both edges at 1 bar, U = 10 (the trailing edge is the left one), p_cav = 0. 'vapour' (both
-  !> edges liquid, SPEC 13): the cavity that forms on the diverging side re-forms before the
+  !> edges liquid): the cavity that forms on the diverging side re-forms before the
   !> trailing edge, so it is enclosed and stays at p_cav. 'trailing_gas': the trailing edge is a
   !> gas interface, so the film below its gas pressure next to it joins the gas: the cavity
   !> reaches the trailing edge and sits at its pressure.

@@ -28,7 +28,7 @@ program test_liner
                    'the end cell keeps its oil outside the strip')
   ! an edge sweeping on: the next step's strip starts where this one ended, inside the cell
   ! [2.5, 2.6] mm, and takes the rest of that cell's oil (with the oil uniform over the cell,
-  ! the cell split 0.7/0.3 by the two steps kept 0.7 * 0.3 of its film: a spike, issue 18)
+  ! the cell split 0.7/0.3 by the two steps kept 0.7 * 0.3 of its film: a spike)
   call strip_take(lin, 2.57e-3_dp, 3.01e-3_dp, v)
   call check_close(v, 2e-6_dp * 0.44e-3_dp, 1e-12_dp, 'the next strip takes its length of oil')
   call check(strip_volume(lin, 1.03e-3_dp, 3.01e-3_dp) == 0.0_dp, &

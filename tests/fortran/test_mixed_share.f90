@@ -1,5 +1,5 @@
 ! ctest labels: unit;numerics
-!> The mixed/boundary share (percentage of the cycle with h0/sigma < 4, SPEC section 8)
+!> The mixed/boundary share (percentage of the cycle with h0/sigma < 4)
 !> from lambda at the crank steps, against closed forms: lambda = 3 + 2 cos(psi) is
 !> below 4 where cos(psi) < 1/2, two thirds of the cycle; linear interpolation between
 !> steps makes the estimate second order in the step (a count of steps is first order).

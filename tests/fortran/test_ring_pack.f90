@@ -1,6 +1,6 @@
 ! ctest labels: unit;numerics
-!> The ring pack's gas network and the top ring's axial motion in one step (SPEC 14,
-!> ringlube_ring_pack) against exact answers: the parameters from a case, the orifice and
+!> The ring pack's gas network and the top ring's axial motion in one step
+!> (ringlube_ring_pack) against exact answers: the parameters from a case, the orifice and
 !> channel formulas, the piston's acceleration, the closed-form isothermal blowdown of one
 !> volume (choked, then unchoked) and the ring's motion under a constant force. Over whole
 !> cycles: test_ring_pack_cycle.
@@ -42,7 +42,7 @@ program test_ring_pack
 
 contains
 
-  !> The defaults of the input table reach the parameters (SPEC 14 values).
+  !> The defaults of the input table reach the parameters (docs/ring_pack.md).
   subroutine test_params_from_case()
     call check_close(base%gas_temperature, 450.0_dp, 0.0_dp, 'default gas_temperature 450 K')
     call check_close(base%gamma, 1.3_dp, 0.0_dp, 'default gamma 1.3')
@@ -73,7 +73,7 @@ contains
   end subroutine test_params_from_case
 
   !> Orifice: choked value, the critical ratio, reversal, continuity at r*, derivatives
-  !> against central differences; channel: the SPEC formula by hand.
+  !> against central differences; channel: the formula by hand.
   subroutine test_flow_formulas()
     real(dp) :: g, rc, q, qa, qb, da, db, fd, psi_c, k, h, pa, pb
     real(dp), parameter :: pas(6) = [2e5_dp, 5e6_dp, 1.2e5_dp, 1e5_dp, 3e5_dp, 1.05e5_dp], &
@@ -121,7 +121,7 @@ contains
     ! channel: l g^3 (p_u^2 - p_d^2) / (24 mu R T w)
     k = 0.3_dp * (20e-6_dp)**3 / (24 * 2.5e-5_dp * rgas * 450 * 3.5e-3_dp)
     call channel_flow(0.3_dp, 20e-6_dp, 3.5e-3_dp, 2.5e-5_dp, 450.0_dp, 3e6_dp, 1e6_dp, q, da, db)
-    call check_close(q, k * (9e12_dp - 1e12_dp), 1e-14_dp, 'channel: SPEC 14 formula')
+    call check_close(q, k * (9e12_dp - 1e12_dp), 1e-14_dp, 'channel: the laminar channel formula')
     call check_close(da, 2 * k * 3e6_dp, 1e-14_dp, 'channel: dq/dp_u')
     call check_close(db, -2 * k * 1e6_dp, 1e-14_dp, 'channel: dq/dp_d')
     call channel_flow(0.3_dp, 0.0_dp, 3.5e-3_dp, 2.5e-5_dp, 450.0_dp, 3e6_dp, 1e6_dp, q)

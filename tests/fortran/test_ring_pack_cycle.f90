@@ -1,5 +1,5 @@
 ! ctest labels: numerics
-!> The ring pack over whole cycles (SPEC 14, ringlube_ring_pack_cycle): the limit of an open
+!> The ring pack over whole cycles (ringlube_ring_pack_cycle): the limit of an open
 !> land, the gas mass balance over a periodic cycle, monotone physics with the shipped gas
 !> trace and the integrator's convergence in the crank step. One step: test_ring_pack.
 

@@ -1,5 +1,5 @@
-"""Edge cases of the batch call and of deck reading (found in issue 12, each reproduced
-before its fix): data loss, interpreter crashes and wrong answers in the batch call, silent
+"""Edge cases of the batch call and of deck reading (each reproduced before
+its fix): data loss, interpreter crashes and wrong answers in the batch call, silent
 name errors, quadratic deck reading, and misleading messages."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """The one calibrator of `ringlube calibrate` and `ringlube readings`, and the one table of the
-published trends (issue 19 item 5)."""
+published trends."""
 
 from __future__ import annotations
 

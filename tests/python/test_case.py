@@ -37,7 +37,7 @@ def test_get_set_and_variants():
 
 def test_value_kept_until_the_case_or_its_files_change(tmp_path):
     """Case.value() reads every input through one kernel handle and keeps the texts: a
-    change to the case or to its calibration file is still seen (issue 19)."""
+    change to the case or to its calibration file is still seen."""
     cal = tmp_path / "cal.nml"
     cal.write_text("&surface zeta_kappa_sigma = 0.05 /\n")
     case = Case({"calibration": {"file": str(cal)}})

@@ -1,4 +1,4 @@
-"""The Case API of issue 18: a warning when the source engine's defaults fill part of an
+"""The Case API: a warning when the source engine's defaults fill part of an
 engine's geometry or ring, `ringlube show` with where every input came from,
 `Case.with_<group>` for every group of the kernel's table, and a readable repr."""
 
@@ -30,7 +30,7 @@ def _warnings(fn):
 
 # -- source-engine defaults -----------------------------------------------------------
 def test_partial_engine_warns_naming_what_the_defaults_fill():
-    """Issue 18 item 5: a case with its own bore but no crown_offset got -38.3 um silently."""
+    """A case with its own bore but no crown_offset got -38.3 um silently."""
     case = Case(name="own").with_engine(bore_radius=43e-3).with_ring(width=1.2e-3).with_numerics(**FAST)
     caught = _warnings(lambda: ringlube.run(case))
     assert len(caught) == 1

@@ -1,5 +1,5 @@
 """The ``ringlube`` command under user mistakes: one line, exit 2 (input) or 1 (runtime),
-never a traceback (issue 12 items 16, 17 and 22)."""
+never a traceback."""
 
 from __future__ import annotations
 

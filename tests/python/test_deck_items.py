@@ -1,4 +1,4 @@
-"""One deck parser (issue 19, item 3): the kernel's scanner exported as ``rl_items``
+"""One deck parser: the kernel's scanner exported as ``rl_items``
 (:mod:`ringlube.case.items`) reads kernel decks, calibration files and ``&study`` decks."""
 
 from __future__ import annotations

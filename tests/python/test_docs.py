@@ -1,4 +1,4 @@
-"""Generated documentation is current (issue 10): docs/model.md's input and result tables
+"""Generated documentation is current: docs/model.md's input and result tables
 are generated from the kernel's tables; this test fails when a variable, default, range,
 unit or result name changes and the doc was not regenerated."""
 

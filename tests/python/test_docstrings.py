@@ -1,4 +1,4 @@
-"""numpydoc docstrings (issue 10): every public function and class of the package has a
+"""numpydoc docstrings: every public function and class of the package has a
 docstring, with Parameters where it takes any and an Example; every Example runs."""
 
 from __future__ import annotations

@@ -19,7 +19,7 @@ from conftest import INPUTS
 
 pytestmark = [pytest.mark.unit, pytest.mark.numerics]
 
-# the own engine of issue 18: 86 x 86 mm, conrod 143.5 mm
+# an own engine (docs/own_engine.md): 86 x 86 mm, conrod 143.5 mm
 OWN = dict(bore=86e-3, crank_radius=43e-3, conrod_length=143.5e-3, compression_ratio=10.5)
 
 

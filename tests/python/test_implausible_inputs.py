@@ -1,4 +1,4 @@
-"""Hostile inputs through Python (issue 12): every physical input has a plausible range,
+"""Hostile inputs through Python: every physical input has a plausible range,
 the problem size is bounded, non-ASCII names work, relative paths resolve where documented,
 error locations are true, and run_many keeps the good results of a batch with a bad case.
 Each case failed (crash, NaN with exit 0, wrong file or line, lost results) before the fix."""

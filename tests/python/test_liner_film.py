@@ -1,4 +1,4 @@
-"""The liner oil film of a starved run has no cell-aliasing spikes (issue 18): the film the
+"""The liner oil film of a starved run has no cell-aliasing spikes: the film the
 ring lays over a stroke is smooth from cell to cell. Before the fix the strip an edge swept
 in one crank step shared a cell with the next step's strip, and the two takes left
 f (1 - f) of that cell's film: one isolated cell per step (176 in this run, 632 at 201

@@ -1,4 +1,4 @@
-"""The mass-conserving film and the starved inlet in the cycle (issue 9, SPEC 13): the oil
+"""The mass-conserving film and the starved inlet in the cycle: the oil
 balance closes, starvation never breaks a run, the optional results are written and read
 back by name, and the extremes of the stability matrix hold with the new film models. Tests of
 the intake-stroke lift-off and of states found on the decks read in N/m take them through
@@ -93,7 +93,7 @@ def test_starved_first_cycle_is_periodic_and_right(deck):
     tol = case.value("numerics", "cycle_tol")
     assert r.periodic and r.cycles_run == 1
     # (the reference repeats to 1e-9 within its long warm-up and one or two cycles since the
-    # liner film has no cell-aliasing spikes, issue 18; it took 3 or more before)
+    # liner film has no cell-aliasing spikes; it took 3 or more before)
     assert ref.periodic
     assert r.energy_loss == pytest.approx(ref.energy_loss, rel=tol)
     assert r.oil_to_chamber == pytest.approx(ref.oil_to_chamber, rel=tol)
@@ -115,7 +115,7 @@ def test_accepted_starved_run_equals_its_periodic_state(deck, unit, ring_pack):
     """At the shipped 1 um supply film the periodicity test looks at the liner film and the
     energy only. Every other result of the accepted run must equal that of a long warm-up and
     30 cycles at a tolerance 1e6 times tighter, to the cycle tolerance too: the oil to the
-    chamber, the mixed and lifted shares and h0 at every step (issue 16: a run accepted while
+    chamber, the mixed and lifted shares and h0 at every step (a run accepted while
     those still moved would report them wrongly). Read in N/m, without the ring pack the ring
     lifts off for a quarter of the cycle and the liner film alternates between two cycles
     (docs/model.md "Periodicity"); the reference then ends unperiodic at 30 cycles and is
@@ -252,7 +252,7 @@ def test_liner_and_supply_figures(cold, tmp_path):
 
 @pytest.mark.slow
 def test_study_trades_friction_against_oil_transport(tmp_path, cold):
-    """oil_to_chamber as a study objective (issue 9): recorded for every design of a starved
+    """oil_to_chamber as a study objective: recorded for every design of a starved
     base deck, fitted and optimised; refused, naming the deck, where a base deck does not
     produce it."""
     from ringlube.study import run_study
@@ -290,8 +290,8 @@ def test_study_trades_friction_against_oil_transport(tmp_path, cold):
 @pytest.mark.slow
 def test_starved_hot_energy_converges_in_the_crank_step():
     """Refining the crank step from 0.25 to 0.125 deg moves the starved hot energy by under 2 %
-    (issue 16: with a gas-only trailing edge the face ran dry after TDC at 0.125 deg, 2.03 ->
-    1.72 J; the liquid trailing edge of SPEC 13 encloses that cavity)."""
+    (with a gas-only trailing edge the face ran dry after TDC at 0.125 deg, 2.03 ->
+    1.72 J; the liquid trailing edge encloses that cavity)."""
     case = Case.from_namelist(COLD.with_name("crf450r_4000rpm_full_hot.nml"))
     case = case.with_physics(cavitation="jfo", inlet="starved")
     case = case.with_numerics(nodes=201, pressure_tol=1e-8, load_tol=1e-6, cycle_tol=1e-4)
@@ -308,7 +308,7 @@ def test_starved_hot_energy_converges_in_the_crank_step():
 
 
 def test_trailing_gas_cold_energy_converges_in_nodes():
-    """Doubling the nodes must not change the trailing-gas energy by more than 2 % (issue 16:
+    """Doubling the nodes must not change the trailing-gas energy by more than 2 % (it was
     0.72 / 0.59 J at 201 / 401 nodes). On the expansion stroke the chamber gas in the open
     cavity reaches the leading edge (the face is partly filled across its width, a blown face):
     the oil entering there was blown back out over one cell at a rate k dp/dx, so the face's
@@ -322,7 +322,7 @@ def test_trailing_gas_cold_energy_converges_in_nodes():
     assert fine.energy_loss == pytest.approx(coarse.energy_loss, rel=0.02)
 
 
-@pytest.mark.xfail(strict=True, reason="issue 16 item 2: step-size bistability, not fixed")
+@pytest.mark.xfail(strict=True, reason="step-size bistability, not fixed")
 @pytest.mark.parametrize(
     "physics",
     [
@@ -352,7 +352,7 @@ def test_lifted_ring_energy_does_not_depend_on_the_ceiling():
     """Where the film carries more than the load at every h0 (the intake stroke of the 3000
     r/min half-load deck, starved) h0 is held at h0_ceiling and the ring is lifted: its
     friction is that of unbounded separation (none), so neither energy nor oil depends on the
-    numerical bound (issue 16: 0.95 / 1.50 / 6.99 J at 1e-4 / 1e-3 / 1e-2 m; with the shear
+    numerical bound (it was 0.95 / 1.50 / 6.99 J at 1e-4 / 1e-3 / 1e-2 m; with the shear
     of the oil in the lifted gap, 0.80475 J at 1e-4 m against 0.80244 J at 1e-2 m, 0.29 %).
     At a 5 um supply film."""
     case = per_length(COLD.with_name("crf450r_3000rpm_half_cold.nml"))
@@ -385,7 +385,7 @@ def test_connectivity_cycles_of_five_sets_end():
 @pytest.mark.parametrize("cavity", ["vapour", "trailing_gas"])
 @pytest.mark.parametrize("nodes", [6, 11])
 def test_oil_balance_at_round_off_on_coarse_grids(cold, nodes, cavity):
-    """Issue 20 item 10: starved trailing-gas runs on coarse grids closed the oil balance only
+    """Starved trailing-gas runs on coarse grids closed the oil balance only
     to 6e-5 (6 nodes) and 2e-6 (11 nodes); with the caps inside the solve at both edges, the
     Gauss-Seidel fallback applying them too, it closes to round-off. At a reversal the liner
     changes first (the bank left on it, the lower rings' film): the oil the edges may draw
@@ -397,7 +397,7 @@ def test_oil_balance_at_round_off_on_coarse_grids(cold, nodes, cavity):
 
 
 def test_oil_balance_at_round_off_at_the_design_corner(cold):
-    """Issue 20 item 10: the corner of the study's ranges (width 1.34 mm, crown 13 um, offset
+    """The corner of the study's ranges (width 1.34 mm, crown 13 um, offset
     -54 um), starved trailing gas, closed the oil balance only to 2.6e-6; with the caps inside
     the solve at both edges it closes to round-off."""
     case = cold.with_physics(cavitation="jfo", inlet="starved", cavity_pressure="trailing_gas")
@@ -408,7 +408,7 @@ def test_oil_balance_at_round_off_at_the_design_corner(cold):
 
 @pytest.mark.slow
 def test_damped_rule_that_does_not_contract_ends_flagged(cold):
-    """Issue 20 item 8: with damping 0.999 the study's damped rule overshoots and oscillates;
+    """With damping 0.999 the study's damped rule overshoots and oscillates;
     a starved run then spent max_load_iterations (2000) film solves at every step (over 100 s).
     It now stops a step once its best residual no longer falls (flagged 4): a count, not a
     time."""
@@ -446,7 +446,9 @@ def test_starved_ring_pack_default_preset_takes_the_branch_of_the_converged_run(
         pytest.param(
             "hot",
             marks=[
-                pytest.mark.xfail(strict=True, reason="issue 16: hot +18 %"),
+                pytest.mark.xfail(
+                    strict=True, reason="hot: the default preset +18 % against the accurate one"
+                ),
                 pytest.mark.known_limitation,
             ],
         ),
@@ -468,7 +470,7 @@ def test_trailing_gas_ring_pack_default_preset_takes_the_branch_of_the_converged
 
 @pytest.mark.parametrize("deck", ["cold", "hot"])
 def test_oil_balance_at_round_off_with_zero_tension(deck):
-    """Issue 20 item 10: with zero tension at 3000 r/min half load, starved 'trailing_gas', the
+    """With zero tension at 3000 r/min half load, starved 'trailing_gas', the
     ring lifts off for 38 % of the cycle and the balance closed only to 3e-8 (cold) and 1.1e-7
     (hot): at a reversal the edges' caps were taken from the liner before the reversal changed
     it (the bank left on it, the lower rings' film). The balance holds in every cycle, periodic

@@ -1,4 +1,4 @@
-"""docs/own_engine.md works as written (issue 18): its decks, commands and Python, taken out
+"""docs/own_engine.md works as written: its decks, commands and Python, taken out
 of the page itself, run in an empty folder.
 
 Every fenced block of the page is one of: a deck (first line ``! myengine/NAME: ...``, written

@@ -50,11 +50,11 @@ def test_cli_run_and_plot(tmp_path, capsys):
     assert "energy loss" in capsys.readouterr().out
     assert main(["plot", str(out), "-o", str(tmp_path / "plots")]) == 0
     assert (tmp_path / "plots" / "r_friction.png").stat().st_size > 1000
-    assert (tmp_path / "plots" / "r_gas.png").stat().st_size > 1000  # issue 18: the gas pressure
+    assert (tmp_path / "plots" / "r_gas.png").stat().st_size > 1000  # the gas pressure
 
 
 def test_figures_state_sign_and_time(quick_case, tmp_path):
-    """Issue 18: the friction plot states its sign convention, the liner film plot when in the
+    """The friction plot states its sign convention, the liner film plot when in the
     cycle the film is taken, and the gas figure of a result draws the pressure it ran with."""
     from ringlube.plot import _gas_of_results, liner_figure
 

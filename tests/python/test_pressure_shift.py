@@ -5,11 +5,11 @@ raised by 3 MPa leave h0, the friction and the energy unchanged, for every film 
 applied load (p_e + p_gas) b l and the film's load W_h both grow by 3 MPa b l). A pressure the
 film treats as absolute where it should be relative (an edge, a cavity, the starved inlet's
 gas zone, the load, the shear) breaks this. The ring pack's gas is left out: its orifice flow
-depends on pressure ratios, not differences. (Issue 16's equal-load pair, gas and elastic
-pressure traded against each other, is not such a pair: the chamber gas is also the film's edge
-pressure, docs/model.md "Shear".) Starved 'trailing_gas' is set up on the deck read in N/m: read
-in N (the shipped deck) its two runs end in different states (one with a flagged step, 0.12 %
-apart in energy), the bistable states of that film (docs/performance.md, "Step-size
+depends on pressure ratios, not differences. (The equal-load pair of tests/bench/equal_load.py,
+gas and elastic pressure traded against each other, is not such a pair: the chamber gas is also
+the film's edge pressure, docs/model.md "Shear".) Starved 'trailing_gas' is set up on the deck
+read in N/m: read in N (the shipped deck) its two runs end in different states (one with a
+flagged step, 0.12 % apart in energy), the bistable states of that film (docs/performance.md, "Step-size
 bistability")."""
 
 from pathlib import Path
@@ -67,7 +67,7 @@ def shifted(tmp_path: Path, delta: float, physics: dict) -> ringlube.CycleResult
 def test_raising_every_pressure_changes_nothing(tmp_path, model):
     a = shifted(tmp_path, 0.0, MODELS[model])
     b = shifted(tmp_path, SHIFT, MODELS[model])
-    # starved 'trailing_gas' is not periodic to 1e-8 in 20 cycles (issue 16); its two runs
+    # starved 'trailing_gas' is not periodic to 1e-8 in 20 cycles; its two runs
     # must still agree at every cycle
     assert a.converged == b.converged and (a.converged or model == "jfo_starved_trailing_gas")
     assert a.cycles_run == b.cycles_run

@@ -1,4 +1,4 @@
-"""ringlube readings (issue 9): the continuous trend measures, the calibrator, the command."""
+"""ringlube readings: the continuous trend measures, the calibrator, the command."""
 
 from __future__ import annotations
 

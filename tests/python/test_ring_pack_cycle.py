@@ -1,4 +1,4 @@
-"""The ring pack coupled to the film (SPEC 14, issue 17): the groove pressure is the ring's
+"""The ring pack coupled to the film: the groove pressure is the ring's
 back pressure, the land pressure its lower edge, both advanced with the film at every crank
 step; the results reach Python and the HDF5 file by name. The tests of a starved lift-off and
 of the periods of several cycles are set on the decks read in N/m (``conftest.per_length``), the
@@ -44,8 +44,8 @@ def test_gas_keeps_the_starved_ring_on_the_liner(deck):
 
 def test_ring_pack_results_balance_and_file(cold, tmp_path):
     """Blowby, lift and the gas balance of the reported cycle; the series and root attributes
-    of SPEC 14 in the HDF5 file; the land pressure peaks after firing TDC, after the
-    chamber's."""
+    of docs/model.md "The gas around the ring" in the HDF5 file; the land pressure peaks after
+    firing TDC, after the chamber's."""
     out = tmp_path / "gas.h5"
     r = ringlube.run(cold.with_physics(ring_pack="gas"), output=out)
     assert r.converged and r.periodic
@@ -109,7 +109,7 @@ def test_ring_pack_works_with_every_film_model(cold):
 
 
 def test_open_land_limit_reproduces_no_ring_pack(cold):
-    """Issue 17: a huge land volume and second gap with the ring held on its lower flank
+    """A huge land volume and second gap with the ring held on its lower flank
     reproduce ring_pack = 'none' (p2 = p1 behind the ring, p3 = crankcase below it) in the
     coupled cycle, to solver tolerance. The ring is held down by the gas: the crankcase
     (50 kPa) lies below the lowest chamber pressure (93 kPa), so the chamber presses the
@@ -136,7 +136,7 @@ def test_open_land_limit_reproduces_no_ring_pack(cold):
 
 @pytest.mark.parametrize("deck", ["crf450r_4000rpm_full_cold.nml", "crf450r_4000rpm_full_hot.nml"])
 def test_ring_pack_periodic_in_one_cycle(deck):
-    """Issue 17 item 5: the ring pack must not double a Swift-Stieber run. With the ring pack
+    """The ring pack must not double a Swift-Stieber run. With the ring pack
     the warm-up starts at the end of expansion (270 deg), so the land pressure at psi = 0
     carries the film's friction and the first reported cycle is already periodic (from the
     gas network's frictionless periodic state and a 90 deg warm-up it took two: h0 at psi = 0

@@ -1,4 +1,4 @@
-"""The shipped ring-pack study deck (issue 17 item 4): width and tension against friction,
+"""The shipped ring-pack study deck: width and tension against friction,
 blowby and the ring's lift, over three engine speeds up to the rev limit, runs end to end at
 tiny sizes and records the ring pack's results per speed and for the weighted scene."""
 

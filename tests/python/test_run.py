@@ -146,7 +146,7 @@ def test_runs_from_several_threads_equal_serial(quick_case):
 def test_a_design_scales_the_trace_as_read(quick_case):
     """A design's pressure_scale multiplies the trace as read, as a deck with that value
     does: run_designs and run() give the same bits (the kernel rescaled the already scaled
-    trace by new / old; issue 19, "the gas trace stored already scaled and re-scaled")."""
+    trace by new / old: the gas trace stored already scaled and re-scaled)."""
     from ringlube.solve import run_designs
 
     scales = (0.85, 1.0, 1.17)

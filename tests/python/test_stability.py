@@ -1,4 +1,4 @@
-"""Numerical stability at the extremes (issue 6): the corners of the design space crossed
+"""Numerical stability at the extremes: the corners of the design space crossed
 with speeds and liner temperatures, plus degenerate rings and a 150 bar trace. Every run
 must end with finite results, h0 > 0, and the load balanced within load_tol at every
 step unless the step carries an explicit flag (and then the run says converged = False).

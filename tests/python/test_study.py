@@ -1,4 +1,4 @@
-"""Design optimisation (issue 5): surrogate exactness, a small study end to end, resume
+"""Design optimisation: surrogate exactness, a small study end to end, resume
 after an interruption, and a real Dask cluster on loopback (one worker killed mid-run)."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Constraints, trade-off figures of the chosen objectives and the "How sure" section of a
-design study (issue 18 items 2-4)."""
+design study."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """Every public name of the study and CLI modules has a numpydoc docstring with an Example,
-and the examples that can run here do (issue 10 item 6)."""
+and the examples that can run here do."""
 
 from __future__ import annotations
 

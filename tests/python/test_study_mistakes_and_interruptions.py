@@ -1,5 +1,4 @@
-"""Design studies under user mistakes and interruptions (issue 12 items 1, 4, 14, 15, 16,
-24, 25)."""
+"""Design studies under user mistakes and interruptions."""
 
 from __future__ import annotations
 

@@ -1,5 +1,4 @@
-"""What a design study hands a person: figures, summary, report and Pareto CSV with units
-(issue 12 item 23)."""
+"""What a design study hands a person: figures, summary, report and Pareto CSV with units"""
 
 from __future__ import annotations
 

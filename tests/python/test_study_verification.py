@@ -60,7 +60,7 @@ def test_direct_nsga2_never_ranks_an_unconverged_run(tmp_path, monkeypatch):
 
 
 def test_direct_nsga2_never_ranks_a_lifted_run(tmp_path, monkeypatch):
-    """Issue 16/18: a design that lifts the ring off the liner is ranked below every design
+    """A design that lifts the ring off the liner is ranked below every design
     that does not (the tests' stand-in lifts designs with a large crown offset)."""
     real = runs_mod._run_designs
 
@@ -160,7 +160,7 @@ def test_direct_nsga2_resumes_from_its_last_generation(tmp_path, monkeypatch):
 
 
 def test_lifted_design_is_marked_in_summary_report_and_pareto_csv(tmp_path, monkeypatch):
-    """Issue 16/18: a design whose true-model run lifted the ring off the liner (liner_lift_share
+    """A design whose true-model run lifted the ring off the liner (liner_lift_share
     > 0) is marked like an unconverged one, never shown as a good design; the Pareto CSV marks
     the designs the surfaces predict to lift off."""
     import csv

@@ -1,4 +1,4 @@
-"""Issue 20 item 13, the unclear messages left: trace arrays of different lengths or empty
+"""Unclear messages: trace arrays of different lengths or empty
 (f2py's "0-th dimension must be fixed to 1441", "unexpected array size"), a ``Decimal``
 reported as "the string", and a whole float given to an integer input ("malformed integer
 11.0"). Each gave that message (a ValueError, or an InputError naming the wrong thing)

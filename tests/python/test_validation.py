@@ -1,4 +1,4 @@
-"""Reproduction of the study's Table 2 with the shipped calibration (issue 4).
+"""Reproduction of the study's Table 2 with the shipped calibration.
 
 The cold case is the calibration target; the hot case is a prediction. Tolerances are
 those of the issue (energy within 10 %, mixed share within 3 points); where ringlube

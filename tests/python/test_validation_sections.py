@@ -1,5 +1,5 @@
-"""The ring-pack and oil-sensitivity sections of docs/validation.md (issues 16, 17) and the
-split of `ringlube validate` into computing and rendering (issue 19)."""
+"""The ring-pack and oil-sensitivity sections of docs/validation.md and the
+split of `ringlube validate` into computing and rendering."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The one calibrator of ``ringlube calibrate`` and ``ringlube readings`` (issue 19).
+"""The one calibrator of ``ringlube calibrate`` and ``ringlube readings``.
 
 :func:`calibrate_inputs` fits bounded uncertain inputs (each a :class:`Param`: bounds and
 scale) to targets and returns a :class:`scipy.optimize.OptimizeResult`:

@@ -1,4 +1,4 @@
-"""Calibration of every reading of the open modelling choices (issue 9).
+"""Calibration of every reading of the open modelling choices.
 
 The command ``ringlube readings``: fit every reading on the cold case and write
 docs/readings.md (the score in :mod:`ringlube.readings`, the optimiser in

@@ -1,4 +1,4 @@
-"""The fit of every reading of ``ringlube readings`` (issue 9).
+"""The fit of every reading of ``ringlube readings``.
 
 :func:`fit_reading` fits one reading on the cold case with the one calibrator,
 :func:`ringlube.calibrate.calibrator.calibrate_inputs` (method 'least_squares': a 9-point coarse design

@@ -1,6 +1,6 @@
-"""Calibration of every reading of the open modelling choices (issue 9).
+"""Calibration of every reading of the open modelling choices.
 
-A reading is a film model (SPEC 13) crossed with the contact area and the tension unit. For
+A reading is a film model crossed with the contact area and the tension unit. For
 each, the uncertain inputs are fitted to the **cold** case only, with the published trend
 directions at cold as targets beside the two Table 2 numbers; the hot case stays a prediction.
 
@@ -8,7 +8,7 @@ Fitted inputs: ``&surface zeta_kappa_sigma`` and ``&operating pressure_scale`` o
 calibration bounds (:data:`ringlube.calibrate.BOUNDS`), and ``&lubricant supply_film`` on
 :data:`SUPPLY_BOUNDS` (logarithmic) for the starved readings.
 
-Score. One residual vector per point, every entry in units of the goal of issue 9:
+Score. One residual vector per point, every entry in units of the goal:
 
 * the cold energy's relative error over 5 % (:data:`GOAL`),
 * the cold mixed share's error over 1.5 points,
@@ -57,7 +57,8 @@ __all__ = [
     "evaluate",
 ]
 
-#: The film models of SPEC 13, read one at a time (the other open choices crossed with them).
+#: The film models (docs/readings.md), read one at a time (the other open choices crossed
+#: with them).
 READINGS = {
     "Swift-Stieber (the study)": {},
     "JFO flooded": {"cavitation": "jfo"},
@@ -76,7 +77,7 @@ RELAXED_BOUNDS = {
     "pressure_scale": (0.6, 1.6),
     "supply_film": (0.02e-6, 50e-6),
 }
-#: The goal of issue 9: cold energy within 5 % (relative) and mixed share within 1.5 points.
+#: The goal: cold energy within 5 % (relative) and mixed share within 1.5 points.
 GOAL = {"energy_loss": 0.05, "mixed_share": 1.5}
 #: Points of each cold trend sweep (:attr:`ringlube.trends.Trend.points`).
 SWEEP_POINTS = {t.name: t.points for t in TRENDS}

@@ -20,7 +20,7 @@ from .variables import display, result_display
 NOT_CONVERGED = "NOT CONVERGED, not verified"
 #: Mark of a design whose true-model run lifted the ring off the liner at some crank steps
 #: (``liner_lift_share`` > 0: the film carried no load there and the results at those steps
-#: rest on the lift-off model, issue 16): reported, never ranked as a good design.
+#: rest on the lift-off model): reported, never ranked as a good design.
 LIFTED = "LIFTED OFF the liner, not a good design"
 #: Mark of a design whose true-model run came close to a change of state: a branch-risk margin
 #: (``lift_margin``, ``seal_margin``) below its threshold (:data:`ringlube.tables.MARGINS`;

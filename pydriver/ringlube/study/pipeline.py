@@ -1,4 +1,4 @@
-"""Design optimisation (SPEC section 12): sample -> run -> fit -> NSGA-II -> check.
+"""Design optimisation: sample -> run -> fit -> NSGA-II -> check.
 
 The pipeline of ``ringlube optimise`` (:func:`run_study`). Its stages live in their own
 modules: :mod:`ringlube.study.runs` (sample, run), :mod:`ringlube.study.surfaces` (fit),

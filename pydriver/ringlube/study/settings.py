@@ -54,7 +54,7 @@ class StudySettings:
     upper: list[float]
     objectives: list[str]
     # defaults: the &study table (ringlube.study.table.STUDY), their one home; the direct
-    # NSGA-II's default is the source study's own size (affordable since issue 11)
+    # NSGA-II's default is the source study's own size
     sampler: str = STUDY["sampler"].default
     samples: int = STUDY["samples"].default
     surrogate: str = STUDY["surrogate"].default

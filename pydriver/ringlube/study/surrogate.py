@@ -1,4 +1,4 @@
-"""Quadratic response surfaces fitted by LAPACK least squares (SPEC section 12, step 2).
+"""Quadratic response surfaces fitted by LAPACK least squares (docs/optimisation.md).
 
 :class:`QuadraticSurface` is both the callable surface and the record a study stores of it
 (:meth:`QuadraticSurface.to_h5`, :meth:`QuadraticSurface.from_h5`).

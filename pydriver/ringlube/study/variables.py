@@ -28,7 +28,7 @@ __all__ = [
     "display",
 ]
 
-#: Default bounds (SI) of the four ring design variables of the source study (SPEC 11/12),
+#: Default bounds (SI) of the four ring design variables of the source study,
 #: used only when the deck gives neither ``lower`` nor ``upper``. The tension range is in
 #: the unit set by ``&ring tension_unit`` of the base decks.
 DESIGN_RANGES = {

@@ -1,4 +1,4 @@
-"""Validation, computed: every run ``docs/validation.md`` reports, as numbers (SPEC 11).
+"""Validation, computed: every run ``docs/validation.md`` reports, as numbers.
 
 :func:`compute_validation` runs the shipped decks, the calibration re-run, the one-at-a-time
 sensitivity, the gas-trace shifts, the modelling options, the published trends, the readings
@@ -125,8 +125,8 @@ def trend_sweeps(case: Case, points: int = 9) -> dict[str, tuple[np.ndarray, np.
 @dataclass
 class ValidationData:
     """Everything ``docs/validation.md`` reports, computed by :func:`compute_validation` and
-    turned into Markdown by :func:`~ringlube.validate.render.render_validation` (issue 19:
-    compute apart from render).
+    turned into Markdown by :func:`~ringlube.validate.render.render_validation`
+    (computed apart from the rendering).
 
     Numbers only: ``results`` and the other run results are :class:`ringlube.result.Result`
     objects of the shipped decks; the tables are lists of plain rows (see each field).
@@ -163,11 +163,11 @@ class ValidationData:
     verdicts: dict
     #: readings of the open choices (reading_rows)
     readings: list
-    #: the ring pack (SPEC 14, issue 17): see ring_pack_validation
+    #: the ring pack: see ring_pack_validation
     ring_pack: dict
     #: the two readings of the tension, each with its own calibration: see tension_readings
     tension: dict
-    #: oil to the chamber against the supply film (issue 16): see oil_sensitivity
+    #: oil to the chamber against the supply film: see oil_sensitivity
     oil: dict
     #: wall time of the whole regeneration [s] (set by validate)
     seconds: float = 0.0
@@ -225,7 +225,7 @@ def tension_readings(cases: dict[str, Case], fits: list, shipped_unit: str) -> d
     return out
 
 
-#: Supply films [m] of the oil-sensitivity table (issue 16).
+#: Supply films [m] of the oil-sensitivity table.
 SUPPLY_FILMS = (0.5e-6, 1e-6, 2e-6, 5e-6, 10e-6)
 #: Shipped decks of the oil-sensitivity table: label, deck file.
 OIL_DECKS = {
@@ -247,7 +247,7 @@ STORY_SPEEDS = (4000.0, 12000.0)
 
 def oil_sensitivity(root: str | os.PathLike = ".") -> dict:
     """Oil to the chamber and energy against the supply film on the shipped decks, starved
-    JFO film, the decks' own preset (issue 16).
+    JFO film, the decks' own preset.
 
     Returns
     -------
@@ -265,7 +265,7 @@ def oil_sensitivity(root: str | os.PathLike = ".") -> dict:
 
 
 def ring_pack_validation(cases: dict[str, Case]) -> dict:
-    """The ring pack on the shipped decks and the ring engineer's story (issue 17).
+    """The ring pack on the shipped decks and the ring engineer's story.
 
     Returns
     -------

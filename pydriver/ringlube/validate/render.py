@@ -225,7 +225,7 @@ def render_validation(data: ValidationData) -> str:
         "",
     ]
 
-    # readings of the open modelling choices (issue 9)
+    # readings of the open modelling choices
     md += [
         "## Readings of the open choices: film model, contact area, tension unit",
         "",
@@ -389,7 +389,7 @@ def _changes(runs: dict, results: dict) -> str:
 
 
 def _render_oil(oil: dict) -> list[str]:
-    """The oil-sensitivity section (issue 16): energy and oil to the chamber against the
+    """The oil-sensitivity section: energy and oil to the chamber against the
     supply film on the shipped decks with the starved JFO film."""
     md = [
         "## Oil to the chamber against the supply film",
@@ -435,7 +435,7 @@ def _charge_mg(case: Case) -> float:
 
 
 def _render_ring_pack(rp: dict, cold: Case) -> list[str]:
-    """The ring-pack section (issue 17): the shipped decks with the gas network, what published
+    """The ring-pack section: the shipped decks with the gas network, what published
     work says about blowby and the land pressure, and the ring engineer's story."""
     charge = _charge_mg(cold)
     unit = cold.value("ring", "tension_unit")

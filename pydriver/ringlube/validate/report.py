@@ -1,4 +1,4 @@
-"""Validation report: the shipped calibration against the study's Table 2 (SPEC 11).
+"""Validation report: the shipped calibration against the study's Table 2.
 
 ``ringlube validate`` regenerates ``docs/validation.md`` and its figures from scratch:
 published vs computed (cold = calibration target, hot = prediction), the calibration
