@@ -65,6 +65,7 @@ def test_table2_cold(results):
 # The hot prediction with the tension read in N (the shipped decks): a strict expected failure,
 # so the disagreement stays visible and the suite notices if it goes away (docs/validation.md,
 # "The two readings of the tension"; docs/model.md, "Load balance").
+@pytest.mark.known_limitation
 @pytest.mark.xfail(
     strict=True, reason="read in N the hot mixed share is about 27 % against 12.5 % and the energy -13 %"
 )
