@@ -26,7 +26,7 @@ MODULES = [
 #: test_study_docstrings.py, in a folder of their own: each example runs once)
 EXAMPLES = [m for m in MODULES if f"ringlube.{m}" not in STUDY_MODULES]
 #: the modules whose examples take over 1 s (`slow`)
-SLOW_EXAMPLES = {"gas"}
+SLOW_EXAMPLES = {"gas.traces"}
 assert SLOW_EXAMPLES <= set(EXAMPLES), SLOW_EXAMPLES - set(EXAMPLES)
 
 
