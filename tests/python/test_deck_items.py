@@ -40,7 +40,7 @@ def _key(its):
 
 @pytest.mark.parametrize("deck", KERNEL_DECKS + STUDY_DECKS, ids=lambda p: p.name)
 def test_rl_items_round_trips_every_shipped_deck(deck):
-    lists = deck.name.startswith("study_")
+    lists = deck.name.startswith("study_") or "&bore" in deck.read_text()  # (&bore order = 2, 3, 4)
     first = items(deck.read_text(), str(deck), lists=lists)
     again = items(_as_text(first), "again.nml", lists=lists)
     assert first and _key(again) == _key(first)

@@ -99,7 +99,7 @@ class _InputOrigins:
         try:
             with open(path, "rb") as fh:
                 text = fh.read().decode("utf-8", "surrogateescape")
-            return {(i.group, i.name) for i in items(text, str(path))}
+            return {(i.group, i.name) for i in items(text, str(path), lists=True)}
         except (OSError, InputError):  # the kernel reports an unreadable calibration file
             return set()
 

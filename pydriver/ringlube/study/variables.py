@@ -95,7 +95,7 @@ def _is_whole_number(group: str, name: str) -> bool:
 
 def _text_input(group: str, name: str) -> str:
     """What ``&group name`` takes when it is not a number (``"text"``, ``"one of 'a', 'b'"``,
-    ``".true. or .false."``), else ``""``."""
+    ``".true. or .false."``, ``"a list of values"``), else ``""``."""
     from ..tables import INPUTS
 
     spec = INPUTS.get((group, name))
@@ -103,6 +103,8 @@ def _text_input(group: str, name: str) -> str:
         return ""
     if spec.kind == "choice":
         return "one of " + ", ".join(f"'{c}'" for c in spec.choices)
+    if spec.kind.endswith("_list"):
+        return "a list of values"
     return ".true. or .false." if spec.kind == "logical" else "text"
 
 
