@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import os
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +23,7 @@ from ..errors import InputError
 from ..readings.reading import READINGS
 from ..solve import run, run_many
 from ..trends import TRENDS, trend_verdicts
+from .bore import bore_validation
 
 __all__ = [
     "PUBLISHED",
@@ -171,6 +172,8 @@ class ValidationData:
     oil: dict
     #: wall time of the whole regeneration [s] (set by validate)
     seconds: float = 0.0
+    #: the distorted bore's runs (:func:`ringlube.validate.bore.bore_validation`)
+    bore: dict = field(default_factory=dict)
 
 
 #: The two readings of the ring's tension (``&ring tension_unit``) and what each means.
@@ -409,6 +412,7 @@ def compute_validation(root: str | os.PathLike = ".") -> ValidationData:
         ring_pack=ring_pack_validation(cases),
         oil=oil_sensitivity(root),
         tension=tension_readings(cases, fits, cases["cold"].value("ring", "tension_unit")),
+        bore=bore_validation(root),
     )
 
 

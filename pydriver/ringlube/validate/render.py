@@ -12,6 +12,7 @@ import numpy as np
 from ..calibrate import BOUNDS
 from ..case import Case
 from ..trends import TRENDS
+from .bore import render_bore
 from .compute import PUBLISHED, SUPPLY_FILMS, TENSION_READINGS, ValidationData
 
 __all__ = ["render_validation"]
@@ -270,6 +271,7 @@ def render_validation(data: ValidationData) -> str:
     ]
     md += _render_oil(data.oil)
     md += _render_ring_pack(data.ring_pack, cases["cold"])
+    md += render_bore(data.bore) if data.bore else []
 
     md += [
         "## Figures",
