@@ -49,6 +49,20 @@ def conformability_limit(case: Case, width: float, tension: float) -> dict[int, 
     q r0^4 / (E I (k^2 - 1)^2), q = p_e b the tension's line load, I = b d^3 / 12, the tension
     read as the case reads it (N: p_e = F_T / (b r0); N/m: p_e = F / b).
 
+    Parameters
+    ----------
+    case : Case
+        A case with a ``&bore`` group (its orders), its engine, ring and surface.
+    width : float
+        Ring width b [m].
+    tension : float
+        Tension in the case's reading.
+
+    Returns
+    -------
+    dict
+        {order k: limit [m]}.
+
     Examples
     --------
     >>> from ringlube import Case
@@ -81,6 +95,12 @@ def bore_validation(root: str | os.PathLike = ".", adjust=None) -> dict:
     dict
         'bases': {(engine, speed): distorted Case}; 'rows': [(engine, speed, bore, width m,
         tension N, result or error)] in table order.
+
+    Examples
+    --------
+    >>> bore = bore_validation(".")  # doctest: +SKIP
+    >>> bore["rows"][0][:5]  # doctest: +SKIP
+    ('CRF450R', 4000, 'round', 0.001004, 8.0)
     """
     bases, keys, cases = {}, [], []
     for i, (engine, name) in enumerate(BORE_DECKS):
@@ -201,7 +221,23 @@ def _speed_verdict(engine: str, speed: int, base: Case, sweep: dict) -> list[str
 
 
 def render_bore(bore: dict) -> list[str]:
-    """The section's Markdown lines from :func:`bore_validation`'s runs."""
+    """The section's Markdown lines from :func:`bore_validation`'s runs.
+
+    Parameters
+    ----------
+    bore : dict
+        What :func:`bore_validation` returned.
+
+    Returns
+    -------
+    list of str
+        The lines, from the heading "## Bore distortion and conformability" on.
+
+    Examples
+    --------
+    >>> render_bore(bore_validation("."))[0]  # doctest: +SKIP
+    '## Bore distortion and conformability'
+    """
     bases, rows = bore["bases"], bore["rows"]
     first = next(iter(bases.values()))
     amps = dict(zip(first.value("bore", "order"), first.value("bore", "amplitude")))
