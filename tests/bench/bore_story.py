@@ -11,7 +11,7 @@ Every run: the ring pack's gas (`ring_pack = 'gas'`), the starved mass-conservin
 'default' and 24 sectors. The distorted bore is the shipped one: orders 2, 3 and 4 of 6.5 um
 each (`inputs/crf450r_4000rpm_full_hot_distorted.nml`, which says where the amplitudes come
 from); the round bore is the same deck with `bore = 'round'` (no `&bore` group). The CRF450R
-decks take the shipped calibration file (fitted with the tension in N/m: taken over, not
+decks take the shipped calibration file (fitted on a round bore without the ring pack: taken over, not
 fitted, here); the own engine is uncalibrated (docs/own_engine.md). Run from the project
 folder (`--part` runs one table, `--times` prints each run's wall time):
 

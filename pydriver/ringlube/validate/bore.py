@@ -255,7 +255,7 @@ def render_bore(bore: dict) -> list[str]:
         "says where its bore and engine come from) and the same decks on a round bore (`bore = "
         "'round'`, no `&bore`). **The tension is read in N** (tangential force F_T, p_e = F_T / "
         "(b r0)): the physical reading, the one that gives a ring the stiffness-to-load ratio a "
-        "conformability limit needs. The CRF450R's calibration was fitted with 'N/m' and without "
+        "conformability limit needs. The CRF450R's calibration was fitted on a round bore without "
         "the ring pack; it is taken over here, not fitted. The own 86 x 86 mm engine "
         "(docs/own_engine.md) is uncalibrated.",
         "",
