@@ -250,7 +250,8 @@ def test_distorted_deck_round_trips_and_runs_alike_in_python_and_the_cli(deck, s
     path = tmp_path / "coarse.nml"
     coarse(deck).to_namelist(path)
     out = tmp_path / "cli.h5"
-    subprocess.run([solver, "-q", str(path), "-o", str(out)], check=True)
+    done = subprocess.run([solver, "-q", str(path), "-o", str(out)], capture_output=True, text=True)
+    assert done.returncode in (0, 3), done.stderr  # 3: not converged, its result written (2 cycles)
     cli = ringlube.load(out)
     with warnings.catch_warnings():  # the decks set every source-engine input themselves
         warnings.simplefilter("error", ringlube.SourceEngineDefaultWarning)
