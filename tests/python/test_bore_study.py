@@ -1,6 +1,8 @@
-"""The distorted bore in design studies: the results of a distorted bore (face leakage, light
-gaps, conformability) as objectives and constraints, the `&bore` lists read from a deck into a
-case, and the shipped bore study deck (inputs/study_bore.nml) read and run at tiny sizes."""
+"""The distorted bore in design studies and on the validation page: the results of a
+distorted bore (face leakage, light gaps, conformability) as objectives and constraints, the
+`&bore` lists read from a deck into a case, the shipped bore study deck read, the trade that
+study is for (tension buys conformity on a distorted bore, no sealing on a round one), and the
+validation page's section rendered from its runs."""
 
 from __future__ import annotations
 
