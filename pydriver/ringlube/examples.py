@@ -76,8 +76,11 @@ def copy_examples(dest: str | Path, overwrite: bool = False) -> list[Path]:
     >>> from ringlube.examples import copy_examples
     >>> with tempfile.TemporaryDirectory() as tmp:
     ...     copied = copy_examples(tmp)
-    ...     sorted(p.stem for p in copied if p.parent.name == "pressure")
+    ...     names = sorted(p.stem for p in copied if p.parent.name == "pressure")
+    >>> names[:4]
     ['crf450r_12000rpm_full', 'crf450r_3000rpm_half', 'crf450r_4000rpm_full', 'crf450r_8000rpm_full']
+    >>> names[4:]
+    ['own86_3000rpm_full']
     """
     src = examples_dir()
     dest = Path(dest)
