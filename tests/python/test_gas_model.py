@@ -159,7 +159,7 @@ _ENGINE = "--bore 0.08 --stroke 0.08 --conrod 0.13 --compression-ratio 9"
         (
             "gas myengine",
             "unknown trace myengine (known: crf450r_12000rpm_full, crf450r_3000rpm_half, "
-            "crf450r_4000rpm_full, crf450r_8000rpm_full; for your own",
+            "crf450r_4000rpm_full, crf450r_8000rpm_full, own86_3000rpm_full; for your own",
         ),
         ("gas", "gas: nothing written: give -o FILE.csv"),
         ("gas --bore 0.086", "--bore describes your own engine; give -o FILE.csv"),
@@ -247,7 +247,7 @@ def test_shipped_header_is_the_whole_input(name, tmp_path):
     m = gas.GasModel(**{k: float(v) for k, v in (kv.split("=") for kv in params)})
     psi, p = gas.trace(m)
     written_by_o = shipped.read_text().splitlines()[2].startswith("# command: ringlube gas -o ")
-    if written_by_o:  # the 8000 and 12,000 r/min traces: their command and derived quantities too
+    if written_by_o:  # the 8000, 12,000 r/min and own-engine traces: their command and derived line too
         head = gas.header(m, name, gas.describe(m, psi, p), f"inputs/pressure/{name}.csv")
     else:
         head = gas.header(m, name)

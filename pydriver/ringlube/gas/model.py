@@ -435,13 +435,19 @@ CRF450R = dict(bore=96e-3, crank_radius=31.5e-3, conrod_length=107e-3, compressi
 
 _FULL = dict(**CRF450R, manifold_pressure=1.0e5, peak_pressure=60e5, soc=342.0)
 
+# the own engine of docs/own_engine.md: 86 mm bore and stroke, 143.5 mm conrod, compression
+# ratio 10.5 (assumed)
+_OWN86 = dict(bore=86e-3, crank_radius=43e-3, conrod_length=143.5e-3, compression_ratio=10.5)
+
 #: Shipped operating points (see inputs/README.md): the 8000 and 12,000 r/min traces are the
-#: 4000 r/min one with their speed recorded.
+#: 4000 r/min one with their speed recorded; the own engine's is the walkthrough's trace of
+#: docs/own_engine.md (full load at 3000 r/min, net IMEP 10 bar), which its distorted deck reads.
 PRESETS: dict[str, GasModel] = {
     "crf450r_4000rpm_full": GasModel(**_FULL),
     "crf450r_3000rpm_half": GasModel(**CRF450R, manifold_pressure=0.55e5, peak_pressure=35e5, soc=348.0),
     "crf450r_8000rpm_full": GasModel(**_FULL, speed_rpm=8000.0),
     "crf450r_12000rpm_full": GasModel(**_FULL, speed_rpm=12000.0),
+    "own86_3000rpm_full": GasModel(**_OWN86, manifold_pressure=1.0e5, imep=10e5, speed_rpm=3000.0),
 }
 
 

@@ -456,7 +456,7 @@ def _write_figures(m: GasModel, psi, p, name: str, derived: str, paths: list[Pat
 
 #: Shipped traces written by ``ringlube gas -o`` (their headers record that command and the
 #: derived quantities); the others have the parameters alone.
-_WITH_COMMAND = ("crf450r_8000rpm_full", "crf450r_12000rpm_full")
+_WITH_COMMAND = ("crf450r_8000rpm_full", "crf450r_12000rpm_full", "own86_3000rpm_full")
 
 
 def write_presets(out: str | Path, names: list[str] | None = None) -> list[str]:
