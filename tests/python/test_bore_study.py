@@ -18,6 +18,8 @@ from ringlube.study import read_study
 
 from conftest import COLD, DISTORTED_DECKS, INPUTS
 
+pytestmark = [pytest.mark.numerics]
+
 DISTORTED = INPUTS / "crf450r_4000rpm_full_hot_distorted.nml"
 BORE_RESULTS = ("face_leakage", "light_gap_share", "conformability")
 
@@ -131,6 +133,7 @@ def shipped_pair(tension: float) -> tuple:
     return case, ringlube.run(case), ringlube.run(round_bore(case))
 
 
+@pytest.mark.slow
 def test_tension_buys_conformity_on_the_distorted_bore_only():
     """The trade the bore study is for: on the shipped distorted bore the source ring at 8 N
     does not conform to order 4 (1.20 of its limit, closed form) and leaves light gaps that
@@ -153,6 +156,7 @@ def test_tension_buys_conformity_on_the_distorted_bore_only():
     assert "light_gap_share" not in low_round.scalars or low_round.scalars["light_gap_share"] == 0
 
 
+@pytest.mark.slow
 def test_the_bore_section_renders_its_runs(monkeypatch):
     """The validation page's bore section from its runs (here one speed, two tensions, coarse):
     every run a row with its own numbers, the closed-form limit beside the kernel's
