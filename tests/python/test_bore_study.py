@@ -202,6 +202,7 @@ def coarse(deck) -> Case:
     return case.with_bore(sectors=8).with_numerics(preset="fast", max_cycles=2)
 
 
+@pytest.mark.cli
 @pytest.mark.parametrize("deck", DISTORTED_DECKS, ids=lambda p: p.stem)
 def test_distorted_deck_round_trips_and_runs_alike_in_python_and_the_cli(deck, solver, tmp_path):
     import subprocess
