@@ -36,11 +36,15 @@ def main(argv: list[str] | None = None) -> int:
     >>> main(["--version"])                                  # doctest: +SKIP
     ringlube 0.1.0
     """
-    _started()  # a Ctrl-C from here on is a KeyboardInterrupt (ended in one line below)
     args = None
     try:
+        # Building the parser imports most of the package (scipy among it): a Ctrl-C there
+        # stays with the start-up handler (one line, exit 130), since a KeyboardInterrupt
+        # raised inside a C extension's import can come out as an ImportError traceback or
+        # kill the interpreter at exit. Parsing writes nothing.
         args = _parser().parse_args(argv)
         _one_line_warnings()
+        _started()  # a Ctrl-C from here on is a KeyboardInterrupt (ended in one line below)
         return args.func(args)
     except RinglubeError as exc:
         print(f"ringlube: error: {_one_line(exc)}", file=sys.stderr)
