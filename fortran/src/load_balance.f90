@@ -20,7 +20,7 @@ module ringlube_load_balance
   use ringlube_film, only: film_type, film_evaluate
   use ringlube_film_state, only: lower_edge_pressure
   use ringlube_jfo_connect, only: jfo_seal_margin
-  use ringlube_sectors, only: sector_ring, sector_trial, ring_evaluate
+  use ringlube_sectors, only: sector_ring, sector_trial, ring_evaluate, ring_ceiling
   use ringlube_results, only: flag_floor, flag_ceiling, flag_load
   implicit none
   private
@@ -163,9 +163,10 @@ contains
   !> where it cannot. A step held at the ceiling has W from the balance's own solve there;
   !> every other step one film solve more, on a copy of the film (and of a distorted bore's
   !> sectors), which changes nothing of the step. The copy starts from the film of the last
-  !> such solve (`mem`), not from the step's film at its h0: the film at the ceiling changes
-  !> little from step to step (from the step's film, a run of the hot deck with a starved inlet
-  !> took 25 % more CPU time than without the margin, from the last ceiling film 4 %).
+  !> such solve (`mem`; a distorted bore's sectors: ring_ceiling), not from the step's film at
+  !> its h0: the film at the ceiling changes little from step to step (from the step's film, a
+  !> run of the hot deck with a starved inlet took 25 % more CPU time than without the margin,
+  !> from the last ceiling film 4 %).
   !>
   !> Seal margin, with 'trailing_gas' on a step not held at the ceiling: jfo_seal_margin of
   !> the film (of the sectors of a distorted bore, the smallest: the gas passes where one blows).
@@ -176,9 +177,8 @@ contains
     type(balance_memory), intent(inout) :: mem
     real(dp), intent(in) :: psi, h0out, resid
     integer, intent(in) :: flags
-    type(sector_ring), intent(in), optional :: ring
+    type(sector_ring), intent(inout), optional :: ring
     type(film_type) :: gc
-    type(sector_ring) :: rc
     type(sector_trial) :: tr
     real(dp) :: sq
     integer :: j
@@ -188,10 +188,9 @@ contains
       else
         gc = g
         if (present(ring)) then
-          rc = ring
           tr = sector_trial(cc=lp%ceiling, sq_a=lp%sq_a, dt=lp%dt, u=lp%u, p_chamber=lp%pg, &
                             load=lp%load, floor=c%h0_floor, ceiling=c%h0_ceiling)
-          call ring_evaluate(c, rc, gc, tr)
+          call ring_ceiling(c, ring, gc, tr)
         else
           sq = 0.0_dp
           if (c%squeeze) sq = 2.0_dp * (lp%sq_a * lp%ceiling - lp%sq_b) / lp%dt

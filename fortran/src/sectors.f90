@@ -28,7 +28,7 @@ module ringlube_sectors
   implicit none
   private
   public :: sector_ring, sector_trial, ring_setup, ring_evaluate, ring_accept, exact_mean, &
-            ring_loads
+            ring_loads, ring_ceiling
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
@@ -58,6 +58,12 @@ module ringlube_sectors
     logical :: fresh = .true.
     !> Newton iterations over the run, and trials whose sectors missed the tolerance
     integer :: iterations = 0, missed = 0
+    !> the last solve at the ceiling (ring_ceiling, the lift-off margin's): its mean position
+    !> (0: none yet), centre, sectors' h0, loads and slopes, and each sector's film iterate
+    !> there (pressure, viscosity, fill: (nodes, M))
+    real(dp) :: ceil_c = 0.0_dp, ceil_xc = 0.0_dp, ceil_yc = 0.0_dp
+    real(dp), allocatable :: ceil_h(:), ceil_w(:), ceil_slope(:)
+    real(dp), allocatable :: ceil_p(:, :), ceil_eta(:, :), ceil_theta(:, :)
   end type sector_ring
 
   !> One trial of the mean position: cc [m]; the squeeze term's scheme sq_a (1: Euler, 1.5:
@@ -215,6 +221,56 @@ contains
     ring%xc = ring%xc + t * nw%b(ring%bore%m + 1)
     ring%yc = ring%yc + t * nw%b(ring%bore%m + 2)
   end subroutine first_guess
+
+  !> The ring's load at the ceiling for the lift-off margin (ringlube_load_balance, margins):
+  !> ring_evaluate at tr%cc on a copy of the ring (the step's own is left alone; g is the
+  !> summary film's copy). The copy starts from the last such solve, kept in the ring (the
+  !> sectors' h0, centre, loads and slopes, and their films' iterates), not from the step's
+  !> sectors near the liner: the ceiling's solution changes little from step to step, while
+  !> from the step's sectors, two orders of magnitude below it, Newton's method took 4-5 film
+  !> solves per sector and, where the sectors' loads at the ceiling differ by half the mean
+  !> load (the starved decks' intake stroke), up to its 40 iterations.
+  subroutine ring_ceiling(c, ring, g, tr)
+    type(case_type), intent(in) :: c
+    type(sector_ring), intent(inout) :: ring
+    type(film_type), intent(inout) :: g
+    type(sector_trial), intent(inout) :: tr
+    type(sector_ring) :: rc
+    integer :: j, m
+    m = ring%bore%m
+    rc = ring
+    if (ring%ceil_c > 0.0_dp) then
+      rc%c_last = ring%ceil_c
+      rc%xc = ring%ceil_xc
+      rc%yc = ring%ceil_yc
+      rc%h = ring%ceil_h
+      rc%w = ring%ceil_w
+      rc%slope = ring%ceil_slope
+      rc%fresh = .false.
+      do j = 1, m
+        rc%films(j)%p = ring%ceil_p(:, j)
+        rc%films(j)%eta = ring%ceil_eta(:, j)
+        if (rc%films(j)%jfo) rc%films(j)%theta = ring%ceil_theta(:, j)
+      end do
+    end if
+    call ring_evaluate(c, rc, g, tr)
+    ring%ceil_c = rc%c_last
+    ring%ceil_xc = rc%xc
+    ring%ceil_yc = rc%yc
+    ring%ceil_h = rc%h
+    ring%ceil_w = rc%w
+    ring%ceil_slope = rc%slope
+    if (.not. allocated(ring%ceil_p)) then
+      allocate (ring%ceil_p(rc%films(1)%n, m), ring%ceil_eta(rc%films(1)%n, m))
+      allocate (ring%ceil_theta(rc%films(1)%n, m))
+      ring%ceil_theta = 1.0_dp
+    end if
+    do j = 1, m
+      ring%ceil_p(:, j) = rc%films(j)%p
+      ring%ceil_eta(:, j) = rc%films(j)%eta
+      if (rc%films(j)%jfo) ring%ceil_theta(:, j) = rc%films(j)%theta
+    end do
+  end subroutine ring_ceiling
 
   !> Every sector's film at its h0 (its own squeeze term), the loads W_j and the deflection.
   subroutine solve_films(c, ring, tr)
