@@ -11,6 +11,14 @@ The pipeline reads case -> run -> (sample -> fit -> optimise) -> plot:
 import os as _os
 import sys as _sys
 
+# The kernel's OpenMP threads (`&numerics threads`: a distorted bore's sectors) wait for work
+# asleep: with libgomp's default a thread that waits spins for a while first, and on a machine
+# whose cores are taken (a study's workers) the spinning threads take the cores from the ones
+# with work: two threads ran 10-16 times slower than one (docs/performance.md). libgomp reads
+# the variable once, when the kernel's library loads, so it is set here, before any import of
+# the kernel; a value the user set is kept.
+_os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
 
 def _interrupted_at_start(signum, frame):
     """The ``ringlube`` command's SIGINT handler while it starts (importing numpy, scipy, the
