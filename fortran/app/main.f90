@@ -5,6 +5,10 @@
 !> input (including an unsafe output: one of the run's inputs, a folder, a device, or a
 !> path in a folder that does not exist; checked before the run), 3 run did not converge
 !> (the result is still written, with converged = 0).
+!> With `&numerics threads` > 1 (a distorted bore's sectors in OpenMP threads) set
+!> OMP_WAIT_POLICY=PASSIVE in the environment: libgomp reads it when the program starts, and
+!> with its default a waiting thread spins and takes a core from the ones with work (the
+!> Python package sets it itself; docs/bore.md, "Cost").
 program ringlube_solve
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, rl_input_error, rl_not_converged, rl_runtime_error
@@ -126,6 +130,7 @@ contains
     write (unit, '(a)') '  (also an output that is an input, a folder, a device or in a missing'
     write (unit, '(a)') '  folder),'
     write (unit, '(a)') '  3 not converged (result written with converged = 0)'
+write (unit, '(a)') '  with &numerics threads > 1: set OMP_WAIT_POLICY=PASSIVE (docs/bore.md, Cost)'
   end subroutine usage
 
   subroutine die(msg, code)
