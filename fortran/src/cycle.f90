@@ -246,6 +246,7 @@ contains
     type(sector_ring), allocatable :: fine_ring
     type(case_type) :: cc
     integer :: m, k, k_film, k_nodes, j
+    logical :: piloted
 
     m = steps_per_cycle(c)
     call progress_cycle(0)
@@ -256,7 +257,11 @@ contains
     end associate
     ! the film's own warm-up starts at crank step k_film
     k_film = m - nint(run%warmup / c%dpsi_deg) + 1
-    if (allocated(st%rst)) run%warmup = max(run%warmup, ring_pack_warmup_deg)
+    piloted = .false.
+    if (present(pilot_fric)) piloted = allocated(pilot_fric)
+    ! (the ring pack's own warm-up brings the friction into the land pressure; a start under a
+    ! pilot cycle's friction has it already)
+    if (allocated(st%rst) .and. .not. piloted) run%warmup = max(run%warmup, ring_pack_warmup_deg)
     k = m - nint(run%warmup / c%dpsi_deg) + 1
     st%s_prev = position(c, (k - 2) * c%dpsi_deg)
     st%fric_prev = 0.0_dp
@@ -266,13 +271,11 @@ contains
       call ring_pack_start(c, m, k, st%rpar, st%rst, st%rcyc, err)
       if (allocated(err)) return
       run%hist%land_contraction = st%rcyc%contraction
-      if (present(pilot_fric)) then
-        if (allocated(pilot_fric)) then
-          ! from the gas network's periodic state under the pilot cycle's friction
-          call ring_pack_restart(c, st%rpar, k, pilot_fric, st%rst, st%rcyc, err)
-          if (allocated(err)) return
-          if (st%rcyc%contraction > 0.0_dp) run%hist%land_contraction = st%rcyc%contraction
-        end if
+      if (piloted) then
+        ! from the gas network's periodic state under the pilot cycle's friction
+        call ring_pack_restart(c, st%rpar, k, pilot_fric, st%rst, st%rcyc, err)
+        if (allocated(err)) return
+        if (st%rcyc%contraction > 0.0_dp) run%hist%land_contraction = st%rcyc%contraction
       end if
     end if
     k_nodes = findloc(c%nodes >= 4 * ring_pack_warmup_nodes - 3, .true., dim=1)
