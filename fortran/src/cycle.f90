@@ -26,7 +26,7 @@ module ringlube_cycle
   use ringlube_periodicity, only: cycle_history, history_start, history_h0, history_end, &
                                   history_measure, history_period, history_changes, &
                                   history_mean, history_clean, history_extrapolate, &
-                                  q_ring_pack, last_slot
+                                  q_ring_pack, q_energy, last_slot
   use ringlube_fsys, only: progress_begin, progress_cycle, progress_end
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -132,7 +132,9 @@ contains
     if (allocated(st%ring)) call allocate_sectors(res, st%ring%bore%m)
     res%scalars(sc_sigma) = st%sigma
     res%scalars(sc_ring_mass) = ring_mass(c) * 1e3_dp   ! stored in g
-    if (c%pilot_cycle .and. allocated(st%rst) .and. .not. allocated(st%ring)) then
+    ! (not with a starved inlet, whose cycles the liner film sets; not on a distorted bore)
+    if (c%pilot_cycle .and. allocated(st%rst) .and. .not. allocated(st%ring) .and. &
+        .not. st%film%f%starved) then
       call pilot_friction(c, pilot_fric, run%pilot, st%extra_film_solves, st%extra_solves, err)
       if (allocated(err)) return
     end if
@@ -158,7 +160,8 @@ contains
       ! friction (the first cycle, or a slow land that would take more than ten cycles to get
       ! there): the next starts the ring pack from that state (the land relaxes over several
       ! cycles; the friction settles with the film at once)
-      if (allocated(st%rst) .and. (icycle == 1 .or. run%restart)) then
+      ! (after a pilot the first cycle started near that state already)
+      if (allocated(st%rst) .and. ((icycle == 1 .and. run%pilot == 0.0_dp) .or. run%restart)) then
         call restart_ring_pack(st, c, res, run, err)
         if (allocated(err)) return
         run%continues = .false.
@@ -452,6 +455,10 @@ contains
       else
         call history_measure(run%hist, c, run%h0_end, run%change_first, map_end=map)
       end if
+      ! (after a pilot the first cycle's energy says nothing of its distance: the ring's state
+      ! may lie near the gas network's periodic state under the pilot's friction while the
+      ! energy still moves with the coupled state, which only a cycle that continued it shows)
+      if (run%pilot > 0.0_dp .and. run%hist%cycles == 1) run%hist%judged(q_energy) = .false.
       run%period = history_period(run%hist, c, run%h0_end, rp_end=st%rst, map_end=map)
       res%scalars([sc_cycle_change, sc_energy_change, sc_liner_change, sc_ring_pack_change]) = &
         history_changes(run%hist, c, run%h0_end, run%period, st%rst, map)

@@ -219,8 +219,8 @@ module ringlube_inputs
     input_spec('numerics', 'accelerate', kind_logical, '.true.', 0.0_dp, 0.0_dp, '', '', &
       'extrapolate a slowly settling liner film (starved) toward its periodic state'), &
     input_spec('numerics', 'pilot_cycle', kind_logical, '.false.', 0.0_dp, 0.0_dp, '', '', &
-      "with the ring pack: start it from its periodic state under a pilot cycle's friction"// &
-      ' (4 times the crank step)'), &
+      "ring pack (not starved, round bore): start from its periodic state under a pilot"// &
+      " cycle's friction (4 times the crank step)"), &
     input_spec('output', 'file', kind_string, 'result.h5', 0.0_dp, 0.0_dp, '', '', &
       'result file (relative to the deck folder); -o overrides it'), &
     input_spec('calibration', 'file', kind_string, '', 0.0_dp, 0.0_dp, '', '', &
