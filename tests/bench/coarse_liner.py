@@ -32,7 +32,9 @@ def main() -> None:
     decks = [
         p
         for p in sorted((ROOT / "inputs").glob("*.nml"))
-        if "&study" not in p.read_text() and not p.name.startswith(("calibration", "_")) and "distorted" not in p.name
+        if "&study" not in p.read_text()
+        and not p.name.startswith(("calibration", "_"))
+        and "distorted" not in p.name
     ]
     print(f"{'deck':34s} {'2x step':>8s} {'4x step':>8s} {'first cycle':>12s}")
     for deck in decks:

@@ -89,7 +89,11 @@ def main() -> None:
     solvers = [("new", args.solver)] + ([("base", args.base)] if args.base else [])
     parts = [d for d in args.decks.split(",") if d]
     skip = [d for d in args.skip.split(",") if d]
-    chosen = [p for p in decks() if (not parts or any(d in p.name for d in parts)) and not any(d in p.name for d in skip)]
+    chosen = [
+        p
+        for p in decks()
+        if (not parts or any(d in p.name for d in parts)) and not any(d in p.name for d in skip)
+    ]
     head = f"{'deck':34s} {'unit':4s} {'film':14s}"
     for label, _ in solvers:
         head += f" | {label}: cyc  comp   ms/run conv   energy J"
