@@ -3,7 +3,7 @@
 !> and what it carries are in ringlube_cycle_state.
 module ringlube_cycle
   use ringlube_kinds, only: dp, pi
-  use ringlube_error, only: error_type, fatal_error, rl_input_error
+  use ringlube_error, only: error_type, fatal_error, rl_input_error, rl_interrupted
   use ringlube_case, only: case_type, ring_mass, steps_per_cycle, composite_sigma
   use ringlube_ring_pack, only: ring_pack_state, ring_pack_step_out, ring_pack_gas_mass
   use ringlube_ring_pack_cycle, only: ring_pack_totals, ring_pack_finish, ring_pack_scalars, &
@@ -136,7 +136,20 @@ contains
     if (c%pilot_cycle .and. allocated(st%rst) .and. .not. allocated(st%ring) .and. &
         .not. st%film%f%starved) then
       call pilot_friction(c, pilot_fric, run%pilot, st%extra_film_solves, st%extra_solves, err)
-      if (allocated(err)) return
+      ! (a pilot that fails, or gives a non-finite friction, is no start: the run starts
+      ! without it, and does not count it in its cycles and solves; an interrupt ends the run)
+      if (allocated(err)) then
+        if (err%code == rl_interrupted) return
+        deallocate (err)
+        if (allocated(pilot_fric)) deallocate (pilot_fric)
+        run%pilot = 0.0_dp
+      end if
+      if (allocated(pilot_fric)) then
+        if (.not. all(ieee_is_finite(pilot_fric))) then
+          deallocate (pilot_fric)
+          run%pilot = 0.0_dp
+        end if
+      end if
     end if
     call warm_up(st, c, run, err, pilot_fric)
     if (allocated(err)) return
