@@ -3,7 +3,7 @@
 !> and what it carries are in ringlube_cycle_state.
 module ringlube_cycle
   use ringlube_kinds, only: dp, pi
-  use ringlube_error, only: error_type, fatal_error, rl_input_error
+  use ringlube_error, only: error_type, fatal_error, rl_input_error, rl_interrupted
   use ringlube_case, only: case_type, ring_mass, steps_per_cycle, composite_sigma
   use ringlube_ring_pack, only: ring_pack_state, ring_pack_step_out, ring_pack_gas_mass
   use ringlube_ring_pack_cycle, only: ring_pack_totals, ring_pack_finish, ring_pack_scalars, &
@@ -26,7 +26,7 @@ module ringlube_cycle
   use ringlube_periodicity, only: cycle_history, history_start, history_h0, history_end, &
                                   history_measure, history_period, history_changes, &
                                   history_mean, history_clean, history_extrapolate, &
-                                  q_ring_pack, last_slot
+                                  q_ring_pack, q_energy, last_slot
   use ringlube_fsys, only: progress_begin, progress_cycle, progress_end
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -52,6 +52,9 @@ module ringlube_cycle
   integer, parameter :: ring_pack_warmup_nodes(2) = [11, 7]
   !> the liner film's extrapolations a run makes at most (extrapolate_liner)
   integer, parameter :: max_extrapolations = 2
+  !> the pilot cycle's crank step in steps of the run's (pilot_friction; 2 where the cycle's
+  !> steps do not divide by 4, none where they do not divide by 2)
+  integer, parameter :: pilot_stride = 4
 
   !> Where the ring pack's first cycle is solved again from after its restart (the re-warm):
   !> crank step k and the state before it.
@@ -94,6 +97,9 @@ module ringlube_cycle
     real(dp) :: change_first = 0.0_dp
     !> warm-up and re-warm [deg]
     real(dp) :: warmup = 0.0_dp, rewarm = 0.0_dp
+    !> the pilot cycle's crank steps (with its warm-up) in cycles of the run's steps
+    !> (`&numerics pilot_cycle`; 0: none)
+    real(dp) :: pilot = 0.0_dp
     type(rewarm_point) :: rw
   end type cycle_run
 
@@ -117,6 +123,7 @@ contains
     type(error_type), allocatable, intent(out) :: err
     type(cycle_state) :: st
     type(cycle_run) :: run
+    real(dp), allocatable :: pilot_fric(:)
     integer :: icycle
 
     if (c%gt_functions == 'exact') call gt_init()
@@ -125,7 +132,26 @@ contains
     if (allocated(st%ring)) call allocate_sectors(res, st%ring%bore%m)
     res%scalars(sc_sigma) = st%sigma
     res%scalars(sc_ring_mass) = ring_mass(c) * 1e3_dp   ! stored in g
-    call warm_up(st, c, run, err)
+    ! (not with a starved inlet, whose cycles the liner film sets; not on a distorted bore)
+    if (c%pilot_cycle .and. allocated(st%rst) .and. .not. allocated(st%ring) .and. &
+        .not. st%film%f%starved) then
+      call pilot_friction(c, pilot_fric, run%pilot, st%extra_film_solves, st%extra_solves, err)
+      ! (a pilot that fails, or gives a non-finite friction, is no start: the run starts
+      ! without it, and does not count it in its cycles and solves; an interrupt ends the run)
+      if (allocated(err)) then
+        if (err%code == rl_interrupted) return
+        deallocate (err)
+        if (allocated(pilot_fric)) deallocate (pilot_fric)
+        run%pilot = 0.0_dp
+      end if
+      if (allocated(pilot_fric)) then
+        if (.not. all(ieee_is_finite(pilot_fric))) then
+          deallocate (pilot_fric)
+          run%pilot = 0.0_dp
+        end if
+      end if
+    end if
+    call warm_up(st, c, run, err, pilot_fric)
     if (allocated(err)) return
     do icycle = 1, c%max_cycles
       run%cycles_run = icycle
@@ -147,7 +173,8 @@ contains
       ! friction (the first cycle, or a slow land that would take more than ten cycles to get
       ! there): the next starts the ring pack from that state (the land relaxes over several
       ! cycles; the friction settles with the film at once)
-      if (allocated(st%rst) .and. (icycle == 1 .or. run%restart)) then
+      ! (after a pilot the first cycle started near that state already)
+      if (allocated(st%rst) .and. ((icycle == 1 .and. run%pilot == 0.0_dp) .or. run%restart)) then
         call restart_ring_pack(st, c, res, run, err)
         if (allocated(err)) return
         run%continues = .false.
@@ -156,6 +183,56 @@ contains
     end do
     call report(st, c, res, run, err)
   end subroutine run_cycles
+
+  !> The friction of a pilot cycle at each crank step of case c (fric, interpolated linearly
+  !> between the pilot's steps): the case run at pilot_stride times its crank step over its
+  !> warm-up and one cycle (the same grid and models). cost: the pilot's crank steps in cycles
+  !> of the case's; its film and Reynolds solves are added to film_solves, solves. fric is
+  !> not allocated where the cycle's steps do not divide by 2.
+  subroutine pilot_friction(c, fric, cost, film_solves, solves, err)
+    type(case_type), intent(in) :: c
+    real(dp), allocatable, intent(out) :: fric(:)
+    real(dp), intent(out) :: cost
+    integer, intent(inout) :: film_solves, solves
+    type(error_type), allocatable, intent(out) :: err
+    type(case_type) :: cp
+    type(cycle_state) :: sp
+    type(cycle_run) :: rp
+    type(result_type) :: resp
+    integer :: m, mp, s, k, kc
+    real(dp) :: r
+    cost = 0.0_dp
+    m = steps_per_cycle(c)
+    s = pilot_stride
+    do while (s > 1 .and. mod(m, s) /= 0)
+      s = s / 2
+    end do
+    if (s == 1) return
+    cp = c
+    cp%dpsi_deg = s * c%dpsi_deg
+    cp%pilot_cycle = .false.
+    mp = m / s
+    call allocate_result(resp, mp)
+    call cycle_setup(sp, cp, initial_h0(cp))
+    call warm_up(sp, cp, rp, err)
+    if (allocated(err)) return
+    rp%cycles_run = 1
+    call run_cycle(sp, cp, resp, rp, 1)
+    if (allocated(sp%err)) then
+      call move_alloc(sp%err, err)
+      return
+    end if
+    allocate (fric(m))
+    do k = 1, m
+      kc = (k - 1) / s
+      r = real(mod(k - 1, s), dp) / s
+      fric(k) = (1.0_dp - r) * resp%series(kc + 1, s_friction) &
+                + r * resp%series(modulo(kc + 1, mp) + 1, s_friction)
+    end do
+    cost = (rp%warmup / cp%dpsi_deg + mp) / m
+    film_solves = film_solves + sp%film%f%film_solves
+    solves = solves + sp%film%f%reynolds_solves
+  end subroutine pilot_friction
 
   !> h0 of the state before the first step: 4 sigma, or &numerics h0_initial, inside the
   !> bounds.
@@ -173,16 +250,19 @@ contains
   !> itself left on the liner and the first cycle can already be periodic. With the ring pack,
   !> its gas network starts from its own periodic state (ring_pack_start), and a coarse
   !> Swift-Stieber film runs the part of the warm-up before the film's own.
-  subroutine warm_up(st, c, run, err)
+  subroutine warm_up(st, c, run, err, pilot_fric)
     type(cycle_state), intent(inout) :: st
     type(case_type), intent(in) :: c
     type(cycle_run), intent(inout) :: run
     type(error_type), allocatable, intent(out) :: err
+    !> the friction of a pilot cycle at each crank step (pilot_friction; not allocated: none)
+    real(dp), allocatable, intent(in), optional :: pilot_fric(:)
     type(step_out) :: out
     type(film_track) :: fine
     type(sector_ring), allocatable :: fine_ring
     type(case_type) :: cc
     integer :: m, k, k_film, k_nodes, j
+    logical :: piloted
 
     m = steps_per_cycle(c)
     call progress_cycle(0)
@@ -193,7 +273,11 @@ contains
     end associate
     ! the film's own warm-up starts at crank step k_film
     k_film = m - nint(run%warmup / c%dpsi_deg) + 1
-    if (allocated(st%rst)) run%warmup = max(run%warmup, ring_pack_warmup_deg)
+    piloted = .false.
+    if (present(pilot_fric)) piloted = allocated(pilot_fric)
+    ! (the ring pack's own warm-up brings the friction into the land pressure; a start under a
+    ! pilot cycle's friction has it already)
+    if (allocated(st%rst) .and. .not. piloted) run%warmup = max(run%warmup, ring_pack_warmup_deg)
     k = m - nint(run%warmup / c%dpsi_deg) + 1
     st%s_prev = position(c, (k - 2) * c%dpsi_deg)
     st%fric_prev = 0.0_dp
@@ -203,6 +287,12 @@ contains
       call ring_pack_start(c, m, k, st%rpar, st%rst, st%rcyc, err)
       if (allocated(err)) return
       run%hist%land_contraction = st%rcyc%contraction
+      if (piloted) then
+        ! from the gas network's periodic state under the pilot cycle's friction
+        call ring_pack_restart(c, st%rpar, k, pilot_fric, st%rst, st%rcyc, err)
+        if (allocated(err)) return
+        if (st%rcyc%contraction > 0.0_dp) run%hist%land_contraction = st%rcyc%contraction
+      end if
     end if
     k_nodes = findloc(c%nodes >= 4 * ring_pack_warmup_nodes - 3, .true., dim=1)
     if (allocated(st%rst) .and. k < k_film .and. k_nodes > 0 .and. .not. st%film%f%jfo) then
@@ -378,6 +468,10 @@ contains
       else
         call history_measure(run%hist, c, run%h0_end, run%change_first, map_end=map)
       end if
+      ! (after a pilot the first cycle's energy says nothing of its distance: the ring's state
+      ! may lie near the gas network's periodic state under the pilot's friction while the
+      ! energy still moves with the coupled state, which only a cycle that continued it shows)
+      if (run%pilot > 0.0_dp .and. run%hist%cycles == 1) run%hist%judged(q_energy) = .false.
       run%period = history_period(run%hist, c, run%h0_end, rp_end=st%rst, map_end=map)
       res%scalars([sc_cycle_change, sc_energy_change, sc_liner_change, sc_ring_pack_change]) = &
         history_changes(run%hist, c, run%h0_end, run%period, st%rst, map)
@@ -588,7 +682,7 @@ contains
         v(sc_reynolds_solves) = f%reynolds_solves + st%extra_solves
         v(sc_cycles_run) = run%cycles_run
         v(sc_cycles_computed) = run%cycles_run + (run%warmup + run%rewarm + c%dpsi_deg &
-                                                  * run%cycles_run) / 720.0_dp
+                                                  * run%cycles_run) / 720.0_dp + run%pilot
         v(sc_periodic) = truth(run%periodic)
         v(sc_period) = run%period
         ! a step held at h0_ceiling (the ring lifts off) is an answer of the model, flagged but

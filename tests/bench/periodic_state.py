@@ -8,10 +8,13 @@ run (best of --repeats), whether the run converged, and with --ref the energy's 
 relative difference to the same run at ``cycle_tol`` 1e-6 (``max_cycles`` 60). With a second
 solver (--base, e.g. a build of an earlier commit, which has no &numerics accelerate) the same
 for it side by side, and the means per film model and reading; --no-accelerate runs --solver
-without the liner film's extrapolation. Run from the project folder:
+without the liner film's extrapolation, --pilot with the ring pack's pilot cycle
+(``&numerics pilot_cycle``); --skip leaves out decks whose name has one of the parts given
+(e.g. ``distorted``). Run from the project folder:
 
     .venv/bin/python tests/bench/periodic_state.py [--base BASE/ringlube-solve] [--ref]
-        [--unit N] [--films starved,...] [--decks 12000,...] [--repeats 3] [--no-accelerate]
+        [--unit N] [--films starved,...] [--decks 12000,...] [--skip distorted] [--repeats 3]
+        [--no-accelerate] [--pilot]
 """
 
 from __future__ import annotations
@@ -80,10 +83,17 @@ def main() -> None:
     ap.add_argument("--decks", default="", help="deck name parts, comma-separated (default all)")
     ap.add_argument("--repeats", type=int, default=1)
     ap.add_argument("--no-accelerate", action="store_true", help="--solver's runs without extrapolation")
+    ap.add_argument("--pilot", action="store_true", help="--solver's runs with pilot_cycle")
+    ap.add_argument("--skip", default="", help="deck name parts to leave out, comma-separated")
     args = ap.parse_args()
     solvers = [("new", args.solver)] + ([("base", args.base)] if args.base else [])
     parts = [d for d in args.decks.split(",") if d]
-    chosen = [p for p in decks() if not parts or any(d in p.name for d in parts)]
+    skip = [d for d in args.skip.split(",") if d]
+    chosen = [
+        p
+        for p in decks()
+        if (not parts or any(d in p.name for d in parts)) and not any(d in p.name for d in skip)
+    ]
     head = f"{'deck':34s} {'unit':4s} {'film':14s}"
     for label, _ in solvers:
         head += f" | {label}: cyc  comp   ms/run conv   energy J"
@@ -100,6 +110,8 @@ def main() -> None:
                 for label, solver in solvers:
                     plain = args.no_accelerate and label == "new"
                     own = case.with_numerics(accelerate=False) if plain else case
+                    if args.pilot and label == "new":
+                        own = own.with_numerics(pilot_cycle=True)
                     r = run(solver, own, args.repeats)
                     line += (
                         f" | {r['cycles_run']:7.0f} {r['cycles_computed']:5.2f} {r['run_time_s'] * 1e3:8.1f} "
