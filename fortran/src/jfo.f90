@@ -293,8 +293,16 @@ contains
             if ((v(i) < 0.0_dp) .neqv. (vn < 0.0_dp)) nsw = nsw + 1
             v(i) = vn
           end do
-          ! the residual alone: usually the step was the last (the next iteration eliminates)
-          call jfo_residual_only(work, v, r, s%rscale, s%rmax, ft, scratch%ev)
+          ! a step that switched no node stays on its piece, where the residual is nearly
+          ! affine, and is usually the last: the residual alone. A step that switched nodes
+          ! left the piece, and the next iteration needs the elimination there: the residual
+          ! with it, in one pass (the same residual bit for bit, one pass fewer)
+          s%jac_ok = nsw > 0
+          if (s%jac_ok) then
+            call evaluate(s, scratch, .false., .true., ft)
+          else
+            call jfo_residual_only(work, v, r, s%rscale, s%rmax, ft, scratch%ev)
+          end if
           accepted = .true.
           nls = 0
           if (nsw >= 1 .and. nsw <= 2) then
@@ -302,7 +310,6 @@ contains
           else
             walk = 0
           end if
-          s%jac_ok = .false.
           s%f0 = ft
           s%fhist(mod(it, size(s%fhist)) + 1) = s%f0
         else if (tinfo == 0) then
