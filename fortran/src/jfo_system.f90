@@ -260,13 +260,24 @@ contains
     real(dp), intent(out) :: scale, rmax, fsq
     type(jfo_eval), intent(inout) :: ev
     logical, intent(out) :: pivots, signs
+    call newton_eval_nodes(sys, sys%n, sys%ca, sys%kd, sys%ps, sys%h, sys%content_old, x, res, &
+                           scale, rmax, fsq, ev%pn, ev%tn, ev%fl, cp, y, pivots, signs)
+  end subroutine jfo_newton_eval
+
+  !> jfo_newton_eval on explicit-shape arrays (contiguous, so indexed without descriptors).
+  pure subroutine newton_eval_nodes(sys, n, ca, kd, ps, h, content_old, x, res, scale, rmax, &
+                                    fsq, pn, tn, fl, cp, y, pivots, signs)
+    type(jfo_system), intent(in) :: sys
+    integer, intent(in) :: n
+    real(dp), intent(in) :: ca(n), kd(n), ps(n), h(n), content_old(n), x(n)
+    real(dp), intent(out) :: res(n), scale, rmax, fsq, cp(n), y(n)
+    real(dp), intent(inout) :: pn(n), tn(n), fl(n)
+    logical, intent(out) :: pivots, signs
     real(dp) :: s, jl, jd, ju, m, rr
     ! the face before node j (f = j - 1) and after it (f = j): flux derivatives
     real(dp) :: pl0, pr0, tl0, tr0, pl1, pr1, tl1, tr1
     integer :: j
-    associate (n => sys%n, a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, ps => sys%ps, &
-               h => sys%h, content_old => sys%content_old, qcl => sys%qcl, qcr => sys%qcr, &
-               pn => ev%pn, tn => ev%tn, fl => ev%fl)
+    associate (a => sys%a, w => sys%w, qcl => sys%qcl, qcr => sys%qcr)
       pivots = .true.
       signs = .true.
       pn(1) = sys%p_left
@@ -351,8 +362,7 @@ contains
         tr0 = tr1
       end do
     end associate
-
-  end subroutine jfo_newton_eval
+  end subroutine newton_eval_nodes
 
   !> The residual of jfo_residual at the state x alone (no derivatives), in one pass: res, its
   !> scale, largest entry rmax and sum of squares fsq, the node states and face fluxes in ev
@@ -363,11 +373,21 @@ contains
     real(dp), intent(out), contiguous :: res(:)
     real(dp), intent(out) :: scale, rmax, fsq
     type(jfo_eval), intent(inout) :: ev
+    call residual_nodes(sys, sys%n, sys%ca, sys%kd, sys%h, sys%content_old, x, res, scale, rmax, &
+                        fsq, ev%pn, ev%tn, ev%fl)
+  end subroutine jfo_residual_only
+
+  !> jfo_residual_only on explicit-shape arrays (contiguous, so indexed without descriptors).
+  pure subroutine residual_nodes(sys, n, ca, kd, h, content_old, x, res, scale, rmax, fsq, pn, &
+                                 tn, fl)
+    type(jfo_system), intent(in) :: sys
+    integer, intent(in) :: n
+    real(dp), intent(in) :: ca(n), kd(n), h(n), content_old(n), x(n)
+    real(dp), intent(out) :: res(n), scale, rmax, fsq
+    real(dp), intent(inout) :: pn(n), tn(n), fl(n)
     real(dp) :: s, g
     integer :: j
-    associate (n => sys%n, a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, h => sys%h, &
-               content_old => sys%content_old, qcl => sys%qcl, qcr => sys%qcr, pn => ev%pn, &
-               tn => ev%tn, fl => ev%fl)
+    associate (a => sys%a, w => sys%w, qcl => sys%qcl, qcr => sys%qcr)
       pn(1) = sys%p_left
       pn(n) = sys%p_right
       tn(1) = sys%theta_left
@@ -405,7 +425,7 @@ contains
         fsq = fsq + res(j)**2
       end do
     end associate
-  end subroutine jfo_residual_only
+  end subroutine residual_nodes
 
   !> Flux fl through face f (nodes f, f+1) at the node states pn, tn and its derivatives by
   !> the pressure (dpl, dpr) and fill (dtl, dtr) of its left and right node, as jfo_residual.
