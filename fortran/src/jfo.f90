@@ -218,7 +218,7 @@ contains
       ! s%jac_ok: the Newton step's elimination at v is in the scratch (the residual of an
       ! accepted step is evaluated with it, so the next iteration need not evaluate again)
       call evaluate(s, scratch, .false., use_newton, s%f0)
-      if (.not. (ieee_is_finite(s%rscale) .and. ieee_is_finite(sum(abs(r(2:n - 1)))))) then
+      if (.not. (ieee_is_finite(s%rscale) .and. ieee_is_finite(s%f0))) then
         ! a warm start whose terms overflow (pressures near huge()) made the scale infinite, and
         ! Inf <= tol * Inf passed as converged: start from full film at the cavity pressure
         v = 0.0_dp
@@ -394,7 +394,9 @@ contains
       ! outputs (pn, tn, fl hold the state of the last residual evaluation, which is v's)
       p = pn
       theta = tn
-      if (stats%info == JFO_OK .and. minval(theta(2:n - 1)) < -1e-12_dp) stats%info = JFO_DRY
+      if (stats%info == JFO_OK) then
+        if (any(theta(2:n - 1) < -1e-12_dp)) stats%info = JFO_DRY
+      end if
       theta(2:n - 1) = min(max(theta(2:n - 1), 0.0_dp), 1.0_dp)
       stats%q_left = fl(1)
       stats%q_right = fl(n - 1)
