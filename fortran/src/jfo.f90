@@ -34,7 +34,8 @@ module ringlube_jfo
   use ringlube_kinds, only: dp
   use ringlube_jfo_system, only: jfo_problem, jfo_system, jfo_system_setup, jfo_residual, &
                                  jfo_gauss_seidel, jfo_scratch, jfo_scratch_size, &
-                                 jfo_newton_eval, jfo_newton_step, jfo_residual_only
+                                 jfo_newton_eval, jfo_newton_step, jfo_residual_only, &
+                                 jfo_newton_apply
   implicit none
   private
   public :: jfo_solve, jfo_film_volume, jfo_options, jfo_problem, jfo_stats
@@ -170,7 +171,7 @@ contains
     type(jfo_system) :: local
     type(jfo_scratch) :: local_scratch
     type(solve_state) :: s
-    real(dp) :: rtol, ft, fbest, t, rmax, vn
+    real(dp) :: rtol, ft, fbest, t, rmax
     integer :: n, i, it, itmax, tinfo, nls, nsw, walk
     logical :: use_guard, use_newton, accepted
     type(jfo_options) :: opt
@@ -278,7 +279,6 @@ contains
           tinfo = 1
         else
           tinfo = 0
-          call jfo_newton_step(n, scratch%cp, scratch%y, dv)
         end if
         if (tinfo /= 0 .and. .not. use_guard) then
           stats%info = JFO_SINGULAR
@@ -286,13 +286,9 @@ contains
         end if
         accepted = .false.
         if (tinfo == 0 .and. (.not. use_guard .or. it < free_steps)) then
-          ! a full step, taken whatever it does to ||R||: in place
-          nsw = 0
-          do i = 2, n - 1
-            vn = v(i) + dv(i)
-            if ((v(i) < 0.0_dp) .neqv. (vn < 0.0_dp)) nsw = nsw + 1
-            v(i) = vn
-          end do
+          ! a full step, taken whatever it does to ||R||: in place (the back substitution and
+          ! the update in one pass)
+          call jfo_newton_apply(n, scratch%cp, scratch%y, dv, v, nsw)
           ! a step that switched no node stays on its piece, where the residual is nearly
           ! affine, and is usually the last: the residual alone. A step that switched nodes
           ! left the piece, and the next iteration needs the elimination there: the residual
@@ -315,6 +311,7 @@ contains
         else if (tinfo == 0) then
           ! after free_steps iterations, halve the step until ||R||^2 falls below the largest of
           ! the last accepted values (non-monotone Armijo)
+          call jfo_newton_step(n, scratch%cp, scratch%y, dv)
           t = 1.0_dp
           do nls = 0, 30
             vt = v + t * dv

@@ -9,7 +9,7 @@ module ringlube_jfo_system
   private
   public :: jfo_problem, jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel, &
             jfo_eval, jfo_scratch, jfo_scratch_size, jfo_newton_eval, jfo_newton_step, &
-            jfo_residual_only
+            jfo_residual_only, jfo_newton_apply
 
   !> One step of the mass-conserving film: its scalars, the record jfo_solve and
   !> jfo_solve_connected take beside the film's arrays (the gap, the conductances, the content
@@ -472,6 +472,41 @@ contains
       dv(j) = y(j) - cp(j) * dv(j + 1)
     end do
   end subroutine jfo_newton_step
+
+  !> The full Newton step from jfo_newton_eval's elimination, taken: jfo_newton_step's back
+  !> substitution and v = v + dv in the same backward pass (the same arithmetic), and the
+  !> number of nodes whose side of the kink (v < 0 or not) the step switched.
+  pure subroutine jfo_newton_apply(n, cp, y, dv, v, nswitch)
+    integer, intent(in) :: n
+    real(dp), intent(in), contiguous :: cp(:), y(:)
+    real(dp), intent(out), contiguous :: dv(:)
+    real(dp), intent(inout), contiguous :: v(:)
+    integer, intent(out) :: nswitch
+    call newton_apply_nodes(n, cp, y, dv, v, nswitch)
+  end subroutine jfo_newton_apply
+
+  pure subroutine newton_apply_nodes(n, cp, y, dv, v, nswitch)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: cp(n), y(n)
+    real(dp), intent(out) :: dv(n)
+    real(dp), intent(inout) :: v(n)
+    integer, intent(out) :: nswitch
+    real(dp) :: vn
+    integer :: j
+    dv(1) = 0.0_dp
+    dv(n) = 0.0_dp
+    dv(n - 1) = y(n - 1)
+    nswitch = 0
+    vn = v(n - 1) + dv(n - 1)
+    if ((v(n - 1) < 0.0_dp) .neqv. (vn < 0.0_dp)) nswitch = nswitch + 1
+    v(n - 1) = vn
+    do j = n - 2, 2, -1
+      dv(j) = y(j) - cp(j) * dv(j + 1)
+      vn = v(j) + dv(j)
+      if ((v(j) < 0.0_dp) .neqv. (vn < 0.0_dp)) nswitch = nswitch + 1
+      v(j) = vn
+    end do
+  end subroutine newton_apply_nodes
 
   !> Projected Gauss-Seidel on v: each node solves its own equation (monotone in v(j)) with
   !> the neighbours fixed and the upwind choices of the current state, sweeping downstream.

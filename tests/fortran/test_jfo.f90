@@ -7,13 +7,18 @@
 !>  3. mass conservation over a transient with sliding, reversal, rupture and reformation;
 !>  4. an independent Elrod/Ausas relaxation solver (jfo_reference) on that transient;
 !>  5. bounds and complementarity;
-!>  7. the anti-cycling guard and the Gauss-Seidel fallback.
+!>  7. the anti-cycling guard and the Gauss-Seidel fallback;
+!>  8. the one-pass evaluations of the Newton iteration against the residual and Jacobian rows
+!>     of jfo_residual.
 !> The connectivity rule, the starved inlet and the inflow cap: test_jfo_connect.
 program test_jfo
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_kinds, only: dp, pi
   use ringlube_jfo
   use ringlube_jfo_connect
+  use ringlube_jfo_system, only: jfo_system, jfo_system_setup, jfo_residual, jfo_scratch, &
+                                 jfo_scratch_size, jfo_newton_eval, jfo_newton_step, &
+                                 jfo_residual_only, jfo_newton_apply
   use ringlube_reynolds, only: reynolds_solve, reynolds_problem
   use jfo_reference, only: elrod_solve
   use ringlube_check
@@ -28,6 +33,7 @@ program test_jfo
   if (run_case('guard')) call case_guard()
   if (run_case('bad_input')) call case_bad_input()
   if (run_case('huge_warm_start')) call case_huge_warm_start()
+  if (run_case('newton_passes')) call case_newton_passes()
   call report('test_jfo')
 
 contains
@@ -486,4 +492,68 @@ contains
   call check(maxval(abs(p - p2)) <= 1e-10_dp * maxval(p2) .and. maxval(abs(th - th2)) <= 1e-10_dp, &
                'huge warm start: the solution of an ordinary warm start')
   end subroutine case_huge_warm_start
+
+  !> The one-pass evaluations of the Newton iteration (jfo_newton_eval, jfo_residual_only,
+  !> jfo_newton_apply) against jfo_residual's residual and Jacobian rows, at states mixing
+  !> full and partly filled nodes, both sliding directions, a starved inlet and a capped edge:
+  !> the same residual bit for bit, its largest entry and sum of squares, the elimination's
+  !> step solving J dv = -R, and the step taken in place equal to v + dv with the nodes it
+  !> switched counted.
+  subroutine case_newton_passes()
+    integer, parameter :: n = 61
+    real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:)
+    real(dp) :: dx, v(n), r(n), r2(n), r3(n), cp(n), y(n), dv(n), dv2(n), v2(n), pc(n), cold(n)
+    real(dp) :: sc, sc2, sc3, rmax, rmax3, fsq, fsq3, e, emax
+    real(dp) :: jl(n), jd(n), ju(n)
+    logical :: piv, sgn, same, apply_ok
+    integer :: trial, i, nsw
+    type(jfo_system) :: sys
+    type(jfo_scratch) :: sk
+    type(jfo_problem) :: prob
+    call grid(n, x, h, hmid, kmid, dx)
+    call jfo_scratch_size(sk, n)
+    same = .true.
+    apply_ok = .true.
+    emax = 0.0_dp
+    do trial = 1, 8
+      pc = 0.5e5_dp
+      cold = h * (0.5_dp + 0.5_dp * rnd(trial, [(i, i=1, n)]))
+      prob = jfo_problem(dx=dx, u=merge(10.0_dp, -10.0_dp, mod(trial, 2) == 0), dt=1e-5_dp, &
+                         p_left=3e5_dp, p_right=1e5_dp, theta_left=0.6_dp)
+      if (trial > 4) prob%cap_right = 1e-7_dp
+      call jfo_system_setup(sys, prob, h, hmid, kmid, cold, pc)
+      ! a state with cavities and full zones: v in [-0.9, 2)
+      v = -0.9_dp + 2.9_dp * rnd(trial, [(i + 100, i=1, n)])
+      call jfo_residual(sys, v, r, sc, .true., sk%ev)
+      jl = sk%ev%jl
+      jd = sk%ev%jd
+      ju = sk%ev%ju
+      call jfo_newton_eval(sys, v, r2, sc2, rmax, fsq, sk%ev, cp, y, piv, sgn)
+      call jfo_residual_only(sys, v, r3, sc3, rmax3, fsq3, sk%ev)
+      same = same .and. all(r2(2:n - 1) == r(2:n - 1)) .and. all(r3(2:n - 1) == r(2:n - 1)) &
+             .and. sc2 == sc .and. sc3 == sc .and. rmax == maxval(abs(r(2:n - 1))) &
+             .and. rmax3 == rmax .and. fsq3 == fsq &
+             .and. abs(fsq - sum(r(2:n - 1)**2)) <= 1e-14_dp * fsq
+      call check(piv .and. sgn, 'newton passes: pivots nonzero, M-matrix signs')
+      call jfo_newton_step(n, cp, y, dv)
+      ! J dv = -R on this piece, to round-off of the terms
+      do i = 2, n - 1
+        e = jd(i) * dv(i) + r(i)
+        if (i > 2) e = e + jl(i) * dv(i - 1)
+        if (i < n - 1) e = e + ju(i) * dv(i + 1)
+        emax = max(emax, abs(e) / (abs(jd(i) * dv(i)) + abs(r(i)) + abs(jl(i) * dv(max(i - 1, 1))) &
+                                   + abs(ju(i) * dv(min(i + 1, n))) + tiny(1.0_dp)))
+      end do
+      v2 = v
+      call jfo_newton_apply(n, cp, y, dv2, v2, nsw)
+      apply_ok = apply_ok .and. all(dv2 == dv) .and. all(v2(2:n - 1) == v(2:n - 1) + dv(2:n - 1)) &
+                 .and. nsw == count((v(2:n - 1) < 0.0_dp) .neqv. (v2(2:n - 1) < 0.0_dp)) &
+                 .and. v2(1) == v(1) .and. v2(n) == v(n)
+    end do
+    write (*, '(2x, a, es10.2)') 'newton passes: largest relative residual of J dv = -R ', emax
+ call check(same, 'newton passes: the residual, its scale, largest entry and sum of squares of '// &
+               'jfo_residual')
+    call check(emax <= 1e-12_dp, 'newton passes: the step solves J dv = -R')
+    call check(apply_ok, 'newton passes: the step taken in place is v + dv, switches counted')
+  end subroutine case_newton_passes
 end program test_jfo
