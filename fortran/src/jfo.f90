@@ -35,7 +35,7 @@ module ringlube_jfo
   use ringlube_jfo_system, only: jfo_problem, jfo_system, jfo_system_setup, jfo_residual, &
                                  jfo_gauss_seidel, jfo_scratch, jfo_scratch_size, &
                                  jfo_newton_eval, jfo_newton_step, jfo_residual_only, &
-                                 jfo_newton_apply
+                                 jfo_newton_apply, jfo_state_to_v
   implicit none
   private
   public :: jfo_solve, jfo_film_volume, jfo_options, jfo_problem, jfo_stats
@@ -172,7 +172,7 @@ contains
     type(jfo_scratch) :: local_scratch
     type(solve_state) :: s
     real(dp) :: rtol, ft, fbest, t, rmax
-    integer :: n, i, it, itmax, tinfo, nls, nsw, walk
+    integer :: n, it, itmax, tinfo, nls, nsw, walk
     logical :: use_guard, use_newton, accepted
     type(jfo_options) :: opt
 
@@ -206,15 +206,7 @@ contains
       call jfo_system_setup(work, problem, h, hmid, kmid, content_old, pc)
 
       ! warm start: v = (p - pc)/ps on full nodes, theta - 1 on cavity nodes; not finite -> 0
-      v = 0.0_dp
-      do i = 2, n - 1
-        if (theta(i) < 1.0_dp) then
-          v(i) = theta(i) - 1.0_dp
-        else
-          v(i) = max(p(i) - pc(i), 0.0_dp) / work%ps(i)
-        end if
-        if (.not. ieee_is_finite(v(i))) v(i) = 0.0_dp
-      end do
+      call jfo_state_to_v(work, p, theta, v)
 
       ! s%jac_ok: the Newton step's elimination at v is in the scratch (the residual of an
       ! accepted step is evaluated with it, so the next iteration need not evaluate again)
@@ -511,14 +503,7 @@ contains
           tn(i0 + j) = (1.0_dp - s) * thc(ic) + s * thc(ic + 1)
         end do
       end do
-      do j = 2, n - 1
-        if (tn(j) < 1.0_dp) then
-          v(j) = tn(j) - 1.0_dp
-        else
-          v(j) = max(pn(j) - pc(j), 0.0_dp) / work%ps(j)
-        end if
-        if (.not. ieee_is_finite(v(j))) v(j) = 0.0_dp
-      end do
+      call jfo_state_to_v(work, pn, tn, v)
     end subroutine coarse_start
 
   end subroutine jfo_solve

@@ -4,12 +4,13 @@
 !> sweeps of the fallback. The scheme and the method are described in ringlube_jfo and
 !> docs/film_model.md.
 module ringlube_jfo_system
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_kinds, only: dp
   implicit none
   private
   public :: jfo_problem, jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel, &
             jfo_eval, jfo_scratch, jfo_scratch_size, jfo_newton_eval, jfo_newton_step, &
-            jfo_residual_only, jfo_newton_apply
+            jfo_residual_only, jfo_newton_apply, jfo_state_to_v
 
   !> One step of the mass-conserving film: its scalars, the record jfo_solve and
   !> jfo_solve_connected take beside the film's arrays (the gap, the conductances, the content
@@ -507,6 +508,33 @@ contains
       v(j) = vn
     end do
   end subroutine newton_apply_nodes
+
+  !> The universal variable v of a state p, theta of the step's system (a warm start):
+  !> theta - 1 on a partly filled node, (p - pc)/ps (at least 0) on a full one, 0 where that
+  !> is not finite and at the edges.
+  pure subroutine jfo_state_to_v(sys, p, theta, v)
+    type(jfo_system), intent(in) :: sys
+    real(dp), intent(in), contiguous :: p(:), theta(:)
+    real(dp), intent(out), contiguous :: v(:)
+    call state_to_v_nodes(sys%n, sys%pc, sys%ps, p, theta, v)
+  end subroutine jfo_state_to_v
+
+  pure subroutine state_to_v_nodes(n, pc, ps, p, theta, v)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: pc(n), ps(n), p(n), theta(n)
+    real(dp), intent(out) :: v(n)
+    integer :: i
+    v(1) = 0.0_dp
+    v(n) = 0.0_dp
+    do i = 2, n - 1
+      if (theta(i) < 1.0_dp) then
+        v(i) = theta(i) - 1.0_dp
+      else
+        v(i) = max(p(i) - pc(i), 0.0_dp) / ps(i)
+      end if
+      if (.not. ieee_is_finite(v(i))) v(i) = 0.0_dp
+    end do
+  end subroutine state_to_v_nodes
 
   !> Projected Gauss-Seidel on v: each node solves its own equation (monotone in v(j)) with
   !> the neighbours fixed and the upwind choices of the current state, sweeping downstream.
