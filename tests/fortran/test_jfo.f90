@@ -551,8 +551,7 @@ contains
                  .and. v2(1) == v(1) .and. v2(n) == v(n)
     end do
     write (*, '(2x, a, es10.2)') 'newton passes: largest relative residual of J dv = -R ', emax
- call check(same, 'newton passes: the residual, its scale, largest entry and sum of squares of '// &
-               'jfo_residual')
+    call check(same, 'newton passes: the residual, scale, largest entry and sum of squares')
     call check(emax <= 1e-12_dp, 'newton passes: the step solves J dv = -R')
     call check(apply_ok, 'newton passes: the step taken in place is v + dv, switches counted')
   end subroutine case_newton_passes
