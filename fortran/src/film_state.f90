@@ -80,6 +80,9 @@ module ringlube_film_state
     !> the ring moves in it [m] (set by the caller); the fill the inlet admitted
     logical :: starved = .false.
     real(dp) :: available = 0.0_dp, ds = 0.0_dp, theta_in = 1.0_dp
+    !> the mass-conserving film's volumes next to the edges reach the edges (set by
+    !> jfo_evaluate from `&numerics film_edge_cells`; ringlube_jfo's jfo_problem%edge_cells)
+    logical :: edge_cells = .false.
     !> starved: oil on the liner just behind the trailing edge that it may draw back over the
     !> step [m^2]; the caps on the inflow through the left and right edge faces [m^2/s]
     real(dp) :: behind = 0.0_dp, cap_left = huge(1.0_dp), cap_right = huge(1.0_dp)
