@@ -74,7 +74,7 @@ module ringlube_case
     character(len=:), allocatable :: preset
     integer :: nodes = 0
     real(dp) :: dpsi_deg = 0.0_dp, pressure_tol = 0.0_dp, load_tol = 0.0_dp
-    character(len=:), allocatable :: time_scheme, film_time_scheme, h0_update
+    character(len=:), allocatable :: time_scheme, film_time_scheme, film_edge_cells, h0_update
     real(dp) :: damping = 0.0_dp
     integer :: max_cycles = 0
     real(dp) :: cycle_tol = 0.0_dp
@@ -236,6 +236,7 @@ contains
     case ('numerics.load_tol'); call r(c%load_tol)
     case ('numerics.time_scheme'); call s(c%time_scheme)
     case ('numerics.film_time_scheme'); call s(c%film_time_scheme)
+    case ('numerics.film_edge_cells'); call s(c%film_edge_cells)
     case ('numerics.h0_update'); call s(c%h0_update)
     case ('numerics.damping'); call r(c%damping)
     case ('numerics.max_cycles'); call n(c%max_cycles)

@@ -137,6 +137,8 @@ contains
   pure real(dp) function gap_volume(f)
     type(film_type), intent(in) :: f
     gap_volume = f%dx * sum(f%content_old(2:f%n - 1))
+    ! the volumes next to the edges reach the edges (`&numerics film_edge_cells`)
+    if (f%edge_cells) gap_volume = gap_volume + 0.5_dp * f%dx * (f%content_old(2) + f%content_old(f%n - 1))
   end function gap_volume
 
   !> Direction the piston moves in from s_prev to s: 1 towards the crankcase, -1 away, 0.

@@ -46,6 +46,8 @@ contains
     prob = jfo_problem(dx=f%dx, u=u, dt=dte, p_left=p_chamber, &
                        p_right=lower_edge_pressure(c, f), p_cav=c%cavitation_pressure, &
                        trailing_gas=c%cavity_pressure == 'trailing_gas', leading_gas=f%starved)
+    prob%edge_cells = f%edge_cells
+    prob%edge_meniscus = f%edge_cells
     if (f%lead_left) then
       h_le = f%hmid(1)
       x_lead = f%x_left_prev

@@ -528,11 +528,16 @@ contains
   end function coarse_factor
 
   !> Oil volume per unit circumference held by the interior finite volumes (m^2): the quantity
-  !> whose change jfo_solve's edge fluxes balance.
-  pure real(dp) function jfo_film_volume(dx, h, theta) result(vol)
+  !> whose change jfo_solve's edge fluxes balance. edge_cells (default .false.): the volumes
+  !> next to the edges reach the edges (jfo_problem%edge_cells).
+  pure real(dp) function jfo_film_volume(dx, h, theta, edge_cells) result(vol)
     real(dp), intent(in) :: dx, h(:), theta(:)
+    logical, intent(in), optional :: edge_cells
     integer :: n
     n = size(h)
     vol = dx * sum(theta(2:n - 1) * h(2:n - 1))
+    if (present(edge_cells)) then
+      if (edge_cells) vol = vol + 0.5_dp * dx * (theta(2) * h(2) + theta(n - 1) * h(n - 1))
+    end if
   end function jfo_film_volume
 end module ringlube_jfo

@@ -41,6 +41,15 @@ module ringlube_jfo_system
     !> the last step), which its cavities take instead of the connectivity rule's levels; not
     !> allocated: the rule
     real(dp), allocatable :: gas_channel(:)
+    !> the inflow edge face when the film pushes oil back out through it (a meniscus at the
+    !> edge, `&numerics film_edge_cells`): .false. the supply's Couette content less the
+    !> pushed-back flow; .true. the lesser of the supply's Couette content and the face's
+    !> full-film flux (`inflow_edge`)
+    logical :: edge_meniscus = .false.
+    !> .true.: the finite volumes next to the edges reach the edges (1.5 dx: the half cells
+    !> between an edge node and its first face hold oil, `&numerics film_edge_cells`);
+    !> .false.: they end at the first face and the half cells hold none
+    logical :: edge_cells = .false.
   end type jfo_problem
 
   !> One step's system: n nodes; a = -U/2 the Couette speed of the content; w = dx/dt (0 for a
@@ -53,6 +62,10 @@ module ringlube_jfo_system
     real(dp) :: p_left = 0.0_dp, p_right = 0.0_dp, theta_left = 1.0_dp, theta_right = 1.0_dp
     real(dp) :: qcl = huge(1.0_dp), qcr = huge(1.0_dp)
     real(dp), allocatable :: ca(:), kd(:), ps(:), h(:), content_old(:), pc(:)
+    !> w times each node's volume in dx (1; 1.5 next to an edge with jfo_problem%edge_cells)
+    real(dp), allocatable :: wv(:)
+    !> jfo_problem%edge_meniscus
+    logical :: edge_meniscus = .false.
   end type jfo_system
 
   !> The residual's evaluation at a state v (jfo_residual), all per node or per face (n).
@@ -120,15 +133,21 @@ contains
     sys%theta_right = problem%theta_right
     sys%qcl = max(problem%cap_left, 0.0_dp)
     sys%qcr = max(problem%cap_right, 0.0_dp)
+    sys%edge_meniscus = problem%edge_meniscus
     if (allocated(sys%ca)) then
-      if (size(sys%ca) /= n) deallocate (sys%ca, sys%kd, sys%ps)
+      if (size(sys%ca) /= n) deallocate (sys%ca, sys%kd, sys%ps, sys%wv)
     end if
-    if (.not. allocated(sys%ca)) allocate (sys%ca(n), sys%kd(n), sys%ps(n))
+    if (.not. allocated(sys%ca)) allocate (sys%ca(n), sys%kd(n), sys%ps(n), sys%wv(n))
     associate (a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, ps => sys%ps, dx => problem%dx, &
-               dt => problem%dt)
+               dt => problem%dt, wv => sys%wv)
       a = -0.5_dp * problem%u
       w = 0.0_dp
       if (dt > 0.0_dp) w = dx / dt
+      wv = w
+      if (problem%edge_cells) then
+        wv(2) = wv(2) + 0.5_dp * w
+        wv(n - 1) = wv(n - 1) + 0.5_dp * w
+      end if
       ca(1:n - 1) = a * hmid
       kd(1:n - 1) = kmid / dx
       ca(n) = 0.0_dp
@@ -137,7 +156,7 @@ contains
       ! so that both sides of the kink weigh alike
       ps = 1.0_dp
       do i = 2, n - 1
-        t = w * h(i) + abs(ca(i)) + abs(ca(i - 1))
+        t = wv(i) * h(i) + abs(ca(i)) + abs(ca(i - 1))
         if (t > 0.0_dp .and. kd(i - 1) + kd(i) > 0.0_dp) ps(i) = t / (kd(i - 1) + kd(i))
       end do
     end associate
@@ -158,7 +177,7 @@ contains
     type(jfo_eval), intent(inout) :: ev
     real(dp) :: g, tp, s
     integer :: j
-    associate (n => sys%n, a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, ps => sys%ps, &
+    associate (n => sys%n, a => sys%a, w => sys%w, wv => sys%wv, ca => sys%ca, kd => sys%kd, ps => sys%ps, &
                h => sys%h, content_old => sys%content_old, p_left => sys%p_left, &
                p_right => sys%p_right, theta_left => sys%theta_left, &
                theta_right => sys%theta_right, qcl => sys%qcl, qcr => sys%qcr, pn => ev%pn, &
@@ -193,6 +212,11 @@ contains
         dfpl(j) = kd(j) * tp
         dfpr(j) = -kd(j) * tp
       end do
+      if (sys%edge_meniscus) then
+        if (a > 0.0_dp) call inflow_edge(sys, pn, tn, 1, fl(1), dfpl(1), dfpr(1), dftl(1), dftr(1))
+        if (a < 0.0_dp) call inflow_edge(sys, pn, tn, n - 1, fl(n - 1), dfpl(n - 1), dfpr(n - 1), &
+                                         dftl(n - 1), dftr(n - 1))
+      end if
       ! oil entering through an edge face is capped at the oil there: beyond it the edge
       ! admits gas; the capped flux does not depend on the interior nodes
       if (fl(1) > qcl) then
@@ -209,8 +233,8 @@ contains
       res(1) = 0.0_dp
       res(n) = 0.0_dp
       do j = 2, n - 1
-        res(j) = w * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
-        s = w * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
+        res(j) = wv(j) * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
+        s = wv(j) * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
             + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
         scale = max(scale, s)
       end do
@@ -219,7 +243,7 @@ contains
         if (x(j) >= 0.0_dp) then
           jd(j) = (dfpl(j) - dfpr(j - 1)) * ps(j)
         else
-          jd(j) = w * h(j) + dftl(j) - dftr(j - 1)
+          jd(j) = wv(j) * h(j) + dftl(j) - dftr(j - 1)
         end if
         if (j < n - 1) then
           if (x(j + 1) >= 0.0_dp) then
@@ -261,16 +285,16 @@ contains
     real(dp), intent(out) :: scale, rmax, fsq
     type(jfo_eval), intent(inout) :: ev
     logical, intent(out) :: pivots, signs
-    call newton_eval_nodes(sys, sys%n, sys%ca, sys%kd, sys%ps, sys%h, sys%content_old, x, res, &
-                           scale, rmax, fsq, ev%pn, ev%tn, ev%fl, cp, y, pivots, signs)
+    call newton_eval_nodes(sys, sys%n, sys%ca, sys%kd, sys%ps, sys%wv, sys%h, sys%content_old, x, &
+                           res, scale, rmax, fsq, ev%pn, ev%tn, ev%fl, cp, y, pivots, signs)
   end subroutine jfo_newton_eval
 
   !> jfo_newton_eval on explicit-shape arrays (contiguous, so indexed without descriptors).
-  pure subroutine newton_eval_nodes(sys, n, ca, kd, ps, h, content_old, x, res, scale, rmax, &
+  pure subroutine newton_eval_nodes(sys, n, ca, kd, ps, wv, h, content_old, x, res, scale, rmax, &
                                     fsq, pn, tn, fl, cp, y, pivots, signs)
     type(jfo_system), intent(in) :: sys
     integer, intent(in) :: n
-    real(dp), intent(in) :: ca(n), kd(n), ps(n), h(n), content_old(n), x(n)
+    real(dp), intent(in) :: ca(n), kd(n), ps(n), wv(n), h(n), content_old(n), x(n)
     real(dp), intent(out) :: res(n), scale, rmax, fsq, cp(n), y(n)
     real(dp), intent(inout) :: pn(n), tn(n), fl(n)
     logical, intent(out) :: pivots, signs
@@ -288,6 +312,8 @@ contains
       pn(2) = node_p(sys, 2, x(2))
       tn(2) = node_t(x(2))
       call face_eval(sys, pn, tn, 1, fl(1), pl0, pr0, tl0, tr0)
+      if (sys%edge_meniscus .and. sys%a > 0.0_dp) &
+        call inflow_edge(sys, pn, tn, 1, fl(1), pl0, pr0, tl0, tr0)
       if (fl(1) > qcl) then
         fl(1) = qcl
         pr0 = 0.0_dp
@@ -305,14 +331,16 @@ contains
         end if
         call face_eval(sys, pn, tn, j, fl(j), pl1, pr1, tl1, tr1)
         if (j == n - 1) then
+          if (sys%edge_meniscus .and. sys%a < 0.0_dp) &
+            call inflow_edge(sys, pn, tn, j, fl(j), pl1, pr1, tl1, tr1)
           if (-fl(n - 1) > qcr) then
             fl(n - 1) = -qcr
             pl1 = 0.0_dp
             tl1 = 0.0_dp
           end if
         end if
-        res(j) = w * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
-        s = w * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
+        res(j) = wv(j) * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
+        s = wv(j) * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
             + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
         scale = max(scale, s)
         rmax = max(rmax, abs(res(j)))
@@ -321,7 +349,7 @@ contains
         if (x(j) >= 0.0_dp) then
           jd = (pl1 - pr0) * ps(j)
         else
-          jd = w * h(j) + tl1 - tr0
+          jd = wv(j) * h(j) + tl1 - tr0
         end if
         ju = 0.0_dp
         if (j < n - 1) then
@@ -374,19 +402,19 @@ contains
     real(dp), intent(out), contiguous :: res(:)
     real(dp), intent(out) :: scale, rmax, fsq
     type(jfo_eval), intent(inout) :: ev
-    call residual_nodes(sys, sys%n, sys%ca, sys%kd, sys%h, sys%content_old, x, res, scale, rmax, &
-                        fsq, ev%pn, ev%tn, ev%fl)
+    call residual_nodes(sys, sys%n, sys%ca, sys%kd, sys%wv, sys%h, sys%content_old, x, res, scale, &
+                        rmax, fsq, ev%pn, ev%tn, ev%fl)
   end subroutine jfo_residual_only
 
   !> jfo_residual_only on explicit-shape arrays (contiguous, so indexed without descriptors).
-  pure subroutine residual_nodes(sys, n, ca, kd, h, content_old, x, res, scale, rmax, fsq, pn, &
-                                 tn, fl)
+  pure subroutine residual_nodes(sys, n, ca, kd, wv, h, content_old, x, res, scale, rmax, fsq, &
+                                 pn, tn, fl)
     type(jfo_system), intent(in) :: sys
     integer, intent(in) :: n
-    real(dp), intent(in) :: ca(n), kd(n), h(n), content_old(n), x(n)
+    real(dp), intent(in) :: ca(n), kd(n), wv(n), h(n), content_old(n), x(n)
     real(dp), intent(out) :: res(n), scale, rmax, fsq
     real(dp), intent(inout) :: pn(n), tn(n), fl(n)
-    real(dp) :: s, g
+    real(dp) :: s, g, d1, d2, d3, d4
     integer :: j
     associate (a => sys%a, w => sys%w, qcl => sys%qcl, qcr => sys%qcr)
       pn(1) = sys%p_left
@@ -411,6 +439,10 @@ contains
         else
           fl(j) = ca(j) * tn(j + 1) - g * merge(tn(j), tn(j + 1), g <= 0.0_dp)
         end if
+        if (sys%edge_meniscus) then
+          if ((j == 1 .and. a > 0.0_dp) .or. (j == n - 1 .and. a < 0.0_dp)) &
+            call inflow_edge(sys, pn, tn, j, fl(j), d1, d2, d3, d4)
+        end if
         if (j == 1) then
           if (fl(1) > qcl) fl(1) = qcl
           cycle
@@ -418,8 +450,8 @@ contains
         if (j == n - 1) then
           if (-fl(n - 1) > qcr) fl(n - 1) = -qcr
         end if
-        res(j) = w * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
-        s = w * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
+        res(j) = wv(j) * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
+        s = wv(j) * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
             + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
         scale = max(scale, s)
         rmax = max(rmax, abs(res(j)))
@@ -458,6 +490,58 @@ contains
       dpr = -kd(f) * tp
     end associate
   end subroutine face_eval
+
+  !> The inflow edge face f (1 when a > 0, n - 1 when a < 0) with the film pushing oil back
+  !> out through it (the pressure-driven flow leaves through the edge, from a node of fill tp):
+  !> the face lies in the film that reaches the edge (a meniscus at the edge, the oil it rejects
+  !> left to the bank ahead), so its flux is the lesser inflow of the supply's Couette content
+  !> a theta_in hmid and the face's flux with the node's fill in the Couette term too,
+  !> a tp hmid - g tp; with tp <= theta_in (or theta_in = 1) the flux as before. Continuous in
+  !> the state (at g = 0 and tp = theta_in it is the flux before); fl and its derivatives by
+  !> the pressure (dpl, dpr) and fill (dtl, dtr) of the face's nodes in place.
+  pure subroutine inflow_edge(sys, pn, tn, f, fl, dpl, dpr, dtl, dtr)
+    type(jfo_system), intent(in) :: sys
+    real(dp), intent(in) :: pn(:), tn(:)
+    integer, intent(in) :: f
+    real(dp), intent(inout) :: fl, dpl, dpr, dtl, dtr
+    real(dp) :: g, e, fs
+    associate (ca => sys%ca(f))
+      g = sys%kd(f) * (pn(f + 1) - pn(f))
+      if (sys%a > 0.0_dp) then
+        ! inflow through the left edge (node f = 1, fill theta_in), pushed back by node 2
+        if (.not. g > 0.0_dp) return
+        e = ca * (tn(f + 1) - tn(f))
+        if (.not. e > 0.0_dp) return
+        fs = ca * tn(f)
+        if (fl + e < fs) then
+          fl = fl + e
+          dtr = dtr + ca
+        else
+          fl = fs
+          dpl = 0.0_dp
+          dpr = 0.0_dp
+          dtl = 0.0_dp
+          dtr = 0.0_dp
+        end if
+      else
+        ! inflow through the right edge (node f + 1 = n), pushed back by node n - 1
+        if (.not. g < 0.0_dp) return
+        e = ca * (tn(f) - tn(f + 1))
+        if (.not. e < 0.0_dp) return
+        fs = ca * tn(f + 1)
+        if (fl + e > fs) then
+          fl = fl + e
+          dtl = dtl + ca
+        else
+          fl = fs
+          dpl = 0.0_dp
+          dpr = 0.0_dp
+          dtl = 0.0_dp
+          dtr = 0.0_dp
+        end if
+      end if
+    end associate
+  end subroutine inflow_edge
 
   !> The Newton step from jfo_newton_eval's elimination (back substitution): dv on the
   !> interior nodes, 0 at the edges.
@@ -636,7 +720,7 @@ contains
     real(dp), intent(out) :: xj
     real(dp) :: r0, dpr, dth, gl, gr, cl, cr, pj, rj, fl0, fr0
     integer :: q
-    associate (a => sys%a, w => sys%w, ca => sys%ca, kd => sys%kd, ps => sys%ps, pc => sys%pc, h => sys%h, &
+    associate (a => sys%a, w => sys%w, wv => sys%wv, ca => sys%ca, kd => sys%kd, ps => sys%ps, pc => sys%pc, h => sys%h, &
                content_old => sys%content_old, qcl => sys%qcl, qcr => sys%qcr)
       ! fluxes with p(j) = pc(j), theta(j) = 1 (v = 0): F(j) - F(j-1)
       gl = kd(j - 1) * (pc(j) - pl)
@@ -649,7 +733,7 @@ contains
       fl0 = cl - gl * merge(tl, 1.0_dp, gl <= 0.0_dp)
       if (capl) fl0 = qcl
       if (capr) fr0 = -qcr
-      r0 = w * (h(j) - content_old(j)) + fr0 - fl0
+      r0 = wv(j) * (h(j) - content_old(j)) + fr0 - fl0
       if (r0 < 0.0_dp) then
         ! full film, p(j) > pc(j): R(p) is piecewise linear, increasing and convex in p
         ! (the pressure-driven content switches to theta = 1 once p(j) passes a neighbour),
@@ -666,13 +750,13 @@ contains
           fl0 = cl - kd(j - 1) * (pj - pl) * merge(tl, 1.0_dp, pl > pj)
           if (capl) fl0 = qcl
           if (capr) fr0 = -qcr
-          rj = w * (h(j) - content_old(j)) + fr0 - fl0
+          rj = wv(j) * (h(j) - content_old(j)) + fr0 - fl0
           if (rj >= 0.0_dp) exit
         end do
         xj = (pj - pc(j)) / ps(j)
       else
         ! cavity: theta(j) from the balance at p(j) = pc(j)
-        dth = w * h(j)
+        dth = wv(j) * h(j)
         if (.not. capr) dth = dth + max(ca(j), 0.0_dp) - min(gr, 0.0_dp)
         if (.not. capl) dth = dth - min(ca(j - 1), 0.0_dp) + max(gl, 0.0_dp)
         if (dth > 0.0_dp) then

@@ -9,6 +9,7 @@ tolerances, the numerics of tests/bench/front.py).
     python3 tests/bench/film_presets.py --time-order [--tension-unit N/m]
     python3 tests/bench/film_presets.py --oil-default [--tension-unit N/m]
     python3 tests/bench/film_presets.py --oil-nodes [--tension-unit N/m]
+    python3 tests/bench/film_presets.py --edge-cost [--repeats N]
 
 `--ring-pack gas` runs every model with the gas around the ring instead of the
 decks' 'none'. `--convergence` prints instead, for the JFO models, the results as the nodes double at
@@ -19,8 +20,11 @@ at 2, 1, 0.5, 0.25 and 0.125 deg against 0.0625 deg (tight tolerances) and the o
 with `film_time_scheme` 'bdf2' and 'euler'. `--tension-unit N/m` reads the decks' tension in
 N/m (with its calibration, inputs/calibration_n_per_m.nml) instead of their N.
 `--oil-default` prints the starved film (1, 2, 5 um) at 'default' with each
-`film_time_scheme` against the reference: energy and oil to the chamber; `--oil-nodes` the
-starved film's oil as the nodes double (BDF2, 0.25 deg).
+`film_time_scheme` (and, with 'bdf2', each `film_edge_cells`) against the reference: energy and
+oil to the chamber, and the kernel time per run; `--oil-nodes` the
+starved film's oil as the nodes double (BDF2, 0.25 deg; with each `film_edge_cells`);
+`--edge-cost [--repeats N]` the kernel time per cycle of the starved film at 'default' with
+euler/face (the default), bdf2/face and bdf2/edge, interleaved, and the ratios.
 """
 
 from __future__ import annotations
@@ -124,49 +128,107 @@ def time_order(decks: list[str], unit: str | None) -> None:
 
 def oil_default(decks: list[str], unit: str | None) -> None:
     """The starved film (supply film 1, 2 and 5 um) at the 'default' preset with each
-    `film_time_scheme` against the reference (REFERENCE, film_time_scheme 'bdf2'): energy and
-    oil to the chamber, errors in %, and the cycles run."""
+    `film_time_scheme` and, with 'bdf2', each `film_edge_cells` against the reference
+    (REFERENCE, film_time_scheme 'bdf2', film_edge_cells 'face'; the 'edge' reference's energy
+    and oil are printed above each deck's rows: the two differ by the reference grid's error):
+    energy and oil to the chamber, errors in %, the cycles run and the kernel time per run
+    (best of 3)."""
     print(
-        f"{'deck':5s} {'film':6s} {'ref E J':>9s} {'ref oil':>9s} {'scheme':6s} {'E err %':>8s} "
-        f"{'oil mm3':>9s} {'oil err %':>9s} {'cycles':>6s}"
+        f"{'deck':5s} {'film':6s} {'ref E J':>9s} {'ref oil':>9s} {'scheme':6s} {'edge':8s} "
+        f"{'E err %':>8s} {'oil mm3':>9s} {'oil err %':>9s} {'cycles':>6s} {'ms/run':>7s}"
     )
     for stem in decks:
         base = ringlube.Case.from_namelist(ROOT / "inputs" / f"crf450r_4000rpm_full_{stem}.nml")
         base = reading(base, unit)
         for film in (1e-6, 2e-6, 5e-6):
             case = base.with_physics(cavitation="jfo", inlet="starved").with_("lubricant", supply_film=film)
-            ref = ringlube.run(case.with_numerics(film_time_scheme="bdf2", **REFERENCE))
-            for scheme in ("euler", "bdf2"):
-                r = ringlube.run(case.with_numerics(preset="default", film_time_scheme=scheme))
+            refs = {
+                edge: ringlube.run(
+                    case.with_numerics(film_time_scheme="bdf2", film_edge_cells=edge, **REFERENCE)
+                )
+                for edge in ("face", "edge")
+            }
+            print(
+                f"{stem:5s} {film * 1e6:4.0f}um reference 'edge': energy {refs['edge'].energy_loss:.5f} J, "
+                f"oil {refs['edge'].oil_to_chamber:.5f} mm3",
+                flush=True,
+            )
+            ref = refs["face"]
+            for scheme, edge in (("euler", "face"), ("bdf2", "face"), ("bdf2", "edge")):
+                c = case.with_numerics(preset="default", film_time_scheme=scheme, film_edge_cells=edge)
+                r = min((ringlube.run(c) for _ in range(3)), key=lambda x: x.run_time)
                 oil_ref = ref.oil_to_chamber
                 oil_err = 100 * (r.oil_to_chamber / oil_ref - 1) if oil_ref else float("nan")
                 e_err = 100 * (r.energy_loss / ref.energy_loss - 1)
                 print(
                     f"{stem:5s} {film * 1e6:4.0f}um {ref.energy_loss:9.5f} {oil_ref:9.5f} {scheme:6s} "
-                    f"{e_err:8.3f} {r.oil_to_chamber:9.5f} {oil_err:9.2f} {r.cycles_run:6d}",
+                    f"{edge:8s} {e_err:8.3f} {r.oil_to_chamber:9.5f} {oil_err:9.2f} {r.cycles_run:6d} "
+                    f"{r.run_time * 1e3:7.1f}",
                     flush=True,
                 )
 
 
+def edge_cost(decks: list[str], unit: str | None, repeats: int) -> None:
+    """Kernel time per cycle of the starved film (1, 2, 5 um) at 'default' with film_time_scheme
+    'euler' / film_edge_cells 'face' (the default), 'bdf2' / 'face' and 'bdf2' / 'edge': the
+    runs interleaved `repeats` times (the same load for all), the median per cycle, and the
+    ratios to the default's; and the film's Newton iterations per cycle (the same on any
+    machine)."""
+    import statistics
+
+    combos = (("euler", "face"), ("bdf2", "face"), ("bdf2", "edge"))
+    heads = " ".join(f"{s + '/' + e:>13s}" for s, e in combos)
+    print(f"{'deck':5s} {'film':6s} {heads}  (ms/cycle, ratio to euler/face)")
+    for stem in decks:
+        base = ringlube.Case.from_namelist(ROOT / "inputs" / f"crf450r_4000rpm_full_{stem}.nml")
+        base = reading(base, unit)
+        for film in (1e-6, 2e-6, 5e-6):
+            case = base.with_physics(cavitation="jfo", inlet="starved").with_("lubricant", supply_film=film)
+            cases = [
+                case.with_numerics(preset="default", film_time_scheme=s, film_edge_cells=e) for s, e in combos
+            ]
+            times: list[list[float]] = [[] for _ in combos]
+            its = [0.0 for _ in combos]
+            for _ in range(repeats):
+                for k, c in enumerate(cases):
+                    r = ringlube.run(c)
+                    times[k].append(r.run_time / r.cycles_computed)
+                    its[k] = r.reynolds_solves / r.cycles_computed
+            med = [statistics.median(t) for t in times]
+            print(
+                f"{stem:5s} {film * 1e6:4.0f}um "
+                + " ".join(f"{1e3 * m:8.1f} {m / med[0]:4.2f}" for m in med)
+                + "   Newton iterations per cycle: "
+                + " ".join(f"{i:7.0f} {i / its[0]:4.2f}" for i in its),
+                flush=True,
+            )
+
+
 def oil_nodes(decks: list[str], unit: str | None) -> None:
-    """Oil to the chamber and energy of the starved film (1 and 2 um, film_time_scheme 'bdf2')
-    as the nodes double at 0.25 deg (tight tolerances): the grid's share of the oil's error."""
+    """Oil to the chamber and energy of the starved film (1 and 2 um, film_time_scheme 'bdf2',
+    each film_edge_cells) as the nodes double at 0.25 deg (tight tolerances): the grid's share of
+    the oil's error."""
     tight = {"pressure_tol": 1e-8, "load_tol": 1e-6, "cycle_tol": 1e-6, "max_cycles": 40}
-    print(f"{'deck':5s} {'film':6s} {'nodes':>5s} {'energy J':>9s} {'oil mm3':>9s} {'cycles':>6s}")
+    print(
+        f"{'deck':5s} {'film':6s} {'edge':4s} {'nodes':>5s} {'energy J':>9s} {'oil mm3':>9s} {'cycles':>6s}"
+    )
     for stem in decks:
         base = ringlube.Case.from_namelist(ROOT / "inputs" / f"crf450r_4000rpm_full_{stem}.nml")
         base = reading(base, unit)
         for film in (1e-6, 2e-6):
             case = base.with_physics(cavitation="jfo", inlet="starved").with_("lubricant", supply_film=film)
-            for nodes in (51, 101, 201, 401):
-                r = ringlube.run(
-                    case.with_numerics(nodes=nodes, dpsi_deg=0.25, film_time_scheme="bdf2", **tight)
-                )
-                print(
-                    f"{stem:5s} {film * 1e6:4.0f}um {nodes:5d} {r.energy_loss:9.5f} {r.oil_to_chamber:9.5f} "
-                    f"{r.cycles_run:6d}",
-                    flush=True,
-                )
+            for edge in ("face", "edge"):
+                for nodes in (51, 101, 201, 401):
+                    r = ringlube.run(
+                        case.with_numerics(
+                            nodes=nodes, dpsi_deg=0.25, film_time_scheme="bdf2", film_edge_cells=edge, **tight
+                        )
+                    )
+                    print(
+                        f"{stem:5s} {film * 1e6:4.0f}um {edge:4s} {nodes:5d} {r.energy_loss:9.5f} "
+                        f"{r.oil_to_chamber:9.5f} {r.cycles_run:6d}",
+                        flush=True,
+                    )
 
 
 def main() -> None:
@@ -179,10 +241,14 @@ def main() -> None:
     ap.add_argument("--time-order", action="store_true")
     ap.add_argument("--oil-default", action="store_true")
     ap.add_argument("--oil-nodes", action="store_true")
+    ap.add_argument("--edge-cost", action="store_true")
     ap.add_argument("--tension-unit", default=None, choices=("N", "N/m"))
     args = ap.parse_args()
     if args.oil_nodes:
         oil_nodes(args.decks.split(","), args.tension_unit)
+        return
+    if args.edge_cost:
+        edge_cost(args.decks.split(","), args.tension_unit, args.repeats)
         return
     if args.oil_default:
         oil_default(args.decks.split(","), args.tension_unit)
