@@ -20,6 +20,7 @@ Run from the project folder (4 minutes on the shared 2-core machine at a load av
 
     .venv/bin/python tests/bench/bore_cost.py
     .venv/bin/python tests/bench/bore_cost.py --cost-only --bench OTHER/build/bench_kernel
+    .venv/bin/python tests/bench/bore_cost.py --threads-only   # at a quiet moment
 """
 
 from __future__ import annotations
@@ -171,12 +172,15 @@ if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bench", type=Path, default=BENCH, help="the bench_kernel of the cost table")
     parser.add_argument("--cost-only", action="store_true", help="the cost table alone")
+    parser.add_argument("--threads-only", action="store_true", help="the speed-up table alone")
     args = parser.parse_args()
     BENCH = args.bench
-    cost_table()
+    if not args.threads_only:
+        cost_table()
     if args.cost_only:
         raise SystemExit(0)
     with tempfile.TemporaryDirectory(prefix="ringlube_bore_") as tmp:
         copy_inputs(Path(tmp))
         thread_table(Path(tmp))
-        sector_table(Path(tmp))
+        if not args.threads_only:
+            sector_table(Path(tmp))
