@@ -16,7 +16,7 @@ import pytest
 import ringlube
 from ringlube.case import Case
 from ringlube.executor import Executor
-from ringlube.study import run_study
+from ringlube.study import run_study, runs
 from ringlube.study.deck import read_study
 from ringlube.study.runs import run_samples, sample
 from ringlube.study.store import Study
@@ -131,6 +131,58 @@ def test_resume_reruns_nothing_that_finished(tmp_path):
     # and the results equal an uninterrupted study
     fresh = run_study(deck, tmp_path / "fresh", executor=Executor(serial=True), progress=False, figures=False)
     np.testing.assert_array_equal(again.objectives("cold"), fresh.objectives("cold"))
+
+
+def closed_form(case: Case, x: np.ndarray, outputs: list[str]) -> np.ndarray:
+    """Results of designs ``x`` (width, crown height, crown offset, tension) from a closed
+    form instead of the kernel: each result a bowl centred elsewhere in the box (so the
+    objectives conflict), the lift shares 0; 1 % higher at the 'accurate' preset, so a check
+    can tell which case a row ran on."""
+    u = (np.asarray(x) - LOWER) / (np.asarray(UPPER) - LOWER)
+    centres = np.linspace(0.1, 0.9, len(outputs))
+    values = np.array([((u - c) ** 2).sum(axis=1) + 0.1 * k for k, c in enumerate(centres)]).T
+    values[:, [k for k, o in enumerate(outputs) if o.endswith("lift_share")]] = 0.0
+    return values * (1.01 if case.value("numerics", "preset") == "accurate" else 1.0)
+
+
+class ClosedForm(Executor):
+    """A serial executor that answers every task from :func:`closed_form` and records how
+    many designs each task held."""
+
+    def __init__(self):
+        super().__init__(serial=True)
+        self.sizes: list[int] = []
+
+    def map(self, fn, tasks, on_result):
+        if fn is not runs._run_designs:  # NSGA-II repeats on the surfaces
+            return super().map(fn, tasks, on_result)
+        for i, (case, _, x, outputs, _) in enumerate(tasks):
+            self.sizes.append(len(x))
+            on_result(i, (closed_form(case, x, outputs), np.ones(len(x), bool), [""] * len(x)))
+
+
+def test_every_stage_runs_its_designs_in_tasks_of_batch_designs(tmp_path):
+    """The deck's batch is the designs per parallel task for every true-model run of a study
+    (samples, the candidates and the reference checked, the chosen designs at the other
+    points, how sure), so that a study's checks spread over the workers; the results of each
+    design come back on its own row."""
+    deck = write_study(tmp_path, name="batched", cases=("cold", "hot"), constraints="'max_friction <= 100'")
+    ex = ClosedForm()
+    study = run_study(deck, tmp_path / "out", executor=ex, progress=False, figures=False)
+    assert study.s.batch == 4 and max(ex.sizes) == 4  # 40 samples per case: tasks of 4
+    assert sum(ex.sizes) > 2 * 40  # the checks ran too
+    outputs = list(study.s.outputs)
+    for label in ("cold", "hot"):
+        c = study.cases[label]
+        base = Case.from_namelist(study.s.cases[study.s.labels.index(label)])
+        assert len(c.candidates.names) > 4  # more than one task's worth
+        np.testing.assert_allclose(
+            c.candidates.f_true, closed_form(base, c.candidates.x, outputs), rtol=1e-12
+        )
+        other = "hot" if label == "cold" else "cold"
+        np.testing.assert_allclose(c.chosen.points[other], closed_form(base, c.chosen.x, outputs), rtol=1e-12)
+        accurate = base.with_("numerics", preset="accurate")
+        np.testing.assert_allclose(c.sure.accurate, closed_form(accurate, c.sure.x, outputs), rtol=1e-12)
 
 
 @pytest.fixture()

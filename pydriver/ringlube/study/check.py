@@ -235,13 +235,15 @@ def check_designs(study: Study, ex: Executor, which: tuple[str, ...] = ("chosen"
     if ref is not None and "reference" in which:
         for label in study.cases:
             jobs.append((label, "reference", ["reference"], ref))
-    tasks, where = [], []
-    for j, (label, _, _, xs) in enumerate(jobs):
-        for base_label in [label] if label in bases else s.labels:
-            tasks.append((bases[base_label], s.groups_names, xs, list(s.outputs), runs.study_kernel()))
-            where.append((j, base_label))
-    results: dict[tuple[int, str], tuple] = {}
-    ex.map(runs._run_designs, tasks, lambda i, res: results.__setitem__(where[i], res))
+    results = runs.run_in_batches(
+        study,
+        ex,
+        [
+            ((j, base_label), bases[base_label], xs)
+            for j, (label, _, _, xs) in enumerate(jobs)
+            for base_label in ([label] if label in bases else s.labels)
+        ],
+    )
     w = dict(zip(s.labels, s.scene_weights()))
     for j, (label, key, names, xs) in enumerate(jobs):
         parts = [(bl, results[(j, bl)]) for bl in ([label] if label in bases else s.labels)]
@@ -299,16 +301,13 @@ def run_at_every_point(study: Study, ex: Executor) -> None:
     if len(s.labels) < 2 or not s.constraints:
         return
     bases = dict(zip(s.labels, _bases(s)))
-    tasks, where = [], []
+    jobs = []
     for label in s.labels:
         chosen = study.cases[label].chosen
         for point in s.labels:
             if chosen is not None and point != label:
-                kernel = runs.study_kernel()
-                tasks.append((bases[point], s.groups_names, chosen.x, list(s.outputs), kernel))
-                where.append((label, point))
-    results: dict[tuple[str, str], tuple] = {}
-    ex.map(runs._run_designs, tasks, lambda i, res: results.__setitem__(where[i], res))
+                jobs.append(((label, point), bases[point], chosen.x))
+    results = runs.run_in_batches(study, ex, jobs)
     for label in s.labels:
         chosen = study.cases[label].chosen
         if chosen is None:

@@ -14,7 +14,7 @@ from .settings import StudySettings
 from .state import CaseState, Runs
 from .store import Study
 
-__all__ = ["sample", "run_samples", "scene_results"]
+__all__ = ["sample", "run_samples", "run_in_batches", "scene_results"]
 
 
 def _run_designs(
@@ -121,6 +121,60 @@ def sample(s: StudySettings) -> np.ndarray:
     return qmc.scale(u, s.lower, s.upper)
 
 
+def _chunks(n: int, batch: int) -> list[np.ndarray]:
+    """Row indices ``0..n-1`` split into tasks of at most ``batch`` designs (none for ``n = 0``)."""
+    return [c for c in np.array_split(np.arange(n), max(1, int(np.ceil(n / batch)))) if len(c)]
+
+
+def run_in_batches(
+    study: Study, ex: Executor, jobs: list[tuple[object, Case, np.ndarray]]
+) -> dict[object, tuple[np.ndarray, np.ndarray, list[str]]]:
+    """Run the designs of several jobs (a key, a base case, designs as rows) on the true
+    model, each job split into parallel tasks of at most the deck's ``batch`` designs (as the
+    samples are), and put each job's results back together in the order of its rows.
+
+    Parameters
+    ----------
+    study : Study
+    ex : Executor
+    jobs : list of (key, Case, ndarray)
+        Keys are the caller's (distinct, hashable).
+
+    Returns
+    -------
+    dict
+        Per key: ``(values, converged, errors)`` as :func:`_run_designs` returns them for
+        all the job's rows.
+
+    Example
+    -------
+    >>> out = run_in_batches(study, Executor(serial=True), [("a", case, x)])   # doctest: +SKIP
+    >>> out["a"][0].shape == (len(x), len(study.s.outputs))                    # doctest: +SKIP
+    True
+    """
+    s = study.s
+    kernel = study_kernel()
+    out: dict[object, tuple[np.ndarray, np.ndarray, list[str]]] = {}
+    tasks, where = [], []
+    for key, case, xs in jobs:
+        xs = np.atleast_2d(np.asarray(xs, float))
+        out[key] = (np.full((len(xs), len(s.outputs)), np.nan), np.zeros(len(xs), bool), [""] * len(xs))
+        for rows in _chunks(len(xs), s.batch):
+            tasks.append((case, s.groups_names, xs[rows], list(s.outputs), kernel))
+            where.append((key, rows))
+
+    def on_result(i, result):
+        key, rows = where[i]
+        values, converged, errors = out[key]
+        values[rows] = result[0]
+        converged[rows] = result[1]
+        for j, e in zip(rows, result[2]):
+            errors[j] = e
+
+    ex.map(_run_designs, tasks, on_result)
+    return out
+
+
 def _bases(s: StudySettings) -> list[Case]:
     return [Case.from_namelist(deck) for deck in s.cases]
 
@@ -152,10 +206,10 @@ def run_samples(study: Study, ex: Executor, progress: bool = True, stop_after: i
     tasks, where = [], []
     for label, base in zip(s.labels, _bases(s)):
         todo = np.flatnonzero(~study.cases[label].runs.done)
-        for chunk in np.array_split(todo, max(1, int(np.ceil(len(todo) / s.batch)))):
-            if len(chunk):
-                tasks.append((base, s.groups_names, study.x[chunk], list(s.outputs), study_kernel()))
-                where.append((label, chunk))
+        for rows in _chunks(len(todo), s.batch):
+            chunk = todo[rows]
+            tasks.append((base, s.groups_names, study.x[chunk], list(s.outputs), study_kernel()))
+            where.append((label, chunk))
     total = sum(len(c) for _, c in where)
     if total == 0:
         return

@@ -68,8 +68,7 @@ def how_sure(study: Study, ex: Executor) -> None:
     bases = dict(zip(s.labels, _bases(s)))
     w = dict(zip(s.labels, s.scene_weights()))
     plans = {}  # label -> (names, xs, nominal, inputs)
-    tasks, where = [], []
-    kernel = runs.study_kernel()
+    jobs = []
     for label, c in study.cases.items():
         checked = [ch for ch in (c.chosen, c.reference) if ch is not None]
         names = [n for ch in checked for n in ch.names]
@@ -86,10 +85,8 @@ def how_sure(study: Study, ex: Executor) -> None:
             for bl in [label] if label in bases else s.labels:
                 base = bases[bl]
                 case = base.with_("numerics", preset="accurate") if change is None else _varied(base, *change)
-                tasks.append((case, s.groups_names, xs, list(s.outputs), kernel))
-                where.append((label, vname, bl))
-    results: dict[tuple, np.ndarray] = {}
-    ex.map(runs._run_designs, tasks, lambda i, res: results.__setitem__(where[i], res[0]))
+                jobs.append(((label, vname, bl), case, xs))
+    results = {key: r[0] for key, r in runs.run_in_batches(study, ex, jobs).items()}
 
     def value(label, vname):
         if label in bases:
