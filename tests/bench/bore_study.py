@@ -6,7 +6,8 @@ in numbers, and the tension trade behind it, for docs/bore.md ("In a study").
    reference with their energy, blowby, oil to the chamber and light gaps (true model).
 2. The tension trade: each case's chosen knee (its width and crown) run on its base deck at
    tensions 8, 12.5, 17, 21.5 and 26 N (the study's range), with the same results, the face
-   leakage, the share of the cycle pushed off the liner and whether it converged; and at
+   leakage, the share of the cycle pushed off the liner, whether it converged, the cycles it
+   ran and the kernel's wall time (``run_time``, s: on a loaded machine more than its CPU time); and at
    12,000 r/min a 0.75 mm ring (crown 9.31 um), from the band of widths where the study's
    samples seal at high tension and are pushed off the liner at low tension.
 3. When and where the gaps open over the cycle in those runs: the crank-angle windows where
@@ -130,13 +131,15 @@ def sweep(knees: dict, workers: int) -> None:
             print(f"\n## {label}: width {x[0] * 1e3:.3f} mm and crown {x[2] * 1e6:.2f} um over the tension\n")
             print(
                 "| tension N | energy J | blowby L/min | oil mm3 | light gaps % | face leakage mg "
-                "| off the liner % | conformability | converged |\n|---|---|---|---|---|---|---|---|---|"
+                "| off the liner % | conformability | converged | cycles | kernel wall s |"
+                "\n|---|---|---|---|---|---|---|---|---|---|---|"
             )
             last = (label, x[0])
         print(
             f"| {t:.1f} | {r.energy_loss:.3f} | {r.blowby:.2f} | {r.oil_to_chamber:.3f} "
             f"| {r.light_gap_share:.2f} | {r.face_leakage:.3f} | {r.liner_lift_share:.2f} "
-            f"| {r.conformability:.2f} | {'yes' if r.converged else 'no'} |"
+            f"| {r.conformability:.2f} | {'yes' if r.converged else 'no'} | {r.cycles_run:.0f} "
+            f"| {r.run_time:.1f} |"
         )
     for (label, x, t), r in zip(keys, results):
         h, psi, theta = r.sector_h0, r.crank_angle_deg, r.sector_angle_deg
