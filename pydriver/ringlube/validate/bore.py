@@ -379,10 +379,10 @@ def render_bore(bore: dict) -> list[str]:
         "`inputs/study_bore.nml`: width (0.54-1.34 mm), tension (8-26 N) and crown height (6-13 um) "
         "of the top ring on these decks at 4000 and 12,000 r/min, objectives `energy_loss`, "
         "`blowby`, `oil_to_chamber` and `light_gap_share`, the chosen designs re-checked by the true "
-        "model (docs/optimisation.md). It is not run here, and it has not been run to the end on "
-        "this version of the model, so neither its answer nor its run time is known: "
-        "`ringlube optimise inputs/study_bore.nml` runs it, its answer in "
-        "`out/crf450r_bore/report.md`. A study fits its surfaces to converged samples only (it "
+        "model (docs/optimisation.md). It is not run here: `ringlube optimise "
+        "inputs/study_bore.nml` runs it, its answer in `out/crf450r_bore/report.md`; its answer, "
+        'its run time and where tension trades on these decks are in docs/bore.md ("In a '
+        'study"). A study fits its surfaces to converged samples only (it '
         "stops on a condition where fewer than 13 of the 64 samples converge) and chooses among "
         "converged designs, so rings that collapse and do not converge (the rows above marked "
         "'no') are outside what it can choose.",
