@@ -1,7 +1,8 @@
 """Not a test: the answer of a finished bore study (``ringlube optimise inputs/study_bore.nml``)
 in numbers, and the tension trade behind it, for docs/bore.md ("In a study").
 
-1. From the study file: per case the samples that converged, the candidates re-simulated with
+1. From the study file: per case the samples that converged (and every sample's blowby and
+   share of the cycle off the liner, by width), the candidates re-simulated with
    the true model and why those that are not good are not, the chosen designs and the
    reference with their energy, blowby, oil to the chamber and light gaps (true model).
 2. The tension trade: each case's chosen knee (its width and crown) run on its base deck at
@@ -92,6 +93,17 @@ def study_tables(path: str) -> dict[str, tuple[np.ndarray, str]]:
                 print(_row(_text(n), x, fr, cols, c))
             ref = g["reference"]
             print(_row("reference", ref["x"][0], ref["f_true"][0], cols, ref["converged"][0]))
+            x, out = f["samples/x"][()], runs["outputs"][()]
+            print(
+                "\nsamples by width (width mm / tension N: blowby L/min, off the liner %, '*' not converged):"
+            )
+            print(
+                "; ".join(
+                    f"{x[i, 0] * 1e3:.3f}/{x[i, 1]:.1f}: {out[i, cols.index('blowby')]:.1f}, "
+                    f"{out[i, cols.index('liner_lift_share')]:.2f}{'' if runs['converged'][i] else '*'}"
+                    for i in np.argsort(x[:, 0])
+                )
+            )
             names = [_text(n) for n in ch["names"][()]]
             knees[label] = (ch["x"][()][names.index("knee")], deck)
     return knees
