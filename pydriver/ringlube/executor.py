@@ -192,12 +192,23 @@ class Executor:
         dd = require("dask.distributed", "a Dask LocalCluster")
         import multiprocessing
 
+        import dask
         from distributed.deploy.spec import SpecCluster
 
         before = set(SpecCluster._instances)
         children = set(multiprocessing.active_children())
         try:
-            with _held_interrupts(), _quiet(), warnings.catch_warnings():
+            # A kernel call holds the GIL for its whole batch, so a worker sends no heartbeat
+            # while it runs; a batch longer than the scheduler's worker-ttl (5 min by default:
+            # a few designs at the 'accurate' preset on a loaded machine) would get its worker
+            # removed and the batch run again, and killed again, until Dask gives it up. The
+            # local cluster's workers are this machine's processes: no ttl.
+            with (
+                _held_interrupts(),
+                _quiet(),
+                warnings.catch_warnings(),
+                dask.config.set({"distributed.scheduler.worker-ttl": None}),
+            ):
                 # the scheduler's HTTP server asks for port 8787 even without a dashboard; a
                 # second study on this machine gets another port, which is not news to a user
                 warnings.filterwarnings("ignore", message="Port 8787 is already in use")

@@ -315,6 +315,16 @@ def test_unreachable_scheduler_is_one_error(monkeypatch):
         ex.Executor(scheduler=f"tcp://127.0.0.1:{port}", connect_timeout=2)
 
 
+def test_local_cluster_keeps_a_worker_whose_batch_outlasts_the_heartbeat_ttl():
+    """A kernel call holds the GIL for its whole batch: the worker sends no heartbeat while it
+    runs. The local cluster must not drop a worker for that (Dask's default worker-ttl of 5
+    minutes dropped the workers of a bore study's 'accurate' checks on a loaded machine, and
+    ran their batches again until Dask gave them up)."""
+    with Executor(workers=1) as ex:
+        assert ex.cluster.scheduler.worker_ttl is None
+        assert "worker-ttl" not in ex.cluster.scheduler.periodic_callbacks
+
+
 def test_process_backend_matches_serial():
     tasks = [(i, 3) for i in range(7)]
     a, b = {}, {}
