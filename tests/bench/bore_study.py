@@ -78,6 +78,11 @@ def study_tables(path: str) -> dict[str, tuple[np.ndarray, str]]:
                 f"samples converged: {int(runs['converged'][()].sum())} of {len(runs['converged'])}, "
                 f"failed {int(runs['failed'][()].sum())}"
             )
+            fit = {o: g[f"surface/{o}"].attrs for o in OBJECTIVES}
+            fits = ", ".join(
+                f"{o} R^2 {a['r2']:.2f} (cross-validated error {a['cv_rel']:.0%})" for o, a in fit.items()
+            )
+            print(f"surfaces: {fits}")
             cand = g["candidates"]
             ft, conv = cand["f_true"][()], cand["converged"][()].astype(bool)
             lifted = ft[:, cols.index("liner_lift_share")] > 0
