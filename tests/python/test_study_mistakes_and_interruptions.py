@@ -438,3 +438,126 @@ def test_run_study_leaves_the_callers_executor_open_and_closes_the_one_it_made(t
         deck, tmp_path / "out", executor=lambda: Counting(serial=True), progress=False, figures=False
     )
     assert again.runs_executed == 0 and (Counting.made, Counting.closed) == (2, 1)
+
+
+# --- the later stages' runs are kept across interruptions too ------------------------------
+
+
+class _Stopping(Executor):
+    """A serial executor that counts the designs it runs and raises KeyboardInterrupt (what
+    Ctrl-C raises) once ``stop_at`` tasks of its ``stage``-th map call (0: the samples) have
+    finished."""
+
+    def __init__(self, stage=None, stop_at=None):
+        super().__init__(serial=True)
+        self.stage, self.stop_at, self.calls, self.designs = stage, stop_at, [], 0
+
+    def map(self, fn, tasks, on_result):
+        if fn is not _run_designs:
+            return super().map(fn, tasks, on_result)
+        self.calls.append(0)
+        call = len(self.calls) - 1
+
+        def counted(i, value):
+            on_result(i, value)
+            self.calls[call] += 1
+            self.designs += len(tasks[i][2])
+            if call == self.stage and self.calls[call] == self.stop_at:
+                raise KeyboardInterrupt("stopped by the test")
+
+        super().map(fn, tasks, counted)
+
+
+def _later_results(study):
+    out = {}
+    for label, c in study.cases.items():
+        for key in ("candidates", "chosen", "reference"):
+            ch = getattr(c, key)
+            out[label, key] = (ch.x, ch.f_true, ch.converged, ch.errors, ch.points)
+        out[label, "sure"] = (c.sure.names, c.sure.x, c.sure.accurate, c.sure.low, c.sure.high)
+    return out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("stage, stop_at", [("check", 5), ("chosen at the other point", 1), ("how sure", 5)])
+def test_interrupted_check_and_how_sure_keep_their_finished_runs(tmp_path, stage, stop_at):
+    """The check of the candidates and reference, the chosen designs at the other points and the
+    how-sure runs kept their finished runs only in memory until the stage ended: an interruption
+    lost them all. Now each finished run is in the study file and a resume runs only the others,
+    with the results of a study never interrupted."""
+    deck = study_deck(
+        tmp_path,
+        cases=(COLD, INPUTS / "crf450r_4000rpm_full_hot.nml"),
+        labels=("cold", "hot"),
+        scene=".true.",
+        reference="1.0e-3, 0.0",
+        constraints="'max_friction <= 1e6'",
+        batch=2,
+        **TWO_VARS,
+    )
+    whole = _Stopping()
+    first = run_study(deck, tmp_path / "whole", executor=whole, progress=False, figures=False)
+    # map calls of _run_designs: samples, reference, candidates, chosen at the other point, how sure
+    assert len(whole.calls) == 5 and all(n >= 2 for n in whole.calls)
+    total = sum(whole.calls[1:])  # tasks of the later stages
+    assert first.checks_executed == whole.designs - first.runs_executed
+
+    call = {"check": 2, "chosen at the other point": 3, "how sure": 4}[stage]
+    assert stop_at < whole.calls[call]  # interrupted with some of the stage's tasks finished
+    stopping = _Stopping(stage=call, stop_at=stop_at)
+    out = tmp_path / "out"
+    with pytest.raises(KeyboardInterrupt):
+        run_study(deck, out, executor=stopping, progress=False, figures=False)
+    made = stopping.designs - 48  # the later stages' runs of the interrupted process
+    with h5py.File(out / "h.h5") as f:
+        assert len(f["check_runs/case"]) == made  # every finished one saved
+        assert list(f["check_runs/x"].attrs["columns"]) == ["width", "crown_offset"]
+
+    resumed = _Stopping()
+    again = run_study(deck, out, executor=resumed, progress=False, figures=False)
+    assert again.runs_executed == 0
+    assert resumed.designs == again.checks_executed == first.checks_executed - made  # none run twice
+    assert sum(resumed.calls) < total
+    a, b = _later_results(first), _later_results(again)
+    assert a.keys() == b.keys()
+    for k in a:
+        for u, v in zip(a[k], b[k]):
+            if isinstance(u, dict):
+                assert u.keys() == v.keys()
+                for p in u:
+                    np.testing.assert_array_equal(u[p], v[p])
+            elif u is None:
+                assert v is None
+            else:
+                np.testing.assert_array_equal(np.asarray(u), np.asarray(v), err_msg=str(k))
+
+    third = _Stopping()  # a finished study resumed runs nothing
+    run_study(deck, out, executor=third, progress=False, figures=False)
+    assert third.designs == 0
+
+
+def test_stored_check_runs_read_back_and_those_of_other_settings_are_dropped(tmp_path):
+    """Files written before the later stages' runs were kept (no /check_runs) still resume;
+    stored runs read back as written; runs stored with another ``key`` (variables, recorded
+    results, kernel) are not used."""
+    s = read_study(study_deck(tmp_path, **TWO_VARS))
+    early = Study(s, tmp_path / "h.h5")
+    early.x = sample(s)
+    early.save()
+    with h5py.File(tmp_path / "h.h5") as f:
+        assert "check_runs" not in f
+    assert Study.open(s, tmp_path / "h.h5").check_runs == {}
+
+    x = np.array([1.0e-3, 0.0])
+    v = np.arange(len(s.outputs), dtype=float)
+    early.check_runs[("cold abc", x.tobytes())] = (x, v, False, "no film")
+    early.save()
+    back = Study.open(s, tmp_path / "h.h5").check_runs
+    assert list(back) == [("cold abc", x.tobytes())]
+    bx, bv, ok, err = back["cold abc", x.tobytes()]
+    np.testing.assert_array_equal(bx, x)
+    np.testing.assert_array_equal(bv, v)
+    assert (ok, err) == (False, "no film")
+    with h5py.File(tmp_path / "h.h5", "r+") as f:
+        f["check_runs"].attrs["key"] = early.check_runs_key().replace("kernel", "other kernel")
+    assert Study.open(s, tmp_path / "h.h5").check_runs == {}

@@ -8,21 +8,23 @@ record itself (``to_h5``/``from_h5`` of :mod:`ringlube.study.state`,
 :mod:`ringlube.study.state_checks` and :class:`~ringlube.study.surrogate.QuadraticSurface`):
 ``runs``, ``surface/RESULT``, ``repeats/rK/{x,f}``, ``front``, ``candidates``, ``chosen``,
 ``reference``, ``sure``, ``direct_generations/gK`` and ``direct`` (the last two with the
-``key`` of the direct settings they were computed with).
+``key`` of the direct settings they were computed with). Beside the cases, ``/check_runs``
+holds the finished true-model runs of the later stages (:func:`write_check_runs`).
 """
 
 from __future__ import annotations
 
 import h5py
+import numpy as np
 
-from .h5 import put, text
+from .h5 import put, put_strings, strings, text
 from .settings import StudySettings
 from .state import CaseState, Front, Runs
 from .state_checks import Checked, Direct, DirectGeneration, Sure
 from .surrogate import QuadraticSurface
 from .variables import output_units
 
-__all__ = ["FORMAT", "FORMAT_VERSION", "write_case", "read_case"]
+__all__ = ["FORMAT", "FORMAT_VERSION", "write_case", "read_case", "write_check_runs", "read_check_runs"]
 
 #: ``format`` attribute of a study file.
 FORMAT = "ringlube-study"
@@ -119,3 +121,69 @@ def read_case(g: h5py.Group, s: StudySettings) -> CaseState:
             break  # checkpoints of other direct settings: redone
         c.direct_generations.append(DirectGeneration.from_h5(gg))
     return c
+
+
+def write_check_runs(
+    g: h5py.Group, runs: dict[tuple[str, bytes], tuple[np.ndarray, np.ndarray, bool, str]], s: StudySettings
+) -> None:
+    """Write the finished runs of the later stages (the check, the chosen designs at the other
+    points, how sure) into the empty group ``/check_runs``: one row per run, ``case`` (the key
+    of the deck run, :func:`ringlube.study.runs.case_key`), ``x`` (the design), ``outputs``,
+    ``converged`` and ``errors``.
+
+    Parameters
+    ----------
+    g : h5py.Group
+    runs : dict
+        :attr:`ringlube.study.store.Study.check_runs`.
+    s : StudySettings
+
+    Example
+    -------
+    >>> write_check_runs(f.create_group("check_runs"), study.check_runs, study.s)  # doctest: +SKIP
+    """
+    units = output_units()
+    rows = list(runs.items())
+    put_strings(g, "case", [k[0] for k, _ in rows])
+    x = np.array([r[0] for _, r in rows], float).reshape(len(rows), len(s.variables))
+    put(g, "x", x, s.variables, s.units)
+    put(
+        g,
+        "outputs",
+        np.array([r[1] for _, r in rows], float).reshape(len(rows), len(s.outputs)),
+        list(s.outputs),
+        [units[o] for o in s.outputs],
+    )
+    g.create_dataset("converged", data=np.array([r[2] for _, r in rows], bool))
+    put_strings(g, "errors", [r[3] for _, r in rows])
+
+
+def read_check_runs(g: h5py.Group) -> dict[tuple[str, bytes], tuple[np.ndarray, np.ndarray, bool, str]]:
+    """The runs :func:`write_check_runs` wrote into ``g``.
+
+    Parameters
+    ----------
+    g : h5py.Group
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    ValueError
+        The datasets do not have one row per run.
+
+    Example
+    -------
+    >>> len(read_check_runs(f["check_runs"]))                      # doctest: +SKIP
+    120
+    """
+    cases, errors = strings(g["case"]), strings(g["errors"])
+    x, outputs, converged = g["x"][()], g["outputs"][()], g["converged"][()].astype(bool)
+    if not (len(cases) == len(errors) == len(x) == len(outputs) == len(converged)):
+        raise ValueError(f"{g.name} has datasets of different lengths")
+    return {
+        (c, np.ascontiguousarray(xi, float).tobytes()): (xi, fi, bool(ok), e)
+        for c, xi, fi, ok, e in zip(cases, x, outputs, converged, errors)
+    }

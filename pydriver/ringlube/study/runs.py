@@ -14,7 +14,7 @@ from .settings import StudySettings
 from .state import CaseState, Runs
 from .store import Study
 
-__all__ = ["sample", "run_samples", "run_in_batches", "scene_results"]
+__all__ = ["sample", "run_samples", "run_in_batches", "case_key", "scene_results"]
 
 
 def _run_designs(
@@ -126,12 +126,41 @@ def _chunks(n: int, batch: int) -> list[np.ndarray]:
     return [c for c in np.array_split(np.arange(n), max(1, int(np.ceil(n / batch)))) if len(c)]
 
 
+def case_key(case: Case) -> str:
+    """The key of the deck a design runs on in the later stages (:func:`run_in_batches`): its
+    name and the SHA-256 of its text as run (every value set, the variant's change and preset
+    included; the contents of the files it names are in the study's key).
+
+    Parameters
+    ----------
+    case : Case
+
+    Returns
+    -------
+    str
+
+    Example
+    -------
+    >>> case_key(Case({"ring": {"width": 1e-3}}))[:5]
+    'case '
+    """
+    import hashlib
+
+    return f"{case.name} {hashlib.sha256(case.to_namelist().encode('utf-8', 'surrogateescape')).hexdigest()}"
+
+
 def run_in_batches(
     study: Study, ex: Executor, jobs: list[tuple[object, Case, np.ndarray]]
 ) -> dict[object, tuple[np.ndarray, np.ndarray, list[str]]]:
     """Run the designs of several jobs (a key, a base case, designs as rows) on the true
-    model, each job split into parallel tasks of at most the deck's ``batch`` designs (as the
+    model, in parallel tasks of at most the deck's ``batch`` designs of one deck (as the
     samples are), and put each job's results back together in the order of its rows.
+
+    A design asked for on the same deck (:func:`case_key`) by several jobs runs once; a run
+    already in :attr:`Study.check_runs <ringlube.study.store.Study.check_runs>` (the same
+    deck as run and the same design) is reused, not run again; each finished run is added
+    there and the study file saved as for the samples' runs (at most every 2 s while runs
+    finish, and when interrupted).
 
     Parameters
     ----------
@@ -155,23 +184,49 @@ def run_in_batches(
     s = study.s
     kernel = study_kernel()
     out: dict[object, tuple[np.ndarray, np.ndarray, list[str]]] = {}
-    tasks, where = [], []
+    # each design to run once per deck, whichever jobs ask for it: (deck key, design) -> rows
+    todo: dict[str, tuple[Case, dict[bytes, tuple[np.ndarray, list[tuple[object, int]]]]]] = {}
     for key, case, xs in jobs:
         xs = np.atleast_2d(np.asarray(xs, float))
-        out[key] = (np.full((len(xs), len(s.outputs)), np.nan), np.zeros(len(xs), bool), [""] * len(xs))
-        for rows in _chunks(len(xs), s.batch):
-            tasks.append((case, s.groups_names, xs[rows], list(s.outputs), kernel))
-            where.append((key, rows))
+        values, converged, errors = (
+            np.full((len(xs), len(s.outputs)), np.nan),
+            np.zeros(len(xs), bool),
+            [""] * len(xs),
+        )
+        out[key] = (values, converged, errors)
+        ck = case_key(case)
+        for i, x in enumerate(xs):
+            x = np.ascontiguousarray(x)
+            done = study.check_runs.get((ck, x.tobytes()))
+            if done is None:
+                todo.setdefault(ck, (case, {}))[1].setdefault(x.tobytes(), (x, []))[1].append((key, i))
+            else:
+                values[i], converged[i], errors[i] = done[1], done[2], done[3]
+    tasks, where = [], []
+    for ck, (case, designs) in todo.items():
+        rows = list(designs.values())
+        for chunk in _chunks(len(rows), s.batch):
+            xs = np.array([rows[j][0] for j in chunk])
+            tasks.append((case, s.groups_names, xs, list(s.outputs), kernel))
+            where.append((ck, [rows[j] for j in chunk]))
 
     def on_result(i, result):
-        key, rows = where[i]
-        values, converged, errors = out[key]
-        values[rows] = result[0]
-        converged[rows] = result[1]
-        for j, e in zip(rows, result[2]):
-            errors[j] = e
+        ck, rows = where[i]
+        for j, (x, dest) in enumerate(rows):
+            v, ok, e = np.array(result[0][j], float), bool(result[1][j]), result[2][j]
+            study.check_runs[(ck, x.tobytes())] = (x, v, ok, e)
+            for key, row in dest:
+                values, converged, errors = out[key]
+                values[row], converged[row], errors[row] = v, ok, e
+        study.checks_executed += len(rows)
+        study.save(force=False)
 
-    ex.map(_run_designs, tasks, on_result)
+    if not tasks:
+        return out
+    try:
+        ex.map(_run_designs, tasks, on_result)
+    finally:
+        study.save()
     return out
 
 

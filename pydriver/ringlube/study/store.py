@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import InputError, RinglubeError
 from .h5 import put, text
-from .layout import FORMAT, FORMAT_VERSION, read_case, write_case
+from .layout import FORMAT, FORMAT_VERSION, read_case, read_check_runs, write_case, write_check_runs
 from .settings import StudySettings
 from .state import CaseState
 
@@ -48,7 +48,14 @@ class Study:
         Finished stages (``sampled``, ``ran``, ``fitted``, ``optimised``, ``checked``,
         ``sure``, ``direct``).
     runs_executed : int
-        True-model runs made by this process.
+        True-model runs of the samples made by this process.
+    check_runs : dict
+        The finished true-model runs of the later stages (the check of the candidates and
+        reference, the chosen designs at the other points, how sure): per ``(case key, design
+        bytes)`` (:func:`ringlube.study.runs.case_key`) the design row, its results, converged
+        and error message; kept in the study file (``/check_runs``) so a resume reuses them.
+    checks_executed : int
+        Runs of :attr:`check_runs` made by this process.
 
     Example
     -------
@@ -59,6 +66,8 @@ class Study:
         self.s = settings
         self.path = Path(path)
         self.runs_executed = 0
+        self.check_runs: dict[tuple[str, bytes], tuple[np.ndarray, np.ndarray, bool, str]] = {}
+        self.checks_executed = 0
         self.x: np.ndarray | None = None
         self.cases: dict[str, CaseState] = {}
         self.stages: set[str] = set()
@@ -255,6 +264,9 @@ class Study:
                 elif label != "scene":  # runs kept; what was derived from them is redone
                     self.cases[label] = CaseState(read_case(g, s).runs)
                 # a scene of other weights: recomputed from the cases' runs
+        if "check_runs" in f and text(f["check_runs"].attrs.get("key", "")) == self.check_runs_key():
+            self.check_runs = read_check_runs(f["check_runs"])
+        # (none, or made with other variables, results or kernel: run again when needed)
 
     # --- writing -----------------------------------------------------------------------
     def save(self, force: bool = True) -> None:
@@ -310,6 +322,28 @@ class Study:
             g = f.require_group(f"cases/{label}")
             g.attrs["derived_key"] = s.derived_key(label)
             write_case(g, c, s)
+        if self.check_runs:
+            g = f.create_group("check_runs")
+            g.attrs["key"] = self.check_runs_key()
+            write_check_runs(g, self.check_runs, s)
+
+    def check_runs_key(self) -> str:
+        """What the stored :attr:`check_runs` were made with besides their case and design:
+        the variables (the design's columns), the recorded results and the kernel.
+
+        Returns
+        -------
+        str
+            JSON.
+
+        Example
+        -------
+        >>> '"kernel"' in study.check_runs_key()             # doctest: +SKIP
+        True
+        """
+        from .._version import kernel_id
+
+        return json.dumps({"variables": self.s.variables, "outputs": self.s.outputs, "kernel": kernel_id()})
 
 
 #: what each field of :meth:`StudySettings.key` is, in a refused resume's message
