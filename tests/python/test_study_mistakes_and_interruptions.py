@@ -14,7 +14,7 @@ import ringlube
 from ringlube import InputError, RinglubeError
 from ringlube.case import Case
 from ringlube.executor import Executor
-from ringlube.study import run_study
+from ringlube.study import run_study, summary
 from ringlube.study.deck import read_study
 from ringlube.study.runs import _run_designs, sample
 from ringlube.study.store import Study
@@ -518,6 +518,7 @@ def test_interrupted_check_and_how_sure_keep_their_finished_runs(tmp_path, stage
     assert again.runs_executed == 0
     assert resumed.designs == again.checks_executed == first.checks_executed - made  # none run twice
     assert sum(resumed.calls) < total
+    assert f"runs executed now: 0 (and {again.checks_executed} of the checks)" in summary(again)
     a, b = _later_results(first), _later_results(again)
     assert a.keys() == b.keys()
     for k in a:

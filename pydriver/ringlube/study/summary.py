@@ -57,6 +57,7 @@ def summary(study: Study) -> str:
     lines = [
         f"study '{s.name}': {s.samples} samples ({s.sampler}) x {len(s.labels)} cases; "
         f"true-model runs executed now: {study.runs_executed}"
+        + (f" (and {study.checks_executed} of the checks)" if study.checks_executed else "")
     ]
     if s.constraints:
         lines.append(f"constraints: {'; '.join(s.constraints)} (feasibility below by the true model)")
