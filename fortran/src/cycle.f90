@@ -144,12 +144,6 @@ contains
         if (allocated(pilot_fric)) deallocate (pilot_fric)
         run%pilot = 0.0_dp
       end if
-      if (allocated(pilot_fric)) then
-        if (.not. all(ieee_is_finite(pilot_fric))) then
-          deallocate (pilot_fric)
-          run%pilot = 0.0_dp
-        end if
-      end if
     end if
     call warm_up(st, c, run, err, pilot_fric)
     if (allocated(err)) return
@@ -229,7 +223,11 @@ contains
       fric(k) = (1.0_dp - r) * resp%series(kc + 1, s_friction) &
                 + r * resp%series(modulo(kc + 1, mp) + 1, s_friction)
     end do
-    cost = (rp%warmup / cp%dpsi_deg + mp) / m
+    if (.not. all(ieee_is_finite(fric))) then  ! no start, and not counted
+      deallocate (fric)
+      return
+    end if
+    cost = real(nint(rp%warmup / cp%dpsi_deg) + mp, dp) / m  ! its crank steps, as run
     film_solves = film_solves + sp%film%f%film_solves
     solves = solves + sp%film%f%reynolds_solves
   end subroutine pilot_friction

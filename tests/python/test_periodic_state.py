@@ -139,11 +139,12 @@ def test_after_a_pilot_the_first_cycle_is_not_judged_on_its_energy():
 def test_pilot_cycle_counts_its_crank_steps():
     """cycles_computed counts the pilot's crank steps as the run's: on the 12,000 r/min 'gas' deck
     (Swift-Stieber, 2 deg steps) the pilot's 270 deg of warm-up (the ring pack's) and its cycle at
-    8 deg are (270 / 8 + 90) / 360 cycles; the run's own warm-up is the film's 90 deg (the ring
-    pack's 270 deg only without a pilot) and each cycle adds its closing step at 720 deg."""
+    8 deg are 34 + 90 steps (270 deg at 8 deg: 33.75, run as 34 whole steps) of the run's 360
+    per cycle; the run's own warm-up is the film's 90 deg (the ring pack's 270 deg only without a
+    pilot) and each cycle adds its closing step at 720 deg."""
     r = ringlube.run(Case.from_namelist(GAS_12000).with_numerics(pilot_cycle=True))
     n = r.cycles_run
-    expected = n + (90 + 2 * n) / 720 + (270 / 8 + 90) / 360
+    expected = n + (90 + 2 * n) / 720 + (34 + 90) / 360
     assert r.scalars["cycles_computed"] == pytest.approx(expected, rel=1e-12)
 
 
