@@ -2,7 +2,9 @@
 
 One convention for every parallel loop in ringlube: ``executor.map(fn, tasks, on_result)``
 calls ``fn(*task)`` for every task and ``on_result(i, value)`` in this process as each one
-finishes (in any order), so the caller can save progress as results arrive. An exception
+finishes (in any order), so the caller can save progress as results arrive; an optional
+``on_idle()`` is called about every :data:`IDLE_S` seconds while the parallel backends wait,
+for progress a save skipped as too soon after the last. An exception
 raised by a task or by ``on_result`` (Ctrl-C included) cancels what is still queued and is
 raised again.
 
@@ -32,6 +34,8 @@ __all__ = ["Executor", "require", "check_where", "CONNECT_TIMEOUT_S", "BACKENDS"
 
 #: Seconds to wait for an existing Dask scheduler to answer before giving up.
 CONNECT_TIMEOUT_S = 10.0
+#: Seconds between calls of ``on_idle`` while the parallel backends wait for results.
+IDLE_S = 0.5
 #: The backends an :class:`Executor` can use.
 BACKENDS = ("serial", "processes", "dask", "scheduler")
 #: Dask loggers silenced while a cluster starts, works and closes (their start-up notes,
@@ -48,6 +52,10 @@ _NOISY = (
     "asyncio",
     "bokeh",
 )
+
+
+def _nothing() -> None:
+    pass
 
 
 def require(module: str, what: str) -> Any:
@@ -239,7 +247,11 @@ class Executor:
 
     # --- the one convention ------------------------------------------------------------
     def map(
-        self, fn: Callable[..., Any], tasks: Sequence[tuple], on_result: Callable[[int, Any], None]
+        self,
+        fn: Callable[..., Any],
+        tasks: Sequence[tuple],
+        on_result: Callable[[int, Any], None],
+        on_idle: Callable[[], None] | None = None,
     ) -> None:
         """Call ``fn(*task)`` for every task and ``on_result(i, value)`` as each finishes.
 
@@ -252,6 +264,10 @@ class Executor:
         on_result : callable
             Called in this process with the task's index and ``fn``'s return value, in
             order of completion.
+        on_idle : callable, optional
+            Called with no argument in this process about every :data:`IDLE_S` seconds
+            while the ``processes`` and Dask backends wait for results (the serial backend
+            never waits).
 
         Raises
         ------
@@ -269,34 +285,42 @@ class Executor:
             for i, task in enumerate(tasks):
                 on_result(i, fn(*task))
         elif self.backend == "processes":
-            self._map_pool(fn, tasks, on_result)
+            self._map_pool(fn, tasks, on_result, on_idle or _nothing)
         else:
-            self._map_dask(fn, tasks, on_result)
+            self._map_dask(fn, tasks, on_result, on_idle or _nothing)
 
-    def _map_pool(self, fn, tasks, on_result) -> None:
+    def _map_pool(self, fn, tasks, on_result, on_idle) -> None:
         from concurrent.futures import FIRST_COMPLETED, wait
 
         futures = {self.pool.submit(fn, *t): i for i, t in enumerate(tasks)}
         pending = set(futures)
         try:
             while pending:
-                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                done, pending = wait(pending, timeout=IDLE_S, return_when=FIRST_COMPLETED)
                 for fut in done:
                     on_result(futures[fut], fut.result())
+                on_idle()
         except BaseException:
             for fut in pending:
                 fut.cancel()
             raise
 
-    def _map_dask(self, fn, tasks, on_result) -> None:
-        from dask.distributed import as_completed
+    def _map_dask(self, fn, tasks, on_result, on_idle) -> None:
+        from dask.distributed import wait
 
         futures = [self.client.submit(fn, *t, pure=False, retries=2) for t in tasks]
         index = {f.key: i for i, f in enumerate(futures)}
+        pending = set(futures)
         with _quiet():  # a lost worker or a cancelled task is handled here, not logged
             try:
-                for fut, value in as_completed(futures, with_results=True):
-                    on_result(index[fut.key], value)
+                while pending:
+                    try:
+                        done, pending = wait(pending, timeout=IDLE_S, return_when="FIRST_COMPLETED")
+                    except TimeoutError:
+                        done = set()
+                    for fut in done:
+                        on_result(index[fut.key], fut.result())
+                    on_idle()
             except BaseException:
                 with contextlib.suppress(Exception):
                     self.client.cancel(futures)

@@ -153,7 +153,7 @@ class ClosedForm(Executor):
         super().__init__(serial=True)
         self.sizes: list[int] = []
 
-    def map(self, fn, tasks, on_result):
+    def map(self, fn, tasks, on_result, on_idle=None):
         if fn is not runs._run_designs:  # NSGA-II repeats on the surfaces
             return super().map(fn, tasks, on_result)
         for i, (case, _, x, outputs, _) in enumerate(tasks):
@@ -266,14 +266,14 @@ def test_dask_cluster_matches_serial_and_survives_a_killed_worker(tmp_path, loop
     killed = []
     original = ex.map
 
-    def map_and_kill(fn, tasks, on_result):
+    def map_and_kill(fn, tasks, on_result, on_idle=None):
         def wrapped(i, value):
             on_result(i, value)
             if not killed:  # after the first finished batch, kill a worker outright
                 workers[0].send_signal(signal.SIGKILL)
                 killed.append(True)
 
-        return original(fn, tasks, wrapped)
+        return original(fn, tasks, wrapped, on_idle)
 
     ex.map = map_and_kill
     try:

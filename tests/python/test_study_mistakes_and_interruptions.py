@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import shutil
 import socket
+import subprocess
 
 import h5py
 import numpy as np
@@ -335,6 +336,48 @@ def test_process_backend_matches_serial():
     assert a == b == {i: i**3 for i in range(7)}
 
 
+@pytest.mark.parametrize("backend", ["processes", "dask"])
+def test_parallel_backends_call_on_idle_while_they_wait(tmp_path, backend):
+    """While a task runs, the executor calls ``on_idle`` in this process (the study saves a
+    run that was too soon after the last save from there). The task waits for the file that
+    only ``on_idle`` writes: without the call it gives up and returns 1."""
+    flag = tmp_path / "idle"
+    script = f"for i in $(seq 2400); do [ -e '{flag}' ] && exit 0; sleep 0.05; done; exit 1"
+    out, idle = {}, []
+
+    def on_idle():
+        idle.append(1)
+        flag.touch()
+
+    with Executor(backend=backend, workers=1) as ex:
+        ex.map(subprocess.call, [(["sh", "-c", script],)], out.__setitem__, on_idle=on_idle)
+    assert out == {0: 0}
+    assert idle
+
+
+def test_a_save_skipped_as_too_soon_is_made_while_waiting(tmp_path):
+    """A run that finishes within 2 s of the last save is not written then; ``save_pending``
+    (called while the executor waits) writes it once 2 s have passed, and rewrites nothing
+    when nothing is pending."""
+    s = read_study(study_deck(tmp_path, **TWO_VARS))
+    st = Study(s, tmp_path / "h.h5")
+    st.x = sample(s)
+    st.save()
+    x = np.array([1.0e-3, 0.0])
+    st.check_runs[("cold abc", x.tobytes())] = (x, np.zeros(len(s.outputs)), True, "")
+    st.save(force=False)
+    with h5py.File(tmp_path / "h.h5") as f:
+        assert "check_runs" not in f
+    st._last_save -= 2.0
+    st.save_pending()
+    with h5py.File(tmp_path / "h.h5") as f:
+        assert "check_runs" in f
+    inode = (tmp_path / "h.h5").stat().st_ino
+    st._last_save -= 2.0
+    st.save_pending()
+    assert (tmp_path / "h.h5").stat().st_ino == inode
+
+
 # --- items 24 and 25: labelled matrices, the optional reference --------------------------
 
 
@@ -452,7 +495,7 @@ class _Stopping(Executor):
         super().__init__(serial=True)
         self.stage, self.stop_at, self.calls, self.designs = stage, stop_at, [], 0
 
-    def map(self, fn, tasks, on_result):
+    def map(self, fn, tasks, on_result, on_idle=None):
         if fn is not _run_designs:
             return super().map(fn, tasks, on_result)
         self.calls.append(0)

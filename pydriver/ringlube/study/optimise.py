@@ -153,7 +153,7 @@ def optimise(study: Study, ex: Executor, progress: bool = True) -> None:
         study.save(force=False)
 
     try:
-        ex.map(ga_repeat, tasks, on_result)
+        ex.map(ga_repeat, tasks, on_result, on_idle=study.save_pending)
     finally:
         bar.close()
         study.save()

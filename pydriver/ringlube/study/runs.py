@@ -224,7 +224,7 @@ def run_in_batches(
     if not tasks:
         return out
     try:
-        ex.map(_run_designs, tasks, on_result)
+        ex.map(_run_designs, tasks, on_result, on_idle=study.save_pending)
     finally:
         study.save()
     return out
@@ -288,7 +288,7 @@ def run_samples(study: Study, ex: Executor, progress: bool = True, stop_after: i
             raise KeyboardInterrupt("stop_after reached (test hook)")
 
     try:
-        ex.map(_run_designs, tasks, on_result)
+        ex.map(_run_designs, tasks, on_result, on_idle=study.save_pending)
     finally:
         bar.close()
         wall = time.perf_counter() - t0

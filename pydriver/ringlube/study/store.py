@@ -72,6 +72,7 @@ class Study:
         self.cases: dict[str, CaseState] = {}
         self.stages: set[str] = set()
         self._last_save = 0.0
+        self._unsaved = False  # a save was skipped for being within 2 s of the last
         self._lock_fd: int | None = None
 
     # --- convenience ---------------------------------------------------------------------
@@ -288,8 +289,10 @@ class Study:
         """
         now = time.perf_counter()
         if not force and now - self._last_save < 2.0:
+            self._unsaved = True
             return
         self._last_save = now
+        self._unsaved = False
         fd, tmp = tempfile.mkstemp(dir=self.path.parent, prefix=self.path.name + ".", suffix=".part")
         os.close(fd)
         try:
@@ -299,6 +302,19 @@ class Study:
         finally:
             if os.path.exists(tmp):
                 os.unlink(tmp)
+
+    def save_pending(self) -> None:
+        """Save now if a save was skipped for coming within 2 s of the last and 2 s have passed.
+
+        Called while waiting for runs, so that a run that finished right after another is on
+        disk about 2 s later, not only when the next run finishes.
+
+        Example
+        -------
+        >>> study.save_pending()                              # doctest: +SKIP
+        """
+        if self._unsaved:
+            self.save(force=False)
 
     def _write(self, f: h5py.File) -> None:
         from .. import __version__
