@@ -1,7 +1,8 @@
 ! ctest labels: numerics
 !> The mass-conserving (JFO) film's connectivity rule (ringlube_jfo_connect) and its edges
 !> against exact and independent answers (docs/film_model.md, "Verification"):
-!>  5. starved inlet (closed form), theta_in -> 0 thins the film;
+!>  5. starved inlet (closed form), theta_in -> 0 thins the film; the order in space of the
+!>     starved film, steady and with a moving meniscus;
 !>  6. the cavity-pressure connectivity rule: trailing gas (closed form), leading gas, enclosed;
 !>  8. the inflow cap of the leading edge (the oil there) against a fill found by bisection;
 !>  9. the leading edge of a blown face: starved, Couette inflow of its fill; flooded, gas only;
@@ -19,6 +20,7 @@ program test_jfo_connect
   if (run_case('trailing_gas')) call case_trailing_gas()
   if (run_case('starved')) call case_starved()
   if (run_case('starved_order')) call case_starved_order()
+  if (run_case('starved_transient_order')) call case_starved_transient_order()
   if (run_case('connectivity_rule')) call case_connectivity_rule()
   if (run_case('enclosed_cavity')) call case_enclosed_cavity()
   if (run_case('inflow_cap')) call case_inflow_cap()
@@ -177,11 +179,14 @@ contains
   !> out; its limit is the flooded film), each with the inflow edge face as before and with
   !> the meniscus at the edge (jfo_problem%edge_meniscus): the errors of the load (the integral
   !> of p - p_l) and of the oil in the face against the closed forms as the nodes double.
+  !> Starved, also fed the closed form's supply content theta_in h_le through the inflow face
+  !> (theta_right = theta_in h_le / hmid, as the cycle's inlet fill of the oil there): the
+  !> meniscus inside the face is then second order.
   subroutine case_starved_order()
     integer, parameter :: nn(5) = [51, 101, 201, 401, 801]
     real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:)
     real(dp) :: dx, tin, hle, hc, zc, zm, pl, lo, hi, mid, load_ex, vol_ex, z, wq
-    real(dp) :: eload(5, 2, 0:1), evol(5, 2, 0:1), load, vol, order
+    real(dp) :: eload(5, 2, 0:1), evol(5, 2, 0:1), load, vol, order, econt(5, 0:1)
     real(dp), parameter :: fills(2) = [0.12_dp, 0.7_dp]
     integer :: k, n, i, ie, kf, nq
     logical :: em
@@ -250,6 +255,21 @@ contains
           evol(k, kf, ie) = abs(vol / vol_ex - 1.0_dp)
           write (*, '(a, f5.2, a, l1, i5, 2es12.3, a, i0)') '  theta_in', tin, ' edge_meniscus ', &
             em, n, eload(k, kf, ie), evol(k, kf, ie), '  its ', st%iterations
+          if (kf == 1) then
+            ! fed the supply content theta_in h_le through the inflow face
+            p = 0.0_dp
+            th = 1.0_dp
+            call jfo_solve_connected(jfo_problem(dx=dx, u=10.0_dp, dt=0.0_dp, p_left=0.0_dp, &
+                                                 p_right=pl, theta_right=tin * hle / hmid(n - 1), &
+                                                 p_cav=0.0_dp, leading_gas=.true., &
+                                                 edge_meniscus=em, edge_cells=em), &
+                                     h, hmid, kmid, h, pc, p, th, st)
+            call check(st%info == JFO_OK, 'starved order, supply content: converges')
+            load = dx * (sum(p - pl) - 0.5_dp * (p(1) - pl + p(n) - pl))
+            econt(k, ie) = abs(load / load_ex - 1.0_dp)
+            write (*, '(a, l1, i5, es12.3, a, i0)') '  supply content, edge_meniscus ', em, n, &
+              econt(k, ie), '  its ', st%iterations
+          end if
           deallocate (p, th, pc)
         end do
         do k = 2, size(nn)
@@ -275,11 +295,135 @@ contains
     ! 0.8 times)
   call check(all(evol(:, 2, 1) < 0.3_dp * evol(:, 2, 0)) .and. all(evol(:, 1, 1) < evol(:, 1, 0)), &
                'edge cells: the oil held is nearer the closed form')
-    ! starved (meniscus inside): the edges change nothing in the pressure, whose error is the
-    ! meniscus' at a node (first order both)
+    ! starved (meniscus inside): the edges change nothing in the pressure, whose error is
+    ! first order both: the fill theta_in of the edge node carried through the inflow face at
+    ! its hmid brings the supply content theta_in hmid, not the closed form's theta_in h_le
     call check(all(abs(eload(:, 1, 1) / eload(:, 1, 0) - 1.0_dp) < 1e-6_dp), &
                'starved inside: the edges leave the load alone')
+    ! fed the supply content, the meniscus inside the face is second order: the upwind flux at
+    ! the reformation face is the full film's up to the front where the jump condition puts it
+    ! (docs/film_model.md); the error depends on where the front falls in its cell, so the
+    ! order is taken over 51..801 nodes
+    do ie = 0, 1
+      do k = 2, size(nn)
+        write (*, '(a, l1, i5, a, f7.2)') '  supply content, edge_meniscus ', ie == 1, nn(k), &
+          ' order load', log(econt(k - 1, ie) / econt(k, ie)) / log(2.0_dp)
+      end do
+      order = log(econt(1, ie) / econt(5, ie)) / log(16.0_dp)
+      write (what, '(a, l1, a, f5.2)') 'starved, supply content, edge_meniscus ', ie == 1, &
+        ': load order 51..801 ', order
+      call check(order > 1.8_dp, trim(what))
+      call check(all(econt(:, ie) < 0.1_dp * eload(:, 1, ie)), &
+                 'starved: fed the supply content, the load is nearer the closed form')
+    end do
   end subroutine case_starved_order
+
+  ! ------------------------------------------------------------------ 5c. order, moving meniscus
+  !> The ring of case 5 at constant speed (U = 10 m/s, inlet at the right edge, fed the supply
+  !> content cs through the inflow face, as the cycle's inlet fill) with its minimum film
+  !> oscillating (1 um +- 50 %, period 10 ms, 2000 backward-Euler steps a period): the
+  !> meniscus moves through the face and back. Over the second period: the integral of the
+  !> load (p - p_l) in time and the oil the leading edge turned back (the supply's Couette
+  !> content less what entered), on grids of 51 to 201 nodes at the same steps (the time
+  !> error is common to all grids), against 801 nodes: their errors and the observed order,
+  !> the slope of a least-squares line through log(error) against log(dx) (the error moves
+  !> with where the meniscus falls in its cell, so not from two grids); the oil balance of
+  !> every step. cs = 0.6 um: the meniscus stays inside the face; 1.2 um:
+  !> it reaches the leading edge, which turns oil back.
+  subroutine case_starved_transient_order()
+    integer, parameter :: nn(10) = [51, 61, 71, 81, 101, 121, 141, 161, 201, 801], nsteps = 2000
+    real(dp), parameter :: per = 1e-2_dp, pl = 1e5_dp, u = 10.0_dp
+    real(dp), parameter :: supply(2) = [0.6e-6_dp, 1.2e-6_dp]
+    real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), cold(:)
+    real(dp) :: dx, dt, t, hm, cs, load(10), back(10), order, v0, v1, bal, balmax, vmax
+    real(dp) :: el(9), eb(9)
+    integer :: k, n, i, j, ks, nfail
+    type(jfo_stats) :: st
+    character(len=100) :: what
+    write (*, '(a)') '5c. a meniscus moving through the face (squeeze), as the nodes double: '// &
+      'load and oil turned back over a period'
+    do ks = 1, 2
+      cs = supply(ks)
+      balmax = 0.0_dp
+      vmax = 0.0_dp
+      nfail = 0
+      do k = 1, size(nn)
+        n = nn(k)
+        dx = b / (n - 1)
+        x = [(-0.5_dp * b + (i - 1) * dx, i=1, n)]
+        allocate (p(n), th(n), pc(n), cold(n))
+        dt = per / nsteps
+        p = pl
+        th = 1.0_dp
+        pc = 0.0_dp
+        h = h0 + kk * (x + xs)**2
+        load(k) = 0.0_dp
+        back(k) = 0.0_dp
+        do j = 1, 2 * nsteps
+          t = j * dt
+          cold = th * h
+          v0 = jfo_film_volume(dx, h, th, .true.)
+          hm = h0 * (1.0_dp + 0.5_dp * sin(2 * pi * t / per + 1.0_dp))
+          h = hm + kk * (x + xs)**2
+          hmid = hm + kk * (0.5_dp * (x(1:n - 1) + x(2:n)) + xs)**2
+          kmid = hmid**3 / (12 * eta)
+          call jfo_solve_connected(jfo_problem(dx=dx, u=u, dt=dt, p_left=pl, p_right=pl, &
+                                               theta_right=min(1.0_dp, cs / hmid(n - 1)), &
+                                               p_cav=0.0_dp, leading_gas=.true., &
+                                               edge_meniscus=.true., edge_cells=.true.), &
+                                   h, hmid, kmid, cold, pc, p, th, st)
+          if (st%info /= JFO_OK) nfail = nfail + 1
+          v1 = jfo_film_volume(dx, h, th, .true.)
+          bal = abs((v1 - v0) - dt * (st%q_left - st%q_right))
+          balmax = max(balmax, bal)
+          vmax = max(vmax, v1)
+          if (j > nsteps) then
+            load(k) = load(k) + dt * dx * sum(p(2:n - 1) - pl)
+            back(k) = back(k) + dt * (0.5_dp * u * cs + st%q_right)
+          end if
+        end do
+        write (*, '(a, es9.2, i5, 2es20.11)') '  cs', cs, n, load(k), back(k)
+        deallocate (p, th, pc, cold)
+      end do
+      call check(nfail == 0, 'moving meniscus: every step converges')
+      write (what, '(a, es9.2, a, es9.2)') 'moving meniscus, cs', cs, ': oil balance per step ', &
+        balmax / vmax
+      call check(balmax <= 1e-12_dp * vmax, trim(what))
+      el = abs(load(1:9) / load(10) - 1.0_dp)
+      eb = abs(back(1:9) / back(10) - 1.0_dp)
+      do k = 1, 9
+        write (*, '(a, es9.2, i5, a, 2es11.3)') '  cs', cs, nn(k), &
+          ' errors load, oil turned back', el(k), eb(k)
+      end do
+      ! the meniscus reaching the leading edge (1.2 um) is first order, load and oil turned back
+      ! alike: the reformation front the pressures place (where the jump condition puts it,
+      ! second order at rest: 5b) is not where the content of its cell puts it while it moves
+      ! (docs/film_model.md, "The reformation front"); inside the face (0.6 um) the errors
+      ! scatter with the front's place in its cell (printed, not checked)
+      order = fitted_order(nn(1:9), el)
+      write (what, '(a, es9.2, a, f5.2)') 'moving meniscus, cs', cs, ': load order 51..201 ', order
+      write (*, '(2x, a)') trim(what)
+      if (ks == 2) then
+        call check(order > 0.7_dp .and. order < 1.5_dp, trim(what))
+        order = fitted_order(nn(1:9), eb)
+        write (what, '(a, f5.2)') 'moving meniscus at the edge: oil turned back, order ', order
+        write (*, '(2x, a)') trim(what)
+        call check(back(10) > 0.0_dp .and. order > 0.7_dp .and. order < 1.5_dp, trim(what))
+      end if
+    end do
+  end subroutine case_starved_transient_order
+
+  !> The order p of errors e on grids of n nodes: minus the slope of the least-squares line
+  !> through log(e) against log(n - 1).
+  real(dp) function fitted_order(n, e) result(p)
+    integer, intent(in) :: n(:)
+    real(dp), intent(in) :: e(:)
+    real(dp) :: lx(size(n)), ly(size(n))
+    lx = log(real(n - 1, dp))
+    ly = log(e)
+    lx = lx - sum(lx) / size(n)
+    p = -sum(lx * (ly - sum(ly) / size(n))) / sum(lx**2)
+  end function fitted_order
 
   ! ------------------------------------------------------------------ 6. connectivity rule
   subroutine case_connectivity_rule()
