@@ -14,7 +14,7 @@ module ringlube_cycle
   ! series), sc_* (scalars), l_* (liner) and m_* (models)
   use ringlube_results
   use ringlube_oil_supply, only: supply_type, supply_reset_counters, supply_stored, &
-                                 supply_balance_error
+                                 supply_balance_error, supply_flood
   use ringlube_liner, only: liner_positions
   use ringlube_film, only: film_type, film_setup, film_temperature
   use ringlube_load_balance, only: balance
@@ -277,6 +277,11 @@ contains
     ! pilot cycle's friction has it already)
     if (allocated(st%rst) .and. .not. piloted) run%warmup = max(run%warmup, ring_pack_warmup_deg)
     k = m - nint(run%warmup / c%dpsi_deg) + 1
+    ! (`&numerics flooded_start`; not with a 'trailing_gas' cavity, nor on a distorted bore:
+    ! their starved runs took as many cycles or more, and the distorted bore's starved variant
+    ! of identical.py ended without a periodic state)
+    if (st%film%f%starved .and. c%flooded_start .and. c%cavity_pressure == 'vapour' .and. &
+        .not. allocated(st%ring)) call flood_liner(st)
     st%s_prev = position(c, (k - 2) * c%dpsi_deg)
     st%fric_prev = 0.0_dp
     run%rw%k = min(m, max(2, m - nint(c%warmup_deg / c%dpsi_deg) + 1))
@@ -322,6 +327,23 @@ contains
     end do
     if (allocated(st%err)) call move_alloc(st%err, err)
   end subroutine warm_up
+
+  !> The starved liner film before the warm-up, flooded: every cell at half the ring's
+  !> largest initial gap at an edge, at least the supply film, so that the warm-up's
+  !> downstroke fills the gap through its leading edge (inlet_fill is 1 for a film of half the
+  !> gap there or more) and the ring reaches BDC full. The oil the ring lays near BDC, which
+  !> it gathers again at the next BDC, then approaches its periodic state from above, the
+  !> excess going to the bank the lower rings take down, where from the supply film it
+  !> approached from a dry lower edge that the oil filled by about a crank step's travel
+  !> per cycle (docs/model.md, "Cycle and periodic state"). Away from BDC the liner is laid
+  !> anew at every BDC (the lower rings' film) and the ring lays what it gathers.
+  subroutine flood_liner(st)
+    type(cycle_state), intent(inout) :: st
+    associate (f => st%film%f)
+      call supply_flood(st%film%sup, max(st%film%sup%supply_film, &
+                                         0.5_dp * max(f%content_old(1), f%content_old(f%n))))
+    end associate
+  end subroutine flood_liner
 
   !> Run the cycle's crank steps and store them in res (with the ring pack, the first cycle
   !> keeps the state at the re-warm's first step).
