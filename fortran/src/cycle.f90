@@ -14,8 +14,8 @@ module ringlube_cycle
   ! series), sc_* (scalars), l_* (liner) and m_* (models)
   use ringlube_results
   use ringlube_oil_supply, only: supply_type, supply_reset_counters, supply_stored, &
-                                 supply_balance_error, supply_flood
-  use ringlube_liner, only: liner_positions
+                                 supply_balance_error
+  use ringlube_liner, only: liner_positions, strip_set, strip_copy
   use ringlube_film, only: film_type, film_setup, film_temperature
   use ringlube_load_balance, only: balance
   use ringlube_cycle_state, only: film_track, cycle_state, step_out, cycle_setup, advance, &
@@ -50,6 +50,13 @@ module ringlube_cycle
   !> (it feeds the gas network its friction): the first of these for which the film has 4
   !> times as many intervals or more (none: the film itself)
   integer, parameter :: ring_pack_warmup_nodes(2) = [11, 7]
+  !> the BDC start's second pass (bdc_start): from this many degrees before the warm-up's BDC
+  !> (psi = 540) to as many after it [deg]. The ring gathers the film it laid leaving the
+  !> last BDC within about 35 deg of the next (the 3000-12,000 r/min decks: their liner films
+  !> lie above the supply film from 5 mm before the BDC position of the lower edge on)
+  real(dp), parameter :: bdc_pass_deg = 40.0_dp
+  !> the BDC (psi) the warm-up passes
+  real(dp), parameter :: warmup_bdc = 540.0_dp
   !> the liner film's extrapolations a run makes at most (extrapolate_liner)
   integer, parameter :: max_extrapolations = 2
   !> the pilot cycle's crank step in steps of the run's (pilot_friction; 2 where the cycle's
@@ -259,7 +266,8 @@ contains
     type(film_track) :: fine
     type(sector_ring), allocatable :: fine_ring
     type(case_type) :: cc
-    integer :: m, k, k_film, k_nodes, j
+    type(cycle_state) :: first
+    integer :: m, k, k_film, k_nodes, j, ka, kb
     logical :: piloted
 
     m = steps_per_cycle(c)
@@ -277,11 +285,6 @@ contains
     ! pilot cycle's friction has it already)
     if (allocated(st%rst) .and. .not. piloted) run%warmup = max(run%warmup, ring_pack_warmup_deg)
     k = m - nint(run%warmup / c%dpsi_deg) + 1
-    ! (`&numerics flooded_start`; not with a 'trailing_gas' cavity, nor on a distorted bore:
-    ! their starved runs took as many cycles or more, and the distorted bore's starved variant
-    ! of identical.py ended without a periodic state)
-    if (st%film%f%starved .and. c%flooded_start .and. c%cavity_pressure == 'vapour' .and. &
-        .not. allocated(st%ring)) call flood_liner(st)
     st%s_prev = position(c, (k - 2) * c%dpsi_deg)
     st%fric_prev = 0.0_dp
     run%rw%k = min(m, max(2, m - nint(c%warmup_deg / c%dpsi_deg) + 1))
@@ -322,28 +325,68 @@ contains
         end do
       end if
     end if
+    ! (`&numerics bdc_start`; not with a 'trailing_gas' cavity, nor on a distorted bore)
+    ka = nint((warmup_bdc - bdc_pass_deg) / c%dpsi_deg) + 1
+    kb = nint((warmup_bdc + bdc_pass_deg) / c%dpsi_deg) + 1
+    if (st%film%f%starved .and. c%bdc_start .and. c%cavity_pressure == 'vapour' .and. &
+        .not. allocated(st%ring) .and. ka >= k .and. kb <= m) then
+      call flood_bdc(st, c)
+      do k = k, kb
+        if (k == ka) first = st
+        call advance(st, c, (k - 1) * c%dpsi_deg, out)
+      end do
+      if (.not. allocated(st%err)) then
+        call second_pass(st, c, first, (kb - 1) * c%dpsi_deg)
+        run%rewarm = run%rewarm + (kb - ka + 1) * c%dpsi_deg
+        k = ka
+      end if
+    end if
     do k = k, m
       call advance(st, c, (k - 1) * c%dpsi_deg, out)
     end do
     if (allocated(st%err)) call move_alloc(st%err, err)
   end subroutine warm_up
 
-  !> The starved liner film before the warm-up, flooded: every cell at half the ring's
-  !> largest initial gap at an edge, at least the supply film, so that the warm-up's
-  !> downstroke fills the gap through its leading edge (inlet_fill is 1 for a film of half the
-  !> gap there or more) and the ring reaches BDC full. The oil the ring lays near BDC, which
-  !> it gathers again at the next BDC, then approaches its periodic state from above, the
-  !> excess going to the bank the lower rings take down, where from the supply film it
-  !> approached from a dry lower edge that the oil filled by about a crank step's travel
-  !> per cycle (docs/model.md, "Cycle and periodic state"). Away from BDC the liner is laid
-  !> anew at every BDC (the lower rings' film) and the ring lays what it gathers.
-  subroutine flood_liner(st)
+  !> The BDC start's first guess (bdc_start): the liner under the face at the warm-up's BDC
+  !> flooded, at half the ring's largest initial gap at an edge (at least the supply film), so
+  !> that the ring's gap fills through its leading edge in the last steps before BDC
+  !> (inlet_fill is 1 for a film of half the gap there) and it reaches BDC full.
+  subroutine flood_bdc(st, c)
     type(cycle_state), intent(inout) :: st
-    associate (f => st%film%f)
-      call supply_flood(st%film%sup, max(st%film%sup%supply_film, &
-                                         0.5_dp * max(f%content_old(1), f%content_old(f%n))))
+    type(case_type), intent(in) :: c
+    real(dp) :: s, hf, removed, added
+    associate (f => st%film%f, sup => st%film%sup)
+      s = position(c, warmup_bdc)
+      hf = max(sup%supply_film, 0.5_dp * max(f%content_old(1), f%content_old(f%n)))
+      call strip_set(sup%liner, s - sup%half_width, s + sup%half_width, hf, removed, added)
     end associate
-  end subroutine flood_liner
+  end subroutine flood_bdc
+
+  !> The BDC start's second pass: the state `first` (kept bdc_pass_deg before the warm-up's
+  !> BDC) becomes the state again, with the film the ring has laid since BDC (from the lower
+  !> edge's position at BDC to its position at psi_now) on its liner: the film a ring leaving
+  !> the BDC before would have left there, which it gathers again before this one. The solve
+  !> counters keep counting.
+  subroutine second_pass(st, c, first, psi_now)
+    type(cycle_state), intent(inout) :: st
+    type(case_type), intent(in) :: c
+    type(cycle_state), intent(inout) :: first
+    real(dp), intent(in) :: psi_now
+    integer :: nfs, nrs, efs, ers
+    associate (sup => st%film%sup)
+      call strip_copy(first%film%sup%liner, sup%liner, position(c, psi_now) + sup%half_width, &
+                      position(c, warmup_bdc) + sup%half_width)
+    end associate
+    nfs = st%film%f%film_solves
+    nrs = st%film%f%reynolds_solves
+    efs = st%extra_film_solves
+    ers = st%extra_solves
+    st = first
+    st%film%f%film_solves = nfs
+    st%film%f%reynolds_solves = nrs
+    st%extra_film_solves = efs
+    st%extra_solves = ers
+  end subroutine second_pass
 
   !> Run the cycle's crank steps and store them in res (with the ring pack, the first cycle
   !> keeps the state at the re-warm's first step).

@@ -222,8 +222,8 @@ module ringlube_inputs
       'extrapolate a slowly settling liner film (starved) toward its periodic state'), &
     input_spec('numerics', 'pilot_cycle', kind_logical, '.false.', 0.0_dp, 0.0_dp, '', '', &
       "start the ring pack under a pilot cycle's friction (4x step; not starved, round bore)"), &
-    input_spec('numerics', 'flooded_start', kind_logical, '.false.', 0.0_dp, 0.0_dp, '', '', &
-      "starved 'vapour', round bore: a flooded liner film before the warm-up"), &
+    input_spec('numerics', 'bdc_start', kind_logical, '.false.', 0.0_dp, 0.0_dp, '', '', &
+      "starved 'vapour', round bore: the warm-up passes its BDC twice, the liner laid there"), &
     input_spec('output', 'file', kind_string, 'result.h5', 0.0_dp, 0.0_dp, '', '', &
       'result file (relative to the deck folder); -o overrides it'), &
     input_spec('calibration', 'file', kind_string, '', 0.0_dp, 0.0_dp, '', '', &

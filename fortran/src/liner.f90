@@ -16,7 +16,7 @@ module ringlube_liner
   implicit none
   private
   public :: liner_type, liner_init, strip_volume, strip_take, strip_put, strip_set, strip_draw, &
-            liner_volume, liner_positions
+            strip_copy, liner_volume, liner_positions
 
   !> The liner film.
   type :: liner_type
@@ -197,6 +197,21 @@ contains
       lin%hi(i) = b
     end if
   end subroutine occupy
+
+  !> The film of `src` (a liner on the same grid) on the cells whose centres lie on the strip
+  !> between za and zb (either order) replaces lin's there, where its oil lies included.
+  pure subroutine strip_copy(lin, src, za, zb)
+    type(liner_type), intent(inout) :: lin
+    type(liner_type), intent(in) :: src
+    real(dp), intent(in) :: za, zb
+    integer :: i0, i1
+    i0 = max(1, ceiling((min(za, zb) - lin%z0) / lin%dz + 0.5_dp))
+    i1 = min(lin%nz, floor((max(za, zb) - lin%z0) / lin%dz + 0.5_dp))
+    if (i1 < i0) return
+    lin%h(i0:i1) = src%h(i0:i1)
+    lin%lo(i0:i1) = src%lo(i0:i1)
+    lin%hi(i0:i1) = src%hi(i0:i1)
+  end subroutine strip_copy
 
   !> Set the film on the strip to thickness hf; returns the volumes removed and added [m^2].
   pure subroutine strip_set(lin, za, zb, hf, removed, added)

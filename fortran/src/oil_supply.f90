@@ -16,7 +16,7 @@ module ringlube_oil_supply
   private
   public :: supply_balance_error
   public :: supply_type, supply_setup, supply_edges, inlet_fill, supply_step, &
-            supply_reset_counters, supply_stored, supply_to_chamber, supply_flood
+            supply_reset_counters, supply_stored, supply_to_chamber
 
   !> State and counters of the oil supply (volumes per unit circumference, m^2).
   type :: supply_type
@@ -48,18 +48,6 @@ contains
   call liner_init(sup%liner, -0.5_dp * width - 4.0_dp * dz, stroke + 0.5_dp * width + 4.0_dp * dz, &
                     dz, supply_film)
   end subroutine supply_setup
-
-  !> Every liner cell at film h (oil over the whole cell), the bank empty: the flooded start
-  !> of a run's warm-up (docs/model.md, "Cycle and periodic state").
-  pure subroutine supply_flood(sup, h)
-    type(supply_type), intent(inout) :: sup
-    real(dp), intent(in) :: h
-    integer :: i
-    sup%liner%h = h
-    sup%liner%lo = [(sup%liner%z0 + (i - 1) * sup%liner%dz, i=1, sup%liner%nz)]
-    sup%liner%hi = sup%liner%lo + sup%liner%dz
-    sup%bank = 0.0_dp
-  end subroutine supply_flood
 
   !> The leading edge's position for piston position s and sliding direction dir.
   pure real(dp) function leading_edge(sup, s, dir)

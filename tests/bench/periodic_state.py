@@ -9,13 +9,13 @@ relative difference to the same run at ``cycle_tol`` 1e-6 (``max_cycles`` 60). W
 solver (--base, e.g. a build of an earlier commit, which has no &numerics accelerate) the same
 for it side by side, and the means per film model and reading; --no-accelerate runs --solver
 without the liner film's extrapolation, --pilot with the ring pack's pilot cycle
-(``&numerics pilot_cycle``), --flooded with a flooded liner film before the warm-up (``&numerics
-flooded_start``); --skip leaves out decks whose name has one of the parts given
+(``&numerics pilot_cycle``), --bdc-start with the starved warm-up's BDC start (``&numerics
+bdc_start``); --skip leaves out decks whose name has one of the parts given
 (e.g. ``distorted``). Run from the project folder:
 
     .venv/bin/python tests/bench/periodic_state.py [--base BASE/ringlube-solve] [--ref]
         [--unit N] [--films starved,...] [--decks 12000,...] [--skip distorted] [--repeats 3]
-        [--no-accelerate] [--pilot] [--flooded]
+        [--no-accelerate] [--pilot] [--bdc-start]
 """
 
 from __future__ import annotations
@@ -85,7 +85,7 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=1)
     ap.add_argument("--no-accelerate", action="store_true", help="--solver's runs without extrapolation")
     ap.add_argument("--pilot", action="store_true", help="--solver's runs with pilot_cycle")
-    ap.add_argument("--flooded", action="store_true", help="--solver's runs with flooded_start")
+    ap.add_argument("--bdc-start", action="store_true", help="--solver's runs with bdc_start")
     ap.add_argument("--skip", default="", help="deck name parts to leave out, comma-separated")
     args = ap.parse_args()
     solvers = [("new", args.solver)] + ([("base", args.base)] if args.base else [])
@@ -114,8 +114,8 @@ def main() -> None:
                     own = case.with_numerics(accelerate=False) if plain else case
                     if args.pilot and label == "new":
                         own = own.with_numerics(pilot_cycle=True)
-                    if args.flooded and label == "new":
-                        own = own.with_numerics(flooded_start=True)
+                    if args.bdc_start and label == "new":
+                        own = own.with_numerics(bdc_start=True)
                     r = run(solver, own, args.repeats)
                     line += (
                         f" | {r['cycles_run']:7.0f} {r['cycles_computed']:5.2f} {r['run_time_s'] * 1e3:8.1f} "

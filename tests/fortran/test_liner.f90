@@ -4,10 +4,8 @@ program test_liner
   use ringlube_kinds, only: dp
   use ringlube_liner
   use ringlube_check
-  use ringlube_oil_supply, only: supply_type, supply_setup, supply_flood, supply_stored
   implicit none
-  type(liner_type) :: lin
-  type(supply_type) :: sup
+  type(liner_type) :: lin, other
   real(dp) :: v0, v, put, removed, added, total
   integer :: k
   real(dp) :: za, zb
@@ -62,15 +60,15 @@ program test_liner
   ! (the strip's ends fall inside cells: round-off of the cell edges, 1e-10 relative)
   call check_close(strip_volume(lin, 10e-3_dp, 20e-3_dp), 5e-6_dp * 10e-3_dp, 1e-10_dp, &
                    'strip_set: film thickness as asked')
-  ! the flooded start: every cell at the film asked, over the whole cell (a cell whose oil had
-  ! been narrowed to part of it by a sweep gives all of the film over the whole cell again)
-  call supply_setup(sup, 1e-3_dp, 63e-3_dp, 2e-5_dp, 1e-6_dp, 0.0_dp)
-  call strip_take(sup%liner, 10.005e-3_dp, 10.03e-3_dp, v)
-  sup%bank = 1e-9_dp
-  call supply_flood(sup, 4e-6_dp)
-  call check_close(supply_stored(sup), 4e-6_dp * sup%liner%nz * sup%liner%dz, 1e-12_dp, &
-                   'flooded: the liner holds the film on every cell, the bank empty')
-  call check_close(strip_volume(sup%liner, 10.0e-3_dp, 10.01e-3_dp), 4e-6_dp * 0.01e-3_dp, &
-                   1e-10_dp, 'flooded: the oil lies over the whole cell again')
+  ! strip_copy: the cells whose centres lie on the strip take the other liner's film, with
+  ! where its oil lies (a cell narrowed by a sweep stays narrowed); the others keep theirs
+  call liner_init(lin, 0.0_dp, 1e-3_dp, 1e-4_dp, 1e-6_dp)
+  call liner_init(other, 0.0_dp, 1e-3_dp, 1e-4_dp, 3e-6_dp)
+  call strip_take(other, 0.32e-3_dp, 0.5e-3_dp, v)
+  call strip_copy(lin, other, 0.64e-3_dp, 0.24e-3_dp)
+  call check(all(lin%h(3:6) == other%h(3:6)) .and. all(lin%h([1, 2, 7, 8, 9, 10]) == 1e-6_dp), &
+             'strip_copy: cells 3-6 (centres 0.25-0.55 mm) copied, the others kept')
+  call check_close(strip_volume(lin, 0.3e-3_dp, 0.32e-3_dp), 3e-6_dp * 0.02e-3_dp, 1e-12_dp, &
+                   'strip_copy: the oil of a narrowed cell lies where it lay')
   call report('test_liner')
 end program test_liner

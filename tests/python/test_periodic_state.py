@@ -160,25 +160,51 @@ def test_pilot_cycle_leaves_a_starved_run_alone():
     assert r.energy_loss == plain.energy_loss and r.blowby == plain.blowby
 
 
-@pytest.mark.parametrize("deck", ["crf450r_12000rpm_full_hot_gas.nml", "crf450r_8000rpm_full_hot_gas.nml"])
-def test_flooded_start_reaches_the_same_periodic_state_in_fewer_cycles(deck):
-    """Starved, read in N as shipped: from the supply film the warm-up's downstroke brings the
-    ring to BDC with a dry lower edge, and the oil it lays near BDC, which it gathers again at
-    the next BDC, fills that dry strip by about a crank step's travel a cycle (6 and 5 cycles
-    run at 12,000 and 8000 r/min). From a flooded liner (`flooded_start`) the ring reaches BDC
-    full and the strip approaches its periodic state from above (3 cycles each); energy, oil to
-    the chamber, mixed share and the liner film equal those of the plain run and those of a
-    run to cycle_tol 1e-6 within cycle_tol."""
+@pytest.mark.parametrize(
+    "deck",
+    [
+        "crf450r_4000rpm_full_cold.nml",
+        "crf450r_8000rpm_full_hot_gas.nml",
+        "crf450r_12000rpm_full_hot_gas.nml",
+    ],
+)
+def test_bdc_start_reaches_the_same_periodic_state_in_fewer_cycles(deck):
+    """Starved, read in N as shipped. The liner film a starved ring meets is the lower rings'
+    but within about 5 mm of BDC, where it gathers the film it laid leaving the last BDC. From
+    the supply film the warm-up brings the ring to BDC with too little oil, and the first cycle
+    changes the liner film there by 1.6 % (4000 r/min cold; 3 cycles run); at 8000 and 12,000
+    r/min the ring's lower edge is dry at BDC and the oil fills that strip by about a crank
+    step's travel a cycle (5 and 6 cycles). With the BDC start (`bdc_start`: the strip under the
+    face at BDC flooded, the warm-up's BDC passed twice with the film laid leaving it the first
+    time) the runs take 1, 3 and 3 cycles, and their answers (energy, oil to the chamber, mixed
+    share, liner film) equal those of a run without it and those of a run to cycle_tol 1e-6
+    within cycle_tol."""
     case = Case.from_namelist(INPUTS / deck).with_ring(tension_unit="N")
     case = case.with_physics(cavitation="jfo", inlet="starved")
-    flooded, plain = ringlube.run(case.with_numerics(flooded_start=True)), ringlube.run(case)
+    r, plain = ringlube.run(case.with_numerics(bdc_start=True)), ringlube.run(case)
     tight = _tight(case)
     tol = case.value("numerics", "cycle_tol")
-    assert flooded.converged and plain.converged and tight.converged
-    assert flooded.cycles_run < plain.cycles_run, (flooded.cycles_run, plain.cycles_run)
+    assert r.converged and plain.converged and tight.converged
+    assert r.cycles_run < plain.cycles_run, (r.cycles_run, plain.cycles_run)
     for other in (plain, tight):
-        assert abs(flooded.energy_loss / other.energy_loss - 1) <= tol
-        assert abs(flooded.oil_to_chamber - other.oil_to_chamber) <= tol * max(other.oil_to_chamber, 1e-12)
-        assert abs(flooded.mixed_share - other.mixed_share) <= 100 * tol
-        h, h0 = flooded.liner["liner_oil_film"], other.liner["liner_oil_film"]
+        assert abs(r.energy_loss / other.energy_loss - 1) <= tol
+        assert abs(r.oil_to_chamber - other.oil_to_chamber) <= tol * max(other.oil_to_chamber, 1e-12)
+        assert abs(r.mixed_share - other.mixed_share) <= 100 * tol
+        h, h0 = r.liner["liner_oil_film"], other.liner["liner_oil_film"]
         assert np.abs(h - h0).sum() <= tol * np.abs(h0).sum()
+
+
+@pytest.mark.xfail(strict=True, reason="the liner film's L1 change does not see the oil near BDC")
+def test_bdc_start_first_cycle_h0_equals_the_periodic_state():
+    """Why `bdc_start` is not the default: on the cold deck starved, read in N, its first cycle
+    passes (the liner film's L1 change 4.1e-4 over it, the film away from BDC dominating that
+    norm; energy within 1.6e-5 of the periodic state) while h0 before BDC (psi = 160 deg) still
+    lies 3.4e-3 (relative to the largest h0) from its periodic value; without it the run takes
+    3 cycles and passes within cycle_tol
+    (`test_accepted_starved_run_equals_its_periodic_state`, test_oil_supply.py)."""
+    case = Case.from_namelist(COLD).with_physics(cavitation="jfo", inlet="starved")
+    r = ringlube.run(case.with_numerics(bdc_start=True))
+    ref = ringlube.run(case.with_numerics(warmup_deg=720, cycle_tol=1e-9, max_cycles=30))
+    tol = case.value("numerics", "cycle_tol")
+    assert r.converged and r.cycles_run == 1
+    assert np.abs(r.h0 - ref.h0).max() <= tol * np.abs(ref.h0).max()
