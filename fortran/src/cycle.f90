@@ -52,8 +52,8 @@ module ringlube_cycle
   integer, parameter :: ring_pack_warmup_nodes(2) = [11, 7]
   !> the BDC start's second pass (bdc_start): from this many degrees before the warm-up's BDC
   !> (psi = 540) to as many after it [deg]. The ring gathers the film it laid leaving the
-  !> last BDC within about 35 deg of the next (the 3000-12,000 r/min decks: their liner films
-  !> lie above the supply film from 5 mm before the BDC position of the lower edge on)
+  !> last BDC within about 5 mm of the lower edge's BDC position (where the shipped decks'
+  !> liner films rise above the supply film), which it travels in about 38 deg
   real(dp), parameter :: bdc_pass_deg = 40.0_dp
   !> the BDC (psi) the warm-up passes
   real(dp), parameter :: warmup_bdc = 540.0_dp
