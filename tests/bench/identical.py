@@ -111,7 +111,8 @@ def write_deck(folder: Path, deck: str, physics: str, extra: str = "") -> Path:
         shutil.copy(INPUTS / "calibration.nml", folder / "calibration.nml")
     text = (INPUTS / deck).read_text()
     if physics:
-        text, n = re.subn(r"&physics\b", f"&physics {physics},", text, count=1)
+        # the group itself, at the start of a line (a comment may name it too)
+        text, n = re.subn(r"^(\s*)&physics\b", rf"\1&physics {physics},", text, count=1, flags=re.M)
         assert n == 1, deck
     text += extra
     path = folder / f"{Path(deck).stem}{'_' + re.sub(r'[^a-z]+', '_', physics) if physics else ''}.nml"
