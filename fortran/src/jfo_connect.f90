@@ -129,8 +129,8 @@ contains
   !>
   !> Arguments as jfo_solve, the problem's p_cav, trailing_gas and leading_gas included (see
   !> jfo_cavity_pressure); pc (out) the cavity pressures of the solution; stats (out) as
-  !> jfo_solve's, with the iterations and sweeps summed over the solves, outer the number of
-  !> solves and blown the state above. stats%info JFO_CONNECTIVITY if the loop did not settle
+  !> jfo_solve's, with the iterations, sweeps and settled summed over the solves, outer the
+  !> number of solves and blown the state above. stats%info JFO_CONNECTIVITY if the loop did not settle
   !> in max_outer solves (default 200; a warm start needs 1-2).
   pure subroutine jfo_solve_connected(problem, h, hmid, kmid, content_old, pc, p, theta, stats, &
                                       options, work, scratch)
@@ -183,6 +183,7 @@ contains
       call jfo_solve(step, h, hmid, kmid, content_old, pc, p, theta, last, options, work, scratch)
       stats%iterations = stats%iterations + last%iterations
       stats%sweeps = stats%sweeps + last%sweeps
+      stats%settled = stats%settled + last%settled
       stats%info = last%info
       stats%q_left = last%q_left
       stats%q_right = last%q_right

@@ -9,7 +9,9 @@
 !>  5. bounds and complementarity;
 !>  7. the anti-cycling guard and the Gauss-Seidel fallback;
 !>  8. the one-pass evaluations of the Newton iteration against the residual and Jacobian rows
-!>     of jfo_residual.
+!>     of jfo_residual;
+!>  9. a solve that ends on a Newton step proven to settle (no residual evaluated after it)
+!>     against the same solve evaluating it, and against jfo_residual at its answer.
 !> The connectivity rule, the starved inlet and the inflow cap: test_jfo_connect.
 program test_jfo
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -18,7 +20,7 @@ program test_jfo
   use ringlube_jfo_connect
   use ringlube_jfo_system, only: jfo_system, jfo_system_setup, jfo_residual, jfo_scratch, &
                                  jfo_scratch_size, jfo_newton_eval, jfo_newton_step, &
-                                 jfo_residual_only, jfo_newton_apply
+                                 jfo_residual_only, jfo_newton_apply, jfo_state_to_v
   use ringlube_reynolds, only: reynolds_solve, reynolds_problem
   use jfo_reference, only: elrod_solve
   use ringlube_check
@@ -34,6 +36,7 @@ program test_jfo
   if (run_case('bad_input')) call case_bad_input()
   if (run_case('huge_warm_start')) call case_huge_warm_start()
   if (run_case('newton_passes')) call case_newton_passes()
+  if (run_case('settled_step')) call case_settled_step()
   call report('test_jfo')
 
 contains
@@ -555,4 +558,71 @@ contains
     call check(emax <= 1e-12_dp, 'newton passes: the step solves J dv = -R')
     call check(apply_ok, 'newton passes: the step taken in place is v + dv, switches counted')
   end subroutine case_newton_passes
+
+  ! ------------------------------------------------------------------ 9. settled steps
+  !> The transient of case 3 (starved upstroke, the inflow capped below its Couette content on
+  !> every other upstroke step, so that the cap comes and goes), solved twice, each from its
+  !> own last state: with the settled-step exit (the default) and with the residual evaluated
+  !> after every step (settle = .false.). The exit must be taken, give the same answers to the
+  !> bit, and leave a state whose residual, evaluated by jfo_residual, is within the tolerance.
+  subroutine case_settled_step()
+    integer, parameter :: n = 61, nsteps = 240
+    real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:)
+    real(dp) :: dx, dt, t, u, hmin_t, tin_l, rworst, sc
+    real(dp) :: p(n), th(n), pb(n), tb(n), pc(n), cold(n), coldb(n), v(n), r(n)
+    integer :: j, nsettled, ncapped
+    logical :: same
+    type(jfo_stats) :: st, stb
+    type(jfo_problem) :: prob
+    type(jfo_options) :: plain
+    type(jfo_system) :: sys
+    type(jfo_scratch) :: sk
+    call grid(n, x, h, hmid, kmid, dx)
+    call jfo_scratch_size(sk, n)
+    plain%settle = .false.
+    pc = 0.5e5_dp
+    p = 1e5_dp
+    th = 1.0_dp
+    pb = p
+    tb = th
+    dt = 2e-5_dp
+    same = .true.
+    nsettled = 0
+    ncapped = 0
+    rworst = 0.0_dp
+    do j = 1, nsteps
+      t = j * dt
+      u = 10.0_dp * sin(2 * pi * t / (nsteps * dt) + 0.3_dp)
+      cold = th * h
+      coldb = tb * h
+      hmin_t = 1e-6_dp * (1.0_dp + 0.6_dp * sin(6 * pi * t / (nsteps * dt)))
+      h = hmin_t + kk * (x + xs)**2
+      hmid = hmin_t + kk * (0.5_dp * (x(1:n - 1) + x(2:n)) + xs)**2
+      kmid = hmid**3 / (12 * eta)
+      tin_l = merge(0.6_dp, 1.0_dp, u < 0.0_dp)
+      prob = jfo_problem(dx=dx, u=u, dt=dt, p_left=3e5_dp, p_right=1e5_dp, theta_left=tin_l)
+      if (u < 0.0_dp .and. mod(j, 2) == 0) then
+        prob%cap_left = 0.8_dp * (-0.5_dp * u) * tin_l * hmid(1)
+        ncapped = ncapped + 1
+      end if
+      call jfo_solve(prob, h, hmid, kmid, cold, pc, p, th, st)
+      call jfo_solve(prob, h, hmid, kmid, coldb, pc, pb, tb, stb, plain)
+      call check(st%info == JFO_OK .and. stb%info == JFO_OK, 'settled step: steps converge')
+      call check(stb%settled == 0, 'settled step: settle = .false. evaluates every step')
+      nsettled = nsettled + st%settled
+      same = same .and. all(p == pb) .and. all(th == tb) .and. st%q_left == stb%q_left &
+             .and. st%q_right == stb%q_right .and. st%iterations == stb%iterations
+      ! the answer's residual, evaluated anew
+      call jfo_system_setup(sys, prob, h, hmid, kmid, cold, pc)
+      call jfo_state_to_v(sys, p, th, v)
+      call jfo_residual(sys, v, r, sc, .false., sk%ev)
+      rworst = max(rworst, maxval(abs(r(2:n - 1))) / sc)
+    end do
+    write (*, '(2x, a, i0, a, i0, a, i0, a, es10.2)') 'settled step: ', nsettled, ' of ', nsteps, &
+      ' solves ended on a settled step (', ncapped, ' capped steps); worst residual / scale ', &
+      rworst
+    call check(nsettled >= nsteps / 4, 'settled step: the exit is taken')
+    call check(same, 'settled step: the same answers, fluxes and iterations to the bit')
+    call check(rworst <= 1e-11_dp, 'settled step: the answer within the tolerance')
+  end subroutine case_settled_step
 end program test_jfo
