@@ -143,8 +143,10 @@ contains
     !> jfo_solve's system and working arrays, kept between calls (optional)
     type(jfo_system), intent(inout), optional :: work
     type(jfo_scratch), intent(inout), optional :: scratch
-    real(dp) :: pcn(size(pc)), th(size(theta))
-    ! every set solved with so far, most recent first (a cycle of any length is detected)
+    ! the rule's set of a solution; the warm-start fill with non-finite entries replaced
+    real(dp), allocatable :: pcn(:), th(:)
+    ! every set solved with so far, most recent first (a cycle of any length is detected);
+    ! allocated when a second solve is needed (most calls need one)
     real(dp), allocatable :: hist(:, :)
     logical, allocatable :: hist_bl(:)
     logical :: bl, bln, final
@@ -161,11 +163,15 @@ contains
       stats%info = JFO_BAD_INPUT
       return
     end if
-    allocate (hist(size(pc), max(kmax, 1)), hist_bl(max(kmax, 1)))
-    th = theta
-    where (.not. ieee_is_finite(th)) th = 1.0_dp
+    allocate (pcn(size(pc)))
     ! first guess from the warm-start fill only (its pressures may belong to another pc)
-    call jfo_cavity_pressure(problem, th, pc, blown=bl)
+    if (all(ieee_is_finite(theta))) then
+      call jfo_cavity_pressure(problem, theta, pc, blown=bl)
+    else
+      th = theta
+      where (.not. ieee_is_finite(th)) th = 1.0_dp
+      call jfo_cavity_pressure(problem, th, pc, blown=bl)
+    end if
     ! final: the set of a cycle, solved once more and kept whatever the solve's state
     final = .false.
     do k = 1, kmax + 1
@@ -198,6 +204,7 @@ contains
       ! to max_outer at every pressure-viscosity iteration, flags 16 and 4). No fixed point
       ! exists on this grid; the nodes are taken as connected (the largest pc of the sets in the
       ! cycle) and solved once more.
+      if (.not. allocated(hist)) allocate (hist(size(pc), max(kmax, 1)), hist_bl(max(kmax, 1)))
       do j = 1, min(k - 1, size(hist, 2))
         if (all(pcn == hist(:, j)) .and. (bln .eqv. hist_bl(j))) then
           do i = 1, j
