@@ -543,13 +543,13 @@ contains
   !> faces per node), is below a quarter of the polish level `polish_tol` of the scale, so
   !> that, as after an evaluation, no polish step is due; (4) with it, the rounding
   !> `step_rounding` of the scale and of the Jacobian's terms times the step (each of its
-  !> rows at most 6 m, m the larger of the scale and the largest fill diagonal
-  !> w h + |a hmid| + |a hmid|, times the largest |dv|) stays below half the tolerance of a
-  !> lower bound of the new scale (the scale less 3 m max |dv|, what its terms can lose). The
-  !> rounding bound is a worst case of the order of the polish level itself; the residual an
-  !> evaluation would find is, in practice, rounding far below it, so the evaluation would end
-  !> the solve here too with the same outputs (tests/bench/identical.py: every shipped deck to
-  !> the bit). A meniscus at an inflow edge (edge_meniscus) is another kink: then never.
+  !> rows at most 6 m, m the larger of the scale and the largest diagonal, w h + |a hmid| +
+  !> |a hmid| or (kmid/dx + kmid/dx) ps, times the largest |dv|) stays below half the tolerance
+  !> of a lower bound of the new scale (the scale less 4 m max |dv|, what its terms can lose).
+  !> The rounding bound is a worst case of the order of the polish level itself; the residual
+  !> an evaluation would find is, in practice, rounding far below it, so the evaluation would
+  !> end the solve here too with the same outputs (tests/bench/identical.py: every shipped
+  !> deck to the bit). A meniscus at an inflow edge (edge_meniscus) is another kink: then never.
   !> tol: the solve's tolerance. ev: in, the node states and edge fluxes at v0
   !> (jfo_newton_eval's); out when settled, at v (the node states bit for bit jfo_residual's,
   !> the edge faces' fluxes computed alike), other entries undefined (when not settled the
@@ -607,10 +607,10 @@ contains
       pn(j) = pc(j) + ps(j) * max(v(j), 0.0_dp)
       tn(j) = 1.0_dp + min(v(j), 0.0_dp)
       d = max(d, abs(dv(j)))
-      tmax = max(tmax, wv(j) * h(j) + abs(ca(j)) + abs(ca(j - 1)))
+      tmax = max(tmax, wv(j) * h(j) + abs(ca(j)) + abs(ca(j - 1)), (kd(j - 1) + kd(j)) * ps(j))
     end do
     m = max(rscale, tmax)
-    lower = rscale - 3.0_dp * m * d
+    lower = rscale - 4.0_dp * m * d
     rmax = 2.0_dp * q + step_rounding * (rscale + 6.0_dp * m * d)
     if (.not. (lower > 0.0_dp .and. q <= 0.25_dp * polish_tol * lower &
                .and. rmax <= 0.5_dp * tol * lower)) return
