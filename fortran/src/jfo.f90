@@ -300,11 +300,10 @@ contains
           if (s%jac_ok) then
             call evaluate(s, scratch, .false., .true., ft)
           else if (opt%settle) then
-            ! no node switched: where the step provably settles the residual below the
-            ! polish level (its kinks not crossed, its product terms not changed, its
-            ! rounding bounded), the solve ends here without evaluating it: the evaluation
-            ! would find it converged and below the polish level, and the outputs (the node
-            ! states and the edge fluxes) are those it would give, computed alike
+            ! no node switched: where the step provably settles the residual (its kinks not
+            ! crossed, its products' change below the polish level, its rounding bounded
+            ! below the tolerance), the solve ends here without evaluating it, with the
+            ! outputs (the node states and the edge fluxes) an evaluation would give
             call step_settles(work, v, dv, rtol, scratch%ev, s%rscale, s%rmax, settled)
             if (settled) exit
             call jfo_residual_only(work, v, r, s%rscale, s%rmax, ft, scratch%ev)
