@@ -79,6 +79,12 @@ module ringlube_sectors
     real(dp) :: ceil_c = 0.0_dp, ceil_xc = 0.0_dp, ceil_yc = 0.0_dp
     real(dp), allocatable :: ceil_h(:), ceil_w(:), ceil_slope(:)
     real(dp), allocatable :: ceil_p(:, :), ceil_eta(:, :), ceil_theta(:, :)
+    !> the state ring_solve restores where it fails: the sectors' h0, loads, slopes and
+    !> deflection (4, M), centre and mean position, and each sector's film iterate (pressure,
+    !> viscosity, fill: (nodes, M))
+    real(dp), allocatable :: sv(:, :), sv_p(:, :), sv_eta(:, :), sv_theta(:, :)
+    real(dp) :: sv_xc = 0.0_dp, sv_yc = 0.0_dp, sv_c = 0.0_dp
+    logical :: sv_fresh = .true.
   end type sector_ring
 
   !> One trial of the mean position: cc [m]; the squeeze term's scheme sq_a (1: Euler, 1.5:
@@ -158,17 +164,16 @@ contains
   !> strictly inside them; tr%cc is then the step's mean position, the films are solved there,
   !> and tr%dres_dlnc is the load residual's slope against ln cc with the sectors solved. Not
   !> ok (the mean position reaches a bound: a ring held at the floor or lifted off; a Newton
-  !> iteration that stalls): the sectors and their films are restored as they were (the film
-  !> solves stay counted in g), and the caller's root finder on cc takes over from there as
-  !> without this solve.
+  !> iteration that stalls): the sectors and their films' iterates are restored as they were
+  !> (the film solves stay counted in g), and the caller's root finder on cc takes over from
+  !> there as without this solve.
   subroutine ring_solve(c, ring, g, tr, ok)
     type(case_type), intent(in) :: c
     type(sector_ring), intent(inout) :: ring
     type(film_type), intent(inout) :: g
     type(sector_trial), intent(inout) :: tr
     logical, intent(out) :: ok
-    type(sector_ring) :: saved
-    saved = ring
+    call save_state(ring)
     tr%free = .true.
     tr%dres_dlnc = 0.0_dp
     call newton_solve(c, ring, g, tr, ok)
@@ -176,11 +181,64 @@ contains
     if (ok .and. ring%steps >= 1) ok = maxval(abs(log(ring%h / ring%hist(1, :)))) <= max_jump &
                                        .and. minval(ring%w) > light_share * exact_mean(ring%w)
     tr%free = .false.
-    if (.not. ok) then
-      saved%iterations = ring%iterations
-      ring = saved
-    end if
+    if (.not. ok) call restore_state(ring)
   end subroutine ring_solve
+
+  !> Keep what ring_solve changes (the sectors' state and their films' iterates).
+  subroutine save_state(ring)
+    type(sector_ring), intent(inout) :: ring
+    integer :: j, m
+    m = ring%bore%m
+    if (.not. allocated(ring%sv)) allocate (ring%sv(4, m))
+    call fit(ring%sv_p, size(ring%films(1)%p))
+    call fit(ring%sv_eta, size(ring%films(1)%eta))
+    if (ring%films(1)%jfo) call fit(ring%sv_theta, size(ring%films(1)%theta))
+    ring%sv(1, :) = ring%h
+    ring%sv(2, :) = ring%w
+    ring%sv(3, :) = ring%slope
+    ring%sv(4, :) = ring%u
+    ring%sv_xc = ring%xc
+    ring%sv_yc = ring%yc
+    ring%sv_c = ring%c_last
+    ring%sv_fresh = ring%fresh
+    do j = 1, m
+      ring%sv_p(:, j) = ring%films(j)%p
+      ring%sv_eta(:, j) = ring%films(j)%eta
+      if (ring%films(j)%jfo) ring%sv_theta(:, j) = ring%films(j)%theta
+    end do
+
+  contains
+
+    !> a (n, M), allocated anew where it is not that shape
+    subroutine fit(a, n)
+      real(dp), allocatable, intent(inout) :: a(:, :)
+      integer, intent(in) :: n
+      if (allocated(a)) then
+        if (size(a, 1) == n .and. size(a, 2) == m) return
+        deallocate (a)
+      end if
+      allocate (a(n, m))
+    end subroutine fit
+  end subroutine save_state
+
+  !> Back to the state save_state kept.
+  subroutine restore_state(ring)
+    type(sector_ring), intent(inout) :: ring
+    integer :: j
+    ring%h = ring%sv(1, :)
+    ring%w = ring%sv(2, :)
+    ring%slope = ring%sv(3, :)
+    ring%u = ring%sv(4, :)
+    ring%xc = ring%sv_xc
+    ring%yc = ring%sv_yc
+    ring%c_last = ring%sv_c
+    ring%fresh = ring%sv_fresh
+    do j = 1, ring%bore%m
+      ring%films(j)%p = ring%sv_p(:, j)
+      ring%films(j)%eta = ring%sv_eta(:, j)
+      if (ring%films(j)%jfo) ring%films(j)%theta = ring%sv_theta(:, j)
+    end do
+  end subroutine restore_state
 
   !> The step's mean position is solved with the sectors (ring_solve): free_mean_position, the
   !> distortion at the step is not uniform (orders other than 0 present; a uniform one, no
