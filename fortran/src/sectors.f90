@@ -104,7 +104,7 @@ module ringlube_sectors
     real(dp) :: cc_floor = 0.0_dp, cc_ceiling = 0.0_dp, dres_dlnc = 0.0_dp
   end type sector_trial
 
-  !> The Newton iteration's arrays: residuals, Jacobian (LU after dgesv), direction, pivots,
+  !> The Newton iteration's arrays: residuals, Jacobian (LU after dgetf2), direction, pivots,
   !> its status, the merit of the last residuals, and the state before the last step.
   type :: newton_work
     real(dp), allocatable :: r(:), a(:, :), b(:), dy(:), h_old(:), w_old(:)
@@ -454,7 +454,7 @@ contains
     type(sector_trial), intent(in) :: tr
     integer :: jj
     real(dp) :: sq, sq_b
-    !$omp parallel do private(jj, sq, sq_b) schedule(static) if (c%threads > 1) &
+    !$omp parallel do private(jj, sq, sq_b) schedule(dynamic) if (c%threads > 1) &
     !$omp num_threads(c%threads)
     do jj = 1, ring%bore%m
       sq = 0.0_dp
@@ -523,7 +523,7 @@ contains
   end subroutine residuals
 
   !> The Newton direction (ln h0_j, x_c, y_c) of the residuals nw%r: the Jacobian (exact up to
-  !> the sectors' slopes) solved by LAPACK's dgesv; nw%info its status.
+  !> the sectors' slopes) solved by LAPACK (dgetf2, dgetrs); nw%info its status.
   subroutine newton_direction(ring, tr, nw)
     type(sector_ring), intent(in) :: ring
     type(sector_trial), intent(in) :: tr
@@ -545,7 +545,10 @@ contains
     nw%a(1:m, m + 2) = ring%bore%sin1
     if (tr%free) nw%a(1:m, m + 3) = -tr%cc
     nw%b = -nw%r
-    call dgesv(n, 1, nw%a, n, nw%ipiv, nw%b, n, nw%info)
+    ! (LAPACK's unblocked LU: at these sizes dgesv's blocked, recursive one spends its time in
+    ! the calls of its BLAS 3 kernels, a serial part of a threaded run)
+    call dgetf2(n, n, nw%a, n, nw%ipiv, nw%info)
+    if (nw%info == 0) call dgetrs('N', n, 1, nw%a, n, nw%ipiv, nw%b, n, nw%info)
     nw%dy = nw%b(1:m)
   end subroutine newton_direction
 
