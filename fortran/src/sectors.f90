@@ -111,6 +111,8 @@ module ringlube_sectors
     integer, allocatable :: ipiv(:)
     integer :: info = 0
     real(dp) :: merit = 0.0_dp
+    !> the last step's line search found no descent
+    logical :: stalled = .false.
   end type newton_work
 
 contains
@@ -286,8 +288,9 @@ contains
       ring%iterations = ring%iterations + 1
       call take_step(c, ring, tr, nw, done)
       call update_slopes(ring, tr, nw)
-      ! (a free mean position at a bound: the caller's root finder holds it there)
-      if (tr%free .and. (tr%cc <= tr%cc_floor .or. tr%cc >= tr%cc_ceiling)) exit
+      ! (a free mean position at a bound: the caller's root finder holds it there; a line
+      ! search without descent: the root finder takes the step)
+      if (tr%free .and. (tr%cc <= tr%cc_floor .or. tr%cc >= tr%cc_ceiling .or. nw%stalled)) exit
     end do
     ring%c_last = tr%cc
     if (tr%free .and. done) call total_slope(ring, tr, nw)
@@ -594,6 +597,7 @@ contains
       if (done .or. merit_new < nw%merit) exit
       t = 0.5_dp * t
     end do
+    nw%stalled = .not. done .and. merit_new >= nw%merit
     nw%merit = merit_new
   end subroutine take_step
 
