@@ -16,10 +16,9 @@
 !> asperity), D_j the bore's distortion there, C the ring's compliance on the sectors
 !> (ringlube_bore: the orders 2..M/2 of the load bend the ring; -C [W] is its deflection), and
 !> returns the mean load: the load balance then sets mean W = (p_e + p_back) b. The M + 2
-!> unknowns (ln h0_j, x_c, y_c) (M + 3 with ln c) are found by Newton's method with a dense
-!> LAPACK solve; each
-!> sector's dW_j/dh0_j is a secant kept from its last two films (a film's load depends on its
-!> own h0 only, so the Jacobian is exact up to these slopes). With zero distortion every
+!> unknowns (ln h0_j, x_c, y_c), M + 3 with ln c, are found by Newton's method with a dense
+!> LAPACK solve; each sector's dW_j/dh0_j is a secant kept from its last two films (a film's
+!> load depends on its own h0 only, so the Jacobian is exact up to these slopes). With zero distortion every
 !> sector's film is the round bore's and the first trial already satisfies the equations:
 !> the ring's answer is the round bore's bit for bit (means are taken as w_1 + mean(w - w_1),
 !> exact for equal values). The sectors' films are independent within an iteration and are
