@@ -23,6 +23,17 @@ def _tight(case: Case) -> ringlube.CycleResult:
     return ringlube.run(case.with_numerics(cycle_tol=1e-6, max_cycles=60))
 
 
+def _assert_same_periodic_state(r, others, tol: float) -> None:
+    """Energy, oil to the chamber, mixed share and liner film of ``r`` equal those of each of
+    ``others`` within ``tol`` (cycle_tol; the mixed share in percent)."""
+    for other in others:
+        assert abs(r.energy_loss / other.energy_loss - 1) <= tol
+        assert abs(r.oil_to_chamber - other.oil_to_chamber) <= tol * max(other.oil_to_chamber, 1e-12)
+        assert abs(r.mixed_share - other.mixed_share) <= 100 * tol
+        h, h0 = r.liner["liner_oil_film"], other.liner["liner_oil_film"]
+        assert np.abs(h - h0).sum() <= tol * np.abs(h0).sum()
+
+
 def test_the_energy_is_judged_at_the_rate_it_settles():
     """The 12,000 r/min 'gas' deck read in N with the N/m reading's calibration: after the ring pack's
     restart h0 at psi = 0 and the ring pack change by 2e-4 a cycle while the energy still moves by
@@ -72,12 +83,7 @@ def test_acceleration_changes_no_answer_beyond_cycle_tol(deck):
     tol = case.value("numerics", "cycle_tol")
     assert fast.converged and plain.converged and tight.converged
     assert fast.cycles_run < plain.cycles_run, (fast.cycles_run, plain.cycles_run)
-    for other in (plain, tight):
-        assert abs(fast.energy_loss / other.energy_loss - 1) <= tol
-        assert abs(fast.oil_to_chamber - other.oil_to_chamber) <= tol * max(other.oil_to_chamber, 1e-12)
-        assert abs(fast.mixed_share - other.mixed_share) <= 100 * tol
-        h, h0 = fast.liner["liner_oil_film"], other.liner["liner_oil_film"]
-        assert np.abs(h - h0).sum() <= tol * np.abs(h0).sum()
+    _assert_same_periodic_state(fast, (plain, tight), tol)
 
 
 def test_a_single_excursion_is_not_a_period_of_two():
@@ -186,12 +192,7 @@ def test_bdc_start_reaches_the_same_periodic_state_in_fewer_cycles(deck):
     tol = case.value("numerics", "cycle_tol")
     assert r.converged and plain.converged and tight.converged
     assert r.cycles_run < plain.cycles_run, (r.cycles_run, plain.cycles_run)
-    for other in (plain, tight):
-        assert abs(r.energy_loss / other.energy_loss - 1) <= tol
-        assert abs(r.oil_to_chamber - other.oil_to_chamber) <= tol * max(other.oil_to_chamber, 1e-12)
-        assert abs(r.mixed_share - other.mixed_share) <= 100 * tol
-        h, h0 = r.liner["liner_oil_film"], other.liner["liner_oil_film"]
-        assert np.abs(h - h0).sum() <= tol * np.abs(h0).sum()
+    _assert_same_periodic_state(r, (plain, tight), tol)
 
 
 @pytest.mark.known_limitation
