@@ -80,7 +80,7 @@ module ringlube_case
     real(dp) :: cycle_tol = 0.0_dp
     integer :: max_load_iterations = 0, max_pressure_iterations = 0
     real(dp) :: h0_floor = 0.0_dp, h0_ceiling = 0.0_dp, h0_initial = 0.0_dp, warmup_deg = 0.0_dp
-    integer :: threads = 1
+    integer :: threads = 1, liner_window = 0
     logical :: accelerate = .false., pilot_cycle = .false., bdc_start = .false.
     ! &output, &calibration
     character(len=:), allocatable :: output_file, calibration_file
@@ -250,6 +250,7 @@ contains
     case ('numerics.accelerate'); call l(c%accelerate)
     case ('numerics.pilot_cycle'); call l(c%pilot_cycle)
     case ('numerics.bdc_start'); call l(c%bdc_start)
+    case ('numerics.liner_window'); call n(c%liner_window)
     case ('numerics.threads'); call n(c%threads)
     case ('output.file'); call s(c%output_file)
     case ('calibration.file'); call s(c%calibration_file)

@@ -38,6 +38,11 @@ module ringlube_periodicity
   !> the least cosine between the liner film's last two changes that it is extrapolated along:
   !> one mode decaying (a front that moves from cell to cell changes other cells each cycle)
   real(dp), parameter :: aligned = 0.9_dp
+  !> the liner cells the liner film's change is also measured over with a BDC start where
+  !> liner_window is 0 (map_change): 1 mm at the shipped decks' 20 um cells, a fifth of the
+  !> strip near BDC in which the film the ring laid leaving BDC settles (the BDC start's first
+  !> cycle passed on the whole film's change with that film still settling)
+  integer, parameter :: bdc_start_window = 50
   !> the carried quantities' rows in cycle_history%change: h0 at psi = 0, the energy, the
   !> liner film, the ring pack
   integer, parameter :: q_h0 = 1, q_energy = 2, q_map = 3, q_ring_pack = 4
@@ -182,7 +187,7 @@ contains
       sense(q_energy) = hist%energy(j) - hist%energy(jm)
     end if
     if (present(map_end)) then
-      raw(q_map) = map_change(map_end, hist%map(:, j))
+      raw(q_map) = map_change(c, map_end, hist%map(:, j))
       ! (the sign of the map's change against the last one: their inner product)
      if (k >= 2) sense(q_map) = sum((map_end - hist%map(:, j)) * (hist%map(:, j) - hist%map(:, jm)))
     end if
@@ -287,7 +292,7 @@ contains
       j = slot(k - q + 1)
       rpp = change_rp(q)
       if (present(map_end)) then
-        mp = map_change(map_end, hist%map(:, j))
+        mp = map_change(c, map_end, hist%map(:, j))
         if (q == 1) mp = hist%distance(q_map)
         ep = e1
         ! (not against the first cycle's energy: with the ring pack it ran before the restart)
@@ -329,7 +334,7 @@ contains
         j1 = slot(k - i)
         j0 = slot(k - i - d)
         if (present(map_end)) then
-          repeats_whole = repeats_whole .and. map_change(hist%map(:, j1), hist%map(:, j0)) <= tol
+          repeats_whole = repeats_whole .and. map_change(c, hist%map(:, j1), hist%map(:, j0)) <= tol
         else
           repeats_whole = repeats_whole .and. abs(hist%h0(j1) - hist%h0(j0)) <= tol * hist%h0(j0)
         end if
@@ -403,7 +408,7 @@ contains
     if (q == 1) return
     j = slot(k - q + 1)
     ch = [abs(h0_end - hist%h0(j)) / hist%h0(j), energy_change(hist, k, q), 0.0_dp, 0.0_dp]
-    if (present(map_end)) ch(3) = map_change(map_end, hist%map(:, j))
+    if (present(map_end)) ch(3) = map_change(c, map_end, hist%map(:, j))
     if (present(rp_end)) ch(4) = ring_pack_distance(c, rp_end, hist%rp(j), hist%land_contraction)
     ! starved, a period of several liner-film cycles: history_period also accepts energy and
     ! ring pack repeating every cycle; report those where they are the ones that passed
@@ -425,10 +430,37 @@ contains
     energy_change = abs(e - hist%energy(slot(kk - d))) / max(e, tiny(1.0_dp))
   end function energy_change
 
-  !> The liner film's change from b to a, relative to a (L1).
-  pure real(dp) function map_change(a, b)
+  !> The liner film's change from b to a: its L1 norm relative to a's over the whole film,
+  !> and with `liner_window` on a round bore the larger of that and the same over any
+  !> liner_window consecutive cells, there relative to a's over those cells or to a's mean over
+  !> that many cells, whichever is the larger (a dry strip's round-off is no change); where
+  !> liner_window is 0 a BDC start (`bdc_start`, a 'vapour' cavity) takes bdc_start_window.
+  !> The whole film's norm dilutes a change confined to a strip: the film near BDC, which the
+  !> ring gathers and lays again there, settles over a few millimetres (docs/model.md, "Cycle
+  !> and periodic state"). Not on a distorted bore (its sectors' liners one after another):
+  !> there a sector's film near BDC keeps changing by a few per cent a cycle over a
+  !> millimetre, and no run would pass.
+  pure real(dp) function map_change(c, a, b)
+    type(case_type), intent(in) :: c
     real(dp), intent(in) :: a(:), b(:)
+    real(dp) :: ca(0:size(a)), cd(0:size(a)), floor_w
+    integer :: n, w, i
+    n = size(a)
     map_change = sum(abs(a - b)) / max(sum(abs(a)), tiny(1.0_dp))
+    w = c%liner_window
+    if (w == 0 .and. c%bdc_start .and. c%cavity_pressure == 'vapour') w = bdc_start_window
+    if (w <= 0 .or. w >= n .or. c%bore /= 'round') return
+    ! (running sums of |a| and |a - b|: each window's sums are differences of two)
+    ca(0) = 0.0_dp
+    cd(0) = 0.0_dp
+    do i = 1, n
+      ca(i) = ca(i - 1) + abs(a(i))
+      cd(i) = cd(i - 1) + abs(a(i) - b(i))
+    end do
+    floor_w = max(ca(n) * w / n, tiny(1.0_dp))
+    do i = w, n
+      map_change = max(map_change, (cd(i) - cd(i - w)) / max(ca(i) - ca(i - w), floor_w))
+    end do
   end function map_change
 
   !> The means of results idx over the last p cycles (p >= 2; p = 1 leaves v alone), and the

@@ -2,7 +2,8 @@
 !> The periodic state of a run of cycles (ringlube_periodicity) on made-up sequences of
 !> cycle-end states whose periods are known: the smallest period, found at the first cycle
 !> that can show it; no period of two or more against the warm-up's end; the starved test on
-!> the liner film and the energy; the means over a period and its flags.
+!> the liner film and the energy; a change of the liner film confined to a strip; the means
+!> over a period and its flags.
 
 program test_periodicity
   use ringlube_kinds, only: dp
@@ -26,6 +27,7 @@ program test_periodicity
   if (run_case('ring_pack_state')) call test_ring_pack_state()
   if (run_case('starved_map_and_energy')) call test_starved_map_and_energy()
   if (run_case('means_and_flags')) call test_means_and_flags()
+  if (run_case('strip_change')) call test_strip_change()
   call report('test_periodicity')
 
 contains
@@ -207,6 +209,65 @@ contains
     end do
     call check(p == 3 .and. k == 7, 'h0 periodic, the land pressure with period 3: period 3')
   end subroutine test_ring_pack_state
+
+  !> starved, a change of the liner film confined to a strip (the film near BDC settling): 50
+  !> of 2000 cells at 1 um change by 1 % over the first cycle, 2.5e-4 of the whole film (L1),
+  !> within cycle_tol 1e-3. Judged on the whole film (liner_window 0, the default) the cycle
+  !> passes; with liner_window 50 on a round bore the change over those cells (0.01 / 1.01 of
+  !> their film) is what the test sees: no period (so with bdc_start and liner_window 0); on
+  !> a distorted bore (its sectors' films one after another) the whole film's. A dry strip
+  !> whose film changes by round-off is measured against the mean film over as many cells,
+  !> not against its own: period 1.
+  subroutine test_strip_change()
+    type(case_type) :: cw, cd, cb
+    real(dp) :: m0(2000), m1(2000), ch(4)
+    integer :: p
+    m0 = 1e-6_dp
+    m1 = m0
+    m1(1901:1950) = 1.01e-6_dp
+    cw = c
+    cw%liner_window = 50
+    cd = cw
+    cd%bore = 'distorted'
+    call first_cycle(c, m0, m1, p, ch)
+    call check(p == 1, 'strip change on the whole film (liner_window 0): period 1')
+    call check(abs(ch(q_map) - 50 * 0.01_dp / (1950 + 50 * 1.01_dp)) <= 1e-12_dp, &
+               "strip change on the whole film: the whole film's change reported")
+    call first_cycle(cw, m0, m1, p, ch)
+    call check(p == 0, 'strip change, liner_window 50 on a round bore: no period')
+    call check(abs(ch(q_map) - 0.01_dp / 1.01_dp) <= 1e-12_dp, &
+               "strip change, liner_window 50 on a round bore: the strip's own change reported")
+    cb = c
+    cb%bdc_start = .true.
+    call first_cycle(cb, m0, m1, p, ch)
+    call check(p == 0, 'strip change, bdc_start with liner_window 0: over 50 cells, no period')
+    call first_cycle(cd, m0, m1, p, ch)
+    call check(p == 1, 'strip change, liner_window 50 on a distorted bore: period 1')
+    call check(abs(ch(q_map) - 50 * 0.01_dp / (1950 + 50 * 1.01_dp)) <= 1e-12_dp, &
+               "strip change, liner_window 50 on a distorted bore: the whole film's change")
+    ! (a dry strip: round-off on nothing)
+    m0(1901:1950) = 0.0_dp
+    m1 = m0
+    m1(1901:1950) = 1e-18_dp
+    call first_cycle(cw, m0, m1, p, ch)
+    call check(p == 1, 'a dry strip changed by round-off, liner_window 50: period 1')
+
+  end subroutine test_strip_change
+
+  !> One starved cycle from the liner film m0 to m1 judged with case cc: its period and changes.
+  subroutine first_cycle(cc, m0, m1, p, ch)
+    type(case_type), intent(in) :: cc
+    real(dp), intent(in) :: m0(:), m1(:)
+    integer, intent(out) :: p
+    real(dp), intent(out) :: ch(4)
+    type(cycle_history) :: hist
+    call history_start(hist, map=m0)
+    call history_h0(hist, 1e-6_dp)
+    call history_end(hist, 2.0_dp, .true., [2.0_dp])
+    call history_measure(hist, cc, 1e-6_dp, 0.0_dp, map_end=m1)
+    p = history_period(hist, cc, 1e-6_dp, map_end=m1)
+    ch = history_changes(hist, cc, 1e-6_dp, 1, map_end=m1)
+  end subroutine first_cycle
 
   !> starved: the liner film (map) and the energy. The map with period 3 and the energy
   !> repeating every cycle: period 3; the energy with period 2 and the map every cycle:

@@ -195,18 +195,82 @@ def test_bdc_start_reaches_the_same_periodic_state_in_fewer_cycles(deck):
     _assert_same_periodic_state(r, (plain, tight), tol)
 
 
-@pytest.mark.known_limitation
-@pytest.mark.xfail(strict=True, reason="the liner film's L1 change does not see the oil near BDC")
 def test_bdc_start_first_cycle_h0_equals_the_periodic_state():
-    """Why `bdc_start` is not the default: on the cold deck starved, read in N, its first cycle
-    passes (the liner film's L1 change 4.1e-4 over it, the film away from BDC dominating that
-    norm; energy within 1.6e-5 of the periodic state) while h0 before BDC (psi = 160 deg) still
-    lies 3.4e-3 (relative to the largest h0) from its periodic value; without it the run takes
-    3 cycles and passes within cycle_tol
-    (`test_accepted_starved_run_equals_its_periodic_state`, test_oil_supply.py)."""
+    """On the cold deck starved, read in N, the first cycle after the BDC start changed the
+    liner film by 4.1e-4 (L1 over the whole film, which the film away from BDC dominates) and
+    passed, with h0 before BDC (psi = 160 deg) 3.4e-3 (relative to the largest h0) from its
+    periodic value and the energy within 1.6e-5. With `bdc_start` the liner film's change is
+    also measured over every 50 cells (`liner_window` 0 taken as 50): the film near BDC, still
+    settling, takes a second cycle, and the accepted run's h0 equals that of a long warm-up and
+    many cycles at a tolerance 1e6 times tighter, to the cycle tolerance at every step."""
     case = Case.from_namelist(COLD).with_physics(cavitation="jfo", inlet="starved")
     r = ringlube.run(case.with_numerics(bdc_start=True))
     ref = ringlube.run(case.with_numerics(warmup_deg=720, cycle_tol=1e-9, max_cycles=30))
     tol = case.value("numerics", "cycle_tol")
-    assert r.converged and r.cycles_run == 1
+    assert r.converged and ref.periodic
     assert np.abs(r.h0 - ref.h0).max() <= tol * np.abs(ref.h0).max()
+
+
+@pytest.mark.parametrize("ring_pack", ["none", "gas"])
+@pytest.mark.parametrize("deck, unit", [("cold", "N/m"), ("hot", "N/m"), ("cold", "N"), ("hot", "N")])
+def test_bdc_start_accepted_run_equals_its_periodic_state(deck, unit, ring_pack):
+    """`test_accepted_starved_run_equals_its_periodic_state` (test_oil_supply.py) with the BDC
+    start: the accepted run's energy, oil to the chamber, mixed and lifted shares and h0 at
+    every step equal, to cycle_tol, those of the run continued from the same start to cycle_tol
+    1e-9 (30 cycles at most) and those of the plain start's 720 deg warm-up and 30 cycles at
+    1e-9. Not against the BDC start after a 720 deg warm-up: the hot deck read in N/m without
+    the ring pack has two periodic states, and that start takes the other one (mixed share 26.0
+    % against 27.5 %, energy 1.05e-4 higher), while both references above take the one the
+    default run takes."""
+    case = Case.from_namelist(COLD.with_name(f"crf450r_4000rpm_full_{deck}.nml"))
+    case = per_length(case) if unit == "N/m" else case
+    case = case.with_physics(cavitation="jfo", inlet="starved", ring_pack=ring_pack)
+    r = ringlube.run(case.with_numerics(bdc_start=True))
+    same = ringlube.run(case.with_numerics(bdc_start=True, cycle_tol=1e-9, max_cycles=30))
+    plain = ringlube.run(case.with_numerics(warmup_deg=720, cycle_tol=1e-9, max_cycles=30))
+    tol = case.value("numerics", "cycle_tol")
+    assert r.periodic and r.converged and same.periodic and plain.periodic
+    for ref in (same, plain):
+        assert r.energy_loss == pytest.approx(ref.energy_loss, rel=tol)
+        assert r.oil_to_chamber == pytest.approx(ref.oil_to_chamber, rel=tol, abs=1e-12)
+        assert r.mixed_share == pytest.approx(ref.mixed_share, rel=tol)
+        assert r.liner_lift_share == pytest.approx(ref.liner_lift_share, rel=tol, abs=1e-12)
+        assert np.abs(r.h0 - ref.h0).max() <= tol * np.abs(ref.h0).max()
+
+
+def _lift_off_alternating_trailing_gas() -> Case:
+    """The cold deck starved 'trailing_gas' with the tension read in N/m (without that reading's
+    calibration), max_cycles 30: the ring lifts off on alternate cycles (1.837 and 1.276 J) up to
+    cycle 6 while the liner film near BDC settles, and from cycle 7 on every cycle is 1.276 J."""
+    case = Case.from_namelist(COLD).with_ring(tension_unit="N/m")
+    case = case.with_physics(cavitation="jfo", inlet="starved", cavity_pressure="trailing_gas")
+    return case.with_numerics(max_cycles=30)
+
+
+def test_a_film_still_settling_near_bdc_is_no_period_of_two():
+    """On `_lift_off_alternating_trailing_gas`, judged on the whole film's L1 change
+    (`liner_window` 0, the default), cycles 6 and 7 repeat cycles 4 and 5 within cycle_tol and
+    the run is reported converged with a period of two at their mean, 1.5568 J, 22 % above the
+    periodic state (`test_the_whole_film_s_change_misses_a_film_settling_near_bdc`). With
+    `liner_window` 50 the film near BDC, still changing over 50 cells, is seen: the accepted run
+    has a period of one and equals a run to cycle_tol 1e-6."""
+    case = _lift_off_alternating_trailing_gas().with_numerics(liner_window=50)
+    r, tight = ringlube.run(case), _tight(case)
+    tol = case.value("numerics", "cycle_tol")
+    assert r.converged and tight.converged and tight.period == 1
+    assert r.period == 1, (r.period, r.cycles_run)
+    _assert_same_periodic_state(r, (tight,), tol)
+
+
+@pytest.mark.known_limitation
+@pytest.mark.xfail(strict=True, reason="the whole film's L1 change dilutes a film settling near BDC")
+def test_the_whole_film_s_change_misses_a_film_settling_near_bdc():
+    """Why `liner_window` 50 is the cure there but not the default: judged on the whole film
+    (`liner_window` 0) `_lift_off_alternating_trailing_gas` is accepted with a period of two at
+    1.5568 J, 22 % above its periodic state; with the window the starved decks take more cycles
+    (docs/model.md, "Judged at the rate it settles")."""
+    case = _lift_off_alternating_trailing_gas()
+    r, tight = ringlube.run(case), _tight(case)
+    tol = case.value("numerics", "cycle_tol")
+    assert r.converged and tight.converged
+    _assert_same_periodic_state(r, (tight,), tol)
