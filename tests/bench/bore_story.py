@@ -156,15 +156,22 @@ def cycle_table():
 
 
 def step_table():
-    """The 12,000 r/min distorted deck against the crank step (the radial collapse and the
-    sectors' lift-off are resolved one step at a time): the shipped ring at 8 and 14 N on the
-    shipped distorted deck at 2, 1 and 0.5 deg."""
+    """The distorted decks against the crank step (the radial collapse and the sectors'
+    lift-off are resolved one step at a time): the shipped ring at two tensions on each shipped
+    distorted deck at 2, 1 and 0.5 deg."""
     header()
-    base = crf450r(12000, "distorted")
-    for t in (8.0, 14.0):
-        for dpsi in (2.0, 1.0, 0.5):
-            case = base.with_ring(tension=t).with_numerics(dpsi_deg=dpsi)
-            print(row("CRF450R", 12000, "distorted", f"1 mm, {t:.0f} N, {dpsi:g} deg", case), flush=True)
+    decks = [
+        ("CRF450R", 12000, crf450r(12000, "distorted"), (8.0, 14.0)),
+        ("CRF450R", 4000, crf450r(4000, "distorted"), (8.0, 26.0)),
+        ("86 x 86", 3000, own("distorted"), (8.0, 26.0)),
+    ]
+    for engine, speed, base, tensions in decks:
+        w = base.value("ring", "width")
+        for t in tensions:
+            for dpsi in (2.0, 1.0, 0.5):
+                case = base.with_ring(width=w, tension=t).with_numerics(dpsi_deg=dpsi)
+                name = f"{w * 1e3:.3g} mm, {t:.0f} N, {dpsi:g} deg"
+                print(row(engine, speed, "distorted", name, case), flush=True)
 
 
 def rings_table():
