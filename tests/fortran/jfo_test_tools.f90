@@ -7,7 +7,7 @@ module jfo_test_tools
   use slider_closed_form, only: b, xs, eta, kk, ns, hz, j2, j3
   implicit none
   private
-  public :: p_film, rupture_point, grid, print_orders, rnd, random_step
+  public :: p_film, rupture_point, meniscus_point, grid, print_orders, rnd, random_step
 
 contains
 
@@ -40,6 +40,25 @@ contains
     end do
     xc = 0.5_dp * (lo + hi)
   end function rupture_point
+
+  !> Where the full film that ruptures at zc with the flux -(U/2) hc (U = 10 m/s, p = 0
+  !> there) falls to pl on its converging side: bisection on [lo, hi] (z, p_film > pl at lo).
+  pure real(dp) function meniscus_point(zc, hc, pl, lo, hi) result(zm)
+    real(dp), intent(in) :: zc, hc, pl, lo, hi
+    real(dp) :: a, c, mid
+    integer :: it
+    a = lo
+    c = hi
+    do it = 1, 200
+      mid = 0.5_dp * (a + c)
+      if (p_film(mid, zc, hc, 0.0_dp, 10.0_dp) > pl) then
+        a = mid
+      else
+        c = mid
+      end if
+    end do
+    zm = 0.5_dp * (a + c)
+  end function meniscus_point
 
   subroutine grid(n, x, h, hmid, kmid, dx)
     integer, intent(in) :: n

@@ -75,11 +75,11 @@ contains
   subroutine case_starved()
     real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), pe(:), te(:)
     real(dp), allocatable :: pf(:), tf(:)
-    real(dp) :: dx, err(4), errt(4), tin, hle, hc, zc, xm, pl, lo, hi, mid, load, vol
+    real(dp) :: dx, err(4), errt(4), tin, hle, hc, zc, xm, pl, lo, hi, load, vol
     real(dp) :: prev_load, prev_vol
     real(dp), parameter :: fills(10) = [1.0_dp, 0.7_dp, 0.5_dp, 0.4_dp, 0.3_dp, 0.2_dp, 0.12_dp, &
                                         0.05_dp, 0.01_dp, 0.0_dp]
-    integer :: k, n, it, outer, info, i
+    integer :: k, n, it, outer, info
     logical :: thin, finite_ok
     type(jfo_stats) :: st
     pl = 2e5_dp
@@ -91,15 +91,7 @@ contains
     lo = sqrt((hc - h0) / kk)
     hi = 0.5_dp * b + xs
     call check(p_film(hi, zc, hc, 0.0_dp, 10.0_dp) < pl, 'starved closed form: meniscus inside')
-    do i = 1, 200
-      mid = 0.5_dp * (lo + hi)
-      if (p_film(mid, zc, hc, 0.0_dp, 10.0_dp) > pl) then
-        lo = mid
-      else
-        hi = mid
-      end if
-    end do
-    xm = 0.5_dp * (lo + hi) - xs
+    xm = meniscus_point(zc, hc, pl, lo, hi) - xs
     write (*, '(a, f5.2, a, f8.2, a, f8.2, a)') '5. starved inlet, theta_in = ', tin, &
       ': rupture at ', (zc - xs) * 1e6_dp, ' um, meniscus at ', xm * 1e6_dp, ' um (exact)'
     do k = 1, size(ns)
@@ -185,7 +177,7 @@ contains
   subroutine case_starved_order()
     integer, parameter :: nn(5) = [51, 101, 201, 401, 801]
     real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:)
-    real(dp) :: dx, tin, hle, hc, zc, zm, pl, lo, hi, mid, load_ex, vol_ex, z, wq
+    real(dp) :: dx, tin, hle, hc, zc, zm, pl, lo, hi, load_ex, vol_ex, z, wq
     real(dp) :: eload(5, 2, 0:1), evol(5, 2, 0:1), load, vol, order, econt(5, 0:1)
     real(dp), parameter :: fills(2) = [0.12_dp, 0.7_dp]
     integer :: k, n, i, ie, kf, nq
@@ -208,15 +200,7 @@ contains
         zc = -sqrt((hc - h0) / kk)
         lo = sqrt((hc - h0) / kk)
         hi = 0.5_dp * b + xs
-        do i = 1, 200
-          mid = 0.5_dp * (lo + hi)
-          if (p_film(mid, zc, hc, 0.0_dp, 10.0_dp) > pl) then
-            lo = mid
-          else
-            hi = mid
-          end if
-        end do
-        zm = 0.5_dp * (lo + hi)
+        zm = meniscus_point(zc, hc, pl, lo, hi)
       end if
       ! exact load above p_l and oil volume: Simpson on the full film; the cavity behind the
       ! rupture and a partly filled inlet zone hold the Couette content hc at every point
