@@ -565,24 +565,24 @@ contains
     settled = .false.
     rmax = huge(1.0_dp)
     if (sys%edge_meniscus) return
-    call settles_nodes(sys, sys%n, sys%kd, sys%ca, sys%pc, sys%ps, sys%wv, sys%h, v, dv, tol, &
-                       ev%pn, ev%tn, ev%fl, rscale, rmax, settled)
+    call settles_nodes(sys, sys%n, sys%kd, sys%ca, sys%pc, sys%ps, v, dv, tol, ev%pn, ev%tn, &
+                       ev%fl, rscale, rmax, settled)
   end subroutine step_settles
 
   !> step_settles on explicit-shape arrays (contiguous, so indexed without descriptors). Only
   !> the edge faces and the faces between a full and a partly filled node can cross a kink or
   !> hold a changed product (between two full nodes theta_P = 1; between two partly filled
   !> ones g is fixed): those are checked first, at the states of v0 (pn, tn) and v; then every
-  !> node's state at v.
-  pure subroutine settles_nodes(sys, n, kd, ca, pc, ps, wv, h, v, dv, tol, pn, tn, fl, rscale, &
-                                rmax, settled)
+  !> node's state at v. The largest diagonal is the system's (sys%dmax).
+  pure subroutine settles_nodes(sys, n, kd, ca, pc, ps, v, dv, tol, pn, tn, fl, rscale, rmax, &
+                                settled)
     type(jfo_system), intent(in) :: sys
     integer, intent(in) :: n
-    real(dp), intent(in) :: kd(n), ca(n), pc(n), ps(n), wv(n), h(n), v(n), dv(n), tol
+    real(dp), intent(in) :: kd(n), ca(n), pc(n), ps(n), v(n), dv(n), tol
     real(dp), intent(inout) :: pn(n), tn(n), fl(n), rscale
     real(dp), intent(out) :: rmax
     logical, intent(out) :: settled
-    real(dp) :: q, tmax, d, m, lower, fo, fn
+    real(dp) :: q, d, m, lower, fo, fn
     integer :: j
     settled = .false.
     q = 0.0_dp
@@ -600,15 +600,13 @@ contains
         if (q < 0.0_dp) return
       end if
     end do
-    tmax = 0.0_dp
     d = 0.0_dp
     do j = 2, n - 1
       pn(j) = pc(j) + ps(j) * max(v(j), 0.0_dp)
       tn(j) = 1.0_dp + min(v(j), 0.0_dp)
       d = max(d, abs(dv(j)))
-      tmax = max(tmax, wv(j) * h(j) + abs(ca(j)) + abs(ca(j - 1)), (kd(j - 1) + kd(j)) * ps(j))
     end do
-    m = max(rscale, tmax)
+    m = max(rscale, sys%dmax)
     lower = rscale - 4.0_dp * m * d
     rmax = 2.0_dp * q + step_rounding * (rscale + 6.0_dp * m * d)
     if (.not. (lower > 0.0_dp .and. q <= 0.25_dp * polish_tol * lower &

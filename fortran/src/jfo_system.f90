@@ -4,7 +4,6 @@
 !> sweeps of the fallback. The scheme and the method are described in ringlube_jfo and
 !> docs/film_model.md.
 module ringlube_jfo_system
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use ringlube_kinds, only: dp
   implicit none
   private
@@ -64,6 +63,9 @@ module ringlube_jfo_system
     real(dp), allocatable :: ca(:), kd(:), ps(:), h(:), content_old(:), pc(:)
     !> w times each node's volume in dx (1; 1.5 next to an edge with jfo_problem%edge_cells)
     real(dp), allocatable :: wv(:)
+    !> the largest diagonal of the Jacobian's fill and pressure sides over the interior nodes,
+    !> max(w h + |a hmid| + |a hmid|, (kmid/dx + kmid/dx) ps) (jfo_solve's `step_settles`)
+    real(dp) :: dmax = 0.0_dp
     !> jfo_problem%edge_meniscus
     logical :: edge_meniscus = .false.
   end type jfo_system
@@ -120,7 +122,7 @@ contains
     type(jfo_system), intent(inout) :: sys
     type(jfo_problem), intent(in) :: problem
     real(dp), intent(in) :: h(:), hmid(:), kmid(:), content_old(:), pc(:)
-    real(dp) :: t
+    real(dp) :: t, d, dmax
     integer :: i, n
     n = size(h)
     sys%n = n
@@ -153,12 +155,18 @@ contains
       ca(n) = 0.0_dp
       kd(n) = 0.0_dp
       ! pressure per unit v on the full side: the ratio of a node's fill and pressure diagonals,
-      ! so that both sides of the kink weigh alike
-      ps = 1.0_dp
+      ! so that both sides of the kink weigh alike; and the largest of either diagonal
+      ps(1) = 1.0_dp
+      ps(n) = 1.0_dp
+      dmax = 0.0_dp
       do i = 2, n - 1
         t = wv(i) * h(i) + abs(ca(i)) + abs(ca(i - 1))
-        if (t > 0.0_dp .and. kd(i - 1) + kd(i) > 0.0_dp) ps(i) = t / (kd(i - 1) + kd(i))
+        d = kd(i - 1) + kd(i)
+        ps(i) = 1.0_dp
+        if (t > 0.0_dp .and. d > 0.0_dp) ps(i) = t / d
+        dmax = max(dmax, t, d * ps(i))
       end do
+      sys%dmax = dmax
     end associate
   end subroutine jfo_system_setup
 
@@ -285,113 +293,179 @@ contains
     real(dp), intent(out) :: scale, rmax, fsq
     type(jfo_eval), intent(inout) :: ev
     logical, intent(out) :: pivots, signs
-    call newton_eval_nodes(sys, sys%n, sys%ca, sys%kd, sys%ps, sys%wv, sys%h, sys%content_old, x, &
-                           res, scale, rmax, fsq, ev%pn, ev%tn, ev%fl, cp, y, pivots, signs)
+    call newton_eval_nodes(sys, sys%n, sys%ca, sys%kd, sys%ps, sys%pc, sys%wv, sys%h, &
+                           sys%content_old, x, res, scale, rmax, fsq, ev%pn, ev%tn, ev%fl, cp, y, &
+                           pivots, signs)
   end subroutine jfo_newton_eval
 
   !> jfo_newton_eval on explicit-shape arrays (contiguous, so indexed without descriptors).
-  pure subroutine newton_eval_nodes(sys, n, ca, kd, ps, wv, h, content_old, x, res, scale, rmax, &
-                                    fsq, pn, tn, fl, cp, y, pivots, signs)
+  !> One node per pass of the loop, what the next node needs carried in scalars: the next
+  !> node's state, the face before it (its flux and its derivatives by the right node), its
+  !> row's sub-diagonal, the scale's conductance term of the shared face and the last pivot's
+  !> quotients. The edge nodes' rows are the loop's first and last pass (jl = 0 by cp(1) = y(1)
+  !> = 0, the same arithmetic; ju = 0 at the last); the edge faces' caps are applied at the
+  !> first face before the loop and at the last one in its last pass.
+  pure subroutine newton_eval_nodes(sys, n, ca, kd, ps, pc, wv, h, content_old, x, res, scale, &
+                                    rmax, fsq, pn, tn, fl, cp, y, pivots, signs)
     type(jfo_system), intent(in) :: sys
     integer, intent(in) :: n
-    real(dp), intent(in) :: ca(n), kd(n), ps(n), wv(n), h(n), content_old(n), x(n)
+    real(dp), intent(in) :: ca(n), kd(n), ps(n), pc(n), wv(n), h(n), content_old(n), x(n)
     real(dp), intent(out) :: res(n), scale, rmax, fsq, cp(n), y(n)
     real(dp), intent(inout) :: pn(n), tn(n), fl(n)
     logical, intent(out) :: pivots, signs
-    real(dp) :: s, jl, jd, ju, m, rr
-    ! the face before node j (f = j - 1) and after it (f = j): flux derivatives
-    real(dp) :: pl0, pr0, tl0, tr0, pl1, pr1, tl1, tr1
+    real(dp) :: s, jl, jd, ju, m, rr, rj, flj, flp
+    ! the face before node j (f = j - 1, its derivatives by its right node) and after it (f =
+    ! j); the states of nodes j and j + 1; the scale's terms of the faces before and after j
+    real(dp) :: pl0, pr0, tl0, tr0, pl1, pr1, tl1, tr1, pj, tj, pk, tk, cl, cr, al, ar
+    ! the last pivot's quotients; the scale, largest residual and sum of squares so far, and
+    ! the flags (locals, kept in registers)
+    real(dp) :: cpp, yp, sc, rm, fs
+    logical :: apos, fullj, fullk, piv, sgn
     integer :: j
-    associate (a => sys%a, w => sys%w, qcl => sys%qcl, qcr => sys%qcr)
-      pivots = .true.
-      signs = .true.
-      pn(1) = sys%p_left
-      pn(n) = sys%p_right
-      tn(1) = sys%theta_left
-      tn(n) = sys%theta_right
-      pn(2) = node_p(sys, 2, x(2))
-      tn(2) = node_t(x(2))
-      call face_eval(sys, pn, tn, 1, fl(1), pl0, pr0, tl0, tr0)
-      if (sys%edge_meniscus .and. sys%a > 0.0_dp) &
-        call inflow_edge(sys, pn, tn, 1, fl(1), pl0, pr0, tl0, tr0)
-      if (fl(1) > qcl) then
-        fl(1) = qcl
-        pr0 = 0.0_dp
-        tr0 = 0.0_dp
+    apos = sys%a > 0.0_dp
+    piv = .true.
+    sgn = .true.
+    pn(1) = sys%p_left
+    pn(n) = sys%p_right
+    tn(1) = sys%theta_left
+    tn(n) = sys%theta_right
+    pn(2) = pc(2) + ps(2) * max(x(2), 0.0_dp)
+    tn(2) = 1.0_dp + min(x(2), 0.0_dp)
+    call face_eval(sys, pn, tn, 1, fl(1), pl0, pr0, tl0, tr0)
+    if (sys%edge_meniscus .and. apos) call inflow_edge(sys, pn, tn, 1, fl(1), pl0, pr0, tl0, tr0)
+    if (fl(1) > sys%qcl) then
+      fl(1) = sys%qcl
+      pr0 = 0.0_dp
+      tr0 = 0.0_dp
+    end if
+    flp = fl(1)
+    sc = tiny(1.0_dp)
+    rm = 0.0_dp
+    fs = 0.0_dp
+    res(1) = 0.0_dp
+    res(n) = 0.0_dp
+    ! the row of node 2 has no sub-diagonal: m = jd - 0 cp(1), rr = -R - 0 y(1)
+    jl = 0.0_dp
+    cpp = 0.0_dp
+    yp = 0.0_dp
+    cp(1) = 0.0_dp
+    y(1) = 0.0_dp
+    pj = pn(2)
+    tj = tn(2)
+    fullj = x(2) >= 0.0_dp
+    cl = kd(1) * (abs(pj) + abs(pn(1)))
+    al = abs(ca(1))
+    do j = 2, n - 1
+      if (j < n - 1) then
+        pk = pc(j + 1) + ps(j + 1) * max(x(j + 1), 0.0_dp)
+        tk = 1.0_dp + min(x(j + 1), 0.0_dp)
+        pn(j + 1) = pk
+        tn(j + 1) = tk
+        fullk = x(j + 1) >= 0.0_dp
+      else
+        pk = pn(n)
+        tk = tn(n)
+        fullk = .false.
       end if
-      scale = tiny(1.0_dp)
-      rmax = 0.0_dp
-      fsq = 0.0_dp
-      res(1) = 0.0_dp
-      res(n) = 0.0_dp
-      do j = 2, n - 1
-        if (j + 1 < n) then
-          pn(j + 1) = node_p(sys, j + 1, x(j + 1))
-          tn(j + 1) = node_t(x(j + 1))
+      call face_terms(kd(j), ca(j), pj, pk, tj, tk, apos, flj, pl1, pr1, tl1, tr1)
+      if (j == n - 1) then
+        fl(j) = flj
+        if (sys%edge_meniscus .and. sys%a < 0.0_dp) &
+          call inflow_edge(sys, pn, tn, j, fl(j), pl1, pr1, tl1, tr1)
+        if (-fl(j) > sys%qcr) then
+          fl(j) = -sys%qcr
+          pl1 = 0.0_dp
+          tl1 = 0.0_dp
         end if
-        call face_eval(sys, pn, tn, j, fl(j), pl1, pr1, tl1, tr1)
-        if (j == n - 1) then
-          if (sys%edge_meniscus .and. sys%a < 0.0_dp) &
-            call inflow_edge(sys, pn, tn, j, fl(j), pl1, pr1, tl1, tr1)
-          if (-fl(n - 1) > qcr) then
-            fl(n - 1) = -qcr
-            pl1 = 0.0_dp
-            tl1 = 0.0_dp
-          end if
-        end if
-        res(j) = wv(j) * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
-        s = wv(j) * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
-            + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
-        scale = max(scale, s)
-        rmax = max(rmax, abs(res(j)))
-        fsq = fsq + res(j)**2
-        ! the Jacobian's row j on this piece (as jfo_residual)
-        if (x(j) >= 0.0_dp) then
-          jd = (pl1 - pr0) * ps(j)
+        flj = fl(j)
+      end if
+      fl(j) = flj
+      rj = wv(j) * (tj * h(j) - content_old(j)) + flj - flp
+      res(j) = rj
+      ar = abs(ca(j))
+      cr = kd(j) * (abs(pk) + abs(pj))
+      s = wv(j) * (abs(tj) * h(j) + abs(content_old(j))) + ar + al + cr + cl
+      sc = max(sc, s)
+      rm = max(rm, abs(rj))
+      fs = fs + rj**2
+      ! the Jacobian's row j on this piece (as jfo_residual); the next row's sub-diagonal
+      if (fullj) then
+        jd = (pl1 - pr0) * ps(j)
+      else
+        jd = wv(j) * h(j) + tl1 - tr0
+      end if
+      ju = 0.0_dp
+      if (j < n - 1) then
+        if (fullk) then
+          ju = pr1 * ps(j + 1)
         else
-          jd = wv(j) * h(j) + tl1 - tr0
+          ju = tr1
         end if
-        ju = 0.0_dp
-        if (j < n - 1) then
-          if (x(j + 1) >= 0.0_dp) then
-            ju = pr1 * ps(j + 1)
-          else
-            ju = tr1
-          end if
+      end if
+      if (.not. jd > 0.0_dp .or. jl > 0.0_dp .or. ju > 0.0_dp) sgn = .false.
+      ! forward elimination (as `thomas`), right-hand side -R
+      if (piv) then
+        m = jd - jl * cpp
+        rr = -rj - jl * yp
+        if (m == 0.0_dp) then
+          piv = .false.
+        else
+          m = 1.0_dp / m
+          cpp = ju * m
+          yp = rr * m
+          cp(j) = cpp
+          y(j) = yp
         end if
-        jl = 0.0_dp
-        if (j > 2) then
-          if (x(j - 1) >= 0.0_dp) then
-            jl = -pl0 * ps(j - 1)
-          else
-            jl = -tl0
-          end if
-        end if
-        if (.not. jd > 0.0_dp .or. jl > 0.0_dp .or. ju > 0.0_dp) signs = .false.
-        ! forward elimination (as `thomas`), right-hand side -R
-        if (pivots) then
-          if (j == 2) then
-            m = jd
-            rr = -res(j)
-          else
-            m = jd - jl * cp(j - 1)
-            rr = -res(j) - jl * y(j - 1)
-          end if
-          if (m == 0.0_dp) then
-            pivots = .false.
-          else
-            m = 1.0_dp / m
-            cp(j) = ju * m
-            y(j) = rr * m
-          end if
-        end if
-        pl0 = pl1
-        pr0 = pr1
-        tl0 = tl1
-        tr0 = tr1
-      end do
-    end associate
+      end if
+      if (fullj) then
+        jl = -pl1 * ps(j)
+      else
+        jl = -tl1
+      end if
+      pr0 = pr1
+      tr0 = tr1
+      flp = flj
+      pj = pk
+      tj = tk
+      fullj = fullk
+      cl = cr
+      al = ar
+    end do
+    scale = sc
+    rmax = rm
+    fsq = fs
+    pivots = piv
+    signs = sgn
   end subroutine newton_eval_nodes
+
+  !> Flux fl through a face between two nodes of pressures pl, pr and fills tl, tr, and its
+  !> derivatives by the pressure (dpl, dpr) and fill (dtl, dtr) of its left and right node,
+  !> as face_eval (kdf = kd(f), caf = ca(f); apos: a > 0, the Couette content from the left).
+  pure subroutine face_terms(kdf, caf, pl, pr, tl, tr, apos, fl, dpl, dpr, dtl, dtr)
+    real(dp), intent(in) :: kdf, caf, pl, pr, tl, tr
+    logical, intent(in) :: apos
+    real(dp), intent(out) :: fl, dpl, dpr, dtl, dtr
+    real(dp) :: g, tp
+    g = kdf * (pr - pl)
+    dtl = 0.0_dp
+    dtr = 0.0_dp
+    if (g <= 0.0_dp) then
+      tp = tl
+      dtl = -g
+    else
+      tp = tr
+      dtr = -g
+    end if
+    if (apos) then
+      fl = caf * tl - g * tp
+      dtl = dtl + caf
+    else
+      fl = caf * tr - g * tp
+      dtr = dtr + caf
+    end if
+    dpl = kdf * tp
+    dpr = -kdf * tp
+  end subroutine face_terms
 
   !> The residual of jfo_residual at the state x alone (no derivatives), in one pass: res, its
   !> scale, largest entry rmax and sum of squares fsq, the node states and face fluxes in ev
@@ -598,7 +672,7 @@ contains
   !> is not finite and at the edges.
   pure subroutine jfo_state_to_v(sys, p, theta, v)
     type(jfo_system), intent(in) :: sys
-    real(dp), intent(in), contiguous :: p(:), theta(:)
+    real(dp), intent(in) :: p(:), theta(:)
     real(dp), intent(out), contiguous :: v(:)
     call state_to_v_nodes(sys%n, sys%pc, sys%ps, p, theta, v)
   end subroutine jfo_state_to_v
@@ -616,7 +690,8 @@ contains
       else
         v(i) = max(p(i) - pc(i), 0.0_dp) / ps(i)
       end if
-      if (.not. ieee_is_finite(v(i))) v(i) = 0.0_dp
+      ! not finite (NaN compares false)
+      if (.not. abs(v(i)) <= huge(1.0_dp)) v(i) = 0.0_dp
     end do
   end subroutine state_to_v_nodes
 
