@@ -122,7 +122,7 @@ contains
     type(jfo_system), intent(inout) :: sys
     type(jfo_problem), intent(in) :: problem
     real(dp), intent(in) :: h(:), hmid(:), kmid(:), content_old(:), pc(:)
-    real(dp) :: t, d, dmax
+    real(dp) :: t, d, q, dmax
     integer :: i, n
     n = size(h)
     sys%n = n
@@ -162,9 +162,10 @@ contains
       do i = 2, n - 1
         t = wv(i) * h(i) + abs(ca(i)) + abs(ca(i - 1))
         d = kd(i - 1) + kd(i)
-        ps(i) = 1.0_dp
-        if (t > 0.0_dp .and. d > 0.0_dp) ps(i) = t / d
-        dmax = max(dmax, t, d * ps(i))
+        q = 1.0_dp
+        if (t > 0.0_dp .and. d > 0.0_dp) q = t / d
+        ps(i) = q
+        dmax = max(dmax, t, d * q)
       end do
       sys%dmax = dmax
     end associate
