@@ -10,6 +10,13 @@
 !>     cmake --build build --target bench_jfo && ./build/bench_jfo
 !>
 !> Each size runs three times (the machine may be shared); quote the fastest.
+!>
+!>     ./build/bench_jfo --alone [NODES]
+!>
+!> only the solvers alone (each loop timed as a whole, CPU time), at NODES alone if given, with
+!> each solver's iterations over one repetition of the transient: for an instruction count
+!> (`valgrind --tool=callgrind ./build/bench_jfo --alone 51`: the inclusive counts of
+!> jfo_solve and reynolds_solve over 15 times those iterations, instructions per iteration).
 program bench_jfo
   use ringlube_kinds, only: dp, pi
   use ringlube_jfo, only: jfo_solve, jfo_problem, jfo_stats
@@ -18,9 +25,14 @@ program bench_jfo
   use jfo_reference, only: elrod_solve
   implicit none
   integer, parameter :: sizes(2) = [51, 201]
-  integer :: k, rep
+  integer :: k, rep, only
   character(len=16) :: arg
 
+  only = 0
+  if (command_argument_count() >= 2) then
+    call get_command_argument(2, arg)
+    read (arg, *) only
+  end if
   call get_command_argument(1, arg)
   if (arg /= '--alone') then
     ! the machine may be shared: three repetitions, quote the fastest
@@ -36,9 +48,13 @@ program bench_jfo
   ! iteration, against the Swift-Stieber solve
   write (*, '(a)') '  nodes  solver alone, best of 15     us/solve  us/iteration'// &
     '  x Swift-Stieber per iteration'
-  do k = 1, size(sizes)
-    call alone(sizes(k))
-  end do
+  if (only > 0) then
+    call alone(only)
+  else
+    do k = 1, size(sizes)
+      call alone(sizes(k))
+    end do
+  end if
 
 contains
 
@@ -117,6 +133,8 @@ contains
       (tbest(1) / itj) / (tbest(2) / its)
     write (*, '(i7, 2x, a, f10.3, f14.3)') n, 'reynolds_solve (Swift-St.) ', &
       1e6_dp * tbest(2) / (periods * nsteps), 1e6_dp * tbest(2) / its
+    write (*, '(i7, 2x, a, i8, a, i8, a)') n, 'iterations per repetition: ', itj, &
+      ' (jfo_solve), ', its, ' (reynolds_solve)'
   end subroutine alone
 
   subroutine run(n)
