@@ -164,8 +164,9 @@ contains
       return
     end if
     allocate (pcn(size(pc)))
-    ! first guess from the warm-start fill only (its pressures may belong to another pc)
-    if (all(ieee_is_finite(theta))) then
+    ! first guess from the warm-start fill only (its pressures may belong to another pc);
+    ! finite: |theta| <= huge (NaN compares false)
+    if (all(abs(theta) <= huge(1.0_dp))) then
       call jfo_cavity_pressure(problem, theta, pc, blown=bl)
     else
       th = theta
