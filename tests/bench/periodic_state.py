@@ -10,13 +10,13 @@ solver (--base, e.g. a build of an earlier commit, which has no &numerics accele
 for it side by side, and the means per film model and reading; --no-accelerate runs --solver
 without the liner film's extrapolation, --pilot with the ring pack's pilot cycle
 (``&numerics pilot_cycle``), --bdc-start with the starved warm-up's BDC start (``&numerics
-bdc_start``), --liner-window N with the liner film's change judged over N cells too
-(``&numerics liner_window``); --skip leaves out decks whose name has one of the parts given
-(e.g. ``distorted``). Run from the project folder:
+bdc_start``, the default), --no-bdc-start without it, --liner-window N with the liner film's
+change judged over N cells too (``&numerics liner_window``); --skip leaves out decks whose name
+has one of the parts given (e.g. ``distorted``). Run from the project folder:
 
     .venv/bin/python tests/bench/periodic_state.py [--base BASE/ringlube-solve] [--ref]
         [--unit N] [--films starved,...] [--decks 12000,...] [--skip distorted] [--repeats 3]
-        [--no-accelerate] [--pilot] [--bdc-start] [--liner-window 50]
+        [--no-accelerate] [--pilot] [--bdc-start | --no-bdc-start] [--liner-window 50]
 """
 
 from __future__ import annotations
@@ -87,6 +87,7 @@ def main() -> None:
     ap.add_argument("--no-accelerate", action="store_true", help="--solver's runs without extrapolation")
     ap.add_argument("--pilot", action="store_true", help="--solver's runs with pilot_cycle")
     ap.add_argument("--bdc-start", action="store_true", help="--solver's runs with bdc_start")
+    ap.add_argument("--no-bdc-start", action="store_true", help="--solver's runs with bdc_start .false.")
     ap.add_argument("--liner-window", type=int, default=0, help="--solver's runs with this liner_window")
     ap.add_argument("--skip", default="", help="deck name parts to leave out, comma-separated")
     args = ap.parse_args()
@@ -118,6 +119,8 @@ def main() -> None:
                         own = own.with_numerics(pilot_cycle=True)
                     if args.bdc_start and label == "new":
                         own = own.with_numerics(bdc_start=True)
+                    if args.no_bdc_start and label == "new":
+                        own = own.with_numerics(bdc_start=False)
                     if args.liner_window and label == "new":
                         own = own.with_numerics(liner_window=args.liner_window)
                     r = run(solver, own, args.repeats)

@@ -180,15 +180,16 @@ def test_bdc_start_reaches_the_same_periodic_state_in_fewer_cycles(deck):
     the supply film the warm-up brings the ring to BDC with too little oil, and the first cycle
     changes the liner film there by 1.6 % (4000 r/min cold; 3 cycles run); at 8000 and 12,000
     r/min the ring's lower edge is dry at BDC and the oil fills that strip by about a crank
-    step's travel a cycle (5 and 6 cycles). With the BDC start (`bdc_start`: the strip under the
-    face at BDC flooded, the warm-up's BDC passed twice with the film laid leaving it the first
-    time) the runs take 1, 3 and 3 cycles, and their answers (energy, oil to the chamber, mixed
-    share, liner film) equal those of a run without it and those of a run to cycle_tol 1e-6
-    within cycle_tol."""
+    step's travel a cycle (5 and 6 cycles; `bdc_start = .false.`). With the BDC start (the
+    default, `bdc_start`: the strip under the face at BDC flooded, the warm-up's BDC passed
+    twice with the film laid leaving it the first time) the runs take fewer cycles, and their
+    answers (energy, oil to the chamber, mixed share, liner film) equal those of a run without
+    it and those of a run without it to cycle_tol 1e-6 within cycle_tol."""
     case = Case.from_namelist(INPUTS / deck).with_ring(tension_unit="N")
     case = case.with_physics(cavitation="jfo", inlet="starved")
-    r, plain = ringlube.run(case.with_numerics(bdc_start=True)), ringlube.run(case)
-    tight = _tight(case)
+    plain_case = case.with_numerics(bdc_start=False)
+    r, plain = ringlube.run(case), ringlube.run(plain_case)
+    tight = _tight(plain_case)
     tol = case.value("numerics", "cycle_tol")
     assert r.converged and plain.converged and tight.converged
     assert r.cycles_run < plain.cycles_run, (r.cycles_run, plain.cycles_run)
@@ -199,13 +200,14 @@ def test_bdc_start_first_cycle_h0_equals_the_periodic_state():
     """On the cold deck starved, read in N, the first cycle after the BDC start changed the
     liner film by 4.1e-4 (L1 over the whole film, which the film away from BDC dominates) and
     passed, with h0 before BDC (psi = 160 deg) 3.4e-3 (relative to the largest h0) from its
-    periodic value and the energy within 1.6e-5. With `bdc_start` the liner film's change is
-    also measured over every 50 cells (`liner_window` 0 taken as 50): the film near BDC, still
-    settling, takes a second cycle, and the accepted run's h0 equals that of a long warm-up and
-    many cycles at a tolerance 1e6 times tighter, to the cycle tolerance at every step."""
+    periodic value and the energy within 1.6e-5. With `bdc_start` (the default) the liner film's
+    change is also measured over every 50 cells (`liner_window` 0 taken as 50): the film near
+    BDC, still settling, takes a second cycle, and the accepted run's h0 equals that of the
+    plain start's long warm-up and many cycles at a tolerance 1e6 times tighter, to the cycle
+    tolerance at every step."""
     case = Case.from_namelist(COLD).with_physics(cavitation="jfo", inlet="starved")
-    r = ringlube.run(case.with_numerics(bdc_start=True))
-    ref = ringlube.run(case.with_numerics(warmup_deg=720, cycle_tol=1e-9, max_cycles=30))
+    r = ringlube.run(case)
+    ref = ringlube.run(case.with_numerics(bdc_start=False, warmup_deg=720, cycle_tol=1e-9, max_cycles=30))
     tol = case.value("numerics", "cycle_tol")
     assert r.converged and ref.periodic
     assert np.abs(r.h0 - ref.h0).max() <= tol * np.abs(ref.h0).max()
@@ -215,19 +217,19 @@ def test_bdc_start_first_cycle_h0_equals_the_periodic_state():
 @pytest.mark.parametrize("deck, unit", [("cold", "N/m"), ("hot", "N/m"), ("cold", "N"), ("hot", "N")])
 def test_bdc_start_accepted_run_equals_its_periodic_state(deck, unit, ring_pack):
     """`test_accepted_starved_run_equals_its_periodic_state` (test_oil_supply.py) with the BDC
-    start: the accepted run's energy, oil to the chamber, mixed and lifted shares and h0 at
-    every step equal, to cycle_tol, those of the run continued from the same start to cycle_tol
-    1e-9 (30 cycles at most) and those of the plain start's 720 deg warm-up and 30 cycles at
-    1e-9. Not against the BDC start after a 720 deg warm-up: the hot deck read in N/m without
-    the ring pack has two periodic states, and that start takes the other one (mixed share 26.0
-    % against 27.5 %, energy 1.05e-4 higher), while both references above take the one the
-    default run takes."""
+    start (the default): the accepted run's energy, oil to the chamber, mixed and lifted shares
+    and h0 at every step equal, to cycle_tol, those of the run continued from the same start to
+    cycle_tol 1e-9 (30 cycles at most) and those of the plain start's (`bdc_start = .false.`)
+    720 deg warm-up and 30 cycles at 1e-9. Not against the BDC start after a 720 deg warm-up:
+    the hot deck read in N/m without the ring pack has two periodic states, and that start
+    takes the other one (mixed share 26.0 % against 27.5 %, energy 1.05e-4 higher), while both
+    references above take the one the default run takes."""
     case = Case.from_namelist(COLD.with_name(f"crf450r_4000rpm_full_{deck}.nml"))
     case = per_length(case) if unit == "N/m" else case
     case = case.with_physics(cavitation="jfo", inlet="starved", ring_pack=ring_pack)
-    r = ringlube.run(case.with_numerics(bdc_start=True))
-    same = ringlube.run(case.with_numerics(bdc_start=True, cycle_tol=1e-9, max_cycles=30))
-    plain = ringlube.run(case.with_numerics(warmup_deg=720, cycle_tol=1e-9, max_cycles=30))
+    r = ringlube.run(case)
+    same = ringlube.run(case.with_numerics(cycle_tol=1e-9, max_cycles=30))
+    plain = ringlube.run(case.with_numerics(bdc_start=False, warmup_deg=720, cycle_tol=1e-9, max_cycles=30))
     tol = case.value("numerics", "cycle_tol")
     assert r.periodic and r.converged and same.periodic and plain.periodic
     for ref in (same, plain):

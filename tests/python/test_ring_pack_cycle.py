@@ -293,6 +293,19 @@ def _stopped_after(case, cycles):
     return [ringlube.run(case.with_numerics(cycle_tol=1e-14, max_cycles=k)) for k in cycles]
 
 
+def _liner_change(a, b, window):
+    """The liner film's change from ``b`` to ``a``: its L1 norm relative to ``a``'s, and with a
+    ``window`` the largest such change over any ``window`` consecutive cells, relative to
+    ``a``'s over them or to ``a``'s mean over as many cells if that is larger."""
+    whole = np.abs(a - b).sum() / np.abs(a).sum()
+    if not window:
+        return whole
+    ca = np.concatenate([[0.0], np.cumsum(np.abs(a))])
+    cd = np.concatenate([[0.0], np.cumsum(np.abs(a - b))])
+    floor = ca[-1] * window / a.size
+    return max(whole, ((cd[window:] - cd[:-window]) / np.maximum(ca[window:] - ca[:-window], floor)).max())
+
+
 def test_the_last_cycles_changes_say_why_a_run_is_not_periodic():
     """A run reports what its test of a period of one compares with cycle_tol (`liner_change`
     and `energy_change` with a starved inlet, `cycle_change` of h0 and `energy_change` without;
@@ -300,29 +313,35 @@ def test_the_last_cycles_changes_say_why_a_run_is_not_periodic():
     was not converged showed only h0's change, often below cycle_tol. Each is the quantity's
     distance from its periodic state: its change over the last cycle divided by 1 - its
     contraction per cycle, the ratio of its last two changes (the liner film's: of their L1
-    norms, where the two point the same way; the energy moves at the liner film's rate). Checked
-    against the runs stopped after 2, 3 and 4 cycles (without the liner film's extrapolation,
-    so that each cycle continues the one before). The cold deck starved with the gas is
-    periodic after 4 cycles (liner film 6.7e-5); stopped after 3 it is not (1.8e-3), and says
-    so."""
+    norms, where the two point the same way; the energy moves at the liner film's rate; with
+    the BDC start's liner window, the default on a round bore with a vapour cavity, the larger
+    of the whole film's change and that over any 50 liner cells, relative to their film or to
+    the film's mean over 50 cells). Checked against the runs stopped after 2, 3 and 4 cycles
+    (without the liner film's extrapolation, so that each cycle continues the one before),
+    with the window and judged on the whole film alone (`bdc_start = .false.`). The cold deck
+    starved with the gas is periodic after 3 cycles (liner film 6.2e-4 over 50 cells; its
+    liner film 4.6e-6 and h0 3.4e-4 from a run to cycle_tol 1e-9) and 4 on the whole film
+    (6.7e-5); stopped a cycle earlier it is not (7.6e-3 and 1.4e-3), and says so."""
     case = per_length(COLD).with_physics(cavitation="jfo", inlet="starved", ring_pack="gas")
     case = case.with_numerics(accelerate=False)
-    two, three, four = _stopped_after(case, (2, 3, 4))
-    h2, h3, h4 = (r.liner["liner_oil_film"] for r in (two, three, four))
-    change = [np.abs(b - a).sum() / np.abs(b).sum() for a, b in ((h2, h3), (h3, h4))]
-    assert (h4 - h3) @ (h3 - h2) > 0  # (the same sense: else the change counts as it is)
-    rho = min(change[1] / change[0], 0.99)
-    assert 0.0 < rho < 0.99, rho
-    assert four.liner_change == pytest.approx(change[1] / (1 - rho), rel=1e-9)
-    de = abs(four.energy_loss - three.energy_loss) / four.energy_loss
-    assert four.energy_change == pytest.approx(de / (1 - rho), rel=1e-9, abs=1e-15)
     tol = case.value("numerics", "cycle_tol")
-    done = ringlube.run(case)
-    assert done.converged and done.cycles_run == 4, done.cycles_run
-    assert max(done.liner_change, done.energy_change, done.ring_pack_change) <= tol
-    stopped = ringlube.run(case.with_numerics(max_cycles=3))
-    assert not stopped.converged and stopped.liner_change > tol
-    assert f"liner film {stopped.liner_change:.2E}" in stopped.summary()
+    for window, cycles in ((50, 3), (0, 4)):
+        own = case if window else case.with_numerics(bdc_start=False)
+        two, three, four = _stopped_after(own, (2, 3, 4))
+        h2, h3, h4 = (r.liner["liner_oil_film"] for r in (two, three, four))
+        change = [_liner_change(b, a, window) for a, b in ((h2, h3), (h3, h4))]
+        assert (h4 - h3) @ (h3 - h2) > 0  # (the same sense: else the change counts as it is)
+        rho = min(change[1] / change[0], 0.99)
+        assert 0.0 < rho < 0.99, rho
+        assert four.liner_change == pytest.approx(change[1] / (1 - rho), rel=1e-9)
+        de = abs(four.energy_loss - three.energy_loss) / four.energy_loss
+        assert four.energy_change == pytest.approx(de / (1 - rho), rel=1e-9, abs=1e-15)
+        done = ringlube.run(own)
+        assert done.converged and done.cycles_run == cycles, (window, done.cycles_run)
+        assert max(done.liner_change, done.energy_change, done.ring_pack_change) <= tol
+        stopped = ringlube.run(own.with_numerics(max_cycles=cycles - 1))
+        assert not stopped.converged and stopped.liner_change > tol
+        assert f"liner film {stopped.liner_change:.2E}" in stopped.summary()
     # without a starved inlet: h0's, the energy's and the ring pack's; the first cycle of the
     # rev-limit deck is not periodic (its land moves with the film's friction) and shows which
     # moved
@@ -344,16 +363,23 @@ def test_a_starved_period_reports_the_changes_its_test_passed():
     at 13.5 N/m, starved, read in N/m: period 2 after 4 cycles, 1.92455 J (to cycle_tol 1e-7
     the film settles to a period of one after 7 cycles, 1.92454 J); the period is not refused
     on the first cycle's energy, which ran before the restart (`ctest -R
-    periodicity/two_after_restart`)."""
+    periodicity/two_after_restart`). That is the liner film judged on the whole film
+    (`bdc_start = .false.`); over any 50 cells as well (the default) the film near BDC is seen
+    still settling and the run is periodic with a period of one after 5 cycles, its energy and
+    blowby those of the run to cycle_tol 1e-7 within cycle_tol."""
     from conftest import INPUTS
 
     case = per_length(INPUTS / "crf450r_8000rpm_full_hot_gas.nml")
-    r = ringlube.run(
-        case.with_ring(width=0.79e-3, tension=13.5).with_physics(cavitation="jfo", inlet="starved")
-    )
+    case = case.with_ring(width=0.79e-3, tension=13.5).with_physics(cavitation="jfo", inlet="starved")
+    r = ringlube.run(case.with_numerics(bdc_start=False))
     tol = case.value("numerics", "cycle_tol")
     assert r.converged and r.period == 2, (r.period, r.cycles_run)
     assert max(r.liner_change, r.energy_change, r.ring_pack_change) <= tol, r.summary()
+    window, tight = ringlube.run(case), ringlube.run(case.with_numerics(cycle_tol=1e-7, max_cycles=40))
+    assert window.converged and window.period == 1 and tight.converged, (window.period, window.cycles_run)
+    assert max(window.liner_change, window.energy_change, window.ring_pack_change) <= tol, window.summary()
+    for name in ("energy_loss", "blowby"):
+        assert getattr(window, name) == pytest.approx(getattr(tight, name), rel=tol), name
 
 
 def test_period_of_two_cycles_reports_the_means():
@@ -418,11 +444,14 @@ def test_period_of_five_cycles_reports_the_means():
     -9.5 %, had it stopped three cycles later). It is periodic with period 5 and reports the means of
     its last five cycles, which are the runs stopped after each of them (to round-off); five
     later cycles give the same means (the orbit repeats), and their energies spread by more
-    than 5 % about it (docs/model.md, "A period of several cycles")."""
+    than 5 % about it (docs/model.md, "A period of several cycles"). Judged on the whole liner
+    film (`bdc_start = .false.`), where the orbit is found after 18 cycles; with the film over
+    any 50 cells as well (the default) after 59, its means the same to 2e-8."""
     from conftest import INPUTS
 
     case = per_length(INPUTS / "crf450r_8000rpm_full_hot_gas.nml")
     case = case.with_ring(width=1.070e-3, tension=5.2).with_physics(cavitation="jfo", inlet="starved")
+    case = case.with_numerics(bdc_start=False)
     r = ringlube.run(case.with_numerics(max_cycles=30))
     assert r.converged and r.periodic and r.period == 5, (r.period, r.cycles_run)
     n = r.cycles_run
@@ -536,26 +565,27 @@ def test_a_transient_near_repeat_is_not_a_period():
         assert all(abs(e[i + p] - e[i]) <= 5e-3 * e[i] for i in range(p)), (p, n, e)
 
 
-@pytest.mark.xfail(strict=True, reason="starved period test: the L1 map change hides a build-up near BDC")
-@pytest.mark.known_limitation
 def test_a_starved_period_of_one_must_repeat():
     """At 12000 r/min the hot 'gas' deck starved (JFO, 1 um) with a 1.205 mm ring at 4.25 N/m
-    has a period of five cycles (2.9475, 2.1830, 2.2059, 2.2166, 2.2166 J; mean 2.354 J, found
-    at cycle_tol 1e-4). With max_cycles 30 at the default 1e-3 its cycles 10 and 11 pass the starved test of a
-    period of one (energy within 1e-7, the liner film map's L1 change 7.0e-4), and the run is
-    reported converged at 2.2166 J, 6 % below the mean; cycle 12 is 2.9475 J. The film left
-    near BDC (z = 63.6 mm) still grows by 1 % a cycle (8.825 -> 8.911 um) until the ring picks
-    it up in cycle 12; over the 2673 liner points the L1 norm dilutes that below cycle_tol
-    (its largest change relative to the film's largest is 9.6e-3). Known since the review of
-    2026-11-26 (the period-one test is older than the periods of several cycles)."""
+    has a period of five cycles (2.9475, 2.1830, 2.2059, 2.2166, 2.2166 J; mean 2.3539 J, found
+    at cycle_tol 1e-4 after 40 cycles). Judged on the whole liner film (`bdc_start = .false.`)
+    at the default 1e-3 its cycles 10 and 11 passed the starved test of a period of one (energy
+    within 1e-7, the liner film map's L1 change 7.0e-4), and the run was reported converged at
+    2.2166 J, 6 % below the mean; cycle 12 is 2.9475 J. The film left near BDC (z = 63.6 mm)
+    still grows by 1 % a cycle (8.825 -> 8.911 um) until the ring picks it up in cycle 12;
+    over the 2673 liner points the L1 norm dilutes that below cycle_tol. Judged over any 50
+    cells as well (the default with a vapour cavity) that growth is seen: the run finds its
+    period of five (after 34 cycles), whose cycles repeat, at the mean of the run to
+    cycle_tol 1e-4 within cycle_tol."""
     from conftest import INPUTS
 
     case = per_length(INPUTS / "crf450r_12000rpm_full_hot_gas.nml")
     case = case.with_ring(width=1.205e-3, tension=4.25).with_physics(cavitation="jfo", inlet="starved")
-    r = ringlube.run(case.with_numerics(max_cycles=30))
-    if r.converged:
-        n, p = r.cycles_run, r.period
-        cycles = range(n - p + 1, n + p + 1)
-        single = _stopped_after(case, cycles)
-        e = [s.energy_loss for s in single]
-        assert all(abs(e[i + p] - e[i]) <= 5e-3 * e[i] for i in range(p)), (p, n, e)
+    r = ringlube.run(case.with_numerics(max_cycles=60))
+    ref = ringlube.run(case.with_numerics(max_cycles=80, cycle_tol=1e-4))
+    assert r.converged and ref.converged and r.period == ref.period == 5, (r.period, r.cycles_run)
+    assert r.energy_loss == pytest.approx(ref.energy_loss, rel=case.value("numerics", "cycle_tol"))
+    n, p = r.cycles_run, r.period
+    single = _stopped_after(case, range(n - p + 1, n + p + 1))
+    e = [s.energy_loss for s in single]
+    assert all(abs(e[i + p] - e[i]) <= 5e-3 * e[i] for i in range(p)), (p, n, e)
