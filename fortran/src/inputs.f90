@@ -225,7 +225,7 @@ module ringlube_inputs
     input_spec('numerics', 'bdc_start', kind_logical, '.true.', 0.0_dp, 0.0_dp, '', '', &
       "starved 'vapour', round bore: the warm-up passes its BDC twice, the liner laid there"), &
     input_spec('numerics', 'liner_window', kind_int, '0', 0.0_dp, 20000.0_dp, '1', '', &
-      "starved, round bore: the liner film's change also over any this many cells (0: 50 with BDC start)"), &
+      "starved, round bore: liner change over n cells too (0: 50 with BDC start, 'trailing_gas' periods >1)"), &
     input_spec('output', 'file', kind_string, 'result.h5', 0.0_dp, 0.0_dp, '', '', &
       'result file (relative to the deck folder); -o overrides it'), &
     input_spec('calibration', 'file', kind_string, '', 0.0_dp, 0.0_dp, '', '', &
