@@ -15,6 +15,7 @@ Usage::
     python3 tests/bench/identical.py --base-commit HEAD~1
     python3 tests/bench/identical.py --base-solver /path/to/ringlube-solve
     python3 tests/bench/identical.py --allow-new   # a change that adds results
+    python3 tests/bench/identical.py --moves       # and how far each differing case's answers moved
 
 A benchmark-style script (not run by the tests): it needs the kernel built (``make``) and
 h5py.
@@ -179,12 +180,43 @@ def compare(a: Path, b: Path, allow_new: bool = False) -> tuple[int, list[str], 
     return len(set(ia) & set(ib)) if allow_new else len(set(ia) | set(ib)), differ, new
 
 
+#: the answers --moves reports (root attributes), relative to the base's (the mixed share in points)
+MOVES = ("energy_loss_J", "blowby_l_min", "oil_to_chamber_mm3", "mixed_share_pct")
+
+
+def moves(a: Path, b: Path) -> str:
+    """The base's (a) and the new (b) cycles computed and period, and each of MOVES's change
+    from a to b in units of the base's cycle_tol (relative; the mixed share in points over
+    100 cycle_tol)."""
+    with h5py.File(a) as fa, h5py.File(b) as fb:
+        ra, rb = dict(fa.attrs), dict(fb.attrs)
+    tol = float(ra.get("numerics.cycle_tol", 1e-3))
+    text = [
+        f"cycles computed {float(ra['cycles_computed']):.2f} -> {float(rb['cycles_computed']):.2f}, "
+        f"period {int(ra['period'])} -> {int(rb['period'])}"
+    ]
+    for k in MOVES:
+        if k not in ra or k not in rb:
+            continue
+        x, y = float(ra[k]), float(rb[k])
+        if k == "mixed_share_pct":
+            text.append(f"{k} {(y - x) / (100 * tol):+.3f} tol")
+        elif x != 0:
+            text.append(f"{k} {(y / x - 1) / tol:+.3f} tol")
+    return "; ".join(text)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     here = str(ROOT / "build" / "ringlube-solve")
     parser.add_argument("--solver", default=here, help="the build under test")
     parser.add_argument("--base-solver", help="an existing base build (instead of building --base-commit)")
     parser.add_argument("--base-commit", default="HEAD", help="the commit to build as the base")
+    parser.add_argument(
+        "--moves",
+        action="store_true",
+        help="for each case that differs: its cycles and how far its answers moved, in cycle_tol",
+    )
     parser.add_argument(
         "--allow-new",
         action="store_true",
@@ -219,6 +251,8 @@ def main(argv: list[str] | None = None) -> int:
             ok = rc_a == rc_b and not differ
             bad += not ok
             print(f"{name:<34} {rc_a:>4}/{rc_b:<4} {n:>6}  {'yes' if ok else 'NO: ' + ', '.join(differ[:6])}")
+            if args.moves and not ok and out_a.exists() and out_b.exists():
+                print(f"{'':<34} {moves(out_a, out_b)}")
         verdict = "all identical" if not bad else f"{bad} case(s) differ"
         print(f"\n{verdict} (root attributes but {sorted(SKIP_ATTRS)})")
         if added:
