@@ -9,7 +9,7 @@ module ringlube_jfo_system
   private
   public :: jfo_problem, jfo_system, jfo_system_setup, jfo_residual, jfo_gauss_seidel, &
             jfo_eval, jfo_scratch, jfo_scratch_size, jfo_newton_eval, jfo_newton_step, &
-            jfo_residual_only, jfo_newton_apply, jfo_state_to_v
+            jfo_residual_only, jfo_newton_apply, jfo_state_to_v, jfo_front_content
 
   !> One step of the mass-conserving film: its scalars, the record jfo_solve and
   !> jfo_solve_connected take beside the film's arrays (the gap, the conductances, the content
@@ -49,6 +49,11 @@ module ringlube_jfo_system
     !> between an edge node and its first face hold oil, `&numerics film_edge_cells`);
     !> .false.: they end at the first face and the half cells hold none
     logical :: edge_cells = .false.
+    !> .true.: a reformation front's two cells hold the oil of the front the pressures place
+    !> (`front_excess`): their content is theta h less the excess the upwind scheme holds there,
+    !> so the front moves with the oil it bounds (a step's content_old must then be
+    !> `jfo_front_content` of the last step); .false.: theta h
+    logical :: front_content = .false.
   end type jfo_problem
 
   !> One step's system: n nodes; a = -U/2 the Couette speed of the content; w = dx/dt (0 for a
@@ -68,6 +73,8 @@ module ringlube_jfo_system
     real(dp) :: dmax = 0.0_dp
     !> jfo_problem%edge_meniscus
     logical :: edge_meniscus = .false.
+    !> jfo_problem%front_content and a time step (w > 0); jfo_problem%edge_cells
+    logical :: front_content = .false., edge_cells = .false.
   end type jfo_system
 
   !> The residual's evaluation at a state v (jfo_residual), all per node or per face (n).
@@ -136,6 +143,8 @@ contains
     sys%qcl = max(problem%cap_left, 0.0_dp)
     sys%qcr = max(problem%cap_right, 0.0_dp)
     sys%edge_meniscus = problem%edge_meniscus
+    sys%edge_cells = problem%edge_cells
+    sys%front_content = problem%front_content .and. problem%dt > 0.0_dp
     if (allocated(sys%ca)) then
       if (size(sys%ca) /= n) deallocate (sys%ca, sys%kd, sys%ps, sys%wv)
     end if
@@ -185,6 +194,7 @@ contains
     logical, intent(in) :: jac
     type(jfo_eval), intent(inout) :: ev
     real(dp) :: g, tp, s
+    real(dp), allocatable :: fe(:), fed(:), fel(:), feu(:)
     integer :: j
     associate (n => sys%n, a => sys%a, w => sys%w, wv => sys%wv, ca => sys%ca, kd => sys%kd, ps => sys%ps, &
                h => sys%h, content_old => sys%content_old, p_left => sys%p_left, &
@@ -247,6 +257,11 @@ contains
             + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
         scale = max(scale, s)
       end do
+      if (sys%front_content) then
+        allocate (fe(n), fed(n), fel(n), feu(n))
+        call front_excess(n, a, ca, kd, ps, h, pn, tn, sys%edge_cells, fe, fed, fel, feu)
+        res(2:n - 1) = res(2:n - 1) - w * fe(2:n - 1)
+      end if
       if (.not. jac) return
       do j = 2, n - 1
         if (x(j) >= 0.0_dp) then
@@ -272,6 +287,13 @@ contains
         else
           jl(j) = 0.0_dp
         end if
+        if (sys%front_content) then
+          ! the excess's derivatives; an off-diagonal entry that they turn positive is taken
+          ! as 0 (the Jacobian keeps its M-matrix pattern; Newton converges on the residual)
+          jd(j) = jd(j) - w * fed(j)
+          if (j > 2) jl(j) = min(jl(j) - w * fel(j), 0.0_dp)
+          if (j < n - 1) ju(j) = min(ju(j) - w * feu(j), 0.0_dp)
+        end if
       end do
     end associate
   end subroutine jfo_residual
@@ -294,6 +316,11 @@ contains
     real(dp), intent(out) :: scale, rmax, fsq
     type(jfo_eval), intent(inout) :: ev
     logical, intent(out) :: pivots, signs
+    if (sys%front_content) then
+      call newton_eval_front(sys, sys%n, sys%ca, sys%kd, sys%ps, sys%wv, sys%h, sys%content_old, &
+                             x, res, scale, rmax, fsq, ev%pn, ev%tn, ev%fl, cp, y, pivots, signs)
+      return
+    end if
     call newton_eval_nodes(sys, sys%n, sys%ca, sys%kd, sys%ps, sys%pc, sys%wv, sys%h, &
                            sys%content_old, x, res, scale, rmax, fsq, ev%pn, ev%tn, ev%fl, cp, y, &
                            pivots, signs)
@@ -477,6 +504,11 @@ contains
     real(dp), intent(out), contiguous :: res(:)
     real(dp), intent(out) :: scale, rmax, fsq
     type(jfo_eval), intent(inout) :: ev
+    if (sys%front_content) then
+      call residual_front(sys, sys%n, sys%ca, sys%kd, sys%wv, sys%h, sys%content_old, x, res, &
+                          scale, rmax, fsq, ev%pn, ev%tn, ev%fl)
+      return
+    end if
     call residual_nodes(sys, sys%n, sys%ca, sys%kd, sys%wv, sys%h, sys%content_old, x, res, scale, &
                         rmax, fsq, ev%pn, ev%tn, ev%fl)
   end subroutine jfo_residual_only
@@ -534,6 +566,201 @@ contains
       end do
     end associate
   end subroutine residual_nodes
+
+  !> jfo_newton_eval with jfo_problem%front_content (its own routine, so that the one-pass
+  !> evaluation above stays as it is): the fronts' excess (`front_excess`) in the residual's
+  !> storage and its derivatives in the Jacobian's rows, then the same forward elimination.
+  pure subroutine newton_eval_front(sys, n, ca, kd, ps, wv, h, content_old, x, res, scale, rmax, &
+                                    fsq, pn, tn, fl, cp, y, pivots, signs)
+    type(jfo_system), intent(in) :: sys
+    integer, intent(in) :: n
+    real(dp), intent(in) :: ca(n), kd(n), ps(n), wv(n), h(n), content_old(n), x(n)
+    real(dp), intent(out) :: res(n), scale, rmax, fsq, cp(n), y(n)
+    real(dp), intent(inout) :: pn(n), tn(n), fl(n)
+    logical, intent(out) :: pivots, signs
+    real(dp) :: s, jl, jd, ju, m, rr
+    ! the face before node j (f = j - 1) and after it (f = j): flux derivatives
+    real(dp) :: pl0, pr0, tl0, tr0, pl1, pr1, tl1, tr1
+    real(dp), allocatable :: fe(:), fed(:), fel(:), feu(:)
+    integer :: j
+    associate (a => sys%a, w => sys%w, qcl => sys%qcl, qcr => sys%qcr)
+      if (sys%front_content) then
+        ! the fronts' excess needs every node's state first
+        allocate (fe(n), fed(n), fel(n), feu(n))
+        pn(1) = sys%p_left
+        pn(n) = sys%p_right
+        tn(1) = sys%theta_left
+        tn(n) = sys%theta_right
+        do j = 2, n - 1
+          pn(j) = node_p(sys, j, x(j))
+          tn(j) = node_t(x(j))
+        end do
+        call front_excess(n, a, ca, kd, ps, h, pn, tn, sys%edge_cells, fe, fed, fel, feu)
+      end if
+      pivots = .true.
+      signs = .true.
+      pn(1) = sys%p_left
+      pn(n) = sys%p_right
+      tn(1) = sys%theta_left
+      tn(n) = sys%theta_right
+      pn(2) = node_p(sys, 2, x(2))
+      tn(2) = node_t(x(2))
+      call face_eval(sys, pn, tn, 1, fl(1), pl0, pr0, tl0, tr0)
+      if (sys%edge_meniscus .and. sys%a > 0.0_dp) &
+        call inflow_edge(sys, pn, tn, 1, fl(1), pl0, pr0, tl0, tr0)
+      if (fl(1) > qcl) then
+        fl(1) = qcl
+        pr0 = 0.0_dp
+        tr0 = 0.0_dp
+      end if
+      scale = tiny(1.0_dp)
+      rmax = 0.0_dp
+      fsq = 0.0_dp
+      res(1) = 0.0_dp
+      res(n) = 0.0_dp
+      do j = 2, n - 1
+        if (j + 1 < n) then
+          pn(j + 1) = node_p(sys, j + 1, x(j + 1))
+          tn(j + 1) = node_t(x(j + 1))
+        end if
+        call face_eval(sys, pn, tn, j, fl(j), pl1, pr1, tl1, tr1)
+        if (j == n - 1) then
+          if (sys%edge_meniscus .and. sys%a < 0.0_dp) &
+            call inflow_edge(sys, pn, tn, j, fl(j), pl1, pr1, tl1, tr1)
+          if (-fl(n - 1) > qcr) then
+            fl(n - 1) = -qcr
+            pl1 = 0.0_dp
+            tl1 = 0.0_dp
+          end if
+        end if
+        res(j) = wv(j) * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
+        if (sys%front_content) res(j) = res(j) - w * fe(j)
+        s = wv(j) * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
+            + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
+        scale = max(scale, s)
+        rmax = max(rmax, abs(res(j)))
+        fsq = fsq + res(j)**2
+        ! the Jacobian's row j on this piece (as jfo_residual)
+        if (x(j) >= 0.0_dp) then
+          jd = (pl1 - pr0) * ps(j)
+        else
+          jd = wv(j) * h(j) + tl1 - tr0
+        end if
+        ju = 0.0_dp
+        if (j < n - 1) then
+          if (x(j + 1) >= 0.0_dp) then
+            ju = pr1 * ps(j + 1)
+          else
+            ju = tr1
+          end if
+        end if
+        jl = 0.0_dp
+        if (j > 2) then
+          if (x(j - 1) >= 0.0_dp) then
+            jl = -pl0 * ps(j - 1)
+          else
+            jl = -tl0
+          end if
+        end if
+        if (sys%front_content) then
+          jd = jd - w * fed(j)
+          if (j > 2) jl = min(jl - w * fel(j), 0.0_dp)
+          if (j < n - 1) ju = min(ju - w * feu(j), 0.0_dp)
+        end if
+        if (.not. jd > 0.0_dp .or. jl > 0.0_dp .or. ju > 0.0_dp) signs = .false.
+        ! forward elimination (as `thomas`), right-hand side -R
+        if (pivots) then
+          if (j == 2) then
+            m = jd
+            rr = -res(j)
+          else
+            m = jd - jl * cp(j - 1)
+            rr = -res(j) - jl * y(j - 1)
+          end if
+          if (m == 0.0_dp) then
+            pivots = .false.
+          else
+            m = 1.0_dp / m
+            cp(j) = ju * m
+            y(j) = rr * m
+          end if
+        end if
+        pl0 = pl1
+        pr0 = pr1
+        tl0 = tl1
+        tr0 = tr1
+      end do
+    end associate
+  end subroutine newton_eval_front
+
+  !> jfo_residual_only with jfo_problem%front_content (its own routine, as newton_eval_front):
+  !> the residual with the fronts' excess in the storage.
+  pure subroutine residual_front(sys, n, ca, kd, wv, h, content_old, x, res, scale, rmax, fsq, &
+                                 pn, tn, fl)
+    type(jfo_system), intent(in) :: sys
+    integer, intent(in) :: n
+    real(dp), intent(in) :: ca(n), kd(n), wv(n), h(n), content_old(n), x(n)
+    real(dp), intent(out) :: res(n), scale, rmax, fsq
+    real(dp), intent(inout) :: pn(n), tn(n), fl(n)
+    real(dp) :: s, g, d1, d2, d3, d4
+    real(dp), allocatable :: fe(:), fed(:), fel(:), feu(:)
+    integer :: j
+    associate (a => sys%a, w => sys%w, qcl => sys%qcl, qcr => sys%qcr)
+      if (sys%front_content) then
+        allocate (fe(n), fed(n), fel(n), feu(n))
+        pn(1) = sys%p_left
+        pn(n) = sys%p_right
+        tn(1) = sys%theta_left
+        tn(n) = sys%theta_right
+        do j = 2, n - 1
+          pn(j) = node_p(sys, j, x(j))
+          tn(j) = node_t(x(j))
+        end do
+        call front_excess(n, a, ca, kd, sys%ps, h, pn, tn, sys%edge_cells, fe, fed, fel, feu)
+      end if
+      pn(1) = sys%p_left
+      pn(n) = sys%p_right
+      tn(1) = sys%theta_left
+      tn(n) = sys%theta_right
+      pn(2) = node_p(sys, 2, x(2))
+      tn(2) = node_t(x(2))
+      scale = tiny(1.0_dp)
+      rmax = 0.0_dp
+      fsq = 0.0_dp
+      res(1) = 0.0_dp
+      res(n) = 0.0_dp
+      do j = 1, n - 1
+        if (j + 1 < n) then
+          pn(j + 1) = node_p(sys, j + 1, x(j + 1))
+          tn(j + 1) = node_t(x(j + 1))
+        end if
+        g = kd(j) * (pn(j + 1) - pn(j))
+        if (a > 0.0_dp) then
+          fl(j) = ca(j) * tn(j) - g * merge(tn(j), tn(j + 1), g <= 0.0_dp)
+        else
+          fl(j) = ca(j) * tn(j + 1) - g * merge(tn(j), tn(j + 1), g <= 0.0_dp)
+        end if
+        if (sys%edge_meniscus) then
+          if ((j == 1 .and. a > 0.0_dp) .or. (j == n - 1 .and. a < 0.0_dp)) &
+            call inflow_edge(sys, pn, tn, j, fl(j), d1, d2, d3, d4)
+        end if
+        if (j == 1) then
+          if (fl(1) > qcl) fl(1) = qcl
+          cycle
+        end if
+        if (j == n - 1) then
+          if (-fl(n - 1) > qcr) fl(n - 1) = -qcr
+        end if
+        res(j) = wv(j) * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
+        if (sys%front_content) res(j) = res(j) - w * fe(j)
+        s = wv(j) * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
+            + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
+        scale = max(scale, s)
+        rmax = max(rmax, abs(res(j)))
+        fsq = fsq + res(j)**2
+      end do
+    end associate
+  end subroutine residual_front
 
   !> Flux fl through face f (nodes f, f+1) at the node states pn, tn and its derivatives by
   !> the pressure (dpl, dpr) and fill (dtl, dtr) of its left and right node, as jfo_residual.
@@ -617,6 +844,139 @@ contains
       end if
     end associate
   end subroutine inflow_edge
+
+  !> The oil a reformation front's two cells hold beyond the film with the front where the
+  !> pressures place it (docs/film_model.md, "The reformation front"), e(i) per node (content
+  !> per dx: the residual's storage of node i is wv(i) theta h - w e(i)), and its derivatives
+  !> by v of node i (ed), i - 1 (el) and i + 1 (eu). A front: a partly filled node U (fill
+  !> theta_U < 1) whose neighbour D downstream in the Couette flow is full. With
+  !> A = p_D - p_U and B = (1 - theta_U) |a hmid| / kd, the front lies a fraction
+  !> s = A / (A + B) from D to U; the oil ahead of it (from the node upstream of U, fill
+  !> theta_Q) fills (1 - theta_Q) h_f less than the cells hold, h_f the gap at the front: the
+  !> excess E = (1/2 + s (vol_U - 1)) (1 - theta_Q) h_f (vol_U the volume of U's cell in dx:
+  !> 1.5 next to an edge with edge cells), put (1 - s) E on D and s E on U (continuous when U
+  !> fills or D empties: the pair next along takes it from the same node). With edge cells, a
+  !> full node D next to the inflow edge U (fill theta_U < 1): the front a fraction
+  !> s = A / B (in [0, 1]) from D to the edge and E = (1 - s) (1 - theta_U) h_f on D (the
+  !> interior pair's at s = 1 when D fills; 0 with the film full to the edge).
+  pure subroutine front_excess(n, a, ca, kd, ps, h, pn, tn, edge_cells, e, ed, el, eu)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: a, ca(n), kd(n), ps(n), h(n), pn(n), tn(n)
+    logical, intent(in) :: edge_cells
+    real(dp), intent(out) :: e(n), ed(n), el(n), eu(n)
+    real(dp) :: c, aa, bb, sf, hf, kq, fac, ee, des, dsd, dsu, du, dd, vu
+    logical :: lone
+    integer :: iu, id, iq, f, dn, i2
+    e = 0.0_dp
+    ed = 0.0_dp
+    el = 0.0_dp
+    eu = 0.0_dp
+    if (a == 0.0_dp) return
+    dn = merge(-1, 1, a < 0.0_dp)
+    do iu = 2, n - 1
+      id = iu + dn
+      ! D interior and not next to the edge downstream (a film full to that edge has no front)
+      if (id + dn < 2 .or. id + dn > n - 1) cycle
+      if (.not. (tn(iu) < 1.0_dp .and. tn(id) >= 1.0_dp)) cycle
+      f = min(iu, id)
+      c = abs(ca(f))
+      if (.not. (c > 0.0_dp .and. kd(f) > 0.0_dp)) cycle
+      iq = iu - dn
+      aa = max(pn(id) - pn(iu), 0.0_dp)
+      bb = (1.0_dp - tn(iu)) * c / kd(f)
+      sf = aa / (aa + bb)
+      ! the fill ahead of the front: U's where the front is at D (s = 0: the jump condition
+      ! gives theta_U the fill ahead), Q's where it reaches U (s = 1), so that the pair next
+      ! along starts from the same excess
+      kq = (1.0_dp - sf) * (1.0_dp - tn(iu)) + sf * max(1.0_dp - tn(iq), 0.0_dp)
+      vu = 1.0_dp
+      if (edge_cells .and. (iu == 2 .or. iu == n - 1)) vu = 1.5_dp
+      fac = 0.5_dp + sf * (vu - 1.0_dp)
+      hf = h(id) + sf * (h(iu) - h(id))
+      ee = fac * kq * hf
+      des = (vu - 1.0_dp) * kq * hf + fac * kq * (h(iu) - h(id)) &
+            + fac * hf * (max(1.0_dp - tn(iq), 0.0_dp) - (1.0_dp - tn(iu)))
+      ! ds by v of D (its pressure) and of U (its fill)
+      dsd = 0.0_dp
+      if (pn(id) - pn(iu) > 0.0_dp) dsd = bb / (aa + bb)**2 * ps(id)
+      dsu = aa * c / (kd(f) * (aa + bb)**2)
+      ! E by v of D and of U (U's fill directly in kq too)
+      dd = des * dsd
+      du = des * dsu - fac * hf * (1.0_dp - sf)
+      ! D the only full node (its neighbour downstream partly filled, or next to the edge):
+      ! no pair takes the excess over when D empties, so it goes with s (E s)
+      i2 = id + dn
+      lone = i2 + dn < 2 .or. i2 + dn > n - 1
+      if (.not. lone) lone = tn(i2) < 1.0_dp
+      if (lone) then
+        dd = sf * dd + ee * dsd
+        du = sf * du + ee * dsu
+        ee = sf * ee
+      end if
+      e(id) = e(id) + (1.0_dp - sf) * ee
+      e(iu) = e(iu) + sf * ee
+      ed(id) = ed(id) - ee * dsd + (1.0_dp - sf) * dd
+      ed(iu) = ed(iu) + ee * dsu + sf * du
+      if (dn < 0) then
+        eu(id) = eu(id) - ee * dsu + (1.0_dp - sf) * du
+        el(iu) = el(iu) + ee * dsd + sf * dd
+      else
+        el(id) = el(id) - ee * dsu + (1.0_dp - sf) * du
+        eu(iu) = eu(iu) + ee * dsd + sf * dd
+      end if
+    end do
+    if (.not. edge_cells) return
+    ! the full node next to the inflow edge with the meniscus between them
+    if (dn < 0) then
+      iu = n
+    else
+      iu = 1
+    end if
+    id = iu + dn
+    if (.not. (tn(iu) < 1.0_dp .and. tn(id) >= 1.0_dp)) return
+    f = min(iu, id)
+    c = abs(ca(f))
+    if (.not. (c > 0.0_dp .and. kd(f) > 0.0_dp)) return
+    kq = 1.0_dp - tn(iu)
+    bb = kq * c / kd(f)
+    aa = pn(id) - pn(iu)
+    sf = min(max(aa / bb, 0.0_dp), 1.0_dp)
+    hf = h(id) + sf * (h(iu) - h(id))
+    e(id) = e(id) + (1.0_dp - sf) * kq * hf
+    if (aa > 0.0_dp .and. aa < bb) &
+      ed(id) = ed(id) + (-kq * hf + (1.0_dp - sf) * kq * (h(iu) - h(id))) * ps(id) / bb
+  end subroutine front_excess
+
+  !> The content of each node of a film state p, theta for jfo_problem%front_content (the
+  !> next step's content_old): theta h less the reformation fronts' excess (`front_excess`)
+  !> per unit of the node's volume; theta h at the edges and without the option or a step.
+  pure function jfo_front_content(problem, h, hmid, kmid, pc, p, theta) result(c)
+    type(jfo_problem), intent(in) :: problem
+    real(dp), intent(in) :: h(:), hmid(:), kmid(:), pc(:), p(:), theta(:)
+    real(dp) :: c(size(h))
+    type(jfo_system) :: sys
+    real(dp), allocatable :: e(:), d1(:), d2(:), d3(:), pn(:), tn(:)
+    integer :: n, j
+    n = size(h)
+    c = theta * h
+    if (.not. (problem%front_content .and. problem%dt > 0.0_dp) .or. n < 3) return
+    call jfo_system_setup(sys, problem, h, hmid, kmid, c, pc)
+    allocate (e(n), d1(n), d2(n), d3(n), pn(n), tn(n))
+    pn = p
+    tn = theta
+    pn(1) = problem%p_left
+    pn(n) = problem%p_right
+    tn(1) = problem%theta_left
+    tn(n) = problem%theta_right
+    do j = 2, n - 1
+      if (theta(j) < 1.0_dp) pn(j) = pc(j)
+    end do
+    call front_excess(n, sys%a, sys%ca, sys%kd, sys%ps, h, pn, tn, problem%edge_cells, e, d1, &
+                      d2, d3)
+    do j = 2, n - 1
+      c(j) = c(j) - e(j) * sys%w / sys%wv(j)
+    end do
+  end function jfo_front_content
 
   !> The Newton step from jfo_newton_eval's elimination (back substitution): dv on the
   !> interior nodes, 0 at the edges.
