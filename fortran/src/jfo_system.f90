@@ -288,11 +288,10 @@ contains
           jl(j) = 0.0_dp
         end if
         if (sys%front_content) then
-          ! the excess's derivatives; an off-diagonal entry that they turn positive is taken
-          ! as 0 (the Jacobian keeps its M-matrix pattern; Newton converges on the residual)
+          ! the excess's derivatives (exact: the Jacobian need not keep its M-matrix pattern)
           jd(j) = jd(j) - w * fed(j)
-          if (j > 2) jl(j) = min(jl(j) - w * fel(j), 0.0_dp)
-          if (j < n - 1) ju(j) = min(ju(j) - w * feu(j), 0.0_dp)
+          if (j > 2) jl(j) = jl(j) - w * fel(j)
+          if (j < n - 1) ju(j) = ju(j) - w * feu(j)
         end if
       end do
     end associate
@@ -664,10 +663,14 @@ contains
         end if
         if (sys%front_content) then
           jd = jd - w * fed(j)
-          if (j > 2) jl = min(jl - w * fel(j), 0.0_dp)
-          if (j < n - 1) ju = min(ju - w * feu(j), 0.0_dp)
+          if (j > 2) jl = jl - w * fel(j)
+          if (j < n - 1) ju = ju - w * feu(j)
         end if
-        if (.not. jd > 0.0_dp .or. jl > 0.0_dp .or. ju > 0.0_dp) signs = .false.
+        ! (the fronts' excess breaks the pattern without making the step wrong: with
+        ! front_content the pivots alone decide)
+        if (.not. sys%front_content) then
+          if (.not. jd > 0.0_dp .or. jl > 0.0_dp .or. ju > 0.0_dp) signs = .false.
+        end if
         ! forward elimination (as `thomas`), right-hand side -R
         if (pivots) then
           if (j == 2) then
@@ -847,24 +850,29 @@ contains
 
   !> The oil a reformation front's two cells hold beyond the film with the front where the
   !> pressures place it (docs/film_model.md, "The reformation front"), e(i) per node (content
-  !> per dx: the residual's storage of node i is wv(i) theta h - w e(i)), and its derivatives
-  !> by v of node i (ed), i - 1 (el) and i + 1 (eu). A front: a partly filled node U (fill
-  !> theta_U < 1) whose neighbour D downstream in the Couette flow is full. With
+  !> per dx: the residual's storage of node i is wv(i) theta h - w e(i)), and its exact
+  !> derivatives by v of node i (ed), i - 1 (el) and i + 1 (eu). A front: a partly filled node U
+  !> (fill theta_U < 1) whose neighbour D downstream in the Couette flow is full. With
   !> A = p_D - p_U and B = (1 - theta_U) |a hmid| / kd, the front lies a fraction
-  !> s = A / (A + B) from D to U; the oil ahead of it (from the node upstream of U, fill
-  !> theta_Q) fills (1 - theta_Q) h_f less than the cells hold, h_f the gap at the front: the
-  !> excess E = (1/2 + s (vol_U - 1)) (1 - theta_Q) h_f (vol_U the volume of U's cell in dx:
-  !> 1.5 next to an edge with edge cells), put (1 - s) E on D and s E on U (continuous when U
-  !> fills or D empties: the pair next along takes it from the same node). With edge cells, a
-  !> full node D next to the inflow edge U (fill theta_U < 1): the front a fraction
-  !> s = A / B (in [0, 1]) from D to the edge and E = (1 - s) (1 - theta_U) h_f on D (the
-  !> interior pair's at s = 1 when D fills; 0 with the film full to the edge).
+  !> s = A / (A + B) from D to U, h_f the gap there; with fac = 1/2 + s (vol_U - 1) (vol_U the
+  !> volume of U's cell in dx: 1.5 next to an edge with edge cells) D holds
+  !> (1 - s) fac (1 - theta_U) h_f and U holds s fac (1 - theta_Q) h_f more than the film with
+  !> that front (theta_Q the fill of the node upstream of U): D's share is the oil missing
+  !> ahead of a front in D's half (U's fill), U's the oil missing ahead of a front in U's half
+  !> (Q's fill). Continuous when U fills (s = 1: the pair (Q, U) starts with the same on U) and
+  !> when D empties (s = 0: the pair (D, D2) ends with the same on D), and each share depends
+  !> only on its node and its two neighbours (the Jacobian stays tridiagonal). A lone full node
+  !> (its neighbour downstream partly filled: no pair takes over when it empties) scales both
+  !> by s. With edge cells, a full node D next to the inflow edge U (fill theta_U < 1): the
+  !> front a fraction s = A / B (in [0, 1]) from D to the edge and D holds
+  !> (1 - s) (1 - theta_U) h_f (the interior pair's at s = 1 when D fills; 0 with the film full
+  !> to the edge).
   pure subroutine front_excess(n, a, ca, kd, ps, h, pn, tn, edge_cells, e, ed, el, eu)
     integer, intent(in) :: n
     real(dp), intent(in) :: a, ca(n), kd(n), ps(n), h(n), pn(n), tn(n)
     logical, intent(in) :: edge_cells
     real(dp), intent(out) :: e(n), ed(n), el(n), eu(n)
-    real(dp) :: c, aa, bb, sf, hf, kq, fac, ee, des, dsd, dsu, du, dd, vu
+    real(dp) :: c, aa, bb, sf, hf, fac, dsd, dsu, vu, ku, kq, gd, gu, gdp, gup, dkq
     logical :: lone
     integer :: iu, id, iq, f, dn, i2
     e = 0.0_dp
@@ -885,44 +893,52 @@ contains
       aa = max(pn(id) - pn(iu), 0.0_dp)
       bb = (1.0_dp - tn(iu)) * c / kd(f)
       sf = aa / (aa + bb)
-      ! the fill ahead of the front: U's where the front is at D (s = 0: the jump condition
-      ! gives theta_U the fill ahead), Q's where it reaches U (s = 1), so that the pair next
-      ! along starts from the same excess
-      kq = (1.0_dp - sf) * (1.0_dp - tn(iu)) + sf * max(1.0_dp - tn(iq), 0.0_dp)
-      vu = 1.0_dp
-      if (edge_cells .and. (iu == 2 .or. iu == n - 1)) vu = 1.5_dp
-      fac = 0.5_dp + sf * (vu - 1.0_dp)
-      hf = h(id) + sf * (h(iu) - h(id))
-      ee = fac * kq * hf
-      des = (vu - 1.0_dp) * kq * hf + fac * kq * (h(iu) - h(id)) &
-            + fac * hf * (max(1.0_dp - tn(iq), 0.0_dp) - (1.0_dp - tn(iu)))
       ! ds by v of D (its pressure) and of U (its fill)
       dsd = 0.0_dp
       if (pn(id) - pn(iu) > 0.0_dp) dsd = bb / (aa + bb)**2 * ps(id)
       dsu = aa * c / (kd(f) * (aa + bb)**2)
-      ! E by v of D and of U (U's fill directly in kq too)
-      dd = des * dsd
-      du = des * dsu - fac * hf * (1.0_dp - sf)
+      vu = 1.0_dp
+      if (edge_cells .and. (iu == 2 .or. iu == n - 1)) vu = 1.5_dp
+      fac = 0.5_dp + sf * (vu - 1.0_dp)
+      hf = h(id) + sf * (h(iu) - h(id))
+      ku = 1.0_dp - tn(iu)
+      kq = max(1.0_dp - tn(iq), 0.0_dp)
+      ! dkq: d kq / d v_Q where Q is an unknown (interior) and partly filled
+      dkq = 0.0_dp
+      if (iq >= 2 .and. iq <= n - 1 .and. 1.0_dp - tn(iq) > 0.0_dp) dkq = -1.0_dp
+      ! the shares per unit fill deficit, gd(s) = (1 - s) fac hf and gu(s) = s fac hf, and
+      ! their derivatives by s
+      gd = (1.0_dp - sf) * fac * hf
+      gu = sf * fac * hf
+      gdp = -fac * hf + (1.0_dp - sf) * ((vu - 1.0_dp) * hf + fac * (h(iu) - h(id)))
+      gup = fac * hf + sf * ((vu - 1.0_dp) * hf + fac * (h(iu) - h(id)))
       ! D the only full node (its neighbour downstream partly filled, or next to the edge):
-      ! no pair takes the excess over when D empties, so it goes with s (E s)
+      ! both shares scaled by s, so that they vanish when D empties
       i2 = id + dn
       lone = i2 + dn < 2 .or. i2 + dn > n - 1
       if (.not. lone) lone = tn(i2) < 1.0_dp
       if (lone) then
-        dd = sf * dd + ee * dsd
-        du = sf * du + ee * dsu
-        ee = sf * ee
+        gdp = gd + sf * gdp
+        gup = gu + sf * gup
+        gd = sf * gd
+        gu = sf * gu
       end if
-      e(id) = e(id) + (1.0_dp - sf) * ee
-      e(iu) = e(iu) + sf * ee
-      ed(id) = ed(id) - ee * dsd + (1.0_dp - sf) * dd
-      ed(iu) = ed(iu) + ee * dsu + sf * du
-      if (dn < 0) then
-        eu(id) = eu(id) - ee * dsu + (1.0_dp - sf) * du
-        el(iu) = el(iu) + ee * dsd + sf * dd
+      e(id) = e(id) + gd * ku
+      e(iu) = e(iu) + gu * kq
+      ! by v_D
+      ed(id) = ed(id) + gdp * dsd * ku
+      ! by v_U (the fill of U: ku by -1)
+      ed(iu) = ed(iu) + gup * dsu * kq
+      if (dn > 0) then
+        ! U = D - 1, Q = U - 1
+        el(id) = el(id) + gdp * dsu * ku - gd
+        eu(iu) = eu(iu) + gup * dsd * kq
+        el(iu) = el(iu) + gu * dkq
       else
-        el(id) = el(id) - ee * dsu + (1.0_dp - sf) * du
-        eu(iu) = eu(iu) + ee * dsd + sf * dd
+        ! U = D + 1, Q = U + 1
+        eu(id) = eu(id) + gdp * dsu * ku - gd
+        el(iu) = el(iu) + gup * dsd * kq
+        eu(iu) = eu(iu) + gu * dkq
       end if
     end do
     if (.not. edge_cells) return
