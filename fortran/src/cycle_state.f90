@@ -198,6 +198,7 @@ contains
       end if
       if (.not. f%jfo) return
       f%content_old = f%theta * f%h
+      if (f%front_content) f%content_old = f%content_end
       ! oil through the leading and trailing faces over the step
       if (f%lead_left) then
         out%v_in = f%q_left * st%ctx%dt
@@ -260,6 +261,7 @@ contains
           if (.not. fj%jfo) cycle
           fj%face_open = all(fj%theta(2:fj%n - 1) < 1.0_dp)
           fj%content_old = fj%theta * fj%h
+          if (fj%front_content) fj%content_old = fj%content_end
           if (fj%lead_left) then
             vin(j) = fj%q_left * st%ctx%dt
             vout(j) = fj%q_right * st%ctx%dt

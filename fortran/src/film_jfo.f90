@@ -6,6 +6,7 @@ module ringlube_film_jfo
   use ringlube_results, only: flag_cavitation, flag_overdraw
   use ringlube_jfo, only: jfo_solve, jfo_problem, jfo_stats, JFO_OK
   use ringlube_jfo_connect, only: jfo_solve_connected
+  use ringlube_jfo_system, only: jfo_front_content
   use ringlube_oil_supply, only: inlet_fill
   use ringlube_film_state, only: film_type, lower_edge_pressure, start_viscosity, conductance, &
                                  update_viscosity, film_loads
@@ -48,6 +49,7 @@ contains
                        trailing_gas=c%cavity_pressure == 'trailing_gas', leading_gas=f%starved)
     prob%edge_cells = f%edge_cells
     prob%edge_meniscus = f%edge_cells
+    prob%front_content = f%front_content
     if (f%lead_left) then
       h_le = f%hmid(1)
       x_lead = f%x_left_prev
@@ -125,7 +127,11 @@ contains
       end if
       if (v_in > f%available * (1.0_dp + 1e-9_dp) + 1e-30_dp) f%flags = ior(f%flags, flag_overdraw)
     end if
-    f%content_end = f%theta * f%h
+    if (f%front_content) then
+      f%content_end = jfo_front_content(prob, f%h, f%hmid, f%kmid, f%pc, f%p, f%theta)
+    else
+      f%content_end = f%theta * f%h
+    end if
     f%held_end = f%h0 <= c%h0_floor * (1.0_dp + 1e-12_dp) .or. &
                  f%h0 >= c%h0_ceiling * (1.0_dp - 1e-12_dp)
     if (c%bore == 'distorted') f%held_end = f%held_end .or. &

@@ -83,6 +83,10 @@ module ringlube_film_state
     !> the mass-conserving film's volumes next to the edges reach the edges (`&numerics
     !> film_edge_cells`; ringlube_jfo's jfo_problem%edge_cells): the oil in the gap counts them
     logical :: edge_cells = .false.
+    !> `&numerics film_edge_cells = 'front'`: the reformation fronts' cells hold their front's
+    !> oil (ringlube_jfo's jfo_problem%front_content): the content carried between steps is
+    !> jfo_front_content's (content_end), not theta h
+    logical :: front_content = .false.
     !> starved: oil on the liner just behind the trailing edge that it may draw back over the
     !> step [m^2]; the caps on the inflow through the left and right edge faces [m^2/s]
     real(dp) :: behind = 0.0_dp, cap_left = huge(1.0_dp), cap_right = huge(1.0_dp)
@@ -135,7 +139,8 @@ contains
     f%active = .false.
     f%jfo = c%cavitation == 'jfo'
     f%starved = c%inlet == 'starved'
-    f%edge_cells = f%jfo .and. c%film_edge_cells == 'edge'
+    f%edge_cells = f%jfo .and. (c%film_edge_cells == 'edge' .or. c%film_edge_cells == 'front')
+    f%front_content = f%jfo .and. c%film_edge_cells == 'front'
     allocate (f%theta(n), f%content_old(n), f%pc(n))
     allocate (f%content_prev(n), f%content_key(n), f%content_end(n), f%content_hist(n))
     f%content_prev = 0.0_dp

@@ -7,9 +7,9 @@ tolerances, the numerics of tests/bench/front.py).
     python3 tests/bench/film_presets.py [--repeats N] [--ring-pack gas] [--tension-unit N/m]
     python3 tests/bench/film_presets.py --convergence [--ring-pack gas]
     python3 tests/bench/film_presets.py --time-order [--tension-unit N/m]
-    python3 tests/bench/film_presets.py --oil-default [--tension-unit N/m]
+    python3 tests/bench/film_presets.py --oil-default [--tension-unit N/m] [--edge front]
     python3 tests/bench/film_presets.py --oil-nodes [--tension-unit N/m]
-    python3 tests/bench/film_presets.py --oil-order [--decks hot,cold]
+    python3 tests/bench/film_presets.py --oil-order [--decks hot,cold] [--edge front]
     python3 tests/bench/film_presets.py --edge-cost [--repeats N]
 
 `--ring-pack gas` runs every model with the gas around the ring instead of the
@@ -22,9 +22,9 @@ with `film_time_scheme` 'bdf2' and 'euler'. `--tension-unit N/m` reads the decks
 N/m (with its calibration, inputs/calibration_n_per_m.nml) instead of their N.
 `--oil-default` prints the starved film (1, 2, 5 um) at 'default' with each
 `film_time_scheme` (and, with 'bdf2', each `film_edge_cells`) against the reference: energy and
-oil to the chamber, and the kernel time per run; `--oil-nodes` the
+oil to the chamber, and the kernel time per run (`--edge front` adds bdf2/'front'); `--oil-nodes` the
 starved film's oil as the nodes double (BDF2, 0.25 deg; with each `film_edge_cells`);
-`--oil-order` the starved film at 1 um (BDF2, 'edge', tight tolerances) as the nodes double
+`--oil-order` the starved film at 1 um (BDF2, 'edge' or `--edge front`, tight tolerances) as the nodes double
 (51..801 at 0.25 deg) and as the crank step halves (2..0.125 deg at 51 nodes): energy and
 oil to the chamber and the observed orders of their successive differences;
 `--edge-cost [--repeats N]` the kernel time per cycle of the starved film at 'default' with
@@ -130,7 +130,7 @@ def time_order(decks: list[str], unit: str | None) -> None:
                 print(f"{stem:5s} {label:12s} {scheme:6s} {cols[0]}  {cols[1]}", flush=True)
 
 
-def oil_default(decks: list[str], unit: str | None) -> None:
+def oil_default(decks: list[str], unit: str | None, extra: tuple[str, ...] = ()) -> None:
     """The starved film (supply film 1, 2 and 5 um) at the 'default' preset with each
     `film_time_scheme` and, with 'bdf2', each `film_edge_cells` against the reference
     (REFERENCE, film_time_scheme 'bdf2', film_edge_cells 'face'; the 'edge' reference's energy
@@ -158,7 +158,9 @@ def oil_default(decks: list[str], unit: str | None) -> None:
                 flush=True,
             )
             ref = refs["face"]
-            for scheme, edge in (("euler", "face"), ("bdf2", "face"), ("bdf2", "edge")):
+            for scheme, edge in (("euler", "face"), ("bdf2", "face"), ("bdf2", "edge")) + tuple(
+                ("bdf2", e) for e in extra
+            ):
                 c = case.with_numerics(preset="default", film_time_scheme=scheme, film_edge_cells=edge)
                 r = min((ringlube.run(c) for _ in range(3)), key=lambda x: x.run_time)
                 oil_ref = ref.oil_to_chamber
@@ -235,7 +237,7 @@ def oil_nodes(decks: list[str], unit: str | None) -> None:
                     )
 
 
-def oil_order(decks: list[str], unit: str | None) -> None:
+def oil_order(decks: list[str], unit: str | None, edge: str = "edge") -> None:
     """The starved film at 1 um (film_time_scheme 'bdf2', film_edge_cells 'edge', tight
     tolerances) as the nodes double at 0.25 deg and as the crank step halves at 51 nodes:
     energy and oil to the chamber, and the observed order log2(d_k / d_k+1) of the successive
@@ -247,7 +249,7 @@ def oil_order(decks: list[str], unit: str | None) -> None:
     import numpy as np
 
     tight = {"pressure_tol": 1e-8, "load_tol": 1e-6, "cycle_tol": 1e-6, "max_cycles": 40}
-    num = {"film_time_scheme": "bdf2", "film_edge_cells": "edge", **tight}
+    num = {"film_time_scheme": "bdf2", "film_edge_cells": edge, **tight}
     series = {
         "nodes": [(n, 0.25) for n in (51, 101, 201, 401, 801)],
         "step": [(51, d) for d in (2.0, 1.0, 0.5, 0.25, 0.125)],
@@ -297,9 +299,15 @@ def main() -> None:
     ap.add_argument("--oil-order", action="store_true")
     ap.add_argument("--edge-cost", action="store_true")
     ap.add_argument("--tension-unit", default=None, choices=("N", "N/m"))
+    ap.add_argument(
+        "--edge",
+        default="edge",
+        choices=("edge", "front"),
+        help="--oil-order: its film_edge_cells; --oil-default: 'front' adds its rows",
+    )
     args = ap.parse_args()
     if args.oil_order:
-        oil_order(args.decks.split(","), args.tension_unit)
+        oil_order(args.decks.split(","), args.tension_unit, args.edge)
         return
     if args.oil_nodes:
         oil_nodes(args.decks.split(","), args.tension_unit)
@@ -308,7 +316,7 @@ def main() -> None:
         edge_cost(args.decks.split(","), args.tension_unit, args.repeats)
         return
     if args.oil_default:
-        oil_default(args.decks.split(","), args.tension_unit)
+        oil_default(args.decks.split(","), args.tension_unit, ("front",) if args.edge == "front" else ())
         return
     if args.time_order:
         time_order(args.decks.split(","), args.tension_unit)
