@@ -11,6 +11,7 @@ tolerances, the numerics of tests/bench/front.py).
     python3 tests/bench/film_presets.py --oil-nodes [--tension-unit N/m]
     python3 tests/bench/film_presets.py --oil-order [--decks hot,cold] [--edge front]
     python3 tests/bench/film_presets.py --edge-cost [--repeats N]
+    python3 tests/bench/film_presets.py --front-cost [--repeats N]
 
 `--ring-pack gas` runs every model with the gas around the ring instead of the
 decks' 'none'. `--convergence` prints instead, for the JFO models, the results as the nodes double at
@@ -27,6 +28,8 @@ starved film's oil as the nodes double (BDF2, 0.25 deg; with each `film_edge_cel
 `--oil-order` the starved film at 1 um (BDF2, 'edge' or `--edge front`, tight tolerances) as the nodes double
 (51..801 at 0.25 deg) and as the crank step halves (2..0.125 deg at 51 nodes): energy and
 oil to the chamber and the observed orders of their successive differences;
+`--front-cost [--repeats N]` the starved film at 'default' with bdf2/'edge' and bdf2/'front'
+(experimental): energy, oil, flagged steps, oil balance, Newton iterations and CPU time per run;
 `--edge-cost [--repeats N]` the kernel time per cycle of the starved film at 'default' with
 euler/face (the default), bdf2/face and bdf2/edge, interleaved, and the ratios.
 """
@@ -174,6 +177,39 @@ def oil_default(decks: list[str], unit: str | None, extra: tuple[str, ...] = ())
                 )
 
 
+def front_cost(decks: list[str], unit: str | None, repeats: int) -> None:
+    """The starved film (supply film 1, 2 and 5 um) at 'default' with film_time_scheme 'bdf2'
+    and film_edge_cells 'edge' and 'front', run alternately: energy, oil to the chamber, flagged
+    steps, oil balance error, the film's Newton iterations per run and the CPU time per run
+    (process time, best of `repeats`); the errors against the reference are --oil-default's."""
+    import time
+
+    print(
+        f"{'deck':5s} {'film':6s} {'edge':6s} {'energy J':>9s} {'oil mm3':>10s} {'flagged':>7s} "
+        f"{'balance':>9s} {'cycles':>6s} {'newton':>8s} {'cpu ms':>7s}"
+    )
+    for stem in decks:
+        base = ringlube.Case.from_namelist(ROOT / "inputs" / f"crf450r_4000rpm_full_{stem}.nml")
+        base = reading(base, unit)
+        for film in (1e-6, 2e-6, 5e-6):
+            case = base.with_physics(cavitation="jfo", inlet="starved").with_("lubricant", supply_film=film)
+            best: dict[str, float] = {}
+            last = {}
+            for _ in range(repeats):
+                for edge in ("edge", "front"):
+                    c = case.with_numerics(preset="default", film_time_scheme="bdf2", film_edge_cells=edge)
+                    t = time.process_time()
+                    last[edge] = ringlube.run(c)
+                    best[edge] = min(best.get(edge, float("inf")), time.process_time() - t)
+            for edge, r in last.items():
+                print(
+                    f"{stem:5s} {film * 1e6:4.0f}um {edge:6s} {r.energy_loss:9.5f} {r.oil_to_chamber:10.6f} "
+                    f"{r.flagged_steps:7d} {r.oil_balance_error:9.2e} {r.cycles_run:6d} "
+                    f"{r.reynolds_solves:8d} {best[edge] * 1e3:7.1f}",
+                    flush=True,
+                )
+
+
 def edge_cost(decks: list[str], unit: str | None, repeats: int) -> None:
     """Kernel time per cycle of the starved film (1, 2, 5 um) at 'default' with film_time_scheme
     'euler' / film_edge_cells 'face' (the default), 'bdf2' / 'face' and 'bdf2' / 'edge': the
@@ -238,12 +274,13 @@ def oil_nodes(decks: list[str], unit: str | None) -> None:
 
 
 def oil_order(decks: list[str], unit: str | None, edge: str = "edge") -> None:
-    """The starved film at 1 um (film_time_scheme 'bdf2', film_edge_cells 'edge', tight
+    """The starved film at 1 um (film_time_scheme 'bdf2', film_edge_cells edge: 'edge' or 'front', tight
     tolerances) as the nodes double at 0.25 deg and as the crank step halves at 51 nodes:
     energy and oil to the chamber, and the observed order log2(d_k / d_k+1) of the successive
     differences d_k of each (the limit is not needed; the order of the oil says whether what is
     left is the meniscus' first-order error in space); and h0 at 160 deg (near the bottom dead
-    centre) and its mean over 20-160 deg (mid-stroke), in um."""
+    centre) and its mean over 20-160 deg (mid-stroke), in um; the flagged steps and the oil balance
+    error."""
     import math
 
     import numpy as np
@@ -256,7 +293,7 @@ def oil_order(decks: list[str], unit: str | None, edge: str = "edge") -> None:
     }
     print(
         f"{'deck':5s} {'refine':6s} {'nodes':>5s} {'dpsi':>6s} {'energy J':>9s} {'oil mm3':>10s} "
-        f"{'cycles':>6s} {'h0 160':>7s} {'h0 mid':>7s}"
+        f"{'cycles':>6s} {'h0 160':>7s} {'h0 mid':>7s} {'flagged':>7s} {'balance':>9s}"
     )
     for stem in decks:
         base = ringlube.Case.from_namelist(ROOT / "inputs" / f"crf450r_4000rpm_full_{stem}.nml")
@@ -272,7 +309,8 @@ def oil_order(decks: list[str], unit: str | None, edge: str = "edge") -> None:
                 mid = h0[(ca >= 20) & (ca <= 160)].mean()
                 print(
                     f"{stem:5s} {label:6s} {nodes:5d} {dpsi:6.3f} {r.energy_loss:9.5f} "
-                    f"{r.oil_to_chamber:10.6f} {r.cycles_run:6d} {np.interp(160, ca, h0):7.3f} {mid:7.3f}",
+                    f"{r.oil_to_chamber:10.6f} {r.cycles_run:6d} {np.interp(160, ca, h0):7.3f} {mid:7.3f} "
+                    f"{r.flagged_steps:7d} {r.oil_balance_error:9.2e}",
                     flush=True,
                 )
             for k, name in enumerate(("energy", "oil")):
@@ -298,6 +336,7 @@ def main() -> None:
     ap.add_argument("--oil-nodes", action="store_true")
     ap.add_argument("--oil-order", action="store_true")
     ap.add_argument("--edge-cost", action="store_true")
+    ap.add_argument("--front-cost", action="store_true")
     ap.add_argument("--tension-unit", default=None, choices=("N", "N/m"))
     ap.add_argument(
         "--edge",
@@ -314,6 +353,9 @@ def main() -> None:
         return
     if args.edge_cost:
         edge_cost(args.decks.split(","), args.tension_unit, args.repeats)
+        return
+    if args.front_cost:
+        front_cost(args.decks.split(","), args.tension_unit, args.repeats)
         return
     if args.oil_default:
         oil_default(args.decks.split(","), args.tension_unit, ("front",) if args.edge == "front" else ())

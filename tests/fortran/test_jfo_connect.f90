@@ -326,7 +326,7 @@ contains
     real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), cold(:)
     real(dp) :: dx, dt, t, hm, cs, load(10), back(10), order, v0, v1, bal, balmax, vmax
     real(dp) :: el(9), eb(9)
-    integer :: k, n, i, j, ks, nfail, ifc
+    integer :: k, n, i, j, ks, nfail, ifc, nit
     logical :: fc
     type(jfo_stats) :: st
     type(jfo_problem) :: prob
@@ -353,6 +353,7 @@ contains
           cold = th * h
           load(k) = 0.0_dp
           back(k) = 0.0_dp
+          nit = 0
           do j = 1, 2 * nsteps
             t = j * dt
             ! the oil held: the volumes' content (theta h, or jfo_front_content's)
@@ -366,6 +367,7 @@ contains
                                leading_gas=.true., edge_meniscus=.true., edge_cells=.true., &
                                front_content=fc)
             call jfo_solve_connected(prob, h, hmid, kmid, cold, pc, p, th, st)
+            nit = nit + st%iterations
             cold = jfo_front_content(prob, h, hmid, kmid, pc, p, th)
             if (st%info /= JFO_OK) then
               nfail = nfail + 1
@@ -380,8 +382,8 @@ contains
               back(k) = back(k) + dt * (0.5_dp * u * cs + st%q_right)
             end if
           end do
-          write (*, '(a, es9.2, a, l1, i5, 2es20.11)') '  cs', cs, ' front_content ', fc, n, &
-            load(k), back(k)
+          write (*, '(a, es9.2, a, l1, i5, 2es20.11, a, f6.2)') '  cs', cs, ' front_content ', fc, &
+            n, load(k), back(k), ' Newton iterations per step', real(nit, dp) / (2 * nsteps)
           deallocate (p, th, pc, cold)
         end do
         write (what, '(a, es9.2, a, l1, a, i0)') 'moving meniscus, cs', cs, ' front_content ', &
