@@ -609,3 +609,21 @@ def test_edge_cells_oil_to_chamber_nearer_the_fine_grid():
     face = ringlube.run(case.with_numerics(nodes=51, film_edge_cells="face")).oil_to_chamber
     edge = ringlube.run(case.with_numerics(nodes=51, film_edge_cells="edge")).oil_to_chamber
     assert abs(edge - ref) < abs(face - ref) / 2, (face, edge, ref)
+
+
+@pytest.mark.parametrize("supply", [1e-6, 2e-6])
+def test_front_cells_close_the_oil_balance_and_come_nearer_the_fine_grid(supply):
+    """`film_edge_cells = 'front'` (experimental: 'edge' with the reformation fronts' cells
+    holding their front's oil): the content the cycle carries from step to step is the
+    fronts' content (not theta h), so the oil balance closes to round-off only if the cycle
+    hands that content on (theta h left it off by about 1e-3); at 'default' no step is
+    flagged; and the hot deck's oil to the chamber at 51 nodes is nearer the 401-node 'edge'
+    answer than 'edge''s own at 51 nodes (docs/film_model.md, "The reformation front")."""
+    case = Case.from_namelist(HOT).with_physics(cavitation="jfo", inlet="starved")
+    case = case.with_("lubricant", supply_film=supply).with_numerics(film_time_scheme="bdf2")
+    r = ringlube.run(case.with_numerics(film_edge_cells="front"))
+    assert r.oil_balance_error <= 1e-11, r.oil_balance_error
+    assert r.flagged_steps == 0, r.flagged_steps
+    ref = ringlube.run(case.with_numerics(nodes=401, film_edge_cells="edge")).oil_to_chamber
+    edge = ringlube.run(case.with_numerics(film_edge_cells="edge")).oil_to_chamber
+    assert abs(r.oil_to_chamber - ref) < abs(edge - ref) / 2, (r.oil_to_chamber, edge, ref)
