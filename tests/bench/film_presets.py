@@ -279,8 +279,8 @@ def oil_order(decks: list[str], unit: str | None, edge: str = "edge") -> None:
     energy and oil to the chamber, and the observed order log2(d_k / d_k+1) of the successive
     differences d_k of each (the limit is not needed; the order of the oil says whether what is
     left is the meniscus' first-order error in space); and h0 at 160 deg (near the bottom dead
-    centre) and its mean over 20-160 deg (mid-stroke), in um; the flagged steps and the oil balance
-    error."""
+    centre) and its mean over 20-160 deg (mid-stroke), in um; the flagged steps, the oil balance
+    error and the crank angles of the flagged steps."""
     import math
 
     import numpy as np
@@ -293,7 +293,7 @@ def oil_order(decks: list[str], unit: str | None, edge: str = "edge") -> None:
     }
     print(
         f"{'deck':5s} {'refine':6s} {'nodes':>5s} {'dpsi':>6s} {'energy J':>9s} {'oil mm3':>10s} "
-        f"{'cycles':>6s} {'h0 160':>7s} {'h0 mid':>7s} {'flagged':>7s} {'balance':>9s}"
+        f"{'cycles':>6s} {'h0 160':>7s} {'h0 mid':>7s} {'flagged':>7s} {'balance':>9s} flagged at deg"
     )
     for stem in decks:
         base = ringlube.Case.from_namelist(ROOT / "inputs" / f"crf450r_4000rpm_full_{stem}.nml")
@@ -310,7 +310,8 @@ def oil_order(decks: list[str], unit: str | None, edge: str = "edge") -> None:
                 print(
                     f"{stem:5s} {label:6s} {nodes:5d} {dpsi:6.3f} {r.energy_loss:9.5f} "
                     f"{r.oil_to_chamber:10.6f} {r.cycles_run:6d} {np.interp(160, ca, h0):7.3f} {mid:7.3f} "
-                    f"{r.flagged_steps:7d} {r.oil_balance_error:9.2e}",
+                    f"{r.flagged_steps:7d} {r.oil_balance_error:9.2e} "
+                    + " ".join(f"{a:.2f}" for a in ca[np.asarray(r.flags) != 0]),
                     flush=True,
                 )
             for k, name in enumerate(("energy", "oil")):
