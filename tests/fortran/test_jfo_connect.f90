@@ -405,8 +405,8 @@ contains
         ! cells puts it while it moves (docs/film_model.md, "The reformation front"); inside
         ! the face (0.6 um) the errors scatter with the front's place in its cell (printed,
         ! not checked). With front_content the load is second order (the interior fronts'
-        ! cells hold the oil of their front); the oil turned back is not yet (the front in the
-        ! edge's half cell is placed by the jump condition at rest, printed). Its steps that
+        ! cells hold the oil of their front); the oil turned back is not yet (printed; not the
+        ! meniscus in the edge's half cell: docs/film_model.md). Its steps that
         ! end unconverged (a lone full node's kink, 71 nodes: docs/film_model.md) are left out
         ! of the integrals and the balance, and counted (printed: the open defect)
         order = fitted_order(nn(1:9), el)
