@@ -548,7 +548,8 @@ contains
   !> The rounding bound is a worst case of the order of the polish level itself; the residual
   !> an evaluation would find is, in practice, rounding far below it, so the evaluation would
   !> end the solve here too with the same outputs (tests/bench/identical.py: every shipped
-  !> deck to the bit). A meniscus at an inflow edge (edge_meniscus) is another kink: then never.
+  !> deck to the bit). A meniscus at an inflow edge (edge_meniscus) is another kink, and the
+  !> fronts' excess (front_content) is not affine on a piece: then never.
   !> tol: the solve's tolerance. ev: in, the node states and edge fluxes at v0
   !> (jfo_newton_eval's); out when settled, at v (the node states bit for bit jfo_residual's,
   !> the edge faces' fluxes computed alike), other entries undefined (when not settled the
@@ -564,7 +565,7 @@ contains
     logical, intent(out) :: settled
     settled = .false.
     rmax = huge(1.0_dp)
-    if (sys%edge_meniscus) return
+    if (sys%edge_meniscus .or. sys%front_content) return
     call settles_nodes(sys, sys%n, sys%kd, sys%ca, sys%pc, sys%ps, v, dv, tol, ev%pn, ev%tn, &
                        ev%fl, rscale, rmax, settled)
   end subroutine step_settles

@@ -52,7 +52,8 @@ module ringlube_jfo_system
     !> .true.: a reformation front's two cells hold the oil of the front the pressures place
     !> (`front_excess`): their content is theta h less the excess the upwind scheme holds there,
     !> so the front moves with the oil it bounds (a step's content_old must then be
-    !> `jfo_front_content` of the last step); .false.: theta h
+    !> `jfo_front_content` of the last step); .false.: theta h. Only with edge_cells (without
+    !> them a meniscus at the inflow edge has no cell to hold it) and a time step
     logical :: front_content = .false.
   end type jfo_problem
 
@@ -73,7 +74,7 @@ module ringlube_jfo_system
     real(dp) :: dmax = 0.0_dp
     !> jfo_problem%edge_meniscus
     logical :: edge_meniscus = .false.
-    !> jfo_problem%front_content and a time step (w > 0); jfo_problem%edge_cells
+    !> jfo_problem%front_content with a time step (w > 0) and edge cells; jfo_problem%edge_cells
     logical :: front_content = .false., edge_cells = .false.
   end type jfo_system
 
@@ -144,7 +145,7 @@ contains
     sys%qcr = max(problem%cap_right, 0.0_dp)
     sys%edge_meniscus = problem%edge_meniscus
     sys%edge_cells = problem%edge_cells
-    sys%front_content = problem%front_content .and. problem%dt > 0.0_dp
+    sys%front_content = problem%front_content .and. problem%dt > 0.0_dp .and. problem%edge_cells
     if (allocated(sys%ca)) then
       if (size(sys%ca) /= n) deallocate (sys%ca, sys%kd, sys%ps, sys%wv)
     end if
@@ -975,7 +976,8 @@ contains
     integer :: n, j
     n = size(h)
     c = theta * h
-    if (.not. (problem%front_content .and. problem%dt > 0.0_dp) .or. n < 3) return
+    if (.not. (problem%front_content .and. problem%dt > 0.0_dp .and. problem%edge_cells) &
+        .or. n < 3) return
     call jfo_system_setup(sys, problem, h, hmid, kmid, c, pc)
     allocate (e(n), d1(n), d2(n), d3(n), pn(n), tn(n))
     pn = p
