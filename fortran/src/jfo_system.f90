@@ -584,19 +584,17 @@ contains
     real(dp), allocatable :: fe(:), fed(:), fel(:), feu(:)
     integer :: j
     associate (a => sys%a, w => sys%w, qcl => sys%qcl, qcr => sys%qcr)
-      if (sys%front_content) then
-        ! the fronts' excess needs every node's state first
-        allocate (fe(n), fed(n), fel(n), feu(n))
-        pn(1) = sys%p_left
-        pn(n) = sys%p_right
-        tn(1) = sys%theta_left
-        tn(n) = sys%theta_right
-        do j = 2, n - 1
-          pn(j) = node_p(sys, j, x(j))
-          tn(j) = node_t(x(j))
-        end do
-        call front_excess(n, a, ca, kd, ps, h, pn, tn, sys%edge_cells, fe, fed, fel, feu)
-      end if
+      ! the fronts' excess needs every node's state first
+      allocate (fe(n), fed(n), fel(n), feu(n))
+      pn(1) = sys%p_left
+      pn(n) = sys%p_right
+      tn(1) = sys%theta_left
+      tn(n) = sys%theta_right
+      do j = 2, n - 1
+        pn(j) = node_p(sys, j, x(j))
+        tn(j) = node_t(x(j))
+      end do
+      call front_excess(n, a, ca, kd, ps, h, pn, tn, sys%edge_cells, fe, fed, fel, feu)
       pivots = .true.
       signs = .true.
       pn(1) = sys%p_left
@@ -634,7 +632,7 @@ contains
           end if
         end if
         res(j) = wv(j) * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
-        if (sys%front_content) res(j) = res(j) - w * fe(j)
+        res(j) = res(j) - w * fe(j)
         s = wv(j) * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
             + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
         scale = max(scale, s)
@@ -662,16 +660,11 @@ contains
             jl = -tl0
           end if
         end if
-        if (sys%front_content) then
-          jd = jd - w * fed(j)
-          if (j > 2) jl = jl - w * fel(j)
-          if (j < n - 1) ju = ju - w * feu(j)
-        end if
-        ! (the fronts' excess breaks the pattern without making the step wrong: with
-        ! front_content the pivots alone decide)
-        if (.not. sys%front_content) then
-          if (.not. jd > 0.0_dp .or. jl > 0.0_dp .or. ju > 0.0_dp) signs = .false.
-        end if
+        ! the excess's exact derivatives: they break the M-matrix sign pattern without making
+        ! the step wrong, so signs stays .true. (the pivots alone decide)
+        jd = jd - w * fed(j)
+        if (j > 2) jl = jl - w * fel(j)
+        if (j < n - 1) ju = ju - w * feu(j)
         ! forward elimination (as `thomas`), right-hand side -R
         if (pivots) then
           if (j == 2) then
@@ -710,18 +703,16 @@ contains
     real(dp), allocatable :: fe(:), fed(:), fel(:), feu(:)
     integer :: j
     associate (a => sys%a, w => sys%w, qcl => sys%qcl, qcr => sys%qcr)
-      if (sys%front_content) then
-        allocate (fe(n), fed(n), fel(n), feu(n))
-        pn(1) = sys%p_left
-        pn(n) = sys%p_right
-        tn(1) = sys%theta_left
-        tn(n) = sys%theta_right
-        do j = 2, n - 1
-          pn(j) = node_p(sys, j, x(j))
-          tn(j) = node_t(x(j))
-        end do
-        call front_excess(n, a, ca, kd, sys%ps, h, pn, tn, sys%edge_cells, fe, fed, fel, feu)
-      end if
+      allocate (fe(n), fed(n), fel(n), feu(n))
+      pn(1) = sys%p_left
+      pn(n) = sys%p_right
+      tn(1) = sys%theta_left
+      tn(n) = sys%theta_right
+      do j = 2, n - 1
+        pn(j) = node_p(sys, j, x(j))
+        tn(j) = node_t(x(j))
+      end do
+      call front_excess(n, a, ca, kd, sys%ps, h, pn, tn, sys%edge_cells, fe, fed, fel, feu)
       pn(1) = sys%p_left
       pn(n) = sys%p_right
       tn(1) = sys%theta_left
@@ -756,7 +747,7 @@ contains
           if (-fl(n - 1) > qcr) fl(n - 1) = -qcr
         end if
         res(j) = wv(j) * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
-        if (sys%front_content) res(j) = res(j) - w * fe(j)
+        res(j) = res(j) - w * fe(j)
         s = wv(j) * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
             + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
         scale = max(scale, s)
