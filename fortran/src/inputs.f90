@@ -224,7 +224,7 @@ module ringlube_inputs
     input_spec('numerics', 'pilot_cycle', kind_logical, '.false.', 0.0_dp, 0.0_dp, '', '', &
       "start the ring pack under a pilot cycle's friction (4x step; not starved, round bore)"), &
     input_spec('numerics', 'bdc_start', kind_logical, '.true.', 0.0_dp, 0.0_dp, '', '', &
-      "starved 'vapour', round bore: the warm-up passes its BDC twice, the liner laid there"), &
+      "starved 'vapour', round bore: the warm-up passes its BDC twice ('accurate': off)"), &
     input_spec('numerics', 'liner_window', kind_int, '0', 0.0_dp, 20000.0_dp, '1', '', &
       "starved, round bore: liner change over n cells too (0: 50 with BDC start, 'trailing_gas' periods >1)"), &
     input_spec('output', 'file', kind_string, 'result.h5', 0.0_dp, 0.0_dp, '', '', &
@@ -245,10 +245,13 @@ module ringlube_inputs
   type(preset_item), parameter :: presets(*) = [ &
     preset_item('fast', 'nodes', '31'), preset_item('fast', 'dpsi_deg', '2.0'), &
     preset_item('fast', 'pressure_tol', '1e-4'), preset_item('fast', 'load_tol', '3e-3'), &
+    preset_item('fast', 'bdc_start', '.true.'), &
     preset_item('default', 'nodes', '51'), preset_item('default', 'dpsi_deg', '2.0'), &
     preset_item('default', 'pressure_tol', '1e-5'), preset_item('default', 'load_tol', '1e-3'), &
+    preset_item('default', 'bdc_start', '.true.'), &
     preset_item('accurate', 'nodes', '201'), preset_item('accurate', 'dpsi_deg', '0.25'), &
-    preset_item('accurate', 'pressure_tol', '1e-6'), preset_item('accurate', 'load_tol', '1e-4') &
+    preset_item('accurate', 'pressure_tol', '1e-6'), preset_item('accurate', 'load_tol', '1e-4'), &
+    preset_item('accurate', 'bdc_start', '.false.') &
   ]
 
   !&>
