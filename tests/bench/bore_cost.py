@@ -10,17 +10,31 @@ Three tables (markdown), with the tension read in N and the shipped calibration:
    the load balance and of the lift-off margin against the round bore's per step.
 2. Speed-up of two threads (`&numerics threads = 2`) against one on the same decks: wall and
    CPU time of `build/ringlube-solve` (best of 3), with OMP_WAIT_POLICY=PASSIVE unless it is
-   set (as the Python package does), and the load average beside every row. Meaningful on a
-   quiet machine only.
+   set (as the Python package does; a GOMP_SPINCOUNT in the environment overrides the policy's
+   spin count: libgomp spins that many times before a waiting thread sleeps), the CPU time of
+   two threads over one's, and the load average beside every row. The speed-up is meaningful
+   on a quiet machine only (load average below 1.5 before the run); the CPU times on any.
 3. Sector count: energy, face leakage, light gaps and blowby at M = 8, 12, 24, 48 against
    M = 96 (starved film, ring pack, the hot 4000 r/min deck with orders 2 and 4 of 12 and
    8 um), with the cost.
 
-Run from the project folder (4 minutes on the shared 2-core machine at a load average of 8-13):
+`--moves BASE/build/ringlube-solve` instead: how far a kernel change that is not
+bit-identical moves a distorted bore's answers (the shipped distorted decks as shipped and
+identical.py's `distorted_starved` variant, this build against BASE): energy, blowby, face
+leakage and light gaps, the largest relative change of a step's h0 (the smallest sector's)
+and the largest load residual over the steps not held at a bound (in both runs), and the
+cycles run.
+
+Run from the project folder (4 minutes on the shared 2-core machine at a load average of 8-13;
+the cost table alone 35 s at a load of 2-4):
 
     .venv/bin/python tests/bench/bore_cost.py
     .venv/bin/python tests/bench/bore_cost.py --cost-only --bench OTHER/build/bench_kernel
     .venv/bin/python tests/bench/bore_cost.py --threads-only   # at a quiet moment
+    .venv/bin/python tests/bench/bore_cost.py --threads-only --solve OTHER/build/ringlube-solve
+    .venv/bin/python tests/bench/bore_cost.py --moves BASE/build/ringlube-solve   # 30 s
+    OMP_WAIT_POLICY=ACTIVE .venv/bin/python tests/bench/bore_cost.py --threads-only
+    GOMP_SPINCOUNT=20000 .venv/bin/python tests/bench/bore_cost.py --threads-only
 """
 
 from __future__ import annotations
@@ -122,12 +136,14 @@ def copy_inputs(folder: Path) -> None:
 
 
 def thread_table(folder: Path) -> None:
-    print(f"\nOMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', 'PASSIVE')}")
+    spin = os.environ.get("GOMP_SPINCOUNT")
+    spin_note = f", GOMP_SPINCOUNT={spin}" if spin else ""
+    print(f"\nOMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', 'PASSIVE')}{spin_note}")
     print(
         "| deck | film | 1 thread wall s | CPU s | 2 threads wall s | CPU s | speed-up (wall) |"
-        " load before | load after |"
+        " CPU 2 / 1 | load before | load after |"
     )
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for label, name in DECKS:
         deck = folder / name
         shutil.copy(ROOT / "inputs" / name, deck)
@@ -139,7 +155,7 @@ def thread_table(folder: Path) -> None:
             same = a1["energy_loss_J"] == a2["energy_loss_J"]
             note = "" if same else " (energies differ!)"
             row = f"| {label} | {model} | {t1:.2f} | {c1:.2f} | {t2:.2f} | {c2:.2f} | {t1 / t2:.2f}{note}"
-            print(f"{row} | {load0:.1f} | {os.getloadavg()[0]:.1f} |", flush=True)
+            print(f"{row} | {c2 / c1:.2f} | {load0:.1f} | {os.getloadavg()[0]:.1f} |", flush=True)
 
 
 def sector_table(folder: Path) -> None:
@@ -168,13 +184,61 @@ def sector_table(folder: Path) -> None:
         )
 
 
+def moves(base: Path, folder: Path) -> None:
+    decks = {name[:-4]: (ROOT / "inputs" / name).read_text() for _, name in DECKS}
+    # identical.py's variant: the cold deck, starved film, order 4 beyond its limit, 8 sectors
+    cold = (ROOT / "inputs" / "crf450r_4000rpm_full_cold.nml").read_text()
+    physics = "&physics cavitation = 'jfo', inlet = 'starved', bore = 'distorted', "
+    decks["distorted_starved"] = (
+        cold.replace("&physics", physics, 1) + "\n&bore order = 4, amplitude = 10e-6, sectors = 8 /\n"
+    )
+    print(f"load average: {os.getloadavg()[0]:.2f}; base {base}")
+    print(
+        "| deck | energy J | blowby L/min | face leakage mg | light gaps % | h0: largest change |"
+        " largest load residual | cycles run |"
+    )
+    print("|---|---|---|---|---|---|---|---|")
+    for name, text in decks.items():
+        path = folder / f"{name}.nml"
+        path.write_text(text)
+        out = []
+        for solver in (base, SOLVE):
+            subprocess.run([str(solver), "-q", str(path), "-o", str(folder / "r.h5")], capture_output=True)
+            with h5py.File(folder / "r.h5") as f:
+                g = f["cycle"]
+                free = g["flags"][:] & 3 == 0  # (not held at the floor or the ceiling)
+                out.append((dict(f.attrs), g["h0_m"][:], free, float(abs(g["load_residual"][:][free]).max())))
+        (a0, h0, f0, r0), (a1, h1, f1, r1) = out
+
+        def pair(key: str, a0: dict = a0, a1: dict = a1) -> str:
+            if key not in a0:
+                return "-"
+            v0, v1 = float(a0[key]), float(a1[key])
+            rel = f" ({v1 / v0 - 1:+.1e})" if v0 else ""
+            return f"{v0:.4g} / {v1:.4g}{rel}"
+
+        keys = ("energy_loss_J", "blowby_l_min", "face_leakage_mg_per_cycle", "light_gap_share_pct")
+        cells = " | ".join(pair(k) for k in keys)
+        dh = float(abs(h1 / h0 - 1)[f0 & f1].max())
+        cycles = f"{a0['cycles_run']} / {a1['cycles_run']}"
+        print(f"| {name} | {cells} | {dh:.1e} | {r0:.2e} / {r1:.2e} | {cycles} |", flush=True)
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bench", type=Path, default=BENCH, help="the bench_kernel of the cost table")
+    parser.add_argument("--solve", type=Path, default=SOLVE, help="the ringlube-solve of the other tables")
     parser.add_argument("--cost-only", action="store_true", help="the cost table alone")
+    parser.add_argument("--moves", type=Path, help="the answers' moves against this ringlube-solve")
     parser.add_argument("--threads-only", action="store_true", help="the speed-up table alone")
     args = parser.parse_args()
     BENCH = args.bench
+    SOLVE = args.solve
+    if args.moves:
+        with tempfile.TemporaryDirectory(prefix="ringlube_bore_") as tmp:
+            copy_inputs(Path(tmp))
+            moves(args.moves, Path(tmp))
+        raise SystemExit(0)
     if not args.threads_only:
         cost_table()
     if args.cost_only:
