@@ -561,7 +561,8 @@ contains
 
   !> A distorted bore's cycle results: the share of sector-steps whose film carries less than
   !> 1 % of the mean load (off the liner), the gas through the faces per cycle, the share of
-  !> the cycle held at the back clearance, and the conformability of the orders given.
+  !> the cycle held at the back clearance, the steps at which a sector jumps, and the
+  !> conformability of the orders given.
   subroutine ring_results(st, c, res)
     type(cycle_state), intent(in) :: st
     type(case_type), intent(in) :: c
@@ -577,6 +578,10 @@ contains
       v(sc_face_leakage) = sum(max(res%series(:, s_face_flow), 0.0_dp)) * st%ctx%dt * 1e6_dp
       v(sc_radial_collapse_share) = 100.0_dp * count(iand(res%int_series(:, si_flags), &
                                                           flag_ceiling) /= 0) / real(nk, dp)
+      ! (a sector's h0 by more than the factor e^sector_jump_log from one step to the next)
+      v(sc_sector_jumps) = count(maxval(abs(log(res%sectors(2:nk, :, sec_h0) &
+                                                / res%sectors(:nk - 1, :, sec_h0))), dim=2) &
+                                 > sector_jump_log)
       res%conformability = conformability(c, st%ring%bore)
       v(sc_conformability) = 0.0_dp
       if (size(res%conformability) > 0) v(sc_conformability) = maxval(res%conformability)
