@@ -183,6 +183,7 @@ def test_the_bore_section_renders_its_runs(monkeypatch):
             want = conformability(base, w, t)
             assert f"| {want:.4f} | {r.scalars['conformability']:.4f} |" in md
             assert r.scalars["conformability"] == pytest.approx(want, rel=1e-12)
+            assert f"| {r.scalars['light_gap_share']:.2f} | {r.scalars['sector_jumps']:.0f} |" in md
     assert "- **CRF450R, 4000 r/min, 1.004 mm ring, 8 to 26 N.**" in md
     assert f"conforms dry from {8.0 * conformability(base, base.value('ring', 'width'), 8.0):.1f} N" in md
 

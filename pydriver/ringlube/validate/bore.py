@@ -132,7 +132,7 @@ def _ring(w: float, t: float) -> str:
 def _row(engine, speed, bore, w, t, r) -> str:
     if not _ok(r):
         return (
-            f"| {engine} | {speed} | {bore} | {_ring(w, t)} | failed: {str(r).splitlines()[0]} |" + " |" * 10
+            f"| {engine} | {speed} | {bore} | {_ring(w, t)} | failed: {str(r).splitlines()[0]} |" + " |" * 11
         )
     s, d = r.scalars, bore == "distorted"
 
@@ -144,7 +144,7 @@ def _row(engine, speed, bore, w, t, r) -> str:
     return (
         f"| {engine} | {speed} | {bore} | {_ring(w, t)} | {b('conformability', '.2f')} | {r.energy_loss:.3f} "
         f"| {r.friction_power:.1f} | {s['blowby']:.2f} | {b('face_leakage', '.3g')} "
-        f"| {s['oil_to_chamber']:.3g} | {b('light_gap_share', '.2f')} "
+        f"| {s['oil_to_chamber']:.3g} | {b('light_gap_share', '.2f')} | {b('sector_jumps', '.0f')} "
         f"| {b('radial_collapse_share', '.2f')} | {s['flutter_events']:.0f} | {conv} |"
     )
 
@@ -345,15 +345,18 @@ def render_bore(bore: dict) -> list[str]:
         "### Tension and width on the round and the distorted bore",
         "",
         "Blowby includes the face leakage (gas through open faces, towards the crankcase); light "
-        "gaps: the share of sector-steps whose film carries less than 1 % of the mean load; "
-        "'collapse': the share of the cycle the ring is pushed off the liner to its back clearance "
+        "gaps: the share of sector-steps whose film carries less than 1 % of the mean load; sector "
+        "jumps: the crank steps at which a sector's film changes state (its h0 by more than a factor "
+        "e^0.2; near a sector's lift-off the face leakage then depends on the state the ring came "
+        "from, [bore.md](bore.md#two-states-of-a-light-sector)); 'collapse': the share of the cycle "
+        "the ring is pushed off the liner to its back clearance "
         "(its faces open to the gas); 'converged' says why not (a flagged step, or no period within "
         "`max_cycles`; such a row is the last cycle's):",
         "",
         "| engine | speed r/min | bore | ring | conformability | energy J/cycle | friction W | blowby L/min "
-        "| face leakage mg/cycle | oil to chamber mm^3/cycle | light gaps % | collapse % | flutter "
-        "| converged |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| face leakage mg/cycle | oil to chamber mm^3/cycle | light gaps % | sector jumps | collapse % "
+        "| flutter | converged |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     md += [_row(*row) for row in rows]
     md += ["", "### Where the tension optimum lands, and why", ""]
