@@ -18,6 +18,21 @@ Three tables (markdown), with the tension read in N and the shipped calibration:
    M = 96 (starved film, ring pack, the hot 4000 r/min deck with orders 2 and 4 of 12 and
    8 um), with the cost.
 
+`--branches BASE/build/ringlube-solve` instead: the load balance's branch choice near a
+sector's lift-off, this build against BASE (the root finder on the mean position alone: commit
+3d2b88d). The shipped decks' rings whose sectors sit near lift-off (the own engine's at 8 N,
+the 12,000 r/min deck's at 8 and 14 N, the 4000 r/min deck's at 8 N) at 2, 1 and 0.5 deg, and
+the own engine's at 8 N with load_tol 3e-4 and 1e-4: energy, face leakage, the crank steps at
+which a sector's h0 jumps by more than a factor e^0.2 (`sector_jumps`, counted from each
+file's sector series), the steps at which the two runs' sectors lie more than that factor
+apart, and the largest residual of a step's equations over the steps neither run flagged
+(`/cycle/flags` bits 4 and 128; bits 1 and 2, a ring held at a bound, left out), recomputed
+from the file: the sectors' positions h0_j - D_j - [C (W - mean W)]_j in the orders
+2..M/2, measured as the load that would bend the ring by them (C^+ applied), over load_tol q;
+the centre's force over load_tol q M / 2; the load balance over load_tol (docs/bore.md,
+"Solution"), the largest of the three, over all those steps and over the steps at which the
+runs lie apart.
+
 `--moves BASE/build/ringlube-solve` instead: how far a kernel change that is not
 bit-identical moves a distorted bore's answers (the shipped distorted decks as shipped and
 identical.py's `distorted_starved` variant, this build against BASE): energy, blowby, face
@@ -33,6 +48,7 @@ the cost table alone 35 s at a load of 2-4):
     .venv/bin/python tests/bench/bore_cost.py --threads-only   # at a quiet moment
     .venv/bin/python tests/bench/bore_cost.py --threads-only --solve OTHER/build/ringlube-solve
     .venv/bin/python tests/bench/bore_cost.py --moves BASE/build/ringlube-solve   # 30 s
+    .venv/bin/python tests/bench/bore_cost.py --branches BASE/build/ringlube-solve   # 3 min
     OMP_WAIT_POLICY=ACTIVE .venv/bin/python tests/bench/bore_cost.py --threads-only
     GOMP_SPINCOUNT=20000 .venv/bin/python tests/bench/bore_cost.py --threads-only
 """
@@ -50,6 +66,7 @@ import time
 from pathlib import Path
 
 import h5py
+import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
 BENCH = ROOT / "build" / "bench_kernel"
@@ -224,6 +241,106 @@ def moves(base: Path, folder: Path) -> None:
         print(f"| {name} | {cells} | {dh:.1e} | {r0:.2e} / {r1:.2e} | {cycles} |", flush=True)
 
 
+#: a sector's jump between crank steps, in ln h0 (the kernel's result `sector_jumps`)
+JUMP = 0.2
+
+
+def step_residuals(path: Path) -> dict:
+    """A distorted run's sectors (crank steps x sectors) and the residual of each step's
+    equations recomputed from its file (see the module's description), over its tolerance."""
+    with h5py.File(path) as f:
+        a, g = dict(f.attrs), f["cycle"]
+        h, w = g["sector_h0_m"][:], g["sector_load_N_per_m"][:]
+        load, flags = g["applied_load_N"][:], g["flags"][:]
+    assert not str(a["bore.distortion_file"]), "the lists of &bore only"
+    m, r0, tol = int(a["bore.sectors"]), float(a["engine.bore_radius"]), float(a["numerics.load_tol"])
+    theta = 2 * np.pi * np.arange(m) / m
+    orders = [int(k) for k in str(a["bore.order"]).split(",")]
+    amps = [float(x) for x in str(a["bore.amplitude"]).split(",")]
+    phases = (
+        [float(x) for x in str(a["bore.phase"]).split(",")]
+        if str(a["bore.phase"]).strip()
+        else [0.0] * len(orders)
+    )
+    dist = sum(amp * np.cos(k * (theta - phi)) for k, amp, phi in zip(orders, amps, phases))
+    ei = float(a["surface.e_ring"]) * float(a["ring.width"]) * float(a["ring.radial_depth"]) ** 3 / 12
+    comp, stiff = np.zeros((m, m)), np.zeros((m, m))  # C and C^+ on the sectors
+    for k in range(2, m // 2 + 1):
+        wave = (1 if 2 * k == m else 2) / m * np.cos(k * (theta[:, None] - theta[None, :]))
+        ck = r0**4 / (ei * (k * k - 1) ** 2)
+        comp += ck * wave
+        stiff += wave / ck
+    circ = 2 * np.pi * r0
+    q = np.maximum(load, 1e-3) / circ
+    dw = w - w.mean(axis=1)[:, None]
+    bend = np.abs((h - dist - dw @ comp.T) @ stiff.T).max(axis=1) / (tol * q)
+    centre = np.maximum(abs(dw @ np.cos(theta)), abs(dw @ np.sin(theta))) / (0.5 * m * q * tol)
+    balance = abs(w.mean(axis=1) * circ - load) / np.maximum(load, 1e-3) / tol
+    jumps = int(np.count_nonzero(abs(np.diff(np.log(h), axis=0)).max(axis=1) > JUMP))
+    return {
+        "attrs": a,
+        "h": h,
+        "residual": np.maximum(bend, np.maximum(centre, balance)),
+        "solved": flags & (4 | 128) == 0,
+        "free": flags & (1 | 2) == 0,
+        "jumps": jumps,
+    }
+
+
+def branches(base: Path, folder: Path) -> None:
+    import ringlube  # (the Python package writes the decks)
+
+    decks = (
+        ("own 86 3000", "own86_3000rpm_full_distorted.nml", 8.0),
+        ("CRF450R 12000 hot", "crf450r_12000rpm_full_hot_distorted.nml", 14.0),
+        ("CRF450R 12000 hot", "crf450r_12000rpm_full_hot_distorted.nml", 8.0),
+        ("CRF450R 4000 hot", "crf450r_4000rpm_full_hot_distorted.nml", 8.0),
+    )
+    runs = [(label, name, t, step, None) for label, name, t in decks for step in (2.0, 1.0, 0.5)]
+    runs += [(*decks[0], 2.0, tol) for tol in (3e-4, 1e-4)]
+    print(f"load average: {os.getloadavg()[0]:.2f}; root finder: {base}; this build: {SOLVE}")
+    print(
+        "| deck | ring, crank step | energy J | face leakage mg | sector jumps | steps apart |"
+        " largest residual / tolerance | at the steps apart | converged |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    for label, name, tension, step, tol in runs:
+        case = ringlube.Case.from_namelist(ROOT / "inputs" / name).with_ring(tension=tension)
+        case = case.with_numerics(dpsi_deg=step, **({"load_tol": tol} if tol else {}))
+        deck = folder / "case.nml"
+        case.to_namelist(deck)
+        out = []
+        for solver in (base, SOLVE):
+            subprocess.run([str(solver), "-q", str(deck), "-o", str(folder / "r.h5")], capture_output=True)
+            out.append(step_residuals(folder / "r.h5"))
+        r0, r1 = out
+        apart = abs(np.log(r1["h"] / r0["h"])).max(axis=1) > JUMP
+        both = r0["solved"] & r1["solved"] & r0["free"] & r1["free"]
+
+        cells = [
+            [format(float(r["attrs"]["energy_loss_J"]), ".4f") for r in out],
+            [format(float(r["attrs"]["face_leakage_mg_per_cycle"]), ".3g") for r in out],
+            [str(r["jumps"]) for r in out],
+            [f"{np.count_nonzero(apart)} of {apart.size}"],
+            [worst(r["residual"][both]) for r in out],
+            [worst(r["residual"][both & apart]) for r in out],
+            [converged(r) for r in out],
+        ]
+        ring = f"{float(case.value('ring', 'width')) * 1e3:.3g} mm, {tension:g} N, {step:g} deg"
+        ring += f", load_tol {tol:g}" if tol else ""
+        print(f"| {label} | {ring} | " + " | ".join(" / ".join(c) for c in cells) + " |", flush=True)
+
+
+def worst(x: np.ndarray) -> str:
+    """The largest of residuals over their tolerance (how many are over it)."""
+    return f"{x.max():.2f} ({np.count_nonzero(x > 1)})" if x.size else "-"
+
+
+def converged(r: dict) -> str:
+    a = r["attrs"]
+    return "yes" if a["converged"] else f"no ({np.count_nonzero(~r['solved'])} steps, period {a['period']})"
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bench", type=Path, default=BENCH, help="the bench_kernel of the cost table")
@@ -231,9 +348,15 @@ if __name__ == "__main__":
     parser.add_argument("--cost-only", action="store_true", help="the cost table alone")
     parser.add_argument("--moves", type=Path, help="the answers' moves against this ringlube-solve")
     parser.add_argument("--threads-only", action="store_true", help="the speed-up table alone")
+    parser.add_argument("--branches", type=Path, help="the branch choice against this ringlube-solve")
     args = parser.parse_args()
     BENCH = args.bench
     SOLVE = args.solve
+    if args.branches:
+        with tempfile.TemporaryDirectory(prefix="ringlube_bore_") as tmp:
+            copy_inputs(Path(tmp))
+            branches(args.branches, Path(tmp))
+        raise SystemExit(0)
     if args.moves:
         with tempfile.TemporaryDirectory(prefix="ringlube_bore_") as tmp:
             copy_inputs(Path(tmp))
