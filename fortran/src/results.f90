@@ -45,7 +45,8 @@ module ringlube_results
   integer, parameter, public :: flag_overdraw = 64    !< inlet drew more oil than was there
   integer, parameter, public :: flag_sectors = 128    !< a distorted bore's sectors not solved
   !> A sector's state change between two crank steps (result `sector_jumps`): its h0 changes
-  !> by more than this in ln (a factor e^0.2, 22 %)
+  !> relative to the ring's (the sectors' geometric mean) by more than this in ln (a factor
+  !> e^0.2, 22 %)
   real(dp), parameter, public :: sector_jump_log = 0.2_dp
 
   !> One result quantity.
@@ -267,8 +268,8 @@ module ringlube_results
       'share of the cycle the ring is pushed off the liner, held at back_clearance', &
       'distorted'), &
     field_spec('sector_jumps', 'sector_jumps', '1', 'real', &
-      'crank steps of the cycle at which a sector''s h0 changes by over a factor e^0.2 '// &
-      '(a state change)', 'distorted') &
+      'crank steps of the cycle at which a sector''s h0 changes relative to the ring''s by '// &
+      'over e^0.2 (a state change)', 'distorted') &
   ]
 
   !> The liner film at the end of the reported cycle (group /liner).

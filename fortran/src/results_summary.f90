@@ -133,7 +133,7 @@ call line('conformability', a, 'A_k / limit, the largest ('//trim(b)//'; > 1 doe
       call line('radial collapse', a, '% of the cycle (pushed off the liner: back_clearance)')
       write (a, '(f10.1)') v(sc_sector_jumps)
       call line('sector jumps', a, 'crank steps at which a sector''s h0 jumps by > 22 % '// &
-                '(a film state change: the answer hangs on the history)')
+                'against the ring''s (its film changed state: the answer hangs on the history)')
     end if
     write (a, '(f10.3)') v(sc_ring_mass)
     call line('ring mass', a, 'g')

@@ -23,8 +23,8 @@ sector's lift-off, this build against BASE (the root finder on the mean position
 3d2b88d). The shipped decks' rings whose sectors sit near lift-off (the own engine's at 8 N,
 the 12,000 r/min deck's at 8 and 14 N, the 4000 r/min deck's at 8 N) at 2, 1 and 0.5 deg, and
 the own engine's at 8 N with load_tol 3e-4 and 1e-4: energy, face leakage, the crank steps at
-which a sector's h0 jumps by more than a factor e^0.2 (`sector_jumps`, counted from each
-file's sector series), the steps at which the two runs' sectors lie more than that factor
+which a sector's h0 jumps by more than a factor e^0.2 against the ring's (`sector_jumps`,
+counted from each file's sector series), the steps at which the two runs' sectors lie more than that factor
 apart, and the largest residual of a step's equations over the steps neither run flagged
 (`/cycle/flags` bits 4 and 128; bits 1 and 2, a ring held at a bound, left out), recomputed
 from the file: the sectors' positions h0_j - D_j - [C (W - mean W)]_j in the orders
@@ -276,7 +276,8 @@ def step_residuals(path: Path) -> dict:
     bend = np.abs((h - dist - dw @ comp.T) @ stiff.T).max(axis=1) / (tol * q)
     centre = np.maximum(abs(dw @ np.cos(theta)), abs(dw @ np.sin(theta))) / (0.5 * m * q * tol)
     balance = abs(w.mean(axis=1) * circ - load) / np.maximum(load, 1e-3) / tol
-    jumps = int(np.count_nonzero(abs(np.diff(np.log(h), axis=0)).max(axis=1) > JUMP))
+    rel = np.log(h) - np.log(h).mean(axis=1)[:, None]  # (against the ring's: `sector_jumps`)
+    jumps = int(np.count_nonzero(abs(np.diff(rel, axis=0)).max(axis=1) > JUMP))
     return {
         "attrs": a,
         "h": h,
