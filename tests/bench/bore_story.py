@@ -72,7 +72,8 @@ def row(engine: str, speed: int, bore: str, ring: str, case: ringlube.Case) -> s
     def d(name: str, fmt: str) -> str:
         return format(s[name], fmt) if distorted else "-"
 
-    why = f"{r.flagged_steps:.0f} flagged" if r.flagged_steps else "no period"
+    # (a step held at the ceiling is flagged but no failure: a run without a period says so)
+    why = f"{r.flagged_steps:.0f} flagged" if r.scalars["periodic"] else "no period"
     conv = "yes" if r.converged else f"no ({why})"
     return (
         f"| {engine} | {speed} | {bore} | {ring} | {d('conformability', '.2f')} | {r.energy_loss:.3f} "

@@ -139,7 +139,8 @@ def _row(engine, speed, bore, w, t, r) -> str:
     def b(name: str, fmt: str) -> str:
         return format(s[name], fmt) if d else "-"
 
-    why = f"{r.flagged_steps:.0f} flagged" if r.flagged_steps else "no period"
+    # (a step held at the ceiling is flagged but no failure: a run without a period says so)
+    why = f"{r.flagged_steps:.0f} flagged" if s["periodic"] else "no period"
     conv = "yes" if r.converged else f"no ({why})"
     return (
         f"| {engine} | {speed} | {bore} | {_ring(w, t)} | {b('conformability', '.2f')} | {r.energy_loss:.3f} "
