@@ -205,6 +205,15 @@ def test_a_row_without_a_period_says_so_beside_a_step_at_the_ceiling():
     assert vb._row("CRF450R", 12000, "distorted", 1.004e-3, 14.0, Run()).endswith("| no (1 flagged) |")
 
 
+def test_a_span_of_equal_numbers_is_one_number():
+    """The radial collapse's range over the tensions read '0.28-0.28 %' where every tension
+    gave 0.28."""
+    from ringlube.validate.bore import _span
+
+    assert _span([0.2777, 0.2778, 0.2781], ".2f") == "0.28"
+    assert _span([0.42, 0.2777], ".2f") == "0.28-0.42"
+
+
 def test_validation_page_has_the_bore_section():
     text = (INPUTS.parent / "docs" / "validation.md").read_text()
     lines = text.splitlines()

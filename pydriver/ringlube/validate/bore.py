@@ -169,6 +169,12 @@ def _nondominated(rows: list, names: tuple[str, ...]) -> list[float]:
     return out
 
 
+def _span(values: list[float], fmt: str) -> str:
+    """'least-most' of ``values`` as written with ``fmt``, one number where they read alike."""
+    low, high = format(min(values), fmt), format(max(values), fmt)
+    return low if low == high else f"{low}-{high}"
+
+
 def _speed_verdict(engine: str, speed: int, base: Case, sweep: dict) -> list[str]:
     """What the tension sweep at one speed says (sweep: {bore: [(tension, result)]})."""
     rnd, dis = sweep["round"], sweep["distorted"]
@@ -203,10 +209,10 @@ def _speed_verdict(engine: str, speed: int, base: Case, sweep: dict) -> list[str
         "leakage, light gaps)."
     ]
     if collapse:
+        shares = _span([r.scalars["radial_collapse_share"] for _, r in dis], ".2f")
         md.append(
             f"  At every tension the ring is pushed off the liner on the distorted bore (radial "
-            f"collapse {min(r.scalars['radial_collapse_share'] for _, r in dis):.2f}-"
-            f"{max(r.scalars['radial_collapse_share'] for _, r in dis):.2f} % of the cycle) with its "
+            f"collapse {shares} % of the cycle) with its "
             "faces open to the gas: the blowby is the collapse's, which the tension does not "
             "prevent (the gas on the face is tens of bar, the tension's p_e a few hundred kPa); on "
             "the round bore a collapsed ring has no path past its face."
