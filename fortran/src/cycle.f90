@@ -561,22 +561,29 @@ contains
 
   !> A distorted bore's cycle results: the share of sector-steps whose film carries less than
   !> 1 % of the mean load (off the liner), the gas through the faces per cycle, the share of
-  !> the cycle held at the back clearance, and the conformability of the orders given.
+  !> the cycle held at the back clearance, the steps at which a sector jumps, and the
+  !> conformability of the orders given.
   subroutine ring_results(st, c, res)
     type(cycle_state), intent(in) :: st
     type(case_type), intent(in) :: c
     type(result_type), intent(inout) :: res
     integer :: nk, m
     real(dp) :: light
+    real(dp), allocatable :: lh(:, :)
     nk = res%nsteps
     m = size(res%sectors, 2)
     light = sum(st%light)
+    ! each sector's ln h0 relative to the ring's (their mean): a sector's jump, not the whole
+    ! ring's (which moves fast near firing TDC)
+    lh = log(res%sectors(:, :, sec_h0))
+    lh = lh - spread(sum(lh, dim=2) / m, 2, m)
     associate (v => res%scalars)
       v(sc_light_gap_share) = 100.0_dp * light / real(nk * m, dp)
       ! (towards the crankcase; the way back counts in the ring pack's blowback)
       v(sc_face_leakage) = sum(max(res%series(:, s_face_flow), 0.0_dp)) * st%ctx%dt * 1e6_dp
       v(sc_radial_collapse_share) = 100.0_dp * count(iand(res%int_series(:, si_flags), &
                                                           flag_ceiling) /= 0) / real(nk, dp)
+      v(sc_sector_jumps) = count(maxval(abs(lh(2:nk, :) - lh(:nk - 1, :)), dim=2) > sector_jump_log)
       res%conformability = conformability(c, st%ring%bore)
       v(sc_conformability) = 0.0_dp
       if (size(res%conformability) > 0) v(sc_conformability) = maxval(res%conformability)

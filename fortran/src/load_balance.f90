@@ -10,6 +10,10 @@
 !> the other edge, dh0/dt jumps, and the BDF2 difference across the kink would make a
 !> first-order error.
 !>
+!> With a distorted bore (a `ring` of sectors) the first attempt solves the mean position with
+!> the sectors in one Newton iteration (ringlube_sectors, ring_solve); the root finder below is
+!> its safeguard (lift-off, the floor, a light sector, a Newton iteration that fails).
+!>
 !> The film model enters only through `film_evaluate` (loads at a trial h0) in
 !> `residual`: a second film model plugs in there.
 module ringlube_load_balance
@@ -20,7 +24,8 @@ module ringlube_load_balance
   use ringlube_film, only: film_type, film_evaluate
   use ringlube_film_state, only: lower_edge_pressure
   use ringlube_jfo_connect, only: jfo_seal_margin
-  use ringlube_sectors, only: sector_ring, sector_trial, ring_evaluate, ring_ceiling
+  use ringlube_sectors, only: sector_ring, sector_trial, ring_evaluate, ring_ceiling, ring_solve, &
+                              ring_coupled
   use ringlube_results, only: flag_floor, flag_ceiling, flag_load
   implicit none
   private
@@ -300,12 +305,19 @@ contains
     integer, intent(out) :: flags
     real(dp) :: ya, yb, ga, gb, dy, ylo, yhi
     integer :: it
+    logical :: solved
 
     if (c%h0_update == 'damped') then
       call damped()
       return
     end if
     flags = 0
+    if (present(ring)) then
+      if (ring_coupled(ring)) then
+        call free_ring(solved)
+        if (solved) return
+      end if
+    end if
     ylo = log(c%h0_floor)
     yhi = log(lp%ceiling)
     ya = log(guess)
@@ -350,6 +362,27 @@ contains
     call brent(ya, yb, ga, gb)
 
   contains
+
+    !> A distorted bore's mean position solved with its sectors (ring_solve: one Newton
+    !> iteration on the M + 3 unknowns) from `guess`; solved: within load_tol strictly
+    !> between the bounds, the step is finished there (and the slope of the load residual
+    !> against ln h0 remembered for the root finder of a later step). Not solved: the root
+    !> finder on the mean position below takes over (lift-off, the floor, a stalled Newton).
+    subroutine free_ring(solved)
+      logical, intent(out) :: solved
+      type(sector_trial) :: tr
+      real(dp) :: r
+      tr = sector_trial(cc=guess, sq_a=lp%sq_a, dt=lp%dt, u=lp%u, p_chamber=lp%pg, load=lp%load, &
+                        floor=c%h0_floor, ceiling=c%h0_ceiling, cc_floor=c%h0_floor, &
+                        cc_ceiling=lp%ceiling)
+      call ring_solve(c, ring, g, tr, solved)
+      if (.not. solved) return
+      r = (g%wh + g%wa - lp%load) / max(lp%load, 1e-3_dp)
+      solved = abs(r) <= c%load_tol
+      if (.not. solved) return
+      if (tr%dres_dlnc < 0.0_dp) mem%slope = tr%dres_dlnc
+      call finish(tr%cc, r)
+    end subroutine free_ring
 
     !> The source study's rule h0 <- (1 + beta_d chi) h0, chi = (W - F)/max(W, F).
     subroutine damped()

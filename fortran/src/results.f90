@@ -44,6 +44,10 @@ module ringlube_results
   integer, parameter, public :: flag_piezo = 32       !< film pressure above roelands_p_max
   integer, parameter, public :: flag_overdraw = 64    !< inlet drew more oil than was there
   integer, parameter, public :: flag_sectors = 128    !< a distorted bore's sectors not solved
+  !> A sector's state change between two crank steps (result `sector_jumps`): its h0 changes
+  !> relative to the ring's (the sectors' geometric mean) by more than this in ln (a factor
+  !> e^0.2, 22 %)
+  real(dp), parameter, public :: sector_jump_log = 0.2_dp
 
   !> One result quantity.
   type :: field_spec
@@ -262,7 +266,10 @@ module ringlube_results
       .true.), &
     field_spec('radial_collapse_share', 'radial_collapse_share_pct', '%', 'real', &
       'share of the cycle the ring is pushed off the liner, held at back_clearance', &
-      'distorted') &
+      'distorted'), &
+    field_spec('sector_jumps', 'sector_jumps', '1', 'real', &
+      'crank steps of the cycle at which a sector''s h0 changes relative to the ring''s by '// &
+      'over e^0.2 (a state change)', 'distorted') &
   ]
 
   !> The liner film at the end of the reported cycle (group /liner).
@@ -386,6 +393,7 @@ module ringlube_results
     sc_light_gap_share = row(findloc(scalar_spec%short, 'light_gap_share', dim=1)), &
     sc_face_leakage = row(findloc(scalar_spec%short, 'face_leakage', dim=1)), &
     sc_radial_collapse_share = row(findloc(scalar_spec%short, 'radial_collapse_share', dim=1)), &
+    sc_sector_jumps = row(findloc(scalar_spec%short, 'sector_jumps', dim=1)), &
     sc_flutter_margin = row(findloc(scalar_spec%short, 'flutter_margin', dim=1)), &
     sc_flutter_margin_ratio = row(findloc(scalar_spec%short, 'flutter_margin_ratio', dim=1)), &
     sc_lift_margin = row(findloc(scalar_spec%short, 'lift_margin', dim=1)), &
@@ -402,7 +410,8 @@ module ringlube_results
     sc_friction_power, sc_fmep, sc_fmep_bar, sc_engine_friction_power, sc_oil_to_chamber, &
     sc_oil_to_chamber_rate, sc_liner_lift_share, &
     sc_blowby, sc_blowby_mass, sc_blowback_mass, sc_ring_lift_share, sc_flutter_events, &
-    sc_gas_exchange, sc_light_gap_share, sc_face_leakage, sc_radial_collapse_share]
+    sc_gas_exchange, sc_light_gap_share, sc_face_leakage, sc_radial_collapse_share, &
+    sc_sector_jumps]
   !> Columns of the liner film (`liner_spec`).
   integer, parameter, public :: &
     l_liner_position = row(findloc(liner_spec%short, 'liner_position', dim=1)), &

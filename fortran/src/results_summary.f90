@@ -15,7 +15,8 @@ module ringlube_results_summary
                               sc_run_time, sc_cycles_computed, sc_period, sc_periodic, &
                               sc_energy_change, sc_liner_change, sc_ring_pack_change, &
                               sc_conformability, sc_light_gap_share, sc_face_leakage, &
-                              sc_radial_collapse_share, sc_lift_margin, sc_lift_margin_angle, &
+                              sc_radial_collapse_share, sc_sector_jumps, sc_lift_margin, &
+                              sc_lift_margin_angle, &
                               sc_seal_margin, sc_seal_margin_angle, margin_thresholds
   implicit none
   private
@@ -130,6 +131,9 @@ call line('conformability', a, 'A_k / limit, the largest ('//trim(b)//'; > 1 doe
       call line('face leakage', a, 'mg per cycle (gas through the faces, towards the crankcase)')
       write (a, '(f10.2)') v(sc_radial_collapse_share)
       call line('radial collapse', a, '% of the cycle (pushed off the liner: back_clearance)')
+      write (a, '(f10.1)') v(sc_sector_jumps)
+      call line('sector jumps', a, 'crank steps at which a sector''s h0 jumps by > 22 % '// &
+                'against the ring''s (its film changed state: the answer hangs on the history)')
     end if
     write (a, '(f10.3)') v(sc_ring_mass)
     call line('ring mass', a, 'g')

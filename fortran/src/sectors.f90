@@ -1,9 +1,13 @@
 !> The ring on a distorted bore (docs/bore.md): a film per sector of the circumference,
 !> coupled through the ring's bending and its rigid-body modes.
 !>
-!> At a crank step the ring's mean position c is found by the load balance (ringlube_
-!> load_balance, the round bore's root finder on c); for each trial c, `ring_evaluate` solves
-!> the sectors' films together with the centre's translation (x_c, y_c):
+!> At a crank step `ring_solve` finds the ring's mean position c, the centre's translation
+!> (x_c, y_c) and the sectors together: one Newton iteration on the M + 3 unknowns, the load
+!> balance mean W = (p_e + p_back) b the last equation. Where it does not apply or fails (no
+!> or a uniform distortion, a light sector at the last step, lift-off or the floor, a Newton
+!> iteration that stalls or jumps a sector by more than max_jump), the load balance's root
+!> finder on c (ringlube_load_balance, the round bore's) takes over, and for each trial c
+!> `ring_evaluate` solves the sectors' films together with the centre's translation:
 !>
 !>   h0_j = c - x_c cos(theta_j) - y_c sin(theta_j) + D_j + [C (W - mean W)]_j,
 !>   sum_j (W_j - mean W) cos(theta_j) = sum_j (W_j - mean W) sin(theta_j) = 0,
@@ -12,9 +16,9 @@
 !> asperity), D_j the bore's distortion there, C the ring's compliance on the sectors
 !> (ringlube_bore: the orders 2..M/2 of the load bend the ring; -C [W] is its deflection), and
 !> returns the mean load: the load balance then sets mean W = (p_e + p_back) b. The M + 2
-!> unknowns (ln h0_j, x_c, y_c) are found by Newton's method with a dense LAPACK solve; each
-!> sector's dW_j/dh0_j is a secant kept from its last two films (a film's load depends on its
-!> own h0 only, so the Jacobian is exact up to these slopes). With zero distortion every
+!> unknowns (ln h0_j, x_c, y_c), M + 3 with ln c, are found by Newton's method with a dense
+!> LAPACK solve; each sector's dW_j/dh0_j is a secant kept from its last two films (a film's
+!> load depends on its own h0 only, so the Jacobian is exact up to these slopes). With zero distortion every
 !> sector's film is the round bore's and the first trial already satisfies the equations:
 !> the ring's answer is the round bore's bit for bit (means are taken as w_1 + mean(w - w_1),
 !> exact for equal values). The sectors' films are independent within an iteration and are
@@ -27,11 +31,21 @@ module ringlube_sectors
   use ringlube_results, only: flag_sectors
   implicit none
   private
-  public :: sector_ring, sector_trial, ring_setup, ring_evaluate, ring_accept, exact_mean, &
-            ring_loads, ring_ceiling
+  public :: sector_ring, sector_trial, ring_setup, ring_evaluate, ring_solve, ring_accept, &
+            exact_mean, ring_loads, ring_ceiling, ring_coupled, free_mean_position
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
+  !> Newton iterations of ring_solve (the mean position an unknown too) at most, before the
+  !> outer root finder takes over
+  integer, parameter :: max_free = 12
+  !> Solve the mean position with the sectors (ring_solve) where ring_coupled; .false.: the
+  !> root finder on the mean position alone (for tests and benchmarks that compare the two)
+  logical, save :: free_mean_position = .true.
+  !> ring_solve only after a step whose every sector carried this share of the mean load
+  real(dp), parameter :: light_share = 0.25_dp
+  !> ring_solve's answer only where no sector's h0 moved by more than this in ln from the last step
+  real(dp), parameter :: max_jump = 0.25_dp
   !> largest change of a sector's ln h0 per Newton step
   real(dp), parameter :: max_dlog = 0.5_dp
 
@@ -64,6 +78,12 @@ module ringlube_sectors
     real(dp) :: ceil_c = 0.0_dp, ceil_xc = 0.0_dp, ceil_yc = 0.0_dp
     real(dp), allocatable :: ceil_h(:), ceil_w(:), ceil_slope(:)
     real(dp), allocatable :: ceil_p(:, :), ceil_eta(:, :), ceil_theta(:, :)
+    !> the state ring_solve restores where it fails: the sectors' h0, loads, slopes and
+    !> deflection (4, M), centre and mean position, and each sector's film iterate (pressure,
+    !> viscosity, fill: (nodes, M))
+    real(dp), allocatable :: sv(:, :), sv_p(:, :), sv_eta(:, :), sv_theta(:, :)
+    real(dp) :: sv_xc = 0.0_dp, sv_yc = 0.0_dp, sv_c = 0.0_dp
+    logical :: sv_fresh = .true.
   end type sector_ring
 
   !> One trial of the mean position: cc [m]; the squeeze term's scheme sq_a (1: Euler, 1.5:
@@ -75,15 +95,23 @@ module ringlube_sectors
     real(dp) :: cc = 0.0_dp, sq_a = 1.0_dp, dt = 0.0_dp, u = 0.0_dp, p_chamber = 0.0_dp, &
                 load = 0.0_dp, floor = 0.0_dp, ceiling = 0.0_dp
     real(dp) :: w_tol = 0.0_dp, q = 0.0_dp, tol_f = 0.0_dp, circ = 0.0_dp
+    !> free: the mean position cc is an unknown of the Newton iteration as well (ring_solve),
+    !> between the bounds cc_floor and cc_ceiling; dres_dlnc: at its solution, the derivative
+    !> of the relative load residual (mean W - q) / q against ln cc with the sectors solved
+    !> (the outer root finder's slope; 0: not known)
+    logical :: free = .false.
+    real(dp) :: cc_floor = 0.0_dp, cc_ceiling = 0.0_dp, dres_dlnc = 0.0_dp
   end type sector_trial
 
-  !> The Newton iteration's arrays: residuals, Jacobian (LU after dgesv), direction, pivots,
+  !> The Newton iteration's arrays: residuals, Jacobian (LU after dgetf2), direction, pivots,
   !> its status, the merit of the last residuals, and the state before the last step.
   type :: newton_work
     real(dp), allocatable :: r(:), a(:, :), b(:), dy(:), h_old(:), w_old(:)
     integer, allocatable :: ipiv(:)
     integer :: info = 0
     real(dp) :: merit = 0.0_dp
+    !> the last step's line search found no descent
+    logical :: stalled = .false.
   end type newton_work
 
 contains
@@ -126,9 +154,115 @@ contains
     type(sector_ring), intent(inout) :: ring
     type(film_type), intent(inout) :: g
     type(sector_trial), intent(inout) :: tr
-    type(newton_work) :: nw
-    integer :: it, j, nfs, nrs
     logical :: done
+    call newton_solve(c, ring, g, tr, done)
+  end subroutine ring_evaluate
+
+  !> Solve the sectors and the mean position together: the equations of ring_evaluate and the
+  !> load balance (mean W = q, within load_tol relative, as the outer root finder's residual),
+  !> M + 3 unknowns (ln h0_j, x_c, y_c, ln cc), by one Newton iteration from tr%cc (the load
+  !> balance's first trial), cc kept within [tr%cc_floor, tr%cc_ceiling]. ok: converged with cc
+  !> strictly inside them; tr%cc is then the step's mean position, the films are solved there,
+  !> and tr%dres_dlnc is the load residual's slope against ln cc with the sectors solved. Not
+  !> ok (the mean position reaches a bound: a ring held at the floor or lifted off; a Newton
+  !> iteration that stalls): the sectors and their films' iterates are restored as they were
+  !> (the film solves stay counted in g), and the caller's root finder on cc takes over from
+  !> there as without this solve.
+  subroutine ring_solve(c, ring, g, tr, ok)
+    type(case_type), intent(in) :: c
+    type(sector_ring), intent(inout) :: ring
+    type(film_type), intent(inout) :: g
+    type(sector_trial), intent(inout) :: tr
+    logical, intent(out) :: ok
+    call save_state(ring)
+    tr%free = .true.
+    tr%dres_dlnc = 0.0_dp
+    call newton_solve(c, ring, g, tr, ok)
+    ok = ok .and. tr%cc > tr%cc_floor .and. tr%cc < tr%cc_ceiling
+    if (ok .and. ring%steps >= 1) ok = maxval(abs(log(ring%h / ring%hist(1, :)))) <= max_jump &
+                                       .and. minval(ring%w) > light_share * exact_mean(ring%w)
+    tr%free = .false.
+    if (.not. ok) call restore_state(ring)
+  end subroutine ring_solve
+
+  !> Keep what ring_solve changes (the sectors' state and their films' iterates).
+  subroutine save_state(ring)
+    type(sector_ring), intent(inout) :: ring
+    integer :: j, m
+    m = ring%bore%m
+    if (.not. allocated(ring%sv)) allocate (ring%sv(4, m))
+    call fit(ring%sv_p, size(ring%films(1)%p))
+    call fit(ring%sv_eta, size(ring%films(1)%eta))
+    if (ring%films(1)%jfo) call fit(ring%sv_theta, size(ring%films(1)%theta))
+    ring%sv(1, :) = ring%h
+    ring%sv(2, :) = ring%w
+    ring%sv(3, :) = ring%slope
+    ring%sv(4, :) = ring%u
+    ring%sv_xc = ring%xc
+    ring%sv_yc = ring%yc
+    ring%sv_c = ring%c_last
+    ring%sv_fresh = ring%fresh
+    do j = 1, m
+      ring%sv_p(:, j) = ring%films(j)%p
+      ring%sv_eta(:, j) = ring%films(j)%eta
+      if (ring%films(j)%jfo) ring%sv_theta(:, j) = ring%films(j)%theta
+    end do
+
+  contains
+
+    !> a (n, M), allocated anew where it is not that shape
+    subroutine fit(a, n)
+      real(dp), allocatable, intent(inout) :: a(:, :)
+      integer, intent(in) :: n
+      if (allocated(a)) then
+        if (size(a, 1) == n .and. size(a, 2) == m) return
+        deallocate (a)
+      end if
+      allocate (a(n, m))
+    end subroutine fit
+  end subroutine save_state
+
+  !> Back to the state save_state kept.
+  subroutine restore_state(ring)
+    type(sector_ring), intent(inout) :: ring
+    integer :: j
+    ring%h = ring%sv(1, :)
+    ring%w = ring%sv(2, :)
+    ring%slope = ring%sv(3, :)
+    ring%u = ring%sv(4, :)
+    ring%xc = ring%sv_xc
+    ring%yc = ring%sv_yc
+    ring%c_last = ring%sv_c
+    ring%fresh = ring%sv_fresh
+    do j = 1, ring%bore%m
+      ring%films(j)%p = ring%sv_p(:, j)
+      ring%films(j)%eta = ring%sv_eta(:, j)
+      if (ring%films(j)%jfo) ring%films(j)%theta = ring%sv_theta(:, j)
+    end do
+  end subroutine restore_state
+
+  !> The step's mean position is solved with the sectors (ring_solve): free_mean_position, the
+  !> distortion at the step is not uniform (orders other than 0 present; a uniform one, no
+  !> distortion or order 0 alone, keeps every sector at one h0: the round bore's root finder,
+  !> bit for bit), and every sector carried at least light_share of the mean load at the last
+  !> step (a light sector's film may have an open and a closed state: the root finder
+  !> continues from the last state).
+  pure logical function ring_coupled(ring)
+    type(sector_ring), intent(in) :: ring
+    ring_coupled = free_mean_position .and. maxval(ring%d) > minval(ring%d)
+    if (.not. ring_coupled .or. ring%steps < 1) return
+    ring_coupled = minval(ring%whist(1, :)) > light_share * exact_mean(ring%whist(1, :))
+  end function ring_coupled
+
+  !> The Newton iteration of ring_evaluate (tr%free: of ring_solve); done: converged.
+  subroutine newton_solve(c, ring, g, tr, done)
+    type(case_type), intent(in) :: c
+    type(sector_ring), intent(inout) :: ring
+    type(film_type), intent(inout) :: g
+    type(sector_trial), intent(inout) :: tr
+    logical, intent(out) :: done
+    type(newton_work) :: nw
+    integer :: it, j, nfs, nrs, max_it
     nfs = sum(ring%films%film_solves)
     nrs = sum(ring%films%reynolds_solves)
     do j = 1, ring%bore%m
@@ -140,7 +274,9 @@ contains
     call first_guess(c, ring, tr, nw)
     call solve_films(c, ring, tr)
     call residuals(c, ring, tr, nw%r, nw%merit, done)
-    do it = 1, max_inner
+    max_it = max_inner
+    if (tr%free) max_it = max_free
+    do it = 1, max_it
       if (done) exit
       call newton_direction(ring, tr, nw)
       if (nw%info /= 0) exit
@@ -151,10 +287,29 @@ contains
       ring%iterations = ring%iterations + 1
       call take_step(c, ring, tr, nw, done)
       call update_slopes(ring, tr, nw)
+      ! (a free mean position at a bound: the caller's root finder holds it there; a line
+      ! search without descent: the root finder takes the step)
+      if (tr%free .and. (tr%cc <= tr%cc_floor .or. tr%cc >= tr%cc_ceiling .or. nw%stalled)) exit
     end do
-    if (.not. done) ring%missed = ring%missed + 1
-    call summarise(ring, g, tr, nfs, nrs, done)
-  end subroutine ring_evaluate
+    ring%c_last = tr%cc
+    if (tr%free .and. done) call total_slope(ring, tr, nw)
+    if (.not. done .and. .not. tr%free) ring%missed = ring%missed + 1
+    call summarise(ring, g, tr, nfs, nrs, done .or. tr%free)
+  end subroutine newton_solve
+
+  !> tr%dres_dlnc: the Jacobian of the M + 3 equations solved for a unit change of the load
+  !> residual, whose ln cc component is 1 / (d residual / d ln cc) with the sectors solved.
+  subroutine total_slope(ring, tr, nw)
+    type(sector_ring), intent(in) :: ring
+    type(sector_trial), intent(inout) :: tr
+    type(newton_work), intent(inout) :: nw
+    integer :: n
+    n = ring%bore%m + 3
+    nw%r = 0.0_dp
+    nw%r(n) = -1.0_dp
+    call newton_direction(ring, tr, nw)
+    if (nw%info == 0 .and. nw%b(n) /= 0.0_dp) tr%dres_dlnc = 1.0_dp / nw%b(n)
+  end subroutine total_slope
 
   !> The trial's tolerances (the films' load tolerance as the round film's, the load per
   !> unit circumference the balance asks for, the first harmonic's tolerance) and the Newton
@@ -165,14 +320,15 @@ contains
     type(film_type), intent(in) :: g
     type(sector_trial), intent(inout) :: tr
     type(newton_work), intent(out) :: nw
-    integer :: m
+    integer :: m, n
     m = ring%bore%m
     tr%w_tol = c%load_tol * max(tr%load, 1e-3_dp)
     tr%q = max(tr%load, 1e-3_dp) / g%circ
     tr%tol_f = 0.5_dp * m * tr%q * c%load_tol
     tr%circ = g%circ
-    allocate (nw%r(m + 2), nw%a(m + 2, m + 2), nw%b(m + 2), nw%dy(m), nw%ipiv(m + 2), &
-              nw%h_old(m), nw%w_old(m))
+    n = m + 2
+    if (tr%free) n = m + 3
+    allocate (nw%r(n), nw%a(n, n), nw%b(n), nw%dy(m), nw%ipiv(n), nw%h_old(m), nw%w_old(m))
   end subroutine trial_setup
 
   !> The first trial: the last evaluation's sectors moved with the mean position (at a step's
@@ -184,7 +340,7 @@ contains
   subroutine first_guess(c, ring, tr, nw)
     type(case_type), intent(in) :: c
     type(sector_ring), intent(inout) :: ring
-    type(sector_trial), intent(in) :: tr
+    type(sector_trial), intent(inout) :: tr
     type(newton_work), intent(inout) :: nw
     real(dp) :: h_prev(ring%bore%m), guess(ring%bore%m), t
     logical :: have_prev, done
@@ -216,11 +372,32 @@ contains
     if (done) return
     call newton_direction(ring, tr, nw)
     if (nw%info /= 0) return
-    t = min(1.0_dp, max_dlog / max(maxval(abs(nw%dy)), tiny(1.0_dp)))
+    t = step_length(ring, tr, nw)
     ring%h = min(max(ring%h * exp(t * nw%dy), tr%floor), tr%ceiling)
     ring%xc = ring%xc + t * nw%b(ring%bore%m + 1)
     ring%yc = ring%yc + t * nw%b(ring%bore%m + 2)
+    if (tr%free) tr%cc = free_cc(ring, tr, nw, t, tr%cc)
   end subroutine first_guess
+
+  !> The Newton step's length: ln h0 (and ln cc) changed by at most max_dlog.
+  pure real(dp) function step_length(ring, tr, nw) result(t)
+    type(sector_ring), intent(in) :: ring
+    type(sector_trial), intent(in) :: tr
+    type(newton_work), intent(in) :: nw
+    real(dp) :: big
+    big = maxval(abs(nw%dy))
+    if (tr%free) big = max(big, abs(nw%b(ring%bore%m + 3)))
+    t = min(1.0_dp, max_dlog / max(big, tiny(1.0_dp)))
+  end function step_length
+
+  !> The mean position after a step t of the Newton direction from cc0, within its bounds.
+  pure real(dp) function free_cc(ring, tr, nw, t, cc0) result(cc)
+    type(sector_ring), intent(in) :: ring
+    type(sector_trial), intent(in) :: tr
+    type(newton_work), intent(in) :: nw
+    real(dp), intent(in) :: t, cc0
+    cc = min(max(cc0 * exp(t * nw%b(ring%bore%m + 3)), tr%cc_floor), tr%cc_ceiling)
+  end function free_cc
 
   !> The ring's load at the ceiling for the lift-off margin (ringlube_load_balance, margins):
   !> ring_evaluate at tr%cc on a copy of the ring (the step's own is left alone; g is the
@@ -279,7 +456,7 @@ contains
     type(sector_trial), intent(in) :: tr
     integer :: jj
     real(dp) :: sq, sq_b
-    !$omp parallel do private(jj, sq, sq_b) schedule(static) if (c%threads > 1) &
+    !$omp parallel do private(jj, sq, sq_b) schedule(dynamic) if (c%threads > 1) &
     !$omp num_threads(c%threads)
     do jj = 1, ring%bore%m
       sq = 0.0_dp
@@ -338,18 +515,25 @@ contains
     tol_g = 0.1_dp * c%load_tol * tr%cc
     mx = max(maxval(abs(rl)) / (c%load_tol * tr%q), maxval(abs(rg)) / tol_g, &
              max(abs(fx), abs(fy)) / tr%tol_f)
-    ok = mx <= 1.0_dp
+    if (tr%free) then
+      ! the load balance's residual (ringlube_load_balance), from the loads W_j (which the
+      ! first guess extrapolates)
+      res(m + 3) = (wm * tr%circ - tr%load) / max(tr%load, 1e-3_dp)
+      mx = max(mx, abs(res(m + 3)) / c%load_tol)
+    end if
+    ok = mx <= 1.0_dp .and. .not. tr%free
   end subroutine residuals
 
   !> The Newton direction (ln h0_j, x_c, y_c) of the residuals nw%r: the Jacobian (exact up to
-  !> the sectors' slopes) solved by LAPACK's dgesv; nw%info its status.
+  !> the sectors' slopes) solved by LAPACK (dgetf2, dgetrs); nw%info its status.
   subroutine newton_direction(ring, tr, nw)
     type(sector_ring), intent(in) :: ring
     type(sector_trial), intent(in) :: tr
     type(newton_work), intent(inout) :: nw
-    integer :: l, m
+    integer :: l, m, n
     real(dp) :: gl
     m = ring%bore%m
+    n = size(nw%r)
     nw%a = 0.0_dp
     do l = 1, m
       gl = ring%slope(l) * ring%h(l)
@@ -357,11 +541,16 @@ contains
       nw%a(l, l) = nw%a(l, l) + ring%h(l)
       nw%a(m + 1, l) = gl * ring%bore%cos1(l) / (m * tr%q)
       nw%a(m + 2, l) = gl * ring%bore%sin1(l) / (m * tr%q)
+      if (tr%free) nw%a(m + 3, l) = gl / (m * tr%q)
     end do
     nw%a(1:m, m + 1) = ring%bore%cos1
     nw%a(1:m, m + 2) = ring%bore%sin1
+    if (tr%free) nw%a(1:m, m + 3) = -tr%cc
     nw%b = -nw%r
-    call dgesv(m + 2, 1, nw%a, m + 2, nw%ipiv, nw%b, m + 2, nw%info)
+    ! (LAPACK's unblocked LU: at these sizes dgesv's blocked, recursive one spends its time in
+    ! the calls of its BLAS 3 kernels, a serial part of a threaded run)
+    call dgetf2(n, n, nw%a, n, nw%ipiv, nw%info)
+    if (nw%info == 0) call dgetrs('N', n, 1, nw%a, n, nw%ipiv, nw%b, n, nw%info)
     nw%dy = nw%b(1:m)
   end subroutine newton_direction
 
@@ -377,6 +566,8 @@ contains
     ok = maxval(abs(ring%slope * ring%h * nw%dy)) <= c%load_tol * tr%q .and. &
          maxval(abs(nw%dy)) <= c%load_tol .and. &
          maxval(abs(nw%r(m + 1:m + 2))) * m * tr%q <= tr%tol_f
+    ! with the mean position free, its own residual too (the load balance checks it)
+    if (tr%free) ok = ok .and. abs(nw%r(m + 3)) <= c%load_tol
   end function step_within_tolerance
 
   !> The Newton step, ln h0 changed by at most max_dlog, halved up to three times while the
@@ -384,25 +575,28 @@ contains
   subroutine take_step(c, ring, tr, nw, done)
     type(case_type), intent(in) :: c
     type(sector_ring), intent(inout) :: ring
-    type(sector_trial), intent(in) :: tr
+    type(sector_trial), intent(inout) :: tr
     type(newton_work), intent(inout) :: nw
     logical, intent(out) :: done
-    real(dp) :: t, xc_old(2), merit_new
+    real(dp) :: t, xc_old(2), merit_new, cc_old
     integer :: ls, m
     m = ring%bore%m
-    t = min(1.0_dp, max_dlog / max(maxval(abs(nw%dy)), tiny(1.0_dp)))
+    t = step_length(ring, tr, nw)
     nw%h_old = ring%h
     nw%w_old = ring%w
     xc_old = [ring%xc, ring%yc]
+    cc_old = tr%cc
     do ls = 1, 4
       ring%h = min(max(nw%h_old * exp(t * nw%dy), tr%floor), tr%ceiling)
       ring%xc = xc_old(1) + t * nw%b(m + 1)
       ring%yc = xc_old(2) + t * nw%b(m + 2)
+      if (tr%free) tr%cc = free_cc(ring, tr, nw, t, cc_old)
       call solve_films(c, ring, tr)
       call residuals(c, ring, tr, nw%r, merit_new, done)
       if (done .or. merit_new < nw%merit) exit
       t = 0.5_dp * t
     end do
+    nw%stalled = .not. done .and. merit_new >= nw%merit
     nw%merit = merit_new
   end subroutine take_step
 

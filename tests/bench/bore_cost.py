@@ -10,17 +10,48 @@ Three tables (markdown), with the tension read in N and the shipped calibration:
    the load balance and of the lift-off margin against the round bore's per step.
 2. Speed-up of two threads (`&numerics threads = 2`) against one on the same decks: wall and
    CPU time of `build/ringlube-solve` (best of 3), with OMP_WAIT_POLICY=PASSIVE unless it is
-   set (as the Python package does), and the load average beside every row. Meaningful on a
-   quiet machine only.
+   set (as the Python package does; a GOMP_SPINCOUNT in the environment overrides the policy's
+   spin count: libgomp spins that many times before a waiting thread sleeps), the CPU time of
+   two threads over one's, and the load average beside every row. The speed-up is meaningful
+   on a quiet machine only (load average below 1.5 before the run); the CPU times on any.
 3. Sector count: energy, face leakage, light gaps and blowby at M = 8, 12, 24, 48 against
    M = 96 (starved film, ring pack, the hot 4000 r/min deck with orders 2 and 4 of 12 and
    8 um), with the cost.
 
-Run from the project folder (4 minutes on the shared 2-core machine at a load average of 8-13):
+`--branches BASE/build/ringlube-solve` instead: the load balance's branch choice near a
+sector's lift-off, this build against BASE (the root finder on the mean position alone: commit
+3d2b88d). The shipped decks' rings whose sectors sit near lift-off (the own engine's at 8 N,
+the 12,000 r/min deck's at 8 and 14 N, the 4000 r/min deck's at 8 N, and docs/bore.md's Python
+example with order 4 of 20 um alone) at 2, 1 and 0.5 deg, the own engine's at 8 N with
+load_tol 3e-4 and 1e-4, and the example's with load_tol 1e-4: energy, face leakage, the crank steps at
+which a sector's h0 jumps by more than a factor e^0.2 against the ring's (`sector_jumps`,
+counted from each file's sector series), the steps at which the two runs' sectors lie more than that factor
+apart, and the largest residual of a step's equations over the steps neither run flagged
+(`/cycle/flags` bits 4 and 128; bits 1 and 2, a ring held at a bound, left out), recomputed
+from the file: the sectors' positions h0_j - D_j - [C (W - mean W)]_j in the orders
+2..M/2, measured as the load that would bend the ring by them (C^+ applied), over load_tol q;
+the centre's force over load_tol q M / 2; the load balance over load_tol (docs/bore.md,
+"Solution"), the largest of the three, over all those steps and over the steps at which the
+runs lie apart.
+
+`--moves BASE/build/ringlube-solve` instead: how far a kernel change that is not
+bit-identical moves a distorted bore's answers (the shipped distorted decks as shipped and
+identical.py's `distorted_starved` variant, this build against BASE): energy, blowby, face
+leakage and light gaps, the largest relative change of a step's h0 (the smallest sector's)
+and the largest load residual over the steps not held at a bound (in both runs), and the
+cycles run.
+
+Run from the project folder (4 minutes on the shared 2-core machine at a load average of 8-13;
+the cost table alone 35 s at a load of 2-4):
 
     .venv/bin/python tests/bench/bore_cost.py
     .venv/bin/python tests/bench/bore_cost.py --cost-only --bench OTHER/build/bench_kernel
     .venv/bin/python tests/bench/bore_cost.py --threads-only   # at a quiet moment
+    .venv/bin/python tests/bench/bore_cost.py --threads-only --solve OTHER/build/ringlube-solve
+    .venv/bin/python tests/bench/bore_cost.py --moves BASE/build/ringlube-solve   # 30 s
+    .venv/bin/python tests/bench/bore_cost.py --branches BASE/build/ringlube-solve   # 3 min
+    OMP_WAIT_POLICY=ACTIVE .venv/bin/python tests/bench/bore_cost.py --threads-only
+    GOMP_SPINCOUNT=20000 .venv/bin/python tests/bench/bore_cost.py --threads-only
 """
 
 from __future__ import annotations
@@ -36,6 +67,7 @@ import time
 from pathlib import Path
 
 import h5py
+import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
 BENCH = ROOT / "build" / "bench_kernel"
@@ -122,12 +154,14 @@ def copy_inputs(folder: Path) -> None:
 
 
 def thread_table(folder: Path) -> None:
-    print(f"\nOMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', 'PASSIVE')}")
+    spin = os.environ.get("GOMP_SPINCOUNT")
+    spin_note = f", GOMP_SPINCOUNT={spin}" if spin else ""
+    print(f"\nOMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', 'PASSIVE')}{spin_note}")
     print(
         "| deck | film | 1 thread wall s | CPU s | 2 threads wall s | CPU s | speed-up (wall) |"
-        " load before | load after |"
+        " CPU 2 / 1 | load before | load after |"
     )
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for label, name in DECKS:
         deck = folder / name
         shutil.copy(ROOT / "inputs" / name, deck)
@@ -139,7 +173,7 @@ def thread_table(folder: Path) -> None:
             same = a1["energy_loss_J"] == a2["energy_loss_J"]
             note = "" if same else " (energies differ!)"
             row = f"| {label} | {model} | {t1:.2f} | {c1:.2f} | {t2:.2f} | {c2:.2f} | {t1 / t2:.2f}{note}"
-            print(f"{row} | {load0:.1f} | {os.getloadavg()[0]:.1f} |", flush=True)
+            print(f"{row} | {c2 / c1:.2f} | {load0:.1f} | {os.getloadavg()[0]:.1f} |", flush=True)
 
 
 def sector_table(folder: Path) -> None:
@@ -168,13 +202,173 @@ def sector_table(folder: Path) -> None:
         )
 
 
+def moves(base: Path, folder: Path) -> None:
+    decks = {name[:-4]: (ROOT / "inputs" / name).read_text() for _, name in DECKS}
+    # identical.py's variant: the cold deck, starved film, order 4 beyond its limit, 8 sectors
+    cold = (ROOT / "inputs" / "crf450r_4000rpm_full_cold.nml").read_text()
+    physics = "&physics cavitation = 'jfo', inlet = 'starved', bore = 'distorted', "
+    decks["distorted_starved"] = (
+        cold.replace("&physics", physics, 1) + "\n&bore order = 4, amplitude = 10e-6, sectors = 8 /\n"
+    )
+    print(f"load average: {os.getloadavg()[0]:.2f}; base {base}")
+    print(
+        "| deck | energy J | blowby L/min | face leakage mg | light gaps % | h0: largest change |"
+        " largest load residual | cycles run |"
+    )
+    print("|---|---|---|---|---|---|---|---|")
+    for name, text in decks.items():
+        path = folder / f"{name}.nml"
+        path.write_text(text)
+        out = []
+        for solver in (base, SOLVE):
+            subprocess.run([str(solver), "-q", str(path), "-o", str(folder / "r.h5")], capture_output=True)
+            with h5py.File(folder / "r.h5") as f:
+                g = f["cycle"]
+                free = g["flags"][:] & 3 == 0  # (not held at the floor or the ceiling)
+                out.append((dict(f.attrs), g["h0_m"][:], free, float(abs(g["load_residual"][:][free]).max())))
+        (a0, h0, f0, r0), (a1, h1, f1, r1) = out
+
+        def pair(key: str, a0: dict = a0, a1: dict = a1) -> str:
+            if key not in a0:
+                return "-"
+            v0, v1 = float(a0[key]), float(a1[key])
+            rel = f" ({v1 / v0 - 1:+.1e})" if v0 else ""
+            return f"{v0:.4g} / {v1:.4g}{rel}"
+
+        keys = ("energy_loss_J", "blowby_l_min", "face_leakage_mg_per_cycle", "light_gap_share_pct")
+        cells = " | ".join(pair(k) for k in keys)
+        dh = float(abs(h1 / h0 - 1)[f0 & f1].max())
+        cycles = f"{a0['cycles_run']} / {a1['cycles_run']}"
+        print(f"| {name} | {cells} | {dh:.1e} | {r0:.2e} / {r1:.2e} | {cycles} |", flush=True)
+
+
+#: a sector's jump between crank steps, in ln h0 (the kernel's result `sector_jumps`)
+JUMP = 0.2
+
+
+def step_residuals(path: Path) -> dict:
+    """A distorted run's sectors (crank steps x sectors) and the residual of each step's
+    equations recomputed from its file (see the module's description), over its tolerance."""
+    with h5py.File(path) as f:
+        a, g = dict(f.attrs), f["cycle"]
+        h, w = g["sector_h0_m"][:], g["sector_load_N_per_m"][:]
+        load, flags = g["applied_load_N"][:], g["flags"][:]
+    assert not str(a["bore.distortion_file"]), "the lists of &bore only"
+    m, r0, tol = int(a["bore.sectors"]), float(a["engine.bore_radius"]), float(a["numerics.load_tol"])
+    theta = 2 * np.pi * np.arange(m) / m
+    orders = [int(k) for k in str(a["bore.order"]).split(",")]
+    amps = [float(x) for x in str(a["bore.amplitude"]).split(",")]
+    phases = (
+        [float(x) for x in str(a["bore.phase"]).split(",")]
+        if str(a["bore.phase"]).strip()
+        else [0.0] * len(orders)
+    )
+    dist = sum(amp * np.cos(k * (theta - phi)) for k, amp, phi in zip(orders, amps, phases))
+    ei = float(a["surface.e_ring"]) * float(a["ring.width"]) * float(a["ring.radial_depth"]) ** 3 / 12
+    comp, stiff = np.zeros((m, m)), np.zeros((m, m))  # C and C^+ on the sectors
+    for k in range(2, m // 2 + 1):
+        wave = (1 if 2 * k == m else 2) / m * np.cos(k * (theta[:, None] - theta[None, :]))
+        ck = r0**4 / (ei * (k * k - 1) ** 2)
+        comp += ck * wave
+        stiff += wave / ck
+    circ = 2 * np.pi * r0
+    q = np.maximum(load, 1e-3) / circ
+    dw = w - w.mean(axis=1)[:, None]
+    bend = np.abs((h - dist - dw @ comp.T) @ stiff.T).max(axis=1) / (tol * q)
+    centre = np.maximum(abs(dw @ np.cos(theta)), abs(dw @ np.sin(theta))) / (0.5 * m * q * tol)
+    balance = abs(w.mean(axis=1) * circ - load) / np.maximum(load, 1e-3) / tol
+    rel = np.log(h) - np.log(h).mean(axis=1)[:, None]  # (against the ring's: `sector_jumps`)
+    jumps = int(np.count_nonzero(abs(np.diff(rel, axis=0)).max(axis=1) > JUMP))
+    return {
+        "attrs": a,
+        "h": h,
+        "residual": np.maximum(bend, np.maximum(centre, balance)),
+        "solved": flags & (4 | 128) == 0,
+        "free": flags & (1 | 2) == 0,
+        "jumps": jumps,
+    }
+
+
+def branches(base: Path, folder: Path) -> None:
+    import ringlube  # (the Python package writes the decks)
+
+    decks = (
+        ("own 86 3000", "own86_3000rpm_full_distorted.nml", 8.0),
+        ("CRF450R 12000 hot", "crf450r_12000rpm_full_hot_distorted.nml", 14.0),
+        ("CRF450R 12000 hot", "crf450r_12000rpm_full_hot_distorted.nml", 8.0),
+        ("CRF450R 4000 hot", "crf450r_4000rpm_full_hot_distorted.nml", 8.0),
+        # (docs/bore.md's Python example with order 4 of 20 um alone, 3.7 times its limit)
+        ("CRF450R 4000 hot, order 4 of 20 um", "crf450r_4000rpm_full_hot_gas.nml", 8.0),
+    )
+    runs = [(label, name, t, step, None) for label, name, t in decks for step in (2.0, 1.0, 0.5)]
+    runs += [(*decks[0], 2.0, tol) for tol in (3e-4, 1e-4)] + [(*decks[-1], 2.0, 1e-4)]
+    print(f"load average: {os.getloadavg()[0]:.2f}; root finder: {base}; this build: {SOLVE}")
+    print(
+        "| deck | ring, crank step | energy J | face leakage mg | sector jumps | steps apart |"
+        " largest residual / tolerance | at the steps apart | converged |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    for label, name, tension, step, tol in runs:
+        case = ringlube.Case.from_namelist(ROOT / "inputs" / name).with_ring(tension=tension)
+        if "distorted" not in name:
+            case = case.with_physics(bore="distorted", cavitation="jfo", inlet="starved")
+            case = case.with_("bore", order=[4], amplitude=[20e-6], sectors=24)
+        case = case.with_numerics(dpsi_deg=step, **({"load_tol": tol} if tol else {}))
+        deck = folder / "case.nml"
+        case.to_namelist(deck)
+        out = []
+        for solver in (base, SOLVE):
+            subprocess.run([str(solver), "-q", str(deck), "-o", str(folder / "r.h5")], capture_output=True)
+            out.append(step_residuals(folder / "r.h5"))
+        r0, r1 = out
+        apart = abs(np.log(r1["h"] / r0["h"])).max(axis=1) > JUMP
+        both = r0["solved"] & r1["solved"] & r0["free"] & r1["free"]
+
+        cells = [
+            [format(float(r["attrs"]["energy_loss_J"]), ".4f") for r in out],
+            [format(float(r["attrs"]["face_leakage_mg_per_cycle"]), ".3g") for r in out],
+            [str(r["jumps"]) for r in out],
+            [f"{np.count_nonzero(apart)} of {apart.size}"],
+            [worst(r["residual"][both]) for r in out],
+            [worst(r["residual"][both & apart]) for r in out],
+            [converged(r) for r in out],
+        ]
+        ring = f"{float(case.value('ring', 'width')) * 1e3:.3g} mm, {tension:g} N, {step:g} deg"
+        ring += f", load_tol {tol:g}" if tol else ""
+        print(f"| {label} | {ring} | " + " | ".join(" / ".join(c) for c in cells) + " |", flush=True)
+
+
+def worst(x: np.ndarray) -> str:
+    """The largest of residuals over their tolerance (how many are over it)."""
+    return f"{x.max():.2f} ({np.count_nonzero(x > 1)})" if x.size else "-"
+
+
+def converged(r: dict) -> str:
+    a = r["attrs"]
+    return "yes" if a["converged"] else f"no ({np.count_nonzero(~r['solved'])} steps, period {a['period']})"
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bench", type=Path, default=BENCH, help="the bench_kernel of the cost table")
+    parser.add_argument("--solve", type=Path, default=SOLVE, help="the ringlube-solve of the other tables")
     parser.add_argument("--cost-only", action="store_true", help="the cost table alone")
+    parser.add_argument("--moves", type=Path, help="the answers' moves against this ringlube-solve")
     parser.add_argument("--threads-only", action="store_true", help="the speed-up table alone")
+    parser.add_argument("--branches", type=Path, help="the branch choice against this ringlube-solve")
     args = parser.parse_args()
     BENCH = args.bench
+    SOLVE = args.solve
+    if args.branches:
+        with tempfile.TemporaryDirectory(prefix="ringlube_bore_") as tmp:
+            copy_inputs(Path(tmp))
+            branches(args.branches, Path(tmp))
+        raise SystemExit(0)
+    if args.moves:
+        with tempfile.TemporaryDirectory(prefix="ringlube_bore_") as tmp:
+            copy_inputs(Path(tmp))
+            moves(args.moves, Path(tmp))
+        raise SystemExit(0)
     if not args.threads_only:
         cost_table()
     if args.cost_only:

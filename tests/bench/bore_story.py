@@ -34,7 +34,7 @@ OWN_RINGS = [(1.2e-3, 15.0), (1.2e-3, 8.0), (1.2e-3, 26.0), (0.8e-3, 15.0), (1.5
 
 COLUMNS = (
     "| engine | speed r/min | bore | ring | conformability | energy J/cycle | friction W | blowby L/min "
-    "| face leakage mg/cycle | oil to chamber mm^3/cycle | light gaps % | off the liner % "
+    "| face leakage mg/cycle | oil to chamber mm^3/cycle | light gaps % | sector jumps | off the liner % "
     "| flutter | converged |"
 )
 
@@ -72,12 +72,13 @@ def row(engine: str, speed: int, bore: str, ring: str, case: ringlube.Case) -> s
     def d(name: str, fmt: str) -> str:
         return format(s[name], fmt) if distorted else "-"
 
-    why = f"{r.flagged_steps:.0f} flagged" if r.flagged_steps else "no period"
+    # (a step held at the ceiling is flagged but no failure: a run without a period says so)
+    why = f"{r.flagged_steps:.0f} flagged" if r.scalars["periodic"] else "no period"
     conv = "yes" if r.converged else f"no ({why})"
     return (
         f"| {engine} | {speed} | {bore} | {ring} | {d('conformability', '.2f')} | {r.energy_loss:.3f} "
         f"| {r.friction_power:.1f} | {s['blowby']:.2f} | {d('face_leakage', '.3g')} "
-        f"| {s['oil_to_chamber']:.3g} | {d('light_gap_share', '.1f')} "
+        f"| {s['oil_to_chamber']:.3g} | {d('light_gap_share', '.1f')} | {d('sector_jumps', '.0f')} "
         f"| {s['liner_lift_share']:.2f} | {s['flutter_events']:.0f} | {conv} |"
     ) + (f"  ({time.perf_counter() - t0:.0f} s)" if TIMES else "")
 

@@ -16,7 +16,8 @@ program test_bore
                               s_load_residual, si_flags, sc_energy_loss, sc_converged, &
                               sc_face_leakage, sc_gas_balance_error, sc_light_gap_share, &
                               sec_h0, sec_load, flag_sectors, flag_ceiling, &
-                              sc_margin_film_solves
+                              sc_margin_film_solves, si_film_solves
+  use ringlube_sectors, only: free_mean_position
   use ringlube_check
   implicit none
 
@@ -27,6 +28,7 @@ program test_bore
   if (run_case('face_leakage')) call face_leakage()
   if (run_case('gas_assisted_conformability')) call gas_assisted_conformability()
   if (run_case('ceiling_from_last_ceiling')) call ceiling_from_last_ceiling()
+  if (run_case('free_mean_position')) call free_mean_position_test()
   call report('test_bore')
 
 contains
@@ -292,5 +294,52 @@ contains
     call check(steps > 0, 'the margin is measured on the intake stroke')
     call check(per_sector <= 2.0_dp, 'at most 2 film solves per sector at the ceiling')
   end subroutine ceiling_from_last_ceiling
+
+  !> The step's mean position solved with the sectors in one Newton iteration (ring_solve)
+  !> gives the answer of the root finder on the mean position alone (each of whose trials
+  !> solves the sectors), to the balance's tolerance: every step's load residual within
+  !> load_tol and no step flagged, the mean position within 5 load_tol at every step and the
+  !> energy within 2 load_tol (starved film and flooded, order 4 beyond its conformability
+  !> limit, and orders 2 and 3 with the ring pack), in fewer film solves.
+  subroutine free_mean_position_test()
+    type(case_type) :: c, cases(3)
+    type(result_type) :: r_free, r_root
+    real(dp) :: dh, de
+    integer :: i
+    c = base_case()
+    c%tension_unit = 'N'
+    c%cavitation = 'jfo'
+    c%inlet = 'starved'
+    cases(1) = distorted(c, 4, 10e-6_dp, 16)
+    c%inlet = 'flooded'
+    cases(2) = distorted(c, 4, 10e-6_dp, 16)
+    c%inlet = 'starved'
+    c%ring_pack = 'gas'
+    cases(3) = distorted(c, 2, 8e-6_dp, 16)
+    cases(3)%bore_order = [2, 3]
+    cases(3)%bore_amplitude = [8e-6_dp, 6e-6_dp]
+    do i = 1, size(cases)
+      c = cases(i)
+      free_mean_position = .true.
+      call solve(c, r_free, 'mean position with the sectors')
+      c = cases(i)
+      free_mean_position = .false.
+      call solve(c, r_root, 'mean position by the root finder')
+      free_mean_position = .true.
+      dh = maxval(abs(r_free%series(:, s_h0) / r_root%series(:, s_h0) - 1))
+      de = abs(r_free%scalars(sc_energy_loss) / r_root%scalars(sc_energy_loss) - 1)
+      write (*, '(a, i0, a, es10.2, a, es10.2, a, 2i8)') 'case ', i, ': h0 ', dh, ', energy ', &
+        de, ', film solves ', sum(r_free%int_series(:, si_film_solves)), &
+        sum(r_root%int_series(:, si_film_solves))
+      call check(all(iand(r_free%int_series(:, si_flags), flag_sectors) == 0), &
+                 'no step with the sectors outside their tolerance')
+      call check(all(abs(r_free%series(:, s_load_residual)) <= c%load_tol), &
+                 'the load balance within load_tol at every step')
+      call check(dh <= 5.0_dp * c%load_tol, 'the root finder''s mean position (5 load_tol)')
+      call check(de <= 2.0_dp * c%load_tol, 'the root finder''s energy (2 load_tol)')
+      call check(sum(r_free%int_series(:, si_film_solves)) &
+                 < sum(r_root%int_series(:, si_film_solves)), 'fewer film solves')
+    end do
+  end subroutine free_mean_position_test
 end program test_bore
 

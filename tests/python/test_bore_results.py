@@ -363,3 +363,20 @@ def test_study_draws_the_knee_of_a_distorted_case(runs, tmp_path, monkeypatch):
     assert len(drawn) == 1 and drawn[0].label.startswith("bent knee")
     np.testing.assert_array_equal(drawn[0].sector_h0, r.sector_h0)
     assert not np.array_equal(r.sector_h0, runs["py"].sector_h0)  # (not the deck's own design)
+
+
+@pytest.mark.cli
+def test_sector_jumps_counts_the_crank_steps_at_which_a_sector_jumps(runs):
+    """`sector_jumps`: the crank steps of the cycle at which some sector's h0 changed by more
+    than a factor e^0.2 from the step before relative to the ring's (the sectors' geometric
+    mean; docs/bore.md, "Two states of a light sector"), counted here from the sector series
+    themselves; the file and the summary carry it."""
+    r = runs["py"]
+    rel = np.log(r.sector_h0 / np.exp(np.log(r.sector_h0).mean(axis=1))[:, None])
+    expected = int(np.count_nonzero(np.abs(np.diff(rel, axis=0)).max(axis=1) > 0.2))
+    assert expected > 0  # (this ring's faces open and close: the count is not trivially 0)
+    assert r.sector_jumps == expected
+    with h5py.File(runs["cli_file"]) as f:
+        assert f.attrs["sector_jumps"] == expected
+    lines = [line.split() for line in runs["cli_stdout"].splitlines()]
+    assert ["sector", "jumps", f"{expected:.1f}"] in [line[:3] for line in lines]

@@ -183,8 +183,35 @@ def test_the_bore_section_renders_its_runs(monkeypatch):
             want = conformability(base, w, t)
             assert f"| {want:.4f} | {r.scalars['conformability']:.4f} |" in md
             assert r.scalars["conformability"] == pytest.approx(want, rel=1e-12)
+            assert f"| {r.scalars['light_gap_share']:.2f} | {r.scalars['sector_jumps']:.0f} |" in md
     assert "- **CRF450R, 4000 r/min, 1.004 mm ring, 8 to 26 N.**" in md
     assert f"conforms dry from {8.0 * conformability(base, base.value('ring', 'width'), 8.0):.1f} N" in md
+
+
+def test_a_row_without_a_period_says_so_beside_a_step_at_the_ceiling():
+    """A run not periodic in its cycles whose only flagged step is one held at the ceiling
+    (the ring pushed off the liner: an answer, not a failure) is 'no (no period)', not
+    'no (1 flagged)' (the 12,000 r/min deck's rows said so)."""
+    import ringlube.validate.bore as vb
+
+    class Run:
+        energy_loss, friction_power, converged, flagged_steps = 3.583, 358.3, False, 1
+        scalars = dict.fromkeys(
+            ("conformability", "blowby", "face_leakage", "oil_to_chamber", "light_gap_share"), 1.0
+        ) | {"sector_jumps": 19.0, "radial_collapse_share": 0.28, "flutter_events": 1.0, "periodic": 0.0}
+
+    assert vb._row("CRF450R", 12000, "distorted", 1.004e-3, 14.0, Run()).endswith("| no (no period) |")
+    Run.scalars = Run.scalars | {"periodic": 1.0}
+    assert vb._row("CRF450R", 12000, "distorted", 1.004e-3, 14.0, Run()).endswith("| no (1 flagged) |")
+
+
+def test_a_span_of_equal_numbers_is_one_number():
+    """The radial collapse's range over the tensions read '0.28-0.28 %' where every tension
+    gave 0.28."""
+    from ringlube.validate.bore import _span
+
+    assert _span([0.2777, 0.2778, 0.2781], ".2f") == "0.28"
+    assert _span([0.42, 0.2777], ".2f") == "0.28-0.42"
 
 
 def test_validation_page_has_the_bore_section():

@@ -132,19 +132,20 @@ def _ring(w: float, t: float) -> str:
 def _row(engine, speed, bore, w, t, r) -> str:
     if not _ok(r):
         return (
-            f"| {engine} | {speed} | {bore} | {_ring(w, t)} | failed: {str(r).splitlines()[0]} |" + " |" * 10
+            f"| {engine} | {speed} | {bore} | {_ring(w, t)} | failed: {str(r).splitlines()[0]} |" + " |" * 11
         )
     s, d = r.scalars, bore == "distorted"
 
     def b(name: str, fmt: str) -> str:
         return format(s[name], fmt) if d else "-"
 
-    why = f"{r.flagged_steps:.0f} flagged" if r.flagged_steps else "no period"
+    # (a step held at the ceiling is flagged but no failure: a run without a period says so)
+    why = f"{r.flagged_steps:.0f} flagged" if s["periodic"] else "no period"
     conv = "yes" if r.converged else f"no ({why})"
     return (
         f"| {engine} | {speed} | {bore} | {_ring(w, t)} | {b('conformability', '.2f')} | {r.energy_loss:.3f} "
         f"| {r.friction_power:.1f} | {s['blowby']:.2f} | {b('face_leakage', '.3g')} "
-        f"| {s['oil_to_chamber']:.3g} | {b('light_gap_share', '.2f')} "
+        f"| {s['oil_to_chamber']:.3g} | {b('light_gap_share', '.2f')} | {b('sector_jumps', '.0f')} "
         f"| {b('radial_collapse_share', '.2f')} | {s['flutter_events']:.0f} | {conv} |"
     )
 
@@ -166,6 +167,12 @@ def _nondominated(rows: list, names: tuple[str, ...]) -> list[float]:
         if not beaten:
             out.append(t)
     return out
+
+
+def _span(values: list[float], fmt: str) -> str:
+    """'least-most' of ``values`` as written with ``fmt``, one number where they read alike."""
+    low, high = format(min(values), fmt), format(max(values), fmt)
+    return low if low == high else f"{low}-{high}"
 
 
 def _speed_verdict(engine: str, speed: int, base: Case, sweep: dict) -> list[str]:
@@ -202,10 +209,10 @@ def _speed_verdict(engine: str, speed: int, base: Case, sweep: dict) -> list[str
         "leakage, light gaps)."
     ]
     if collapse:
+        shares = _span([r.scalars["radial_collapse_share"] for _, r in dis], ".2f")
         md.append(
             f"  At every tension the ring is pushed off the liner on the distorted bore (radial "
-            f"collapse {min(r.scalars['radial_collapse_share'] for _, r in dis):.2f}-"
-            f"{max(r.scalars['radial_collapse_share'] for _, r in dis):.2f} % of the cycle) with its "
+            f"collapse {shares} % of the cycle) with its "
             "faces open to the gas: the blowby is the collapse's, which the tension does not "
             "prevent (the gas on the face is tens of bar, the tension's p_e a few hundred kPa); on "
             "the round bore a collapsed ring has no path past its face."
@@ -345,15 +352,18 @@ def render_bore(bore: dict) -> list[str]:
         "### Tension and width on the round and the distorted bore",
         "",
         "Blowby includes the face leakage (gas through open faces, towards the crankcase); light "
-        "gaps: the share of sector-steps whose film carries less than 1 % of the mean load; "
-        "'collapse': the share of the cycle the ring is pushed off the liner to its back clearance "
+        "gaps: the share of sector-steps whose film carries less than 1 % of the mean load; sector "
+        "jumps: the crank steps at which a sector's film changes state (its h0 by more than a factor "
+        "e^0.2; near a sector's lift-off the face leakage then depends on the state the ring came "
+        "from, [bore.md](bore.md#two-states-of-a-light-sector)); 'collapse': the share of the cycle "
+        "the ring is pushed off the liner to its back clearance "
         "(its faces open to the gas); 'converged' says why not (a flagged step, or no period within "
         "`max_cycles`; such a row is the last cycle's):",
         "",
         "| engine | speed r/min | bore | ring | conformability | energy J/cycle | friction W | blowby L/min "
-        "| face leakage mg/cycle | oil to chamber mm^3/cycle | light gaps % | collapse % | flutter "
-        "| converged |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| face leakage mg/cycle | oil to chamber mm^3/cycle | light gaps % | sector jumps | collapse % "
+        "| flutter | converged |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     md += [_row(*row) for row in rows]
     md += ["", "### Where the tension optimum lands, and why", ""]
