@@ -6,7 +6,7 @@ module ringlube_film_state
   use ringlube_case, only: case_type, composite_sigma, reduced_modulus, face_profile, &
                            liner_temperature_at, uniform_liner
   use ringlube_kinematics, only: deg2rad, piston_position
-  use ringlube_viscosity, only: roelands_law, roelands_law_at, roelands_eta
+  use ringlube_viscosity, only: roelands_law, roelands_law_at, roelands_eta, roelands_update
   use ringlube_contact, only: asperity_contact, contact_params
   use ringlube_reynolds, only: reynolds_work, reynolds_work_init
   use ringlube_jfo_system, only: jfo_system, jfo_scratch
@@ -29,9 +29,9 @@ module ringlube_film_state
     type(contact_params) :: contact
     real(dp), allocatable :: x(:), s(:), smid(:), h(:), hmid(:), p(:), eta(:), kmid(:), etamid(:)
     logical, allocatable :: active(:)
-    !> scratch of the Reynolds solver, and the pressure and viscosity of the last iteration
+    !> scratch of the Reynolds solver, and the pressure of the last iteration
     type(reynolds_work) :: work
-    real(dp), allocatable :: pold(:), eta_new(:)
+    real(dp), allocatable :: pold(:)
     logical :: lead_left = .true.          !< leading edge is the chamber edge (x = -b/2)
     logical :: trailing_cavitated = .false.  !< Reynolds outlet: trailing edge at p_cav
     !> Roelands' law at the film's temperature, the liner's where the ring is [K]
@@ -125,7 +125,7 @@ contains
     f%law = roelands_law_at(c%liner_temperature, c%eta0, c%theta0, c%alpha, c%beta)
     f%eta_e = roelands_eta(f%law, 0.0_dp)
     allocate (f%x(n), f%s(n), f%h(n), f%p(n), f%eta(n), f%active(n))
-    allocate (f%smid(n - 1), f%hmid(n - 1), f%kmid(n - 1), f%etamid(n - 1), f%pold(n), f%eta_new(n))
+    allocate (f%smid(n - 1), f%hmid(n - 1), f%kmid(n - 1), f%etamid(n - 1), f%pold(n))
     call reynolds_work_init(f%work, n)
     do i = 1, n
       f%x(i) = -hb + (i - 1) * f%dx
@@ -221,16 +221,9 @@ contains
     integer, intent(in) :: it
     logical, intent(out) :: done
     real(dp) :: dvisc
-    integer :: i, n
+    integer :: n
     n = f%n
-    dvisc = 0.0_dp
-    do i = 1, n
-      if (f%p(i) /= f%pold(i)) then
-        f%eta_new(i) = roelands_eta(f%law, min(max(f%p(i), 0.0_dp), roelands_p_max))
-        dvisc = max(dvisc, abs(f%eta_new(i) - f%eta(i)) / f%eta(i))
-        f%eta(i) = f%eta_new(i)
-      end if
-    end do
+    call roelands_update(f%law, n, f%p, f%pold, roelands_p_max, f%eta, dvisc)
     f%wh = f%circ * f%dx * (sum(f%p) - 0.5_dp * (f%p(1) + f%p(n)))
     done = dvisc * abs(f%wh) <= 0.1_dp * w_tol
     if (.not. done) done = sum(abs(f%p - f%pold)) <= c%pressure_tol * sum(abs(f%p))

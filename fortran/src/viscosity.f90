@@ -3,7 +3,8 @@ module ringlube_viscosity
   use ringlube_kinds, only: dp
   implicit none
   private
-  public :: roelands_law, roelands_law_at, roelands_eta, roelands, roelands_through
+  public :: roelands_law, roelands_law_at, roelands_eta, roelands, roelands_through, &
+            roelands_update
 
   !> The constants of Roelands' law at one film temperature:
   !> `eta = eta0 exp(lnc (-1 + rtheta (1 + 5.1e-9 p)^z0))`.
@@ -56,6 +57,28 @@ contains
     roelands_eta = law%eta0 * exp(law%lnc * (-1.0_dp + law%rtheta &
                                              * exp(law%z0 * log(1.0_dp + 5.1e-9_dp * p))))
   end function roelands_eta
+
+  !> The viscosity step of a pressure-viscosity iteration over n nodes: where the pressure p(i)
+  !> differs from the last iteration's pold(i), eta(i) = roelands_eta(law, p(i) clipped to
+  !> [0, p_max]); elsewhere eta(i) is kept. dvisc: the largest relative change of eta. Here, in
+  !> the law's module, the law is evaluated inline (no call per node).
+  pure subroutine roelands_update(law, n, p, pold, p_max, eta, dvisc)
+    type(roelands_law), intent(in) :: law
+    integer, intent(in) :: n
+    real(dp), intent(in) :: p(n), pold(n), p_max
+    real(dp), intent(inout) :: eta(n)
+    real(dp), intent(out) :: dvisc
+    real(dp) :: e
+    integer :: i
+    dvisc = 0.0_dp
+    do i = 1, n
+      if (p(i) /= pold(i)) then
+        e = roelands_eta(law, min(max(p(i), 0.0_dp), p_max))
+        dvisc = max(dvisc, abs(e - eta(i)) / eta(i))
+        eta(i) = e
+      end if
+    end do
+  end subroutine roelands_update
 
   !> Viscosity [Pa s] at absolute pressure p [Pa] and film temperature theta [K]. Gauge
   !> pressures below zero are not used by the solver (p >= p_cav >= 0); a negative p is

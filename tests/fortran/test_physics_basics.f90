@@ -1,16 +1,20 @@
 ! ctest labels: unit;numerics
 !> Kinematics against a finite difference of the piston position; Roelands against its
-!> defining properties and a hand-computed value; the gas trace's interpolation against a
+!> defining properties and a hand-computed value, and its pressure-viscosity step
+!> (roelands_update) against the law node by node; the gas trace's interpolation against a
 !> plain search for the interval.
 program test_physics_basics
   use ringlube_kinds, only: dp, pi
   use ringlube_kinematics, only: sliding_speed, piston_position
-  use ringlube_viscosity, only: roelands
+  use ringlube_viscosity, only: roelands, roelands_law, roelands_law_at, roelands_eta, &
+                                roelands_update
   use ringlube_gas, only: gas_pressure
   use ringlube_check
   implicit none
   real(dp), parameter :: r = 31.5e-3_dp, l = 107e-3_dp, w = 4000.0_dp * 2.0_dp * pi / 60.0_dp
-  real(dp) :: psi, h, fd, e1, e2, lnc, z0, s0, expected, dl
+  real(dp) :: psi, h, fd, e1, e2, lnc, z0, s0, expected, dl, dvisc, dmax
+  real(dp) :: pu(6), pou(6), etau(6), eta_in(6)
+  type(roelands_law) :: law
   integer :: i
   character(len=64) :: what
 
@@ -56,6 +60,27 @@ program test_physics_basics
   call check_close(roelands(50e6_dp, 348.0_dp, 0.05_dp, 313.15_dp, 1e-8_dp, 0.04_dp), expected, &
                    1e-13_dp, 'Roelands at 50 MPa, 348 K (hand computation)')
   call check_close(expected, 2.29912e-2_dp, 1e-5_dp, 'hand value 0.0229912 Pa s (by calculator)')
+
+  ! the pressure-viscosity step: the law's viscosity, bit for bit, where the pressure changed
+  ! (clipped to [0, p_max]: a negative pressure as 0, one above p_max as p_max), the old
+  ! viscosity kept where it did not, and the largest relative change
+  law = roelands_law_at(348.0_dp, 0.05_dp, 313.15_dp, 1e-8_dp, 0.04_dp)
+  pu = [1e5_dp, 2e7_dp, -3e4_dp, 5e6_dp, 2e9_dp, 7e7_dp]
+  pou = [1e5_dp, 1e7_dp, 0.0_dp, 5e6_dp, 1e9_dp, 6e7_dp]
+  eta_in = [0.01_dp, 0.02_dp, 0.03_dp, 0.04_dp, 0.05_dp, 0.06_dp]
+  etau = eta_in
+  call roelands_update(law, 6, pu, pou, 1e9_dp, etau, dvisc)
+  call check(etau(1) == eta_in(1) .and. etau(4) == eta_in(4), &
+             'roelands_update keeps eta where p is unchanged')
+  call check(etau(2) == roelands_eta(law, 2e7_dp) .and. etau(6) == roelands_eta(law, 7e7_dp), &
+             'roelands_update: the law at the new pressure, bit for bit')
+  call check(etau(3) == roelands_eta(law, 0.0_dp) .and. etau(5) == roelands_eta(law, 1e9_dp), &
+             'roelands_update clips the pressure to [0, p_max]')
+  dmax = 0.0_dp
+  do i = 1, 6
+    dmax = max(dmax, abs(etau(i) - eta_in(i)) / eta_in(i))
+  end do
+  call check(dvisc == dmax .and. dvisc > 0.0_dp, 'roelands_update: largest relative change')
 
   ! the chamber pressure between trace samples: the interval found from a guess (exact for an
   ! even trace) and by bisection must be the one a plain search finds, on an even trace and
