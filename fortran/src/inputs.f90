@@ -195,8 +195,8 @@ module ringlube_inputs
       'euler|bdf2', &
       "content theta h of the 'jfo' film and the oil it exchanges: backward Euler or BDF2 (second order)"), &
     input_spec('numerics', 'film_edge_cells', kind_choice, 'face', 0.0_dp, 0.0_dp, '', &
- 'face|edge|front', "'jfo' film's volumes next to the edges: end at the first face, or reach the edge; "// &
- "'front' (experimental): 'edge' with the reformation fronts' cells holding their front's oil"), &
+ 'face|edge|front', "'jfo' edge volumes: end at the first face, reach the edge, "// &
+ "or that + front cells (experimental)"), &
     input_spec('numerics', 'h0_update', kind_choice, 'safeguarded', 0.0_dp, 0.0_dp, '', &
       'safeguarded|damped', "h0 update: safeguarded secant/Brent, or the study's damped rule"), &
     input_spec('numerics', 'damping', kind_real, '0.005', 1e-6_dp, 0.999_dp, '1', '', &
