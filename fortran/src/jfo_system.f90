@@ -513,14 +513,16 @@ contains
                         rmax, fsq, ev%pn, ev%tn, ev%fl)
   end subroutine jfo_residual_only
 
-  !> jfo_residual_only on explicit-shape arrays (contiguous, so indexed without descriptors).
+  !> jfo_residual_only on explicit-shape arrays (contiguous, so indexed without descriptors);
+  !> with `fe` (jfo_problem%front_content) the fronts' excess in the storage.
   pure subroutine residual_nodes(sys, n, ca, kd, wv, h, content_old, x, res, scale, rmax, fsq, &
-                                 pn, tn, fl)
+                                 pn, tn, fl, fe)
     type(jfo_system), intent(in) :: sys
     integer, intent(in) :: n
     real(dp), intent(in) :: ca(n), kd(n), wv(n), h(n), content_old(n), x(n)
     real(dp), intent(out) :: res(n), scale, rmax, fsq
     real(dp), intent(inout) :: pn(n), tn(n), fl(n)
+    real(dp), intent(in), optional :: fe(n)
     real(dp) :: s, g, d1, d2, d3, d4
     integer :: j
     associate (a => sys%a, w => sys%w, qcl => sys%qcl, qcr => sys%qcr)
@@ -558,6 +560,7 @@ contains
           if (-fl(n - 1) > qcr) fl(n - 1) = -qcr
         end if
         res(j) = wv(j) * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
+        if (present(fe)) res(j) = res(j) - w * fe(j)
         s = wv(j) * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
             + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
         scale = max(scale, s)
@@ -699,62 +702,19 @@ contains
     real(dp), intent(in) :: ca(n), kd(n), wv(n), h(n), content_old(n), x(n)
     real(dp), intent(out) :: res(n), scale, rmax, fsq
     real(dp), intent(inout) :: pn(n), tn(n), fl(n)
-    real(dp) :: s, g, d1, d2, d3, d4
     real(dp), allocatable :: fe(:), fed(:), fel(:), feu(:)
     integer :: j
-    associate (a => sys%a, w => sys%w, qcl => sys%qcl, qcr => sys%qcr)
-      allocate (fe(n), fed(n), fel(n), feu(n))
-      pn(1) = sys%p_left
-      pn(n) = sys%p_right
-      tn(1) = sys%theta_left
-      tn(n) = sys%theta_right
-      do j = 2, n - 1
-        pn(j) = node_p(sys, j, x(j))
-        tn(j) = node_t(x(j))
-      end do
-      call front_excess(n, a, ca, kd, sys%ps, h, pn, tn, sys%edge_cells, fe, fed, fel, feu)
-      pn(1) = sys%p_left
-      pn(n) = sys%p_right
-      tn(1) = sys%theta_left
-      tn(n) = sys%theta_right
-      pn(2) = node_p(sys, 2, x(2))
-      tn(2) = node_t(x(2))
-      scale = tiny(1.0_dp)
-      rmax = 0.0_dp
-      fsq = 0.0_dp
-      res(1) = 0.0_dp
-      res(n) = 0.0_dp
-      do j = 1, n - 1
-        if (j + 1 < n) then
-          pn(j + 1) = node_p(sys, j + 1, x(j + 1))
-          tn(j + 1) = node_t(x(j + 1))
-        end if
-        g = kd(j) * (pn(j + 1) - pn(j))
-        if (a > 0.0_dp) then
-          fl(j) = ca(j) * tn(j) - g * merge(tn(j), tn(j + 1), g <= 0.0_dp)
-        else
-          fl(j) = ca(j) * tn(j + 1) - g * merge(tn(j), tn(j + 1), g <= 0.0_dp)
-        end if
-        if (sys%edge_meniscus) then
-          if ((j == 1 .and. a > 0.0_dp) .or. (j == n - 1 .and. a < 0.0_dp)) &
-            call inflow_edge(sys, pn, tn, j, fl(j), d1, d2, d3, d4)
-        end if
-        if (j == 1) then
-          if (fl(1) > qcl) fl(1) = qcl
-          cycle
-        end if
-        if (j == n - 1) then
-          if (-fl(n - 1) > qcr) fl(n - 1) = -qcr
-        end if
-        res(j) = wv(j) * (tn(j) * h(j) - content_old(j)) + fl(j) - fl(j - 1)
-        res(j) = res(j) - w * fe(j)
-        s = wv(j) * (abs(tn(j)) * h(j) + abs(content_old(j))) + abs(ca(j)) + abs(ca(j - 1)) &
-            + kd(j) * (abs(pn(j + 1)) + abs(pn(j))) + kd(j - 1) * (abs(pn(j)) + abs(pn(j - 1)))
-        scale = max(scale, s)
-        rmax = max(rmax, abs(res(j)))
-        fsq = fsq + res(j)**2
-      end do
-    end associate
+    allocate (fe(n), fed(n), fel(n), feu(n))
+    pn(1) = sys%p_left
+    pn(n) = sys%p_right
+    tn(1) = sys%theta_left
+    tn(n) = sys%theta_right
+    do j = 2, n - 1
+      pn(j) = node_p(sys, j, x(j))
+      tn(j) = node_t(x(j))
+    end do
+    call front_excess(n, sys%a, ca, kd, sys%ps, h, pn, tn, sys%edge_cells, fe, fed, fel, feu)
+    call residual_nodes(sys, n, ca, kd, wv, h, content_old, x, res, scale, rmax, fsq, pn, tn, fl, fe)
   end subroutine residual_front
 
   !> Flux fl through face f (nodes f, f+1) at the node states pn, tn and its derivatives by
