@@ -714,7 +714,8 @@ contains
       tn(j) = node_t(x(j))
     end do
     call front_excess(n, sys%a, ca, kd, sys%ps, h, pn, tn, sys%edge_cells, fe, fed, fel, feu)
-   call residual_nodes(sys, n, ca, kd, wv, h, content_old, x, res, scale, rmax, fsq, pn, tn, fl, fe)
+    call residual_nodes(sys, n, ca, kd, wv, h, content_old, x, res, scale, rmax, fsq, pn, tn, fl, &
+                        fe)
   end subroutine residual_front
 
   !> Flux fl through face f (nodes f, f+1) at the node states pn, tn and its derivatives by
