@@ -22,17 +22,25 @@
 !> sector's film is the round bore's and the first trial already satisfies the equations:
 !> the ring's answer is the round bore's bit for bit (means are taken as w_1 + mean(w - w_1),
 !> exact for equal values). The sectors' films are independent within an iteration and are
-!> solved in parallel threads (OpenMP, `&numerics threads`).
+!> solved in parallel threads (OpenMP, `&numerics threads`): inside a crank step's parallel
+!> region (ringlube_cycle_state, advance_ring) the step runs on thread 0 and hands each pass
+!> over the sectors to the team as a job (team_post, team_claim, team_done, team_join),
+!> outside one a pass is a parallel loop of its own.
 module ringlube_sectors
   use ringlube_kinds, only: dp
   use ringlube_case, only: case_type
   use ringlube_film, only: film_type, film_evaluate
   use ringlube_bore, only: bore_type, bore_setup
   use ringlube_results, only: flag_sectors
+  use, intrinsic :: iso_c_binding, only: c_int
+!$ use omp_lib, only: omp_lock_kind, omp_init_lock, omp_set_lock, omp_unset_lock, omp_get_wtime, &
+!$                   omp_get_thread_num
   implicit none
   private
   public :: sector_ring, sector_trial, ring_setup, ring_evaluate, ring_solve, ring_accept, &
             exact_mean, ring_loads, ring_ceiling, ring_coupled, free_mean_position
+  public :: team_begin, team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
+            team_join, team_films, job_films, job_none, team_spin
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
@@ -103,6 +111,46 @@ module ringlube_sectors
     real(dp) :: cc_floor = 0.0_dp, cc_ceiling = 0.0_dp, dres_dlnc = 0.0_dp
   end type sector_trial
 
+  !> The team of a crank step's parallel region (ringlube_cycle_state, advance_ring): thread 0
+  !> runs the step and posts a job for each pass over the sectors (a pass of their films, or
+  !> the step's per-sector work before and after the balance); every thread claims sectors
+  !> one at a time (a light or starved sector's film costs more) and counts itself done when
+  !> none is left; thread 0 waits for the count (the other threads' last sector, a film solve
+  !> at most). Between the jobs of a step the other threads wait for the next one reading the
+  !> job count for team_spin seconds at most (thread 0's Newton arithmetic between two
+  !> passes takes some microseconds), then go to sleep at a barrier, where thread 0's next
+  !> post meets them (team_wait, team_post): a pass wakes no sleeping thread unless thread 0
+  !> took longer than that. One region at a time: a kernel call holds Python's lock for its
+  !> whole run. The job and the counters are shared by the team; only thread 0 writes the job,
+  !> between passes.
+  !>
+  !> job_none: no job; job_films: the films of team_ring at the trial team_tr; others (numbered
+  !> from job_films + 1) the caller's.
+  integer, parameter :: job_none = 0, job_films = 1
+  !> reads of the count team_join spins before it yields its core at every further read
+  !> (a film solve takes about 2-10 us, a read some ns)
+  integer, parameter :: join_spins = 20000
+  !> how long [s] a thread of the team waits for the next job awake before it sleeps; 0: it
+  !> sleeps at once (every pass then wakes it, as a parallel loop per pass would)
+  real(dp), save :: team_spin = 100e-6_dp
+  !> the job, the next sector to claim, the threads done, the team's size, jobs posted in the
+  !> region, threads asleep at the barrier for the next job, and whether the last post meets
+  !> them there
+  integer, save :: team_job = job_none, team_size = 1, team_finished = 0, team_gen = 0, &
+                   team_sleepers = 0
+  !> the threads asked for: thread t owns the sectors t m / n + 1 .. (t + 1) m / n of a job
+  !> (its films stay in its core's caches from pass to pass), and once none of its own is left
+  !> takes the next thread's (a light or starved sector's film costs more)
+  integer, save :: team_ranges = 1
+  !> per owner, the sectors of its range claimed so far (one cache line each: (line, 0:n-1))
+  integer, parameter :: line = 16
+  integer, allocatable, save :: team_next(:, :)
+  logical, save :: team_active = .false., team_meet = .false., team_lock_made = .false.
+!$ integer(omp_lock_kind), save :: team_lock
+  type(case_type), pointer, save :: team_case => null()
+  type(sector_ring), pointer, save :: team_ring => null()
+  type(sector_trial), save :: team_tr
+
   !> The Newton iteration's arrays: residuals, Jacobian (LU after dgetf2), direction, pivots,
   !> its status, the merit of the last residuals, and the state before the last step.
   type :: newton_work
@@ -113,6 +161,13 @@ module ringlube_sectors
     !> the last step's line search found no descent
     logical :: stalled = .false.
   end type newton_work
+
+  interface
+    !> POSIX: the calling thread gives its core to another that is ready to run
+    integer(c_int) function c_sched_yield() bind(c, name='sched_yield')
+      import :: c_int
+    end function c_sched_yield
+  end interface
 
 contains
 
@@ -449,33 +504,223 @@ contains
     end do
   end subroutine ring_ceiling
 
-  !> Every sector's film at its h0 (its own squeeze term), the loads W_j and the deflection.
+  !> Every sector's film at its h0 (its own squeeze term), the loads W_j and the deflection:
+  !> in a crank step's team a job for it (thread 0's call), else a parallel loop.
   subroutine solve_films(c, ring, tr)
-    type(case_type), intent(in) :: c
-    type(sector_ring), intent(inout) :: ring
+    type(case_type), intent(in), target :: c
+    type(sector_ring), intent(inout), target :: ring
     type(sector_trial), intent(in) :: tr
     integer :: jj
-    real(dp) :: sq, sq_b
-    !$omp parallel do private(jj, sq, sq_b) schedule(dynamic) if (c%threads > 1) &
-    !$omp num_threads(c%threads)
-    do jj = 1, ring%bore%m
-      sq = 0.0_dp
-      if (c%squeeze) then
-        if (tr%sq_a == 1.0_dp) then
-          sq_b = ring%hist(1, jj)
-        else
-          sq_b = 2.0_dp * ring%hist(1, jj) - 0.5_dp * ring%hist(2, jj)
-        end if
-        sq = 2.0_dp * (tr%sq_a * ring%h(jj) - sq_b) / tr%dt
-      end if
-      call film_evaluate(c, ring%films(jj), ring%h(jj), sq, tr%u, tr%p_chamber, tr%w_tol)
-    end do
-    !$omp end parallel do
+    if (team_active) then
+      team_case => c
+      team_ring => ring
+      team_tr = tr
+      call team_post(job_films)
+      call team_films()
+      call team_join()
+      nullify (team_case, team_ring)
+    else
+      !$omp parallel do private(jj) schedule(dynamic) if (c%threads > 1) &
+      !$omp num_threads(c%threads)
+      do jj = 1, ring%bore%m
+        call solve_film(c, ring, tr, jj)
+      end do
+      !$omp end parallel do
+    end if
     ring%w = (ring%films%wh + ring%films%wa) / tr%circ
     call deflection(ring)
     ! a first slope: the hydrodynamic film's W ~ 1/h0^2 (the secants refine it)
     where (ring%slope >= 0.0_dp) ring%slope = -2.0_dp * max(ring%w, tr%q) / ring%h
   end subroutine solve_films
+
+  !> Sector jj's film at its h0 with its own squeeze term.
+  subroutine solve_film(c, ring, tr, jj)
+    type(case_type), intent(in) :: c
+    type(sector_ring), intent(inout) :: ring
+    type(sector_trial), intent(in) :: tr
+    integer, intent(in) :: jj
+    real(dp) :: sq, sq_b
+    sq = 0.0_dp
+    if (c%squeeze) then
+      if (tr%sq_a == 1.0_dp) then
+        sq_b = ring%hist(1, jj)
+      else
+        sq_b = 2.0_dp * ring%hist(1, jj) - 0.5_dp * ring%hist(2, jj)
+      end if
+      sq = 2.0_dp * (tr%sq_a * ring%h(jj) - sq_b) / tr%dt
+    end if
+    call film_evaluate(c, ring%films(jj), ring%h(jj), sq, tr%u, tr%p_chamber, tr%w_tol)
+  end subroutine solve_film
+
+  !> A thread's share of a films job: the sectors it claims, then counted done.
+  subroutine team_films()
+    integer :: jj
+    do while (team_claim(team_ring%bore%m, jj))
+      call solve_film(team_case, team_ring, team_tr, jj)
+    end do
+    call team_done()
+  end subroutine team_films
+
+  !> Before a crank step's parallel region of `threads` threads: its team starts with the
+  !> first job (every thread of the region's start takes its share of the caller's per-sector
+  !> work at once), and every pass over the sectors of thread 0's calls becomes a job of the
+  !> team until team_end.
+  subroutine team_begin(threads)
+    integer, intent(in) :: threads
+    team_job = job_none
+    if (allocated(team_next)) then
+      if (size(team_next, 2) /= threads) deallocate (team_next)
+    end if
+    if (.not. allocated(team_next)) allocate (team_next(line, 0:threads - 1))
+    team_next = 0
+    team_ranges = threads
+    team_finished = 0
+    team_size = 1
+    team_gen = 0
+    team_sleepers = 0
+    team_meet = .false.
+    if (.not. team_lock_made) then
+!$    call omp_init_lock(team_lock)
+      team_lock_made = .true.
+    end if
+    team_active = .true.
+  end subroutine team_begin
+
+  !> Thread 0, at the region's start: the team has `threads` threads (the number it got).
+  subroutine team_size_is(threads)
+    integer, intent(in) :: threads
+    team_size = threads
+  end subroutine team_size_is
+
+  !> After the region: no team.
+  subroutine team_end()
+    team_active = .false.
+    team_size = 1
+  end subroutine team_end
+
+  !> Thread 0: post `job` to the team (the threads asleep at the barrier are met there); then
+  !> it takes its own share (team_claim until none is left, team_done) and team_join.
+  subroutine team_post(job)
+    integer, intent(in) :: job
+    logical :: meet
+    team_job = job
+    team_next(1, :) = 0
+    team_finished = 0
+!$  call omp_set_lock(team_lock)
+    meet = team_sleepers > 0
+    team_meet = meet
+    team_sleepers = 0
+    !$omp flush
+    !$omp atomic update
+    team_gen = team_gen + 1
+    !$omp end atomic
+!$  call omp_unset_lock(team_lock)
+    if (meet) then
+      !$omp barrier
+    end if
+  end subroutine team_post
+
+  !> The other threads: wait for thread 0's next job after the `seen` first (reading the job
+  !> count, team_spin seconds at most, then asleep at the barrier of team_post) and return it.
+  integer function team_wait(seen) result(job)
+    integer, intent(inout) :: seen
+    integer :: g, spins
+    logical :: met
+    real(dp) :: t0
+    met = .false.
+    spins = 0
+    t0 = -1.0_dp
+    do
+      !$omp atomic read
+      g = team_gen
+      !$omp end atomic
+      if (g /= seen) exit
+      spins = spins + 1
+      if (mod(spins, 64) /= 0 .or. met) cycle
+      if (t0 < 0.0_dp) t0 = wall_clock()
+      if (wall_clock() - t0 < team_spin) cycle
+      ! no job yet: asleep at the barrier, where thread 0's next post (which sees the count of
+      ! sleepers under the lock) meets this thread
+!$    call omp_set_lock(team_lock)
+      !$omp atomic read
+      g = team_gen
+      !$omp end atomic
+      if (g == seen) then
+        team_sleepers = team_sleepers + 1
+!$      call omp_unset_lock(team_lock)
+        !$omp barrier
+        met = .true.
+      else
+!$      call omp_unset_lock(team_lock)
+      end if
+    end do
+    !$omp flush
+    ! (another thread slept: the post meets every thread at the barrier)
+    if (team_meet .and. .not. met) then
+      !$omp barrier
+    end if
+    seen = g
+    job = team_job
+  end function team_wait
+
+  !> Seconds of a wall clock (OpenMP's; 0 without it).
+  real(dp) function wall_clock()
+    wall_clock = 0.0_dp
+!$  wall_clock = omp_get_wtime()
+  end function wall_clock
+
+  !> Claim the next sector of a job over m sectors: j, .false. when none is left (the
+  !> calling thread's own range first, then the next threads').
+  logical function team_claim(m, j) result(got)
+    integer, intent(in) :: m
+    integer, intent(out) :: j
+    integer :: me, t, k, i, lo, hi
+    me = 0
+!$  me = omp_get_thread_num()
+    got = .false.
+    do i = 0, team_ranges - 1
+      t = mod(me + i, team_ranges)
+      lo = t * m / team_ranges + 1
+      hi = (t + 1) * m / team_ranges
+      !$omp atomic read
+      k = team_next(1, t)
+      !$omp end atomic
+      if (k >= hi - lo + 1) cycle
+      !$omp atomic capture
+      team_next(1, t) = team_next(1, t) + 1
+      k = team_next(1, t)
+      !$omp end atomic
+      j = lo + k - 1
+      got = j <= hi
+      if (got) return
+    end do
+  end function team_claim
+
+  !> This thread has finished its share of the job (its results are flushed first).
+  subroutine team_done()
+    !$omp flush
+    !$omp atomic update
+    team_finished = team_finished + 1
+    !$omp end atomic
+  end subroutine team_done
+
+  !> Thread 0: wait until every thread of the team has finished its share (they are working:
+  !> at most the last claimed sector's solve), reading the count; then every result is seen.
+  subroutine team_join()
+    integer :: n, spins
+    integer(c_int) :: r
+    spins = 0
+    do
+      !$omp atomic read
+      n = team_finished
+      !$omp end atomic
+      if (n >= team_size) exit
+      ! (a long wait: the thread that has the last sector is not running; give way to it)
+      spins = spins + 1
+      if (spins > join_spins) r = c_sched_yield()
+    end do
+    !$omp flush
+  end subroutine team_join
 
   !> u = C (W - mean W) (exactly 0 for equal loads).
   pure subroutine deflection(ring)
