@@ -32,15 +32,15 @@ module ringlube_cycle_state
                                    start_history
   use ringlube_sectors, only: sector_ring, ring_setup, ring_accept, exact_mean, team_begin, &
                               team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
-                              team_join, team_films, job_films
+                              team_join, team_sectors, job_caller
 !$ use omp_lib, only: omp_in_parallel, omp_get_thread_num, omp_get_num_threads
   use ringlube_bore, only: bore_distortion
   use ringlube_ring_pack_flow, only: gas_constant
   implicit none
   private
   !> the team's job after the balance: each sector's friction, oil and gas (ringlube_sectors'
-  !> jobs are numbered below it)
-  integer, parameter :: job_post = 2
+  !> own jobs are numbered below it)
+  integer, parameter :: job_post = job_caller
 
   public :: film_track, cycle_state, step_out, cycle_setup, advance, solve_step, prepare_inlet, &
             ring_pack_advance, take_film, gap_volume, position
@@ -263,8 +263,8 @@ contains
       else
         do
           job = team_wait(seen)
-          if (job /= job_films) exit
-          call team_films()
+          if (job >= job_caller) exit
+          call team_sectors()
         end do
         call post_share()
       end if

@@ -40,7 +40,7 @@ module ringlube_sectors
   public :: sector_ring, sector_trial, ring_setup, ring_evaluate, ring_solve, ring_accept, &
             exact_mean, ring_loads, ring_ceiling, ring_coupled, free_mean_position
   public :: team_begin, team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
-            team_join, team_films, job_films, job_none, team_spin
+            team_join, team_sectors, job_caller, job_none, team_spin
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
@@ -117,22 +117,32 @@ module ringlube_sectors
   !> one at a time (a light or starved sector's film costs more) and counts itself done when
   !> none is left; thread 0 waits for the count (the other threads' last sector, a film solve
   !> at most). Between the jobs of a step the other threads wait for the next one reading the
-  !> job count for team_spin seconds at most (thread 0's Newton arithmetic between two
-  !> passes takes some microseconds), then go to sleep at a barrier, where thread 0's next
-  !> post meets them (team_wait, team_post): a pass wakes no sleeping thread unless thread 0
-  !> took longer than that. One region at a time: a kernel call holds Python's lock for its
-  !> whole run. The job and the counters are shared by the team; only thread 0 writes the job,
-  !> between passes.
+  !> job count for a while (thread 0's Newton arithmetic between two passes takes some
+  !> microseconds), then go to sleep at a barrier, where thread 0's next post meets them
+  !> (team_wait, team_post): a pass wakes no sleeping thread unless thread 0 took longer than
+  !> that. The while is team_spin at most, halved after each wait that ended asleep (on a
+  !> loaded machine thread 0 is not running for milliseconds at a time: waiting awake then
+  !> costs CPU time and gains nothing) and team_spin again after one that did not, with a wait
+  !> of team_spin every spin_probe waits to find out whether the machine is quiet again. One
+  !> region at a time: a kernel call holds Python's lock for its whole run. The job and the
+  !> counters are shared by the team; only thread 0 writes the job, between passes.
   !>
-  !> job_none: no job; job_films: the films of team_ring at the trial team_tr; others (numbered
-  !> from job_films + 1) the caller's.
-  integer, parameter :: job_none = 0, job_films = 1
+  !> job_none: no job; job_films: the films of team_ring at the trial team_tr;
+  !> job_ceiling_in, _out: the films of the lift-off margin's copy team_copy of team_ring from
+  !> it and its last iterates at the ceiling back (ring_ceiling); from job_caller on the
+  !> caller's own.
+  integer, parameter :: job_none = 0, job_films = 1, job_ceiling_in = 2, job_ceiling_out = 3, &
+                        job_caller = 10
   !> reads of the count team_join spins before it yields its core at every further read
   !> (a film solve takes about 2-10 us, a read some ns)
   integer, parameter :: join_spins = 20000
-  !> how long [s] a thread of the team waits for the next job awake before it sleeps; 0: it
-  !> sleeps at once (every pass then wakes it, as a parallel loop per pass would)
+  !> how long [s] a thread of the team waits for the next job awake before it sleeps, at most;
+  !> 0: it sleeps at once (every pass then wakes it, as a parallel loop per pass would)
   real(dp), save :: team_spin = 100e-6_dp
+  !> every spin_probe-th wait of a thread waits team_spin awake whatever its last waits did
+  integer, parameter :: spin_probe = 16
+  !> per thread, the time it waits awake next [s] and its waits so far ((line / 2, 0:n-1))
+  real(dp), allocatable, save :: team_budget(:, :)
   !> the job, the next sector to claim, the threads done, the team's size, jobs posted in the
   !> region, threads asleep at the barrier for the next job, and whether the last post meets
   !> them there
@@ -148,7 +158,7 @@ module ringlube_sectors
   logical, save :: team_active = .false., team_meet = .false., team_lock_made = .false.
 !$ integer(omp_lock_kind), save :: team_lock
   type(case_type), pointer, save :: team_case => null()
-  type(sector_ring), pointer, save :: team_ring => null()
+  type(sector_ring), pointer, save :: team_ring => null(), team_copy => null()
   type(sector_trial), save :: team_tr
 
   !> The Newton iteration's arrays: residuals, Jacobian (LU after dgetf2), direction, pivots,
@@ -467,10 +477,15 @@ contains
     type(sector_ring), intent(inout) :: ring
     type(film_type), intent(inout) :: g
     type(sector_trial), intent(inout) :: tr
-    type(sector_ring) :: rc
-    integer :: j, m
+    type(sector_ring), target :: rc
+    type(film_type), allocatable :: films(:)
+    integer :: m
     m = ring%bore%m
+    ! (the films copied sector by sector, each by the thread that owns the sector in a team)
+    call move_alloc(ring%films, films)
     rc = ring
+    call move_alloc(films, ring%films)
+    allocate (rc%films(m))
     if (ring%ceil_c > 0.0_dp) then
       rc%c_last = ring%ceil_c
       rc%xc = ring%ceil_xc
@@ -479,12 +494,8 @@ contains
       rc%w = ring%ceil_w
       rc%slope = ring%ceil_slope
       rc%fresh = .false.
-      do j = 1, m
-        rc%films(j)%p = ring%ceil_p(:, j)
-        rc%films(j)%eta = ring%ceil_eta(:, j)
-        if (rc%films(j)%jfo) rc%films(j)%theta = ring%ceil_theta(:, j)
-      end do
     end if
+    call sectors_job(c, ring, rc, job_ceiling_in)
     call ring_evaluate(c, rc, g, tr)
     ring%ceil_c = rc%c_last
     ring%ceil_xc = rc%xc
@@ -497,11 +508,7 @@ contains
       allocate (ring%ceil_theta(rc%films(1)%n, m))
       ring%ceil_theta = 1.0_dp
     end if
-    do j = 1, m
-      ring%ceil_p(:, j) = rc%films(j)%p
-      ring%ceil_eta(:, j) = rc%films(j)%eta
-      if (rc%films(j)%jfo) ring%ceil_theta(:, j) = rc%films(j)%theta
-    end do
+    call sectors_job(c, ring, rc, job_ceiling_out)
   end subroutine ring_ceiling
 
   !> Every sector's film at its h0 (its own squeeze term), the loads W_j and the deflection:
@@ -512,13 +519,8 @@ contains
     type(sector_trial), intent(in) :: tr
     integer :: jj
     if (team_active) then
-      team_case => c
-      team_ring => ring
       team_tr = tr
-      call team_post(job_films)
-      call team_films()
-      call team_join()
-      nullify (team_case, team_ring)
+      call sectors_job(c, ring, ring, job_films)
     else
       !$omp parallel do private(jj) schedule(dynamic) if (c%threads > 1) &
       !$omp num_threads(c%threads)
@@ -532,6 +534,54 @@ contains
     ! a first slope: the hydrodynamic film's W ~ 1/h0^2 (the secants refine it)
     where (ring%slope >= 0.0_dp) ring%slope = -2.0_dp * max(ring%w, tr%q) / ring%h
   end subroutine solve_films
+
+  !> A pass of `job` over the sectors of ring (job_films: its films at team_tr; the ceiling's
+  !> copies: between ring and its copy rc): the team's job in a crank step's team (thread 0's
+  !> call), else a loop.
+  subroutine sectors_job(c, ring, rc, job)
+    type(case_type), intent(in), target :: c
+    type(sector_ring), intent(inout), target :: ring, rc
+    integer, intent(in) :: job
+    integer :: jj
+    team_case => c
+    team_ring => ring
+    team_copy => rc
+    if (team_active) then
+      call team_post(job)
+      call team_sectors()
+      call team_join()
+    else
+      do jj = 1, ring%bore%m
+        call sector_work(job, jj)
+      end do
+    end if
+    nullify (team_case, team_ring, team_copy)
+  end subroutine sectors_job
+
+  !> Sector jj's part of `job` (on team_case, team_ring, team_copy).
+  subroutine sector_work(job, jj)
+    integer, intent(in) :: job, jj
+    select case (job)
+    case (job_films)
+      call solve_film(team_case, team_ring, team_tr, jj)
+    case (job_ceiling_in)
+      ! the ceiling's copy of the sector's film, from its last iterate there (if any)
+      associate (fc => team_copy%films(jj))
+        fc = team_ring%films(jj)
+        if (team_ring%ceil_c > 0.0_dp) then
+          fc%p = team_ring%ceil_p(:, jj)
+          fc%eta = team_ring%ceil_eta(:, jj)
+          if (fc%jfo) fc%theta = team_ring%ceil_theta(:, jj)
+        end if
+      end associate
+    case (job_ceiling_out)
+      associate (fc => team_copy%films(jj))
+        team_ring%ceil_p(:, jj) = fc%p
+        team_ring%ceil_eta(:, jj) = fc%eta
+        if (fc%jfo) team_ring%ceil_theta(:, jj) = fc%theta
+      end associate
+    end select
+  end subroutine sector_work
 
   !> Sector jj's film at its h0 with its own squeeze term.
   subroutine solve_film(c, ring, tr, jj)
@@ -552,14 +602,15 @@ contains
     call film_evaluate(c, ring%films(jj), ring%h(jj), sq, tr%u, tr%p_chamber, tr%w_tol)
   end subroutine solve_film
 
-  !> A thread's share of a films job: the sectors it claims, then counted done.
-  subroutine team_films()
+  !> A thread's share of a job of ringlube_sectors (job_films, job_ceiling_in or _out): the
+  !> sectors it claims, then counted done.
+  subroutine team_sectors()
     integer :: jj
     do while (team_claim(team_ring%bore%m, jj))
-      call solve_film(team_case, team_ring, team_tr, jj)
+      call sector_work(team_job, jj)
     end do
     call team_done()
-  end subroutine team_films
+  end subroutine team_sectors
 
   !> Before a crank step's parallel region of `threads` threads: its team starts with the
   !> first job (every thread of the region's start takes its share of the caller's per-sector
@@ -569,9 +620,13 @@ contains
     integer, intent(in) :: threads
     team_job = job_none
     if (allocated(team_next)) then
-      if (size(team_next, 2) /= threads) deallocate (team_next)
+      if (size(team_next, 2) /= threads) deallocate (team_next, team_budget)
     end if
-    if (.not. allocated(team_next)) allocate (team_next(line, 0:threads - 1))
+    if (.not. allocated(team_next)) then
+      allocate (team_next(line, 0:threads - 1), team_budget(line / 2, 0:threads - 1))
+      team_budget(1, :) = team_spin
+      team_budget(2, :) = 0.0_dp
+    end if
     team_next = 0
     team_ranges = threads
     team_finished = 0
@@ -621,12 +676,17 @@ contains
   end subroutine team_post
 
   !> The other threads: wait for thread 0's next job after the `seen` first (reading the job
-  !> count, team_spin seconds at most, then asleep at the barrier of team_post) and return it.
+  !> count for the thread's time awake, then asleep at the barrier of team_post) and return it.
   integer function team_wait(seen) result(job)
     integer, intent(inout) :: seen
-    integer :: g, spins
+    integer :: g, spins, me
     logical :: met
-    real(dp) :: t0
+    real(dp) :: t0, awake
+    me = 0
+!$  me = omp_get_thread_num()
+    team_budget(2, me) = team_budget(2, me) + 1.0_dp
+    awake = team_budget(1, me)
+    if (mod(nint(team_budget(2, me)), spin_probe) == 0) awake = team_spin
     met = .false.
     spins = 0
     t0 = -1.0_dp
@@ -638,7 +698,7 @@ contains
       spins = spins + 1
       if (mod(spins, 64) /= 0 .or. met) cycle
       if (t0 < 0.0_dp) t0 = wall_clock()
-      if (wall_clock() - t0 < team_spin) cycle
+      if (wall_clock() - t0 < awake) cycle
       ! no job yet: asleep at the barrier, where thread 0's next post (which sees the count of
       ! sleepers under the lock) meets this thread
 !$    call omp_set_lock(team_lock)
@@ -654,6 +714,9 @@ contains
 !$      call omp_unset_lock(team_lock)
       end if
     end do
+    ! (asleep: half the time awake next; else team_spin)
+    team_budget(1, me) = team_spin
+    if (met) team_budget(1, me) = 0.5_dp * awake
     !$omp flush
     ! (another thread slept: the post meets every thread at the barrier)
     if (team_meet .and. .not. met) then
