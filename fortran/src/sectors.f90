@@ -32,7 +32,7 @@ module ringlube_sectors
   use ringlube_film, only: film_type, film_evaluate
   use ringlube_bore, only: bore_type, bore_setup
   use ringlube_results, only: flag_sectors
-  use, intrinsic :: iso_c_binding, only: c_int
+  use, intrinsic :: iso_c_binding, only: c_int, c_double
 !$ use omp_lib, only: omp_lock_kind, omp_init_lock, omp_set_lock, omp_unset_lock, omp_get_wtime, &
 !$                   omp_get_thread_num
   implicit none
@@ -120,10 +120,12 @@ module ringlube_sectors
   !> job count for a while (thread 0's Newton arithmetic between two passes takes some
   !> microseconds), then go to sleep at a barrier, where thread 0's next post meets them
   !> (team_wait, team_post): a pass wakes no sleeping thread unless thread 0 took longer than
-  !> that. The while is team_spin at most, halved after each wait that ended asleep (on a
-  !> loaded machine thread 0 is not running for milliseconds at a time: waiting awake then
-  !> costs CPU time and gains nothing) and team_spin again after one that did not, with a wait
-  !> of team_spin every spin_probe waits to find out whether the machine is quiet again. One
+  !> that. The while is team_spin at most, halved after each wait that ended asleep and
+  !> team_spin again after one that did not; none (asleep at once) after a wait during which
+  !> the waiting thread lost its core to another process for more than half the wait (a loaded
+  !> machine: a thread waiting awake then takes CPU time from the others, and the threads of
+  !> the team are off their cores for milliseconds at a time), with a wait of team_spin every
+  !> spin_probe waits to find out whether the machine is quiet again. One
   !> region at a time: a kernel call holds Python's lock for its whole run. The job and the
   !> counters are shared by the team; only thread 0 writes the job, between passes.
   !>
@@ -177,6 +179,10 @@ module ringlube_sectors
     integer(c_int) function c_sched_yield() bind(c, name='sched_yield')
       import :: c_int
     end function c_sched_yield
+    !> CPU time the calling thread has used [s] (fsys.c; 0 without the clock)
+    real(c_double) function c_thread_cpu() bind(c, name='rl_thread_cpu_seconds')
+      import :: c_double
+    end function c_thread_cpu
   end interface
 
 contains
@@ -681,7 +687,7 @@ contains
     integer, intent(inout) :: seen
     integer :: g, spins, me
     logical :: met
-    real(dp) :: t0, awake
+    real(dp) :: t0, awake, cpu0, wall
     me = 0
 !$  me = omp_get_thread_num()
     team_budget(2, me) = team_budget(2, me) + 1.0_dp
@@ -690,6 +696,11 @@ contains
     met = .false.
     spins = 0
     t0 = -1.0_dp
+    cpu0 = -1.0_dp
+    if (awake > 0.0_dp) then
+      t0 = wall_clock()
+      cpu0 = c_thread_cpu()
+    end if
     do
       !$omp atomic read
       g = team_gen
@@ -697,8 +708,9 @@ contains
       if (g /= seen) exit
       spins = spins + 1
       if (mod(spins, 64) /= 0 .or. met) cycle
-      if (t0 < 0.0_dp) t0 = wall_clock()
-      if (wall_clock() - t0 < awake) cycle
+      if (t0 >= 0.0_dp) then
+        if (wall_clock() - t0 < awake) cycle
+      end if
       ! no job yet: asleep at the barrier, where thread 0's next post (which sees the count of
       ! sleepers under the lock) meets this thread
 !$    call omp_set_lock(team_lock)
@@ -714,9 +726,14 @@ contains
 !$      call omp_unset_lock(team_lock)
       end if
     end do
-    ! (asleep: half the time awake next; else team_spin)
+    ! (asleep: half the time awake next; else team_spin; none after a wait awake that lost the
+    ! core for more than half of it)
     team_budget(1, me) = team_spin
     if (met) team_budget(1, me) = 0.5_dp * awake
+    if (cpu0 >= 0.0_dp .and. .not. met) then
+      wall = wall_clock() - t0
+      if (c_thread_cpu() - cpu0 < 0.5_dp * wall) team_budget(1, me) = 0.0_dp
+    end if
     !$omp flush
     ! (another thread slept: the post meets every thread at the barrier)
     if (team_meet .and. .not. met) then
