@@ -34,7 +34,7 @@ module ringlube_sectors
   use ringlube_results, only: flag_sectors
   use, intrinsic :: iso_c_binding, only: c_int, c_double
 !$ use omp_lib, only: omp_lock_kind, omp_init_lock, omp_set_lock, omp_unset_lock, omp_get_wtime, &
-!$                   omp_get_thread_num
+!$                   omp_get_thread_num, omp_get_num_procs
   implicit none
   private
   public :: sector_ring, sector_trial, ring_setup, ring_evaluate, ring_solve, ring_accept, &
@@ -125,7 +125,11 @@ module ringlube_sectors
   !> the waiting thread lost its core to another process for more than half the wait (a loaded
   !> machine: a thread waiting awake then takes CPU time from the others, and the threads of
   !> the team are off their cores for milliseconds at a time), with a wait of team_spin every
-  !> spin_probe waits to find out whether the machine is quiet again. One
+  !> spin_probe waits to find out whether the machine is quiet again. Thread 0 waiting longer
+  !> than team_spin for the count marks the machine loaded too: the threads then wait asleep
+  !> (but for the probes) and end each job at a barrier, until a probe keeps its core. On a
+  !> busy machine (load average over the last minute above its cores: check_busy) they never
+  !> wait awake. One
   !> region at a time: a kernel call holds Python's lock for its whole run. The job and the
   !> counters are shared by the team; only thread 0 writes the job, between passes.
   !>
@@ -135,9 +139,6 @@ module ringlube_sectors
   !> caller's own.
   integer, parameter :: job_none = 0, job_films = 1, job_ceiling_in = 2, job_ceiling_out = 3, &
                         job_caller = 10
-  !> reads of the count team_join spins before it yields its core at every further read
-  !> (a film solve takes about 2-10 us, a read some ns)
-  integer, parameter :: join_spins = 20000
   !> how long [s] a thread of the team waits for the next job awake before it sleeps, at most;
   !> 0: it sleeps at once (every pass then wakes it, as a parallel loop per pass would)
   real(dp), save :: team_spin = 100e-6_dp
@@ -158,6 +159,18 @@ module ringlube_sectors
   integer, parameter :: line = 16
   integer, allocatable, save :: team_next(:, :)
   logical, save :: team_active = .false., team_meet = .false., team_lock_made = .false.
+  !> a thread of the team lost its core during its last wait awake (1; else 0: the machine
+  !> looks quiet), and whether the threads end the current job at a barrier (set by team_post
+  !> from it: on a loaded machine thread 0 then waits for the others asleep, not reading the
+  !> count)
+  integer, save :: team_loaded = 0
+  logical, save :: team_bar = .false.
+  !> the machine is busy: its load average over the last minute above its cores (checked at
+  !> a step's region every busy_check seconds; when it was last checked, -1: not yet): the
+  !> threads of a team then never wait awake
+  logical, save :: team_busy = .false.
+  real(dp), save :: team_busy_checked = -1.0_dp
+  real(dp), parameter :: busy_check = 0.5_dp
 !$ integer(omp_lock_kind), save :: team_lock
   type(case_type), pointer, save :: team_case => null()
   type(sector_ring), pointer, save :: team_ring => null(), team_copy => null()
@@ -179,6 +192,12 @@ module ringlube_sectors
     integer(c_int) function c_sched_yield() bind(c, name='sched_yield')
       import :: c_int
     end function c_sched_yield
+    !> the system's load averages (POSIX getloadavg): the first n of them, how many it gave
+    integer(c_int) function c_getloadavg(loads, n) bind(c, name='getloadavg')
+      import :: c_int, c_double
+      real(c_double), intent(out) :: loads(*)
+      integer(c_int), value :: n
+    end function c_getloadavg
     !> CPU time the calling thread has used [s] (fsys.c; 0 without the clock)
     real(c_double) function c_thread_cpu() bind(c, name='rl_thread_cpu_seconds')
       import :: c_double
@@ -640,6 +659,8 @@ contains
     team_gen = 0
     team_sleepers = 0
     team_meet = .false.
+    team_bar = .false.
+    call check_busy()
     if (.not. team_lock_made) then
 !$    call omp_init_lock(team_lock)
       team_lock_made = .true.
@@ -664,12 +685,17 @@ contains
   subroutine team_post(job)
     integer, intent(in) :: job
     logical :: meet
+    integer :: loaded
     team_job = job
     team_next(1, :) = 0
     team_finished = 0
 !$  call omp_set_lock(team_lock)
     meet = team_sleepers > 0
     team_meet = meet
+    !$omp atomic read
+    loaded = team_loaded
+    !$omp end atomic
+    team_bar = loaded == 1 .or. team_busy
     team_sleepers = 0
     !$omp flush
     !$omp atomic update
@@ -685,14 +711,19 @@ contains
   !> count for the thread's time awake, then asleep at the barrier of team_post) and return it.
   integer function team_wait(seen) result(job)
     integer, intent(inout) :: seen
-    integer :: g, spins, me
+    integer :: g, spins, me, loaded
     logical :: met
     real(dp) :: t0, awake, cpu0, wall
     me = 0
 !$  me = omp_get_thread_num()
     team_budget(2, me) = team_budget(2, me) + 1.0_dp
     awake = team_budget(1, me)
+    !$omp atomic read
+    loaded = team_loaded
+    !$omp end atomic
+    if (loaded == 1) awake = 0.0_dp
     if (mod(nint(team_budget(2, me)), spin_probe) == 0) awake = team_spin
+    if (team_busy) awake = 0.0_dp
     met = .false.
     spins = 0
     t0 = -1.0_dp
@@ -732,7 +763,16 @@ contains
     if (met) team_budget(1, me) = 0.5_dp * awake
     if (cpu0 >= 0.0_dp .and. .not. met) then
       wall = wall_clock() - t0
-      if (c_thread_cpu() - cpu0 < 0.5_dp * wall) team_budget(1, me) = 0.0_dp
+      if (c_thread_cpu() - cpu0 < 0.5_dp * wall) then
+        team_budget(1, me) = 0.0_dp
+        !$omp atomic write
+        team_loaded = 1
+        !$omp end atomic
+      else
+        !$omp atomic write
+        team_loaded = 0
+        !$omp end atomic
+      end if
     end if
     !$omp flush
     ! (another thread slept: the post meets every thread at the barrier)
@@ -742,6 +782,19 @@ contains
     seen = g
     job = team_job
   end function team_wait
+
+  !> team_busy from the load average over the last minute, every busy_check seconds.
+  subroutine check_busy()
+    real(c_double) :: loads(1)
+    real(dp) :: now
+    integer :: procs
+    now = wall_clock()
+    if (team_busy_checked >= 0.0_dp .and. now - team_busy_checked < busy_check) return
+    team_busy_checked = now
+    procs = 1
+!$  procs = omp_get_num_procs()
+    if (c_getloadavg(loads, 1_c_int) == 1) team_busy = loads(1) > procs + 0.5_dp
+  end subroutine check_busy
 
   !> Seconds of a wall clock (OpenMP's; 0 without it).
   real(dp) function wall_clock()
@@ -776,12 +829,19 @@ contains
     end do
   end function team_claim
 
-  !> This thread has finished its share of the job (its results are flushed first).
+  !> This thread has finished its share of the job (its results are flushed first); with
+  !> team_bar it waits for the others at a barrier.
   subroutine team_done()
+    logical :: bar
+    ! (read before the count: once it is full thread 0 may post the next job)
+    bar = team_bar
     !$omp flush
     !$omp atomic update
     team_finished = team_finished + 1
     !$omp end atomic
+    if (bar) then
+      !$omp barrier
+    end if
   end subroutine team_done
 
   !> Thread 0: wait until every thread of the team has finished its share (they are working:
@@ -789,15 +849,24 @@ contains
   subroutine team_join()
     integer :: n, spins
     integer(c_int) :: r
+    real(dp) :: t0
     spins = 0
+    t0 = -1.0_dp
     do
       !$omp atomic read
       n = team_finished
       !$omp end atomic
       if (n >= team_size) exit
-      ! (a long wait: the thread that has the last sector is not running; give way to it)
       spins = spins + 1
-      if (spins > join_spins) r = c_sched_yield()
+      if (mod(spins, 64) /= 0) cycle
+      if (t0 < 0.0_dp) t0 = wall_clock()
+      if (wall_clock() - t0 < team_spin) cycle
+      ! (a long wait: the thread that has the last sector is not running, the machine looks
+      ! loaded: give way to it, and the next jobs end at a barrier)
+      !$omp atomic write
+      team_loaded = 1
+      !$omp end atomic
+      r = c_sched_yield()
     end do
     !$omp flush
   end subroutine team_join
