@@ -32,7 +32,7 @@ module ringlube_cycle_state
                                    start_history
   use ringlube_sectors, only: sector_ring, ring_setup, ring_accept, exact_mean, team_begin, &
                               team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
-                              team_join, team_sectors, job_caller
+                              team_join, team_sectors, job_caller, team_wanted
 !$ use omp_lib, only: omp_in_parallel, omp_get_thread_num, omp_get_num_threads
   use ringlube_bore, only: bore_distortion
   use ringlube_ring_pack_flow, only: gas_constant
@@ -228,7 +228,8 @@ contains
   !> position (each trial solves the sectors), then each sector's friction, oil and face
   !> leakage; the ring's friction and the oil through its faces are the sectors' means.
   !>
-  !> With `&numerics threads` > 1 the step is one parallel region: its threads take the
+  !> With `&numerics threads` > 1 (on a machine not busy: team_wanted; else each pass over
+  !> the sectors' films is a parallel loop) the step is one parallel region: its threads take the
   !> sectors' inlets first, thread 0 then runs the step and hands each pass over the sectors'
   !> films to the team (ringlube_sectors: team_post), and the sectors' friction, oil and gas
   !> after the balance are the team's last job. Each sector's work is its own (its film and
@@ -245,7 +246,7 @@ contains
     m = size(st%sups)
     s = position(c, psi)
     call film_temperature(c, st%film%f, psi)
-    if (c%threads > 1 .and. .not. in_parallel()) then
+    if (.not. in_parallel() .and. team_wanted(c%threads)) then
       call team_begin(c%threads)
       !$omp parallel num_threads(c%threads) default(shared) private(j, job, seen)
       seen = 0

@@ -40,7 +40,7 @@ module ringlube_sectors
   public :: sector_ring, sector_trial, ring_setup, ring_evaluate, ring_solve, ring_accept, &
             exact_mean, ring_loads, ring_ceiling, ring_coupled, free_mean_position
   public :: team_begin, team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
-            team_join, team_sectors, job_caller, job_none, team_spin, team_busy_check
+            team_join, team_sectors, job_caller, job_none, team_spin, team_busy_check, team_wanted
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
@@ -128,8 +128,8 @@ module ringlube_sectors
   !> spin_probe waits to find out whether the machine is quiet again. Thread 0 waiting longer
   !> than team_spin for the count marks the machine loaded too: the threads then wait asleep
   !> (but for the probes) and end each job at a barrier, until a probe keeps its core. On a
-  !> busy machine (load average over the last minute above its cores: check_busy) they never
-  !> wait awake. One
+  !> busy machine (load average over the last minute above its cores: check_busy) there is no
+  !> team (team_wanted). One
   !> region at a time: a kernel call holds Python's lock for its whole run. The job and the
   !> counters are shared by the team; only thread 0 writes the job, between passes.
   !>
@@ -663,7 +663,6 @@ contains
     team_sleepers = 0
     team_meet = .false.
     team_bar = .false.
-    call check_busy()
     if (.not. team_lock_made) then
 !$    call omp_init_lock(team_lock)
       team_lock_made = .true.
@@ -698,7 +697,7 @@ contains
     !$omp atomic read
     loaded = team_loaded
     !$omp end atomic
-    team_bar = loaded == 1 .or. team_busy
+    team_bar = loaded == 1
     team_sleepers = 0
     !$omp flush
     !$omp atomic update
@@ -726,7 +725,6 @@ contains
     !$omp end atomic
     if (loaded == 1) awake = 0.0_dp
     if (mod(nint(team_budget(2, me)), spin_probe) == 0) awake = team_spin
-    if (team_busy) awake = 0.0_dp
     met = .false.
     spins = 0
     t0 = -1.0_dp
@@ -785,6 +783,19 @@ contains
     seen = g
     job = team_job
   end function team_wait
+
+  !> A crank step of `threads` threads runs as a team (a parallel region of its own, thread 0
+  !> leading): more than one thread asked for and the machine not busy (check_busy). On a busy
+  !> machine a pass over the sectors' films is a parallel loop of its own, the rest of the
+  !> step serial: with threads asleep between passes, the team's cheap jobs (the inlets, the
+  !> work after the balance, the lift-off margin's copies) cost more wake-ups than they gain.
+  logical function team_wanted(threads)
+    integer, intent(in) :: threads
+    team_wanted = .false.
+    if (threads <= 1) return
+    call check_busy()
+    team_wanted = .not. team_busy
+  end function team_wanted
 
   !> team_busy from the load average over the last minute, every busy_check seconds.
   subroutine check_busy()

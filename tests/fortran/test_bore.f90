@@ -344,15 +344,16 @@ contains
   end subroutine free_mean_position_test
 
   !> Two threads give the one thread's answer bit for bit however the team's threads wait
-  !> between a step's passes over the sectors (ringlube_sectors): always asleep (team_spin 0:
-  !> thread 0 meets them at a barrier at every pass), and awake up to 0.1 s with the load
-  !> average not consulted (they take each job without a barrier unless they lose their core);
+  !> between a step's passes over the sectors (ringlube_sectors; the load average not
+  !> consulted, so that the step is a team on a loaded machine too): always asleep (team_spin
+  !> 0: thread 0 meets them at a barrier at every pass), and awake up to 1 ms (they take each
+  !> job without a barrier unless they lose their core);
   !> starved film with the ring pack (its sectors' inlets, films, lift-off margin copies and
   !> oil after the balance all jobs of the team), 12 sectors, orders 2 and 4.
   subroutine team_wait_modes()
     type(case_type) :: c, c0
     type(result_type) :: r1, r2
-    real(dp) :: spins(2) = [0.0_dp, 0.1_dp], keep
+    real(dp) :: spins(2) = [0.0_dp, 1e-3_dp], keep
     integer :: i
     c0 = base_case()
     c0%tension_unit = 'N'
@@ -367,7 +368,7 @@ contains
     keep = team_spin
     do i = 1, size(spins)
       team_spin = spins(i)
-      team_busy_check = spins(i) == 0.0_dp
+      team_busy_check = .false.
       c = c0
       c%threads = 2
       call solve(c, r2, 'two threads')
