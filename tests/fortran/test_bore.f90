@@ -363,6 +363,9 @@ contains
     c0 = distorted(c0, 2, 8e-6_dp, 12)
     c0%bore_order = [2, 4]
     c0%bore_amplitude = [8e-6_dp, 5e-6_dp]
+    ! (coarse: on a loaded machine every wake-up of a thread asleep takes milliseconds)
+    c0%dpsi_deg = 6.0_dp
+    c0%max_cycles = 1
     c = c0
     call solve(c, r1, 'one thread')
     keep = team_spin
