@@ -879,11 +879,14 @@ contains
       if (mod(spins, 64) /= 0) cycle
       if (t0 < 0.0_dp) t0 = wall_clock()
       if (wall_clock() - t0 < team_spin) cycle
-      ! (a long wait: the thread that has the last sector is not running, the machine looks
-      ! loaded: give way to it, and the next jobs end at a barrier)
-      !$omp atomic write
-      team_loaded = 1
-      !$omp end atomic
+      ! (a long wait: the thread that has the last sector is not running; unless it was asleep
+      ! when the job was posted (its wake-up takes that long) the machine looks loaded: give
+      ! way to it, and the next jobs end at a barrier)
+      if (.not. team_meet) then
+        !$omp atomic write
+        team_loaded = 1
+        !$omp end atomic
+      end if
       r = c_sched_yield()
     end do
     !$omp flush
