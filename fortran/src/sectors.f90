@@ -128,10 +128,10 @@ module ringlube_sectors
   !> spin_probe waits to find out whether the machine is quiet again. Thread 0 waiting longer
   !> than team_spin for the count marks the machine loaded too: the threads then wait asleep
   !> (but for the probes) and end each job at a barrier, until a probe keeps its core. On a
-  !> busy machine (load average over the last minute above its cores: check_busy) there is no
-  !> team (team_wanted). One
-  !> region at a time: a kernel call holds Python's lock for its whole run. The job and the
-  !> counters are shared by the team; only thread 0 writes the job, between passes.
+  !> busy machine (load average over the last minute above its cores plus a half:
+  !> check_busy) there is no team (team_wanted). One region at a time: a kernel call holds
+  !> Python's lock for its whole run. The job and the counters are shared by the team; only
+  !> thread 0 writes the job, between passes.
   !>
   !> job_none: no job; job_films: the films of team_ring at the trial team_tr;
   !> job_ceiling_in, _out: the films of the lift-off margin's copy team_copy of team_ring from
@@ -165,9 +165,9 @@ module ringlube_sectors
   !> count)
   integer, save :: team_loaded = 0
   logical, save :: team_bar = .false.
-  !> the machine is busy: its load average over the last minute above its cores (checked at
-  !> a step's region every busy_check seconds; when it was last checked, -1: not yet): the
-  !> threads of a team then never wait awake
+  !> the machine is busy: its load average over the last minute above its cores plus a half
+  !> (checked by team_wanted every busy_check seconds; when it was last checked, -1: not yet):
+  !> a step is then no team
   logical, save :: team_busy = .false.
   real(dp), save :: team_busy_checked = -1.0_dp
   !> check the load average (.false.: the machine is taken for quiet; for tests that make the
