@@ -30,11 +30,18 @@ module ringlube_cycle_state
   use ringlube_film, only: film_type, film_setup, film_friction, film_temperature
   use ringlube_load_balance, only: step_context, load_problem, balance_memory, balance, &
                                    start_history
-  use ringlube_sectors, only: sector_ring, ring_setup, ring_accept, exact_mean
+  use ringlube_sectors, only: sector_ring, ring_setup, ring_accept, exact_mean, team_begin, &
+                              team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
+                              team_join, team_sectors, job_caller, team_wanted
+!$ use omp_lib, only: omp_in_parallel, omp_get_thread_num, omp_get_num_threads
   use ringlube_bore, only: bore_distortion
   use ringlube_ring_pack_flow, only: gas_constant
   implicit none
   private
+  !> the team's job after the balance: each sector's friction, oil and gas (ringlube_sectors'
+  !> own jobs are numbered below it)
+  integer, parameter :: job_post = job_caller
+
   public :: film_track, cycle_state, step_out, cycle_setup, advance, solve_step, prepare_inlet, &
             ring_pack_advance, take_film, gap_volume, position
 
@@ -220,6 +227,14 @@ contains
   !> distortion at the ring's position, the ring pack, the load balance on the ring's mean
   !> position (each trial solves the sectors), then each sector's friction, oil and face
   !> leakage; the ring's friction and the oil through its faces are the sectors' means.
+  !>
+  !> With `&numerics threads` > 1 (on a machine not busy: team_wanted; else each pass over
+  !> the sectors' films is a parallel loop) the step is one parallel region: its threads take the
+  !> sectors' inlets first, thread 0 then runs the step and hands each pass over the sectors'
+  !> films to the team (ringlube_sectors: team_post), and the sectors' friction, oil and gas
+  !> after the balance are the team's last job. Each sector's work is its own (its film and
+  !> its liner's oil) and the means are taken after the region in sector order: the answer of
+  !> one thread bit for bit.
   subroutine advance_ring(st, c, psi, out)
     type(cycle_state), intent(inout) :: st
     type(case_type), intent(in) :: c
@@ -227,54 +242,45 @@ contains
     type(step_out), intent(out) :: out
     real(dp) :: s, fv(size(st%sups)), fb(size(st%sups)), vin(size(st%sups)), &
                 vout(size(st%sups)), hgas(size(st%sups)), p_low
-    integer :: j, m
+    integer :: j, m, job, seen
     m = size(st%sups)
-    associate (f => st%film%f, ring => st%ring)
-      call film_temperature(c, f, psi)
-      do j = 1, m
-        call prepare_inlet(c, ring%films(j), st%sups(j), st%s_prev, psi)
-        call film_temperature(c, ring%films(j), psi)
+    s = position(c, psi)
+    call film_temperature(c, st%film%f, psi)
+    if (.not. in_parallel() .and. team_wanted(c%threads)) then
+      call team_begin(c%threads)
+      !$omp parallel num_threads(c%threads) default(shared) private(j, job, seen)
+      seen = 0
+      do while (team_claim(m, j))
+        call inlet_sector(j)
       end do
-      s = position(c, psi)
-      call bore_distortion(ring%bore, s, ring%d)
-      if (allocated(st%rst)) then
-        ! the gas through the faces over the step: their path at the last step (explicit, as
-        ! the friction)
-        st%rst%face_k = st%face_k
-        call ring_pack_advance(c, st%ctx, st%rpar, st%fric_prev, st%rst, st%rout, psi, st%err)
-        f%p_back = st%rst%p2
-        f%p_lower = st%rst%p3
+      call team_done()
+      if (thread_number() == 0) then
+        call team_size_is(team_threads())
+        call team_join()
+        call balance_step()
+        call team_post(job_post)
+        call post_share()
+        call team_join()
+      else
+        do
+          job = team_wait(seen)
+          if (job >= job_caller) exit
+          call team_sectors()
+        end do
+        call post_share()
       end if
-      call balance(c, st%ctx, f, st%film%mem, psi, out%h0, out%flags, out%resid, out%lp, ring)
-      call ring_accept(ring)
-      vin = 0.0_dp
-      vout = 0.0_dp
+      !$omp end parallel
+      call team_end()
+    else
       do j = 1, m
-        associate (fj => ring%films(j))
-          call film_friction(c, fj, out%lp%u, fv(j), fb(j))
-          hgas(j) = 0.0_dp
-          ! (the edge nodes hold the fill of what enters there, not the film's)
-          if (fj%jfo) hgas(j) = max(minval((1.0_dp - fj%theta(2:fj%n - 1)) * fj%h(2:fj%n - 1)), &
-                                    0.0_dp)
-          ! a ring pushed off the liner, held at the back clearance: its face open to the gas
-          if (iand(out%flags, flag_ceiling) /= 0) hgas(j) = ring%h(j)
-          if (.not. fj%jfo) cycle
-          fj%face_open = all(fj%theta(2:fj%n - 1) < 1.0_dp)
-          fj%content_old = fj%theta * fj%h
-          if (fj%front_content) fj%content_old = fj%content_end
-          if (fj%lead_left) then
-            vin(j) = fj%q_left * st%ctx%dt
-            vout(j) = fj%q_right * st%ctx%dt
-          else
-            vin(j) = -fj%q_right * st%ctx%dt
-            vout(j) = -fj%q_left * st%ctx%dt
-          end if
-          if (fj%starved) then
-            call supply_step(st%sups(j), st%s_prev, s, motion(st%s_prev, s), vin(j), vout(j))
-            call supply_to_chamber(st%sups(j))
-          end if
-        end associate
+        call inlet_sector(j)
       end do
+      call balance_step()
+      do j = 1, m
+        call post_sector(j)
+      end do
+    end if
+    associate (f => st%film%f, ring => st%ring)
       st%fv = exact_mean(fv)
       st%fb = exact_mean(fb)
       st%fric_prev = st%fv + st%fb
@@ -294,7 +300,92 @@ contains
       end if
       if (ring%films(1)%jfo) st%s_prev = s
     end associate
+
+  contains
+
+    !> Sector j's inlet from its liner's oil and its film's temperature.
+    subroutine inlet_sector(j)
+      integer, intent(in) :: j
+      call prepare_inlet(c, st%ring%films(j), st%sups(j), st%s_prev, psi)
+      call film_temperature(c, st%ring%films(j), psi)
+    end subroutine inlet_sector
+
+    !> The distortion, the ring pack and the load balance (thread 0 of a team).
+    subroutine balance_step()
+      associate (f => st%film%f, ring => st%ring)
+        call bore_distortion(ring%bore, s, ring%d)
+        if (allocated(st%rst)) then
+          ! the gas through the faces over the step: their path at the last step (explicit, as
+          ! the friction)
+          st%rst%face_k = st%face_k
+          call ring_pack_advance(c, st%ctx, st%rpar, st%fric_prev, st%rst, st%rout, psi, st%err)
+          f%p_back = st%rst%p2
+          f%p_lower = st%rst%p3
+        end if
+        call balance(c, st%ctx, f, st%film%mem, psi, out%h0, out%flags, out%resid, out%lp, ring)
+        call ring_accept(ring)
+      end associate
+    end subroutine balance_step
+
+    !> A thread's share of the sectors' work after the balance.
+    subroutine post_share()
+      integer :: j
+      do while (team_claim(m, j))
+        call post_sector(j)
+      end do
+      call team_done()
+    end subroutine post_share
+
+    !> Sector j after the balance: its friction, the gas height of its face, its film content
+    !> and the oil through its faces over the step, its liner's oil.
+    subroutine post_sector(j)
+      integer, intent(in) :: j
+      associate (fj => st%ring%films(j))
+        call film_friction(c, fj, out%lp%u, fv(j), fb(j))
+        hgas(j) = 0.0_dp
+        vin(j) = 0.0_dp
+        vout(j) = 0.0_dp
+        ! (the edge nodes hold the fill of what enters there, not the film's)
+        if (fj%jfo) hgas(j) = max(minval((1.0_dp - fj%theta(2:fj%n - 1)) * fj%h(2:fj%n - 1)), &
+                                  0.0_dp)
+        ! a ring pushed off the liner, held at the back clearance: its face open to the gas
+        if (iand(out%flags, flag_ceiling) /= 0) hgas(j) = st%ring%h(j)
+        if (.not. fj%jfo) return
+        fj%face_open = all(fj%theta(2:fj%n - 1) < 1.0_dp)
+        fj%content_old = fj%theta * fj%h
+        if (fj%front_content) fj%content_old = fj%content_end
+        if (fj%lead_left) then
+          vin(j) = fj%q_left * st%ctx%dt
+          vout(j) = fj%q_right * st%ctx%dt
+        else
+          vin(j) = -fj%q_right * st%ctx%dt
+          vout(j) = -fj%q_left * st%ctx%dt
+        end if
+        if (fj%starved) then
+          call supply_step(st%sups(j), st%s_prev, s, motion(st%s_prev, s), vin(j), vout(j))
+          call supply_to_chamber(st%sups(j))
+        end if
+      end associate
+    end subroutine post_sector
   end subroutine advance_ring
+
+  !> .true. inside an active parallel region (OpenMP; .false. without it).
+  logical function in_parallel()
+    in_parallel = .false.
+!$  in_parallel = omp_in_parallel()
+  end function in_parallel
+
+  !> The calling thread's number in its team (0: alone, or OpenMP absent).
+  integer function thread_number()
+    thread_number = 0
+!$  thread_number = omp_get_thread_num()
+  end function thread_number
+
+  !> Threads of the current team (1 outside one, or OpenMP absent).
+  integer function team_threads()
+    team_threads = 1
+!$  team_threads = omp_get_num_threads()
+  end function team_threads
 
   !> The film becomes `saved` (a state kept earlier), its solve counters keep counting.
   pure subroutine take_film(f, saved)

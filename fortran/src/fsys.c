@@ -297,3 +297,14 @@ static void progress_interrupted(void)
         (void)w;
     }
 }
+
+/* CPU time the calling thread has used [s] (0 where the clock is missing): a distorted bore's
+   team of threads (sectors.f90) tells from it whether a thread waiting awake kept its core. */
+double rl_thread_cpu_seconds(void)
+{
+#ifdef CLOCK_THREAD_CPUTIME_ID
+    struct timespec t;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t) == 0) return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+#endif
+    return 0.0;
+}

@@ -22,17 +22,25 @@
 !> sector's film is the round bore's and the first trial already satisfies the equations:
 !> the ring's answer is the round bore's bit for bit (means are taken as w_1 + mean(w - w_1),
 !> exact for equal values). The sectors' films are independent within an iteration and are
-!> solved in parallel threads (OpenMP, `&numerics threads`).
+!> solved in parallel threads (OpenMP, `&numerics threads`): inside a crank step's parallel
+!> region (ringlube_cycle_state, advance_ring) the step runs on thread 0 and hands each pass
+!> over the sectors to the team as a job (team_post, team_claim, team_done, team_join),
+!> outside one a pass is a parallel loop of its own.
 module ringlube_sectors
   use ringlube_kinds, only: dp
   use ringlube_case, only: case_type
   use ringlube_film, only: film_type, film_evaluate
   use ringlube_bore, only: bore_type, bore_setup
   use ringlube_results, only: flag_sectors
+  use, intrinsic :: iso_c_binding, only: c_int, c_double
+!$ use omp_lib, only: omp_lock_kind, omp_init_lock, omp_set_lock, omp_unset_lock, omp_get_wtime, &
+!$                   omp_get_thread_num, omp_get_num_procs
   implicit none
   private
   public :: sector_ring, sector_trial, ring_setup, ring_evaluate, ring_solve, ring_accept, &
             exact_mean, ring_loads, ring_ceiling, ring_coupled, free_mean_position
+  public :: team_begin, team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
+            team_join, team_sectors, job_caller, job_none, team_spin, team_busy_check, team_wanted
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
@@ -103,6 +111,74 @@ module ringlube_sectors
     real(dp) :: cc_floor = 0.0_dp, cc_ceiling = 0.0_dp, dres_dlnc = 0.0_dp
   end type sector_trial
 
+  !> The team of a crank step's parallel region (ringlube_cycle_state, advance_ring): thread 0
+  !> runs the step and posts a job for each pass over the sectors (a pass of their films, or
+  !> the step's per-sector work before and after the balance); every thread claims sectors
+  !> one at a time (a light or starved sector's film costs more) and counts itself done when
+  !> none is left; thread 0 waits for the count (the other threads' last sector, a film solve
+  !> at most). Between the jobs of a step the other threads wait for the next one reading the
+  !> job count for a while (thread 0's Newton arithmetic between two passes takes some
+  !> microseconds), then go to sleep at a barrier, where thread 0's next post meets them
+  !> (team_wait, team_post): a pass wakes no sleeping thread unless thread 0 took longer than
+  !> that. The while is team_spin at most, halved after each wait that ended asleep and
+  !> team_spin again after one that did not; none (asleep at once) after a wait during which
+  !> the waiting thread lost its core to another process for more than half the wait (a loaded
+  !> machine: a thread waiting awake then takes CPU time from the others, and the threads of
+  !> the team are off their cores for milliseconds at a time), with a wait of team_spin every
+  !> spin_probe waits to find out whether the machine is quiet again. Thread 0 waiting longer
+  !> than team_spin for the count marks the machine loaded too: the threads then wait asleep
+  !> (but for the probes) and end each job at a barrier, until a probe keeps its core. On a
+  !> busy machine (load average over the last minute above its cores plus a half:
+  !> check_busy) there is no team (team_wanted). One region at a time: a kernel call holds
+  !> Python's lock for its whole run. The job and the counters are shared by the team; only
+  !> thread 0 writes the job, between passes.
+  !>
+  !> job_none: no job; job_films: the films of team_ring at the trial team_tr;
+  !> job_ceiling_in, _out: the films of the lift-off margin's copy team_copy of team_ring from
+  !> it and its last iterates at the ceiling back (ring_ceiling); from job_caller on the
+  !> caller's own.
+  integer, parameter :: job_none = 0, job_films = 1, job_ceiling_in = 2, job_ceiling_out = 3, &
+                        job_caller = 10
+  !> how long [s] a thread of the team waits for the next job awake before it sleeps, at most;
+  !> 0: it sleeps at once (every pass then wakes it, as a parallel loop per pass would)
+  real(dp), save :: team_spin = 100e-6_dp
+  !> every spin_probe-th wait of a thread waits team_spin awake whatever its last waits did
+  integer, parameter :: spin_probe = 16
+  !> per thread, the time it waits awake next [s] and its waits so far ((line / 2, 0:n-1))
+  real(dp), allocatable, save :: team_budget(:, :)
+  !> the job, the next sector to claim, the threads done, the team's size, jobs posted in the
+  !> region, threads asleep at the barrier for the next job, and whether the last post meets
+  !> them there
+  integer, save :: team_job = job_none, team_size = 1, team_finished = 0, team_gen = 0, &
+                   team_sleepers = 0
+  !> the threads asked for: thread t owns the sectors t m / n + 1 .. (t + 1) m / n of a job
+  !> (its films stay in its core's caches from pass to pass), and once none of its own is left
+  !> takes the next thread's (a light or starved sector's film costs more)
+  integer, save :: team_ranges = 1
+  !> per owner, the sectors of its range claimed so far (one cache line each: (line, 0:n-1))
+  integer, parameter :: line = 16
+  integer, allocatable, save :: team_next(:, :)
+  logical, save :: team_active = .false., team_meet = .false., team_lock_made = .false.
+  !> a thread of the team lost its core during its last wait awake (1; else 0: the machine
+  !> looks quiet), and whether the threads end the current job at a barrier (set by team_post
+  !> from it: on a loaded machine thread 0 then waits for the others asleep, not reading the
+  !> count)
+  integer, save :: team_loaded = 0
+  logical, save :: team_bar = .false.
+  !> the machine is busy: its load average over the last minute above its cores plus a half
+  !> (checked by team_wanted every busy_check seconds; when it was last checked, -1: not yet):
+  !> a step is then no team
+  logical, save :: team_busy = .false.
+  real(dp), save :: team_busy_checked = -1.0_dp
+  !> check the load average (.false.: the machine is taken for quiet; for tests that make the
+  !> team's threads wait awake whatever else runs)
+  logical, save :: team_busy_check = .true.
+  real(dp), parameter :: busy_check = 0.5_dp
+!$ integer(omp_lock_kind), save :: team_lock
+  type(case_type), pointer, save :: team_case => null()
+  type(sector_ring), pointer, save :: team_ring => null(), team_copy => null()
+  type(sector_trial), save :: team_tr
+
   !> The Newton iteration's arrays: residuals, Jacobian (LU after dgetf2), direction, pivots,
   !> its status, the merit of the last residuals, and the state before the last step.
   type :: newton_work
@@ -113,6 +189,23 @@ module ringlube_sectors
     !> the last step's line search found no descent
     logical :: stalled = .false.
   end type newton_work
+
+  interface
+    !> POSIX: the calling thread gives its core to another that is ready to run
+    integer(c_int) function c_sched_yield() bind(c, name='sched_yield')
+      import :: c_int
+    end function c_sched_yield
+    !> the system's load averages (POSIX getloadavg): the first n of them, how many it gave
+    integer(c_int) function c_getloadavg(loads, n) bind(c, name='getloadavg')
+      import :: c_int, c_double
+      real(c_double), intent(out) :: loads(*)
+      integer(c_int), value :: n
+    end function c_getloadavg
+    !> CPU time the calling thread has used [s] (fsys.c; 0 without the clock)
+    real(c_double) function c_thread_cpu() bind(c, name='rl_thread_cpu_seconds')
+      import :: c_double
+    end function c_thread_cpu
+  end interface
 
 contains
 
@@ -412,10 +505,15 @@ contains
     type(sector_ring), intent(inout) :: ring
     type(film_type), intent(inout) :: g
     type(sector_trial), intent(inout) :: tr
-    type(sector_ring) :: rc
-    integer :: j, m
+    type(sector_ring), target :: rc
+    type(film_type), allocatable :: films(:)
+    integer :: m
     m = ring%bore%m
+    ! (the films copied sector by sector, each by the thread that owns the sector in a team)
+    call move_alloc(ring%films, films)
     rc = ring
+    call move_alloc(films, ring%films)
+    allocate (rc%films(m))
     if (ring%ceil_c > 0.0_dp) then
       rc%c_last = ring%ceil_c
       rc%xc = ring%ceil_xc
@@ -424,12 +522,8 @@ contains
       rc%w = ring%ceil_w
       rc%slope = ring%ceil_slope
       rc%fresh = .false.
-      do j = 1, m
-        rc%films(j)%p = ring%ceil_p(:, j)
-        rc%films(j)%eta = ring%ceil_eta(:, j)
-        if (rc%films(j)%jfo) rc%films(j)%theta = ring%ceil_theta(:, j)
-      end do
     end if
+    call sectors_job(c, ring, rc, job_ceiling_in)
     call ring_evaluate(c, rc, g, tr)
     ring%ceil_c = rc%c_last
     ring%ceil_xc = rc%xc
@@ -442,40 +536,361 @@ contains
       allocate (ring%ceil_theta(rc%films(1)%n, m))
       ring%ceil_theta = 1.0_dp
     end if
-    do j = 1, m
-      ring%ceil_p(:, j) = rc%films(j)%p
-      ring%ceil_eta(:, j) = rc%films(j)%eta
-      if (rc%films(j)%jfo) ring%ceil_theta(:, j) = rc%films(j)%theta
-    end do
+    call sectors_job(c, ring, rc, job_ceiling_out)
   end subroutine ring_ceiling
 
-  !> Every sector's film at its h0 (its own squeeze term), the loads W_j and the deflection.
+  !> Every sector's film at its h0 (its own squeeze term), the loads W_j and the deflection:
+  !> in a crank step's team a job for it (thread 0's call), else a parallel loop.
   subroutine solve_films(c, ring, tr)
-    type(case_type), intent(in) :: c
-    type(sector_ring), intent(inout) :: ring
+    type(case_type), intent(in), target :: c
+    type(sector_ring), intent(inout), target :: ring
     type(sector_trial), intent(in) :: tr
     integer :: jj
-    real(dp) :: sq, sq_b
-    !$omp parallel do private(jj, sq, sq_b) schedule(dynamic) if (c%threads > 1) &
-    !$omp num_threads(c%threads)
-    do jj = 1, ring%bore%m
-      sq = 0.0_dp
-      if (c%squeeze) then
-        if (tr%sq_a == 1.0_dp) then
-          sq_b = ring%hist(1, jj)
-        else
-          sq_b = 2.0_dp * ring%hist(1, jj) - 0.5_dp * ring%hist(2, jj)
-        end if
-        sq = 2.0_dp * (tr%sq_a * ring%h(jj) - sq_b) / tr%dt
-      end if
-      call film_evaluate(c, ring%films(jj), ring%h(jj), sq, tr%u, tr%p_chamber, tr%w_tol)
-    end do
-    !$omp end parallel do
+    if (team_active) then
+      team_tr = tr
+      call sectors_job(c, ring, ring, job_films)
+    else
+      !$omp parallel do private(jj) schedule(dynamic) if (c%threads > 1) &
+      !$omp num_threads(c%threads)
+      do jj = 1, ring%bore%m
+        call solve_film(c, ring, tr, jj)
+      end do
+      !$omp end parallel do
+    end if
     ring%w = (ring%films%wh + ring%films%wa) / tr%circ
     call deflection(ring)
     ! a first slope: the hydrodynamic film's W ~ 1/h0^2 (the secants refine it)
     where (ring%slope >= 0.0_dp) ring%slope = -2.0_dp * max(ring%w, tr%q) / ring%h
   end subroutine solve_films
+
+  !> A pass of `job` over the sectors of ring (job_films: its films at team_tr; the ceiling's
+  !> copies: between ring and its copy rc): the team's job in a crank step's team (thread 0's
+  !> call), else a loop.
+  subroutine sectors_job(c, ring, rc, job)
+    type(case_type), intent(in), target :: c
+    type(sector_ring), intent(inout), target :: ring, rc
+    integer, intent(in) :: job
+    integer :: jj
+    team_case => c
+    team_ring => ring
+    team_copy => rc
+    if (team_active) then
+      call team_post(job)
+      call team_sectors()
+      call team_join()
+    else
+      do jj = 1, ring%bore%m
+        call sector_work(job, jj)
+      end do
+    end if
+    nullify (team_case, team_ring, team_copy)
+  end subroutine sectors_job
+
+  !> Sector jj's part of `job` (on team_case, team_ring, team_copy).
+  subroutine sector_work(job, jj)
+    integer, intent(in) :: job, jj
+    select case (job)
+    case (job_films)
+      call solve_film(team_case, team_ring, team_tr, jj)
+    case (job_ceiling_in)
+      ! the ceiling's copy of the sector's film, from its last iterate there (if any)
+      associate (fc => team_copy%films(jj))
+        fc = team_ring%films(jj)
+        if (team_ring%ceil_c > 0.0_dp) then
+          fc%p = team_ring%ceil_p(:, jj)
+          fc%eta = team_ring%ceil_eta(:, jj)
+          if (fc%jfo) fc%theta = team_ring%ceil_theta(:, jj)
+        end if
+      end associate
+    case (job_ceiling_out)
+      associate (fc => team_copy%films(jj))
+        team_ring%ceil_p(:, jj) = fc%p
+        team_ring%ceil_eta(:, jj) = fc%eta
+        if (fc%jfo) team_ring%ceil_theta(:, jj) = fc%theta
+      end associate
+    end select
+  end subroutine sector_work
+
+  !> Sector jj's film at its h0 with its own squeeze term.
+  subroutine solve_film(c, ring, tr, jj)
+    type(case_type), intent(in) :: c
+    type(sector_ring), intent(inout) :: ring
+    type(sector_trial), intent(in) :: tr
+    integer, intent(in) :: jj
+    real(dp) :: sq, sq_b
+    sq = 0.0_dp
+    if (c%squeeze) then
+      if (tr%sq_a == 1.0_dp) then
+        sq_b = ring%hist(1, jj)
+      else
+        sq_b = 2.0_dp * ring%hist(1, jj) - 0.5_dp * ring%hist(2, jj)
+      end if
+      sq = 2.0_dp * (tr%sq_a * ring%h(jj) - sq_b) / tr%dt
+    end if
+    call film_evaluate(c, ring%films(jj), ring%h(jj), sq, tr%u, tr%p_chamber, tr%w_tol)
+  end subroutine solve_film
+
+  !> A thread's share of a job of ringlube_sectors (job_films, job_ceiling_in or _out): the
+  !> sectors it claims, then counted done.
+  subroutine team_sectors()
+    integer :: jj
+    do while (team_claim(team_ring%bore%m, jj))
+      call sector_work(team_job, jj)
+    end do
+    call team_done()
+  end subroutine team_sectors
+
+  !> Before a crank step's parallel region of `threads` threads: its team starts with the
+  !> first job (every thread of the region's start takes its share of the caller's per-sector
+  !> work at once), and every pass over the sectors of thread 0's calls becomes a job of the
+  !> team until team_end.
+  subroutine team_begin(threads)
+    integer, intent(in) :: threads
+    team_job = job_none
+    if (allocated(team_next)) then
+      if (size(team_next, 2) /= threads) deallocate (team_next, team_budget)
+    end if
+    if (.not. allocated(team_next)) then
+      allocate (team_next(line, 0:threads - 1), team_budget(line / 2, 0:threads - 1))
+      team_budget(1, :) = team_spin
+      team_budget(2, :) = 0.0_dp
+    end if
+    team_next = 0
+    team_ranges = threads
+    team_finished = 0
+    team_size = 1
+    team_gen = 0
+    team_sleepers = 0
+    team_meet = .false.
+    team_bar = .false.
+    if (.not. team_lock_made) then
+!$    call omp_init_lock(team_lock)
+      team_lock_made = .true.
+    end if
+    team_active = .true.
+  end subroutine team_begin
+
+  !> Thread 0, at the region's start: the team has `threads` threads (the number it got).
+  subroutine team_size_is(threads)
+    integer, intent(in) :: threads
+    team_size = threads
+  end subroutine team_size_is
+
+  !> After the region: no team.
+  subroutine team_end()
+    team_active = .false.
+    team_size = 1
+  end subroutine team_end
+
+  !> Thread 0: post `job` to the team (the threads asleep at the barrier are met there); then
+  !> it takes its own share (team_claim until none is left, team_done) and team_join.
+  subroutine team_post(job)
+    integer, intent(in) :: job
+    logical :: meet
+    integer :: loaded
+    team_job = job
+    team_next(1, :) = 0
+    team_finished = 0
+!$  call omp_set_lock(team_lock)
+    meet = team_sleepers > 0
+    team_meet = meet
+    !$omp atomic read
+    loaded = team_loaded
+    !$omp end atomic
+    team_bar = loaded == 1
+    team_sleepers = 0
+    !$omp flush
+    !$omp atomic update
+    team_gen = team_gen + 1
+    !$omp end atomic
+!$  call omp_unset_lock(team_lock)
+    if (meet) then
+      !$omp barrier
+    end if
+  end subroutine team_post
+
+  !> The other threads: wait for thread 0's next job after the `seen` first (reading the job
+  !> count for the thread's time awake, then asleep at the barrier of team_post) and return it.
+  integer function team_wait(seen) result(job)
+    integer, intent(inout) :: seen
+    integer :: g, spins, me, loaded
+    logical :: met
+    real(dp) :: t0, awake, cpu0, wall
+    me = 0
+!$  me = omp_get_thread_num()
+    team_budget(2, me) = team_budget(2, me) + 1.0_dp
+    awake = team_budget(1, me)
+    !$omp atomic read
+    loaded = team_loaded
+    !$omp end atomic
+    if (loaded == 1) awake = 0.0_dp
+    if (mod(nint(team_budget(2, me)), spin_probe) == 0) awake = team_spin
+    met = .false.
+    spins = 0
+    t0 = -1.0_dp
+    cpu0 = -1.0_dp
+    if (awake > 0.0_dp) then
+      t0 = wall_clock()
+      cpu0 = c_thread_cpu()
+    end if
+    do
+      !$omp atomic read
+      g = team_gen
+      !$omp end atomic
+      if (g /= seen) exit
+      spins = spins + 1
+      if (mod(spins, 64) /= 0 .or. met) cycle
+      if (t0 >= 0.0_dp) then
+        if (wall_clock() - t0 < awake) cycle
+      end if
+      ! no job yet: asleep at the barrier, where thread 0's next post (which sees the count of
+      ! sleepers under the lock) meets this thread
+!$    call omp_set_lock(team_lock)
+      !$omp atomic read
+      g = team_gen
+      !$omp end atomic
+      if (g == seen) then
+        team_sleepers = team_sleepers + 1
+!$      call omp_unset_lock(team_lock)
+        !$omp barrier
+        met = .true.
+      else
+!$      call omp_unset_lock(team_lock)
+      end if
+    end do
+    ! (asleep: half the time awake next; else team_spin; none after a wait awake that lost the
+    ! core for more than half of it)
+    team_budget(1, me) = team_spin
+    if (met) team_budget(1, me) = 0.5_dp * awake
+    if (cpu0 >= 0.0_dp .and. .not. met) then
+      wall = wall_clock() - t0
+      if (c_thread_cpu() - cpu0 < 0.5_dp * wall) then
+        team_budget(1, me) = 0.0_dp
+        !$omp atomic write
+        team_loaded = 1
+        !$omp end atomic
+      else
+        !$omp atomic write
+        team_loaded = 0
+        !$omp end atomic
+      end if
+    end if
+    !$omp flush
+    ! (another thread slept: the post meets every thread at the barrier)
+    if (team_meet .and. .not. met) then
+      !$omp barrier
+    end if
+    seen = g
+    job = team_job
+  end function team_wait
+
+  !> A crank step of `threads` threads runs as a team (a parallel region of its own, thread 0
+  !> leading): more than one thread asked for and the machine not busy (check_busy). On a busy
+  !> machine a pass over the sectors' films is a parallel loop of its own, the rest of the
+  !> step serial: with threads asleep between passes, the team's cheap jobs (the inlets, the
+  !> work after the balance, the lift-off margin's copies) cost more wake-ups than they gain.
+  logical function team_wanted(threads)
+    integer, intent(in) :: threads
+    team_wanted = .false.
+    if (threads <= 1) return
+    call check_busy()
+    team_wanted = .not. team_busy
+  end function team_wanted
+
+  !> team_busy from the load average over the last minute, every busy_check seconds.
+  subroutine check_busy()
+    real(c_double) :: loads(1)
+    real(dp) :: now
+    integer :: procs
+    if (.not. team_busy_check) then
+      team_busy = .false.
+      return
+    end if
+    now = wall_clock()
+    if (team_busy_checked >= 0.0_dp .and. now - team_busy_checked < busy_check) return
+    team_busy_checked = now
+    procs = 1
+!$  procs = omp_get_num_procs()
+    if (c_getloadavg(loads, 1_c_int) == 1) team_busy = loads(1) > procs + 0.5_dp
+  end subroutine check_busy
+
+  !> Seconds of a wall clock (OpenMP's; 0 without it).
+  real(dp) function wall_clock()
+    wall_clock = 0.0_dp
+!$  wall_clock = omp_get_wtime()
+  end function wall_clock
+
+  !> Claim the next sector of a job over m sectors: j, .false. when none is left (the
+  !> calling thread's own range first, then the next threads').
+  logical function team_claim(m, j) result(got)
+    integer, intent(in) :: m
+    integer, intent(out) :: j
+    integer :: me, t, k, i, lo, hi
+    me = 0
+!$  me = omp_get_thread_num()
+    got = .false.
+    do i = 0, team_ranges - 1
+      t = mod(me + i, team_ranges)
+      lo = t * m / team_ranges + 1
+      hi = (t + 1) * m / team_ranges
+      !$omp atomic read
+      k = team_next(1, t)
+      !$omp end atomic
+      if (k >= hi - lo + 1) cycle
+      !$omp atomic capture
+      team_next(1, t) = team_next(1, t) + 1
+      k = team_next(1, t)
+      !$omp end atomic
+      j = lo + k - 1
+      got = j <= hi
+      if (got) return
+    end do
+  end function team_claim
+
+  !> This thread has finished its share of the job (its results are flushed first); with
+  !> team_bar it waits for the others at a barrier.
+  subroutine team_done()
+    logical :: bar
+    ! (read before the count: once it is full thread 0 may post the next job)
+    bar = team_bar
+    !$omp flush
+    !$omp atomic update
+    team_finished = team_finished + 1
+    !$omp end atomic
+    if (bar) then
+      !$omp barrier
+    end if
+  end subroutine team_done
+
+  !> Thread 0: wait until every thread of the team has finished its share (they are working:
+  !> at most the last claimed sector's solve), reading the count; then every result is seen.
+  subroutine team_join()
+    integer :: n, spins
+    integer(c_int) :: r
+    real(dp) :: t0
+    spins = 0
+    t0 = -1.0_dp
+    do
+      !$omp atomic read
+      n = team_finished
+      !$omp end atomic
+      if (n >= team_size) exit
+      spins = spins + 1
+      if (mod(spins, 64) /= 0) cycle
+      if (t0 < 0.0_dp) t0 = wall_clock()
+      if (wall_clock() - t0 < team_spin) cycle
+      ! (a long wait: the thread that has the last sector is not running; unless it was asleep
+      ! when the job was posted (its wake-up takes that long) the machine looks loaded: give
+      ! way to it, and the next jobs end at a barrier)
+      if (.not. team_meet) then
+        !$omp atomic write
+        team_loaded = 1
+        !$omp end atomic
+      end if
+      r = c_sched_yield()
+    end do
+    !$omp flush
+  end subroutine team_join
 
   !> u = C (W - mean W) (exactly 0 for equal loads).
   pure subroutine deflection(ring)

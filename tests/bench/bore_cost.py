@@ -12,8 +12,11 @@ Three tables (markdown), with the tension read in N and the shipped calibration:
    CPU time of `build/ringlube-solve` (best of 3), with OMP_WAIT_POLICY=PASSIVE unless it is
    set (as the Python package does; a GOMP_SPINCOUNT in the environment overrides the policy's
    spin count: libgomp spins that many times before a waiting thread sleeps), the CPU time of
-   two threads over one's, and the load average beside every row. The speed-up is meaningful
-   on a quiet machine only (load average below 1.5 before the run); the CPU times on any.
+   two threads over one's, the voluntary context switches of the two-thread run per crank
+   step (a thread that waited asleep and was woken: each costs the waker and the woken some
+   microseconds on a virtual machine), and the load average beside every row. The speed-up is
+   meaningful on a quiet machine only (load average below 1.5 before the run); the CPU times
+   and the sleeps on any.
 3. Sector count: energy, face leakage, light gaps and blowby at M = 8, 12, 24, 48 against
    M = 96 (starved film, ring pack, the hot 4000 r/min deck with orders 2 and 4 of 12 and
    8 um), with the cost.
@@ -125,7 +128,8 @@ def cost_table() -> None:
 
 def solve(deck: Path, extra: str, folder: Path) -> tuple[float, float, dict]:
     """Wall and CPU time of ringlube-solve on `deck` with `extra` appended (the run of the best
-    wall time of 3) and its root attributes."""
+    wall time of 3) and its root attributes, with "sleeps_per_step" added: the run's voluntary
+    context switches (a thread waiting asleep, woken later) per crank step computed."""
     # the deck's own reading, if it writes one, gives way to READ_IN_N (a variable may be
     # given once only); so does its film model where extra gives one
     text = re.sub(r"tension_unit\s*=\s*'[^']*'\s*,?", "", deck.read_text())
@@ -135,7 +139,7 @@ def solve(deck: Path, extra: str, folder: Path) -> tuple[float, float, dict]:
     path.write_text(text + "\n" + extra + "\n")
     env = dict(os.environ)
     env.setdefault("OMP_WAIT_POLICY", "PASSIVE")
-    best, best_cpu = float("inf"), float("nan")
+    best, best_cpu, sleeps = float("inf"), float("nan"), 0
     for _ in range(3):
         t0, c0 = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
         subprocess.run([str(SOLVE), "-q", str(path), "-o", str(folder / "r.h5")], check=False, env=env)
@@ -144,8 +148,12 @@ def solve(deck: Path, extra: str, folder: Path) -> tuple[float, float, dict]:
         if wall < best:
             best = wall
             best_cpu = c1.ru_utime + c1.ru_stime - c0.ru_utime - c0.ru_stime
+            sleeps = c1.ru_nvcsw - c0.ru_nvcsw
     with h5py.File(folder / "r.h5") as f:
-        return best, best_cpu, dict(f.attrs)
+        attrs = dict(f.attrs)
+        steps = len(f["cycle/flags"]) * float(attrs.get("cycles_run", 1))
+    attrs["sleeps_per_step"] = sleeps / steps
+    return best, best_cpu, attrs
 
 
 def copy_inputs(folder: Path) -> None:
@@ -159,9 +167,9 @@ def thread_table(folder: Path) -> None:
     print(f"\nOMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', 'PASSIVE')}{spin_note}")
     print(
         "| deck | film | 1 thread wall s | CPU s | 2 threads wall s | CPU s | speed-up (wall) |"
-        " CPU 2 / 1 | load before | load after |"
+        " CPU 2 / 1 | sleeps per step, 2 threads | load before | load after |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for label, name in DECKS:
         deck = folder / name
         shutil.copy(ROOT / "inputs" / name, deck)
@@ -173,7 +181,8 @@ def thread_table(folder: Path) -> None:
             same = a1["energy_loss_J"] == a2["energy_loss_J"]
             note = "" if same else " (energies differ!)"
             row = f"| {label} | {model} | {t1:.2f} | {c1:.2f} | {t2:.2f} | {c2:.2f} | {t1 / t2:.2f}{note}"
-            print(f"{row} | {c2 / c1:.2f} | {load0:.1f} | {os.getloadavg()[0]:.1f} |", flush=True)
+            sleeps = f"{a2['sleeps_per_step']:.1f}"
+            print(f"{row} | {c2 / c1:.2f} | {sleeps} | {load0:.1f} | {os.getloadavg()[0]:.1f} |", flush=True)
 
 
 def sector_table(folder: Path) -> None:

@@ -16,8 +16,8 @@ program test_bore
                               s_load_residual, si_flags, sc_energy_loss, sc_converged, &
                               sc_face_leakage, sc_gas_balance_error, sc_light_gap_share, &
                               sec_h0, sec_load, flag_sectors, flag_ceiling, &
-                              sc_margin_film_solves, si_film_solves
-  use ringlube_sectors, only: free_mean_position
+                              sc_margin_film_solves, si_film_solves, sc_run_time
+  use ringlube_sectors, only: free_mean_position, team_spin, team_busy_check
   use ringlube_check
   implicit none
 
@@ -29,6 +29,7 @@ program test_bore
   if (run_case('gas_assisted_conformability')) call gas_assisted_conformability()
   if (run_case('ceiling_from_last_ceiling')) call ceiling_from_last_ceiling()
   if (run_case('free_mean_position')) call free_mean_position_test()
+  if (run_case('team_wait_modes')) call team_wait_modes()
   call report('test_bore')
 
 contains
@@ -341,5 +342,47 @@ contains
                  < sum(r_root%int_series(:, si_film_solves)), 'fewer film solves')
     end do
   end subroutine free_mean_position_test
+
+  !> Two threads give the one thread's answer bit for bit however the team's threads wait
+  !> between a step's passes over the sectors (ringlube_sectors; the load average not
+  !> consulted, so that the step is a team on a loaded machine too): always asleep (team_spin
+  !> 0: thread 0 meets them at a barrier at every pass), and awake up to 1 ms (they take each
+  !> job without a barrier unless they lose their core);
+  !> starved film with the ring pack (its sectors' inlets, films, lift-off margin copies and
+  !> oil after the balance all jobs of the team), 12 sectors, orders 2 and 4.
+  subroutine team_wait_modes()
+    type(case_type) :: c, c0
+    type(result_type) :: r1, r2
+    real(dp) :: spins(2) = [0.0_dp, 1e-3_dp], keep
+    integer :: i
+    c0 = base_case()
+    c0%tension_unit = 'N'
+    c0%cavitation = 'jfo'
+    c0%inlet = 'starved'
+    c0%ring_pack = 'gas'
+    c0 = distorted(c0, 2, 8e-6_dp, 12)
+    c0%bore_order = [2, 4]
+    c0%bore_amplitude = [8e-6_dp, 5e-6_dp]
+    ! (coarse: on a loaded machine every wake-up of a thread asleep takes milliseconds)
+    c0%dpsi_deg = 6.0_dp
+    c0%max_cycles = 1
+    c = c0
+    call solve(c, r1, 'one thread')
+    keep = team_spin
+    do i = 1, size(spins)
+      team_spin = spins(i)
+      team_busy_check = .false.
+      c = c0
+      c%threads = 2
+      call solve(c, r2, 'two threads')
+      r1%scalars(sc_run_time) = 0.0_dp
+      r2%scalars(sc_run_time) = 0.0_dp
+      call check(all(r2%series == r1%series) .and. all(r2%int_series == r1%int_series) .and. &
+                 all(r2%sectors == r1%sectors) .and. all(r2%scalars == r1%scalars) .and. &
+                 all(r2%liner == r1%liner), 'two threads: the one thread''s answer bit for bit')
+    end do
+    team_spin = keep
+    team_busy_check = .true.
+  end subroutine team_wait_modes
 end program test_bore
 

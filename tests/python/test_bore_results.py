@@ -152,6 +152,31 @@ def test_two_threads_give_the_one_thread_answer_bit_for_bit():
             assert getattr(two, name) == getattr(one, name), name
 
 
+@pytest.mark.parametrize(
+    ("threads", "film"),
+    [(3, {}), (9, {"cavitation": "swift_stieber", "inlet": "flooded"})],
+    ids=["3 threads, starved", "9 threads, Swift-Stieber"],
+)
+def test_a_team_of_any_size_gives_the_one_thread_answer_bit_for_bit(threads, film):
+    """With `threads` > 1 a crank step is one parallel region: thread 0 runs the step and hands
+    each pass over the sectors (their inlets, films, the lift-off margin's copies, their
+    friction and oil after the balance) to the team; each thread owns a range of the sectors
+    and takes the next ranges' once its own are done. The answer is the one thread's bit for
+    bit whatever the team's size: 3 threads on 8 sectors (ranges of 2, 3 and 3 sectors), and 9
+    (more threads than sectors: a thread without a sector of its own, more threads than the
+    machine's cores) with the flooded Swift-Stieber film (no film content or liner oil)."""
+    case = distorted(ringlube.Case.from_namelist(HOT_GAS))
+    if film:
+        case = case.with_physics(**film)
+    one = ringlube.run(case.with_numerics(threads=1))
+    team = ringlube.run(case.with_numerics(threads=threads))
+    for name in [*one.series, *one.sectors]:
+        np.testing.assert_array_equal(getattr(team, name), getattr(one, name), err_msg=name)
+    for name in one.scalars:
+        if name != "run_time":
+            assert getattr(team, name) == getattr(one, name), name
+
+
 def test_the_package_lets_openmp_threads_wait_asleep():
     """Importing ringlube sets OMP_WAIT_POLICY=PASSIVE before the kernel's library loads:
     libgomp then reads it and its threads wait without spinning (GOMP_SPINCOUNT 0 in its own
