@@ -7,7 +7,7 @@ module jfo_test_tools
   use slider_closed_form, only: b, xs, eta, kk, ns, hz, j2, j3
   implicit none
   private
-  public :: p_film, rupture_point, meniscus_point, grid, print_orders, rnd, random_step
+  public :: p_film, rupture_point, meniscus_point, grid, print_orders, rnd, random_step, ring_gap
 
 contains
 
@@ -92,6 +92,18 @@ contains
     rnd = modulo(sin(real(i, dp) * 12.9898_dp + real(j, dp) * 78.233_dp) * 43758.5453_dp, 1.0_dp)
   end function rnd
 
+  !> The parabolic ring at the minimum gap hm on the nodes x: the gap h at the nodes, hmid and
+  !> the Poiseuille conductance kmid at the faces.
+  pure subroutine ring_gap(x, hm, h, hmid, kmid)
+    real(dp), intent(in) :: x(:), hm
+    real(dp), intent(out) :: h(:), hmid(:), kmid(:)
+    integer :: n
+    n = size(x)
+    h = hm + kk * (x + xs)**2
+    hmid = hm + kk * (0.5_dp * (x(1:n - 1) + x(2:n)) + xs)**2
+    kmid = hmid**3 / (12 * eta)
+  end subroutine ring_gap
+
   !> The random step of trial `trial` on the nodes x (draws 1-8): the parabolic ring at a
   !> minimum gap hm of 0.3-3.3 um (gap h at the nodes, hmid and kmid at the faces), speed u in
   !> +-20 m/s, edge pressures pl, pr of 1-11 bar, edge fills tl, tr, and a backward Euler
@@ -100,12 +112,8 @@ contains
     integer, intent(in) :: trial
     real(dp), intent(in) :: x(:)
     real(dp), intent(out) :: hm, h(:), hmid(:), kmid(:), u, pl, pr, tl, tr, dt
-    integer :: n
-    n = size(x)
     hm = 0.3e-6_dp + 3e-6_dp * rnd(trial, 1)
-    h = hm + kk * (x + xs)**2
-    hmid = hm + kk * (0.5_dp * (x(1:n - 1) + x(2:n)) + xs)**2
-    kmid = hmid**3 / (12 * eta)
+    call ring_gap(x, hm, h, hmid, kmid)
     u = 40.0_dp * (rnd(trial, 2) - 0.5_dp)
     pl = 1e5_dp + 1e6_dp * rnd(trial, 3)**3
     pr = 1e5_dp + 1e6_dp * rnd(trial, 4)**3

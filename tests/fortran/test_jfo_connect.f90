@@ -345,7 +345,7 @@ contains
           n = nn(k)
           dx = b / (n - 1)
           x = [(-0.5_dp * b + (i - 1) * dx, i=1, n)]
-          allocate (p(n), th(n), pc(n), cold(n))
+          allocate (p(n), th(n), pc(n), cold(n), hmid(n - 1), kmid(n - 1))
           dt = per / nsteps
           p = pl
           th = 1.0_dp
@@ -360,9 +360,7 @@ contains
             ! the oil held: the volumes' content (theta h, or jfo_front_content's)
             v0 = dx * (sum(cold(2:n - 1)) + 0.5_dp * (cold(2) + cold(n - 1)))
             hm = h0 * (1.0_dp + 0.5_dp * sin(2 * pi * t / per + 1.0_dp))
-            h = hm + kk * (x + xs)**2
-            hmid = hm + kk * (0.5_dp * (x(1:n - 1) + x(2:n)) + xs)**2
-            kmid = hmid**3 / (12 * eta)
+            call ring_gap(x, hm, h, hmid, kmid)
             prob = jfo_problem(dx=dx, u=u, dt=dt, p_left=pl, p_right=pl, &
                                theta_right=min(1.0_dp, cs / hmid(n - 1)), p_cav=0.0_dp, &
                                leading_gas=.true., edge_meniscus=.true., edge_cells=.true., &
@@ -385,7 +383,7 @@ contains
           end do
           write (*, '(a, es9.2, a, l1, i5, 2es20.11, a, f6.2)') '  cs', cs, ' front_content ', fc, &
             n, load(k), back(k), ' Newton iterations per step', real(nit, dp) / (2 * nsteps)
-          deallocate (p, th, pc, cold)
+          deallocate (p, th, pc, cold, hmid, kmid)
         end do
         write (what, '(a, es9.2, a, l1, a, i0)') 'moving meniscus, cs', cs, ' front_content ', &
           fc, ': steps not converged ', nfail
@@ -453,7 +451,7 @@ write (*, '(a)') '5d. the fronts'' Jacobian (front_content): every step of a per
       'rows against differences'
     dx = b / (n - 1)
     x = [(-0.5_dp * b + (i - 1) * dx, i=1, n)]
-    allocate (p(n), th(n), pc(n), cold(n), vp(n), r0(n), r1(n), jf(n, n))
+    allocate (p(n), th(n), pc(n), cold(n), vp(n), r0(n), r1(n), jf(n, n), hmid(n - 1), kmid(n - 1))
     call jfo_scratch_size(w0, n)
     call jfo_scratch_size(w1, n)
     dt = per / nsteps
@@ -470,9 +468,7 @@ write (*, '(a)') '5d. the fronts'' Jacobian (front_content): every step of a per
     do j = 1, nsteps
       t = j * dt
       hm = h0 * (1.0_dp + 0.5_dp * sin(2 * pi * t / per + 1.0_dp))
-      h = hm + kk * (x + xs)**2
-      hmid = hm + kk * (0.5_dp * (x(1:n - 1) + x(2:n)) + xs)**2
-      kmid = hmid**3 / (12 * eta)
+      call ring_gap(x, hm, h, hmid, kmid)
       prob = jfo_problem(dx=dx, u=u, dt=dt, p_left=pl, p_right=pl, &
                          theta_right=min(1.0_dp, cs / hmid(n - 1)), p_cav=0.0_dp, &
                          leading_gas=.true., edge_meniscus=.true., edge_cells=.true., &
@@ -543,7 +539,7 @@ write (*, '(a)') '5d. the fronts'' Jacobian (front_content): every step of a per
       'satisfies the residual with the excess'
     dx = b / (n - 1)
     x = [(-0.5_dp * b + (i - 1) * dx, i=1, n)]
-    allocate (p(n), th(n), pc(n), cold(n), r(n))
+    allocate (p(n), th(n), pc(n), cold(n), r(n), hmid(n - 1), kmid(n - 1))
     call jfo_scratch_size(w, n)
     dt = per / nsteps
     p = pl
@@ -556,9 +552,7 @@ write (*, '(a)') '5d. the fronts'' Jacobian (front_content): every step of a per
     do j = 1, nsteps
       t = j * dt
       hm = h0 * (1.0_dp + 0.5_dp * sin(2 * pi * t / per + 1.0_dp))
-      h = hm + kk * (x + xs)**2
-      hmid = hm + kk * (0.5_dp * (x(1:n - 1) + x(2:n)) + xs)**2
-      kmid = hmid**3 / (12 * eta)
+      call ring_gap(x, hm, h, hmid, kmid)
       prob = jfo_problem(dx=dx, u=u, dt=dt, p_left=pl, p_right=pl, &
                          theta_right=min(1.0_dp, cs / hmid(n - 1)), p_cav=0.0_dp, &
                          leading_gas=.true., edge_cells=.true., front_content=.true.)
