@@ -139,9 +139,9 @@ contains
     if (allocated(st%ring)) call allocate_sectors(res, st%ring%bore%m)
     res%scalars(sc_sigma) = st%sigma
     res%scalars(sc_ring_mass) = ring_mass(c) * 1e3_dp   ! stored in g
-    ! (not with a starved inlet, whose cycles the liner film sets; not on a distorted bore)
-    if (c%pilot_cycle .and. allocated(st%rst) .and. .not. allocated(st%ring) .and. &
-        .not. st%film%f%starved) then
+    ! (not on a distorted bore; with a starved inlet the pilot's liner film is not kept: the
+    ! pilot gives the ring pack its start, the film starts as without it, at BDC)
+    if (c%pilot_cycle .and. allocated(st%rst) .and. .not. allocated(st%ring)) then
       call pilot_friction(c, pilot_fric, run%pilot, st%extra_film_solves, st%extra_solves, err)
       ! (a pilot that fails, or gives a non-finite friction, is no start: the run starts
       ! without it, and does not count it in its cycles and solves; an interrupt ends the run)
@@ -234,7 +234,8 @@ contains
       deallocate (fric)
       return
     end if
-    cost = real(nint(rp%warmup / cp%dpsi_deg) + mp, dp) / m  ! its crank steps, as run
+    ! its crank steps, as run (a starved pilot's BDC start: its second pass too)
+    cost = real(nint((rp%warmup + rp%rewarm) / cp%dpsi_deg) + mp, dp) / m
     film_solves = film_solves + sp%film%f%film_solves
     solves = solves + sp%film%f%reynolds_solves
   end subroutine pilot_friction
