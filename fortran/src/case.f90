@@ -75,6 +75,7 @@ module ringlube_case
     integer :: nodes = 0
     real(dp) :: dpsi_deg = 0.0_dp, pressure_tol = 0.0_dp, load_tol = 0.0_dp
     character(len=:), allocatable :: time_scheme, film_time_scheme, film_edge_cells, h0_update
+    character(len=:), allocatable :: first_restart
     real(dp) :: damping = 0.0_dp
     integer :: max_cycles = 0
     real(dp) :: cycle_tol = 0.0_dp
@@ -249,6 +250,7 @@ contains
     case ('numerics.warmup_deg'); call r(c%warmup_deg)
     case ('numerics.accelerate'); call l(c%accelerate)
     case ('numerics.pilot_cycle'); call l(c%pilot_cycle)
+    case ('numerics.first_restart'); call s(c%first_restart)
     case ('numerics.bdc_start'); call l(c%bdc_start)
     case ('numerics.liner_window'); call n(c%liner_window)
     case ('numerics.threads'); call n(c%threads)

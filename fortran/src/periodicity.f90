@@ -16,7 +16,7 @@ module ringlube_periodicity
   private
   public :: max_period, cycle_history, history_start, history_h0, history_end, &
             history_measure, history_period, history_changes, history_mean, history_clean, &
-            history_extrapolate, last_slot, q_h0, q_energy, q_map, q_ring_pack
+            history_extrapolate, last_slot, liner_window_cells, q_h0, q_energy, q_map, q_ring_pack
 
   !> the longest period a run looks for [cycles]
   integer, parameter :: max_period = 12
@@ -453,8 +453,7 @@ contains
     integer :: n, w, i
     n = size(a)
     map_change = sum(abs(a - b)) / max(sum(abs(a)), tiny(1.0_dp))
-    w = c%liner_window
-    if (w == 0 .and. c%bdc_start .and. c%cavity_pressure == 'vapour') w = bdc_start_window
+    w = liner_window_cells(c)
     if (present(several)) then
       if (w == 0 .and. several .and. c%cavity_pressure == 'trailing_gas') w = bdc_start_window
     end if
@@ -471,6 +470,16 @@ contains
       map_change = max(map_change, (cd(i) - cd(i - w)) / max(ca(i) - ca(i - w), floor_w))
     end do
   end function map_change
+
+  !> The liner cells over which a period of one judges the liner film's change besides the
+  !> whole film (map_change; 0: the whole film alone): `liner_window`, or where that is 0
+  !> bdc_start_window with a BDC start and a vapour cavity. (On a distorted bore, or with a
+  !> window of the film's cells or more, map_change judges the whole film alone.)
+  pure integer function liner_window_cells(c) result(w)
+    type(case_type), intent(in) :: c
+    w = c%liner_window
+    if (w == 0 .and. c%bdc_start .and. c%cavity_pressure == 'vapour') w = bdc_start_window
+  end function liner_window_cells
 
   !> The means of results idx over the last p cycles (p >= 2; p = 1 leaves v alone), and the
   !> extremes of the ring pack's: the least flutter margin of the cycles (negative if one
