@@ -819,13 +819,19 @@ contains
   !> by s. With edge cells, a full node D next to the inflow edge U (fill theta_U < 1): the
   !> front a fraction s = A / B (in [0, 1]) from D to the edge and D holds
   !> (1 - s) (1 - theta_U) h_f (the interior pair's at s = 1 when D fills; 0 with the film full
-  !> to the edge).
+  !> to the edge). And every partly filled node of fill up to 0.3 holds theta (h - hd) more
+  !> (times its volume in dx), hd the gap at the face it leaves through: it stores theta hd, the
+  !> content its Couette flux a theta hd carries (in a starved inlet zone the supply's content,
+  !> which theta h exceeds by theta (h - hd), a fraction of a cell's gap change), so that a
+  !> front sweeping the zone fills each cell with the oil the supply lacks there
+  !> (docs/film_model.md, "The oil turned back"); from 0.3 to 0.6 that share falls to 0 by a
+  !> smoothstep in theta (continuous, with its derivative), above it theta h as before.
   pure subroutine front_excess(n, a, ca, kd, ps, h, pn, tn, edge_cells, e, ed, el, eu)
     integer, intent(in) :: n
     real(dp), intent(in) :: a, ca(n), kd(n), ps(n), h(n), pn(n), tn(n)
     logical, intent(in) :: edge_cells
     real(dp), intent(out) :: e(n), ed(n), el(n), eu(n)
-    real(dp) :: c, aa, bb, sf, hf, fac, dsd, dsu, vu, ku, kq, gd, gu, gdp, gup, dkq
+    real(dp) :: c, aa, bb, sf, hf, fac, dsd, dsu, vu, ku, kq, gd, gu, gdp, gup, dkq, tt, gg, gp
     logical :: lone
     integer :: iu, id, iq, f, dn, i2
     e = 0.0_dp
@@ -834,6 +840,21 @@ contains
     eu = 0.0_dp
     if (a == 0.0_dp) return
     dn = merge(-1, 1, a < 0.0_dp)
+    ! a thinly filled node stores what its Couette flux carries, theta hd (hd the gap at the
+    ! face it leaves through), not theta h: it holds theta g (h - hd) more, g = 1 up to a fill
+    ! of 0.3, a smoothstep to 0 at 0.6 (so that a node filling, or a cavity's nearly full
+    ! nodes around a lone full node, keep theta h: continuous, and Newton converges as before)
+    do iu = 2, n - 1
+      if (.not. tn(iu) < 1.0_dp) cycle
+      vu = 1.0_dp
+      if (edge_cells .and. (iu == 2 .or. iu == n - 1)) vu = 1.5_dp
+      hf = h(iu) - ca(merge(iu - 1, iu, a < 0.0_dp)) / a
+      tt = min(max((tn(iu) - 0.3_dp) / 0.3_dp, 0.0_dp), 1.0_dp)
+      gg = 1.0_dp - tt**2 * (3.0_dp - 2.0_dp * tt)
+      gp = -6.0_dp * tt * (1.0_dp - tt) / 0.3_dp
+      e(iu) = e(iu) + vu * tn(iu) * gg * hf
+      ed(iu) = ed(iu) + vu * (gg + tn(iu) * gp) * hf
+    end do
     do iu = 2, n - 1
       id = iu + dn
       ! D interior and not next to the edge downstream (a film full to that edge has no front)

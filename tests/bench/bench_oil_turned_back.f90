@@ -1,0 +1,122 @@
+!> Where the oil a starved ring's leading edge turns back goes wrong (docs/film_model.md, "The
+!> oil turned back"; not a test, the numbers its section quotes): the moving meniscus of ctest
+!> jfo_connect/starved_transient_order (the parabolic ring at U = 10 m/s, fed 1.2 um of supply
+!> content through the inflow face, its minimum film oscillating 1 um +- 50 %) on 51-201 nodes
+!> against 801, over the second period. Per grid: the error of the oil turned back (relative to
+!> the supply over the period), the share of it accrued within 10 steps of the reference's
+!> arrival at the leading edge, and how far the meniscus leads the reference's on its way to the
+!> edge (mean over the steps before the arrival with the reference's beyond 0.25 mm, in cells;
+!> the meniscus placed by the jump condition between its full node D and the partly filled node
+!> upstream, or the edge).
+!>
+!>     ./build/bench_oil_turned_back [steps per period, 2000] [period s, 0.01] [front_content 0/1, 1]
+program bench_oil_turned_back
+  use ringlube_kinds, only: dp, pi
+  use ringlube_jfo
+  use ringlube_jfo_connect
+  use ringlube_jfo_system, only: jfo_front_content
+  use slider_closed_form, only: b, xs, h0, kk
+  use jfo_test_tools, only: ring_gap
+  implicit none
+  integer, parameter :: nn(6) = [51, 71, 101, 141, 201, 801]
+  real(dp), parameter :: u = 10.0_dp, pl = 1e5_dp, cs = 1.2e-6_dp
+  real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), cold(:)
+  real(dp), allocatable :: bstep(:, :), xf(:, :)
+  real(dp) :: per, dx, dt, t, hm, back(6), supply, share, lead
+  integer :: nsteps, k, n, i, j, nfail(6), jarr, ifc, m
+  logical :: fc
+  type(jfo_stats) :: st
+  type(jfo_problem) :: prob
+  character(len=32) :: arg
+  nsteps = 2000
+  per = 1e-2_dp
+  ifc = 1
+  if (command_argument_count() >= 1) then
+    call get_command_argument(1, arg)
+    read (arg, *) nsteps
+  end if
+  if (command_argument_count() >= 2) then
+    call get_command_argument(2, arg)
+    read (arg, *) per
+  end if
+  if (command_argument_count() >= 3) then
+    call get_command_argument(3, arg)
+    read (arg, *) ifc
+  end if
+  fc = ifc == 1
+  allocate (bstep(nsteps, size(nn)), xf(nsteps, size(nn)))
+  dt = per / nsteps
+  supply = 0.5_dp * u * cs * per
+  do k = 1, size(nn)
+    n = nn(k)
+    dx = b / (n - 1)
+    x = [(-0.5_dp * b + (i - 1) * dx, i=1, n)]
+    if (allocated(p)) deallocate (p, th, pc, cold, hmid, kmid, h)
+    allocate (p(n), th(n), pc(n), cold(n), hmid(n - 1), kmid(n - 1), h(n))
+    p = pl
+    th = 1.0_dp
+    pc = 0.0_dp
+    h = h0 + kk * (x + xs)**2
+    cold = h
+    nfail(k) = 0
+    bstep(:, k) = 0.0_dp
+    do j = 1, 2 * nsteps
+      t = j * dt
+      hm = h0 * (1.0_dp + 0.5_dp * sin(2 * pi * t / per + 1.0_dp))
+      call ring_gap(x, hm, h, hmid, kmid)
+      prob = jfo_problem(dx=dx, u=u, dt=dt, p_left=pl, p_right=pl, &
+                         theta_right=min(1.0_dp, cs / hmid(n - 1)), p_cav=0.0_dp, &
+                         leading_gas=.true., edge_meniscus=.true., edge_cells=.true., &
+                         front_content=fc)
+      call jfo_solve_connected(prob, h, hmid, kmid, cold, pc, p, th, st)
+      cold = jfo_front_content(prob, h, hmid, kmid, pc, p, th)
+      if (st%info /= JFO_OK) nfail(k) = nfail(k) + 1
+      if (j > nsteps) then
+        bstep(j - nsteps, k) = dt * (0.5_dp * u * cs + st%q_right)
+        xf(j - nsteps, k) = meniscus()
+      end if
+    end do
+    back(k) = sum(bstep(:, k))
+  end do
+  jarr = findloc(bstep(:, size(nn)) > 1e-9_dp * 0.5_dp * u * cs * dt, .true., 1)
+  write (*, '(a, i0, a, es9.2, a, l1, a, i0, a, es11.4, a)') 'steps per period ', nsteps, &
+    ', period ', per, ' s, front_content ', fc, '; the reference arrives at step ', jarr, &
+    ', turns back ', back(size(nn)) / supply, ' of the supply'
+  write (*, '(a)') 'nodes  oil turned back error / supply  share within 10 steps of the '// &
+    'arrival  meniscus lead (cells)  steps not converged'
+  do k = 1, size(nn) - 1
+    share = sum(bstep(max(jarr - 10, 1):min(jarr + 10, nsteps), k) &
+                - bstep(max(jarr - 10, 1):min(jarr + 10, nsteps), size(nn))) &
+            / (back(k) - back(size(nn)))
+    lead = 0.0_dp
+    m = 0
+    do j = 1, nsteps
+      if (j < jarr .and. xf(j, size(nn)) > 0.25e-3_dp) then
+        lead = lead + (xf(j, k) - xf(j, size(nn)))
+        m = m + 1
+      end if
+    end do
+    write (*, '(i5, es20.3, f30.3, f24.3, i10)') nn(k), (back(k) - back(size(nn))) / supply, &
+      share, lead / max(m, 1) / (b / (nn(k) - 1)), nfail(k)
+  end do
+
+contains
+
+  !> The leading meniscus: the jump condition's front between the full node D nearest the
+  !> inflow (right) edge and the node upstream of it (the edge when D is next to it).
+  real(dp) function meniscus() result(xm)
+    integer :: id
+    real(dp) :: aa, bb
+    do id = n - 1, 2, -1
+      if (th(id) >= 1.0_dp) exit
+    end do
+    bb = (1.0_dp - th(id + 1)) * 0.5_dp * u * hmid(id) / (kmid(id) / dx)
+    if (id + 1 == n) then
+      aa = max(p(id) - pl, 0.0_dp)
+      xm = x(id) + min(aa / bb, 1.0_dp) * dx
+    else
+      aa = max(p(id) - p(id + 1), 0.0_dp)
+      xm = x(id) + aa / (aa + bb) * dx
+    end if
+  end function meniscus
+end program bench_oil_turned_back
