@@ -130,8 +130,7 @@ contains
     type(jfo_system), intent(inout) :: sys
     type(jfo_problem), intent(in) :: problem
     real(dp), intent(in) :: h(:), hmid(:), kmid(:), content_old(:), pc(:)
-    real(dp) :: t, d, q, dmax
-    integer :: i, n
+    integer :: n
     n = size(h)
     sys%n = n
     sys%h = h
@@ -166,20 +165,30 @@ contains
       kd(n) = 0.0_dp
       ! pressure per unit v on the full side: the ratio of a node's fill and pressure diagonals,
       ! so that both sides of the kink weigh alike; and the largest of either diagonal
-      ps(1) = 1.0_dp
-      ps(n) = 1.0_dp
-      dmax = 0.0_dp
-      do i = 2, n - 1
-        t = wv(i) * h(i) + abs(ca(i)) + abs(ca(i - 1))
-        d = kd(i - 1) + kd(i)
-        q = 1.0_dp
-        if (t > 0.0_dp .and. d > 0.0_dp) q = t / d
-        ps(i) = q
-        dmax = max(dmax, t, d * q)
-      end do
-      sys%dmax = dmax
+      call setup_scales(n, wv, sys%h, ca, kd, ps, sys%dmax)
     end associate
   end subroutine jfo_system_setup
+
+  !> jfo_system_setup's pressure scales ps and the largest diagonal dmax, on explicit-shape
+  !> arrays.
+  pure subroutine setup_scales(n, wv, h, ca, kd, ps, dmax)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: wv(n), h(n), ca(n), kd(n)
+    real(dp), intent(out) :: ps(n), dmax
+    real(dp) :: t, d, q
+    integer :: i
+    ps(1) = 1.0_dp
+    ps(n) = 1.0_dp
+    dmax = 0.0_dp
+    do i = 2, n - 1
+      t = wv(i) * h(i) + abs(ca(i)) + abs(ca(i - 1))
+      d = kd(i - 1) + kd(i)
+      q = 1.0_dp
+      if (t > 0.0_dp .and. d > 0.0_dp) q = t / d
+      ps(i) = q
+      dmax = max(dmax, t, d * q)
+    end do
+  end subroutine setup_scales
 
   !> The residual res of the interior finite volumes at the state x and the scale of its
   !> terms; in ev the node states pn, tn, the face fluxes fl and their derivatives, and with jac
