@@ -154,29 +154,32 @@ contains
       a = -0.5_dp * problem%u
       w = 0.0_dp
       if (dt > 0.0_dp) w = dx / dt
-      wv = w
-      if (problem%edge_cells) then
-        wv(2) = wv(2) + 0.5_dp * w
-        wv(n - 1) = wv(n - 1) + 0.5_dp * w
-      end if
-      ca(1:n - 1) = a * hmid
-      kd(1:n - 1) = kmid / dx
-      ca(n) = 0.0_dp
-      kd(n) = 0.0_dp
-      ! pressure per unit v on the full side: the ratio of a node's fill and pressure diagonals,
-      ! so that both sides of the kink weigh alike; and the largest of either diagonal
-      call setup_scales(n, wv, sys%h, ca, kd, ps, sys%dmax)
+      call setup_nodes(n, a, w, dx, problem%edge_cells, hmid, kmid, sys%h, wv, ca, kd, ps, &
+                       sys%dmax)
     end associate
   end subroutine jfo_system_setup
 
-  !> jfo_system_setup's pressure scales ps and the largest diagonal dmax, on explicit-shape
-  !> arrays.
-  pure subroutine setup_scales(n, wv, h, ca, kd, ps, dmax)
+  !> jfo_system_setup's node terms on explicit-shape arrays: the content's weights wv, the
+  !> Couette and Poiseuille coefficients ca, kd of the faces, the pressure scales ps and the
+  !> largest diagonal dmax.
+  pure subroutine setup_nodes(n, a, w, dx, edge_cells, hmid, kmid, h, wv, ca, kd, ps, dmax)
     integer, intent(in) :: n
-    real(dp), intent(in) :: wv(n), h(n), ca(n), kd(n)
-    real(dp), intent(out) :: ps(n), dmax
+    real(dp), intent(in) :: a, w, dx, hmid(n - 1), kmid(n - 1), h(n)
+    logical, intent(in) :: edge_cells
+    real(dp), intent(out) :: wv(n), ca(n), kd(n), ps(n), dmax
     real(dp) :: t, d, q
     integer :: i
+    wv = w
+    if (edge_cells) then
+      wv(2) = wv(2) + 0.5_dp * w
+      wv(n - 1) = wv(n - 1) + 0.5_dp * w
+    end if
+    ca(1:n - 1) = a * hmid
+    kd(1:n - 1) = kmid / dx
+    ca(n) = 0.0_dp
+    kd(n) = 0.0_dp
+    ! pressure per unit v on the full side: the ratio of a node's fill and pressure diagonals,
+    ! so that both sides of the kink weigh alike; and the largest of either diagonal
     ps(1) = 1.0_dp
     ps(n) = 1.0_dp
     dmax = 0.0_dp
@@ -188,7 +191,7 @@ contains
       ps(i) = q
       dmax = max(dmax, t, d * q)
     end do
-  end subroutine setup_scales
+  end subroutine setup_nodes
 
   !> The residual res of the interior finite volumes at the state x and the scale of its
   !> terms; in ev the node states pn, tn, the face fluxes fl and their derivatives, and with jac
