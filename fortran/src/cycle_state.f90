@@ -189,10 +189,12 @@ contains
       call advance_ring(st, c, psi, out)
       return
     end if
-    s = position(c, psi)
     associate (f => st%film%f, sup => st%film%sup)
-      ! a reversal's change of the liner, once, before the step reads it
-      if (f%jfo .and. f%starved) call supply_turn(sup, st%s_prev, motion(st%s_prev, s))
+      if (f%jfo .and. f%starved) then
+        ! a reversal's change of the liner, once, before the step reads it
+        s = position(c, psi)
+        call supply_turn(sup, st%s_prev, motion(st%s_prev, s))
+      end if
       call prepare_inlet(c, f, sup, st%s_prev, psi)
       call film_temperature(c, f, psi)
       if (allocated(st%rst)) then
@@ -217,6 +219,8 @@ contains
         out%v_in = -f%q_right * st%ctx%dt
         out%v_out = -f%q_left * st%ctx%dt
       end if
+      ! (a starved film's s is the one above)
+      if (.not. f%starved) s = position(c, psi)
       if (f%starved) then
         call supply_step(sup, st%s_prev, s, motion(st%s_prev, s), out%v_in, out%v_out)
         call supply_to_chamber(sup)
