@@ -406,7 +406,8 @@ contains
       ! outputs (pn, tn, fl hold the state of the last residual evaluation, which is v's)
       p = pn
       if (stats%info == JFO_OK) then
-        if (any(tn(2:n - 1) < -1e-12_dp)) stats%info = JFO_DRY
+        ! (count: the test of any, without an exit from the loop, so that it vectorises)
+        if (count(tn(2:n - 1) < -1e-12_dp) > 0) stats%info = JFO_DRY
       end if
       theta(1) = tn(1)
       theta(2:n - 1) = min(max(tn(2:n - 1), 0.0_dp), 1.0_dp)
