@@ -26,7 +26,7 @@ module ringlube_cycle_state
                               s_top_gap_flow, s_second_gap_flow, s_face_flow, sec_h0, &
                               sec_load, flag_ceiling, s_film_temperature, m_trailing
   use ringlube_oil_supply, only: supply_type, supply_setup, supply_edges, supply_step, &
-                                 supply_to_chamber
+                                 supply_to_chamber, supply_turn
   use ringlube_film, only: film_type, film_setup, film_friction, film_temperature
   use ringlube_load_balance, only: step_context, load_problem, balance_memory, balance, &
                                    start_history
@@ -190,6 +190,11 @@ contains
       return
     end if
     associate (f => st%film%f, sup => st%film%sup)
+      if (f%jfo .and. f%starved) then
+        ! a reversal's change of the liner, once, before the step reads it
+        s = position(c, psi)
+        call supply_turn(sup, st%s_prev, motion(st%s_prev, s))
+      end if
       call prepare_inlet(c, f, sup, st%s_prev, psi)
       call film_temperature(c, f, psi)
       if (allocated(st%rst)) then
@@ -214,7 +219,8 @@ contains
         out%v_in = -f%q_right * st%ctx%dt
         out%v_out = -f%q_left * st%ctx%dt
       end if
-      s = position(c, psi)
+      ! (a starved film's s is the one above)
+      if (.not. f%starved) s = position(c, psi)
       if (f%starved) then
         call supply_step(sup, st%s_prev, s, motion(st%s_prev, s), out%v_in, out%v_out)
         call supply_to_chamber(sup)
@@ -306,6 +312,9 @@ contains
     !> Sector j's inlet from its liner's oil and its film's temperature.
     subroutine inlet_sector(j)
       integer, intent(in) :: j
+      ! a reversal's change of the liner, once, before the step reads it
+      if (st%ring%films(j)%jfo .and. st%ring%films(j)%starved) &
+        call supply_turn(st%sups(j), st%s_prev, motion(st%s_prev, s))
       call prepare_inlet(c, st%ring%films(j), st%sups(j), st%s_prev, psi)
       call film_temperature(c, st%ring%films(j), psi)
     end subroutine inlet_sector

@@ -405,11 +405,13 @@ contains
 
       ! outputs (pn, tn, fl hold the state of the last residual evaluation, which is v's)
       p = pn
-      theta = tn
       if (stats%info == JFO_OK) then
-        if (any(theta(2:n - 1) < -1e-12_dp)) stats%info = JFO_DRY
+        ! (count: the test of any, without an exit from the loop, so that it vectorises)
+        if (count(tn(2:n - 1) < -1e-12_dp) > 0) stats%info = JFO_DRY
       end if
-      theta(2:n - 1) = min(max(theta(2:n - 1), 0.0_dp), 1.0_dp)
+      theta(1) = tn(1)
+      theta(2:n - 1) = min(max(tn(2:n - 1), 0.0_dp), 1.0_dp)
+      theta(n) = tn(n)
       stats%q_left = fl(1)
       stats%q_right = fl(n - 1)
     end associate

@@ -130,8 +130,7 @@ contains
     type(jfo_system), intent(inout) :: sys
     type(jfo_problem), intent(in) :: problem
     real(dp), intent(in) :: h(:), hmid(:), kmid(:), content_old(:), pc(:)
-    real(dp) :: t, d, q, dmax
-    integer :: i, n
+    integer :: n
     n = size(h)
     sys%n = n
     sys%h = h
@@ -155,31 +154,44 @@ contains
       a = -0.5_dp * problem%u
       w = 0.0_dp
       if (dt > 0.0_dp) w = dx / dt
-      wv = w
-      if (problem%edge_cells) then
-        wv(2) = wv(2) + 0.5_dp * w
-        wv(n - 1) = wv(n - 1) + 0.5_dp * w
-      end if
-      ca(1:n - 1) = a * hmid
-      kd(1:n - 1) = kmid / dx
-      ca(n) = 0.0_dp
-      kd(n) = 0.0_dp
-      ! pressure per unit v on the full side: the ratio of a node's fill and pressure diagonals,
-      ! so that both sides of the kink weigh alike; and the largest of either diagonal
-      ps(1) = 1.0_dp
-      ps(n) = 1.0_dp
-      dmax = 0.0_dp
-      do i = 2, n - 1
-        t = wv(i) * h(i) + abs(ca(i)) + abs(ca(i - 1))
-        d = kd(i - 1) + kd(i)
-        q = 1.0_dp
-        if (t > 0.0_dp .and. d > 0.0_dp) q = t / d
-        ps(i) = q
-        dmax = max(dmax, t, d * q)
-      end do
-      sys%dmax = dmax
+      call setup_nodes(n, a, w, dx, problem%edge_cells, hmid, kmid, sys%h, wv, ca, kd, ps, &
+                       sys%dmax)
     end associate
   end subroutine jfo_system_setup
+
+  !> jfo_system_setup's node terms on explicit-shape arrays: the content's weights wv, the
+  !> Couette and Poiseuille coefficients ca, kd of the faces, the pressure scales ps and the
+  !> largest diagonal dmax.
+  pure subroutine setup_nodes(n, a, w, dx, edge_cells, hmid, kmid, h, wv, ca, kd, ps, dmax)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: a, w, dx, hmid(n - 1), kmid(n - 1), h(n)
+    logical, intent(in) :: edge_cells
+    real(dp), intent(out) :: wv(n), ca(n), kd(n), ps(n), dmax
+    real(dp) :: t, d, q
+    integer :: i
+    wv = w
+    if (edge_cells) then
+      wv(2) = wv(2) + 0.5_dp * w
+      wv(n - 1) = wv(n - 1) + 0.5_dp * w
+    end if
+    ca(1:n - 1) = a * hmid
+    kd(1:n - 1) = kmid / dx
+    ca(n) = 0.0_dp
+    kd(n) = 0.0_dp
+    ! pressure per unit v on the full side: the ratio of a node's fill and pressure diagonals,
+    ! so that both sides of the kink weigh alike; and the largest of either diagonal
+    ps(1) = 1.0_dp
+    ps(n) = 1.0_dp
+    dmax = 0.0_dp
+    do i = 2, n - 1
+      t = wv(i) * h(i) + abs(ca(i)) + abs(ca(i - 1))
+      d = kd(i - 1) + kd(i)
+      q = 1.0_dp
+      if (t > 0.0_dp .and. d > 0.0_dp) q = t / d
+      ps(i) = q
+      dmax = max(dmax, t, d * q)
+    end do
+  end subroutine setup_nodes
 
   !> The residual res of the interior finite volumes at the state x and the scale of its
   !> terms; in ev the node states pn, tn, the face fluxes fl and their derivatives, and with jac
@@ -1054,13 +1066,25 @@ contains
   !> carrying the cap (a constant).
   pure subroutine jfo_gauss_seidel(sys, x, nsw, nsweep)
     type(jfo_system), intent(in) :: sys
-    real(dp), intent(inout) :: x(:)
+    real(dp), intent(inout), contiguous :: x(:)
     integer, intent(in) :: nsw
+    integer, intent(inout) :: nsweep
+    call gauss_seidel_nodes(sys, sys%n, sys%ca, sys%kd, sys%ps, sys%pc, sys%wv, sys%h, &
+                            sys%content_old, x, nsw, nsweep)
+  end subroutine jfo_gauss_seidel
+
+  !> jfo_gauss_seidel's sweeps on explicit-shape arrays (contiguous, indexed without the
+  !> components' descriptors), a node's update on its own and its left face's terms.
+  pure subroutine gauss_seidel_nodes(sys, n, ca, kd, ps, pc, wv, h, content_old, x, nsw, nsweep)
+    type(jfo_system), intent(in) :: sys
+    integer, intent(in) :: n, nsw
+    real(dp), intent(in) :: ca(n), kd(n), ps(n), pc(n), wv(n), h(n), content_old(n)
+    real(dp), intent(inout) :: x(n)
     integer, intent(inout) :: nsweep
     integer :: s, k, j, j0, j1, step
     real(dp) :: pl, pr, tl, tr
     logical :: capl, capr, again
-    associate (n => sys%n, a => sys%a, p_left => sys%p_left, p_right => sys%p_right, &
+    associate (a => sys%a, p_left => sys%p_left, p_right => sys%p_right, &
                theta_left => sys%theta_left, theta_right => sys%theta_right, qcl => sys%qcl, &
                qcr => sys%qcr)
       if (a >= 0.0_dp) then
@@ -1072,14 +1096,14 @@ contains
         nsweep = nsweep + 1
         do k = j0, j1, step
           j = k
-          pl = node_p(sys, j - 1, x(j - 1))
-          tl = node_t(x(j - 1))
+          pl = pc(j - 1) + ps(j - 1) * max(x(j - 1), 0.0_dp)
+          tl = 1.0_dp + min(x(j - 1), 0.0_dp)
           if (j == 2) then
             pl = p_left
             tl = theta_left
           end if
-          pr = node_p(sys, j + 1, x(j + 1))
-          tr = node_t(x(j + 1))
+          pr = pc(j + 1) + ps(j + 1) * max(x(j + 1), 0.0_dp)
+          tr = 1.0_dp + min(x(j + 1), 0.0_dp)
           if (j == n - 1) then
             pr = p_right
             tr = theta_right
@@ -1087,7 +1111,8 @@ contains
           capl = .false.
           capr = .false.
           do
-            call node_update(sys, j, pl, pr, tl, tr, capl, capr, x(j))
+            call node_update(a, qcl, qcr, ca(j - 1), ca(j), kd(j - 1), kd(j), pc(j), ps(j), &
+                             wv(j), h(j), content_old(j), pl, pr, tl, tr, capl, capr, x(j))
             again = .false.
             if (j == 2 .and. .not. capl) then
               if (face_flux(sys, 1, pl, node_p(sys, j, x(j)), tl, node_t(x(j))) > qcl) capl = .true.
@@ -1102,7 +1127,7 @@ contains
         end do
       end do
     end associate
-  end subroutine jfo_gauss_seidel
+  end subroutine gauss_seidel_nodes
 
   !> Pressure and fill of node j at the universal variable xj (p = pc + ps max(v, 0),
   !> theta = 1 + min(v, 0)).
@@ -1138,60 +1163,59 @@ contains
   end function face_flux
 
   !> Node j's own equation with its neighbours (pl, tl), (pr, tr) fixed; with capl (capr)
-  !> the left (right) face carries the constant inflow qcl (qcr).
-  pure subroutine node_update(sys, j, pl, pr, tl, tr, capl, capr, xj)
-    type(jfo_system), intent(in) :: sys
-    integer, intent(in) :: j
+  !> the left (right) face carries the constant inflow qcl (qcr). The system's terms of node j
+  !> and of its faces: cal, car = ca(j-1), car; kdl, kdr = kd(j-1), kdr; pcj, psj, wvj, hj,
+  !> coj = pc, ps, wv, h, content_old at j.
+  pure subroutine node_update(a, qcl, qcr, cal, car, kdl, kdr, pcj, psj, wvj, hj, coj, pl, pr, &
+                              tl, tr, capl, capr, xj)
+    real(dp), intent(in) :: a, qcl, qcr, cal, car, kdl, kdr, pcj, psj, wvj, hj, coj
     real(dp), intent(in) :: pl, pr, tl, tr
     logical, intent(in) :: capl, capr
     real(dp), intent(out) :: xj
     real(dp) :: r0, dpr, dth, gl, gr, cl, cr, pj, rj, fl0, fr0
     integer :: q
-    associate (a => sys%a, w => sys%w, wv => sys%wv, ca => sys%ca, kd => sys%kd, ps => sys%ps, pc => sys%pc, h => sys%h, &
-               content_old => sys%content_old, qcl => sys%qcl, qcr => sys%qcr)
-      ! fluxes with p(j) = pc(j), theta(j) = 1 (v = 0): F(j) - F(j-1)
-      gl = kd(j - 1) * (pc(j) - pl)
-      gr = kd(j) * (pr - pc(j))
-      cl = ca(j - 1) * tl
-      cr = ca(j) * tr
-      if (a > 0.0_dp) cr = ca(j)
-      if (a < 0.0_dp) cl = ca(j - 1)
-      fr0 = cr - gr * merge(1.0_dp, tr, gr <= 0.0_dp)
-      fl0 = cl - gl * merge(tl, 1.0_dp, gl <= 0.0_dp)
-      if (capl) fl0 = qcl
-      if (capr) fr0 = -qcr
-      r0 = wv(j) * (h(j) - content_old(j)) + fr0 - fl0
-      if (r0 < 0.0_dp) then
-        ! full film, p(j) > pc(j): R(p) is piecewise linear, increasing and convex in p
-        ! (the pressure-driven content switches to theta = 1 once p(j) passes a neighbour),
-        ! so Newton from p = pc reaches its root without overshoot in at most 3 steps
-        pj = pc(j)
-        rj = r0
-        do q = 1, 4
-          dpr = 0.0_dp
-          if (.not. capr) dpr = dpr + kd(j) * merge(tr, 1.0_dp, pr > pj)
-          if (.not. capl) dpr = dpr + kd(j - 1) * merge(tl, 1.0_dp, pl > pj)
-          if (.not. dpr > 0.0_dp) exit
-          pj = pj - rj / dpr
-          fr0 = cr - kd(j) * (pr - pj) * merge(tr, 1.0_dp, pr > pj)
-          fl0 = cl - kd(j - 1) * (pj - pl) * merge(tl, 1.0_dp, pl > pj)
-          if (capl) fl0 = qcl
-          if (capr) fr0 = -qcr
-          rj = wv(j) * (h(j) - content_old(j)) + fr0 - fl0
-          if (rj >= 0.0_dp) exit
-        end do
-        xj = (pj - pc(j)) / ps(j)
+    ! fluxes with p(j) = pc(j), theta(j) = 1 (v = 0): F(j) - F(j-1)
+    gl = kdl * (pcj - pl)
+    gr = kdr * (pr - pcj)
+    cl = cal * tl
+    cr = car * tr
+    if (a > 0.0_dp) cr = car
+    if (a < 0.0_dp) cl = cal
+    fr0 = cr - gr * merge(1.0_dp, tr, gr <= 0.0_dp)
+    fl0 = cl - gl * merge(tl, 1.0_dp, gl <= 0.0_dp)
+    if (capl) fl0 = qcl
+    if (capr) fr0 = -qcr
+    r0 = wvj * (hj - coj) + fr0 - fl0
+    if (r0 < 0.0_dp) then
+      ! full film, p(j) > pc(j): R(p) is piecewise linear, increasing and convex in p
+      ! (the pressure-driven content switches to theta = 1 once p(j) passes a neighbour),
+      ! so Newton from p = pc reaches its root without overshoot in at most 3 steps
+      pj = pcj
+      rj = r0
+      do q = 1, 4
+        dpr = 0.0_dp
+        if (.not. capr) dpr = dpr + kdr * merge(tr, 1.0_dp, pr > pj)
+        if (.not. capl) dpr = dpr + kdl * merge(tl, 1.0_dp, pl > pj)
+        if (.not. dpr > 0.0_dp) exit
+        pj = pj - rj / dpr
+        fr0 = cr - kdr * (pr - pj) * merge(tr, 1.0_dp, pr > pj)
+        fl0 = cl - kdl * (pj - pl) * merge(tl, 1.0_dp, pl > pj)
+        if (capl) fl0 = qcl
+        if (capr) fr0 = -qcr
+        rj = wvj * (hj - coj) + fr0 - fl0
+        if (rj >= 0.0_dp) exit
+      end do
+      xj = (pj - pcj) / psj
+    else
+      ! cavity: theta(j) from the balance at p(j) = pc(j)
+      dth = wvj * hj
+      if (.not. capr) dth = dth + max(car, 0.0_dp) - min(gr, 0.0_dp)
+      if (.not. capl) dth = dth - min(cal, 0.0_dp) + max(gl, 0.0_dp)
+      if (dth > 0.0_dp) then
+        xj = -r0 / dth
       else
-        ! cavity: theta(j) from the balance at p(j) = pc(j)
-        dth = wv(j) * h(j)
-        if (.not. capr) dth = dth + max(ca(j), 0.0_dp) - min(gr, 0.0_dp)
-        if (.not. capl) dth = dth - min(ca(j - 1), 0.0_dp) + max(gl, 0.0_dp)
-        if (dth > 0.0_dp) then
-          xj = -r0 / dth
-        else
-          xj = 0.0_dp
-        end if
+        xj = 0.0_dp
       end if
-    end associate
+    end if
   end subroutine node_update
 end module ringlube_jfo_system

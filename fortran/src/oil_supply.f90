@@ -15,7 +15,7 @@ module ringlube_oil_supply
   implicit none
   private
   public :: supply_balance_error
-  public :: supply_type, supply_setup, supply_edges, inlet_fill, supply_step, &
+  public :: supply_type, supply_setup, supply_edges, inlet_fill, supply_step, supply_turn, &
             supply_reset_counters, supply_stored, supply_to_chamber
 
   !> State and counters of the oil supply (volumes per unit circumference, m^2).
@@ -164,6 +164,19 @@ contains
       end if
     end if
   end subroutine supply_reverse
+
+  !> The liner's change at a reversal (supply_reverse) of a step from s_prev in direction dir,
+  !> taken before the step: the direction becomes dir, so that supply_edges reads the changed
+  !> liner itself instead of a copy and supply_step finds nothing left to reverse. Nothing
+  !> without a reversal.
+  pure subroutine supply_turn(sup, s_prev, dir)
+    type(supply_type), intent(inout) :: sup
+    real(dp), intent(in) :: s_prev
+    integer, intent(in) :: dir
+    if (.not. supply_reverses(sup, dir)) return
+    call supply_reverse(sup, s_prev, dir)
+    sup%direction = dir
+  end subroutine supply_turn
 
   !> The exchanges of one crank step from s_prev to s with sliding direction dir (sign of U;
   !> 0 at a dead centre): `v_in` oil entered the gap through the leading edge (negative:

@@ -17,7 +17,7 @@ add_library(ringlube_check STATIC ${CMAKE_CURRENT_LIST_DIR}/check.f90
   ${CMAKE_CURRENT_LIST_DIR}/squeeze_exact.f90)
 target_link_libraries(ringlube_check PUBLIC ringlube_kernel)
 
-foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner jfo jfo_connect jfo_coarse
+foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner oil_supply jfo jfo_connect jfo_coarse
     time_order
     mixed_share film_viscosity film_edges film_time results ring_pack ring_pack_cycle periodicity bore)
   set(src ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
