@@ -56,6 +56,9 @@ module ringlube_sectors
   real(dp), parameter :: max_jump = 0.25_dp
   !> largest change of a sector's ln h0 per Newton step
   real(dp), parameter :: max_dlog = 0.5_dp
+  !> Newton iterations at most of the lift-off margin's second attempt at the ceiling
+  !> (ring_ceiling: with the films' secants of either sign)
+  integer, parameter :: ceiling_signed_iterations = 12
 
   !> The sectors' films and what the next trial and step start from.
   type :: sector_ring
@@ -109,6 +112,11 @@ module ringlube_sectors
     !> (the outer root finder's slope; 0: not known)
     logical :: free = .false.
     real(dp) :: cc_floor = 0.0_dp, cc_ceiling = 0.0_dp, dres_dlnc = 0.0_dp
+    !> Newton iterations at most (0: max_inner, or max_free with free); signed_slopes: each
+    !> sector's slope is the secant of its film's load over the last step whatever its sign
+    !> (ring_ceiling's second attempt); else only a falling secant is kept (update_slopes)
+    integer :: max_iterations = 0
+    logical :: signed_slopes = .false.
   end type sector_trial
 
   !> The team of a crank step's parallel region (ringlube_cycle_state, advance_ring): thread 0
@@ -368,6 +376,7 @@ contains
     call solve_films(c, ring, tr)
     call residuals(c, ring, tr, nw%r, nw%merit, done)
     max_it = max_inner
+    if (tr%max_iterations > 0) max_it = tr%max_iterations
     if (tr%free) max_it = max_free
     do it = 1, max_it
       if (done) exit
@@ -500,31 +509,54 @@ contains
   !> from the step's sectors, two orders of magnitude below it, Newton's method took 4-5 film
   !> solves per sector and, where the sectors' loads at the ceiling differ by half the mean
   !> load (the starved decks' intake stroke), up to its 40 iterations.
+  !>
+  !> At the ceiling a flooded film's load can rise with its h0 (the face's pressure, not the
+  !> wedge, carries it: d ln W / d ln h0 about +0.01 on the shipped 4000 r/min deck's flooded
+  !> film), where the balance's Newton keeps only falling secants (update_slopes): there its
+  !> steps move the centre the wrong way and crawl, without converging in its 40 iterations,
+  !> towards another root where the ring has slid sideways by the whole clearance (a sector
+  !> at a few um from the liner, the opposite ones at twice the groove's clearance), reached
+  !> at steps decided by the tolerance and round-off. So where that solve misses, a second
+  !> starts from the same state with each film's secant of either sign (at most
+  !> ceiling_signed_iterations) and converges to the root continued from the last solve;
+  !> where it misses too (a starved film's secants are noisier than its load's change), the
+  !> first attempt's result stands, as before.
   subroutine ring_ceiling(c, ring, g, tr)
     type(case_type), intent(in) :: c
     type(sector_ring), intent(inout) :: ring
     type(film_type), intent(inout) :: g
     type(sector_trial), intent(inout) :: tr
     type(sector_ring), target :: rc
+    type(sector_ring) :: first
+    type(film_type) :: g_first
     type(film_type), allocatable :: films(:)
-    integer :: m
+    integer :: m, missed, solves
     m = ring%bore%m
     ! (the films copied sector by sector, each by the thread that owns the sector in a team)
     call move_alloc(ring%films, films)
     rc = ring
     call move_alloc(films, ring%films)
     allocate (rc%films(m))
-    if (ring%ceil_c > 0.0_dp) then
-      rc%c_last = ring%ceil_c
-      rc%xc = ring%ceil_xc
-      rc%yc = ring%ceil_yc
-      rc%h = ring%ceil_h
-      rc%w = ring%ceil_w
-      rc%slope = ring%ceil_slope
-      rc%fresh = .false.
-    end if
-    call sectors_job(c, ring, rc, job_ceiling_in)
+    call ceiling_start(c, ring, rc)
+    missed = rc%missed
+    tr%max_iterations = max_inner
+    tr%signed_slopes = .false.
     call ring_evaluate(c, rc, g, tr)
+    if (rc%missed > missed) then
+      ! (the first attempt is kept for where the second misses as well)
+      first = rc
+      g_first = g
+      call ceiling_start(c, ring, rc)
+      tr%max_iterations = ceiling_signed_iterations
+      tr%signed_slopes = .true.
+      call ring_evaluate(c, rc, g, tr)
+      if (rc%missed > missed + 1) then
+        solves = g%film_solves
+        rc = first
+        g = g_first
+        g%film_solves = solves
+      end if
+    end if
     ring%ceil_c = rc%c_last
     ring%ceil_xc = rc%xc
     ring%ceil_yc = rc%yc
@@ -538,6 +570,31 @@ contains
     end if
     call sectors_job(c, ring, rc, job_ceiling_out)
   end subroutine ring_ceiling
+
+  !> The start of ring_ceiling's solve on the copy rc of ring: the last solve at the ceiling
+  !> (if any; else the ring's own last evaluation), and the films' iterates there.
+  subroutine ceiling_start(c, ring, rc)
+    type(case_type), intent(in) :: c
+    type(sector_ring), intent(inout) :: ring, rc
+    if (ring%ceil_c > 0.0_dp) then
+      rc%c_last = ring%ceil_c
+      rc%xc = ring%ceil_xc
+      rc%yc = ring%ceil_yc
+      rc%h = ring%ceil_h
+      rc%w = ring%ceil_w
+      rc%slope = ring%ceil_slope
+      rc%fresh = .false.
+    else
+      rc%c_last = ring%c_last
+      rc%xc = ring%xc
+      rc%yc = ring%yc
+      rc%h = ring%h
+      rc%w = ring%w
+      rc%slope = ring%slope
+      rc%fresh = ring%fresh
+    end if
+    call sectors_job(c, ring, rc, job_ceiling_in)
+  end subroutine ceiling_start
 
   !> Every sector's film at its h0 (its own squeeze term), the loads W_j and the deflection:
   !> in a crank step's team a job for it (thread 0's call), else a parallel loop.
@@ -560,7 +617,11 @@ contains
     ring%w = (ring%films%wh + ring%films%wa) / tr%circ
     call deflection(ring)
     ! a first slope: the hydrodynamic film's W ~ 1/h0^2 (the secants refine it)
-    where (ring%slope >= 0.0_dp) ring%slope = -2.0_dp * max(ring%w, tr%q) / ring%h
+    if (tr%signed_slopes) then
+      where (ring%slope == 0.0_dp) ring%slope = -2.0_dp * max(ring%w, tr%q) / ring%h
+    else
+      where (ring%slope >= 0.0_dp) ring%slope = -2.0_dp * max(ring%w, tr%q) / ring%h
+    end if
   end subroutine solve_films
 
   !> A pass of `job` over the sectors of ring (job_films: its films at team_tr; the ceiling's
@@ -1026,6 +1087,13 @@ contains
     integer :: j
     do j = 1, ring%bore%m
       if (ring%h(j) == nw%h_old(j)) cycle
+      if (tr%signed_slopes) then
+        ! (the secant as it is, however small the change: at the ceiling a sector's load
+        ! changes by far less than its film's tolerance over a step)
+        if (ring%w(j) /= nw%w_old(j)) &
+          ring%slope(j) = (ring%w(j) - nw%w_old(j)) / (ring%h(j) - nw%h_old(j))
+        cycle
+      end if
       if (abs(ring%w(j) - nw%w_old(j)) > tr%w_tol / tr%circ) then
         if ((ring%w(j) - nw%w_old(j)) / (ring%h(j) - nw%h_old(j)) < 0.0_dp) &
           ring%slope(j) = (ring%w(j) - nw%w_old(j)) / (ring%h(j) - nw%h_old(j))
