@@ -41,6 +41,7 @@ module ringlube_sectors
             exact_mean, ring_loads, ring_ceiling, ring_coupled, free_mean_position
   public :: team_begin, team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
             team_join, team_sectors, job_caller, job_none, team_spin, team_busy_check, team_wanted
+  public :: n_phases, phase_solves, phase_calls, solve_failures
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
@@ -59,6 +60,17 @@ module ringlube_sectors
   !> Newton iterations at most of the lift-off margin's second attempt at the ceiling
   !> (ring_ceiling: with the films' secants of either sign)
   integer, parameter :: ceiling_signed_iterations = 12
+
+  !> Benchmark counters (tests/bench/bench_kernel prints them; not results), summed over the
+  !> process's runs until the caller sets them to 0: the sectors' film solves and the calls of
+  !> each phase of a distorted bore's crank steps: 1 ring_solve accepted, 2 ring_solve not
+  !> accepted (the root finder then takes the step), 3 the root finder's trials
+  !> (ring_evaluate), 4 the lift-off margin's solves at the ceiling (ring_ceiling); and
+  !> ring_solve's refusals by their first reason: 1 not converged (max_free iterations, a line
+  !> search without descent, a singular Jacobian), 2 the mean position at a bound, 3 a sector
+  !> moved by more than max_jump, 4 a light sector. (Only the thread that runs a step counts.)
+  integer, parameter :: n_phases = 4
+  integer, save :: phase_solves(n_phases) = 0, phase_calls(n_phases) = 0, solve_failures(4) = 0
 
   !> The sectors' films and what the next trial and step start from.
   type :: sector_ring
@@ -256,7 +268,14 @@ contains
     type(film_type), intent(inout) :: g
     type(sector_trial), intent(inout) :: tr
     logical :: done
+    integer :: nfs
+    nfs = sum(ring%films%film_solves)
     call newton_solve(c, ring, g, tr, done)
+    if (.not. tr%signed_slopes .and. tr%max_iterations == 0) then
+      ! (the root finder's trial; ring_ceiling counts its own)
+      phase_calls(3) = phase_calls(3) + 1
+      phase_solves(3) = phase_solves(3) + sum(ring%films%film_solves) - nfs
+    end if
   end subroutine ring_evaluate
 
   !> Solve the sectors and the mean position together: the equations of ring_evaluate and the
@@ -275,15 +294,34 @@ contains
     type(film_type), intent(inout) :: g
     type(sector_trial), intent(inout) :: tr
     logical, intent(out) :: ok
+    integer :: nfs, reason, phase
+    nfs = sum(ring%films%film_solves)
     call save_state(ring)
     tr%free = .true.
     tr%dres_dlnc = 0.0_dp
     call newton_solve(c, ring, g, tr, ok)
-    ok = ok .and. tr%cc > tr%cc_floor .and. tr%cc < tr%cc_ceiling
-    if (ok .and. ring%steps >= 1) ok = maxval(abs(log(ring%h / ring%hist(1, :)))) <= max_jump &
-                                       .and. minval(ring%w) > light_share * exact_mean(ring%w)
+    reason = 0
+    if (.not. ok) then
+      reason = 1
+    else if (tr%cc <= tr%cc_floor .or. tr%cc >= tr%cc_ceiling) then
+      reason = 2
+    else if (ring%steps >= 1) then
+      if (maxval(abs(log(ring%h / ring%hist(1, :)))) > max_jump) then
+        reason = 3
+      else if (minval(ring%w) <= light_share * exact_mean(ring%w)) then
+        reason = 4
+      end if
+    end if
+    ok = reason == 0
     tr%free = .false.
     if (.not. ok) call restore_state(ring)
+    phase = 1
+    if (.not. ok) then
+      phase = 2
+      solve_failures(reason) = solve_failures(reason) + 1
+    end if
+    phase_calls(phase) = phase_calls(phase) + 1
+    phase_solves(phase) = phase_solves(phase) + sum(ring%films%film_solves) - nfs
   end subroutine ring_solve
 
   !> Keep what ring_solve changes (the sectors' state and their films' iterates).
@@ -530,7 +568,7 @@ contains
     type(sector_ring) :: first
     type(film_type) :: g_first
     type(film_type), allocatable :: films(:)
-    integer :: m, missed, solves
+    integer :: m, missed, nfs, solves
     m = ring%bore%m
     ! (the films copied sector by sector, each by the thread that owns the sector in a team)
     call move_alloc(ring%films, films)
@@ -541,7 +579,9 @@ contains
     missed = rc%missed
     tr%max_iterations = max_inner
     tr%signed_slopes = .false.
+    nfs = sum(rc%films%film_solves)
     call ring_evaluate(c, rc, g, tr)
+    phase_solves(4) = phase_solves(4) + sum(rc%films%film_solves) - nfs
     if (rc%missed > missed) then
       ! (the first attempt is kept for where the second misses as well)
       first = rc
@@ -549,7 +589,9 @@ contains
       call ceiling_start(c, ring, rc)
       tr%max_iterations = ceiling_signed_iterations
       tr%signed_slopes = .true.
+      nfs = sum(rc%films%film_solves)
       call ring_evaluate(c, rc, g, tr)
+      phase_solves(4) = phase_solves(4) + sum(rc%films%film_solves) - nfs
       if (rc%missed > missed + 1) then
         solves = g%film_solves
         rc = first
@@ -557,6 +599,7 @@ contains
         g%film_solves = solves
       end if
     end if
+    phase_calls(4) = phase_calls(4) + 1
     ring%ceil_c = rc%c_last
     ring%ceil_xc = rc%xc
     ring%ceil_yc = rc%yc

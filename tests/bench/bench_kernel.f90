@@ -6,7 +6,10 @@
 !> times (default 5) and prints one line of key=value pairs: the best kernel time per run
 !> and per computed cycle (CPU time of the process), the energy loss, mixed share, film solves and Reynolds
 !> (Thomas) solves per run, the number of crank steps computed, and the film solves of the
-!> reported cycle for the lift-off margin (not in film_solves).
+!> reported cycle for the lift-off margin (not in film_solves). With a distorted bore a last
+!> line gives the sectors' film solves of the last run by phase of its crank steps (all its
+!> cycles; ringlube_sectors' phase counters): ring_solve accepted, refused, the root finder's
+!> trials and the lift-off margin's solves, their calls, and ring_solve's refusals by reason.
 !>
 !>   bench_kernel --micro [NODES]
 !>
@@ -28,6 +31,7 @@ program bench_kernel
   use ringlube_film, only: film_type, film_setup, film_evaluate
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_textio, only: read_text_file, itoa
+  use ringlube_sectors, only: phase_solves, phase_calls, solve_failures
   use, intrinsic :: iso_fortran_env, only: output_unit
   implicit none
   character(len=4096) :: arg
@@ -89,6 +93,9 @@ contains
     call load(path, ovr, c)
     best = huge(1.0_dp)
     do i = 1, nrep
+      phase_solves = 0
+      phase_calls = 0
+      solve_failures = 0
       t0 = now()
       call solve_cycle(c, res, err)
       best = min(best, now() - t0)
@@ -108,6 +115,10 @@ contains
         'steps of the reported cycle with 1, 2, 3, >= 4 film solves:', &
         count(film_solves == 1), count(film_solves == 2), count(film_solves == 3), &
         count(film_solves >= 4)
+      if (sum(phase_calls) > 0) write (output_unit, '(a, 4(1x, i0), a, 4(1x, i0), a, 4(1x, i0))') &
+        'sector film solves by phase (ring_solve accepted, refused, root finder, margin):', &
+        phase_solves, ' calls:', phase_calls, &
+        ' refusals (not converged, bound, jump, light):', solve_failures
     end associate
   end subroutine whole_run
 

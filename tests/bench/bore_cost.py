@@ -37,6 +37,13 @@ the centre's force over load_tol q M / 2; the load balance over load_tol (docs/b
 "Solution"), the largest of the three, over all those steps and over the steps at which the
 runs lie apart.
 
+`--phases` instead: where a distorted bore's film solves go, per sector-step of every cycle computed
+(`build/bench_kernel`'s phase line, one run of each shipped distorted deck with each film model):
+the crank steps whose mean position `ring_solve` solved with the sectors (accepted), its attempts
+that were refused (the sectors restored: the film solves wasted) and the root finder's trials that
+then take those steps, and the lift-off margin's solves at the ceiling; with the steps and
+`ring_solve`'s refusals by reason (not converged, at a bound, a sector's jump, a light sector).
+
 `--moves BASE/build/ringlube-solve` instead: how far a kernel change that is not
 bit-identical moves a distorted bore's answers (the shipped distorted decks as shipped and
 identical.py's `distorted_starved` variant, this build against BASE): energy, blowby, face
@@ -52,6 +59,7 @@ the cost table alone 35 s at a load of 2-4):
     .venv/bin/python tests/bench/bore_cost.py --threads-only   # at a quiet moment
     .venv/bin/python tests/bench/bore_cost.py --threads-only --solve OTHER/build/ringlube-solve
     .venv/bin/python tests/bench/bore_cost.py --moves BASE/build/ringlube-solve   # 30 s
+    .venv/bin/python tests/bench/bore_cost.py --phases   # 20 s
     .venv/bin/python tests/bench/bore_cost.py --branches BASE/build/ringlube-solve   # 3 min
     OMP_WAIT_POLICY=ACTIVE .venv/bin/python tests/bench/bore_cost.py --threads-only
     GOMP_SPINCOUNT=20000 .venv/bin/python tests/bench/bore_cost.py --threads-only
@@ -124,6 +132,40 @@ def cost_table() -> None:
             row = f"| {label} | {model} | {per_r:.2f} | {per_d:.2f} | {per_d / per_r:.2f}"
             solves = f"{fs_d:.2f} + {ms_d:.2f} / {fs_r:.2f} + {ms_r:.2f}"
             print(f"{row} | {solves} | {os.getloadavg()[0]:.1f} |", flush=True)
+
+
+def phase_table() -> None:
+    """Film solves per sector-step of every cycle computed, by phase (bench_kernel, one run)."""
+    print(
+        "| deck | film | steps | accepted: steps, solves per sector-step | refused: steps, wasted"
+        " | root finder: trials, solves per sector-step | margin | all | refusals: not converged,"
+        " bound, jump, light |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    for label, name in DECKS:
+        deck = ROOT / "inputs" / name
+        for model, phys, _ in MODELS:
+            out = subprocess.run(
+                [str(BENCH), str(deck), f"{READ_IN_N} &physics {phys} /", "1"],
+                capture_output=True,
+                text=True,
+                check=True,
+            ).stdout
+            vals = {k: float(v) for k, v in re.findall(r"(\w+)=\s*([-+0-9.eE]+)", out)}
+            line = out.split("by phase")[1]
+            solves, calls, refusals = (
+                [int(x) for x in part.split(":")[1].split()]
+                for part in re.split(r"(?= calls:| refusals)", line)
+            )
+            steps = round(vals["steps"] * vals["cycles_computed"])
+            m = 24
+            per = [x / (steps * m) for x in solves]
+            print(
+                f"| {label} | {model} | {steps} | {calls[0]}, {per[0]:.2f} | {calls[1]}, {per[1]:.2f}"
+                f" | {calls[2]}, {per[2]:.2f} | {per[3]:.2f} | {sum(per):.2f} |"
+                f" {', '.join(str(x) for x in refusals)} |",
+                flush=True,
+            )
 
 
 def solve(deck: Path, extra: str, folder: Path) -> tuple[float, float, dict]:
@@ -365,9 +407,13 @@ if __name__ == "__main__":
     parser.add_argument("--moves", type=Path, help="the answers' moves against this ringlube-solve")
     parser.add_argument("--threads-only", action="store_true", help="the speed-up table alone")
     parser.add_argument("--branches", type=Path, help="the branch choice against this ringlube-solve")
+    parser.add_argument("--phases", action="store_true", help="the film solves by phase alone")
     args = parser.parse_args()
     BENCH = args.bench
     SOLVE = args.solve
+    if args.phases:
+        phase_table()
+        raise SystemExit(0)
     if args.branches:
         with tempfile.TemporaryDirectory(prefix="ringlube_bore_") as tmp:
             copy_inputs(Path(tmp))
