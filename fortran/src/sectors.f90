@@ -41,7 +41,7 @@ module ringlube_sectors
             exact_mean, ring_loads, ring_ceiling, ring_coupled, free_mean_position
   public :: team_begin, team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
             team_join, team_sectors, job_caller, job_none, team_spin, team_busy_check, team_wanted
-  public :: n_phases, phase_solves, phase_calls, solve_failures
+  public :: n_phases, phase_solves, phase_calls, solve_failures, accept_jumps
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
@@ -55,6 +55,10 @@ module ringlube_sectors
   real(dp), parameter :: light_share = 0.25_dp
   !> ring_solve's answer only where no sector's h0 moved by more than this in ln from the last step
   real(dp), parameter :: max_jump = 0.25_dp
+  !> .true.: ring_solve accepts an answer that moves a sector by more than max_jump (a switch
+  !> for benchmarks, off: tests/bench/bench_kernel with RINGLUBE_ACCEPT_JUMPS=1; the answers
+  !> move)
+  logical, save :: accept_jumps = .false.
   !> largest change of a sector's ln h0 per Newton step
   real(dp), parameter :: max_dlog = 0.5_dp
   !> Newton iterations at most of the lift-off margin's second attempt at the ceiling
@@ -306,7 +310,7 @@ contains
     else if (tr%cc <= tr%cc_floor .or. tr%cc >= tr%cc_ceiling) then
       reason = 2
     else if (ring%steps >= 1) then
-      if (maxval(abs(log(ring%h / ring%hist(1, :)))) > max_jump) then
+      if (maxval(abs(log(ring%h / ring%hist(1, :)))) > max_jump .and. .not. accept_jumps) then
         reason = 3
       else if (minval(ring%w) <= light_share * exact_mean(ring%w)) then
         reason = 4

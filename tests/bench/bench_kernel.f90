@@ -10,6 +10,8 @@
 !> line gives the sectors' film solves of the last run by phase of its crank steps (all its
 !> cycles; ringlube_sectors' phase counters): ring_solve accepted, refused, the root finder's
 !> trials and the lift-off margin's solves, their calls, and ring_solve's refusals by reason.
+!> With RINGLUBE_ACCEPT_JUMPS=1 in the environment ring_solve accepts an answer that moves a
+!> sector by more than its limit (ringlube_sectors' accept_jumps: the answers move).
 !>
 !>   bench_kernel --micro [NODES]
 !>
@@ -31,7 +33,7 @@ program bench_kernel
   use ringlube_film, only: film_type, film_setup, film_evaluate
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_textio, only: read_text_file, itoa
-  use ringlube_sectors, only: phase_solves, phase_calls, solve_failures
+  use ringlube_sectors, only: phase_solves, phase_calls, solve_failures, accept_jumps
   use, intrinsic :: iso_fortran_env, only: output_unit
   implicit none
   character(len=4096) :: arg
@@ -90,7 +92,10 @@ contains
     type(error_type), allocatable :: err
     real(dp) :: t0, best
     integer :: i
+    character(len=8) :: env
     call load(path, ovr, c)
+    call get_environment_variable('RINGLUBE_ACCEPT_JUMPS', env)
+    accept_jumps = trim(env) == '1'
     best = huge(1.0_dp)
     do i = 1, nrep
       phase_solves = 0

@@ -43,6 +43,9 @@ the crank steps whose mean position `ring_solve` solved with the sectors (accept
 that were refused (the sectors restored: the film solves wasted) and the root finder's trials that
 then take those steps, and the lift-off margin's solves at the ceiling; with the steps and
 `ring_solve`'s refusals by reason (not converged, at a bound, a sector's jump, a light sector).
+`--phases --accept-jumps`: the same with `ring_solve` accepting an answer that moves a sector by
+more than its limit (RINGLUBE_ACCEPT_JUMPS=1 for bench_kernel; the answers move), with the energy
+and the cycles computed of both.
 
 `--moves BASE/build/ringlube-solve` instead: how far a kernel change that is not
 bit-identical moves a distorted bore's answers (the shipped distorted decks as shipped and
@@ -60,6 +63,7 @@ the cost table alone 35 s at a load of 2-4):
     .venv/bin/python tests/bench/bore_cost.py --threads-only --solve OTHER/build/ringlube-solve
     .venv/bin/python tests/bench/bore_cost.py --moves BASE/build/ringlube-solve   # 30 s
     .venv/bin/python tests/bench/bore_cost.py --phases   # 20 s
+    .venv/bin/python tests/bench/bore_cost.py --phases --accept-jumps   # 40 s
     .venv/bin/python tests/bench/bore_cost.py --branches BASE/build/ringlube-solve   # 3 min
     OMP_WAIT_POLICY=ACTIVE .venv/bin/python tests/bench/bore_cost.py --threads-only
     GOMP_SPINCOUNT=20000 .venv/bin/python tests/bench/bore_cost.py --threads-only
@@ -134,38 +138,58 @@ def cost_table() -> None:
             print(f"{row} | {solves} | {os.getloadavg()[0]:.1f} |", flush=True)
 
 
-def phase_table() -> None:
-    """Film solves per sector-step of every cycle computed, by phase (bench_kernel, one run)."""
+def phase_run(deck: Path, phys: str, accept_jumps: bool = False) -> tuple[dict, list, list, list]:
+    """bench_kernel's values and its phase line (film solves, calls, refusals), one run."""
+    env = dict(os.environ, RINGLUBE_ACCEPT_JUMPS="1" if accept_jumps else "0")
+    out = subprocess.run(
+        [str(BENCH), str(deck), f"{READ_IN_N} &physics {phys} /", "1"],
+        capture_output=True,
+        text=True,
+        check=True,
+        env=env,
+    ).stdout
+    vals = {k: float(v) for k, v in re.findall(r"(\w+)=\s*([-+0-9.eE]+)", out)}
+    line = out.split("by phase")[1]
+    solves, calls, refusals = (
+        [int(x) for x in part.split(":")[1].split()] for part in re.split(r"(?= calls:| refusals)", line)
+    )
+    return vals, solves, calls, refusals
+
+
+def phase_table(accept_jumps: bool = False) -> None:
+    """Film solves per sector-step of every cycle computed, by phase (bench_kernel, one run);
+    with accept_jumps, of the run whose ring_solve accepts a sector's jump, with the energy, the
+    cycles computed and the film solves per sector-step of both runs."""
+    extra = ""
+    if accept_jumps:
+        extra = " | energy J: accepting / not | cycles computed | film solves per sector-step"
     print(
         "| deck | film | steps | accepted: steps, solves per sector-step | refused: steps, wasted"
         " | root finder: trials, solves per sector-step | margin | all | refusals: not converged,"
-        " bound, jump, light |"
+        f" bound, jump, light{extra} |"
     )
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|" + ("---|---|---|" if accept_jumps else ""))
     for label, name in DECKS:
         deck = ROOT / "inputs" / name
         for model, phys, _ in MODELS:
-            out = subprocess.run(
-                [str(BENCH), str(deck), f"{READ_IN_N} &physics {phys} /", "1"],
-                capture_output=True,
-                text=True,
-                check=True,
-            ).stdout
-            vals = {k: float(v) for k, v in re.findall(r"(\w+)=\s*([-+0-9.eE]+)", out)}
-            line = out.split("by phase")[1]
-            solves, calls, refusals = (
-                [int(x) for x in part.split(":")[1].split()]
-                for part in re.split(r"(?= calls:| refusals)", line)
-            )
+            vals, solves, calls, refusals = phase_run(deck, phys, accept_jumps)
             steps = round(vals["steps"] * vals["cycles_computed"])
             m = 24
             per = [x / (steps * m) for x in solves]
-            print(
+            row = (
                 f"| {label} | {model} | {steps} | {calls[0]}, {per[0]:.2f} | {calls[1]}, {per[1]:.2f}"
                 f" | {calls[2]}, {per[2]:.2f} | {per[3]:.2f} | {sum(per):.2f} |"
-                f" {', '.join(str(x) for x in refusals)} |",
-                flush=True,
+                f" {', '.join(str(x) for x in refusals)} |"
             )
+            if accept_jumps:
+                v0, s0, _, _ = phase_run(deck, phys)
+                steps0 = round(v0["steps"] * v0["cycles_computed"])
+                row += (
+                    f" {vals['energy']:.6f} / {v0['energy']:.6f} |"
+                    f" {vals['cycles_computed']:.2f} / {v0['cycles_computed']:.2f} |"
+                    f" {sum(per):.2f} / {sum(s0) / (steps0 * m):.2f} |"
+                )
+            print(row, flush=True)
 
 
 def solve(deck: Path, extra: str, folder: Path) -> tuple[float, float, dict]:
@@ -408,11 +432,14 @@ if __name__ == "__main__":
     parser.add_argument("--threads-only", action="store_true", help="the speed-up table alone")
     parser.add_argument("--branches", type=Path, help="the branch choice against this ringlube-solve")
     parser.add_argument("--phases", action="store_true", help="the film solves by phase alone")
+    parser.add_argument(
+        "--accept-jumps", action="store_true", help="with --phases: ring_solve accepting a sector's jump"
+    )
     args = parser.parse_args()
     BENCH = args.bench
     SOLVE = args.solve
     if args.phases:
-        phase_table()
+        phase_table(args.accept_jumps)
         raise SystemExit(0)
     if args.branches:
         with tempfile.TemporaryDirectory(prefix="ringlube_bore_") as tmp:
