@@ -27,7 +27,7 @@ module ringlube_cycle_state
                               sec_load, flag_ceiling, s_film_temperature, m_trailing
   use ringlube_oil_supply, only: supply_type, supply_setup, supply_edges, supply_step, &
                                  supply_to_chamber, supply_turn
-  use ringlube_film, only: film_type, film_setup, film_friction, film_temperature
+  use ringlube_film, only: film_type, film_setup, film_friction, film_temperature, film_copy
   use ringlube_load_balance, only: step_context, load_problem, balance_memory, balance, &
                                    start_history
   use ringlube_sectors, only: sector_ring, ring_setup, ring_accept, exact_mean, team_begin, &
@@ -403,7 +403,7 @@ contains
     integer :: nfs, nrs
     nfs = f%film_solves
     nrs = f%reynolds_solves
-    f = saved
+    call film_copy(f, saved)
     f%film_solves = nfs
     f%reynolds_solves = nrs
   end subroutine take_film

@@ -11,12 +11,13 @@
 module ringlube_film
   use ringlube_kinds, only: dp
   use ringlube_case, only: case_type
-  use ringlube_film_state, only: film_type, film_setup, roelands_p_max, film_temperature
+  use ringlube_film_state, only: film_type, film_setup, roelands_p_max, film_temperature, film_copy
   use ringlube_film_reynolds, only: reynolds_evaluate
   use ringlube_film_jfo, only: jfo_evaluate
   implicit none
   private
-  public :: film_type, film_setup, film_evaluate, film_friction, roelands_p_max, film_temperature
+  public :: film_type, film_setup, film_evaluate, film_friction, roelands_p_max, film_temperature, &
+            film_copy
 
 contains
 

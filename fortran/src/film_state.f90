@@ -14,7 +14,12 @@ module ringlube_film_state
   implicit none
   private
   public :: film_type, film_setup, lower_edge_pressure, start_viscosity, conductance, &
-            update_viscosity, film_loads, film_temperature
+            update_viscosity, film_loads, film_temperature, film_copy
+
+  !> A copy of an allocatable array that keeps the destination's storage when the shapes match.
+  interface copy_array
+    module procedure copy_real, copy_logical
+  end interface copy_array
 
   !> Roelands is evaluated with the pressure clipped here [Pa]. Ring pressures are far
   !> lower; only trial films far below the load-balance root reach it, where an unclipped
@@ -151,6 +156,176 @@ contains
     f%pc = c%cavitation_pressure
     f%content_old = f%s   ! a full film at h0 = 0: the caller sets it at the first h0
   end subroutine film_setup
+
+  !> dst becomes a copy of src, every component (what the intrinsic assignment `dst = src`
+  !> makes), but each allocatable array of dst whose shape matches src's keeps its storage and
+  !> takes the values only: no allocation when dst already holds a film of the same nodes
+  !> (the lift-off margin's and the saved states' copies, made at every step). An array is
+  !> allocated anew where the shapes differ and deallocated where src's is not allocated.
+  !> A component added to film_type (or to the solvers' workspaces it holds) must be added
+  !> here; test_film_copy sets every component and compares.
+  pure subroutine film_copy(dst, src)
+    type(film_type), intent(inout) :: dst
+    type(film_type), intent(in) :: src
+    dst%n = src%n
+    dst%dx = src%dx
+    dst%circ = src%circ
+    dst%sigma = src%sigma
+    dst%eta_e = src%eta_e
+    dst%contact = src%contact
+    call copy_array(dst%x, src%x)
+    call copy_array(dst%s, src%s)
+    call copy_array(dst%smid, src%smid)
+    call copy_array(dst%h, src%h)
+    call copy_array(dst%hmid, src%hmid)
+    call copy_array(dst%p, src%p)
+    call copy_array(dst%eta, src%eta)
+    call copy_array(dst%kmid, src%kmid)
+    call copy_array(dst%etamid, src%etamid)
+    call copy_array(dst%active, src%active)
+    call copy_array(dst%work%a0, src%work%a0)
+    call copy_array(dst%work%b0, src%work%b0)
+    call copy_array(dst%work%c0, src%work%c0)
+    call copy_array(dst%work%r, src%work%r)
+    call copy_array(dst%work%cp, src%work%cp)
+    call copy_array(dst%pold, src%pold)
+    dst%lead_left = src%lead_left
+    dst%trailing_cavitated = src%trailing_cavitated
+    dst%law = src%law
+    dst%temperature = src%temperature
+    dst%h0 = src%h0
+    dst%wh = src%wh
+    dst%wa = src%wa
+    dst%aa = src%aa
+    dst%flags = src%flags
+    dst%film_solves = src%film_solves
+    dst%reynolds_solves = src%reynolds_solves
+    dst%jfo = src%jfo
+    call copy_array(dst%theta, src%theta)
+    call copy_array(dst%content_old, src%content_old)
+    call copy_array(dst%pc, src%pc)
+    call copy_system(dst%jfo_work, src%jfo_work)
+    call copy_scratch(dst%jfo_scratch, src%jfo_scratch)
+    dst%q_left = src%q_left
+    dst%q_right = src%q_right
+    dst%dt = src%dt
+    dst%q_face_left = src%q_face_left
+    dst%q_face_right = src%q_face_right
+    call copy_array(dst%content_prev, src%content_prev)
+    call copy_array(dst%content_key, src%content_key)
+    call copy_array(dst%content_end, src%content_end)
+    call copy_array(dst%content_hist, src%content_hist)
+    dst%u_key = src%u_key
+    dst%r_step = src%r_step
+    dst%hist_steps = src%hist_steps
+    dst%x_left = src%x_left
+    dst%x_right = src%x_right
+    dst%x_left_prev = src%x_left_prev
+    dst%x_right_prev = src%x_right_prev
+    dst%sign_prev = src%sign_prev
+    dst%held_prev = src%held_prev
+    dst%held_end = src%held_end
+    dst%blown = src%blown
+    dst%starved = src%starved
+    dst%available = src%available
+    dst%ds = src%ds
+    dst%theta_in = src%theta_in
+    dst%edge_cells = src%edge_cells
+    dst%front_content = src%front_content
+    dst%behind = src%behind
+    dst%cap_left = src%cap_left
+    dst%cap_right = src%cap_right
+    dst%p_back = src%p_back
+    dst%p_lower = src%p_lower
+    dst%gas_channel = src%gas_channel
+    dst%w_gas = src%w_gas
+    dst%face_open = src%face_open
+  end subroutine film_copy
+
+  !> film_copy's part for the JFO solve's system (ringlube_jfo_system's jfo_system).
+  pure subroutine copy_system(dst, src)
+    type(jfo_system), intent(inout) :: dst
+    type(jfo_system), intent(in) :: src
+    dst%n = src%n
+    dst%a = src%a
+    dst%w = src%w
+    dst%p_left = src%p_left
+    dst%p_right = src%p_right
+    dst%theta_left = src%theta_left
+    dst%theta_right = src%theta_right
+    dst%qcl = src%qcl
+    dst%qcr = src%qcr
+    call copy_array(dst%ca, src%ca)
+    call copy_array(dst%kd, src%kd)
+    call copy_array(dst%ps, src%ps)
+    call copy_array(dst%h, src%h)
+    call copy_array(dst%content_old, src%content_old)
+    call copy_array(dst%pc, src%pc)
+    call copy_array(dst%wv, src%wv)
+    dst%dmax = src%dmax
+    dst%edge_meniscus = src%edge_meniscus
+    dst%front_content = src%front_content
+    dst%edge_cells = src%edge_cells
+  end subroutine copy_system
+
+  !> film_copy's part for the JFO solve's working arrays (ringlube_jfo_system's jfo_scratch).
+  pure subroutine copy_scratch(dst, src)
+    type(jfo_scratch), intent(inout) :: dst
+    type(jfo_scratch), intent(in) :: src
+    call copy_array(dst%v, src%v)
+    call copy_array(dst%vt, src%vt)
+    call copy_array(dst%vpre, src%vpre)
+    call copy_array(dst%vbest, src%vbest)
+    call copy_array(dst%dv, src%dv)
+    call copy_array(dst%r, src%r)
+    call copy_array(dst%rt, src%rt)
+    call copy_array(dst%tw, src%tw)
+    call copy_array(dst%cp, src%cp)
+    call copy_array(dst%y, src%y)
+    call copy_array(dst%ev%pn, src%ev%pn)
+    call copy_array(dst%ev%tn, src%ev%tn)
+    call copy_array(dst%ev%fl, src%ev%fl)
+    call copy_array(dst%ev%dfpl, src%ev%dfpl)
+    call copy_array(dst%ev%dfpr, src%ev%dfpr)
+    call copy_array(dst%ev%dftl, src%ev%dftl)
+    call copy_array(dst%ev%dftr, src%ev%dftr)
+    call copy_array(dst%ev%jl, src%ev%jl)
+    call copy_array(dst%ev%jd, src%ev%jd)
+    call copy_array(dst%ev%ju, src%ev%ju)
+  end subroutine copy_scratch
+
+  !> a becomes a copy of b (bounds and values), in a's storage where the bounds match;
+  !> unallocated where b is.
+  pure subroutine copy_real(a, b)
+    real(dp), allocatable, intent(inout) :: a(:)
+    real(dp), allocatable, intent(in) :: b(:)
+    if (allocated(a)) then
+      if (.not. allocated(b)) then
+        deallocate (a)
+      else if (lbound(a, 1) /= lbound(b, 1) .or. ubound(a, 1) /= ubound(b, 1)) then
+        deallocate (a)
+      end if
+    end if
+    if (.not. allocated(b)) return
+    if (.not. allocated(a)) allocate (a(lbound(b, 1):ubound(b, 1)))
+    a(:) = b(:)
+  end subroutine copy_real
+
+  !> copy_real for a logical array.
+  pure subroutine copy_logical(a, b)
+    logical, allocatable, intent(inout) :: a(:)
+    logical, allocatable, intent(in) :: b(:)
+    if (allocated(a)) then
+      if (.not. allocated(b)) then
+        deallocate (a)
+      else if (lbound(a, 1) /= lbound(b, 1) .or. ubound(a, 1) /= ubound(b, 1)) then
+        deallocate (a)
+      end if
+    end if
+    if (.not. allocated(b)) return
+    if (.not. allocated(a)) allocate (a(lbound(b, 1):ubound(b, 1)))
+    a(:) = b(:)
+  end subroutine copy_logical
 
   !> The film's temperature for the step to crank angle psi [deg]: the liner's where the ring
   !> is (liner_temperature_at), with Roelands' law at it and the viscosity of the pressure

@@ -21,7 +21,7 @@ module ringlube_load_balance
   use ringlube_case, only: case_type
   use ringlube_kinematics, only: sliding_speed, deg2rad
   use ringlube_gas, only: gas_pressure
-  use ringlube_film, only: film_type, film_evaluate
+  use ringlube_film, only: film_type, film_evaluate, film_copy
   use ringlube_film_state, only: lower_edge_pressure
   use ringlube_jfo_connect, only: jfo_seal_margin
   use ringlube_sectors, only: sector_ring, sector_trial, ring_evaluate, ring_ceiling, ring_solve, &
@@ -77,6 +77,8 @@ module ringlube_load_balance
     !> the film at h0_ceiling of the last lift-off margin (`margins`), the warm start of the
     !> next: pressure, viscosity and fill (not allocated before the first)
     real(dp), allocatable :: p_ceiling(:), eta_ceiling(:), theta_ceiling(:)
+    !> the margin's copy of the film (its arrays kept from step to step: film_copy)
+    type(film_type) :: ceiling_film
   end type balance_memory
 
   !> trials of the damped rule over which its best residual must fall by 1 % (else it stops)
@@ -183,7 +185,6 @@ contains
     real(dp), intent(in) :: psi, h0out, resid
     integer, intent(in) :: flags
     type(sector_ring), intent(inout), optional :: ring
-    type(film_type) :: gc
     type(sector_trial) :: tr
     real(dp) :: sq
     integer :: j
@@ -191,26 +192,28 @@ contains
       if (iand(flags, flag_ceiling) /= 0 .or. h0out >= lp%ceiling) then
         lp%lift_margin = -resid
       else
-        gc = g
-        if (present(ring)) then
-          tr = sector_trial(cc=lp%ceiling, sq_a=lp%sq_a, dt=lp%dt, u=lp%u, p_chamber=lp%pg, &
-                            load=lp%load, floor=c%h0_floor, ceiling=c%h0_ceiling)
-          call ring_ceiling(c, ring, gc, tr)
-        else
-          sq = 0.0_dp
-          if (c%squeeze) sq = 2.0_dp * (lp%sq_a * lp%ceiling - lp%sq_b) / lp%dt
-          if (allocated(mem%p_ceiling)) then
-            gc%p = mem%p_ceiling
-            gc%eta = mem%eta_ceiling
-            if (gc%jfo) gc%theta = mem%theta_ceiling
-          end if
+        associate (gc => mem%ceiling_film)
+          call film_copy(gc, g)
+          if (present(ring)) then
+            tr = sector_trial(cc=lp%ceiling, sq_a=lp%sq_a, dt=lp%dt, u=lp%u, p_chamber=lp%pg, &
+                              load=lp%load, floor=c%h0_floor, ceiling=c%h0_ceiling)
+            call ring_ceiling(c, ring, gc, tr)
+          else
+            sq = 0.0_dp
+            if (c%squeeze) sq = 2.0_dp * (lp%sq_a * lp%ceiling - lp%sq_b) / lp%dt
+            if (allocated(mem%p_ceiling)) then
+              gc%p = mem%p_ceiling
+              gc%eta = mem%eta_ceiling
+              if (gc%jfo) gc%theta = mem%theta_ceiling
+            end if
           call film_evaluate(c, gc, lp%ceiling, sq, lp%u, lp%pg, c%load_tol * max(lp%load, 1e-3_dp))
-          mem%p_ceiling = gc%p
-          mem%eta_ceiling = gc%eta
-          if (gc%jfo) mem%theta_ceiling = gc%theta
-        end if
-        lp%margin_solves = gc%film_solves - g%film_solves
-        lp%lift_margin = (lp%load - gc%wh - gc%wa) / max(lp%load, 1e-3_dp)
+            mem%p_ceiling = gc%p
+            mem%eta_ceiling = gc%eta
+            if (gc%jfo) mem%theta_ceiling = gc%theta
+          end if
+          lp%margin_solves = gc%film_solves - g%film_solves
+          lp%lift_margin = (lp%load - gc%wh - gc%wa) / max(lp%load, 1e-3_dp)
+        end associate
       end if
     end if
     if (.not. g%jfo .or. c%cavity_pressure /= 'trailing_gas') return

@@ -29,7 +29,7 @@
 module ringlube_sectors
   use ringlube_kinds, only: dp
   use ringlube_case, only: case_type
-  use ringlube_film, only: film_type, film_evaluate
+  use ringlube_film, only: film_type, film_evaluate, film_copy
   use ringlube_bore, only: bore_type, bore_setup
   use ringlube_results, only: flag_sectors
   use, intrinsic :: iso_c_binding, only: c_int, c_double
@@ -105,6 +105,9 @@ module ringlube_sectors
     real(dp) :: ceil_c = 0.0_dp, ceil_xc = 0.0_dp, ceil_yc = 0.0_dp
     real(dp), allocatable :: ceil_h(:), ceil_w(:), ceil_slope(:)
     real(dp), allocatable :: ceil_p(:, :), ceil_eta(:, :), ceil_theta(:, :)
+    !> the films of ring_ceiling's copy of the ring, kept between its calls for their arrays
+    !> (film_copy; their values are the copy's, set anew at each call)
+    type(film_type), allocatable :: ceil_films(:)
     !> the state ring_solve restores where it fails: the sectors' h0, loads, slopes and
     !> deflection (4, M), centre and mean position, and each sector's film iterate (pressure,
     !> viscosity, fill: (nodes, M))
@@ -571,14 +574,17 @@ contains
     type(sector_ring), target :: rc
     type(sector_ring) :: first
     type(film_type) :: g_first
-    type(film_type), allocatable :: films(:)
+    type(film_type), allocatable :: films(:), ceil_films(:)
     integer :: m, missed, nfs, solves
     m = ring%bore%m
-    ! (the films copied sector by sector, each by the thread that owns the sector in a team)
+    ! (the films copied sector by sector, each by the thread that owns the sector in a team,
+    ! into the arrays of the last call's copy)
     call move_alloc(ring%films, films)
+    call move_alloc(ring%ceil_films, ceil_films)
     rc = ring
     call move_alloc(films, ring%films)
-    allocate (rc%films(m))
+    call move_alloc(ceil_films, rc%films)
+    if (.not. allocated(rc%films)) allocate (rc%films(m))
     call ceiling_start(c, ring, rc)
     missed = rc%missed
     tr%max_iterations = max_inner
@@ -616,6 +622,7 @@ contains
       ring%ceil_theta = 1.0_dp
     end if
     call sectors_job(c, ring, rc, job_ceiling_out)
+    call move_alloc(rc%films, ring%ceil_films)
   end subroutine ring_ceiling
 
   !> The start of ring_ceiling's solve on the copy rc of ring: the last solve at the ceiling
@@ -703,7 +710,7 @@ contains
     case (job_ceiling_in)
       ! the ceiling's copy of the sector's film, from its last iterate there (if any)
       associate (fc => team_copy%films(jj))
-        fc = team_ring%films(jj)
+        call film_copy(fc, team_ring%films(jj))
         if (team_ring%ceil_c > 0.0_dp) then
           fc%p = team_ring%ceil_p(:, jj)
           fc%eta = team_ring%ceil_eta(:, jj)

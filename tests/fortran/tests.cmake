@@ -19,7 +19,7 @@ target_link_libraries(ringlube_check PUBLIC ringlube_kernel)
 
 foreach(t tridiag tridiag_fixed greenwood_tripp physics_basics reynolds cycle liner oil_supply jfo jfo_connect jfo_coarse
     time_order
-    mixed_share film_viscosity film_edges film_time results ring_pack ring_pack_cycle periodicity bore)
+    mixed_share film_viscosity film_edges film_time film_copy results ring_pack ring_pack_cycle periodicity bore)
   set(src ${CMAKE_CURRENT_LIST_DIR}/test_${t}.f90)
   add_executable(test_${t} ${src})
   target_link_libraries(test_${t} PRIVATE ringlube_check ringlube_io ${LAPACK_LIBRARIES})
