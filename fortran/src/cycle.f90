@@ -193,7 +193,8 @@ contains
   !> `first_restart = 'away'` (the default), a starved run on a round bore whose liner film is
   !> judged over a window of cells as well (liner_window_cells: the BDC start's 50) restarts it
   !> only where it lies beyond cycle_tol of the gas network's periodic state under the first
-  !> cycle's friction (its distance measured directly at the cycle's end, ring_pack_periodic):
+  !> cycle's friction (its distance measured directly, ring_pack_periodic, at the re-warm's
+  !> first step rw%k, warmup_deg before the cycle's end):
   !> a ring pack within cycle_tol of that state gains nothing from the jump, and the cycle
   !> after a restart cannot be judged on its energy. Every other run (and 'always'): every
   !> time. Judged on the whole liner film alone, the second cycle is no safe test: the cold
