@@ -286,10 +286,8 @@ def sector_table(folder: Path) -> None:
             de = e / float(ref[keys[0]]) - 1
             df = f / float(ref[keys[1]]) - 1 if float(ref[keys[1]]) > 1e-3 else float("nan")
             conv = "yes" if int(a["converged"]) else "no"
-            print(
-                f"| {m} | {e:.4f} | {f:.3f} | {lg:.1f} | {bb:.3f} | {de:+.2%} | {df:+.2%} | {conv} | {cpu:.1f} |",
-                flush=True,
-            )
+            cells = f"{e:.4f} | {f:.3f} | {lg:.1f} | {bb:.3f} | {de:+.2%} | {df:+.2%}"
+            print(f"| {m} | {cells} | {conv} | {cpu:.1f} |", flush=True)
 
 
 def moves(base: Path, folder: Path) -> None:
