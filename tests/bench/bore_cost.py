@@ -18,8 +18,9 @@ Three tables (markdown), with the tension read in N and the shipped calibration:
    meaningful on a quiet machine only (load average below 1.5 before the run); the CPU times
    and the sleeps on any.
 3. Sector count: energy, face leakage, light gaps and blowby at M = 8, 12, 24, 48 against
-   M = 96 (starved film, ring pack, the hot 4000 r/min deck with orders 2 and 4 of 12 and
-   8 um), with the cost.
+   M = 96, whether each run converged, and its CPU time: the starved film with the ring pack on
+   the hot 4000 r/min deck with orders 2 and 4 of 12 and 8 um, and the shipped 12,000 r/min
+   distorted deck with its sector count changed (`--sectors-only`: this table alone).
 
 `--branches BASE/build/ringlube-solve` instead: the load balance's branch choice near a
 sector's lift-off, this build against BASE (the root finder on the mean position alone: commit
