@@ -9,7 +9,12 @@
 !> the meniscus placed by the jump condition between its full node D and the partly filled node
 !> upstream, or the edge).
 !>
+!> With a fourth argument, a node count of the table: its meniscus's distance from the edge per
+!> step (in its cells) beside the reference's, and each step's oil turned back (relative to a
+!> step's supply), from 20 steps before the reference's arrival to one step after.
+!>
 !>     ./build/bench_oil_turned_back [steps per period, 2000] [period s, 0.01] [front_content 0/1, 1]
+!>                                   [nodes to trace, none]
 program bench_oil_turned_back
   use ringlube_kinds, only: dp, pi
   use ringlube_jfo
@@ -23,7 +28,7 @@ program bench_oil_turned_back
   real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), cold(:)
   real(dp), allocatable :: bstep(:, :), xf(:, :)
   real(dp) :: per, dx, dt, t, hm, back(6), supply, share, lead
-  integer :: nsteps, k, n, i, j, nfail(6), jarr, ifc, m
+  integer :: nsteps, k, n, i, j, nfail(6), jarr, ifc, m, ntr
   logical :: fc
   type(jfo_stats) :: st
   type(jfo_problem) :: prob
@@ -44,6 +49,11 @@ program bench_oil_turned_back
     read (arg, *) ifc
   end if
   fc = ifc == 1
+  ntr = 0
+  if (command_argument_count() >= 4) then
+    call get_command_argument(4, arg)
+    read (arg, *) ntr
+  end if
   allocate (bstep(nsteps, size(nn)), xf(nsteps, size(nn)))
   dt = per / nsteps
   supply = 0.5_dp * u * cs * per
@@ -99,6 +109,16 @@ program bench_oil_turned_back
     write (*, '(i5, es20.3, f30.3, f24.3, i10)') nn(k), (back(k) - back(size(nn))) / supply, &
       share, lead / max(m, 1) / (b / (nn(k) - 1)), nfail(k)
   end do
+  k = findloc(nn, ntr, 1)
+  if (k > 0 .and. k < size(nn)) then
+    write (*, '(a, i0, a)') 'step  meniscus from the edge in cells of ', nn(k), &
+      ' nodes: grid, reference  oil turned back / step supply: grid, reference'
+    do j = max(jarr - 20, 1), min(jarr + 1, nsteps)
+      write (*, '(i5, 2f12.4, 2es14.4)') j, (0.5_dp * b - xf(j, k)) / (b / (nn(k) - 1)), &
+        (0.5_dp * b - xf(j, size(nn))) / (b / (nn(k) - 1)), &
+        bstep(j, k) / (0.5_dp * u * cs * dt), bstep(j, size(nn)) / (0.5_dp * u * cs * dt)
+    end do
+  end if
 
 contains
 
