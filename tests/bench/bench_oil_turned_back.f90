@@ -9,9 +9,11 @@
 !> the meniscus placed by the jump condition between its full node D and the partly filled node
 !> upstream, or the edge).
 !>
-!> With a fourth argument, a node count of the table: its meniscus's distance from the edge per
-!> step (in its cells) beside the reference's, and each step's oil turned back (relative to a
-!> step's supply), from 20 steps before the reference's arrival to one step after.
+!> With a fourth argument, a node count of the table, per step from 40 steps before the
+!> reference's arrival to one step after: that grid's meniscus's distance from the edge (in its
+!> cells) beside the reference's, each one's oil turned back, and how much more oil than the
+!> reference that grid's edge cell (the 1.5 of its cells next to the edge) holds, and the change
+!> of that over the step (the oil in a step's supply; the stored content, jfo_front_content).
 !>
 !>     ./build/bench_oil_turned_back [steps per period, 2000] [period s, 0.01] [front_content 0/1, 1]
 !>                                   [nodes to trace, none]
@@ -26,7 +28,7 @@ program bench_oil_turned_back
   integer, parameter :: nn(6) = [51, 71, 101, 141, 201, 801]
   real(dp), parameter :: u = 10.0_dp, pl = 1e5_dp, cs = 1.2e-6_dp
   real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), cold(:)
-  real(dp), allocatable :: bstep(:, :), xf(:, :)
+  real(dp), allocatable :: bstep(:, :), xf(:, :), oil(:, :)
   real(dp) :: per, dx, dt, t, hm, back(6), supply, share, lead
   integer :: nsteps, k, n, i, j, nfail(6), jarr, ifc, m, ntr
   logical :: fc
@@ -54,7 +56,8 @@ program bench_oil_turned_back
     call get_command_argument(4, arg)
     read (arg, *) ntr
   end if
-  allocate (bstep(nsteps, size(nn)), xf(nsteps, size(nn)))
+  allocate (bstep(nsteps, size(nn)), xf(nsteps, size(nn)), oil(nsteps, size(nn)))
+  oil = 0.0_dp
   dt = per / nsteps
   supply = 0.5_dp * u * cs * per
   do k = 1, size(nn)
@@ -84,6 +87,7 @@ program bench_oil_turned_back
       if (j > nsteps) then
         bstep(j - nsteps, k) = dt * (0.5_dp * u * cs + st%q_right)
         xf(j - nsteps, k) = meniscus()
+        if (ntr > 1) oil(j - nsteps, k) = edge_oil(1.5_dp * b / (ntr - 1))
       end if
     end do
     back(k) = sum(bstep(:, k))
@@ -112,15 +116,35 @@ program bench_oil_turned_back
   k = findloc(nn, ntr, 1)
   if (k > 0 .and. k < size(nn)) then
     write (*, '(a, i0, a)') 'step  meniscus from the edge in cells of ', nn(k), &
-      ' nodes: grid, reference  oil turned back / step supply: grid, reference'
-    do j = max(jarr - 20, 1), min(jarr + 1, nsteps)
-      write (*, '(i5, 2f12.4, 2es14.4)') j, (0.5_dp * b - xf(j, k)) / (b / (nn(k) - 1)), &
+      ' nodes: grid, reference  oil turned back / step supply: grid, reference  oil in the '// &
+      'grid''s edge cell / step supply: grid less reference, its change over the step'
+    do j = max(jarr - 40, 2), min(jarr + 1, nsteps)
+      write (*, '(i5, 2f12.4, 2es14.4, 2f12.4)') j, (0.5_dp * b - xf(j, k)) / (b / (nn(k) - 1)), &
         (0.5_dp * b - xf(j, size(nn))) / (b / (nn(k) - 1)), &
-        bstep(j, k) / (0.5_dp * u * cs * dt), bstep(j, size(nn)) / (0.5_dp * u * cs * dt)
+        bstep(j, k) / (0.5_dp * u * cs * dt), bstep(j, size(nn)) / (0.5_dp * u * cs * dt), &
+        (oil(j, k) - oil(j, size(nn))) / (0.5_dp * u * cs * dt), &
+        (oil(j, k) - oil(j, size(nn)) - oil(j - 1, k) + oil(j - 1, size(nn))) &
+        / (0.5_dp * u * cs * dt)
     end do
   end if
 
 contains
+
+  !> The oil (per unit width) between the inflow (right) edge and a distance ell from it: each
+  !> node's stored content (cold, per unit length over its cell; the cell next to the edge
+  !> reaches it) times the length of its cell within that span.
+  real(dp) function edge_oil(ell) result(v)
+    real(dp), intent(in) :: ell
+    real(dp) :: lo, hi
+    v = 0.0_dp
+    do i = 2, n - 1
+      lo = x(i) - 0.5_dp * dx
+      hi = x(i) + 0.5_dp * dx
+      if (i == n - 1) hi = x(n)
+      if (i == 2) lo = x(1)
+      v = v + cold(i) * max(0.0_dp, hi - max(lo, x(n) - ell))
+    end do
+  end function edge_oil
 
   !> The leading meniscus: the jump condition's front between the full node D nearest the
   !> inflow (right) edge and the node upstream of it (the edge when D is next to it).
