@@ -13,7 +13,10 @@
 !> reference's arrival to one step after: that grid's meniscus's distance from the edge (in its
 !> cells) beside the reference's, each one's oil turned back, and how much more oil than the
 !> reference that grid's edge cell (the 1.5 of its cells next to the edge) holds, and the change
-!> of that over the step (the oil in a step's supply; the stored content, jfo_front_content).
+!> of that over the step (the oil in a step's supply; the stored content, jfo_front_content);
+!> then the flux into the edge cell through the face behind it (in the supply's flux), split
+!> into that grid's Couette term and pressure term, the reference's flux at that place (the
+!> grid's less the change above) and the front pair's s at that face (0 without that pair).
 !>
 !>     ./build/bench_oil_turned_back [steps per period, 2000] [period s, 0.01] [front_content 0/1, 1]
 !>                                   [nodes to trace, none]
@@ -28,8 +31,8 @@ program bench_oil_turned_back
   integer, parameter :: nn(6) = [51, 71, 101, 141, 201, 801]
   real(dp), parameter :: u = 10.0_dp, pl = 1e5_dp, cs = 1.2e-6_dp
   real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), cold(:)
-  real(dp), allocatable :: bstep(:, :), xf(:, :), oil(:, :)
-  real(dp) :: per, dx, dt, t, hm, back(6), supply, share, lead
+  real(dp), allocatable :: bstep(:, :), xf(:, :), oil(:, :), fcou(:), fpoi(:), sfr(:)
+  real(dp) :: per, dx, dt, t, hm, back(6), supply, share, lead, sup, dch
   integer :: nsteps, k, n, i, j, nfail(6), jarr, ifc, m, ntr
   logical :: fc
   type(jfo_stats) :: st
@@ -57,7 +60,11 @@ program bench_oil_turned_back
     read (arg, *) ntr
   end if
   allocate (bstep(nsteps, size(nn)), xf(nsteps, size(nn)), oil(nsteps, size(nn)))
+  allocate (fcou(nsteps), fpoi(nsteps), sfr(nsteps))
   oil = 0.0_dp
+  fcou = 0.0_dp
+  fpoi = 0.0_dp
+  sfr = 0.0_dp
   dt = per / nsteps
   supply = 0.5_dp * u * cs * per
   do k = 1, size(nn)
@@ -88,6 +95,7 @@ program bench_oil_turned_back
         bstep(j - nsteps, k) = dt * (0.5_dp * u * cs + st%q_right)
         xf(j - nsteps, k) = meniscus()
         if (ntr > 1) oil(j - nsteps, k) = edge_oil(1.5_dp * b / (ntr - 1))
+        if (n == ntr) call face_behind(fcou(j - nsteps), fpoi(j - nsteps), sfr(j - nsteps))
       end if
     end do
     back(k) = sum(bstep(:, k))
@@ -117,14 +125,19 @@ program bench_oil_turned_back
   if (k > 0 .and. k < size(nn)) then
     write (*, '(a, i0, a)') 'step  meniscus from the edge in cells of ', nn(k), &
       ' nodes: grid, reference  oil turned back / step supply: grid, reference  oil in the '// &
-      'grid''s edge cell / step supply: grid less reference, its change over the step'
+      'grid''s edge cell / step supply: grid less reference, its change over the step'// &
+      '; the flux into the edge cell through the face behind it / step supply: the grid''s '// &
+      'Couette term, its pressure term, the reference''s at that place (the grid''s less the '// &
+      'change); the front pair''s s at that face (D the node behind it, 0 no pair)'
     do j = max(jarr - 40, 2), min(jarr + 1, nsteps)
-      write (*, '(i5, 2f12.4, 2es14.4, 2f12.4)') j, (0.5_dp * b - xf(j, k)) / (b / (nn(k) - 1)), &
+      sup = 0.5_dp * u * cs
+      dch = (oil(j, k) - oil(j, size(nn)) - oil(j - 1, k) + oil(j - 1, size(nn))) / (sup * dt)
+      write (*, '(i5, 2f12.4, 2es14.4, 2f12.4, 3f10.4, f8.3)') j, &
+        (0.5_dp * b - xf(j, k)) / (b / (nn(k) - 1)), &
         (0.5_dp * b - xf(j, size(nn))) / (b / (nn(k) - 1)), &
-        bstep(j, k) / (0.5_dp * u * cs * dt), bstep(j, size(nn)) / (0.5_dp * u * cs * dt), &
-        (oil(j, k) - oil(j, size(nn))) / (0.5_dp * u * cs * dt), &
-        (oil(j, k) - oil(j, size(nn)) - oil(j - 1, k) + oil(j - 1, size(nn))) &
-        / (0.5_dp * u * cs * dt)
+        bstep(j, k) / (sup * dt), bstep(j, size(nn)) / (sup * dt), &
+        (oil(j, k) - oil(j, size(nn))) / (sup * dt), dch, fcou(j) / sup, fpoi(j) / sup, &
+        (fcou(j) + fpoi(j)) / sup - dch, sfr(j)
     end do
   end if
 
@@ -145,6 +158,24 @@ contains
       v = v + cold(i) * max(0.0_dp, hi - max(lo, x(n) - ell))
     end do
   end function edge_oil
+
+  !> The flux into the edge cell (node n - 1) through the face behind it (n - 2 | n - 1), split
+  !> into its Couette term (a hmid theta of the edge cell's node, a = -U/2) and its pressure
+  !> term (-kd (p_(n-1) - p_(n-2)) times the upwind fill), and the front pair's s = A / (A + B)
+  !> at that face (D = n - 2 full, U = n - 1 partly filled; 0 without that pair).
+  subroutine face_behind(fc_, fp_, s_)
+    real(dp), intent(out) :: fc_, fp_, s_
+    real(dp) :: g, aa, bb
+    g = kmid(n - 2) / dx * (p(n - 1) - p(n - 2))
+    fc_ = -0.5_dp * u * hmid(n - 2) * th(n - 1)
+    fp_ = -g * merge(th(n - 2), th(n - 1), g <= 0.0_dp)
+    s_ = 0.0_dp
+    if (th(n - 2) >= 1.0_dp .and. th(n - 1) < 1.0_dp) then
+      aa = max(p(n - 2) - p(n - 1), 0.0_dp)
+      bb = (1.0_dp - th(n - 1)) * 0.5_dp * u * hmid(n - 2) / (kmid(n - 2) / dx)
+      s_ = aa / (aa + bb)
+    end if
+  end subroutine face_behind
 
   !> The leading meniscus: the jump condition's front between the full node D nearest the
   !> inflow (right) edge and the node upstream of it (the edge when D is next to it).
