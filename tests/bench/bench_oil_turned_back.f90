@@ -16,7 +16,9 @@
 !> of that over the step (the oil in a step's supply; the stored content, jfo_front_content);
 !> then the flux into the edge cell through the face behind it (in the supply's flux), split
 !> into that grid's Couette term and pressure term, the reference's flux at that place (the
-!> grid's less the change above) and the front pair's s at that face (0 without that pair).
+!> grid's less the change above) and the front pair's s at that face (0 without that pair);
+!> and on a second line the oil between the edge and a face 1.5 ... 32.5 of its cells from it,
+!> that grid's less the reference's (in a step's supply).
 !>
 !>     ./build/bench_oil_turned_back [steps per period, 2000] [period s, 0.01] [front_content 0/1, 1]
 !>                                   [nodes to trace, none]
@@ -32,6 +34,7 @@ program bench_oil_turned_back
   real(dp), parameter :: u = 10.0_dp, pl = 1e5_dp, cs = 1.2e-6_dp
   real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), cold(:)
   real(dp), allocatable :: bstep(:, :), xf(:, :), oil(:, :), fcou(:), fpoi(:), sfr(:)
+  real(dp), allocatable :: spn(:, :, :)
   real(dp) :: per, dx, dt, t, hm, back(6), supply, share, lead, sup, dch
   integer :: nsteps, k, n, i, j, nfail(6), jarr, ifc, m, ntr
   logical :: fc
@@ -61,6 +64,7 @@ program bench_oil_turned_back
   end if
   allocate (bstep(nsteps, size(nn)), xf(nsteps, size(nn)), oil(nsteps, size(nn)))
   allocate (fcou(nsteps), fpoi(nsteps), sfr(nsteps))
+  allocate (spn(nsteps, size(nn), 6))
   oil = 0.0_dp
   fcou = 0.0_dp
   fpoi = 0.0_dp
@@ -95,6 +99,11 @@ program bench_oil_turned_back
         bstep(j - nsteps, k) = dt * (0.5_dp * u * cs + st%q_right)
         xf(j - nsteps, k) = meniscus()
         if (ntr > 1) oil(j - nsteps, k) = edge_oil(1.5_dp * b / (ntr - 1))
+        if (ntr > 1) then
+          do m = 1, 6
+            spn(j - nsteps, k, m) = edge_oil((2**(m - 1) + 0.5_dp) * b / (ntr - 1))
+          end do
+        end if
         if (n == ntr) call face_behind(fcou(j - nsteps), fpoi(j - nsteps), sfr(j - nsteps))
       end if
     end do
@@ -128,7 +137,8 @@ program bench_oil_turned_back
       'grid''s edge cell / step supply: grid less reference, its change over the step'// &
       '; the flux into the edge cell through the face behind it / step supply: the grid''s '// &
       'Couette term, its pressure term, the reference''s at that place (the grid''s less the '// &
-      'change); the front pair''s s at that face (D the node behind it, 0 no pair)'
+      'change); the front pair''s s at that face (D the node behind it, 0 no pair); below, '// &
+      'the oil between the edge and a face of that grid, grid less reference'
     do j = max(jarr - 40, 2), min(jarr + 1, nsteps)
       sup = 0.5_dp * u * cs
       dch = (oil(j, k) - oil(j, size(nn)) - oil(j - 1, k) + oil(j - 1, size(nn))) / (sup * dt)
@@ -138,6 +148,8 @@ program bench_oil_turned_back
         bstep(j, k) / (sup * dt), bstep(j, size(nn)) / (sup * dt), &
         (oil(j, k) - oil(j, size(nn))) / (sup * dt), dch, fcou(j) / sup, fpoi(j) / sup, &
         (fcou(j) + fpoi(j)) / sup - dch, sfr(j)
+      write (*, '(a, 6f10.4)') '   edge to 1.5, 2.5, 4.5, 8.5, 16.5, 32.5 cells:', &
+        (spn(j, k, :) - spn(j, size(nn), :)) / (sup * dt)
     end do
   end if
 
