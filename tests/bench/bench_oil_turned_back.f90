@@ -9,7 +9,7 @@
 !> the meniscus placed by the jump condition between its full node D and the partly filled node
 !> upstream, or the edge).
 !>
-!> With a fourth argument, a node count of the table, per step from 40 steps before the
+!> With a fourth argument, a node count of the table, per step from 40 (the fifth) steps before the
 !> reference's arrival to one step after: that grid's meniscus's distance from the edge (in its
 !> cells) beside the reference's, each one's oil turned back, and how much more oil than the
 !> reference that grid's edge cell (the 1.5 of its cells next to the edge) holds, and the change
@@ -20,8 +20,12 @@
 !> and on a second line the oil between the edge and a face 1.5 ... 32.5 of its cells from it,
 !> that grid's less the reference's (in a step's supply).
 !>
+!> Then every 10 steps over the same span of steps, the oil between the edge and 2 cells short of
+!> the nearer of the two fronts (the starved zone ahead of both), between the edge and 3 cells
+!> behind the farther, and in the whole film, that grid's less the reference's.
+!>
 !>     ./build/bench_oil_turned_back [steps per period, 2000] [period s, 0.01] [front_content 0/1, 1]
-!>                                   [nodes to trace, none]
+!>                                   [nodes to trace, none] [steps before the arrival, 40]
 program bench_oil_turned_back
   use ringlube_kinds, only: dp, pi
   use ringlube_jfo
@@ -34,9 +38,9 @@ program bench_oil_turned_back
   real(dp), parameter :: u = 10.0_dp, pl = 1e5_dp, cs = 1.2e-6_dp
   real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), cold(:)
   real(dp), allocatable :: bstep(:, :), xf(:, :), oil(:, :), fcou(:), fpoi(:), sfr(:)
-  real(dp), allocatable :: spn(:, :, :)
+  real(dp), allocatable :: spn(:, :, :), prg(:, :), prr(:, :), xg(:), xr(:)
   real(dp) :: per, dx, dt, t, hm, back(6), supply, share, lead, sup, dch
-  integer :: nsteps, k, n, i, j, nfail(6), jarr, ifc, m, ntr
+  integer :: nsteps, k, n, i, j, nfail(6), jarr, ifc, m, ntr, ntb
   logical :: fc
   type(jfo_stats) :: st
   type(jfo_problem) :: prob
@@ -61,6 +65,11 @@ program bench_oil_turned_back
   if (command_argument_count() >= 4) then
     call get_command_argument(4, arg)
     read (arg, *) ntr
+  end if
+  ntb = 40
+  if (command_argument_count() >= 5) then
+    call get_command_argument(5, arg)
+    read (arg, *) ntb
   end if
   allocate (bstep(nsteps, size(nn)), xf(nsteps, size(nn)), oil(nsteps, size(nn)))
   allocate (fcou(nsteps), fpoi(nsteps), sfr(nsteps))
@@ -105,6 +114,17 @@ program bench_oil_turned_back
           end do
         end if
         if (n == ntr) call face_behind(fcou(j - nsteps), fpoi(j - nsteps), sfr(j - nsteps))
+        if (ntr > 1 .and. (n == ntr .or. k == size(nn))) then
+          if (n == ntr) then
+            if (.not. allocated(prg)) allocate (prg(n, nsteps))
+            prg(:, j - nsteps) = cold
+            xg = x
+          else
+            if (.not. allocated(prr)) allocate (prr(n, nsteps))
+            prr(:, j - nsteps) = cold
+            xr = x
+          end if
+        end if
       end if
     end do
     back(k) = sum(bstep(:, k))
@@ -139,8 +159,8 @@ program bench_oil_turned_back
       'Couette term, its pressure term, the reference''s at that place (the grid''s less the '// &
       'change); the front pair''s s at that face (D the node behind it, 0 no pair); below, '// &
       'the oil between the edge and a face of that grid, grid less reference'
-    do j = max(jarr - 40, 2), min(jarr + 1, nsteps)
-      sup = 0.5_dp * u * cs
+    sup = 0.5_dp * u * cs
+    do j = max(jarr - ntb, 2), min(jarr + 1, nsteps)
       dch = (oil(j, k) - oil(j, size(nn)) - oil(j - 1, k) + oil(j - 1, size(nn))) / (sup * dt)
       write (*, '(i5, 2f12.4, 2es14.4, 2f12.4, 3f10.4, f8.3)') j, &
         (0.5_dp * b - xf(j, k)) / (b / (nn(k) - 1)), &
@@ -151,9 +171,38 @@ program bench_oil_turned_back
       write (*, '(a, 6f10.4)') '   edge to 1.5, 2.5, 4.5, 8.5, 16.5, 32.5 cells:', &
         (spn(j, k, :) - spn(j, size(nn), :)) / (sup * dt)
     end do
+    write (*, '(a)') 'step  fronts from the edge in cells (grid, reference; no front: '// &
+      'the trailing edge)  oil from the edge to 2 cells short of the nearer front, to 3 '// &
+      'cells behind the farther, in the whole film / step supply: grid less reference'
+    do j = max(jarr - ntb, 1), jarr, 10
+      dch = min(0.5_dp * b - xf(j, k), 0.5_dp * b - xf(j, size(nn))) - 2.0_dp * b / (ntr - 1)
+      lead = max(0.5_dp * b - xf(j, k), 0.5_dp * b - xf(j, size(nn))) + 3.0_dp * b / (ntr - 1)
+      write (*, '(i5, 2f10.3, 3f10.4)') j, (0.5_dp * b - xf(j, k)) / (b / (ntr - 1)), &
+        (0.5_dp * b - xf(j, size(nn))) / (b / (ntr - 1)), &
+        (span(prg(:, j), xg, dch) - span(prr(:, j), xr, dch)) / (sup * dt), &
+        (span(prg(:, j), xg, lead) - span(prr(:, j), xr, lead)) / (sup * dt), &
+        (span(prg(:, j), xg, 2 * b) - span(prr(:, j), xr, 2 * b)) / (sup * dt)
+    end do
   end if
 
 contains
+
+  !> As edge_oil for a stored content c on the nodes xx (a grid's, stored beside the run).
+  pure real(dp) function span(c, xx, ell) result(v)
+    real(dp), intent(in) :: c(:), xx(:), ell
+    real(dp) :: lo, hi, dq
+    integer :: q, nq
+    nq = size(xx)
+    dq = xx(2) - xx(1)
+    v = 0.0_dp
+    do q = 2, nq - 1
+      lo = xx(q) - 0.5_dp * dq
+      hi = xx(q) + 0.5_dp * dq
+      if (q == nq - 1) hi = xx(nq)
+      if (q == 2) lo = xx(1)
+      v = v + c(q) * max(0.0_dp, hi - max(lo, xx(nq) - ell))
+    end do
+  end function span
 
   !> The oil (per unit width) between the inflow (right) edge and a distance ell from it: each
   !> node's stored content (cold, per unit length over its cell; the cell next to the edge
