@@ -55,6 +55,11 @@ module ringlube_jfo_system
     !> `jfo_front_content` of the last step); .false.: theta h. Only with edge_cells (without
     !> them a meniscus at the inflow edge has no cell to hold it) and a time step
     logical :: front_content = .false.
+    !> with front_content: the fill where the thinly filled cells' stored content (theta hd,
+    !> `front_excess`) begins to fade to theta h, and the width of the fill over which it fades
+    !> (a smoothstep). The defaults are the kernel's; other values are for the bench
+    !> (tests/bench/bench_oil_turned_back.f90: where the starved zone's oil comes from)
+    real(dp) :: thin_fade_from = 0.3_dp, thin_fade_width = 0.3_dp
   end type jfo_problem
 
   !> One step's system: n nodes; a = -U/2 the Couette speed of the content; w = dx/dt (0 for a
@@ -76,6 +81,8 @@ module ringlube_jfo_system
     logical :: edge_meniscus = .false.
     !> jfo_problem%front_content with a time step (w > 0) and edge cells; jfo_problem%edge_cells
     logical :: front_content = .false., edge_cells = .false.
+    !> jfo_problem%thin_fade_from, jfo_problem%thin_fade_width
+    real(dp) :: thin_fade_from = 0.3_dp, thin_fade_width = 0.3_dp
   end type jfo_system
 
   !> The residual's evaluation at a state v (jfo_residual), all per node or per face (n).
@@ -145,6 +152,8 @@ contains
     sys%edge_meniscus = problem%edge_meniscus
     sys%edge_cells = problem%edge_cells
     sys%front_content = problem%front_content .and. problem%dt > 0.0_dp .and. problem%edge_cells
+    sys%thin_fade_from = problem%thin_fade_from
+    sys%thin_fade_width = problem%thin_fade_width
     if (allocated(sys%ca)) then
       if (size(sys%ca) /= n) deallocate (sys%ca, sys%kd, sys%ps, sys%wv)
     end if
@@ -272,7 +281,8 @@ contains
       end do
       if (sys%front_content) then
         allocate (fe(n), fed(n), fel(n), feu(n))
-        call front_excess(n, a, ca, kd, ps, h, pn, tn, sys%edge_cells, fe, fed, fel, feu)
+        call front_excess(n, a, ca, kd, ps, h, pn, tn, sys%edge_cells, sys%thin_fade_from, &
+                          sys%thin_fade_width, fe, fed, fel, feu)
         res(2:n - 1) = res(2:n - 1) - w * fe(2:n - 1)
       end if
       if (.not. jac) return
@@ -609,7 +619,8 @@ contains
         pn(j) = node_p(sys, j, x(j))
         tn(j) = node_t(x(j))
       end do
-      call front_excess(n, a, ca, kd, ps, h, pn, tn, sys%edge_cells, fe, fed, fel, feu)
+      call front_excess(n, a, ca, kd, ps, h, pn, tn, sys%edge_cells, sys%thin_fade_from, &
+                        sys%thin_fade_width, fe, fed, fel, feu)
       pivots = .true.
       signs = .true.
       pn(1) = sys%p_left
@@ -725,7 +736,8 @@ contains
       pn(j) = node_p(sys, j, x(j))
       tn(j) = node_t(x(j))
     end do
-    call front_excess(n, sys%a, ca, kd, sys%ps, h, pn, tn, sys%edge_cells, fe, fed, fel, feu)
+    call front_excess(n, sys%a, ca, kd, sys%ps, h, pn, tn, sys%edge_cells, sys%thin_fade_from, &
+                      sys%thin_fade_width, fe, fed, fel, feu)
     call residual_nodes(sys, n, ca, kd, wv, h, content_old, x, res, scale, rmax, fsq, pn, tn, fl, &
                         fe)
   end subroutine residual_front
@@ -837,11 +849,13 @@ contains
   !> which theta h exceeds by theta (h - hd), a fraction of a cell's gap change), so that a
   !> front sweeping the zone fills each cell with the oil the supply lacks there
   !> (docs/film_model.md, "The oil turned back"); from 0.3 to 0.6 that share falls to 0 by a
-  !> smoothstep in theta (continuous, with its derivative), above it theta h as before.
-  pure subroutine front_excess(n, a, ca, kd, ps, h, pn, tn, edge_cells, e, ed, el, eu)
+  !> smoothstep in theta (continuous, with its derivative), above it theta h as before (0.3
+  !> and the width 0.3 by default: tf0 and tfw, jfo_problem%thin_fade_from and thin_fade_width).
+  pure subroutine front_excess(n, a, ca, kd, ps, h, pn, tn, edge_cells, tf0, tfw, e, ed, el, eu)
     integer, intent(in) :: n
     real(dp), intent(in) :: a, ca(n), kd(n), ps(n), h(n), pn(n), tn(n)
     logical, intent(in) :: edge_cells
+    real(dp), intent(in) :: tf0, tfw
     real(dp), intent(out) :: e(n), ed(n), el(n), eu(n)
     real(dp) :: c, aa, bb, sf, hf, fac, dsd, dsu, vu, ku, kq, gd, gu, gdp, gup, dkq, tt, gg, gp
     logical :: lone
@@ -861,9 +875,9 @@ contains
       vu = 1.0_dp
       if (edge_cells .and. (iu == 2 .or. iu == n - 1)) vu = 1.5_dp
       hf = h(iu) - ca(merge(iu - 1, iu, a < 0.0_dp)) / a
-      tt = min(max((tn(iu) - 0.3_dp) / 0.3_dp, 0.0_dp), 1.0_dp)
+      tt = min(max((tn(iu) - tf0) / tfw, 0.0_dp), 1.0_dp)
       gg = 1.0_dp - tt**2 * (3.0_dp - 2.0_dp * tt)
-      gp = -6.0_dp * tt * (1.0_dp - tt) / 0.3_dp
+      gp = -6.0_dp * tt * (1.0_dp - tt) / tfw
       e(iu) = e(iu) + vu * tn(iu) * gg * hf
       ed(iu) = ed(iu) + vu * (gg + tn(iu) * gp) * hf
     end do
@@ -974,8 +988,8 @@ contains
     do j = 2, n - 1
       if (theta(j) < 1.0_dp) pn(j) = pc(j)
     end do
-    call front_excess(n, sys%a, sys%ca, sys%kd, sys%ps, h, pn, tn, problem%edge_cells, e, d1, &
-                      d2, d3)
+    call front_excess(n, sys%a, sys%ca, sys%kd, sys%ps, h, pn, tn, problem%edge_cells, &
+                      sys%thin_fade_from, sys%thin_fade_width, e, d1, d2, d3)
     do j = 2, n - 1
       c(j) = c(j) - e(j) * sys%w / sys%wv(j)
     end do

@@ -22,10 +22,18 @@
 !>
 !> Then every 10 steps over the same span of steps, the oil between the edge and 2 cells short of
 !> the nearer of the two fronts (the starved zone ahead of both), between the edge and 3 cells
-!> behind the farther, and in the whole film, that grid's less the reference's.
+!> behind the farther, and in the whole film, that grid's less the reference's; the first of
+!> these split into the stored content less the carried theta hd (hd the gap at the face a
+!> node's Couette flux leaves through; all, and of the nodes of fill 0.6 to 1) and the carried
+!> content less the supply's (that grid's less the reference's, then that grid's own).
+!>
+!> The sixth and seventh arguments move where, with front_content, the thinly filled cells'
+!> stored content theta hd fades to theta h (jfo_problem%thin_fade_from and thin_fade_width,
+!> the kernel's 0.3 and 0.3 by default): a bench-only variant of the kernel.
 !>
 !>     ./build/bench_oil_turned_back [steps per period, 2000] [period s, 0.01] [front_content 0/1, 1]
 !>                                   [nodes to trace, none] [steps before the arrival, 40]
+!>                                   [fill where theta hd fades, 0.3] [over a fill of, 0.3]
 program bench_oil_turned_back
   use ringlube_kinds, only: dp, pi
   use ringlube_jfo
@@ -39,7 +47,8 @@ program bench_oil_turned_back
   real(dp), allocatable :: x(:), h(:), hmid(:), kmid(:), p(:), th(:), pc(:), cold(:)
   real(dp), allocatable :: bstep(:, :), xf(:, :), oil(:, :), fcou(:), fpoi(:), sfr(:)
   real(dp), allocatable :: spn(:, :, :), prg(:, :), prr(:, :), xg(:), xr(:)
-  real(dp) :: per, dx, dt, t, hm, back(6), supply, share, lead, sup, dch
+  real(dp), allocatable :: tdg(:, :), tdr(:, :), hig(:, :), hir(:, :)
+  real(dp) :: per, dx, dt, t, hm, back(6), supply, share, lead, sup, dch, tf0, tfw
   integer :: nsteps, k, n, i, j, nfail(6), jarr, ifc, m, ntr, ntb
   logical :: fc
   type(jfo_stats) :: st
@@ -71,6 +80,16 @@ program bench_oil_turned_back
     call get_command_argument(5, arg)
     read (arg, *) ntb
   end if
+  tf0 = 0.3_dp
+  tfw = 0.3_dp
+  if (command_argument_count() >= 6) then
+    call get_command_argument(6, arg)
+    read (arg, *) tf0
+  end if
+  if (command_argument_count() >= 7) then
+    call get_command_argument(7, arg)
+    read (arg, *) tfw
+  end if
   allocate (bstep(nsteps, size(nn)), xf(nsteps, size(nn)), oil(nsteps, size(nn)))
   allocate (fcou(nsteps), fpoi(nsteps), sfr(nsteps))
   allocate (spn(nsteps, size(nn), 6))
@@ -100,7 +119,7 @@ program bench_oil_turned_back
       prob = jfo_problem(dx=dx, u=u, dt=dt, p_left=pl, p_right=pl, &
                          theta_right=min(1.0_dp, cs / hmid(n - 1)), p_cav=0.0_dp, &
                          leading_gas=.true., edge_meniscus=.true., edge_cells=.true., &
-                         front_content=fc)
+                         front_content=fc, thin_fade_from=tf0, thin_fade_width=tfw)
       call jfo_solve_connected(prob, h, hmid, kmid, cold, pc, p, th, st)
       cold = jfo_front_content(prob, h, hmid, kmid, pc, p, th)
       if (st%info /= JFO_OK) nfail(k) = nfail(k) + 1
@@ -116,12 +135,18 @@ program bench_oil_turned_back
         if (n == ntr) call face_behind(fcou(j - nsteps), fpoi(j - nsteps), sfr(j - nsteps))
         if (ntr > 1 .and. (n == ntr .or. k == size(nn))) then
           if (n == ntr) then
-            if (.not. allocated(prg)) allocate (prg(n, nsteps))
+            if (.not. allocated(prg)) allocate (prg(n, nsteps), tdg(n, nsteps), hig(n, nsteps))
             prg(:, j - nsteps) = cold
+            tdg(:, j - nsteps) = carried()
+            hig(:, j - nsteps) = merge(cold - tdg(:, j - nsteps), 0.0_dp, &
+                                       th >= 0.6_dp .and. th < 1.0_dp)
             xg = x
           else
-            if (.not. allocated(prr)) allocate (prr(n, nsteps))
+            if (.not. allocated(prr)) allocate (prr(n, nsteps), tdr(n, nsteps), hir(n, nsteps))
             prr(:, j - nsteps) = cold
+            tdr(:, j - nsteps) = carried()
+            hir(:, j - nsteps) = merge(cold - tdr(:, j - nsteps), 0.0_dp, &
+                                       th >= 0.6_dp .and. th < 1.0_dp)
             xr = x
           end if
         end if
@@ -130,9 +155,10 @@ program bench_oil_turned_back
     back(k) = sum(bstep(:, k))
   end do
   jarr = findloc(bstep(:, size(nn)) > 1e-9_dp * 0.5_dp * u * cs * dt, .true., 1)
-  write (*, '(a, i0, a, es9.2, a, l1, a, i0, a, es11.4, a)') 'steps per period ', nsteps, &
-    ', period ', per, ' s, front_content ', fc, '; the reference arrives at step ', jarr, &
-    ', turns back ', back(size(nn)) / supply, ' of the supply'
+  write (*, '(a, i0, a, es9.2, a, l1, a, 2f6.3, a, i0, a, es11.4, a)') 'steps per period ', &
+    nsteps, ', period ', per, ' s, front_content ', fc, ', theta hd fading from, over ', tf0, &
+    tfw, '; the reference arrives at step ', jarr, ', turns back ', back(size(nn)) / supply, &
+    ' of the supply'
   write (*, '(a)') 'nodes  oil turned back error / supply  share within 10 steps of the '// &
     'arrival  meniscus lead (cells)  steps not converged'
   do k = 1, size(nn) - 1
@@ -173,19 +199,34 @@ program bench_oil_turned_back
     end do
     write (*, '(a)') 'step  fronts from the edge in cells (grid, reference; no front: '// &
       'the trailing edge)  oil from the edge to 2 cells short of the nearer front, to 3 '// &
-      'cells behind the farther, in the whole film / step supply: grid less reference'
+      'cells behind the farther, in the whole film / step supply: grid less reference; '// &
+      'the first split: the stored content less the carried theta hd (all, and of the nodes '// &
+      'of fill 0.6 to 1), and the carried less the supply''s content (grid less reference; '// &
+      'then the grid''s own)'
     do j = max(jarr - ntb, 1), jarr, 10
       dch = min(0.5_dp * b - xf(j, k), 0.5_dp * b - xf(j, size(nn))) - 2.0_dp * b / (ntr - 1)
       lead = max(0.5_dp * b - xf(j, k), 0.5_dp * b - xf(j, size(nn))) + 3.0_dp * b / (ntr - 1)
-      write (*, '(i5, 2f10.3, 3f10.4)') j, (0.5_dp * b - xf(j, k)) / (b / (ntr - 1)), &
+      write (*, '(i5, 2f10.3, 7f10.4)') j, (0.5_dp * b - xf(j, k)) / (b / (ntr - 1)), &
         (0.5_dp * b - xf(j, size(nn))) / (b / (ntr - 1)), &
         (span(prg(:, j), xg, dch) - span(prr(:, j), xr, dch)) / (sup * dt), &
+        (span(prg(:, j) - tdg(:, j), xg, dch) - span(prr(:, j) - tdr(:, j), xr, dch)) &
+        / (sup * dt), (span(hig(:, j), xg, dch) - span(hir(:, j), xr, dch)) / (sup * dt), &
+        (span(tdg(:, j), xg, dch) - span(tdr(:, j), xr, dch)) / (sup * dt), &
+        (span(tdg(:, j), xg, dch) - cs * dch) / (sup * dt), &
         (span(prg(:, j), xg, lead) - span(prr(:, j), xr, lead)) / (sup * dt), &
         (span(prg(:, j), xg, 2 * b) - span(prr(:, j), xr, 2 * b)) / (sup * dt)
     end do
   end if
 
 contains
+
+  !> Each node's carried content, theta hd (hd the gap at the face its Couette flux leaves
+  !> through, towards the trailing edge; the supply's content in a steady starved zone).
+  function carried() result(c)
+    real(dp) :: c(n)
+    c = 0.0_dp
+    c(2:n - 1) = th(2:n - 1) * hmid(1:n - 2)
+  end function carried
 
   !> As edge_oil for a stored content c on the nodes xx (a grid's, stored beside the run).
   pure real(dp) function span(c, xx, ell) result(v)
