@@ -60,6 +60,10 @@ module ringlube_jfo_system
     !> (a smoothstep). The defaults are the kernel's; other values are for the bench
     !> (tests/bench/bench_oil_turned_back.f90: where the starved zone's oil comes from)
     real(dp) :: thin_fade_from = 0.3_dp, thin_fade_width = 0.3_dp
+    !> with front_content, for the bench only: every partly filled node stores theta hd (set
+    !> thin_fade_from 1 too) and a full node next to a partly filled one hd + s (h - hd), s its
+    !> fronts' (`front_excess`); .false. (the kernel): h
+    logical :: full_hd = .false.
   end type jfo_problem
 
   !> One step's system: n nodes; a = -U/2 the Couette speed of the content; w = dx/dt (0 for a
@@ -83,6 +87,8 @@ module ringlube_jfo_system
     logical :: front_content = .false., edge_cells = .false.
     !> jfo_problem%thin_fade_from, jfo_problem%thin_fade_width
     real(dp) :: thin_fade_from = 0.3_dp, thin_fade_width = 0.3_dp
+    !> jfo_problem%full_hd
+    logical :: full_hd = .false.
   end type jfo_system
 
   !> The residual's evaluation at a state v (jfo_residual), all per node or per face (n).
@@ -154,6 +160,7 @@ contains
     sys%front_content = problem%front_content .and. problem%dt > 0.0_dp .and. problem%edge_cells
     sys%thin_fade_from = problem%thin_fade_from
     sys%thin_fade_width = problem%thin_fade_width
+    sys%full_hd = problem%full_hd
     if (allocated(sys%ca)) then
       if (size(sys%ca) /= n) deallocate (sys%ca, sys%kd, sys%ps, sys%wv)
     end if
@@ -282,7 +289,7 @@ contains
       if (sys%front_content) then
         allocate (fe(n), fed(n), fel(n), feu(n))
         call front_excess(n, a, ca, kd, ps, h, pn, tn, sys%edge_cells, sys%thin_fade_from, &
-                          sys%thin_fade_width, fe, fed, fel, feu)
+                          sys%thin_fade_width, sys%full_hd, fe, fed, fel, feu)
         res(2:n - 1) = res(2:n - 1) - w * fe(2:n - 1)
       end if
       if (.not. jac) return
@@ -620,7 +627,7 @@ contains
         tn(j) = node_t(x(j))
       end do
       call front_excess(n, a, ca, kd, ps, h, pn, tn, sys%edge_cells, sys%thin_fade_from, &
-                        sys%thin_fade_width, fe, fed, fel, feu)
+                        sys%thin_fade_width, sys%full_hd, fe, fed, fel, feu)
       pivots = .true.
       signs = .true.
       pn(1) = sys%p_left
@@ -737,7 +744,7 @@ contains
       tn(j) = node_t(x(j))
     end do
     call front_excess(n, sys%a, ca, kd, sys%ps, h, pn, tn, sys%edge_cells, sys%thin_fade_from, &
-                      sys%thin_fade_width, fe, fed, fel, feu)
+                      sys%thin_fade_width, sys%full_hd, fe, fed, fel, feu)
     call residual_nodes(sys, n, ca, kd, wv, h, content_old, x, res, scale, rmax, fsq, pn, tn, fl, &
                         fe)
   end subroutine residual_front
@@ -850,16 +857,21 @@ contains
   !> front sweeping the zone fills each cell with the oil the supply lacks there
   !> (docs/film_model.md, "The oil turned back"); from 0.3 to 0.6 that share falls to 0 by a
   !> smoothstep in theta (continuous, with its derivative), above it theta h as before (0.3
-  !> and the width 0.3 by default: tf0 and tfw, jfo_problem%thin_fade_from and thin_fade_width).
-  pure subroutine front_excess(n, a, ca, kd, ps, h, pn, tn, edge_cells, tf0, tfw, e, ed, el, eu)
+  !> and the width 0.3 by default: tf0 and tfw, jfo_problem%thin_fade_from and thin_fade_width;
+  !> fhd, jfo_problem%full_hd, a bench-only variant of the full nodes' content).
+  pure subroutine front_excess(n, a, ca, kd, ps, h, pn, tn, edge_cells, tf0, tfw, fhd, e, ed, el, &
+                               eu)
     integer, intent(in) :: n
     real(dp), intent(in) :: a, ca(n), kd(n), ps(n), h(n), pn(n), tn(n)
     logical, intent(in) :: edge_cells
     real(dp), intent(in) :: tf0, tfw
+    logical, intent(in) :: fhd
     real(dp), intent(out) :: e(n), ed(n), el(n), eu(n)
     real(dp) :: c, aa, bb, sf, hf, fac, dsd, dsu, vu, ku, kq, gd, gu, gdp, gup, dkq, tt, gg, gp
     logical :: lone
     integer :: iu, id, iq, f, dn, i2
+    real(dp) :: sd, sr, dsdl, dsdu, dsrl, dsrr, hh, a1, b1, c1, vl
+    integer :: il, iup, ir, f1
     e = 0.0_dp
     ed = 0.0_dp
     el = 0.0_dp
@@ -941,6 +953,68 @@ contains
         eu(iu) = eu(iu) + gu * dkq
       end if
     end do
+    if (fhd) then
+      ! (bench only) a full node next to a partly filled one stores hd + sd sr (h - hd): sd the
+      ! front's s with the partly filled node upstream (1 without one), sr the same with the
+      ! one downstream, so that it stores hd, as the partly filled nodes then all do, when it
+      ! empties towards either, and h once its pressure has risen above both fronts' scale
+      do il = 2, n - 1
+        if (tn(il) < 1.0_dp) cycle
+        iup = il - dn
+        ir = il + dn
+        sd = 1.0_dp
+        dsdl = 0.0_dp
+        dsdu = 0.0_dp
+        if (tn(iup) < 1.0_dp) then
+          f1 = min(il, iup)
+          c1 = abs(ca(f1))
+          if (c1 > 0.0_dp .and. kd(f1) > 0.0_dp) then
+            a1 = max(pn(il) - pn(iup), 0.0_dp)
+            b1 = (1.0_dp - tn(iup)) * c1 / kd(f1)
+            if (iup == 1 .or. iup == n) then
+              sd = min(a1 / b1, 1.0_dp)
+              if (a1 > 0.0_dp .and. a1 < b1) dsdl = ps(il) / b1
+            else
+              sd = a1 / (a1 + b1)
+              if (pn(il) - pn(iup) > 0.0_dp) dsdl = b1 / (a1 + b1)**2 * ps(il)
+              dsdu = a1 * c1 / (kd(f1) * (a1 + b1)**2)
+            end if
+          end if
+        end if
+        sr = 1.0_dp
+        dsrl = 0.0_dp
+        dsrr = 0.0_dp
+        if (ir >= 2 .and. ir <= n - 1) then
+          if (tn(ir) < 1.0_dp) then
+            f1 = min(il, ir)
+            c1 = abs(ca(f1))
+            if (c1 > 0.0_dp .and. kd(f1) > 0.0_dp) then
+              a1 = max(pn(il) - pn(ir), 0.0_dp)
+              b1 = (1.0_dp - tn(ir)) * c1 / kd(f1)
+              sr = a1 / (a1 + b1)
+              if (pn(il) - pn(ir) > 0.0_dp) dsrl = b1 / (a1 + b1)**2 * ps(il)
+              dsrr = a1 * c1 / (kd(f1) * (a1 + b1)**2)
+            else
+              sr = 0.0_dp
+            end if
+          end if
+        end if
+        vl = 1.0_dp
+        if (edge_cells .and. (il == 2 .or. il == n - 1)) vl = 1.5_dp
+        hh = vl * (h(il) - ca(merge(il - 1, il, a < 0.0_dp)) / a)
+        e(il) = e(il) + (1.0_dp - sd * sr) * hh
+        ed(il) = ed(il) - (dsdl * sr + sd * dsrl) * hh
+        ! by v of the upstream node (its fill: 1 - theta by -1, so ds by v = dsdu) and of the
+        ! downstream one
+        if (dn > 0) then
+          el(il) = el(il) - sr * dsdu * hh
+          eu(il) = eu(il) - sd * dsrr * hh
+        else
+          eu(il) = eu(il) - sr * dsdu * hh
+          el(il) = el(il) - sd * dsrr * hh
+        end if
+      end do
+    end if
     if (.not. edge_cells) return
     ! the full node next to the inflow edge with the meniscus between them
     if (dn < 0) then
@@ -989,7 +1063,7 @@ contains
       if (theta(j) < 1.0_dp) pn(j) = pc(j)
     end do
     call front_excess(n, sys%a, sys%ca, sys%kd, sys%ps, h, pn, tn, problem%edge_cells, &
-                      sys%thin_fade_from, sys%thin_fade_width, e, d1, d2, d3)
+                      sys%thin_fade_from, sys%thin_fade_width, sys%full_hd, e, d1, d2, d3)
     do j = 2, n - 1
       c(j) = c(j) - e(j) * sys%w / sys%wv(j)
     end do

@@ -29,11 +29,13 @@
 !>
 !> The sixth and seventh arguments move where, with front_content, the thinly filled cells'
 !> stored content theta hd fades to theta h (jfo_problem%thin_fade_from and thin_fade_width,
-!> the kernel's 0.3 and 0.3 by default): a bench-only variant of the kernel.
+!> the kernel's 0.3 and 0.3 by default), and an eighth, 1, sets jfo_problem%full_hd (a full node
+!> next to a partly filled one storing hd + s (h - hd)): bench-only variants of the kernel.
 !>
 !>     ./build/bench_oil_turned_back [steps per period, 2000] [period s, 0.01] [front_content 0/1, 1]
 !>                                   [nodes to trace, none] [steps before the arrival, 40]
 !>                                   [fill where theta hd fades, 0.3] [over a fill of, 0.3]
+!>                                   [full_hd 0/1, 0]
 program bench_oil_turned_back
   use ringlube_kinds, only: dp, pi
   use ringlube_jfo
@@ -49,8 +51,8 @@ program bench_oil_turned_back
   real(dp), allocatable :: spn(:, :, :), prg(:, :), prr(:, :), xg(:), xr(:)
   real(dp), allocatable :: tdg(:, :), tdr(:, :), hig(:, :), hir(:, :)
   real(dp) :: per, dx, dt, t, hm, back(6), supply, share, lead, sup, dch, tf0, tfw
-  integer :: nsteps, k, n, i, j, nfail(6), jarr, ifc, m, ntr, ntb
-  logical :: fc
+  integer :: nsteps, k, n, i, j, nfail(6), jarr, ifc, m, ntr, ntb, ifh
+  logical :: fc, fh
   type(jfo_stats) :: st
   type(jfo_problem) :: prob
   character(len=32) :: arg
@@ -90,6 +92,12 @@ program bench_oil_turned_back
     call get_command_argument(7, arg)
     read (arg, *) tfw
   end if
+  ifh = 0
+  if (command_argument_count() >= 8) then
+    call get_command_argument(8, arg)
+    read (arg, *) ifh
+  end if
+  fh = ifh == 1
   allocate (bstep(nsteps, size(nn)), xf(nsteps, size(nn)), oil(nsteps, size(nn)))
   allocate (fcou(nsteps), fpoi(nsteps), sfr(nsteps))
   allocate (spn(nsteps, size(nn), 6))
@@ -119,7 +127,8 @@ program bench_oil_turned_back
       prob = jfo_problem(dx=dx, u=u, dt=dt, p_left=pl, p_right=pl, &
                          theta_right=min(1.0_dp, cs / hmid(n - 1)), p_cav=0.0_dp, &
                          leading_gas=.true., edge_meniscus=.true., edge_cells=.true., &
-                         front_content=fc, thin_fade_from=tf0, thin_fade_width=tfw)
+                         front_content=fc, thin_fade_from=tf0, thin_fade_width=tfw, &
+                         full_hd=fh)
       call jfo_solve_connected(prob, h, hmid, kmid, cold, pc, p, th, st)
       cold = jfo_front_content(prob, h, hmid, kmid, pc, p, th)
       if (st%info /= JFO_OK) nfail(k) = nfail(k) + 1
@@ -155,9 +164,10 @@ program bench_oil_turned_back
     back(k) = sum(bstep(:, k))
   end do
   jarr = findloc(bstep(:, size(nn)) > 1e-9_dp * 0.5_dp * u * cs * dt, .true., 1)
-  write (*, '(a, i0, a, es9.2, a, l1, a, 2f6.3, a, i0, a, es11.4, a)') 'steps per period ', &
-    nsteps, ', period ', per, ' s, front_content ', fc, ', theta hd fading from, over ', tf0, &
-    tfw, '; the reference arrives at step ', jarr, ', turns back ', back(size(nn)) / supply, &
+  write (*, '(a, i0, a, es9.2, a, l1, a, 2f6.3, a, l1, a, i0, a, es11.4, a)') &
+    'steps per period ', nsteps, ', period ', per, ' s, front_content ', fc, &
+    ', theta hd fading from, over ', tf0, tfw, ', full_hd ', fh, &
+    '; the reference arrives at step ', jarr, ', turns back ', back(size(nn)) / supply, &
     ' of the supply'
   write (*, '(a)') 'nodes  oil turned back error / supply  share within 10 steps of the '// &
     'arrival  meniscus lead (cells)  steps not converged'
