@@ -59,9 +59,12 @@ module ringlube_cycle
   real(dp), parameter :: warmup_bdc = 540.0_dp
   !> the liner film's extrapolations a run makes at most (extrapolate_liner)
   integer, parameter :: max_extrapolations = 2
-  !> the pilot cycle's crank step in steps of the run's (pilot_friction; 2 where the cycle's
-  !> steps do not divide by 4, none where they do not divide by 2)
-  integer, parameter :: pilot_stride = 4
+  !> the pilot cycle's crank step in steps of the run's (pilot_friction; halved until the
+  !> cycle's steps divide by it, none below 2): without a starved inlet 8, whose friction
+  !> starts the ring pack as well as 4 times the step did on the 'gas' decks (the same cycles,
+  !> 0.17 instead of 0.34 of a cycle's crank steps); starved 4 (at 8 the 12,000 r/min 'gas'
+  !> deck read in N/m was not periodic in 10 cycles, against 7 at 4)
+  integer, parameter :: pilot_stride = 8, pilot_stride_starved = 4
 
   !> Where the ring pack's first cycle is solved again from after its restart (the re-warm):
   !> crank step k and the state before it.
@@ -213,8 +216,8 @@ contains
   end function first_restart
 
   !> The friction of a pilot cycle at each crank step of case c (fric, interpolated linearly
-  !> between the pilot's steps): the case run at pilot_stride times its crank step over its
-  !> warm-up and one cycle (the same grid and models). cost: the pilot's crank steps in cycles
+  !> between the pilot's steps): the case run at pilot_stride (starved pilot_stride_starved)
+  !> times its crank step over its warm-up and one cycle (the same grid and models). cost: the pilot's crank steps in cycles
   !> of the case's; its film and Reynolds solves are added to film_solves, solves. fric is
   !> not allocated where the cycle's steps do not divide by 2.
   subroutine pilot_friction(c, fric, cost, film_solves, solves, err)
@@ -232,6 +235,7 @@ contains
     cost = 0.0_dp
     m = steps_per_cycle(c)
     s = pilot_stride
+    if (c%inlet == 'starved') s = pilot_stride_starved
     do while (s > 1 .and. mod(m, s) /= 0)
       s = s / 2
     end do

@@ -222,7 +222,7 @@ module ringlube_inputs
     input_spec('numerics', 'accelerate', kind_logical, '.true.', 0.0_dp, 0.0_dp, '', '', &
       'extrapolate a slowly settling liner film (starved) toward its periodic state'), &
     input_spec('numerics', 'pilot_cycle', kind_logical, '.false.', 0.0_dp, 0.0_dp, '', '', &
-      "start the ring pack under a pilot cycle's friction (4x step; round bore; starved: film starts alone)"), &
+     "start the ring pack under a pilot cycle's friction (8x step, starved 4x; round bore only)"), &
    input_spec('numerics', 'first_restart', kind_choice, 'away', 0.0_dp, 0.0_dp, '', 'away|always', &
       "starved, round bore, liner window: ring pack restarted after cycle 1 only if off its periodic state"), &
     input_spec('numerics', 'bdc_start', kind_logical, '.true.', 0.0_dp, 0.0_dp, '', '', &

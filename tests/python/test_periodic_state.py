@@ -113,7 +113,7 @@ def test_pilot_cycle_changes_no_answer_beyond_cycle_tol(physics):
     """The 12,000 r/min 'gas' deck as shipped (read in N): the film's friction moves the land's
     periodic state, so a ring pack started without it restarts after the first cycle and needs
     two cycles more (3 cycles run). Started from the gas network's periodic state under the
-    friction of a pilot cycle at 4 times the crank step (`pilot_cycle`) the second cycle, which
+    friction of a pilot cycle at 8 times the crank step (`pilot_cycle`) the second cycle, which
     continued the first, is periodic; energy and blowby equal those of a run without the pilot
     and of one to cycle_tol 1e-6 within cycle_tol."""
     case = Case.from_namelist(GAS_12000).with_physics(**physics)
@@ -142,15 +142,18 @@ def test_after_a_pilot_the_first_cycle_is_not_judged_on_its_energy():
     assert abs(r.blowby / tight.blowby - 1) <= tol
 
 
-def test_pilot_cycle_counts_its_crank_steps():
+@pytest.mark.parametrize("dpsi, steps", [(2.0, 360), (4.0, 180)])
+def test_pilot_cycle_counts_its_crank_steps(dpsi, steps):
     """cycles_computed counts the pilot's crank steps as the run's: on the 12,000 r/min 'gas' deck
-    (Swift-Stieber, 2 deg steps) the pilot's 270 deg of warm-up (the ring pack's) and its cycle at
-    8 deg are 34 + 90 steps (270 deg at 8 deg: 33.75, run as 34 whole steps) of the run's 360
-    per cycle; the run's own warm-up is the film's 90 deg (the ring pack's 270 deg only without a
-    pilot) and each cycle adds its closing step at 720 deg."""
-    r = ringlube.run(Case.from_namelist(GAS_12000).with_numerics(pilot_cycle=True))
+    (Swift-Stieber) the pilot runs at 8 times the crank step where the cycle's steps divide by 8
+    (2 deg: 360 steps), else at 4 times (4 deg: 180 steps), so at 16 deg either way: its 270 deg
+    of warm-up (the ring pack's) and its cycle are 17 + 45 steps (270 deg at 16 deg: 16.875, run
+    as 17 whole steps) of the run's 360 or 180 per cycle; the run's own warm-up is the film's 90
+    deg (the ring pack's 270 deg only without a pilot) and each cycle adds its closing step at
+    720 deg."""
+    r = ringlube.run(Case.from_namelist(GAS_12000).with_numerics(pilot_cycle=True, dpsi_deg=dpsi))
     n = r.cycles_run
-    expected = n + (90 + 2 * n) / 720 + (34 + 90) / 360
+    expected = n + (90 + dpsi * n) / 720 + (17 + 45) / steps
     assert r.scalars["cycles_computed"] == pytest.approx(expected, rel=1e-12)
 
 
