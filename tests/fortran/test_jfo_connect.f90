@@ -353,6 +353,8 @@ contains
         do k = 1, size(nn)
           n = nn(k)
           dx = b / (n - 1)
+          if (allocated(x)) deallocate (x)
+          allocate (x(n))
           x = [(-0.5_dp * b + (i - 1) * dx, i=1, n)]
           allocate (p(n), th(n), pc(n), cold(n), hmid(n - 1), kmid(n - 1))
           dt = per / nsteps
