@@ -36,8 +36,8 @@ program bench_jfo
   call get_command_argument(1, arg)
   if (arg /= '--alone') then
     ! the machine may be shared: three repetitions, quote the fastest
-  write (*, '(a)') '  nodes  solver                      us/solve  iterations/solve (mean, max)'// &
-      '  us/iteration'
+    write (*, '(a)') '  nodes  solver                      us/solve  '// &
+      'iterations/solve (mean, max)  us/iteration'
     do k = 1, size(sizes)
       do rep = 1, 3
         call run(sizes(k))
