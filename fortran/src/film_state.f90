@@ -266,6 +266,9 @@ contains
     dst%edge_meniscus = src%edge_meniscus
     dst%front_content = src%front_content
     dst%edge_cells = src%edge_cells
+    dst%thin_fade_from = src%thin_fade_from
+    dst%thin_fade_width = src%thin_fade_width
+    dst%full_hd = src%full_hd
   end subroutine copy_system
 
   !> film_copy's part for the JFO solve's working arrays (ringlube_jfo_system's jfo_scratch).
