@@ -26,6 +26,8 @@ module ringlube_greenwood_tripp
   !> Table spacing in lambda.
   real(dp), parameter :: dlam = 0.02_dp
   integer, parameter :: ntab = nint(gt_lambda_max / dlam) + 1
+  !> Gauss-Legendre nodes per panel of the I_m quadrature.
+  integer, parameter :: ngauss = 24
 
   !> Table of log I_5/2 and its lambda-derivative on a uniform grid (process constant).
   logical :: table_ready = .false.
@@ -66,10 +68,18 @@ contains
   pure subroutine gt_integrals(lambda, i52, i72)
     real(dp), intent(in) :: lambda
     real(dp), intent(out) :: i52, i72
-    integer, parameter :: npanel = 8, ngauss = 24
-    real(dp) :: xg(ngauss), wg(ngauss), umax, a, h, u, t, g
-    integer :: ip, ig
+    real(dp) :: xg(ngauss), wg(ngauss)
     call gauss_legendre(ngauss, xg, wg)
+    call gt_integrals_on(lambda, xg, wg, i52, i72)
+  end subroutine gt_integrals
+
+  !> gt_integrals with the ngauss Gauss-Legendre nodes xg and weights wg given.
+  pure subroutine gt_integrals_on(lambda, xg, wg, i52, i72)
+    real(dp), intent(in) :: lambda, xg(ngauss), wg(ngauss)
+    real(dp), intent(out) :: i52, i72
+    integer, parameter :: npanel = 8
+    real(dp) :: umax, a, h, u, t, g
+    integer :: ip, ig
     ! beyond umax the integrand is below exp(-60) of its scale
     umax = sqrt(-lambda + sqrt(lambda**2 + 120.0_dp))
     h = umax / npanel
@@ -85,15 +95,16 @@ contains
         i72 = i72 + g * t
       end do
     end do
-  end subroutine gt_integrals
+  end subroutine gt_integrals_on
 
   !> Build the F_5/2 table once per process (later calls return at once).
   subroutine gt_init()
     integer :: i
-    real(dp) :: i52, i72
+    real(dp) :: i52, i72, xg(ngauss), wg(ngauss)
     if (table_ready) return
+    call gauss_legendre(ngauss, xg, wg)
     do i = 1, ntab
-      call gt_integrals((i - 1) * dlam, i52, i72)
+      call gt_integrals_on((i - 1) * dlam, xg, wg, i52, i72)
       logi(i) = log(i52)
       dlogi(i) = -i72 / i52
     end do
