@@ -25,7 +25,7 @@ module ringlube_load_balance
   use ringlube_film_state, only: lower_edge_pressure
   use ringlube_jfo_connect, only: jfo_seal_margin
   use ringlube_sectors, only: sector_ring, sector_trial, ring_evaluate, ring_ceiling, ring_solve, &
-                              ring_coupled
+                              ring_coupled, loose_trials
   use ringlube_results, only: flag_floor, flag_ceiling, flag_load
   implicit none
   private
@@ -266,19 +266,24 @@ contains
     end select
   end function extrapolate
 
-  !> Relative load residual (W_h + W_a - F) / F at trial h0 (solves the film).
-  real(dp) function residual(c, lp, g, mem, h0, ring)
+  !> Relative load residual (W_h + W_a - F) / F at trial h0 (solves the film). loose (a
+  !> distorted bore's step that ring_solve did not take): a trial far from the root may end its
+  !> sectors' Newton iteration early (ringlube_sectors, sector_trial's loose).
+  real(dp) function residual(c, lp, g, mem, h0, ring, loose)
     type(case_type), intent(in) :: c
     type(load_problem), intent(in) :: lp
     type(film_type), intent(inout) :: g
     type(balance_memory), intent(inout) :: mem
     real(dp), intent(in) :: h0
     type(sector_ring), intent(inout), optional :: ring
+    logical, intent(in), optional :: loose
     real(dp) :: sq
     type(sector_trial) :: tr
     if (present(ring)) then
       tr = sector_trial(cc=h0, sq_a=lp%sq_a, dt=lp%dt, u=lp%u, p_chamber=lp%pg, load=lp%load, &
-                        floor=c%h0_floor, ceiling=c%h0_ceiling)
+                        floor=c%h0_floor, ceiling=c%h0_ceiling, cc_floor=c%h0_floor, &
+                        cc_ceiling=lp%ceiling)
+      if (present(loose)) tr%loose = loose
       call ring_evaluate(c, ring, g, tr)
     else
       sq = 0.0_dp
@@ -308,23 +313,27 @@ contains
     integer, intent(out) :: flags
     real(dp) :: ya, yb, ga, gb, dy, ylo, yhi
     integer :: it
-    logical :: solved
+    logical :: solved, loose
 
     if (c%h0_update == 'damped') then
       call damped()
       return
     end if
     flags = 0
+    ! (the root finder's trials after a refused ring_solve may be loose: far from the root
+    ! their sectors end early, at a tolerance in proportion to the load residual)
+    loose = .false.
     if (present(ring)) then
       if (ring_coupled(ring)) then
         call free_ring(solved)
         if (solved) return
+        loose = loose_trials
       end if
     end if
     ylo = log(c%h0_floor)
     yhi = log(lp%ceiling)
     ya = log(guess)
-    ga = residual(c, lp, g, mem, guess, ring)
+    ga = residual(c, lp, g, mem, guess, ring, loose)
     if (abs(ga) <= c%load_tol) then
       call finish(guess, ga)
       return
@@ -340,7 +349,7 @@ contains
     end if
     do it = 1, 200
       yb = min(max(ya + dy, ylo), yhi)
-      gb = residual(c, lp, g, mem, exp(yb), ring)
+      gb = residual(c, lp, g, mem, exp(yb), ring, loose)
       if (abs(gb) <= c%load_tol) then
         call finish(exp(yb), gb)
         return
@@ -428,7 +437,11 @@ contains
 
     subroutine finish(h, r)
       real(dp), intent(in) :: h, r
-      if (g%h0 /= h) then
+      logical :: again
+      again = g%h0 /= h
+      ! (a loose trial's sectors are solved to their own tolerance at the answer)
+      if (present(ring)) again = again .or. ring%loosened
+      if (again) then
         resid = residual(c, lp, g, mem, h, ring)  ! leave the film solved at h
       else
         resid = r
@@ -493,7 +506,7 @@ contains
         else
           b = b + sign(tol1, xm)
         end if
-        fb = residual(c, lp, g, mem, exp(b), ring)
+        fb = residual(c, lp, g, mem, exp(b), ring, loose)
       end do
       call finish(exp(b), fb)
     end subroutine brent

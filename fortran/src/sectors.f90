@@ -15,7 +15,11 @@
 !> W_j the load per unit circumference the film of sector j carries at h0_j (hydrodynamic +
 !> asperity), D_j the bore's distortion there, C the ring's compliance on the sectors
 !> (ringlube_bore: the orders 2..M/2 of the load bend the ring; -C [W] is its deflection), and
-!> returns the mean load: the load balance then sets mean W = (p_e + p_back) b. The M + 2
+!> returns the mean load: the load balance then sets mean W = (p_e + p_back) b. At a step that
+!> ring_solve did not take, a trial far from the root is loose: its sectors' Newton iteration
+!> ends once their residuals are within loose_share of its load residual (stall_share after a
+!> line search without descent), for the root finder takes only that residual's sign and size
+!> from it; near the root and at a bound they are solved to their own tolerance. The M + 2
 !> unknowns (ln h0_j, x_c, y_c), M + 3 with ln c, are found by Newton's method with a dense
 !> LAPACK solve; each sector's dW_j/dh0_j is a secant kept from its last two films (a film's
 !> load depends on its own h0 only, so the Jacobian is exact up to these slopes). With zero distortion every
@@ -41,7 +45,7 @@ module ringlube_sectors
             exact_mean, ring_loads, ring_ceiling, ring_coupled, free_mean_position
   public :: team_begin, team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
             team_join, team_sectors, job_caller, job_none, team_spin, team_busy_check, team_wanted
-  public :: n_phases, phase_solves, phase_calls, solve_failures, accept_jumps
+  public :: n_phases, phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
@@ -59,8 +63,19 @@ module ringlube_sectors
   !> for benchmarks, off: tests/bench/bench_kernel with RINGLUBE_ACCEPT_JUMPS=1; the answers
   !> move)
   logical, save :: accept_jumps = .false.
+  !> .true.: the root finder's trials at a step that ring_solve did not take are loose
+  !> (sector_trial's loose); .false. (a switch for benchmarks: tests/bench/bench_kernel with
+  !> RINGLUBE_LOOSE_TRIALS=0) every trial's sectors are solved to their own tolerance
+  logical, save :: loose_trials = .true.
   !> largest change of a sector's ln h0 per Newton step
   real(dp), parameter :: max_dlog = 0.5_dp
+  !> a loose trial of the root finder (sector_trial's loose) ends once its sectors' residuals
+  !> are within this share of the load residual |mean W - q| / q over load_tol (or within
+  !> their own tolerance, whichever is looser)
+  real(dp), parameter :: loose_share = 0.3_dp
+  !> ... or, after a line search without descent, within the load residual over load_tol
+  !> (the next iterations would crawl: the residual's sign is what the root finder needs)
+  real(dp), parameter :: stall_share = 1.0_dp
   !> Newton iterations at most of the lift-off margin's second attempt at the ceiling
   !> (ring_ceiling: with the films' secants of either sign)
   integer, parameter :: ceiling_signed_iterations = 12
@@ -83,6 +98,9 @@ module ringlube_sectors
     type(film_type), allocatable :: films(:)
     !> h0_j of the last evaluation [m]; the last three accepted steps' (3, M), most recent first
     real(dp), allocatable :: h(:), hist(:, :)
+    !> the last evaluation was a loose trial that ended before its sectors met their own
+    !> tolerance (sector_trial's loose)
+    logical :: loosened = .false.
     !> the distortion at the step's position [m]
     real(dp), allocatable :: d(:)
     !> load per unit circumference of each sector at the last evaluation [N/m], its slope
@@ -136,6 +154,12 @@ module ringlube_sectors
     !> (ring_ceiling's second attempt); else only a falling secant is kept (update_slopes)
     integer :: max_iterations = 0
     logical :: signed_slopes = .false.
+    !> loose: a root finder's trial far from its root, strictly between cc_floor and
+    !> cc_ceiling, may end its sectors' Newton iteration at a tolerance loosened in proportion
+    !> to its load residual (loose_share; stall_share after a line search without descent):
+    !> its residual's sign and size are all the root finder takes from it; near the root
+    !> (within load_tol / loose_share) and at a bound the tolerance is the sectors' own
+    logical :: loose = .false.
   end type sector_trial
 
   !> The team of a crank step's parallel region (ringlube_cycle_state, advance_ring): thread 0
@@ -409,6 +433,7 @@ contains
     logical, intent(out) :: done
     type(newton_work) :: nw
     integer :: it, j, nfs, nrs, max_it
+    logical :: loosened
     nfs = sum(ring%films%film_solves)
     nrs = sum(ring%films%reynolds_solves)
     do j = 1, ring%bore%m
@@ -420,6 +445,8 @@ contains
     call first_guess(c, ring, tr, nw)
     call solve_films(c, ring, tr)
     call residuals(c, ring, tr, nw%r, nw%merit, done)
+    loosened = loose_enough(c, ring, tr, nw, done)
+    done = done .or. loosened
     max_it = max_inner
     if (tr%max_iterations > 0) max_it = tr%max_iterations
     if (tr%free) max_it = max_free
@@ -434,15 +461,35 @@ contains
       ring%iterations = ring%iterations + 1
       call take_step(c, ring, tr, nw, done)
       call update_slopes(ring, tr, nw)
+      loosened = loose_enough(c, ring, tr, nw, done)
+      done = done .or. loosened
       ! (a free mean position at a bound: the caller's root finder holds it there; a line
       ! search without descent: the root finder takes the step)
       if (tr%free .and. (tr%cc <= tr%cc_floor .or. tr%cc >= tr%cc_ceiling .or. nw%stalled)) exit
     end do
     ring%c_last = tr%cc
+    ring%loosened = loosened
     if (tr%free .and. done) call total_slope(ring, tr, nw)
     if (.not. done .and. .not. tr%free) ring%missed = ring%missed + 1
     call summarise(ring, g, tr, nfs, nrs, done .or. tr%free)
   end subroutine newton_solve
+
+  !> A loose trial (tr%loose, strictly between its bounds) whose sectors are not within their
+  !> own tolerance (done: they are) but within loose_share of its load residual over load_tol.
+  pure logical function loose_enough(c, ring, tr, nw, done) result(ok)
+    type(case_type), intent(in) :: c
+    type(sector_ring), intent(in) :: ring
+    type(sector_trial), intent(in) :: tr
+    type(newton_work), intent(in) :: nw
+    logical, intent(in) :: done
+    real(dp) :: r_out
+    ok = .false.
+    if (done .or. .not. tr%loose .or. tr%free) return
+    if (tr%cc <= tr%cc_floor .or. tr%cc >= tr%cc_ceiling) return
+    r_out = (exact_mean(ring%w) * tr%circ - tr%load) / max(tr%load, 1e-3_dp)
+    ok = nw%merit <= loose_share * abs(r_out) / c%load_tol
+    if (nw%stalled) ok = ok .or. nw%merit <= stall_share * abs(r_out) / c%load_tol
+  end function loose_enough
 
   !> tr%dres_dlnc: the Jacobian of the M + 3 equations solved for a unit change of the load
   !> residual, whose ln cc component is 1 / (d residual / d ln cc) with the sectors solved.

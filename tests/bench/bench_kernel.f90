@@ -11,7 +11,9 @@
 !> cycles; ringlube_sectors' phase counters): ring_solve accepted, refused, the root finder's
 !> trials and the lift-off margin's solves, their calls, and ring_solve's refusals by reason.
 !> With RINGLUBE_ACCEPT_JUMPS=1 in the environment ring_solve accepts an answer that moves a
-!> sector by more than its limit (ringlube_sectors' accept_jumps: the answers move).
+!> sector by more than its limit (ringlube_sectors' accept_jumps: the answers move); with
+!> RINGLUBE_LOOSE_TRIALS=0 the root finder's trials at a step ring_solve did not take solve
+!> their sectors to their own tolerance (ringlube_sectors' loose_trials off: the answers move).
 !>
 !>   bench_kernel --micro [NODES]
 !>
@@ -33,7 +35,7 @@ program bench_kernel
   use ringlube_film, only: film_type, film_setup, film_evaluate
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_textio, only: read_text_file, itoa
-  use ringlube_sectors, only: phase_solves, phase_calls, solve_failures, accept_jumps
+  use ringlube_sectors, only: phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials
   use, intrinsic :: iso_fortran_env, only: output_unit
   implicit none
   character(len=4096) :: arg
@@ -96,6 +98,8 @@ contains
     call load(path, ovr, c)
     call get_environment_variable('RINGLUBE_ACCEPT_JUMPS', env)
     accept_jumps = trim(env) == '1'
+    call get_environment_variable('RINGLUBE_LOOSE_TRIALS', env)
+    loose_trials = trim(env) /= '0'
     best = huge(1.0_dp)
     do i = 1, nrep
       phase_solves = 0
