@@ -25,7 +25,8 @@ module ringlube_load_balance
   use ringlube_film_state, only: lower_edge_pressure
   use ringlube_jfo_connect, only: jfo_seal_margin
   use ringlube_sectors, only: sector_ring, sector_trial, ring_evaluate, ring_ceiling, ring_solve, &
-                              ring_coupled, loose_trials
+                              ring_coupled, loose_trials, phase_calls, phase_solves, &
+                              refused_solves, refused_held_solves, last_refusal
   use ringlube_results, only: flag_floor, flag_ceiling, flag_load
   implicit none
   private
@@ -122,6 +123,7 @@ contains
     integer, intent(out) :: flags
     type(load_problem), intent(out) :: lp
     real(dp) :: u, guess
+    integer :: refusals, solves
     u = speed(c, ctx, psi)
     if (u < 0.0_dp) g%lead_left = .true.
     if (u > 0.0_dp) g%lead_left = .false.
@@ -149,7 +151,17 @@ contains
     guess = predictor(mem)
     mem%trials = 0
     guess = min(max(guess, c%h0_floor), lp%ceiling)
+    refusals = phase_calls(2)
+    solves = phase_solves(3)
     call find_h0(c, lp, g, mem, guess, h0out, flags, resid, ring)
+    ! (benchmark counters: the root finder's film solves at a step ring_solve refused)
+    if (present(ring) .and. phase_calls(2) > refusals) then
+      associate (r => last_refusal, n => phase_solves(3) - solves)
+        refused_solves(r) = refused_solves(r) + n
+        if (iand(flags, flag_floor + flag_ceiling) /= 0) &
+          refused_held_solves(r) = refused_held_solves(r) + n
+      end associate
+    end if
     call margins(c, lp, g, mem, psi, h0out, flags, resid, ring)
     mem%h(3) = mem%h(2)
     mem%h(2) = mem%h(1)

@@ -9,7 +9,10 @@
 !> reported cycle for the lift-off margin (not in film_solves). With a distorted bore a last
 !> line gives the sectors' film solves of the last run by phase of its crank steps (all its
 !> cycles; ringlube_sectors' phase counters): ring_solve accepted, refused, the root finder's
-!> trials and the lift-off margin's solves, their calls, and ring_solve's refusals by reason.
+!> trials and the lift-off margin's solves, their calls, and ring_solve's refusals by reason;
+!> and another the root finder's film solves at the refused steps by the refusal's reason, of
+!> them those at the steps held at a bound, and the refusals not converged whose line search
+!> found no descent.
 !> With RINGLUBE_ACCEPT_JUMPS=1 in the environment ring_solve accepts an answer that moves a
 !> sector by more than its limit (ringlube_sectors' accept_jumps: the answers move); with
 !> RINGLUBE_LOOSE_TRIALS=0 the root finder's trials at a step ring_solve did not take solve
@@ -35,7 +38,8 @@ program bench_kernel
   use ringlube_film, only: film_type, film_setup, film_evaluate
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_textio, only: read_text_file, itoa
-  use ringlube_sectors, only: phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials
+  use ringlube_sectors, only: phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials, &
+                              refused_solves, refused_held_solves, stalled_failures
   use, intrinsic :: iso_fortran_env, only: output_unit
   implicit none
   character(len=4096) :: arg
@@ -105,6 +109,9 @@ contains
       phase_solves = 0
       phase_calls = 0
       solve_failures = 0
+      refused_solves = 0
+      refused_held_solves = 0
+      stalled_failures = 0
       t0 = now()
       call solve_cycle(c, res, err)
       best = min(best, now() - t0)
@@ -128,6 +135,10 @@ contains
         'sector film solves by phase (ring_solve accepted, refused, root finder, margin):', &
         phase_solves, ' calls:', phase_calls, &
         ' refusals (not converged, bound, jump, light):', solve_failures
+      if (sum(phase_calls) > 0) write (output_unit, '(a, 4(1x, i0), a, 4(1x, i0), a, i0)') &
+        'root finder film solves by refusal (not converged, bound, jump, light):', &
+        refused_solves, ' held at a bound:', refused_held_solves, &
+        ' not converged with a stalled line search: ', stalled_failures
     end associate
   end subroutine whole_run
 

@@ -43,7 +43,11 @@ runs lie apart.
 the crank steps whose mean position `ring_solve` solved with the sectors (accepted), its attempts
 that were refused (the sectors restored: the film solves wasted) and the root finder's trials that
 then take those steps, and the lift-off margin's solves at the ceiling; with the steps and
-`ring_solve`'s refusals by reason (not converged, at a bound, a sector's jump, a light sector).
+`ring_solve`'s refusals by reason (not converged, of them with a line search without descent; at
+a bound, a sector's jump, a light sector), the root finder's film solves per sector and refused
+step by reason, and the share of them at the steps it held at a bound (the ring lifted off).
+`--phases --tight-trials`: the same with the root finder's trials solved to the sectors' own
+tolerance (RINGLUBE_LOOSE_TRIALS=0 for bench_kernel; the answers move).
 `--phases --accept-jumps`: the same with `ring_solve` accepting an answer that moves a sector by
 more than its limit (RINGLUBE_ACCEPT_JUMPS=1 for bench_kernel; the answers move), with the energy
 and the cycles computed of both.
@@ -65,6 +69,7 @@ the cost table alone 35 s at a load of 2-4):
     .venv/bin/python tests/bench/bore_cost.py --moves BASE/build/ringlube-solve   # 30 s
     .venv/bin/python tests/bench/bore_cost.py --phases   # 20 s
     .venv/bin/python tests/bench/bore_cost.py --phases --accept-jumps   # 40 s
+    .venv/bin/python tests/bench/bore_cost.py --phases --tight-trials   # 20 s
     .venv/bin/python tests/bench/bore_cost.py --branches BASE/build/ringlube-solve   # 3 min
     OMP_WAIT_POLICY=ACTIVE .venv/bin/python tests/bench/bore_cost.py --threads-only
     GOMP_SPINCOUNT=20000 .venv/bin/python tests/bench/bore_cost.py --threads-only
@@ -139,9 +144,14 @@ def cost_table() -> None:
             print(f"{row} | {solves} | {os.getloadavg()[0]:.1f} |", flush=True)
 
 
-def phase_run(deck: Path, phys: str, accept_jumps: bool = False) -> tuple[dict, list, list, list]:
-    """bench_kernel's values and its phase line (film solves, calls, refusals), one run."""
-    env = dict(os.environ, RINGLUBE_ACCEPT_JUMPS="1" if accept_jumps else "0")
+def phase_run(
+    deck: Path, phys: str, accept_jumps: bool = False, loose: bool = True
+) -> tuple[dict, list, list, list, list]:
+    """bench_kernel's values, its phase line (film solves, calls, refusals) and its line of the
+    root finder's film solves by refusal (by reason, held at a bound, stalled), one run."""
+    env = dict(
+        os.environ, RINGLUBE_ACCEPT_JUMPS="1" if accept_jumps else "0", RINGLUBE_LOOSE_TRIALS="1" if loose else "0"
+    )
     out = subprocess.run(
         [str(BENCH), str(deck), f"{READ_IN_N} &physics {phys} /", "1"],
         capture_output=True,
@@ -150,40 +160,54 @@ def phase_run(deck: Path, phys: str, accept_jumps: bool = False) -> tuple[dict, 
         env=env,
     ).stdout
     vals = {k: float(v) for k, v in re.findall(r"(\w+)=\s*([-+0-9.eE]+)", out)}
-    line = out.split("by phase")[1]
+    line = out.split("by phase")[1].split("\n")[0]
     solves, calls, refusals = (
         [int(x) for x in part.split(":")[1].split()] for part in re.split(r"(?= calls:| refusals)", line)
     )
-    return vals, solves, calls, refusals
+    by_refusal = [int(x) for x in re.findall(r"-?\d+", out.split("by refusal")[1].split(":", 1)[1])]
+    return vals, solves, calls, refusals, by_refusal
 
 
-def phase_table(accept_jumps: bool = False) -> None:
-    """Film solves per sector-step of every cycle computed, by phase (bench_kernel, one run);
-    with accept_jumps, of the run whose ring_solve accepts a sector's jump, with the energy, the
-    cycles computed and the film solves per sector-step of both runs."""
+def phase_table(accept_jumps: bool = False, loose: bool = True) -> None:
+    """Film solves per sector-step of every cycle computed, by phase (bench_kernel, one run),
+    and the root finder's film solves per sector and refused step by the refusal's reason (not
+    converged, of them with a stalled line search; the others), with the share of them at the
+    steps the root finder held at a bound (lift-off); with accept_jumps, of the run whose
+    ring_solve accepts a sector's jump, with the energy, the cycles computed and the film
+    solves per sector-step of both runs; loose False: with the root finder's trials solved to
+    the sectors' own tolerance (RINGLUBE_LOOSE_TRIALS=0)."""
     extra = ""
     if accept_jumps:
         extra = " | energy J: accepting / not | cycles computed | film solves per sector-step"
     print(
         "| deck | film | steps | accepted: steps, solves per sector-step | refused: steps, wasted"
-        " | root finder: trials, solves per sector-step | margin | all | refusals: not converged,"
-        f" bound, jump, light{extra} |"
+        " | root finder: trials, solves per sector-step | margin | all | refusals: not converged"
+        " (stalled), bound, jump, light | root finder per sector and refused step: not converged,"
+        f" jump, other | of them held at a bound{extra} |"
     )
-    print("|---|---|---|---|---|---|---|---|---|" + ("---|---|---|" if accept_jumps else ""))
+    print("|---|---|---|---|---|---|---|---|---|---|---|" + ("---|---|---|" if accept_jumps else ""))
     for label, name in DECKS:
         deck = ROOT / "inputs" / name
         for model, phys, _ in MODELS:
-            vals, solves, calls, refusals = phase_run(deck, phys, accept_jumps)
+            vals, solves, calls, refusals, by_refusal = phase_run(deck, phys, accept_jumps, loose)
             steps = round(vals["steps"] * vals["cycles_computed"])
             m = 24
             per = [x / (steps * m) for x in solves]
+            rf, held, stalled = by_refusal[:4], by_refusal[4:8], by_refusal[8]
+            groups = ((0,), (2,), (1, 3))
+            per_refused = []
+            for g in groups:
+                n = sum(refusals[i] for i in g)
+                per_refused.append(f"{sum(rf[i] for i in g) / (m * n):.1f}" if n else "-")
+            held_share = f"{sum(held) / sum(rf):.0%}" if sum(rf) else "-"
             row = (
                 f"| {label} | {model} | {steps} | {calls[0]}, {per[0]:.2f} | {calls[1]}, {per[1]:.2f}"
                 f" | {calls[2]}, {per[2]:.2f} | {per[3]:.2f} | {sum(per):.2f} |"
-                f" {', '.join(str(x) for x in refusals)} |"
+                f" {refusals[0]} ({stalled}), {', '.join(str(x) for x in refusals[1:])} |"
+                f" {', '.join(per_refused)} | {held_share} |"
             )
             if accept_jumps:
-                v0, s0, _, _ = phase_run(deck, phys)
+                v0, s0, _, _, _ = phase_run(deck, phys)
                 steps0 = round(v0["steps"] * v0["cycles_computed"])
                 row += (
                     f" {vals['energy']:.6f} / {v0['energy']:.6f} |"
@@ -450,11 +474,16 @@ if __name__ == "__main__":
     parser.add_argument(
         "--accept-jumps", action="store_true", help="with --phases: ring_solve accepting a sector's jump"
     )
+    parser.add_argument(
+        "--tight-trials",
+        action="store_true",
+        help="with --phases: the root finder's trials solved to the sectors' own tolerance",
+    )
     args = parser.parse_args()
     BENCH = args.bench
     SOLVE = args.solve
     if args.phases:
-        phase_table(args.accept_jumps)
+        phase_table(args.accept_jumps, not args.tight_trials)
         raise SystemExit(0)
     if args.branches:
         with tempfile.TemporaryDirectory(prefix="ringlube_bore_") as tmp:

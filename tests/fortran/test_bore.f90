@@ -400,7 +400,7 @@ contains
   !> root a trial's sectors end at a tolerance in proportion to its load residual): on the
   !> shipped 12,000 r/min distorted deck with the flooded film, where ring_solve is refused at
   !> 68 steps, the root finder takes such a step in at most 0.6 times the film solves per
-  !> sector of trials solved to the sectors' own tolerance (21 against 52 measured), and the
+  !> sector of trials solved to the sectors' own tolerance (28 against 52 measured), and the
   !> answers stay the balance's: every step not held at a bound within load_tol, no more steps
   !> with the sectors outside their tolerance, the energy within load_tol.
   subroutine loose_trials_test()
