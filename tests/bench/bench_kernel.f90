@@ -38,7 +38,7 @@ program bench_kernel
   use ringlube_film, only: film_type, film_setup, film_evaluate
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_textio, only: read_text_file, itoa
-  use ringlube_sectors, only: phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials, &
+use ringlube_sectors, only: phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials, &
                               refused_solves, refused_held_solves, stalled_failures
   use, intrinsic :: iso_fortran_env, only: output_unit
   implicit none

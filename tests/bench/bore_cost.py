@@ -149,9 +149,8 @@ def phase_run(
 ) -> tuple[dict, list, list, list, list]:
     """bench_kernel's values, its phase line (film solves, calls, refusals) and its line of the
     root finder's film solves by refusal (by reason, held at a bound, stalled), one run."""
-    env = dict(
-        os.environ, RINGLUBE_ACCEPT_JUMPS="1" if accept_jumps else "0", RINGLUBE_LOOSE_TRIALS="1" if loose else "0"
-    )
+    env = dict(os.environ, RINGLUBE_ACCEPT_JUMPS="1" if accept_jumps else "0")
+    env["RINGLUBE_LOOSE_TRIALS"] = "1" if loose else "0"
     out = subprocess.run(
         [str(BENCH), str(deck), f"{READ_IN_N} &physics {phys} /", "1"],
         capture_output=True,
