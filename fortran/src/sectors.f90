@@ -72,10 +72,11 @@ module ringlube_sectors
   real(dp), parameter :: max_dlog = 0.5_dp
   !> a loose trial of the root finder (sector_trial's loose) ends once its sectors' residuals
   !> are within this share of the load residual |mean W - q| / q over load_tol (or within
-  !> their own tolerance, whichever is looser). (0.3 took a tenth fewer film solves on the
-  !> shipped 12,000 r/min deck's starved film but moved its energy by -7e-4 on the mean of
-  !> load_tol 0.97e-3 .. 1.03e-3, beyond the spread of 5e-4 that load_tol gives it: the
-  !> root finder then picked other states of its sectors; at 0.1 the mean stays.)
+  !> their own tolerance, whichever is looser). (0.3 took 23 instead of 28 film solves per
+  !> sector and refused step on the shipped 12,000 r/min deck's flooded film, but moved its
+  !> starved film's energy by about -7e-4 on the mean of runs at load_tol 0.97e-3 .. 1.03e-3,
+  !> beyond the spread that load_tol alone gives it (standard deviation 5.5e-4): the root
+  !> finder then picked other states of its sectors; at 0.1 the mean stays, +4e-5.)
   real(dp), parameter :: loose_share = 0.1_dp
   !> ... or, after a line search without descent, within the load residual over load_tol
   !> (the next iterations would crawl: the residual's sign is what the root finder needs)
