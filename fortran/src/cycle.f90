@@ -20,7 +20,8 @@ module ringlube_cycle
   use ringlube_load_balance, only: balance
   use ringlube_cycle_state, only: film_track, cycle_state, step_out, cycle_setup, advance, &
                                   solve_step, prepare_inlet, ring_pack_advance, take_film, &
-                                  gap_volume, position
+                                  gap_volume, position, ring_team_begin, ring_team_serves, &
+                                  ring_team_stop, ring_team_end, advance_steps
   use ringlube_sectors, only: sector_ring, exact_mean
   use ringlube_bore, only: bore_distortion, conformability, conformability_orders
   use ringlube_periodicity, only: cycle_history, history_start, history_h0, history_end, &
@@ -373,9 +374,7 @@ contains
         k = ka
       end if
     end if
-    do k = k, m
-      call advance(st, c, (k - 1) * c%dpsi_deg, out)
-    end do
+    call advance_steps(st, c, k, m)
     if (allocated(st%err)) call move_alloc(st%err, err)
   end subroutine warm_up
 
@@ -431,6 +430,7 @@ contains
     real(dp) :: h0
     real(dp), allocatable :: map(:)
     integer :: k, j
+    logical :: held
     associate (f => st%film%f, sup => st%film%sup)
       if (f%starved .and. allocated(st%ring)) then
         run%gap0 = [(gap_volume(st%ring%films(j)), j=1, size(st%sups))]
@@ -455,23 +455,32 @@ contains
         st%rtot = ring_pack_totals()
         st%rtot%stored_start = ring_pack_gas_mass(st%rpar, st%rst)
       end if
-      do k = 1, steps_per_cycle(c)
-        if (allocated(st%rst) .and. k == run%rw%k) run%rw%rp = st%rst
-        if (allocated(st%rst) .and. k == run%rw%k) then
-          run%rw%film%f = f
-          run%rw%film%mem = st%film%mem
-          if (f%starved) run%rw%film%sup = sup
-          if (allocated(st%ring)) then
-            run%rw%ring = st%ring
-            run%rw%sups = st%sups
+      ! (a distorted bore with threads: the cycle's steps in one parallel region, thread 0
+      ! running them, the others serving their passes over the sectors; ringlube_cycle_state)
+      held = ring_team_begin(st, c)
+      !$omp parallel if (held) num_threads(c%threads) default(shared)
+      if (.not. ring_team_serves(held)) then
+        do k = 1, steps_per_cycle(c)
+          if (allocated(st%rst) .and. k == run%rw%k) run%rw%rp = st%rst
+          if (allocated(st%rst) .and. k == run%rw%k) then
+            run%rw%film%f = f
+            run%rw%film%mem = st%film%mem
+            if (f%starved) run%rw%film%sup = sup
+            if (allocated(st%ring)) then
+              run%rw%ring = st%ring
+              run%rw%sups = st%sups
+            end if
+            run%rw%s_prev = st%s_prev
+            run%rw%fric_prev = st%fric_prev
           end if
-          run%rw%s_prev = st%s_prev
-          run%rw%fric_prev = st%fric_prev
-        end if
-        call solve_step(st, c, res, k, h0)
-        if (k == 1) run%h0_start = h0
-        if (k == 1) call history_h0(run%hist, h0)
-      end do
+          call solve_step(st, c, res, k, h0)
+          if (k == 1) run%h0_start = h0
+          if (k == 1) call history_h0(run%hist, h0)
+        end do
+        call ring_team_stop(held)
+      end if
+      !$omp end parallel
+      call ring_team_end(held)
     end associate
   end subroutine run_cycle
 
@@ -706,8 +715,7 @@ contains
     type(result_type), intent(in) :: res
     type(cycle_run), intent(inout) :: run
     type(error_type), allocatable, intent(out) :: err
-    type(step_out) :: out
-    integer :: k, m
+    integer :: m
     m = steps_per_cycle(c)
     if (run%rw%periodic_done) then
       ! (computed at the cycle's end, ring_pack_periodic)
@@ -728,9 +736,7 @@ contains
     if (allocated(st%ring)) st%sups = run%rw%sups
     st%s_prev = run%rw%s_prev
     st%fric_prev = run%rw%fric_prev
-    do k = run%rw%k, m
-      call advance(st, c, (k - 1) * c%dpsi_deg, out)
-    end do
+    call advance_steps(st, c, run%rw%k, m)
     run%rewarm = run%rewarm + (m - run%rw%k + 1) * c%dpsi_deg
     if (allocated(st%err)) call move_alloc(st%err, err)
   end subroutine restart_ring_pack

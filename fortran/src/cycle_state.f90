@@ -38,12 +38,21 @@ module ringlube_cycle_state
   use ringlube_ring_pack_flow, only: gas_constant
   implicit none
   private
-  !> the team's job after the balance: each sector's friction, oil and gas (ringlube_sectors'
-  !> own jobs are numbered below it)
-  integer, parameter :: job_post = job_caller
+  !> the team's jobs of a step beyond ringlube_sectors' own (numbered below job_caller): each
+  !> sector's friction, oil and gas after the balance, the sectors' inlets (a cycle's team), and
+  !> the end of a cycle's team
+  integer, parameter :: job_post = job_caller, job_inlet = job_caller + 1, &
+                        job_stop = job_caller + 2
+  !> a cycle's steps run in one parallel region (ring_team_begin; .false.: a region per step, as
+  !> outside a cycle; for benchmarks that compare the two)
+  logical, save, public :: cycle_regions = .true.
+  !> thread 0 of a cycle's team is running its steps (advance_ring posts each pass over the
+  !> sectors to the team)
+  logical, save :: cycle_team = .false.
 
   public :: film_track, cycle_state, step_out, cycle_setup, advance, solve_step, prepare_inlet, &
-            ring_pack_advance, take_film, gap_volume, position
+            ring_pack_advance, take_film, gap_volume, position, ring_team_begin, &
+            ring_team_serves, ring_team_stop, ring_team_end, advance_steps
 
   !> The film of the ring along the cycle, with what its next crank step starts from.
   type :: film_track
@@ -102,6 +111,15 @@ module ringlube_cycle_state
     integer :: flags = 0
     type(load_problem) :: lp
   end type step_out
+
+  !> the step of advance_ring, for its team's jobs: the state, the case, the piston's position,
+  !> the crank angle, the sliding speed and flags of the balance, and the sectors' results:
+  !> viscous and boundary friction [N], oil in and out [m^2], their face's gas height [m]
+  type(cycle_state), pointer, save :: step_st => null()
+  type(case_type), pointer, save :: step_c => null()
+  real(dp), save :: step_s = 0.0_dp, step_psi = 0.0_dp, step_u = 0.0_dp
+  integer, save :: step_flags = 0
+  real(dp), allocatable, save :: step_fv(:), step_fb(:), step_vin(:), step_vout(:), step_hgas(:)
 
 contains
 
@@ -235,31 +253,39 @@ contains
   !> leakage; the ring's friction and the oil through its faces are the sectors' means.
   !>
   !> With `&numerics threads` > 1 (on a machine not busy: team_wanted; else each pass over
-  !> the sectors' films is a parallel loop) the step is one parallel region: its threads take the
-  !> sectors' inlets first, thread 0 then runs the step and hands each pass over the sectors'
-  !> films to the team (ringlube_sectors: team_post), and the sectors' friction, oil and gas
-  !> after the balance are the team's last job. Each sector's work is its own (its film and
-  !> its liner's oil) and the means are taken after the region in sector order: the answer of
-  !> one thread bit for bit.
+  !> the sectors' films is a parallel loop) the step's passes over the sectors are jobs of a
+  !> team (ringlube_sectors: team_post): the sectors' inlets, each pass over their films, and
+  !> the sectors' friction, oil and gas after the balance, while thread 0 runs the step. The
+  !> team is the cycle's (ring_team_begin: one parallel region over a cycle's steps, its
+  !> threads waiting for the next step's jobs between steps) or, outside one, the step's own
+  !> parallel region. Each sector's work is its own (its film and its liner's oil) and the
+  !> means are taken after the team's jobs in sector order: the answer of one thread bit for
+  !> bit.
   subroutine advance_ring(st, c, psi, out)
-    type(cycle_state), intent(inout) :: st
-    type(case_type), intent(in) :: c
+    type(cycle_state), intent(inout), target :: st
+    type(case_type), intent(in), target :: c
     real(dp), intent(in) :: psi
     type(step_out), intent(out) :: out
-    real(dp) :: s, fv(size(st%sups)), fb(size(st%sups)), vin(size(st%sups)), &
-                vout(size(st%sups)), hgas(size(st%sups)), p_low
+    real(dp) :: s, p_low
     integer :: j, m, job, seen
     m = size(st%sups)
     s = position(c, psi)
     call film_temperature(c, st%film%f, psi)
-    if (.not. in_parallel() .and. team_wanted(c%threads)) then
+    call step_begin(st, c, s, psi, m)
+    if (cycle_team) then
+      ! (the cycle's team: its other threads wait for the step's jobs)
+      call team_post(job_inlet)
+      call inlet_share()
+      call team_join()
+      call balance_step()
+      call team_post(job_post)
+      call post_share()
+      call team_join()
+    else if (.not. in_parallel() .and. team_wanted(c%threads)) then
       call team_begin(c%threads)
-      !$omp parallel num_threads(c%threads) default(shared) private(j, job, seen)
+      !$omp parallel num_threads(c%threads) default(shared) private(job, seen)
       seen = 0
-      do while (team_claim(m, j))
-        call inlet_sector(j)
-      end do
-      call team_done()
+      call inlet_share()
       if (thread_number() == 0) then
         call team_size_is(team_threads())
         call team_join()
@@ -287,16 +313,16 @@ contains
       end do
     end if
     associate (f => st%film%f, ring => st%ring)
-      st%fv = exact_mean(fv)
-      st%fb = exact_mean(fb)
+      st%fv = exact_mean(step_fv(1:m))
+      st%fb = exact_mean(step_fb(1:m))
       st%fric_prev = st%fv + st%fb
-      out%v_in = exact_mean(vin)
-      out%v_out = exact_mean(vout)
+      out%v_in = exact_mean(step_vin(1:m))
+      out%v_out = exact_mean(step_vout(1:m))
       ! the gas path through the faces: a laminar isothermal channel of arc l_j = 2 pi r0 / M,
       ! length b and height h_gas,j per sector, between the upper and the lower edge
       p_low = c%crankcase_pressure
       if (f%p_lower >= 0.0_dp) p_low = f%p_lower
-      st%face_k = f%circ / m * sum(hgas**3)
+      st%face_k = f%circ / m * sum(step_hgas(1:m)**3)
       if (allocated(st%rst)) then
         ! (the ring pack's: the flow over the step its gas balance counts)
         st%face_flow = st%rout%face_flow
@@ -306,20 +332,12 @@ contains
       end if
       if (ring%films(1)%jfo) st%s_prev = s
     end associate
+    nullify (step_st, step_c)
 
   contains
 
-    !> Sector j's inlet from its liner's oil and its film's temperature.
-    subroutine inlet_sector(j)
-      integer, intent(in) :: j
-      ! a reversal's change of the liner, once, before the step reads it
-      if (st%ring%films(j)%jfo .and. st%ring%films(j)%starved) &
-        call supply_turn(st%sups(j), st%s_prev, motion(st%s_prev, s))
-      call prepare_inlet(c, st%ring%films(j), st%sups(j), st%s_prev, psi)
-      call film_temperature(c, st%ring%films(j), psi)
-    end subroutine inlet_sector
-
-    !> The distortion, the ring pack and the load balance (thread 0 of a team).
+    !> The distortion, the ring pack and the load balance (thread 0 of a team); the step's
+    !> sliding speed and flags for the work after it.
     subroutine balance_step()
       associate (f => st%film%f, ring => st%ring)
         call bore_distortion(ring%bore, s, ring%d)
@@ -334,49 +352,174 @@ contains
         call balance(c, st%ctx, f, st%film%mem, psi, out%h0, out%flags, out%resid, out%lp, ring)
         call ring_accept(ring)
       end associate
+      step_u = out%lp%u
+      step_flags = out%flags
     end subroutine balance_step
-
-    !> A thread's share of the sectors' work after the balance.
-    subroutine post_share()
-      integer :: j
-      do while (team_claim(m, j))
-        call post_sector(j)
-      end do
-      call team_done()
-    end subroutine post_share
-
-    !> Sector j after the balance: its friction, the gas height of its face, its film content
-    !> and the oil through its faces over the step, its liner's oil.
-    subroutine post_sector(j)
-      integer, intent(in) :: j
-      associate (fj => st%ring%films(j))
-        call film_friction(c, fj, out%lp%u, fv(j), fb(j))
-        hgas(j) = 0.0_dp
-        vin(j) = 0.0_dp
-        vout(j) = 0.0_dp
-        ! (the edge nodes hold the fill of what enters there, not the film's)
-        if (fj%jfo) hgas(j) = max(minval((1.0_dp - fj%theta(2:fj%n - 1)) * fj%h(2:fj%n - 1)), &
-                                  0.0_dp)
-        ! a ring pushed off the liner, held at the back clearance: its face open to the gas
-        if (iand(out%flags, flag_ceiling) /= 0) hgas(j) = st%ring%h(j)
-        if (.not. fj%jfo) return
-        fj%face_open = all(fj%theta(2:fj%n - 1) < 1.0_dp)
-        fj%content_old = fj%theta * fj%h
-        if (fj%front_content) fj%content_old = fj%content_end
-        if (fj%lead_left) then
-          vin(j) = fj%q_left * st%ctx%dt
-          vout(j) = fj%q_right * st%ctx%dt
-        else
-          vin(j) = -fj%q_right * st%ctx%dt
-          vout(j) = -fj%q_left * st%ctx%dt
-        end if
-        if (fj%starved) then
-          call supply_step(st%sups(j), st%s_prev, s, motion(st%s_prev, s), vin(j), vout(j))
-          call supply_to_chamber(st%sups(j))
-        end if
-      end associate
-    end subroutine post_sector
   end subroutine advance_ring
+
+  !> The step advance_ring works on, for the jobs of its team's threads: the state, the case,
+  !> the piston's position and the crank angle; the per-sector results' arrays sized for m.
+  subroutine step_begin(st, c, s, psi, m)
+    type(cycle_state), intent(inout), target :: st
+    type(case_type), intent(in), target :: c
+    real(dp), intent(in) :: s, psi
+    integer, intent(in) :: m
+    step_st => st
+    step_c => c
+    step_s = s
+    step_psi = psi
+    if (allocated(step_fv)) then
+      if (size(step_fv) < m) deallocate (step_fv, step_fb, step_vin, step_vout, step_hgas)
+    end if
+    if (.not. allocated(step_fv)) allocate (step_fv(m), step_fb(m), step_vin(m), step_vout(m), &
+                                            step_hgas(m))
+  end subroutine step_begin
+
+  !> A thread's share of the sectors' inlets.
+  subroutine inlet_share()
+    integer :: j
+    do while (team_claim(size(step_st%sups), j))
+      call inlet_sector(j)
+    end do
+    call team_done()
+  end subroutine inlet_share
+
+  !> A thread's share of the sectors' work after the balance.
+  subroutine post_share()
+    integer :: j
+    do while (team_claim(size(step_st%sups), j))
+      call post_sector(j)
+    end do
+    call team_done()
+  end subroutine post_share
+
+  !> Sector j's inlet from its liner's oil and its film's temperature.
+  subroutine inlet_sector(j)
+    integer, intent(in) :: j
+    associate (st => step_st, c => step_c, s => step_s, psi => step_psi)
+      ! a reversal's change of the liner, once, before the step reads it
+      if (st%ring%films(j)%jfo .and. st%ring%films(j)%starved) &
+        call supply_turn(st%sups(j), st%s_prev, motion(st%s_prev, s))
+      call prepare_inlet(c, st%ring%films(j), st%sups(j), st%s_prev, psi)
+      call film_temperature(c, st%ring%films(j), psi)
+    end associate
+  end subroutine inlet_sector
+
+  !> Sector j after the balance: its friction, the gas height of its face, its film content
+  !> and the oil through its faces over the step, its liner's oil.
+  subroutine post_sector(j)
+    integer, intent(in) :: j
+    associate (st => step_st, c => step_c, s => step_s, fj => step_st%ring%films(j), &
+               fv => step_fv, fb => step_fb, vin => step_vin, vout => step_vout, &
+               hgas => step_hgas)
+      call film_friction(c, fj, step_u, fv(j), fb(j))
+      hgas(j) = 0.0_dp
+      vin(j) = 0.0_dp
+      vout(j) = 0.0_dp
+      ! (the edge nodes hold the fill of what enters there, not the film's)
+      if (fj%jfo) hgas(j) = max(minval((1.0_dp - fj%theta(2:fj%n - 1)) * fj%h(2:fj%n - 1)), &
+                                0.0_dp)
+      ! a ring pushed off the liner, held at the back clearance: its face open to the gas
+      if (iand(step_flags, flag_ceiling) /= 0) hgas(j) = st%ring%h(j)
+      if (.not. fj%jfo) return
+      fj%face_open = all(fj%theta(2:fj%n - 1) < 1.0_dp)
+      fj%content_old = fj%theta * fj%h
+      if (fj%front_content) fj%content_old = fj%content_end
+      if (fj%lead_left) then
+        vin(j) = fj%q_left * st%ctx%dt
+        vout(j) = fj%q_right * st%ctx%dt
+      else
+        vin(j) = -fj%q_right * st%ctx%dt
+        vout(j) = -fj%q_left * st%ctx%dt
+      end if
+      if (fj%starved) then
+        call supply_step(st%sups(j), st%s_prev, s, motion(st%s_prev, s), vin(j), vout(j))
+        call supply_to_chamber(st%sups(j))
+      end if
+    end associate
+  end subroutine post_sector
+
+  !> The crank steps k1..k2 in turn (advance; a distorted bore with threads: in one parallel
+  !> region, ring_team_begin).
+  subroutine advance_steps(st, c, k1, k2)
+    type(cycle_state), intent(inout) :: st
+    type(case_type), intent(in) :: c
+    integer, intent(in) :: k1, k2
+    type(step_out) :: out
+    integer :: k
+    logical :: held
+    held = ring_team_begin(st, c)
+    !$omp parallel if (held) num_threads(c%threads) default(shared)
+    if (.not. ring_team_serves(held)) then
+      do k = k1, k2
+        call advance(st, c, (k - 1) * c%dpsi_deg, out)
+      end do
+      call ring_team_stop(held)
+    end if
+    !$omp end parallel
+    call ring_team_end(held)
+  end subroutine advance_steps
+
+  !> Before a cycle's steps (ringlube_cycle, run_cycle): whether they run in one parallel
+  !> region of `&numerics threads` threads (a distorted bore, more than one thread, outside a
+  !> parallel region, the machine not busy: team_wanted), the team then set up. In the region
+  !> thread 0 runs the steps (ring_team_serves .false.), the other threads serve the steps'
+  !> jobs (ring_team_serves .true., after thread 0's ring_team_stop), and after it
+  !> ring_team_end.
+  logical function ring_team_begin(st, c) result(held)
+    type(cycle_state), intent(in) :: st
+    type(case_type), intent(in) :: c
+    held = .false.
+    if (.not. allocated(st%ring) .or. .not. cycle_regions) return
+    if (in_parallel()) return
+    held = team_wanted(c%threads)
+    if (held) call team_begin(c%threads)
+  end function ring_team_begin
+
+  !> In the cycle's region: thread 0 returns .false. at once (it runs the steps, their passes
+  !> over the sectors the team's jobs); any other thread serves the steps' jobs until thread 0's
+  !> ring_team_stop and returns .true.. Outside a team (held .false.): .false..
+  logical function ring_team_serves(held) result(served)
+    logical, intent(in) :: held
+    integer :: job, seen
+    served = .false.
+    if (.not. held) return
+    if (thread_number() == 0) then
+      call team_size_is(team_threads())
+      !$omp flush
+      cycle_team = .true.
+      return
+    end if
+    served = .true.
+    seen = 0
+    do
+      job = team_wait(seen)
+      select case (job)
+      case (job_stop)
+        exit
+      case (job_inlet)
+        call inlet_share()
+      case (job_post)
+        call post_share()
+      case default
+        call team_sectors()
+      end select
+    end do
+  end function ring_team_serves
+
+  !> Thread 0, after the cycle's steps: the other threads of the team stop serving.
+  subroutine ring_team_stop(held)
+    logical, intent(in) :: held
+    if (.not. held) return
+    cycle_team = .false.
+    call team_post(job_stop)
+  end subroutine ring_team_stop
+
+  !> After the cycle's region: no team.
+  subroutine ring_team_end(held)
+    logical, intent(in) :: held
+    if (held) call team_end()
+  end subroutine ring_team_end
 
   !> .true. inside an active parallel region (OpenMP; .false. without it).
   logical function in_parallel()

@@ -22,6 +22,7 @@ program test_bore
                               s_crank_angle_deg
   use ringlube_sectors, only: free_mean_position, team_spin, team_busy_check, loose_trials, &
                               phase_solves, phase_calls, lu_factor, lu_solve
+  use ringlube_cycle_state, only: cycle_regions
   use ringlube_check
   implicit none
 
@@ -447,14 +448,16 @@ contains
   !> between a step's passes over the sectors (ringlube_sectors; the load average not
   !> consulted, so that the step is a team on a loaded machine too): always asleep (team_spin
   !> 0: thread 0 meets them at a barrier at every pass), and awake up to 1 ms (they take each
-  !> job without a barrier unless they lose their core);
+  !> job without a barrier unless they lose their core); with a cycle's steps in one parallel
+  !> region (its threads waiting for the next step's jobs between steps) and with a region per
+  !> step (ringlube_cycle_state, cycle_regions);
   !> starved film with the ring pack (its sectors' inlets, films, lift-off margin copies and
   !> oil after the balance all jobs of the team), 12 sectors, orders 2 and 4.
   subroutine team_wait_modes()
     type(case_type) :: c, c0
     type(result_type) :: r1, r2
     real(dp) :: spins(2) = [0.0_dp, 1e-3_dp], keep
-    integer :: i
+    integer :: i, k
     c0 = base_case()
     c0%tension_unit = 'N'
     c0%cavitation = 'jfo'
@@ -469,18 +472,23 @@ contains
     c = c0
     call solve(c, r1, 'one thread')
     keep = team_spin
-    do i = 1, size(spins)
-      team_spin = spins(i)
-      team_busy_check = .false.
-      c = c0
-      c%threads = 2
-      call solve(c, r2, 'two threads')
-      r1%scalars(sc_run_time) = 0.0_dp
-      r2%scalars(sc_run_time) = 0.0_dp
-      call check(all(r2%series == r1%series) .and. all(r2%int_series == r1%int_series) .and. &
-                 all(r2%sectors == r1%sectors) .and. all(r2%scalars == r1%scalars) .and. &
-                 all(r2%liner == r1%liner), 'two threads: the one thread''s answer bit for bit')
+    do k = 1, 2
+      ! (a cycle's steps in one parallel region, then a region per step)
+      cycle_regions = k == 1
+      do i = 1, size(spins)
+        team_spin = spins(i)
+        team_busy_check = .false.
+        c = c0
+        c%threads = 2
+        call solve(c, r2, 'two threads')
+        r1%scalars(sc_run_time) = 0.0_dp
+        r2%scalars(sc_run_time) = 0.0_dp
+        call check(all(r2%series == r1%series) .and. all(r2%int_series == r1%int_series) .and. &
+                   all(r2%sectors == r1%sectors) .and. all(r2%scalars == r1%scalars) .and. &
+                   all(r2%liner == r1%liner), 'two threads: the one thread''s answer bit for bit')
+      end do
     end do
+    cycle_regions = .true.
     team_spin = keep
     team_busy_check = .true.
   end subroutine team_wait_modes
