@@ -17,6 +17,11 @@
 !> sector by more than its limit (ringlube_sectors' accept_jumps: the answers move); with
 !> RINGLUBE_LOOSE_TRIALS=0 the root finder's trials at a step ring_solve did not take solve
 !> their sectors to their own tolerance (ringlube_sectors' loose_trials off: the answers move).
+!> For a distorted bore with `&numerics threads` > 1: RINGLUBE_TEAM_ALWAYS=1 makes the steps a
+!> team whatever the load average (ringlube_sectors' team_busy_check off: the team's cost on a
+!> loaded machine), RINGLUBE_REGION_PER_STEP=1 gives each crank step its own parallel region
+!> instead of one per cycle (ringlube_cycle_state's cycle_regions off); wall_ms_per_run is then
+!> the wall time of the run of the best CPU time.
 !>
 !>   bench_kernel --micro [NODES]
 !>
@@ -39,7 +44,10 @@ program bench_kernel
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_textio, only: read_text_file, itoa
 use ringlube_sectors, only: phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials, &
-                              refused_solves, refused_held_solves, stalled_failures
+                              refused_solves, refused_held_solves, stalled_failures, &
+                              team_busy_check
+  use ringlube_cycle_state, only: cycle_regions
+  use omp_lib, only: omp_get_wtime
   use, intrinsic :: iso_fortran_env, only: output_unit
   implicit none
   character(len=4096) :: arg
@@ -96,7 +104,7 @@ contains
     type(case_type) :: c
     type(result_type) :: res
     type(error_type), allocatable :: err
-    real(dp) :: t0, best
+    real(dp) :: t0, best, w0, wall
     integer :: i
     character(len=8) :: env
     call load(path, ovr, c)
@@ -104,7 +112,12 @@ contains
     accept_jumps = trim(env) == '1'
     call get_environment_variable('RINGLUBE_LOOSE_TRIALS', env)
     loose_trials = trim(env) /= '0'
+    call get_environment_variable('RINGLUBE_TEAM_ALWAYS', env)
+    team_busy_check = trim(env) /= '1'
+    call get_environment_variable('RINGLUBE_REGION_PER_STEP', env)
+    cycle_regions = trim(env) /= '1'
     best = huge(1.0_dp)
+    wall = 0.0_dp
     do i = 1, nrep
       phase_solves = 0
       phase_calls = 0
@@ -113,20 +126,22 @@ contains
       refused_held_solves = 0
       stalled_failures = 0
       t0 = now()
+      w0 = omp_get_wtime()
       call solve_cycle(c, res, err)
+      if (now() - t0 < best) wall = omp_get_wtime() - w0
       best = min(best, now() - t0)
       if (allocated(err)) error stop 'run failed'
     end do
     associate (v => res%scalars, film_solves => res%int_series(:, si_film_solves))
       write (output_unit, &
-             '(a, f0.3, a, f0.3, a, es14.7, a, f0.3, a, i0, a, i0, a, f0.3, a, i0, a, i0, a, i0)') &
+             '(2(a, f0.3), a, es14.7, a, f0.3, 2(a, i0), a, f0.3, 3(a, i0), a, f0.3)') &
         'ms_per_run=', best * 1e3_dp, ' ms_per_cycle=', best * 1e3_dp / v(sc_cycles_computed), &
         ' energy=', v(sc_energy_loss), ' mixed=', v(sc_mixed_share), &
         ' film_solves=', nint(v(sc_total_film_solves)), &
         ' reynolds_solves=', nint(v(sc_reynolds_solves)), &
         ' cycles_computed=', v(sc_cycles_computed), ' steps=', res%nsteps, &
         ' converged=', nint(v(sc_converged)), &
-        ' margin_film_solves=', nint(v(sc_margin_film_solves))
+        ' margin_film_solves=', nint(v(sc_margin_film_solves)), ' wall_ms_per_run=', wall * 1e3_dp
       write (output_unit, '(a, 4(1x, i0))') &
         'steps of the reported cycle with 1, 2, 3, >= 4 film solves:', &
         count(film_solves == 1), count(film_solves == 2), count(film_solves == 3), &
