@@ -32,7 +32,7 @@ module ringlube_cycle_state
                                    start_history
   use ringlube_sectors, only: sector_ring, ring_setup, ring_accept, exact_mean, team_begin, &
                               team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
-                              team_join, team_sectors, job_caller, team_wanted
+                              team_join, team_sectors, job_caller, team_wanted, team_pause
 !$ use omp_lib, only: omp_in_parallel, omp_get_thread_num, omp_get_num_threads
   use ringlube_bore, only: bore_distortion
   use ringlube_ring_pack_flow, only: gas_constant
@@ -257,8 +257,9 @@ contains
   !> team (ringlube_sectors: team_post): the sectors' inlets, each pass over their films, and
   !> the sectors' friction, oil and gas after the balance, while thread 0 runs the step. The
   !> team is the cycle's (ring_team_begin: one parallel region over a cycle's steps, its
-  !> threads waiting for the next step's jobs between steps) or, outside one, the step's own
-  !> parallel region. Each sector's work is its own (its film and its liner's oil) and the
+  !> threads waiting for the next step's jobs between steps; a step on a machine that became
+  !> busy since, team_wanted, is thread 0's alone) or, outside one, the step's own parallel
+  !> region. Each sector's work is its own (its film and its liner's oil) and the
   !> means are taken after the team's jobs in sector order: the answer of one thread bit for
   !> bit.
   subroutine advance_ring(st, c, psi, out)
@@ -272,7 +273,19 @@ contains
     s = position(c, psi)
     call film_temperature(c, st%film%f, psi)
     call step_begin(st, c, s, psi, m)
-    if (cycle_team) then
+    if (cycle_team .and. .not. team_wanted(c%threads)) then
+      ! (the cycle's team on a machine that became busy: the step is thread 0's alone, the
+      ! other threads waiting for a later step's jobs)
+      call team_pause(.true.)
+      do j = 1, m
+        call inlet_sector(j)
+      end do
+      call balance_step()
+      do j = 1, m
+        call post_sector(j)
+      end do
+      call team_pause(.false.)
+    else if (cycle_team) then
       ! (the cycle's team: its other threads wait for the step's jobs)
       call team_post(job_inlet)
       call inlet_share()

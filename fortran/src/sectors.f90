@@ -45,7 +45,8 @@ module ringlube_sectors
             exact_mean, ring_loads, ring_ceiling, ring_coupled, free_mean_position, lu_factor, &
             lu_solve
   public :: team_begin, team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
-            team_join, team_sectors, job_caller, job_none, team_spin, team_busy_check, team_wanted
+            team_join, team_sectors, job_caller, job_none, team_spin, team_busy_check, &
+            team_wanted, team_pause
   public :: n_phases, phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials
   public :: refused_solves, refused_held_solves, stalled_failures, last_refusal
 
@@ -856,6 +857,13 @@ contains
     integer, intent(in) :: threads
     team_size = threads
   end subroutine team_size_is
+
+  !> Thread 0 of a team held over several steps: its passes over the sectors are its own
+  !> (paused: the other threads keep waiting for the next job) or the team's jobs again.
+  subroutine team_pause(paused)
+    logical, intent(in) :: paused
+    team_active = .not. paused
+  end subroutine team_pause
 
   !> After the region: no team.
   subroutine team_end()
