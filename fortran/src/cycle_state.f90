@@ -43,9 +43,11 @@ module ringlube_cycle_state
   !> the end of a cycle's team
   integer, parameter :: job_post = job_caller, job_inlet = job_caller + 1, &
                         job_stop = job_caller + 2
-  !> a cycle's steps run in one parallel region (ring_team_begin; .false.: a region per step, as
-  !> outside a cycle; for benchmarks that compare the two)
-  logical, save, public :: cycle_regions = .true.
+  !> a cycle's steps run in one parallel region (ring_team_begin); .false. (the default): a
+  !> region per step. Off until a wall-clock speed-up of the region per cycle is measured on a
+  !> quiet machine (tests/bench/bench_kernel: RINGLUBE_REGION_PER_CYCLE=1; docs/bore.md,
+  !> "Cost"); its answers are the region per step's bit for bit
+  logical, save, public :: cycle_regions = .false.
   !> thread 0 of a cycle's team is running its steps (advance_ring posts each pass over the
   !> sectors to the team)
   logical, save :: cycle_team = .false.

@@ -458,6 +458,7 @@ contains
     type(result_type) :: r1, r2
     real(dp) :: spins(2) = [0.0_dp, 1e-3_dp], keep
     integer :: i, k
+    logical :: keep_regions
     c0 = base_case()
     c0%tension_unit = 'N'
     c0%cavitation = 'jfo'
@@ -472,6 +473,7 @@ contains
     c = c0
     call solve(c, r1, 'one thread')
     keep = team_spin
+    keep_regions = cycle_regions
     do k = 1, 2
       ! (a cycle's steps in one parallel region, then a region per step)
       cycle_regions = k == 1
@@ -488,7 +490,7 @@ contains
                    all(r2%liner == r1%liner), 'two threads: the one thread''s answer bit for bit')
       end do
     end do
-    cycle_regions = .true.
+    cycle_regions = keep_regions
     team_spin = keep
     team_busy_check = .true.
   end subroutine team_wait_modes
