@@ -21,7 +21,7 @@
 !> line search without descent), for the root finder takes only that residual's sign and size
 !> from it; near the root and at a bound they are solved to their own tolerance. The M + 2
 !> unknowns (ln h0_j, x_c, y_c), M + 3 with ln c, are found by Newton's method with a dense
-!> LU solve (LAPACK's dgetf2 and dgetrs, bit for bit); each sector's dW_j/dh0_j is a secant kept from its last two films (a film's
+!> LAPACK solve; each sector's dW_j/dh0_j is a secant kept from its last two films (a film's
 !> load depends on its own h0 only, so the Jacobian is exact up to these slopes). With zero distortion every
 !> sector's film is the round bore's and the first trial already satisfies the equations:
 !> the ring's answer is the round bore's bit for bit (means are taken as w_1 + mean(w - w_1),
@@ -42,8 +42,7 @@ module ringlube_sectors
   implicit none
   private
   public :: sector_ring, sector_trial, ring_setup, ring_evaluate, ring_solve, ring_accept, &
-            exact_mean, ring_loads, ring_ceiling, ring_coupled, free_mean_position, lu_factor, &
-            lu_solve
+            exact_mean, ring_loads, ring_ceiling, ring_coupled, free_mean_position
   public :: team_begin, team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
             team_join, team_sectors, job_caller, job_none, team_spin, team_busy_check, &
             team_wanted, team_pause
@@ -244,7 +243,7 @@ module ringlube_sectors
   type(sector_ring), pointer, save :: team_ring => null(), team_copy => null()
   type(sector_trial), save :: team_tr
 
-  !> The Newton iteration's arrays: residuals, Jacobian (LU after lu_factor), direction, pivots,
+  !> The Newton iteration's arrays: residuals, Jacobian (LU after dgetf2), direction, pivots,
   !> its status, the merit of the last residuals, and the state before the last step.
   type :: newton_work
     real(dp), allocatable :: r(:), a(:, :), b(:), dy(:), h_old(:), w_old(:)
@@ -1129,7 +1128,7 @@ contains
   end subroutine residuals
 
   !> The Newton direction (ln h0_j, x_c, y_c) of the residuals nw%r: the Jacobian (exact up to
-  !> the sectors' slopes) solved by LU (lu_factor, lu_solve); nw%info its status.
+  !> the sectors' slopes) solved by LAPACK (dgetf2, dgetrs); nw%info its status.
   subroutine newton_direction(ring, tr, nw)
     type(sector_ring), intent(in) :: ring
     type(sector_trial), intent(in) :: tr
@@ -1151,89 +1150,12 @@ contains
     nw%a(1:m, m + 2) = ring%bore%sin1
     if (tr%free) nw%a(1:m, m + 3) = -tr%cc
     nw%b = -nw%r
-    ! (LAPACK's unblocked LU and solve, dgetf2 and dgetrs, operation for operation: at these
-    ! sizes the calls of their BLAS kernels cost more than the arithmetic, a serial part of a
-    ! threaded run)
-    call lu_factor(nw%a, nw%ipiv, nw%info)
-    if (nw%info == 0) call lu_solve(nw%a, nw%ipiv, nw%b)
+    ! (LAPACK's unblocked LU: at these sizes dgesv's blocked, recursive one spends its time in
+    ! the calls of its BLAS 3 kernels, a serial part of a threaded run)
+    call dgetf2(n, n, nw%a, n, nw%ipiv, nw%info)
+    if (nw%info == 0) call dgetrs('N', n, 1, nw%a, n, nw%ipiv, nw%b, n, nw%info)
     nw%dy = nw%b(1:m)
   end subroutine newton_direction
-
-  !> The LU factorisation with partial pivoting of the square a in place, LAPACK's dgetf2 with
-  !> the reference BLAS operation for operation (the same pivots and the same roundings: the
-  !> first largest |a(i, j)| the pivot, the column scaled by the pivot's reciprocal, the
-  !> trailing matrix updated column by column as a(i, k) + a(i, j) (-a(j, k)), a zero a(j, k)
-  !> skipped); info = j > 0 where the pivot of column j is exactly zero (first such j), else 0.
-  pure subroutine lu_factor(a, ipiv, info)
-    real(dp), intent(inout) :: a(:, :)
-    integer, intent(out) :: ipiv(:), info
-    integer :: n, i, j, k, jp
-    real(dp) :: big, r, temp, row(size(a, 2))
-    n = size(a, 1)
-    info = 0
-    do j = 1, n
-      jp = j
-      big = abs(a(j, j))
-      do i = j + 1, n
-        if (abs(a(i, j)) > big) then
-          jp = i
-          big = abs(a(i, j))
-        end if
-      end do
-      ipiv(j) = jp
-      if (a(jp, j) /= 0.0_dp) then
-        if (jp /= j) then
-          row = a(j, :)
-          a(j, :) = a(jp, :)
-          a(jp, :) = row
-        end if
-        if (j < n) then
-          if (abs(a(j, j)) >= tiny(1.0_dp)) then
-            r = 1.0_dp / a(j, j)
-            a(j + 1:n, j) = r * a(j + 1:n, j)
-          else
-            a(j + 1:n, j) = a(j + 1:n, j) / a(j, j)
-          end if
-        end if
-      else if (info == 0) then
-        info = j
-      end if
-      do k = j + 1, n
-        if (a(j, k) /= 0.0_dp) then
-          temp = -a(j, k)
-          a(j + 1:n, k) = a(j + 1:n, k) + a(j + 1:n, j) * temp
-        end if
-      end do
-    end do
-  end subroutine lu_factor
-
-  !> b := a^-1 b from lu_factor's a and ipiv, LAPACK's dgetrs (one right-hand side, no
-  !> transpose) with the reference BLAS operation for operation: the rows interchanged, then
-  !> the unit lower and the upper triangle solved column by column, a zero b(k) skipped.
-  pure subroutine lu_solve(a, ipiv, b)
-    real(dp), intent(in) :: a(:, :)
-    integer, intent(in) :: ipiv(:)
-    real(dp), intent(inout) :: b(:)
-    integer :: n, i, k
-    real(dp) :: temp
-    n = size(a, 1)
-    do i = 1, n
-      if (ipiv(i) /= i) then
-        temp = b(i)
-        b(i) = b(ipiv(i))
-        b(ipiv(i)) = temp
-      end if
-    end do
-    do k = 1, n
-      if (b(k) /= 0.0_dp) b(k + 1:n) = b(k + 1:n) - b(k) * a(k + 1:n, k)
-    end do
-    do k = n, 1, -1
-      if (b(k) /= 0.0_dp) then
-        b(k) = b(k) / a(k, k)
-        b(1:k - 1) = b(1:k - 1) - b(k) * a(1:k - 1, k)
-      end if
-    end do
-  end subroutine lu_solve
 
   !> The next step would change no sector's load by more than load_tol q and no h0 by more
   !> than load_tol of itself, and the centre's force is within its tolerance.

@@ -21,7 +21,7 @@ program test_bore
                               sc_margin_film_solves, si_film_solves, sc_run_time, &
                               s_crank_angle_deg
   use ringlube_sectors, only: free_mean_position, team_spin, team_busy_check, loose_trials, &
-                              phase_solves, phase_calls, lu_factor, lu_solve
+                              phase_solves, phase_calls
   use ringlube_cycle_state, only: cycle_regions
   use ringlube_check
   implicit none
@@ -37,7 +37,6 @@ program test_bore
   if (run_case('free_mean_position')) call free_mean_position_test()
   if (run_case('loose_trials')) call loose_trials_test()
   if (run_case('team_wait_modes')) call team_wait_modes()
-  if (run_case('lu_is_lapack')) call lu_is_lapack()
   call report('test_bore')
 
 contains
@@ -494,63 +493,5 @@ contains
     team_spin = keep
     team_busy_check = .true.
   end subroutine team_wait_modes
-
-  !> The sectors' Newton step solves its Jacobian with its own LU (ringlube_sectors,
-  !> lu_factor and lu_solve): LAPACK's dgetf2 and dgetrs bit for bit (factors, pivots, status
-  !> and solution) on random matrices of 1 to 40 unknowns, with rows to interchange, with
-  !> exact zeros in the trailing matrix and the right-hand side (skipped alike), with a pivot
-  !> below the smallest normal number (divided, not scaled by its reciprocal), and on
-  !> singular ones (a zero column: the status names it).
-  subroutine lu_is_lapack()
-    integer, parameter :: sizes(6) = [1, 2, 5, 12, 27, 40]
-    real(dp), allocatable :: a(:, :), a1(:, :), a2(:, :), b(:), b1(:), b2(:)
-    integer, allocatable :: p1(:), p2(:)
-    integer :: i, n, kind, info1, info2, info_s
-    logical :: same
-    external :: dgetf2, dgetrs
-    call random_seed(put=[(12345 + i, i=1, 64)])
-    same = .true.
-    do kind = 1, 4
-      do i = 1, size(sizes)
-        n = sizes(i)
-        allocate (a(n, n), b(n))
-        call random_number(a)
-        call random_number(b)
-        a = a - 0.5_dp
-        b = b - 0.5_dp
-        select case (kind)
-        case (2)
-          ! exact zeros (half the entries) in the matrix and the right-hand side
-          where (a > 0.0_dp) a = 0.0_dp
-          where (b > 0.0_dp) b = 0.0_dp
-          a(1, 1) = 0.0_dp
-          do info_s = 1, n
-            a(info_s, info_s) = a(info_s, info_s) - 1.0_dp
-          end do
-        case (3)
-          ! a first column of subnormal entries: a pivot below tiny
-          a(:, 1) = a(:, 1) * (1e-3_dp * tiny(1.0_dp))
-        case (4)
-          ! singular: a zero column
-          a(:, (n + 1) / 2) = 0.0_dp
-        end select
-        a1 = a
-        a2 = a
-        b1 = b
-        b2 = b
-        allocate (p1(n), p2(n))
-        call lu_factor(a1, p1, info1)
-        call dgetf2(n, n, a2, n, p2, info2)
-        if (info1 == 0) call lu_solve(a1, p1, b1)
-        if (info2 == 0) call dgetrs('N', n, 1, a2, n, p2, b2, n, info_s)
-        same = same .and. all(p1 == p2) .and. info1 == info2 .and. &
-               all(a1 == a2 .or. (a1 /= a1 .and. a2 /= a2)) .and. &
-               all(b1 == b2 .or. (b1 /= b1 .and. b2 /= b2))
-        if (kind == 4) call check(info1 == (n + 1) / 2, 'a zero column: its number as the status')
-        deallocate (a, b, p1, p2)
-      end do
-    end do
-    call check(same, 'LAPACK''s dgetf2 and dgetrs bit for bit')
-  end subroutine lu_is_lapack
 end program test_bore
 
