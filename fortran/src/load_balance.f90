@@ -27,7 +27,7 @@ module ringlube_load_balance
   use ringlube_sectors, only: sector_ring, sector_trial, ring_evaluate, ring_ceiling, ring_solve, &
                               ring_coupled, loose_trials, phase_calls, phase_solves, &
                               refused_solves, refused_held_solves, last_refusal
-  use ringlube_results, only: flag_floor, flag_ceiling, flag_load
+  use ringlube_results, only: flag_floor, flag_ceiling, flag_load, flag_viscosity, flag_cavitation
   implicit none
   private
   public :: step_context, load_problem, balance_memory, balance, speed, start_history
@@ -458,6 +458,10 @@ contains
       else
         resid = r
       end if
+      ! (a distorted bore's sector whose cavitation set or pressure-viscosity loop did not
+      ! settle at the answer: solved once more there, from the films just solved)
+      if (present(ring) .and. iand(g%flags, flag_viscosity + flag_cavitation) /= 0) &
+        resid = residual(c, lp, g, mem, h, ring)
       h0out = h
       if (abs(resid) > c%load_tol .and. flags == 0) flags = flag_load
       flags = ior(flags, g%flags)

@@ -36,6 +36,7 @@ program test_bore
   if (run_case('ceiling_rising_loads')) call ceiling_rising_loads()
   if (run_case('free_mean_position')) call free_mean_position_test()
   if (run_case('loose_trials')) call loose_trials_test()
+  if (run_case('loose_trials_add_no_flag')) call loose_trials_add_no_flag()
   if (run_case('team_wait_modes')) call team_wait_modes()
   call report('test_bore')
 
@@ -442,6 +443,42 @@ contains
     call check(flagged(1) <= flagged(2), 'no more steps with the sectors outside their tolerance')
     call check(de <= c%load_tol, 'the energy within load_tol')
   end subroutine loose_trials_test
+
+  !> The loose trials add no flagged step: the narrow ring (0.54 mm, 8 N) on the shipped
+  !> 4000 r/min distorted deck, a row of the validation's bore table, has no flagged step with
+  !> the trials solved to the sectors' own tolerance nor with loose ones. (With loose trials
+  !> its path moves within load_tol, and ring_solve at 366 deg then ended on a sector film
+  !> whose cavitation set had not settled, flagged; the balance now solves the sectors once
+  !> more at such an answer, from the films just solved there.)
+  subroutine loose_trials_add_no_flag()
+    character(len=*), parameter :: deck = 'inputs/crf450r_4000rpm_full_hot_distorted.nml'
+    type(case_type) :: c
+    type(result_type) :: r(2)
+    type(error_type), allocatable :: err
+    character(len=:), allocatable :: text
+    integer :: i, flagged(2)
+    call read_text_file(deck, text, err)
+    if (.not. allocated(err)) &
+      call read_deck_text(text, deck, dir_prefix(deck), c, err, '&ring width = 0.54e-3 /', &
+                          'overrides')
+    call check(.not. allocated(err), 'the shipped deck read')
+    if (allocated(err)) return
+    call check(c%tension == 8.0_dp, 'the 8 N ring')
+    do i = 1, 2
+      loose_trials = i == 1
+      call solve_cycle(c, r(i), err)
+      call check(.not. allocated(err), 'the narrow ring solved')
+      if (allocated(err)) return
+      flagged(i) = count(r(i)%int_series(:, si_flags) /= 0)
+    end do
+    loose_trials = .true.
+    write (*, '(a, 2i4)') 'flagged steps with loose and tight trials', flagged
+    call check(flagged(2) == 0, 'no flagged step with tight trials')
+    call check(flagged(1) == 0, 'no flagged step with loose trials')
+    call check(is_true(r(1), sc_converged), 'converged with loose trials')
+    call check_close(r(1)%scalars(sc_energy_loss), r(2)%scalars(sc_energy_loss), c%load_tol, &
+                     'the energy within load_tol of the tight trials')
+  end subroutine loose_trials_add_no_flag
 
   !> Two threads give the one thread's answer bit for bit however the team's threads wait
   !> between a step's passes over the sectors (ringlube_sectors; the load average not
