@@ -12,7 +12,8 @@
 !> trials and the lift-off margin's solves, their calls, and ring_solve's refusals by reason;
 !> and another the root finder's film solves at the refused steps by the refusal's reason, of
 !> them those at the steps held at a bound, and the refusals not converged whose line search
-!> found no descent.
+!> found no descent. Then a line per flagged step of the last run: its index, crank angle, h0
+!> and flags (the bits of /cycle/flags).
 !> With RINGLUBE_ACCEPT_JUMPS=1 in the environment ring_solve accepts an answer that moves a
 !> sector by more than its limit (ringlube_sectors' accept_jumps: the answers move); with
 !> RINGLUBE_LOOSE_TRIALS=0 the root finder's trials at a step ring_solve did not take solve
@@ -37,7 +38,8 @@ program bench_kernel
   use ringlube_cycle, only: solve_cycle
   use ringlube_results, only: result_type, si_film_solves, sc_cycles_computed, sc_energy_loss, &
                               sc_mixed_share, sc_total_film_solves, sc_reynolds_solves, &
-                              sc_converged, sc_margin_film_solves
+                              sc_converged, sc_margin_film_solves, si_flags, s_crank_angle_deg, &
+                              s_h0
   use ringlube_tridiag, only: thomas
   use ringlube_viscosity, only: roelands_eta
   use ringlube_film, only: film_type, film_setup, film_evaluate
@@ -105,7 +107,7 @@ contains
     type(result_type) :: res
     type(error_type), allocatable :: err
     real(dp) :: t0, best, w0, wall
-    integer :: i
+    integer :: i, k
     character(len=8) :: env
     call load(path, ovr, c)
     call get_environment_variable('RINGLUBE_ACCEPT_JUMPS', env)
@@ -154,6 +156,12 @@ contains
         'root finder film solves by refusal (not converged, bound, jump, light):', &
         refused_solves, ' held at a bound:', refused_held_solves, &
         ' not converged with a stalled line search: ', stalled_failures
+      do k = 1, size(res%int_series, 1)
+        if (res%int_series(k, si_flags) == 0) cycle
+        write (output_unit, '(a, i0, a, f0.2, a, es10.3, a, i0)') 'flagged step ', k, &
+          ' crank_angle_deg=', res%series(k, s_crank_angle_deg), ' h0=', &
+          res%series(k, s_h0), ' flags=', res%int_series(k, si_flags)
+      end do
     end associate
   end subroutine whole_run
 
