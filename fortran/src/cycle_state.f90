@@ -43,11 +43,10 @@ module ringlube_cycle_state
   !> the end of a cycle's team
   integer, parameter :: job_post = job_caller, job_inlet = job_caller + 1, &
                         job_stop = job_caller + 2
-  !> a cycle's steps run in one parallel region (ring_team_begin); .false. (the default): a
-  !> region per step. Off until a wall-clock speed-up of the region per cycle is measured on a
-  !> quiet machine (tests/bench/bench_kernel: RINGLUBE_REGION_PER_CYCLE=1; docs/bore.md,
-  !> "Cost"); its answers are the region per step's bit for bit
-  logical, save, public :: cycle_regions = .false.
+  !> a cycle's steps run in one parallel region (ring_team_begin, the default); .false.: a
+  !> region per step (tests/bench/bench_kernel: RINGLUBE_REGION_PER_STEP=1; docs/bore.md,
+  !> "Cost"), the same answers bit for bit
+  logical, save, public :: cycle_regions = .true.
   !> thread 0 of a cycle's team is running its steps (advance_ring posts each pass over the
   !> sectors to the team)
   logical, save :: cycle_team = .false.

@@ -45,7 +45,7 @@ module ringlube_sectors
             exact_mean, ring_loads, ring_ceiling, ring_coupled, free_mean_position
   public :: team_begin, team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
             team_join, team_sectors, job_caller, job_none, team_spin, team_busy_check, &
-            team_wanted, team_pause
+            team_busy_every, team_busy_checks, team_wanted, team_pause
   public :: n_phases, phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials
   public :: refused_solves, refused_held_solves, stalled_failures, last_refusal
 
@@ -237,6 +237,11 @@ module ringlube_sectors
   !> check the load average (.false.: the machine is taken for quiet; for tests that make the
   !> team's threads wait awake whatever else runs)
   logical, save :: team_busy_check = .true.
+  !> with team_busy_check .false., for tests of a team held over a cycle: > 0 takes the machine
+  !> for busy at every other run of team_busy_every load checks (0: quiet all along)
+  integer, save :: team_busy_every = 0
+  !> the load checks counted with team_busy_every
+  integer, save :: team_busy_checks = 0
   real(dp), parameter :: busy_check = 0.5_dp
 !$ integer(omp_lock_kind), save :: team_lock
   type(case_type), pointer, save :: team_case => null()
@@ -992,6 +997,10 @@ contains
     integer :: procs
     if (.not. team_busy_check) then
       team_busy = .false.
+      if (team_busy_every > 0) then
+        team_busy = mod(team_busy_checks / team_busy_every, 2) == 1
+        team_busy_checks = team_busy_checks + 1
+      end if
       return
     end if
     now = wall_clock()

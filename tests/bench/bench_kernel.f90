@@ -20,8 +20,8 @@
 !> their sectors to their own tolerance (ringlube_sectors' loose_trials off: the answers move).
 !> For a distorted bore with `&numerics threads` > 1: RINGLUBE_TEAM_ALWAYS=1 makes the steps a
 !> team whatever the load average (ringlube_sectors' team_busy_check off: the team's cost on a
-!> loaded machine), RINGLUBE_REGION_PER_CYCLE=1 makes a cycle's crank steps one parallel
-!> region instead of one per step (ringlube_cycle_state's cycle_regions on); wall_ms_per_run is
+!> loaded machine), RINGLUBE_REGION_PER_STEP=1 makes each crank step its own parallel region
+!> instead of one per cycle (ringlube_cycle_state's cycle_regions off); wall_ms_per_run is
 !> the wall time of the run of the best CPU time.
 !>
 !>   bench_kernel --micro [NODES]
@@ -116,8 +116,8 @@ contains
     loose_trials = trim(env) /= '0'
     call get_environment_variable('RINGLUBE_TEAM_ALWAYS', env)
     team_busy_check = trim(env) /= '1'
-    call get_environment_variable('RINGLUBE_REGION_PER_CYCLE', env)
-    cycle_regions = trim(env) == '1'
+    call get_environment_variable('RINGLUBE_REGION_PER_STEP', env)
+    cycle_regions = trim(env) /= '1'
     best = huge(1.0_dp)
     wall = 0.0_dp
     do i = 1, nrep

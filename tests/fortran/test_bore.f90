@@ -21,7 +21,7 @@ program test_bore
                               sc_margin_film_solves, si_film_solves, sc_run_time, &
                               s_crank_angle_deg
   use ringlube_sectors, only: free_mean_position, team_spin, team_busy_check, loose_trials, &
-                              phase_solves, phase_calls
+                              phase_solves, phase_calls, team_busy_every, team_busy_checks
   use ringlube_cycle_state, only: cycle_regions
   use ringlube_check
   implicit none
@@ -526,6 +526,22 @@ contains
                    all(r2%liner == r1%liner), 'two threads: the one thread''s answer bit for bit')
       end do
     end do
+    ! (a cycle's team on a machine taken for busy at every other three load checks: those
+    ! steps thread 0's alone, the other threads waiting: team_pause)
+    cycle_regions = .true.
+    team_spin = 0.0_dp
+    team_busy_every = 3
+    team_busy_checks = 0
+    c = c0
+    c%threads = 2
+    call solve(c, r2, 'two threads, busy at times')
+    call check(team_busy_checks > 4 * team_busy_every, 'the machine taken for busy at times')
+    r2%scalars(sc_run_time) = 0.0_dp
+    call check(all(r2%series == r1%series) .and. all(r2%int_series == r1%int_series) .and. &
+               all(r2%sectors == r1%sectors) .and. all(r2%scalars == r1%scalars) .and. &
+               all(r2%liner == r1%liner), &
+               'two threads, the machine busy at times: the one thread''s answer bit for bit')
+    team_busy_every = 0
     cycle_regions = keep_regions
     team_spin = keep
     team_busy_check = .true.
