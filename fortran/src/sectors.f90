@@ -48,7 +48,7 @@ module ringlube_sectors
             team_busy_every, team_busy_checks, team_wanted, team_pause
   public :: n_phases, phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials
   public :: refused_solves, refused_held_solves, stalled_failures, last_refusal
-  public :: ceiling_retry, ceiling_trials, ceiling_from_last
+  public :: ceiling_trials
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
@@ -84,16 +84,8 @@ module ringlube_sectors
   !> (the next iterations would crawl: the residual's sign is what the root finder needs)
   real(dp), parameter :: stall_share = 1.0_dp
   !> Newton iterations at most of the lift-off margin's second attempt at the ceiling
-  !> (ring_ceiling: with the films' secants of either sign), and of the root finder's
-  !> (ring_evaluate)
+  !> (ring_ceiling: with the films' secants of either sign)
   integer, parameter :: ceiling_signed_iterations = 12
-  !> Switches for benchmarks, off (tests/bench/bench_kernel with RINGLUBE_CEILING_RETRY=1,
-  !> RINGLUBE_CEILING_FROM_LAST=1; measured in docs/bore.md, "Cost", not kept): ceiling_retry,
-  !> a root finder's trial at the ceiling whose Newton iteration misses is attempted a second
-  !> time from the same state with the films' secants of either sign, as the lift-off
-  !> margin's (ring_evaluate); ceiling_from_last, such a trial starts from the lift-off
-  !> margin's last solve at the ceiling (ring_ceiling's start) instead of the step's sectors
-  logical, save :: ceiling_retry = .false., ceiling_from_last = .false.
 
   !> Benchmark counters (tests/bench/bench_kernel prints them; not results), summed over the
   !> process's runs until the caller sets them to 0: the sectors' film solves and the calls of
@@ -113,9 +105,8 @@ module ringlube_sectors
   integer, save :: refused_solves(4) = 0, refused_held_solves(4) = 0, stalled_failures = 0, &
                    last_refusal = 0
   !> ... and the root finder's trials at the ceiling (ring_evaluate): 1 trials, 2 their film
-  !> solves, 3 their Newton iterations, 4 first attempts that missed, 5 second attempts
-  !> (ceiling_retry) that converged, 6 the second attempts' film solves
-  integer, save :: ceiling_trials(6) = 0
+  !> solves, 3 their Newton iterations, 4 those whose Newton iteration missed
+  integer, save :: ceiling_trials(4) = 0
 
   !> The sectors' films and what the next trial and step start from.
   type :: sector_ring
@@ -330,93 +321,26 @@ contains
     type(film_type), intent(inout) :: g
     type(sector_trial), intent(inout) :: tr
     logical :: done, root_trial, at_ceiling
-    integer :: nfs, its, missed
+    integer :: nfs, its
     nfs = sum(ring%films%film_solves)
     its = ring%iterations
-    missed = ring%missed
     ! (the root finder's trial; ring_ceiling counts its own)
     root_trial = .not. tr%signed_slopes .and. tr%max_iterations == 0
-    at_ceiling = root_trial .and. tr%cc_ceiling > 0.0_dp .and. tr%cc >= tr%cc_ceiling
-    if (at_ceiling .and. ceiling_from_last .and. ring%ceil_c > 0.0_dp) call from_last(ring)
-    if (at_ceiling .and. ceiling_retry) call save_state(ring)
+    ! (exp(ln ceiling): within round-off of it)
+    at_ceiling = root_trial .and. tr%cc_ceiling > 0.0_dp .and. &
+                 tr%cc >= tr%cc_ceiling * (1.0_dp - 1e-12_dp)
     call newton_solve(c, ring, g, tr, done)
     if (at_ceiling) then
       ceiling_trials(1) = ceiling_trials(1) + 1
       ceiling_trials(2) = ceiling_trials(2) + sum(ring%films%film_solves) - nfs
       ceiling_trials(3) = ceiling_trials(3) + ring%iterations - its
       if (.not. done) ceiling_trials(4) = ceiling_trials(4) + 1
-      if (.not. done .and. ceiling_retry) call ceiling_again(c, ring, g, tr, missed)
     end if
     if (root_trial) then
       phase_calls(3) = phase_calls(3) + 1
       phase_solves(3) = phase_solves(3) + sum(ring%films%film_solves) - nfs
     end if
-  contains
-
-    !> The ring's sectors and films from the lift-off margin's last solve at the ceiling.
-    subroutine from_last(ring)
-      type(sector_ring), intent(inout) :: ring
-      integer :: j
-      ring%c_last = ring%ceil_c
-      ring%xc = ring%ceil_xc
-      ring%yc = ring%ceil_yc
-      ring%h = ring%ceil_h
-      ring%w = ring%ceil_w
-      ring%slope = ring%ceil_slope
-      ring%fresh = .false.
-      do j = 1, ring%bore%m
-        ring%films(j)%p = ring%ceil_p(:, j)
-        ring%films(j)%eta = ring%ceil_eta(:, j)
-        if (ring%films(j)%jfo) ring%films(j)%theta = ring%ceil_theta(:, j)
-      end do
-    end subroutine from_last
   end subroutine ring_evaluate
-
-  !> A root finder's trial at the ceiling whose Newton iteration missed (ring_evaluate): the
-  !> lift-off margin's rule (ring_ceiling) on the balance's trial. At the ceiling a flooded
-  !> film's load can rise with its h0, where the Newton iteration keeps only falling secants
-  !> and crawls to its max_inner iterations; a second attempt from the state the trial started
-  !> from (save_state's) takes each film's secant of either sign, at most
-  !> ceiling_signed_iterations; where it misses as well, the first attempt's result stands
-  !> (the film solves of both counted). missed: ring%missed before the first attempt.
-  subroutine ceiling_again(c, ring, g, tr, missed)
-    type(case_type), intent(in) :: c
-    type(sector_ring), intent(inout) :: ring
-    type(film_type), intent(inout) :: g
-    type(sector_trial), intent(inout) :: tr
-    integer, intent(in) :: missed
-    type(sector_ring) :: first
-    type(film_type) :: g_first
-    logical :: done
-    integer :: nfs, j, fs(ring%bore%m), rs(ring%bore%m), solves, reynolds
-    first = ring
-    g_first = g
-    call restore_state(ring)
-    nfs = sum(ring%films%film_solves)
-    tr%signed_slopes = .true.
-    tr%max_iterations = ceiling_signed_iterations
-    call newton_solve(c, ring, g, tr, done)
-    tr%signed_slopes = .false.
-    tr%max_iterations = 0
-    ceiling_trials(6) = ceiling_trials(6) + sum(ring%films%film_solves) - nfs
-    if (done) then
-      ceiling_trials(5) = ceiling_trials(5) + 1
-      return
-    end if
-    fs = ring%films%film_solves
-    rs = ring%films%reynolds_solves
-    solves = g%film_solves
-    reynolds = g%reynolds_solves
-    ring = first
-    g = g_first
-    do j = 1, ring%bore%m
-      ring%films(j)%film_solves = fs(j)
-      ring%films(j)%reynolds_solves = rs(j)
-    end do
-    g%film_solves = solves
-    g%reynolds_solves = reynolds
-    ring%missed = missed + 1
-  end subroutine ceiling_again
 
   !> Solve the sectors and the mean position together: the equations of ring_evaluate and the
   !> load balance (mean W = q, within load_tol relative, as the outer root finder's residual),
