@@ -45,7 +45,9 @@ that were refused (the sectors restored: the film solves wasted) and the root fi
 then take those steps, and the lift-off margin's solves at the ceiling; with the steps and
 `ring_solve`'s refusals by reason (not converged, of them with a line search without descent; at
 a bound, a sector's jump, a light sector), the root finder's film solves per sector and refused
-step by reason, and the share of them at the steps it held at a bound (the ring lifted off).
+step by reason, and the share of them at the steps it held at a bound (the ring lifted off);
+and the root finder's trials at the ceiling: how many, of them how many ended at the sectors'
+Newton iteration limit, their film solves per sector and trial and Newton iterations per trial.
 `--phases --tight-trials`: the same with the root finder's trials solved to the sectors' own
 tolerance (RINGLUBE_LOOSE_TRIALS=0 for bench_kernel; the answers move).
 `--phases --accept-jumps`: the same with `ring_solve` accepting an answer that moves a sector by
@@ -148,7 +150,8 @@ def phase_run(
     deck: Path, phys: str, accept_jumps: bool = False, loose: bool = True
 ) -> tuple[dict, list, list, list, list]:
     """bench_kernel's values, its phase line (film solves, calls, refusals) and its line of the
-    root finder's film solves by refusal (by reason, held at a bound, stalled), one run."""
+    root finder's film solves by refusal (by reason, held at a bound, stalled, then its trials
+    at the ceiling: trials, film solves, Newton iterations, missed), one run."""
     env = dict(os.environ, RINGLUBE_ACCEPT_JUMPS="1" if accept_jumps else "0")
     env["RINGLUBE_LOOSE_TRIALS"] = "1" if loose else "0"
     out = subprocess.run(
@@ -164,14 +167,17 @@ def phase_run(
         [int(x) for x in part.split(":")[1].split()] for part in re.split(r"(?= calls:| refusals)", line)
     )
     by_refusal = [int(x) for x in re.findall(r"-?\d+", out.split("by refusal")[1].split(":", 1)[1])]
-    return vals, solves, calls, refusals, by_refusal
+    ceiling = [int(x) for x in out.split("at the ceiling")[1].split(":", 1)[1].split("\n")[0].split()]
+    return vals, solves, calls, refusals, by_refusal + ceiling
 
 
 def phase_table(accept_jumps: bool = False, loose: bool = True) -> None:
     """Film solves per sector-step of every cycle computed, by phase (bench_kernel, one run),
     and the root finder's film solves per sector and refused step by the refusal's reason (not
     converged, of them with a stalled line search; the others), with the share of them at the
-    steps the root finder held at a bound (lift-off); with accept_jumps, of the run whose
+    steps the root finder held at a bound (lift-off), and its trials at the ceiling (their
+    count, of them missed: Newton iterations at their limit; film solves per sector and
+    trial, Newton iterations per trial); with accept_jumps, of the run whose
     ring_solve accepts a sector's jump, with the energy, the cycles computed and the film
     solves per sector-step of both runs; loose False: with the root finder's trials solved to
     the sectors' own tolerance (RINGLUBE_LOOSE_TRIALS=0)."""
@@ -182,9 +188,10 @@ def phase_table(accept_jumps: bool = False, loose: bool = True) -> None:
         "| deck | film | steps | accepted: steps, solves per sector-step | refused: steps, wasted"
         " | root finder: trials, solves per sector-step | margin | all | refusals: not converged"
         " (stalled), bound, jump, light | root finder per sector and refused step: not converged,"
-        f" jump, other | of them held at a bound{extra} |"
+        f" jump, other | of them held at a bound | root finder at the ceiling: trials (missed),"
+        f" solves per sector and trial, iterations per trial{extra} |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|---|" + ("---|---|---|" if accept_jumps else ""))
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|---|---|" if accept_jumps else ""))
     for label, name in DECKS:
         deck = ROOT / "inputs" / name
         for model, phys, _ in MODELS:
@@ -199,11 +206,17 @@ def phase_table(accept_jumps: bool = False, loose: bool = True) -> None:
                 n = sum(refusals[i] for i in g)
                 per_refused.append(f"{sum(rf[i] for i in g) / (m * n):.1f}" if n else "-")
             held_share = f"{sum(held) / sum(rf):.0%}" if sum(rf) else "-"
+            c_trials, c_solves, c_its, c_missed = by_refusal[9:13]
+            at_ceiling = (
+                f"{c_trials} ({c_missed}), {c_solves / (m * c_trials):.1f}, {c_its / c_trials:.1f}"
+                if c_trials
+                else "0"
+            )
             row = (
                 f"| {label} | {model} | {steps} | {calls[0]}, {per[0]:.2f} | {calls[1]}, {per[1]:.2f}"
                 f" | {calls[2]}, {per[2]:.2f} | {per[3]:.2f} | {sum(per):.2f} |"
                 f" {refusals[0]} ({stalled}), {', '.join(str(x) for x in refusals[1:])} |"
-                f" {', '.join(per_refused)} | {held_share} |"
+                f" {', '.join(per_refused)} | {held_share} | {at_ceiling} |"
             )
             if accept_jumps:
                 v0, s0, _, _, _ = phase_run(deck, phys)
