@@ -2,7 +2,7 @@
 every shipped engine deck with Swift-Stieber, flooded and starved JFO, at the decks' numerics
 ('default' preset). Measured as a study sees it: the steady state of many runs in one process
 (`build/bench_kernel DECK OVERRIDES RUNS`, CPU ms per run, best of 3). A fresh process's single
-run also pays the kernel's one-time set-up (about 2.7 ms: tables built on first use), which
+run also pays the kernel's one-time set-up (about 0.6 ms: tables built on first use), which
 dilutes the ratio; it is not measured here. Prints a markdown table (docs/performance.md, "The
 ring pack's cost"; its run time: "Run times"). Run from the project folder:
 
