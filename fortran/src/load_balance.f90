@@ -26,8 +26,7 @@ module ringlube_load_balance
   use ringlube_jfo_connect, only: jfo_seal_margin
   use ringlube_sectors, only: sector_ring, sector_trial, ring_evaluate, ring_ceiling, ring_solve, &
                               ring_coupled, loose_trials, phase_calls, phase_solves, &
-                              refused_solves, refused_held_solves, last_refusal, &
-                              ring_ceiling_answer
+                              refused_solves, refused_held_solves, last_refusal
   use ringlube_results, only: flag_floor, flag_ceiling, flag_load, flag_viscosity, flag_cavitation
   implicit none
   private
@@ -155,9 +154,6 @@ contains
     refusals = phase_calls(2)
     solves = phase_solves(3)
     call find_h0(c, lp, g, mem, guess, h0out, flags, resid, ring)
-    ! (an answer that is the root finder's trial at the ceiling, solved on the ceiling's copy
-    ! of the ring: the sectors take its state)
-    if (present(ring)) call ring_ceiling_answer(c, ring)
     ! (benchmark counters: the root finder's film solves at a step ring_solve refused)
     if (present(ring) .and. phase_calls(2) > refusals) then
       associate (r => last_refusal, n => phase_solves(3) - solves)

@@ -42,14 +42,13 @@ module ringlube_sectors
   implicit none
   private
   public :: sector_ring, sector_trial, ring_setup, ring_evaluate, ring_solve, ring_accept, &
-            exact_mean, ring_loads, ring_ceiling, ring_coupled, free_mean_position, &
-            ring_ceiling_answer
+            exact_mean, ring_loads, ring_ceiling, ring_coupled, free_mean_position
   public :: team_begin, team_size_is, team_end, team_post, team_wait, team_claim, team_done, &
             team_join, team_sectors, job_caller, job_none, team_spin, team_busy_check, &
             team_busy_every, team_busy_checks, team_wanted, team_pause
   public :: n_phases, phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials
   public :: refused_solves, refused_held_solves, stalled_failures, last_refusal
-  public :: ceiling_trials, ceiling_copy
+  public :: ceiling_trials
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
@@ -87,15 +86,6 @@ module ringlube_sectors
   !> Newton iterations at most of the lift-off margin's second attempt at the ceiling
   !> (ring_ceiling: with the films' secants of either sign)
   integer, parameter :: ceiling_signed_iterations = 12
-  !> A switch for benchmarks and tests, off (tests/bench/bench_kernel with
-  !> RINGLUBE_CEILING_COPY=1; measured in docs/bore.md, "Cost": it moves the 12,000 r/min
-  !> deck's answers and flags steps of the validation's bore table, so not kept): .true., the
-  !> root finder's trial at the ceiling is the lift-off margin's solve there (ring_ceiling: on
-  !> a copy of the ring, from the last solve at the ceiling), the sectors' own state left as
-  !> the last trial below left it; the step takes the copy's state only where that trial is
-  !> its answer (ring_ceiling_answer: a ring held at the ceiling). .false.: the trial solves
-  !> the step's own sectors moved up to the ceiling, which crawl there.
-  logical, save :: ceiling_copy = .false.
 
   !> Benchmark counters (tests/bench/bench_kernel prints them; not results), summed over the
   !> process's runs until the caller sets them to 0: the sectors' film solves and the calls of
@@ -115,9 +105,8 @@ module ringlube_sectors
   integer, save :: refused_solves(4) = 0, refused_held_solves(4) = 0, stalled_failures = 0, &
                    last_refusal = 0
   !> ... and the root finder's trials at the ceiling (ring_evaluate): 1 trials, 2 their film
-  !> solves, 3 their Newton iterations, 4 those whose Newton iteration missed (with
-  !> ceiling_copy: the first attempt), 5 the steps whose answer was such a trial (ceiling_copy)
-  integer, save :: ceiling_trials(5) = 0
+  !> solves, 3 their Newton iterations, 4 those whose Newton iteration missed
+  integer, save :: ceiling_trials(4) = 0
 
   !> The sectors' films and what the next trial and step start from.
   type :: sector_ring
@@ -154,9 +143,6 @@ module ringlube_sectors
     !> the films of ring_ceiling's copy of the ring, kept between its calls for their arrays
     !> (film_copy; their values are the copy's, set anew at each call)
     type(film_type), allocatable :: ceil_films(:)
-    !> the last evaluation was the root finder's trial at the ceiling on ring_ceiling's copy
-    !> (ceiling_copy): the sectors' own state is the one before it
-    logical :: on_copy = .false.
     !> the state ring_solve restores where it fails: the sectors' h0, loads, slopes and
     !> deflection (4, M), centre and mean position, and each sector's film iterate (pressure,
     !> viscosity, fill: (nodes, M))
@@ -220,7 +206,7 @@ module ringlube_sectors
   !> it and its last iterates at the ceiling back (ring_ceiling); from job_caller on the
   !> caller's own.
   integer, parameter :: job_none = 0, job_films = 1, job_ceiling_in = 2, job_ceiling_out = 3, &
-                        job_ceiling_answer = 4, job_caller = 10
+                        job_caller = 10
   !> how long [s] a thread of the team waits for the next job awake before it sleeps, at most;
   !> 0: it sleeps at once (every pass then wakes it, as a parallel loop per pass would)
   real(dp), save :: team_spin = 100e-6_dp
@@ -343,11 +329,6 @@ contains
     ! (exp(ln ceiling): within round-off of it)
     at_ceiling = root_trial .and. tr%cc_ceiling > 0.0_dp .and. &
                  tr%cc >= tr%cc_ceiling * (1.0_dp - 1e-12_dp)
-    if (at_ceiling .and. ceiling_copy) then
-      call ceiling_trial(c, ring, g, tr)
-      return
-    end if
-    ring%on_copy = .false.
     call newton_solve(c, ring, g, tr, done)
     if (at_ceiling) then
       ceiling_trials(1) = ceiling_trials(1) + 1
@@ -360,51 +341,6 @@ contains
       phase_solves(3) = phase_solves(3) + sum(ring%films%film_solves) - nfs
     end if
   end subroutine ring_evaluate
-
-  !> The root finder's trial at the ceiling with ceiling_copy: the lift-off margin's solve
-  !> there (ring_ceiling, with the trial the margin's would be, at the ceiling itself rather
-  !> than at exp(ln ceiling)), on a copy of the ring from the last solve at the ceiling. The
-  !> step's sectors are left as the last trial left them (the next trial starts from there, as
-  !> if this one had not been made); g gets the copy's loads (its h0 the trial's cc).
-  subroutine ceiling_trial(c, ring, g, tr)
-    type(case_type), intent(in) :: c
-    type(sector_ring), intent(inout) :: ring
-    type(film_type), intent(inout) :: g
-    type(sector_trial), intent(in) :: tr
-    type(sector_trial) :: tc
-    integer :: counts(3)
-    tc = sector_trial(cc=tr%cc_ceiling, sq_a=tr%sq_a, dt=tr%dt, u=tr%u, p_chamber=tr%p_chamber, &
-                      load=tr%load, floor=tr%floor, ceiling=tr%ceiling)
-    call ring_ceiling(c, ring, g, tc, counts)
-    g%h0 = tr%cc
-    ring%on_copy = .true.
-    ring%loosened = .false.
-    ceiling_trials(1) = ceiling_trials(1) + 1
-    ceiling_trials(2) = ceiling_trials(2) + counts(1)
-    ceiling_trials(3) = ceiling_trials(3) + counts(2)
-    ceiling_trials(4) = ceiling_trials(4) + counts(3)
-    phase_calls(3) = phase_calls(3) + 1
-    phase_solves(3) = phase_solves(3) + counts(1)
-  end subroutine ceiling_trial
-
-  !> The step's answer is the ring's last evaluation: where that was the root finder's trial
-  !> at the ceiling on the ceiling's copy (ceiling_copy), the sectors take the copy's state
-  !> (h0, loads, slopes, centre, mean position and their films whole); else nothing changes.
-  subroutine ring_ceiling_answer(c, ring)
-    type(case_type), intent(in) :: c
-    type(sector_ring), intent(inout) :: ring
-    if (.not. ring%on_copy) return
-    ring%on_copy = .false.
-    ring%h = ring%ceil_h
-    ring%w = ring%ceil_w
-    ring%slope = ring%ceil_slope
-    ring%xc = ring%ceil_xc
-    ring%yc = ring%ceil_yc
-    ring%c_last = ring%ceil_c
-    call deflection(ring)
-    call sectors_job(c, ring, ring, job_ceiling_answer)
-    ceiling_trials(5) = ceiling_trials(5) + 1
-  end subroutine ring_ceiling_answer
 
   !> Solve the sectors and the mean position together: the equations of ring_evaluate and the
   !> load balance (mean W = q, within load_tol relative, as the outer root finder's residual),
@@ -425,7 +361,6 @@ contains
     integer :: nfs, reason, phase
     logical :: stalled
     nfs = sum(ring%films%film_solves)
-    ring%on_copy = .false.
     call save_state(ring)
     tr%free = .true.
     tr%dres_dlnc = 0.0_dp
@@ -717,21 +652,16 @@ contains
   !> ceiling_signed_iterations) and converges to the root continued from the last solve;
   !> where it misses too (a starved film's secants are noisier than its load's change), the
   !> first attempt's result stands, as before.
-  !>
-  !> counts (the root finder's trial at the ceiling, ceiling_trial): its film solves, Newton
-  !> iterations and whether the first attempt missed, for the caller's counters (else the
-  !> margin's phase counters count them).
-  subroutine ring_ceiling(c, ring, g, tr, counts)
+  subroutine ring_ceiling(c, ring, g, tr)
     type(case_type), intent(in) :: c
     type(sector_ring), intent(inout) :: ring
     type(film_type), intent(inout) :: g
     type(sector_trial), intent(inout) :: tr
-    integer, intent(out), optional :: counts(3)
     type(sector_ring), target :: rc
     type(sector_ring) :: first
     type(film_type) :: g_first
     type(film_type), allocatable :: films(:), ceil_films(:)
-    integer :: m, missed, nfs, solves, nfs0
+    integer :: m, missed, nfs, solves
     m = ring%bore%m
     ! (the films copied sector by sector, each by the thread that owns the sector in a team,
     ! into the arrays of the last call's copy)
@@ -746,10 +676,8 @@ contains
     tr%max_iterations = max_inner
     tr%signed_slopes = .false.
     nfs = sum(rc%films%film_solves)
-    nfs0 = g%film_solves
     call ring_evaluate(c, rc, g, tr)
-    if (.not. present(counts)) phase_solves(4) = phase_solves(4) + sum(rc%films%film_solves) - nfs
-    if (present(counts)) counts(3) = rc%missed - missed
+    phase_solves(4) = phase_solves(4) + sum(rc%films%film_solves) - nfs
     if (rc%missed > missed) then
       ! (the first attempt is kept for where the second misses as well)
       first = rc
@@ -759,8 +687,7 @@ contains
       tr%signed_slopes = .true.
       nfs = sum(rc%films%film_solves)
       call ring_evaluate(c, rc, g, tr)
-      if (.not. present(counts)) &
-        phase_solves(4) = phase_solves(4) + sum(rc%films%film_solves) - nfs
+      phase_solves(4) = phase_solves(4) + sum(rc%films%film_solves) - nfs
       if (rc%missed > missed + 1) then
         solves = g%film_solves
         rc = first
@@ -768,12 +695,7 @@ contains
         g%film_solves = solves
       end if
     end if
-    if (present(counts)) then
-      counts(1) = g%film_solves - nfs0
-      counts(2) = rc%iterations - ring%iterations
-    else
-      phase_calls(4) = phase_calls(4) + 1
-    end if
+    phase_calls(4) = phase_calls(4) + 1
     ring%ceil_c = rc%c_last
     ring%ceil_xc = rc%xc
     ring%ceil_yc = rc%yc
@@ -887,8 +809,6 @@ contains
         team_ring%ceil_eta(:, jj) = fc%eta
         if (fc%jfo) team_ring%ceil_theta(:, jj) = fc%theta
       end associate
-    case (job_ceiling_answer)
-      call film_copy(team_ring%films(jj), team_ring%ceil_films(jj))
     end select
   end subroutine sector_work
 
@@ -1369,7 +1289,6 @@ contains
     ring%whist(1, :) = ring%w
     ring%steps = ring%steps + 1
     ring%fresh = .true.
-    ring%on_copy = .false.
   end subroutine ring_accept
 
   !> The next step's value of a series from its last two (h1 the last), linear in ln,

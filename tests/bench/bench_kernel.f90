@@ -13,15 +13,12 @@
 !> and another the root finder's film solves at the refused steps by the refusal's reason, of
 !> them those at the steps held at a bound, and the refusals not converged whose line search
 !> found no descent; and another the root finder's trials at the ceiling: their count, film
-!> solves, Newton iterations, those whose Newton iteration missed and (RINGLUBE_CEILING_COPY=1)
-!> the steps whose answer was such a trial. Then a line per flagged
+!> solves, Newton iterations and those whose Newton iteration missed. Then a line per flagged
 !> step of the last run: its index, crank angle, h0 and flags (the bits of /cycle/flags).
 !> With RINGLUBE_ACCEPT_JUMPS=1 in the environment ring_solve accepts an answer that moves a
 !> sector by more than its limit (ringlube_sectors' accept_jumps: the answers move); with
 !> RINGLUBE_LOOSE_TRIALS=0 the root finder's trials at a step ring_solve did not take solve
-!> their sectors to their own tolerance (ringlube_sectors' loose_trials off: the answers move);
-!> with RINGLUBE_CEILING_COPY=1 the root finder's trial at the ceiling is solved on the lift-off
-!> margin's copy of the ring (ringlube_sectors' ceiling_copy: the answers move).
+!> their sectors to their own tolerance (ringlube_sectors' loose_trials off: the answers move).
 !> For a distorted bore with `&numerics threads` > 1: RINGLUBE_TEAM_ALWAYS=1 makes the steps a
 !> team whatever the load average (ringlube_sectors' team_busy_check off: the team's cost on a
 !> loaded machine), RINGLUBE_REGION_PER_STEP=1 makes each crank step its own parallel region
@@ -50,7 +47,7 @@ program bench_kernel
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_textio, only: read_text_file, itoa
 use ringlube_sectors, only: phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials, &
-                              ceiling_trials, ceiling_copy, &
+                              ceiling_trials, &
                               refused_solves, refused_held_solves, stalled_failures, &
                               team_busy_check
   use ringlube_cycle_state, only: cycle_regions
@@ -119,8 +116,6 @@ contains
     accept_jumps = trim(env) == '1'
     call get_environment_variable('RINGLUBE_LOOSE_TRIALS', env)
     loose_trials = trim(env) /= '0'
-    call get_environment_variable('RINGLUBE_CEILING_COPY', env)
-    ceiling_copy = trim(env) == '1'
     call get_environment_variable('RINGLUBE_TEAM_ALWAYS', env)
     team_busy_check = trim(env) /= '1'
     call get_environment_variable('RINGLUBE_REGION_PER_STEP', env)
@@ -164,9 +159,9 @@ contains
         'root finder film solves by refusal (not converged, bound, jump, light):', &
         refused_solves, ' held at a bound:', refused_held_solves, &
         ' not converged with a stalled line search: ', stalled_failures
-      if (sum(phase_calls) > 0) write (output_unit, '(a, 5(1x, i0))') &
-        'root finder trials at the ceiling (trials, film solves, iterations, missed, '// &
-        'answers):', ceiling_trials
+      if (sum(phase_calls) > 0) write (output_unit, '(a, 4(1x, i0))') &
+        'root finder trials at the ceiling (trials, film solves, iterations, missed):', &
+        ceiling_trials
       do k = 1, size(res%int_series, 1)
         if (res%int_series(k, si_flags) == 0) cycle
         write (output_unit, '(a, i0, a, f0.2, a, es10.3, a, i0)') 'flagged step ', k, &

@@ -19,10 +19,9 @@ program test_bore
                               sc_face_leakage, sc_gas_balance_error, sc_light_gap_share, &
                               sec_h0, sec_load, flag_sectors, flag_ceiling, &
                               sc_margin_film_solves, si_film_solves, sc_run_time, &
-                              s_crank_angle_deg, sc_total_film_solves
+                              s_crank_angle_deg
   use ringlube_sectors, only: free_mean_position, team_spin, team_busy_check, loose_trials, &
-                              phase_solves, phase_calls, team_busy_every, team_busy_checks, &
-                              ceiling_copy, ceiling_trials
+                              phase_solves, phase_calls, team_busy_every, team_busy_checks
   use ringlube_cycle_state, only: cycle_regions
   use ringlube_check
   implicit none
@@ -35,7 +34,6 @@ program test_bore
   if (run_case('gas_assisted_conformability')) call gas_assisted_conformability()
   if (run_case('ceiling_from_last_ceiling')) call ceiling_from_last_ceiling()
   if (run_case('ceiling_rising_loads')) call ceiling_rising_loads()
-  if (run_case('ceiling_trial_on_copy')) call ceiling_trial_on_copy()
   if (run_case('free_mean_position')) call free_mean_position_test()
   if (run_case('loose_trials')) call loose_trials_test()
   if (run_case('loose_trials_add_no_flag')) call loose_trials_add_no_flag()
@@ -352,77 +350,6 @@ contains
     call check(sum(solves) / max(n, 1) <= 4.0_dp, 'at most 4 film solves per sector and step')
     call check(count(solves > 10.0_dp) <= 1, 'more than 10 film solves per sector at one step')
   end subroutine ceiling_rising_loads
-
-  !> The root finder's trial at the ceiling is the lift-off margin's solve there, on a copy
-  !> of the ring from the last solve at the ceiling (ceiling_copy): on the shipped 12,000 r/min
-  !> distorted deck with the flooded film, where the ring lifts off at some steps, such a
-  !> trial takes at most 2 film solves per sector (1.0 measured; 24.5 on the step's own
-  !> sectors moved up from near the liner, which crawl there), the run fewer film solves, and
-  !> the answers stay the balance's: every step not held at a bound within load_tol, no more
-  !> steps with the sectors outside their tolerance, the energy within load_tol of the run
-  !> without it (1.0e-5 measured). A ring held at the ceiling takes the copy's sectors and
-  !> films (ring_ceiling_answer), also with the films solved by a team of two threads: their
-  !> answer is the one thread's bit for bit. (A switch that is off: on the validation's bore
-  !> table the 12,000 r/min deck's 14 N ring then has steps whose sectors are not solved.)
-  subroutine ceiling_trial_on_copy()
-    character(len=*), parameter :: deck = 'inputs/crf450r_12000rpm_full_hot_distorted.nml'
-    type(case_type) :: c
-    type(result_type) :: r(3)
-    type(error_type), allocatable :: err
-    character(len=:), allocatable :: text
-    real(dp) :: per_trial(2), de
-    integer :: i, flagged(2), held(2), total(2)
-    logical, allocatable :: free(:)
-    real(dp) :: keep
-    call read_text_file(deck, text, err)
-    if (.not. allocated(err)) &
-      call read_deck_text(text, deck, dir_prefix(deck), c, err, &
-                    "&ring tension_unit = 'N' / &physics cavitation = 'jfo', inlet = 'flooded' /", &
-                          'overrides')
-    call check(.not. allocated(err), 'the shipped deck read')
-    if (allocated(err)) return
-    do i = 1, 2
-      ceiling_copy = i == 1
-      ceiling_trials = 0
-      call solve_cycle(c, r(i), err)
-      call check(.not. allocated(err), 'the 12,000 r/min flooded film solved')
-      if (allocated(err)) return
-      per_trial(i) = real(ceiling_trials(2), dp) / (c%sectors * max(ceiling_trials(1), 1))
-      held(i) = ceiling_trials(5)
-      total(i) = nint(r(i)%scalars(sc_total_film_solves))
-      free = iand(r(i)%int_series(:, si_flags), 3) == 0
-      flagged(i) = count(iand(r(i)%int_series(:, si_flags), flag_sectors) /= 0)
-      call check(all(abs(pack(r(i)%series(:, s_load_residual), free)) <= c%load_tol), &
-                 'every step not held at a bound within load_tol')
-    end do
-    de = abs(r(1)%scalars(sc_energy_loss) / r(2)%scalars(sc_energy_loss) - 1)
-    write (*, '(a, 2f8.2, a, i0, a, 2i8, a, 2i4, a, es10.2)') &
-      'film solves per sector and trial at the ceiling', per_trial, ', steps held there ', &
-      held(1), ', film solves', total, ', steps with the sectors flagged', flagged, ', energy', de
-    call check(per_trial(1) <= 2.0_dp, 'at most 2 film solves per sector and trial at the ceiling')
-    call check(per_trial(2) > 10.0_dp, 'the step''s own sectors crawl to the ceiling')
-    call check(held(1) > 0, 'steps held at the ceiling take the copy''s state')
-    call check(total(1) < total(2), 'fewer film solves')
-    call check(flagged(1) <= flagged(2), 'no more steps with the sectors outside their tolerance')
-    call check(de <= c%load_tol, 'the energy within load_tol')
-    ! the copy's state taken by a team of two threads
-    keep = team_spin
-    team_busy_check = .false.
-    team_spin = 0.0_dp
-    c%threads = 2
-    ceiling_copy = .true.
-    call solve_cycle(c, r(3), err)
-    ceiling_copy = .false.
-    call check(.not. allocated(err), 'two threads solved')
-    if (allocated(err)) return
-    team_spin = keep
-    team_busy_check = .true.
-    r(1)%scalars(sc_run_time) = 0.0_dp
-    r(3)%scalars(sc_run_time) = 0.0_dp
-    call check(all(r(3)%series == r(1)%series) .and. all(r(3)%int_series == r(1)%int_series) &
-               .and. all(r(3)%sectors == r(1)%sectors) .and. all(r(3)%scalars == r(1)%scalars), &
-               'two threads: the one thread''s answer bit for bit')
-  end subroutine ceiling_trial_on_copy
 
   !> The step's mean position solved with the sectors in one Newton iteration (ring_solve)
   !> gives the answer of the root finder on the mean position alone (each of whose trials
