@@ -158,7 +158,12 @@ call line('conformability', a, 'A_k / limit, the largest ('//trim(b)//'; > 1 doe
       call line('cycles run', a, '  (last cycle''s change: '//trim(b)//')')
     end if
     write (a, '(i10)') nint(v(sc_flagged_steps))
-    call line('flagged crank steps', a, '(see /cycle/flags)')
+    ! the reported cycle's; with a period of 2 or more the period's other cycles may have some
+    if (nint(v(sc_period)) >= 2) then
+      call line('flagged crank steps', a, '(the last cycle''s; see /cycle/flags)')
+    else
+      call line('flagged crank steps', a, '(see /cycle/flags)')
+    end if
     b = ''
     if (nint(v(sc_period)) >= 2) write (b, '(a, i0, a)') '(a period of ', nint(v(sc_period)), &
       ' cycles: energy, shares, blowby are means)'
