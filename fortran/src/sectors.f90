@@ -83,6 +83,11 @@ module ringlube_sectors
   !> ... or, after a line search without descent, within the load residual over load_tol
   !> (the next iterations would crawl: the residual's sign is what the root finder needs)
   real(dp), parameter :: stall_share = 1.0_dp
+  !> a loose trial's mean position within this relative distance of cc_floor or cc_ceiling is
+  !> at that bound (loose_enough: solved to the sectors' own tolerance); the root finder's
+  !> trial at a bound, exp(ln bound), lies within round-off of it (exp(ln 1e-9) is 6e-25 m
+  !> above 1e-9 m)
+  real(dp), parameter :: bound_rtol = 1e-12_dp
   !> Newton iterations at most of the lift-off margin's second attempt at the ceiling
   !> (ring_ceiling: with the films' secants of either sign)
   integer, parameter :: ceiling_signed_iterations = 12
@@ -515,6 +520,8 @@ contains
 
   !> A loose trial (tr%loose, strictly between its bounds) whose sectors are not within their
   !> own tolerance (done: they are) but within loose_share of its load residual over load_tol.
+  !> (The root finder's trial at a bound is exp(ln bound), within round-off of it: a trial
+  !> within bound_rtol of a bound is at it.)
   pure logical function loose_enough(c, ring, tr, nw, done) result(ok)
     type(case_type), intent(in) :: c
     type(sector_ring), intent(in) :: ring
@@ -524,7 +531,8 @@ contains
     real(dp) :: r_out
     ok = .false.
     if (done .or. .not. tr%loose .or. tr%free) return
-    if (tr%cc <= tr%cc_floor .or. tr%cc >= tr%cc_ceiling) return
+    if (tr%cc <= tr%cc_floor * (1.0_dp + bound_rtol) .or. &
+        tr%cc >= tr%cc_ceiling * (1.0_dp - bound_rtol)) return
     r_out = (exact_mean(ring%w) * tr%circ - tr%load) / max(tr%load, 1e-3_dp)
     ok = nw%merit <= loose_share * abs(r_out) / c%load_tol
     if (nw%stalled) ok = ok .or. nw%merit <= stall_share * abs(r_out) / c%load_tol

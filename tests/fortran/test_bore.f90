@@ -21,7 +21,8 @@ program test_bore
                               sc_margin_film_solves, si_film_solves, sc_run_time, &
                               s_crank_angle_deg
   use ringlube_sectors, only: free_mean_position, team_spin, team_busy_check, loose_trials, &
-                              phase_solves, phase_calls, team_busy_every, team_busy_checks
+                              phase_solves, phase_calls, team_busy_every, team_busy_checks, &
+                              sector_ring, sector_trial, ring_evaluate
   use ringlube_cycle_state, only: cycle_regions
   use ringlube_check
   implicit none
@@ -37,6 +38,7 @@ program test_bore
   if (run_case('free_mean_position')) call free_mean_position_test()
   if (run_case('loose_trials')) call loose_trials_test()
   if (run_case('loose_trials_add_no_flag')) call loose_trials_add_no_flag()
+  if (run_case('loose_trial_at_floor')) call loose_trial_at_floor()
   if (run_case('team_wait_modes')) call team_wait_modes()
   call report('test_bore')
 
@@ -479,6 +481,43 @@ contains
     call check_close(r(1)%scalars(sc_energy_loss), r(2)%scalars(sc_energy_loss), c%load_tol, &
                      'the energy within load_tol of the tight trials')
   end subroutine loose_trials_add_no_flag
+
+  !> A loose trial of the root finder at the floor is solved to the sectors' own tolerance:
+  !> the root finder's trial there is exp(ln h0_floor), within round-off of h0_floor and here
+  !> above it (h0_floor 5e-8 m, at which the sectors of the step at 90 deg do not settle in one
+  !> film solve: exp(ln 5e-8) is 5.3e-23 m above; exp(ln 1e-9), the default's, 6.2e-25 m), and
+  !> was taken for a trial strictly between the bounds, ending loose. (The same trial at 2
+  !> h0_floor, far below the balance, ends loose: the test tells the two apart.)
+  subroutine loose_trial_at_floor()
+    type(case_type) :: c
+    type(cycle_state) :: st
+    type(step_out) :: out
+    type(sector_ring) :: ring
+    type(sector_trial) :: tr
+    real(dp) :: cc(2)
+    logical :: loosened(2)
+    integer :: i
+    c = base_case()
+    c%tension_unit = 'N'
+    c = distorted(c, 4, 10e-6_dp, 16)
+    c%h0_floor = 5e-8_dp
+    call cycle_setup(st, c, 1e-7_dp)
+    call advance(st, c, 90.0_dp, out)
+    cc = [exp(log(c%h0_floor)), 2.0_dp * c%h0_floor]
+    call check(cc(1) /= c%h0_floor, 'exp(ln h0_floor) is not h0_floor')
+    do i = 1, 2
+      ring = st%ring
+      tr = sector_trial(cc=cc(i), sq_a=out%lp%sq_a, dt=out%lp%dt, u=out%lp%u, &
+                        p_chamber=out%lp%pg, load=out%lp%load, floor=c%h0_floor, &
+                        ceiling=c%h0_ceiling, cc_floor=c%h0_floor, cc_ceiling=out%lp%ceiling)
+      tr%loose = .true.
+      call ring_evaluate(c, ring, st%film%f, tr)
+      loosened(i) = ring%loosened
+    end do
+    write (*, '(a, 2l2)') 'loose trial ended loose at exp(ln h0_floor), 2 h0_floor:', loosened
+    call check(.not. loosened(1), 'the trial at the floor solved to the sectors'' own tolerance')
+    call check(loosened(2), 'the trial above the floor ends loose')
+  end subroutine loose_trial_at_floor
 
   !> Two threads give the one thread's answer bit for bit however the team's threads wait
   !> between a step's passes over the sectors (ringlube_sectors; the load average not
