@@ -19,7 +19,7 @@ program test_bore
                               sc_face_leakage, sc_gas_balance_error, sc_light_gap_share, &
                               sec_h0, sec_load, flag_sectors, flag_ceiling, &
                               sc_margin_film_solves, si_film_solves, sc_run_time, &
-                              s_crank_angle_deg
+                              s_crank_angle_deg, flag_viscosity, flag_load
   use ringlube_sectors, only: free_mean_position, team_spin, team_busy_check, loose_trials, &
                               phase_solves, phase_calls, team_busy_every, team_busy_checks, &
                               sector_ring, sector_trial, ring_evaluate
@@ -40,6 +40,7 @@ program test_bore
   if (run_case('loose_trials_add_no_flag')) call loose_trials_add_no_flag()
   if (run_case('loose_trial_at_floor')) call loose_trial_at_floor()
   if (run_case('loose_answer_solved_tight')) call loose_answer_solved_tight()
+  if (run_case('unsettled_answer_flag')) call unsettled_answer_flag()
   if (run_case('team_wait_modes')) call team_wait_modes()
   call report('test_bore')
 
@@ -565,6 +566,40 @@ contains
     call check(far > 0, 'some refused steps end far from the balance')
     call check(loose_after == 0, 'no step ends on a loose trial')
   end subroutine loose_answer_solved_tight
+
+  !> An answer within load_tol at which a sector's film is not settled (here its
+  !> pressure-viscosity loop, at max_pressure_iterations = 1, flag 8) is solved once more there;
+  !> where the load then lies beyond load_tol the step keeps the film's flag and is not flagged
+  !> as a load balance outside load_tol (flag 4): the balance was met, with the film unsettled.
+  !> The shipped 12,000 r/min distorted deck's first cycle: steps flagged 8 with a load residual
+  !> beyond load_tol, none of them flagged 4 as well.
+  subroutine unsettled_answer_flag()
+    character(len=*), parameter :: deck = 'inputs/crf450r_12000rpm_full_hot_distorted.nml'
+    type(case_type) :: c
+    type(result_type) :: r
+    type(error_type), allocatable :: err
+    character(len=:), allocatable :: text
+    logical, allocatable :: off(:)
+    integer :: both
+    call read_text_file(deck, text, err)
+    if (.not. allocated(err)) &
+      call read_deck_text(text, deck, dir_prefix(deck), c, err, &
+                          '&numerics max_pressure_iterations = 1, max_cycles = 1 /', 'overrides')
+    call check(.not. allocated(err), 'the shipped deck read')
+    if (allocated(err)) return
+    call solve_cycle(c, r, err)
+    call check(.not. allocated(err), 'the deck solved')
+    if (allocated(err)) return
+    ! steps not held at a bound whose film was unsettled and whose load lies beyond load_tol
+    off = iand(r%int_series(:, si_flags), 3) == 0 .and. &
+          iand(r%int_series(:, si_flags), flag_viscosity) /= 0 .and. &
+          abs(r%series(:, s_load_residual)) > c%load_tol
+    both = count(off .and. iand(r%int_series(:, si_flags), flag_load) /= 0)
+    write (*, '(a, 2(1x, i0))') 'steps flagged 8 beyond load_tol, of them flagged 4 too:', &
+      count(off), both
+    call check(count(off) > 0, 'steps with an unsettled film beyond load_tol')
+    call check(both == 0, 'none flagged as a load balance outside load_tol')
+  end subroutine unsettled_answer_flag
 
   !> Two threads give the one thread's answer bit for bit however the team's threads wait
   !> between a step's passes over the sectors (ringlube_sectors; the load average not
