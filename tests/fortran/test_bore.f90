@@ -41,6 +41,7 @@ program test_bore
   if (run_case('loose_trial_at_floor')) call loose_trial_at_floor()
   if (run_case('loose_answer_solved_tight')) call loose_answer_solved_tight()
   if (run_case('unsettled_answer_flag')) call unsettled_answer_flag()
+  if (run_case('missed_trial_solved_again')) call missed_trial_solved_again()
   if (run_case('team_wait_modes')) call team_wait_modes()
   call report('test_bore')
 
@@ -600,6 +601,44 @@ contains
     call check(count(off) > 0, 'steps with an unsettled film beyond load_tol')
     call check(both == 0, 'none flagged as a load balance outside load_tol')
   end subroutine unsettled_answer_flag
+
+  !> A trial of the root finder whose sectors missed their tolerance is solved once more
+  !> before the root finder takes its residual (ringlube_load_balance, residual): the cold
+  !> 4000 r/min deck starved on an order-4 bore of 10 um on 8 sectors, its tension read in N/m
+  !> (identical.py's distorted_starved in that reading), 5 cycles. At 330-334 deg of the fifth
+  !> cycle the first trial's sectors missed (40 Newton iterations) with a residual of -0.10 to
+  !> -0.16 where the ring's, solved, is +0.05 to +0.12; the root finder bracketed the root with
+  !> it and closed the bracket on that trial, the steps flagged 4 with the load 5.4, 9.2 and
+  !> 11.7 % off. Solved again, the trial is on the side it is and the steps are within load_tol.
+  subroutine missed_trial_solved_again()
+    character(len=*), parameter :: deck = 'inputs/crf450r_4000rpm_full_cold.nml'
+    character(len=*), parameter :: variant = &
+                         "&physics cavitation = 'jfo', inlet = 'starved', bore = 'distorted' / "// &
+               "&bore order = 4, amplitude = 10e-6, sectors = 8 / &ring tension_unit = 'N/m' / "// &
+                        "&calibration file = 'calibration_n_per_m.nml' / &numerics max_cycles = 5 /"
+    type(case_type) :: c
+    type(result_type) :: r
+    type(error_type), allocatable :: err
+    character(len=:), allocatable :: text
+    real(dp), allocatable :: psi(:), res(:)
+    logical, allocatable :: steps(:)
+    call read_text_file(deck, text, err)
+    if (.not. allocated(err)) &
+      call read_deck_text(text, deck, dir_prefix(deck), c, err, variant, 'overrides')
+    call check(.not. allocated(err), 'the shipped deck read')
+    if (allocated(err)) return
+    call solve_cycle(c, r, err)
+    call check(.not. allocated(err), 'the starved film on the distorted bore solved')
+    if (allocated(err)) return
+    psi = r%series(:, s_crank_angle_deg)
+    steps = psi >= 329.0_dp .and. psi <= 335.0_dp
+    res = pack(r%series(:, s_load_residual), steps)
+    write (*, '(a, *(es10.2))') 'load residual at 330-334 deg:', res
+    call check(size(res) == 3, 'the steps at 330, 332 and 334 deg')
+    call check(all(abs(res) <= c%load_tol), 'the steps at 330-334 deg within load_tol')
+    call check(all(pack(r%int_series(:, si_flags), steps) == 0), &
+               'the steps at 330-334 deg not flagged')
+  end subroutine missed_trial_solved_again
 
   !> Two threads give the one thread's answer bit for bit however the team's threads wait
   !> between a step's passes over the sectors (ringlube_sectors; the load average not
