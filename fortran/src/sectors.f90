@@ -48,7 +48,7 @@ module ringlube_sectors
             team_busy_every, team_busy_checks, team_wanted, team_pause
   public :: n_phases, phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials
   public :: refused_solves, refused_held_solves, stalled_failures, last_refusal
-  public :: ceiling_trials
+  public :: ceiling_trials, pin_at_ceiling
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
@@ -70,6 +70,13 @@ module ringlube_sectors
   !> (sector_trial's loose); .false. (a switch for benchmarks: tests/bench/bench_kernel with
   !> RINGLUBE_LOOSE_TRIALS=0) every trial's sectors are solved to their own tolerance
   logical, save :: loose_trials = .true.
+  !> .true.: a trial whose mean position is at back_clearance (the ring pushed off the liner
+  !> into its groove: the root finder's trial at the ceiling, the lift-off margin's solve
+  !> there) holds the centre's translation at 0, the ring lying on the groove's root, which
+  !> carries the lateral force: the two lateral equations are dropped (a switch for
+  !> benchmarks, off: tests/bench/bench_kernel with RINGLUBE_PIN_AT_CEILING=1; the answers
+  !> move)
+  logical, save :: pin_at_ceiling = .false.
   !> largest change of a sector's ln h0 per Newton step
   real(dp), parameter :: max_dlog = 0.5_dp
   !> a loose trial of the root finder (sector_trial's loose) ends once its sectors' residuals
@@ -182,6 +189,9 @@ module ringlube_sectors
     !> its residual's sign and size are all the root finder takes from it; near the root
     !> (within load_tol / loose_share) and at a bound the tolerance is the sectors' own
     logical :: loose = .false.
+    !> pinned: the mean position is at back_clearance and the centre is held at 0
+    !> (pin_at_ceiling; set by newton_solve)
+    logical :: pinned = .false.
   end type sector_trial
 
   !> The team of a crank step's parallel region (ringlube_cycle_state, advance_ring): thread 0
@@ -484,6 +494,9 @@ contains
       ring%films(j)%p_back = g%p_back
       ring%films(j)%p_lower = g%p_lower
     end do
+    ! (exp(ln back_clearance): within round-off of it)
+    tr%pinned = pin_at_ceiling .and. .not. tr%free .and. &
+                tr%cc >= c%back_clearance * (1.0_dp - 1e-12_dp)
     call trial_setup(c, ring, g, tr, nw)
     call first_guess(c, ring, tr, nw)
     call solve_films(c, ring, tr)
@@ -604,6 +617,13 @@ contains
       ring%yc = ring%yc * (tr%cc / ring%c_last)
     else
       ring%h = min(max(guess, tr%floor), tr%ceiling)
+    end if
+    if (tr%pinned) then
+      ! (the sectors' translation taken out: the centre held at 0)
+      ring%h = min(max(ring%h + ring%xc * ring%bore%cos1 + ring%yc * ring%bore%sin1, tr%floor), &
+                   tr%ceiling)
+      ring%xc = 0.0_dp
+      ring%yc = 0.0_dp
     end if
     ring%c_last = tr%cc
     if (.not. have_prev) return
@@ -1143,6 +1163,11 @@ contains
            (ring%h <= tr%floor .and. res(1:m) > 0.0_dp)) res(1:m) = 0.0_dp
     fx = sum((ring%w - wm) * ring%bore%cos1)
     fy = sum((ring%w - wm) * ring%bore%sin1)
+    ! (a ring on its groove's root: the groove carries the lateral force)
+    if (tr%pinned) then
+      fx = 0.0_dp
+      fy = 0.0_dp
+    end if
     res(m + 1) = fx / (m * tr%q)
     res(m + 2) = fy / (m * tr%q)
     rl = matmul(ring%bore%cinv, res(1:m))
@@ -1181,6 +1206,12 @@ contains
     nw%a(1:m, m + 1) = ring%bore%cos1
     nw%a(1:m, m + 2) = ring%bore%sin1
     if (tr%free) nw%a(1:m, m + 3) = -tr%cc
+    if (tr%pinned) then
+      ! (the centre held: x_c = y_c = 0 in place of the lateral balance)
+      nw%a(m + 1:m + 2, :) = 0.0_dp
+      nw%a(m + 1, m + 1) = 1.0_dp
+      nw%a(m + 2, m + 2) = 1.0_dp
+    end if
     nw%b = -nw%r
     ! (LAPACK's unblocked LU: at these sizes dgesv's blocked, recursive one spends its time in
     ! the calls of its BLAS 3 kernels, a serial part of a threaded run)
