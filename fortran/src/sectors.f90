@@ -15,7 +15,10 @@
 !> W_j the load per unit circumference the film of sector j carries at h0_j (hydrodynamic +
 !> asperity), D_j the bore's distortion there, C the ring's compliance on the sectors
 !> (ringlube_bore: the orders 2..M/2 of the load bend the ring; -C [W] is its deflection), and
-!> returns the mean load: the load balance then sets mean W = (p_e + p_back) b. At a step that
+!> returns the mean load: the load balance then sets mean W = (p_e + p_back) b. A trial at
+!> back_clearance (the ring pushed off the liner into its groove) holds x_c = y_c = 0 instead
+!> of the two lateral equations: the groove's root stops the ring's translation
+!> (sector_trial's pinned). At a step that
 !> ring_solve did not take, a trial far from the root is loose: its sectors' Newton iteration
 !> ends once their residuals are within loose_share of its load residual (stall_share after a
 !> line search without descent), for the root finder takes only that residual's sign and size
@@ -48,7 +51,7 @@ module ringlube_sectors
             team_busy_every, team_busy_checks, team_wanted, team_pause
   public :: n_phases, phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials
   public :: refused_solves, refused_held_solves, stalled_failures, last_refusal
-  public :: ceiling_trials, pin_at_ceiling
+  public :: ceiling_trials
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
@@ -70,13 +73,6 @@ module ringlube_sectors
   !> (sector_trial's loose); .false. (a switch for benchmarks: tests/bench/bench_kernel with
   !> RINGLUBE_LOOSE_TRIALS=0) every trial's sectors are solved to their own tolerance
   logical, save :: loose_trials = .true.
-  !> .true.: a trial whose mean position is at back_clearance (the ring pushed off the liner
-  !> into its groove: the root finder's trial at the ceiling, the lift-off margin's solve
-  !> there) holds the centre's translation at 0, the ring lying on the groove's root, which
-  !> carries the lateral force: the two lateral equations are dropped (a switch for
-  !> benchmarks, off: tests/bench/bench_kernel with RINGLUBE_PIN_AT_CEILING=1; the answers
-  !> move)
-  logical, save :: pin_at_ceiling = .false.
   !> largest change of a sector's ln h0 per Newton step
   real(dp), parameter :: max_dlog = 0.5_dp
   !> a loose trial of the root finder (sector_trial's loose) ends once its sectors' residuals
@@ -189,8 +185,12 @@ module ringlube_sectors
     !> its residual's sign and size are all the root finder takes from it; near the root
     !> (within load_tol / loose_share) and at a bound the tolerance is the sectors' own
     logical :: loose = .false.
-    !> pinned: the mean position is at back_clearance and the centre is held at 0
-    !> (pin_at_ceiling; set by newton_solve)
+    !> pinned: the mean position is at back_clearance (the ring pushed off the liner into its
+    !> groove: the root finder's trial at the ceiling, the lift-off margin's solve there), where
+    !> the groove's root, concentric with the piston, stops the ring's translation: the centre
+    !> is held at 0 and the groove carries the lateral force (the two lateral equations are
+    !> dropped). A ring slid sideways at that mean position would put the sectors on one side
+    !> beyond the groove's root. (Set by newton_solve.)
     logical :: pinned = .false.
   end type sector_trial
 
@@ -495,8 +495,7 @@ contains
       ring%films(j)%p_lower = g%p_lower
     end do
     ! (exp(ln back_clearance): within round-off of it)
-    tr%pinned = pin_at_ceiling .and. .not. tr%free .and. &
-                tr%cc >= c%back_clearance * (1.0_dp - 1e-12_dp)
+    tr%pinned = .not. tr%free .and. tr%cc >= c%back_clearance * (1.0_dp - 1e-12_dp)
     call trial_setup(c, ring, g, tr, nw)
     call first_guess(c, ring, tr, nw)
     call solve_films(c, ring, tr)
@@ -679,7 +678,9 @@ contains
   !> starts from the same state with each film's secant of either sign (at most
   !> ceiling_signed_iterations) and converges to the root continued from the last solve;
   !> where it misses too (a starved film's secants are noisier than its load's change), the
-  !> first attempt's result stands, as before.
+  !> first attempt's result stands, as before. At back_clearance the slid root is no longer
+  !> one: the centre is held at 0 there (sector_trial's pinned); the second attempt stays
+  !> for where the first still misses.
   subroutine ring_ceiling(c, ring, g, tr)
     type(case_type), intent(in) :: c
     type(sector_ring), intent(inout) :: ring

@@ -35,6 +35,7 @@ program test_bore
   if (run_case('gas_assisted_conformability')) call gas_assisted_conformability()
   if (run_case('ceiling_from_last_ceiling')) call ceiling_from_last_ceiling()
   if (run_case('ceiling_rising_loads')) call ceiling_rising_loads()
+  if (run_case('held_on_groove_root')) call held_on_groove_root()
   if (run_case('free_mean_position')) call free_mean_position_test()
   if (run_case('loose_trials')) call loose_trials_test()
   if (run_case('loose_trials_add_no_flag')) call loose_trials_add_no_flag()
@@ -356,6 +357,59 @@ contains
     call check(count(solves > 10.0_dp) <= 1, 'more than 10 film solves per sector at one step')
   end subroutine ceiling_rising_loads
 
+  !> A ring pushed off the liner is held at back_clearance on its groove's root, which stops
+  !> its translation: at every step of the shipped 12,000 r/min distorted deck held there
+  !> (flag 2; 360 deg of the reported cycle) the centre's translation, the first harmonic of
+  !> the sectors' h0_j - D_j (D the bore's distortion; the ring's bending has orders 2 and
+  !> up), is 0 within the sectors' positions' tolerance (0.1 load_tol of the mean position;
+  !> 1.1e-11 m measured) and no sector is farther from the liner than the clearance and its distortion
+  !> (within 1 % of the clearance: the ring's bending). Without the groove's root the
+  !> balance's Newton iteration left the ring slid sideways there by 0.37 of the clearance
+  !> (a sector 1.4 clearances from the liner), on other films by the whole clearance.
+  subroutine held_on_groove_root()
+    character(len=*), parameter :: deck = 'inputs/crf450r_12000rpm_full_hot_distorted.nml'
+    type(case_type) :: c
+    type(result_type) :: r
+    type(error_type), allocatable :: err
+    character(len=:), allocatable :: text
+    real(dp), allocatable :: theta(:), d(:), hd(:), phase(:)
+    real(dp) :: xc, yc, centre, beyond
+    integer :: k, i, m, held
+    call read_text_file(deck, text, err)
+    if (.not. allocated(err)) call read_deck_text(text, deck, dir_prefix(deck), c, err)
+    call check(.not. allocated(err), 'the shipped deck read')
+    if (allocated(err)) return
+    call solve_cycle(c, r, err)
+    call check(.not. allocated(err), 'the shipped distorted deck solved')
+    if (allocated(err)) return
+    m = c%sectors
+    theta = [(2.0_dp * pi * (i - 1) / m, i=1, m)]
+    phase = [(0.0_dp, i=1, size(c%bore_order))]
+    if (allocated(c%bore_phase)) then
+      if (size(c%bore_phase) == size(phase)) phase = c%bore_phase
+    end if
+    d = [(sum(c%bore_amplitude * cos(c%bore_order * (theta(i) - phase))), i=1, m)]
+    held = 0
+    centre = 0.0_dp
+    beyond = -huge(1.0_dp)
+    do k = 1, r%nsteps
+      if (iand(r%int_series(k, si_flags), flag_ceiling) == 0) cycle
+      held = held + 1
+      hd = r%sectors(k, :, sec_h0) - d
+      xc = -2.0_dp * sum(hd * cos(theta)) / m
+      yc = -2.0_dp * sum(hd * sin(theta)) / m
+      centre = max(centre, hypot(xc, yc))
+      beyond = max(beyond, maxval(hd) - c%back_clearance)
+    end do
+    write (*, '(a, i0, a, es10.3, a, es10.3)') 'steps held at the clearance ', held, &
+      ', largest translation ', centre, ' m, farthest sector beyond the clearance ', beyond
+    call check(held > 0, 'a step held at the clearance')
+    call check(centre <= 0.1_dp * c%load_tol * c%back_clearance, &
+               'the ring''s centre held at 0 there (the positions'' tolerance)')
+    call check(beyond <= 0.01_dp * c%back_clearance, &
+               'no sector beyond the clearance and its distortion (1 %)')
+  end subroutine held_on_groove_root
+
   !> The step's mean position solved with the sectors in one Newton iteration (ring_solve)
   !> gives the answer of the root finder on the mean position alone (each of whose trials
   !> solves the sectors), to the balance's tolerance: every step's load residual within
@@ -406,8 +460,10 @@ contains
   !> The root finder's trials at a step that ring_solve did not take are loose (far from the
   !> root a trial's sectors end at a tolerance in proportion to its load residual): on the
   !> shipped 12,000 r/min distorted deck with the flooded film, where ring_solve is refused at
-  !> 68 steps, the root finder takes such a step in at most 0.6 times the film solves per
-  !> sector of trials solved to the sectors' own tolerance (28 against 52 measured), and the
+  !> 67 steps, the root finder takes such a step in at most 0.75 times the film solves per
+  !> sector of trials solved to the sectors' own tolerance (16.8 against 25.2 measured; 28
+  !> against 52 before the ring at the clearance was held on its groove's root, when the
+  !> trials at the ceiling, tight either way, crawled to a ring slid sideways), and the
   !> answers stay the balance's: every step not held at a bound within load_tol, no more steps
   !> with the sectors outside their tolerance, the energy within load_tol.
   subroutine loose_trials_test()
@@ -444,7 +500,7 @@ contains
  write (*, '(a, 2f8.2, a, 2i4, a, es10.2)') 'root finder film solves per sector and refused step', &
       per_step, ', steps with the sectors flagged', flagged, ', energy', de
     call check(phase_calls(2) > 20, 'ring_solve is refused at some steps')
-    call check(per_step(1) <= 0.6_dp * per_step(2), 'the loose trials take at most 0.6 times the solves')
+    call check(per_step(1) <= 0.75_dp * per_step(2), 'the loose trials take at most 0.75 times the solves')
     call check(flagged(1) <= flagged(2), 'no more steps with the sectors outside their tolerance')
     call check(de <= c%load_tol, 'the energy within load_tol')
   end subroutine loose_trials_test
