@@ -362,10 +362,11 @@ contains
   !> (flag 2; 360 deg of the reported cycle) the centre's translation, the first harmonic of
   !> the sectors' h0_j - D_j (D the bore's distortion; the ring's bending has orders 2 and
   !> up), is 0 within the sectors' positions' tolerance (0.1 load_tol of the mean position;
-  !> 1.1e-11 m measured) and no sector is farther from the liner than the clearance and its distortion
-  !> (within 1 % of the clearance: the ring's bending). Without the groove's root the
-  !> balance's Newton iteration left the ring slid sideways there by 0.37 of the clearance
-  !> (a sector 1.4 clearances from the liner), on other films by the whole clearance.
+  !> 5.5e-9 m measured) and no sector is farther from the liner than the clearance and its
+  !> distortion (within 1 % of the clearance: the ring's bending; 8.5e-7 m measured). Without
+  !> the groove's root the balance's Newton iteration left the ring slid sideways there by
+  !> 6.8e-5 m, 0.23 of the clearance (at an earlier kernel 0.38), on other films by the whole
+  !> clearance.
   subroutine held_on_groove_root()
     character(len=*), parameter :: deck = 'inputs/crf450r_12000rpm_full_hot_distorted.nml'
     type(case_type) :: c
@@ -461,7 +462,7 @@ contains
   !> root a trial's sectors end at a tolerance in proportion to its load residual): on the
   !> shipped 12,000 r/min distorted deck with the flooded film, where ring_solve is refused at
   !> 67 steps, the root finder takes such a step in at most 0.75 times the film solves per
-  !> sector of trials solved to the sectors' own tolerance (16.8 against 25.2 measured; 28
+  !> sector of trials solved to the sectors' own tolerance (16.8 against 27.3 measured; 28
   !> against 52 before the ring at the clearance was held on its groove's root, when the
   !> trials at the ceiling, tight either way, crawled to a ring slid sideways), and the
   !> answers stay the balance's: every step not held at a bound within load_tol, no more steps
