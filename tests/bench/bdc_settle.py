@@ -149,19 +149,18 @@ def rows(args: argparse.Namespace) -> None:
             for film in (1e-6, 2e-6, 5e-6):
                 a = argparse.Namespace(deck=deck, film=film, unit=unit, ring_pack=pack)
                 base = base_case(a).with_numerics(preset="default")
-                line = f"{unit + ' ' + pack:8s} {deck:5s} {film * 1e6:>3.0f}um"
-                for scheme, edge in (("euler", "face"), ("bdf2", "edge")):
-                    r = ringlube.run(base.with_numerics(film_time_scheme=scheme, film_edge_cells=edge))
-                    sep = "|" if scheme == "bdf2" else " "
-                    per = "P" if r.periodic else "-"
-                    line += (
-                        f" {sep} {r.cycles_run:>2d} {per} {r.energy_loss:.5f} {r.oil_to_chamber:9.5f} "
-                        f"{r.flagged_steps:>3d} {r.reynolds_solves:>6d}"
-                    )
-                print(line, flush=True)
+                print(
+                    f"{unit + ' ' + pack:8s} {deck:5s} {film * 1e6:>3.0f}um" + _both_schemes(base), flush=True
+                )
     # the shipped distorted bore deck (starved, ring pack 'gas', 24 sectors) as it is
     base = ringlube.Case.from_namelist(INPUTS / "crf450r_4000rpm_full_hot_distorted.nml")
-    line = f"{'distorted hot 4000 r/min deck':22s}"
+    print(f"{'distorted hot 4000 r/min deck':22s}" + _both_schemes(base), flush=True)
+
+
+def _both_schemes(base: ringlube.Case) -> str:
+    """The case run with euler/'face' and bdf2/'edge': cycles, periodic, energy, oil,
+    flagged steps, Newton iterations of each."""
+    line = ""
     for scheme, edge in (("euler", "face"), ("bdf2", "edge")):
         r = ringlube.run(base.with_numerics(film_time_scheme=scheme, film_edge_cells=edge))
         sep = "|" if scheme == "bdf2" else " "
@@ -170,7 +169,7 @@ def rows(args: argparse.Namespace) -> None:
             f" {sep} {r.cycles_run:>2d} {per} {r.energy_loss:.5f} {r.oil_to_chamber:9.5f} "
             f"{r.flagged_steps:>3d} {r.reynolds_solves:>6d}"
         )
-    print(line, flush=True)
+    return line
 
 
 def main() -> None:
