@@ -26,7 +26,7 @@ module ringlube_load_balance
   use ringlube_jfo_connect, only: jfo_seal_margin
   use ringlube_sectors, only: sector_ring, sector_trial, ring_evaluate, ring_ceiling, ring_solve, &
                               ring_coupled, loose_trials, phase_calls, phase_solves, &
-                              refused_solves, refused_held_solves, last_refusal
+                              refused_solves, refused_held_solves, last_refusal, bound_rtol
   use ringlube_results, only: flag_floor, flag_ceiling, flag_load, flag_viscosity, &
                               flag_cavitation, flag_sectors
   implicit none
@@ -303,8 +303,8 @@ contains
                         cc_ceiling=lp%ceiling)
       if (present(loose)) tr%loose = loose
       call ring_evaluate(c, ring, g, tr)
-      if (iand(g%flags, flag_sectors) /= 0 .and. h0 > c%h0_floor * (1.0_dp + 1e-12_dp) .and. &
-          h0 < lp%ceiling * (1.0_dp - 1e-12_dp)) then
+      if (iand(g%flags, flag_sectors) /= 0 .and. h0 > c%h0_floor * (1.0_dp + bound_rtol) .and. &
+          h0 < lp%ceiling * (1.0_dp - bound_rtol)) then
         tr = sector_trial(cc=h0, sq_a=lp%sq_a, dt=lp%dt, u=lp%u, p_chamber=lp%pg, load=lp%load, &
                           floor=c%h0_floor, ceiling=c%h0_ceiling, cc_floor=c%h0_floor, &
                           cc_ceiling=lp%ceiling)
@@ -482,14 +482,11 @@ contains
       if (unsettled /= 0) resid = residual(c, lp, g, mem, h, ring)
       h0out = h
       if (abs(resid) > c%load_tol .and. flags == 0) then
-        ! an answer within load_tol with a film not settled, whose settled films then carry
-        ! a load beyond it, keeps the flag of the unsettled film (16, 8): the balance was met
-        ! only before they settled; else the balance is outside load_tol
-        if (unsettled /= 0 .and. abs(r_unsettled) <= c%load_tol) then
-          flags = unsettled
-        else
-          flags = flag_load
-        end if
+        ! the load is outside load_tol (4); an answer within it with a film not settled, whose
+        ! settled films then carry a load beyond it, keeps the unsettled film's flag (16, 8)
+        ! beside it: the balance was met only before the film settled
+        flags = flag_load
+        if (unsettled /= 0 .and. abs(r_unsettled) <= c%load_tol) flags = ior(flag_load, unsettled)
       end if
       flags = ior(flags, g%flags)
       ! remember the local slope for the next crank step's first trial (from two trials

@@ -51,7 +51,7 @@ module ringlube_sectors
             team_busy_every, team_busy_checks, team_wanted, team_pause
   public :: n_phases, phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials
   public :: refused_solves, refused_held_solves, stalled_failures, last_refusal
-  public :: ceiling_trials
+  public :: ceiling_trials, bound_rtol
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
@@ -86,10 +86,11 @@ module ringlube_sectors
   !> ... or, after a line search without descent, within the load residual over load_tol
   !> (the next iterations would crawl: the residual's sign is what the root finder needs)
   real(dp), parameter :: stall_share = 1.0_dp
-  !> a loose trial's mean position within this relative distance of cc_floor or cc_ceiling is
-  !> at that bound (loose_enough: solved to the sectors' own tolerance); the root finder's
-  !> trial at a bound, exp(ln bound), lies within round-off of it (exp(ln 1e-9) is 6e-25 m
-  !> above 1e-9 m)
+  !> a trial's mean position within this relative distance of a bound is at that bound (a
+  !> loose trial's then solved to the sectors' own tolerance, loose_enough; a trial at the
+  !> ceiling counted, at back_clearance held on the groove's root; the balance's re-solve of a
+  !> missed trial strictly between the bounds): the root finder's trial at a bound,
+  !> exp(ln bound), lies within round-off of it (exp(ln 1e-9) is 6e-25 m above 1e-9 m)
   real(dp), parameter :: bound_rtol = 1e-12_dp
   !> Newton iterations at most of the lift-off margin's second attempt at the ceiling
   !> (ring_ceiling: with the films' secants of either sign)
@@ -343,7 +344,7 @@ contains
     root_trial = .not. tr%signed_slopes .and. tr%max_iterations == 0
     ! (exp(ln ceiling): within round-off of it)
     at_ceiling = root_trial .and. tr%cc_ceiling > 0.0_dp .and. &
-                 tr%cc >= tr%cc_ceiling * (1.0_dp - 1e-12_dp)
+                 tr%cc >= tr%cc_ceiling * (1.0_dp - bound_rtol)
     call newton_solve(c, ring, g, tr, done)
     if (at_ceiling) then
       ceiling_trials(1) = ceiling_trials(1) + 1
@@ -495,7 +496,7 @@ contains
       ring%films(j)%p_lower = g%p_lower
     end do
     ! (exp(ln back_clearance): within round-off of it)
-    tr%pinned = .not. tr%free .and. tr%cc >= c%back_clearance * (1.0_dp - 1e-12_dp)
+    tr%pinned = .not. tr%free .and. tr%cc >= c%back_clearance * (1.0_dp - bound_rtol)
     call trial_setup(c, ring, g, tr, nw)
     call first_guess(c, ring, tr, nw)
     call solve_films(c, ring, tr)
