@@ -51,13 +51,14 @@ module ringlube_sectors
             team_busy_every, team_busy_checks, team_wanted, team_pause
   public :: n_phases, phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials
   public :: refused_solves, refused_held_solves, stalled_failures, last_refusal
-  public :: ceiling_trials, bound_rtol
+  public :: ceiling_trials, bound_rtol, max_free, jump_exit
 
   !> Newton iterations of the sectors at one trial at most
   integer, parameter :: max_inner = 40
   !> Newton iterations of ring_solve (the mean position an unknown too) at most, before the
-  !> outer root finder takes over
-  integer, parameter :: max_free = 12
+  !> outer root finder takes over (a switch for benchmarks: tests/bench/bench_kernel with
+  !> RINGLUBE_RING_SOLVE_CAP=n; other values move the answers)
+  integer, save :: max_free = 12
   !> Solve the mean position with the sectors (ring_solve) where ring_coupled; .false.: the
   !> root finder on the mean position alone (for tests and benchmarks that compare the two)
   logical, save :: free_mean_position = .true.
@@ -69,6 +70,10 @@ module ringlube_sectors
   !> for benchmarks, off: tests/bench/bench_kernel with RINGLUBE_ACCEPT_JUMPS=1; the answers
   !> move)
   logical, save :: accept_jumps = .false.
+  !> > 0: ring_solve's Newton iteration ends (refused: a jump) once a sector's ln h0 has moved
+  !> by more than this from the last step (a switch for benchmarks, 0 off: tests/bench/
+  !> bench_kernel with RINGLUBE_JUMP_EXIT=x; the answers move)
+  real(dp), save :: jump_exit = 0.0_dp
   !> .true.: the root finder's trials at a step that ring_solve did not take are loose
   !> (sector_trial's loose); .false. (a switch for benchmarks: tests/bench/bench_kernel with
   !> RINGLUBE_LOOSE_TRIALS=0) every trial's sectors are solved to their own tolerance
@@ -375,14 +380,16 @@ contains
     type(sector_trial), intent(inout) :: tr
     logical, intent(out) :: ok
     integer :: nfs, reason, phase
-    logical :: stalled
+    logical :: stalled, jumped
     nfs = sum(ring%films%film_solves)
     call save_state(ring)
     tr%free = .true.
     tr%dres_dlnc = 0.0_dp
-    call newton_solve(c, ring, g, tr, ok, stalled)
+    call newton_solve(c, ring, g, tr, ok, stalled, jumped)
     reason = 0
-    if (.not. ok) then
+    if (jumped) then
+      reason = 3
+    else if (.not. ok) then
       reason = 1
     else if (tr%cc <= tr%cc_floor .or. tr%cc >= tr%cc_ceiling) then
       reason = 2
@@ -478,13 +485,14 @@ contains
 
   !> The Newton iteration of ring_evaluate (tr%free: of ring_solve); done: converged;
   !> stalled: its last line search found no descent.
-  subroutine newton_solve(c, ring, g, tr, done, stalled)
+  subroutine newton_solve(c, ring, g, tr, done, stalled, jumped)
     type(case_type), intent(in) :: c
     type(sector_ring), intent(inout) :: ring
     type(film_type), intent(inout) :: g
     type(sector_trial), intent(inout) :: tr
     logical, intent(out) :: done
-    logical, intent(out), optional :: stalled
+    logical, intent(out), optional :: stalled, jumped
+    logical :: jump
     type(newton_work) :: nw
     integer :: it, j, nfs, nrs, max_it
     logical :: loosened
@@ -503,6 +511,7 @@ contains
     call residuals(c, ring, tr, nw%r, nw%merit, done)
     loosened = loose_enough(c, ring, tr, nw, done)
     done = done .or. loosened
+    jump = .false.
     max_it = max_inner
     if (tr%max_iterations > 0) max_it = tr%max_iterations
     if (tr%free) max_it = max_free
@@ -522,10 +531,17 @@ contains
       ! (a free mean position at a bound: the caller's root finder holds it there; a line
       ! search without descent: the root finder takes the step)
       if (tr%free .and. (tr%cc <= tr%cc_floor .or. tr%cc >= tr%cc_ceiling .or. nw%stalled)) exit
+      ! (a sector already far beyond ring_solve's jump limit: the answer would be refused)
+      if (tr%free .and. .not. done .and. jump_exit > 0.0_dp .and. ring%steps >= 1 .and. &
+          .not. accept_jumps) then
+        jump = maxval(abs(log(ring%h / ring%hist(1, :)))) > jump_exit
+        if (jump) exit
+      end if
     end do
     ring%c_last = tr%cc
     ring%loosened = loosened
     if (present(stalled)) stalled = nw%stalled
+    if (present(jumped)) jumped = jump
     if (tr%free .and. done) call total_slope(ring, tr, nw)
     if (.not. done .and. .not. tr%free) ring%missed = ring%missed + 1
     call summarise(ring, g, tr, nfs, nrs, done .or. tr%free)

@@ -18,7 +18,9 @@
 !> With RINGLUBE_ACCEPT_JUMPS=1 in the environment ring_solve accepts an answer that moves a
 !> sector by more than its limit (ringlube_sectors' accept_jumps: the answers move); with
 !> RINGLUBE_LOOSE_TRIALS=0 the root finder's trials at a step ring_solve did not take solve
-!> their sectors to their own tolerance (ringlube_sectors' loose_trials off: the answers move).
+!> their sectors to their own tolerance (ringlube_sectors' loose_trials off: the answers move);
+!> with RINGLUBE_RING_SOLVE_CAP=n ring_solve's Newton iteration takes at most n iterations
+!> (ringlube_sectors' max_free, 12 without it; the answers move).
 !> For a distorted bore with `&numerics threads` > 1: RINGLUBE_TEAM_ALWAYS=1 makes the steps a
 !> team whatever the load average (ringlube_sectors' team_busy_check off: the team's cost on a
 !> loaded machine), RINGLUBE_REGION_PER_STEP=1 makes each crank step its own parallel region
@@ -47,7 +49,7 @@ program bench_kernel
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_textio, only: read_text_file, itoa
 use ringlube_sectors, only: phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials, &
-                              ceiling_trials, &
+                              ceiling_trials, max_free, jump_exit, &
                               refused_solves, refused_held_solves, stalled_failures, &
                               team_busy_check
   use ringlube_cycle_state, only: cycle_regions
@@ -116,6 +118,10 @@ contains
     accept_jumps = trim(env) == '1'
     call get_environment_variable('RINGLUBE_LOOSE_TRIALS', env)
     loose_trials = trim(env) /= '0'
+    call get_environment_variable('RINGLUBE_RING_SOLVE_CAP', env)
+    if (len_trim(env) > 0) read (env, *) max_free
+    call get_environment_variable('RINGLUBE_JUMP_EXIT', env)
+    if (len_trim(env) > 0) read (env, *) jump_exit
     call get_environment_variable('RINGLUBE_TEAM_ALWAYS', env)
     team_busy_check = trim(env) /= '1'
     call get_environment_variable('RINGLUBE_REGION_PER_STEP', env)
