@@ -20,7 +20,9 @@
 !> RINGLUBE_LOOSE_TRIALS=0 the root finder's trials at a step ring_solve did not take solve
 !> their sectors to their own tolerance (ringlube_sectors' loose_trials off: the answers move);
 !> with RINGLUBE_RING_SOLVE_CAP=n ring_solve's Newton iteration takes at most n iterations
-!> (ringlube_sectors' max_free, 12 without it; the answers move).
+!> (ringlube_sectors' max_free, 12 without it; the answers move); with RINGLUBE_JUMP_EXIT=x
+!> ring_solve's iteration ends once a sector is more than x in ln h0 from the last step and
+!> moving away (ringlube_sectors' jump_exit, 0.35 without it; 0: off).
 !> For a distorted bore with `&numerics threads` > 1: RINGLUBE_TEAM_ALWAYS=1 makes the steps a
 !> team whatever the load average (ringlube_sectors' team_busy_check off: the team's cost on a
 !> loaded machine), RINGLUBE_REGION_PER_STEP=1 makes each crank step its own parallel region
@@ -48,8 +50,8 @@ program bench_kernel
   use ringlube_film, only: film_type, film_setup, film_evaluate
   use ringlube_greenwood_tripp, only: gt_init
   use ringlube_textio, only: read_text_file, itoa
-use ringlube_sectors, only: phase_solves, phase_calls, solve_failures, accept_jumps, loose_trials, &
-                              ceiling_trials, max_free, jump_exit, &
+  use ringlube_sectors, only: phase_solves, phase_calls, solve_failures, accept_jumps, &
+                              loose_trials, ceiling_trials, max_free, jump_exit, &
                               refused_solves, refused_held_solves, stalled_failures, &
                               team_busy_check
   use ringlube_cycle_state, only: cycle_regions

@@ -53,6 +53,10 @@ tolerance (RINGLUBE_LOOSE_TRIALS=0 for bench_kernel; the answers move).
 `--phases --accept-jumps`: the same with `ring_solve` accepting an answer that moves a sector by
 more than its limit (RINGLUBE_ACCEPT_JUMPS=1 for bench_kernel; the answers move), with the energy
 and the cycles computed of both.
+`bench_kernel` reads two more switches from the environment, which `--phases` and `--cost-only`
+pass on: RINGLUBE_RING_SOLVE_CAP=n, `ring_solve`'s Newton iterations at most (12 without it;
+the answers move), and RINGLUBE_JUMP_EXIT=x, where its iteration ends once a sector is more than
+x in ln h0 from the last step and moving away (0.35 without it, 0 off; docs/bore.md, "Cost").
 
 `--moves BASE/build/ringlube-solve` instead: how far a kernel change that is not
 bit-identical moves a distorted bore's answers (the shipped distorted decks as shipped and
@@ -72,6 +76,8 @@ the cost table alone 35 s at a load of 2-4):
     .venv/bin/python tests/bench/bore_cost.py --phases   # 20 s
     .venv/bin/python tests/bench/bore_cost.py --phases --accept-jumps   # 40 s
     .venv/bin/python tests/bench/bore_cost.py --phases --tight-trials   # 20 s
+    RINGLUBE_RING_SOLVE_CAP=20 .venv/bin/python tests/bench/bore_cost.py --phases
+    RINGLUBE_JUMP_EXIT=0 .venv/bin/python tests/bench/bore_cost.py --phases
     .venv/bin/python tests/bench/bore_cost.py --branches BASE/build/ringlube-solve   # 3 min
     OMP_WAIT_POLICY=ACTIVE .venv/bin/python tests/bench/bore_cost.py --threads-only
     GOMP_SPINCOUNT=20000 .venv/bin/python tests/bench/bore_cost.py --threads-only
