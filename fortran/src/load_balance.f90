@@ -32,7 +32,7 @@ module ringlube_load_balance
   implicit none
   private
   public :: step_context, load_problem, balance_memory, balance, speed, start_history
-  public :: lift_margin_end, missed_solved_again
+  public :: lift_margin_end, missed_solved_again, loose_answers_solved
 
   !> the lift-off margin is measured on the steps of the intake stroke, psi (mod 720) from 0
   !> to this crank angle [deg]
@@ -42,6 +42,9 @@ module ringlube_load_balance
   !> (residual; a count for tests and benchmarks, reset by its user; the balance runs on one
   !> thread)
   integer, save :: missed_solved_again = 0
+  !> answers of the root finder on a loose trial, solved again to the sectors' own tolerance
+  !> (finish; a count for tests and benchmarks, as missed_solved_again)
+  integer, save :: loose_answers_solved = 0
 
   !> Constants of a run needed at every step.
   type :: step_context
@@ -474,7 +477,10 @@ contains
       real(dp) :: r_unsettled
       again = g%h0 /= h
       ! (a loose trial's sectors are solved to their own tolerance at the answer)
-      if (present(ring)) again = again .or. ring%loosened
+      if (present(ring)) then
+        if (ring%loosened) loose_answers_solved = loose_answers_solved + 1
+        again = again .or. ring%loosened
+      end if
       if (again) then
         resid = residual(c, lp, g, mem, h, ring)  ! leave the film solved at h
       else

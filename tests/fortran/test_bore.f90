@@ -12,7 +12,7 @@ program test_bore
   use ringlube_fsys, only: dir_prefix
   use ringlube_textio, only: read_text_file
   use ringlube_cycle, only: solve_cycle
-  use ringlube_load_balance, only: missed_solved_again
+  use ringlube_load_balance, only: missed_solved_again, loose_answers_solved
   use ringlube_cycle_state, only: cycle_state, step_out, cycle_setup, advance
   use ringlube_bore, only: ring_compliance
   use ringlube_results, only: result_type, is_true, s_h0, s_friction, s_power_loss, &
@@ -657,6 +657,7 @@ contains
     call check(.not. allocated(err), 'the shipped deck read')
     if (allocated(err)) return
     call cycle_setup(st, c, 1e-6_dp)
+    loose_answers_solved = 0
     refused = 0
     far = 0
     loose_after = 0
@@ -675,7 +676,9 @@ contains
     end do
     write (*, '(a, 3(1x, i0))') 'refused steps, ended over 10 load_tol off the balance, loose after '// &
       'the step:', refused, far, loose_after
+    write (*, '(a, i0)') 'answers on a loose trial solved again: ', loose_answers_solved
     call check(far > 0, 'some refused steps end far from the balance')
+    call check(loose_answers_solved > 0, 'some answers were on a loose trial')
     call check(loose_after == 0, 'no step ends on a loose trial')
   end subroutine loose_answer_solved_tight
 
