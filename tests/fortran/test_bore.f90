@@ -38,6 +38,7 @@ program test_bore
   if (run_case('ceiling_from_last_ceiling')) call ceiling_from_last_ceiling()
   if (run_case('ceiling_rising_loads')) call ceiling_rising_loads()
   if (run_case('held_on_groove_root')) call held_on_groove_root()
+  if (run_case('margin_on_groove_root')) call margin_on_groove_root()
   if (run_case('free_mean_position')) call free_mean_position_test()
   if (run_case('loose_trials')) call loose_trials_test()
   if (run_case('loose_trials_add_no_flag')) call loose_trials_add_no_flag()
@@ -413,6 +414,43 @@ contains
     call check(beyond <= 0.01_dp * c%back_clearance, &
                'no sector beyond the clearance and its distortion (1 %)')
   end subroutine held_on_groove_root
+
+  !> The lift-off margin's solve at the ceiling (ring_ceiling, on the intake stroke) holds the
+  !> ring on its groove's root as the root finder's trials there do: the starved film on a bore
+  !> of orders 2, 3 and 4 (10, 10 and 20 um), 16 sectors, without the ring pack (which a cycle's
+  !> start sets up), stepped to 180 deg: its last solve at the ceiling has the centre at 0
+  !> exactly (slid by 1.5e-5 m without the groove's root).
+  subroutine margin_on_groove_root()
+    type(case_type) :: c
+    type(cycle_state) :: st
+    type(step_out) :: out
+    type(error_type), allocatable :: err
+    integer :: k
+    c = base_case()
+    c%tension_unit = 'N'
+    c%cavitation = 'jfo'
+    c%inlet = 'starved'
+    c = distorted(c, 4, 20e-6_dp, 16)
+    c%bore_order = [2, 3, 4]
+    c%bore_amplitude = [10e-6_dp, 10e-6_dp, 20e-6_dp]
+    call finish_case(c, err)
+    call check(.not. allocated(err), 'the case accepted')
+    if (allocated(err)) return
+    call cycle_setup(st, c, 1e-6_dp)
+    do k = 1, nint(180.0_dp / c%dpsi_deg)
+      call advance(st, c, k * c%dpsi_deg, out)
+      if (allocated(st%err)) then
+        call check(.false., 'the step solved: '//st%err%message)
+        return
+      end if
+    end do
+    write (*, '(a, 3es11.3)') 'the margin''s last solve at the ceiling: c, x_c, y_c', &
+      st%ring%ceil_c, st%ring%ceil_xc, st%ring%ceil_yc
+    call check(st%ring%ceil_c >= c%back_clearance * (1.0_dp - 1e-12_dp), &
+               'the margin solved at the back clearance')
+    call check(st%ring%ceil_xc == 0.0_dp .and. st%ring%ceil_yc == 0.0_dp, &
+               'its centre held at 0 there')
+  end subroutine margin_on_groove_root
 
   !> The step's mean position solved with the sectors in one Newton iteration (ring_solve)
   !> gives the answer of the root finder on the mean position alone (each of whose trials
