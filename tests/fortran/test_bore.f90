@@ -75,6 +75,25 @@ contains
     c%sectors = m
   end function distorted
 
+  !> c read from a shipped deck with overrides (namelist text, '' for none), checked.
+  logical function shipped_deck(deck, overrides, c) result(ok)
+    character(len=*), intent(in) :: deck, overrides
+    type(case_type), intent(out) :: c
+    type(error_type), allocatable :: err
+    character(len=:), allocatable :: text
+    call read_text_file(deck, text, err)
+    if (.not. allocated(err)) then
+      if (len(overrides) > 0) then
+        call read_deck_text(text, deck, dir_prefix(deck), c, err, overrides, 'overrides')
+      else
+        call read_deck_text(text, deck, dir_prefix(deck), c, err)
+      end if
+    end if
+    if (allocated(err)) write (*, '(a)') err%message
+    ok = .not. allocated(err)
+    call check(ok, 'the shipped deck read')
+  end function shipped_deck
+
   subroutine solve(c, res, what)
     type(case_type), intent(inout) :: c
     type(result_type), intent(out) :: res
@@ -329,16 +348,10 @@ contains
     type(case_type) :: c
     type(result_type) :: r
     type(error_type), allocatable :: err
-    character(len=:), allocatable :: text
     real(dp), allocatable :: psi(:), lm(:), solves(:)
     real(dp) :: off
     integer :: k, n
-    call read_text_file(deck, text, err)
-    if (.not. allocated(err)) &
-      call read_deck_text(text, deck, dir_prefix(deck), c, err, &
-                          "&physics cavitation = 'jfo', inlet = 'flooded' /", 'overrides')
-    call check(.not. allocated(err), 'the shipped deck read')
-    if (allocated(err)) return
+    if (.not. shipped_deck(deck, "&physics cavitation = 'jfo', inlet = 'flooded' /", c)) return
     call solve_cycle(c, r, err)
     call check(.not. allocated(err), 'the flooded film on the distorted deck solved')
     if (allocated(err)) return
@@ -376,14 +389,10 @@ contains
     type(case_type) :: c
     type(result_type) :: r
     type(error_type), allocatable :: err
-    character(len=:), allocatable :: text
     real(dp), allocatable :: theta(:), d(:), hd(:), phase(:)
     real(dp) :: xc, yc, centre, beyond
     integer :: k, i, m, held
-    call read_text_file(deck, text, err)
-    if (.not. allocated(err)) call read_deck_text(text, deck, dir_prefix(deck), c, err)
-    call check(.not. allocated(err), 'the shipped deck read')
-    if (allocated(err)) return
+    if (.not. shipped_deck(deck, '', c)) return
     call solve_cycle(c, r, err)
     call check(.not. allocated(err), 'the shipped distorted deck solved')
     if (allocated(err)) return
@@ -513,17 +522,11 @@ contains
     type(case_type) :: c
     type(result_type) :: r(2)
     type(error_type), allocatable :: err
-    character(len=:), allocatable :: text
     real(dp) :: per_step(2), de
     integer :: i, flagged(2)
     logical, allocatable :: free(:)
-    call read_text_file(deck, text, err)
-    if (.not. allocated(err)) &
-      call read_deck_text(text, deck, dir_prefix(deck), c, err, &
-                    "&ring tension_unit = 'N' / &physics cavitation = 'jfo', inlet = 'flooded' /", &
-                          'overrides')
-    call check(.not. allocated(err), 'the shipped deck read')
-    if (allocated(err)) return
+    if (.not. shipped_deck(deck, "&ring tension_unit = 'N' / "// &
+                           "&physics cavitation = 'jfo', inlet = 'flooded' /", c)) return
     do i = 1, 2
       loose_trials = i == 1
       phase_solves = 0
@@ -558,14 +561,8 @@ contains
     type(case_type) :: c
     type(result_type) :: r(2)
     type(error_type), allocatable :: err
-    character(len=:), allocatable :: text
     integer :: i, flagged(2)
-    call read_text_file(deck, text, err)
-    if (.not. allocated(err)) &
-      call read_deck_text(text, deck, dir_prefix(deck), c, err, '&ring width = 0.54e-3 /', &
-                          'overrides')
-    call check(.not. allocated(err), 'the shipped deck read')
-    if (allocated(err)) return
+    if (.not. shipped_deck(deck, '&ring width = 0.54e-3 /', c)) return
     call check(c%tension == 8.0_dp, 'the 8 N ring')
     do i = 1, 2
       loose_trials = i == 1
@@ -594,16 +591,10 @@ contains
     type(case_type) :: c
     type(result_type) :: r(2)
     type(error_type), allocatable :: err
-    character(len=:), allocatable :: text
     real(dp) :: exit_at
     integer :: i, wasted(2), jumps(2)
-    call read_text_file(deck, text, err)
-    if (.not. allocated(err)) &
-      call read_deck_text(text, deck, dir_prefix(deck), c, err, &
-                    "&ring tension_unit = 'N' / &physics cavitation = 'jfo', inlet = 'flooded' /", &
-                          'overrides')
-    call check(.not. allocated(err), 'the shipped deck read')
-    if (allocated(err)) return
+    if (.not. shipped_deck(deck, "&ring tension_unit = 'N' / "// &
+                           "&physics cavitation = 'jfo', inlet = 'flooded' /", c)) return
     exit_at = jump_exit
     call check(exit_at > 0.0_dp, 'the early end on by default')
     do i = 1, 2
@@ -684,16 +675,9 @@ contains
     type(case_type) :: c
     type(cycle_state) :: st
     type(step_out) :: out
-    type(error_type), allocatable :: err
-    character(len=:), allocatable :: text
     integer :: k, refused, far, loose_after
-    call read_text_file(deck, text, err)
-    if (.not. allocated(err)) &
-      call read_deck_text(text, deck, dir_prefix(deck), c, err, "&ring width = 0.75e-3 / "// &
-                          "&physics ring_pack = 'none' / &numerics max_load_iterations = 1 /", &
-                          'overrides')
-    call check(.not. allocated(err), 'the shipped deck read')
-    if (allocated(err)) return
+    if (.not. shipped_deck(deck, "&ring width = 0.75e-3 / &physics ring_pack = 'none' / "// &
+                           "&numerics max_load_iterations = 1 /", c)) return
     call cycle_setup(st, c, 1e-6_dp)
     loose_answers_solved = 0
     refused = 0
@@ -731,15 +715,10 @@ contains
     type(case_type) :: c
     type(result_type) :: r
     type(error_type), allocatable :: err
-    character(len=:), allocatable :: text
     logical, allocatable :: off(:)
     integer :: both
-    call read_text_file(deck, text, err)
-    if (.not. allocated(err)) &
-      call read_deck_text(text, deck, dir_prefix(deck), c, err, &
-                          '&numerics max_pressure_iterations = 1, max_cycles = 1 /', 'overrides')
-    call check(.not. allocated(err), 'the shipped deck read')
-    if (allocated(err)) return
+    if (.not. shipped_deck(deck, '&numerics max_pressure_iterations = 1, '// &
+                           'max_cycles = 1 /', c)) return
     call solve_cycle(c, r, err)
     call check(.not. allocated(err), 'the deck solved')
     if (allocated(err)) return
@@ -771,14 +750,9 @@ contains
     type(case_type) :: c
     type(result_type) :: r
     type(error_type), allocatable :: err
-    character(len=:), allocatable :: text
     real(dp), allocatable :: psi(:), res(:)
     logical, allocatable :: steps(:)
-    call read_text_file(deck, text, err)
-    if (.not. allocated(err)) &
-      call read_deck_text(text, deck, dir_prefix(deck), c, err, variant, 'overrides')
-    call check(.not. allocated(err), 'the shipped deck read')
-    if (allocated(err)) return
+    if (.not. shipped_deck(deck, variant, c)) return
     missed_solved_again = 0
     call solve_cycle(c, r, err)
     call check(.not. allocated(err), 'the starved film on the distorted bore solved')
