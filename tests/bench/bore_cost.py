@@ -65,6 +65,18 @@ leakage and light gaps, the largest relative change of a step's h0 (the smallest
 and the largest load residual over the steps not held at a bound (in both runs), and the
 cycles run.
 
+`--root-room` instead: whether an accepted step leaves the ring's centre within the groove's
+root, |(x_c, y_c)| <= back_clearance - c (docs/bore.md, "Radial collapse"; the model imposes it
+only at the clearance, where it holds the centre at 0), on the shipped distorted decks with each
+film model, the tension read in N and in N/m (the same number: read in N/m the elastic pressure
+is 21-23 times lower, and some rings collapse), one `build/ringlube-solve` run each, its
+reported cycle read back from the file. A step's mean position c and centre are orders 0 and 1
+of h0_j - D_j (the bending term has neither); a step is at the clearance where it is held there
+(flag 2) or c is within 1e-3 of it. The steps, those at the clearance and their largest centre
+(within the sectors' position tolerance of 0.1 load_tol c), and over the others the largest
+|(x_c, y_c)| / (back_clearance - c) with its crank angle and c, and the steps where it is above
+1 (the centre beyond the root).
+
 Run from the project folder (4 minutes on the shared 2-core machine at a load average of 8-13;
 the cost table alone 35 s at a load of 2-4):
 
@@ -79,6 +91,7 @@ the cost table alone 35 s at a load of 2-4):
     RINGLUBE_RING_SOLVE_CAP=20 .venv/bin/python tests/bench/bore_cost.py --phases
     RINGLUBE_JUMP_EXIT=0 .venv/bin/python tests/bench/bore_cost.py --phases
     .venv/bin/python tests/bench/bore_cost.py --branches BASE/build/ringlube-solve   # 3 min
+    .venv/bin/python tests/bench/bore_cost.py --root-room   # 40 s
     OMP_WAIT_POLICY=ACTIVE .venv/bin/python tests/bench/bore_cost.py --threads-only
     GOMP_SPINCOUNT=20000 .venv/bin/python tests/bench/bore_cost.py --threads-only
 """
@@ -377,6 +390,18 @@ def moves(base: Path, folder: Path) -> None:
 JUMP = 0.2
 
 
+def distortion(a: dict, theta: np.ndarray) -> np.ndarray:
+    """The bore's distortion D at the sectors' angles from a file's attributes (&bore's lists)."""
+    orders = [int(k) for k in str(a["bore.order"]).split(",")]
+    amps = [float(x) for x in str(a["bore.amplitude"]).split(",")]
+    phases = (
+        [float(x) for x in str(a["bore.phase"]).split(",")]
+        if str(a["bore.phase"]).strip()
+        else [0.0] * len(orders)
+    )
+    return sum(amp * np.cos(k * (theta - phi)) for k, amp, phi in zip(orders, amps, phases))
+
+
 def step_residuals(path: Path) -> dict:
     """A distorted run's sectors (crank steps x sectors) and the residual of each step's
     equations recomputed from its file (see the module's description), over its tolerance."""
@@ -387,14 +412,7 @@ def step_residuals(path: Path) -> dict:
     assert not str(a["bore.distortion_file"]), "the lists of &bore only"
     m, r0, tol = int(a["bore.sectors"]), float(a["engine.bore_radius"]), float(a["numerics.load_tol"])
     theta = 2 * np.pi * np.arange(m) / m
-    orders = [int(k) for k in str(a["bore.order"]).split(",")]
-    amps = [float(x) for x in str(a["bore.amplitude"]).split(",")]
-    phases = (
-        [float(x) for x in str(a["bore.phase"]).split(",")]
-        if str(a["bore.phase"]).strip()
-        else [0.0] * len(orders)
-    )
-    dist = sum(amp * np.cos(k * (theta - phi)) for k, amp, phi in zip(orders, amps, phases))
+    dist = distortion(a, theta)
     ei = float(a["surface.e_ring"]) * float(a["ring.width"]) * float(a["ring.radial_depth"]) ** 3 / 12
     comp, stiff = np.zeros((m, m)), np.zeros((m, m))  # C and C^+ on the sectors
     for k in range(2, m // 2 + 1):
@@ -479,6 +497,41 @@ def converged(r: dict) -> str:
     return "yes" if a["converged"] else f"no ({np.count_nonzero(~r['solved'])} steps, period {a['period']})"
 
 
+def root_room(folder: Path) -> None:
+    """The centre against the groove's root at the accepted steps (see the module's description)."""
+    print(f"load average: {os.getloadavg()[0]:.2f}; {SOLVE}")
+    print(
+        "| deck | film | tension read in | steps | at the clearance: steps, largest centre / clearance |"
+        " below it: largest centre / room (crank angle, c / clearance) | above 1 | converged |"
+    )
+    print("|---|---|---|---|---|---|---|---|")
+    for label, name in DECKS:
+        text = re.sub(r"tension_unit\s*=\s*'[^']*'\s*,?", "", (ROOT / "inputs" / name).read_text())
+        text = re.sub(r"(cavitation|inlet)\s*=\s*'[^']*'\s*,?", "", text)
+        for model, phys, _ in MODELS:
+            for unit in ("N", "N/m"):
+                path = folder / "case.nml"
+                path.write_text(f"{text}\n&ring tension_unit = '{unit}' /\n&physics {phys} /\n")
+                subprocess.run([str(SOLVE), "-q", str(path), "-o", str(folder / "r.h5")], capture_output=True)
+                with h5py.File(folder / "r.h5") as f:
+                    a, g = dict(f.attrs), f["cycle"]
+                    h, flags, psi = g["sector_h0_m"][:], g["flags"][:], g["crank_angle_deg"][:]
+                assert not str(a["bore.distortion_file"]), "the lists of &bore only"
+                m, bc = h.shape[1], float(a["ring_pack.back_clearance"])
+                theta = 2 * np.pi * np.arange(m) / m
+                rel = h - distortion(a, theta)
+                cc = rel.mean(axis=1)
+                centre = 2 / m * np.hypot(rel @ np.cos(theta), rel @ np.sin(theta))
+                held = (flags & 2 != 0) | (cc >= (1 - 1e-3) * bc)
+                use = np.where(held, 0.0, centre / np.maximum(bc - cc, 1e-30))
+                k = int(np.argmax(use))
+                at = f"{np.count_nonzero(held)}, {centre[held].max() / bc if held.any() else 0:.1e}"
+                below = f"{use[k]:.3f} ({psi[k]:g}, {cc[k] / bc:.3f})"
+                over, conv = np.count_nonzero(use > 1), "yes" if int(a["converged"]) else "no"
+                row = f"| {label} | {model} | {unit} | {len(h)} | {at} | {below} | {over} | {conv} |"
+                print(row, flush=True)
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bench", type=Path, default=BENCH, help="the bench_kernel of the cost table")
@@ -489,6 +542,9 @@ if __name__ == "__main__":
     parser.add_argument("--branches", type=Path, help="the branch choice against this ringlube-solve")
     parser.add_argument("--phases", action="store_true", help="the film solves by phase alone")
     parser.add_argument("--sectors-only", action="store_true", help="the sector count's table alone")
+    parser.add_argument(
+        "--root-room", action="store_true", help="the ring's centre against the groove's root alone"
+    )
     parser.add_argument(
         "--accept-jumps", action="store_true", help="with --phases: ring_solve accepting a sector's jump"
     )
@@ -507,6 +563,11 @@ if __name__ == "__main__":
         with tempfile.TemporaryDirectory(prefix="ringlube_bore_") as tmp:
             copy_inputs(Path(tmp))
             branches(args.branches, Path(tmp))
+        raise SystemExit(0)
+    if args.root_room:
+        with tempfile.TemporaryDirectory(prefix="ringlube_bore_") as tmp:
+            copy_inputs(Path(tmp))
+            root_room(Path(tmp))
         raise SystemExit(0)
     if args.sectors_only:
         with tempfile.TemporaryDirectory(prefix="ringlube_bore_") as tmp:
