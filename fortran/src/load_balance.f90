@@ -26,7 +26,8 @@ module ringlube_load_balance
   use ringlube_jfo_connect, only: jfo_seal_margin
   use ringlube_sectors, only: sector_ring, sector_trial, ring_evaluate, ring_ceiling, ring_solve, &
                               ring_coupled, loose_trials, phase_calls, phase_solves, &
-                              refused_solves, refused_held_solves, last_refusal, bound_rtol
+                              refused_solves, refused_held_solves, last_refusal, bound_rtol, &
+                              count_refused_answer
   use ringlube_results, only: flag_floor, flag_ceiling, flag_load, flag_viscosity, &
                               flag_cavitation, flag_sectors
   implicit none
@@ -170,6 +171,7 @@ contains
         if (iand(flags, flag_floor + flag_ceiling) /= 0) &
           refused_held_solves(r) = refused_held_solves(r) + n
       end associate
+      call count_refused_answer(ring, max(mem%h(1), h0out) >= lp%ceiling * (1.0_dp - bound_rtol))
     end if
     call margins(c, lp, g, mem, psi, h0out, flags, resid, ring)
     mem%h(3) = mem%h(2)

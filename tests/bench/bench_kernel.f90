@@ -13,7 +13,10 @@
 !> and another the root finder's film solves at the refused steps by the refusal's reason, of
 !> them those at the steps held at a bound, and the refusals not converged whose line search
 !> found no descent; and another the root finder's trials at the ceiling: their count, film
-!> solves, Newton iterations and those whose Newton iteration missed. Then a line per flagged
+!> solves, Newton iterations and those whose Newton iteration missed; and another the refused
+!> steps whose answer (the root finder's) moves a sector by more than ring_solve's limit from
+!> the last step, by the refusal's reason: in ln h0, against the ring's mean move, and of the
+!> first those whose last step or answer is at the ceiling. Then a line per flagged
 !> step of the last run: its index, crank angle, h0 and flags (the bits of /cycle/flags).
 !> With RINGLUBE_ACCEPT_JUMPS=1 in the environment ring_solve accepts an answer that moves a
 !> sector by more than its limit (ringlube_sectors' accept_jumps: the answers move); with
@@ -22,7 +25,9 @@
 !> with RINGLUBE_RING_SOLVE_CAP=n ring_solve's Newton iteration takes at most n iterations
 !> (ringlube_sectors' max_free, 12 without it; the answers move); with RINGLUBE_JUMP_EXIT=x
 !> ring_solve's iteration ends once a sector is more than x in ln h0 from the last step and
-!> moving away (ringlube_sectors' jump_exit, 0.35 without it; 0: off).
+!> moving away (ringlube_sectors' jump_exit, 0.35 without it; 0: off); with
+!> RINGLUBE_RELATIVE_JUMP=1 both measure a sector's move against the ring's mean move
+!> (ringlube_sectors' relative_jump: the answers move).
 !> For a distorted bore with `&numerics threads` > 1: RINGLUBE_TEAM_ALWAYS=1 makes the steps a
 !> team whatever the load average (ringlube_sectors' team_busy_check off: the team's cost on a
 !> loaded machine), RINGLUBE_REGION_PER_STEP=1 makes each crank step its own parallel region
@@ -53,6 +58,7 @@ program bench_kernel
   use ringlube_sectors, only: phase_solves, phase_calls, solve_failures, accept_jumps, &
                               loose_trials, ceiling_trials, max_free, jump_exit, &
                               refused_solves, refused_held_solves, stalled_failures, &
+                              relative_jump, refused_far, &
                               team_busy_check
   use ringlube_cycle_state, only: cycle_regions
   use omp_lib, only: omp_get_wtime
@@ -124,6 +130,8 @@ contains
     if (len_trim(env) > 0) read (env, *) max_free
     call get_environment_variable('RINGLUBE_JUMP_EXIT', env)
     if (len_trim(env) > 0) read (env, *) jump_exit
+    call get_environment_variable('RINGLUBE_RELATIVE_JUMP', env)
+    relative_jump = trim(env) == '1'
     call get_environment_variable('RINGLUBE_TEAM_ALWAYS', env)
     team_busy_check = trim(env) /= '1'
     call get_environment_variable('RINGLUBE_REGION_PER_STEP', env)
@@ -138,6 +146,7 @@ contains
       refused_held_solves = 0
       stalled_failures = 0
       ceiling_trials = 0
+      refused_far = 0
       t0 = now()
       w0 = omp_get_wtime()
       call solve_cycle(c, res, err)
@@ -170,6 +179,10 @@ contains
       if (sum(phase_calls) > 0) write (output_unit, '(a, 4(1x, i0))') &
         'root finder trials at the ceiling (trials, film solves, iterations, missed):', &
         ceiling_trials
+      if (sum(phase_calls) > 0) write (output_unit, '(a, 3(4(1x, i0), a))') &
+        'refused steps whose answer moves a sector beyond the limit (not converged, bound, '// &
+        'jump, light):', refused_far(:, 1), ' against the ring''s mean move:', &
+        refused_far(:, 2), ' of the first at the ceiling:', refused_far(:, 3), ''
       do k = 1, size(res%int_series, 1)
         if (res%int_series(k, si_flags) == 0) cycle
         write (output_unit, '(a, i0, a, f0.2, a, es10.3, a, i0)') 'flagged step ', k, &

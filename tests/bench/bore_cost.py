@@ -47,16 +47,23 @@ then take those steps, and the lift-off margin's solves at the ceiling; with the
 a bound, a sector's jump, a light sector), the root finder's film solves per sector and refused
 step by reason, and the share of them at the steps it held at a bound (the ring lifted off);
 and the root finder's trials at the ceiling: how many, of them how many ended at the sectors'
-Newton iteration limit, their film solves per sector and trial and Newton iterations per trial.
+Newton iteration limit, their film solves per sector and trial and Newton iterations per trial;
+and the refused steps whose answer (the root finder's) moves a sector by more than `ring_solve`'s
+limit (e^0.25) from the last step, not converged and refused as a jump: in ln h0, against the
+ring's mean move (the mean of the sectors' changes of ln h0), and of the first those whose last
+step or answer is at the ceiling (a refusal not converged at such a step would be refused as a
+jump had it converged).
 `--phases --tight-trials`: the same with the root finder's trials solved to the sectors' own
 tolerance (RINGLUBE_LOOSE_TRIALS=0 for bench_kernel; the answers move).
 `--phases --accept-jumps`: the same with `ring_solve` accepting an answer that moves a sector by
 more than its limit (RINGLUBE_ACCEPT_JUMPS=1 for bench_kernel; the answers move), with the energy
 and the cycles computed of both.
-`bench_kernel` reads two more switches from the environment, which `--phases` and `--cost-only`
+`bench_kernel` reads three more switches from the environment, which `--phases` and `--cost-only`
 pass on: RINGLUBE_RING_SOLVE_CAP=n, `ring_solve`'s Newton iterations at most (12 without it;
-the answers move), and RINGLUBE_JUMP_EXIT=x, where its iteration ends once a sector is more than
-x in ln h0 from the last step and moving away (0.35 without it, 0 off; docs/bore.md, "Cost").
+the answers move), RINGLUBE_JUMP_EXIT=x, where its iteration ends once a sector is more than
+x in ln h0 from the last step and moving away (0.35 without it, 0 off; docs/bore.md, "Cost"),
+and RINGLUBE_RELATIVE_JUMP=1, both limits measured against the ring's mean move (off without
+it; the answers move).
 
 `--moves BASE/build/ringlube-solve` instead: how far a kernel change that is not
 bit-identical moves a distorted bore's answers (the shipped distorted decks as shipped and
@@ -90,6 +97,7 @@ the cost table alone 35 s at a load of 2-4):
     .venv/bin/python tests/bench/bore_cost.py --phases --tight-trials   # 20 s
     RINGLUBE_RING_SOLVE_CAP=20 .venv/bin/python tests/bench/bore_cost.py --phases
     RINGLUBE_JUMP_EXIT=0 .venv/bin/python tests/bench/bore_cost.py --phases
+    RINGLUBE_RELATIVE_JUMP=1 .venv/bin/python tests/bench/bore_cost.py --phases
     .venv/bin/python tests/bench/bore_cost.py --branches BASE/build/ringlube-solve   # 3 min
     .venv/bin/python tests/bench/bore_cost.py --root-room   # 40 s
     OMP_WAIT_POLICY=ACTIVE .venv/bin/python tests/bench/bore_cost.py --threads-only
@@ -187,7 +195,13 @@ def phase_run(
     )
     by_refusal = [int(x) for x in re.findall(r"-?\d+", out.split("by refusal")[1].split(":", 1)[1])]
     ceiling = [int(x) for x in out.split("at the ceiling")[1].split(":", 1)[1].split("\n")[0].split()]
-    return vals, solves, calls, refusals, by_refusal + ceiling
+    # (the refused steps whose answer moves a sector beyond the limit; none from an older
+    # bench_kernel)
+    far = out.split("beyond the limit")
+    moved = []
+    if len(far) > 1:
+        moved = [int(x) for x in re.findall(r"\d+", far[1].split(":", 1)[1].split("\n")[0])]
+    return vals, solves, calls, refusals, by_refusal[:9] + ceiling + moved
 
 
 def phase_table(accept_jumps: bool = False, loose: bool = True) -> None:
@@ -199,7 +213,9 @@ def phase_table(accept_jumps: bool = False, loose: bool = True) -> None:
     trial, Newton iterations per trial); with accept_jumps, of the run whose
     ring_solve accepts a sector's jump, with the energy, the cycles computed and the film
     solves per sector-step of both runs; loose False: with the root finder's trials solved to
-    the sectors' own tolerance (RINGLUBE_LOOSE_TRIALS=0)."""
+    the sectors' own tolerance (RINGLUBE_LOOSE_TRIALS=0). The refused steps (not converged,
+    refused as a jump) whose answer moves a sector beyond ring_solve's limit: in ln h0 (against
+    the ring's mean move; of the first at the ceiling)."""
     extra = ""
     if accept_jumps:
         extra = " | energy J: accepting / not | cycles computed | film solves per sector-step"
@@ -208,9 +224,10 @@ def phase_table(accept_jumps: bool = False, loose: bool = True) -> None:
         " | root finder: trials, solves per sector-step | margin | all | refusals: not converged"
         " (stalled), bound, jump, light | root finder per sector and refused step: not converged,"
         f" jump, other | of them held at a bound | root finder at the ceiling: trials (missed),"
-        f" solves per sector and trial, iterations per trial{extra} |"
+        " solves per sector and trial, iterations per trial | refused steps whose answer moves a sector"
+        f" beyond the limit: not converged, jump (against the ring's mean move; at the ceiling){extra} |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|---|---|" if accept_jumps else ""))
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|---|---|" if accept_jumps else ""))
     for label, name in DECKS:
         deck = ROOT / "inputs" / name
         for model, phys, _ in MODELS:
@@ -231,11 +248,15 @@ def phase_table(accept_jumps: bool = False, loose: bool = True) -> None:
                 if c_trials
                 else "0"
             )
+            moved = by_refusal[13:]
+            far = "-"
+            if len(moved) == 12:
+                far = ", ".join(f"{moved[i]} ({moved[4 + i]}; {moved[8 + i]})" for i in (0, 2))
             row = (
                 f"| {label} | {model} | {steps} | {calls[0]}, {per[0]:.2f} | {calls[1]}, {per[1]:.2f}"
                 f" | {calls[2]}, {per[2]:.2f} | {per[3]:.2f} | {sum(per):.2f} |"
                 f" {refusals[0]} ({stalled}), {', '.join(str(x) for x in refusals[1:])} |"
-                f" {', '.join(per_refused)} | {held_share} | {at_ceiling} |"
+                f" {', '.join(per_refused)} | {held_share} | {at_ceiling} | {far} |"
             )
             if accept_jumps:
                 v0, s0, _, _, _ = phase_run(deck, phys)
