@@ -665,14 +665,18 @@ contains
     write (*, '(a, 4i4, a, 2f12.7)') 'with relative_jump: refusals', refused(:, 2), &
       '; energy J', r(:)%scalars(sc_energy_loss)
     call check(stalled(1) >= 10, 'line searches without descent on this deck')
-    call check(far(1, 1, 1) >= stalled(1) - 2, &
-               'the refusals not converged: all but two answers beyond max_jump')
-   call check(far(3, 1, 1) == refused(3, 1), 'the refusals as a jump: every answer beyond max_jump')
+    ! (measured: 18 of the 21 refusals not converged beyond max_jump, 18 stalled; 46 of the 46
+    ! refusals as a jump)
+    call check(10 * far(1, 1, 1) >= 8 * stalled(1), &
+               'the refusals not converged: answers beyond max_jump for eight in ten stalls')
+    call check(10 * far(3, 1, 1) >= 9 * refused(3, 1), &
+               'the refusals as a jump: nine in ten answers beyond max_jump')
     call check(far(1, 2, 1) + far(3, 2, 1) <= (far(1, 1, 1) + far(3, 1, 1)) / 4, &
                'at most a quarter of them a sector''s move against the ring''s')
- call check(refused(3, 2) <= refused(3, 1) / 4, 'with relative_jump a quarter of the jumps or less')
-   call check(abs(r(2)%scalars(sc_energy_loss) / r(1)%scalars(sc_energy_loss) - 1.0_dp) < 1e-4_dp, &
-               'the energy within 1e-4')
+    call check(refused(3, 2) <= refused(3, 1) / 4, &
+               'with relative_jump a quarter of the jumps or less')
+    call check(abs(r(2)%scalars(sc_energy_loss) / r(1)%scalars(sc_energy_loss) - 1.0_dp) &
+               < 1e-4_dp, 'the energy within 1e-4')
   end subroutine refusals_ring_moves
 
   !> A loose trial of the root finder at the floor is solved to the sectors' own tolerance:
