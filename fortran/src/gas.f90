@@ -2,7 +2,7 @@
 module ringlube_gas
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_input_error
-  use ringlube_textio, only: read_text_file, itoa
+  use ringlube_textio, only: read_text_file, itoa, after_bom
   use, intrinsic :: iso_c_binding, only: c_char, c_double, c_ptr, c_null_char, c_loc, c_size_t
   implicit none
   private
@@ -56,10 +56,7 @@ contains
     nline = 0
     nrow = 0
     seen_header = .false.
-    pos = 1
-    if (len(text) >= 3) then   ! a UTF-8 byte-order mark (spreadsheets write one) is not data
-      if (text(1:3) == achar(239)//achar(187)//achar(191)) pos = 4
-    end if
+    pos = after_bom(text)
     do while (pos <= len(text))
       eol = field_end(text, pos, new_line('a'))
       line = trim(adjustl(text(pos:eol - 1)))

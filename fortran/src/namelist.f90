@@ -16,7 +16,7 @@
 !> repeat counts `3*1.0` and null values.
 module ringlube_namelist
   use ringlube_error, only: error_type, fatal_error, rl_input_error
-  use ringlube_textio, only: itoa
+  use ringlube_textio, only: itoa, after_bom
   implicit none
   private
   public :: nml_item, scan_namelist, lower, nul_message
@@ -77,14 +77,10 @@ contains
     if (present(lists)) allow_lists = lists
 
     n = len(text)
-    pos = 1
     line = 1
     nitems = 0
     allocate (items(16))
-    ! a UTF-8 byte-order mark (some editors write one) is not part of the deck
-    if (n >= 3) then
-      if (text(1:3) == achar(239)//achar(187)//achar(191)) pos = 4
-    end if
+    pos = after_bom(text)   ! a UTF-8 byte-order mark is not part of the deck
     ! a NUL byte: binary data, where readers of C strings would end the deck
     if (index(text, achar(0)) > 0) then
       line = 1 + count_newlines(text(1:index(text, achar(0))))

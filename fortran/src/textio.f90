@@ -5,7 +5,7 @@ module ringlube_textio
   use ringlube_fsys, only: file_kind, fs_regular
   implicit none
   private
-  public :: read_text_file, itoa, utf8_clean
+  public :: read_text_file, itoa, utf8_clean, after_bom
 
 contains
 
@@ -126,6 +126,16 @@ contains
       is_clean = .true.
     end function is_clean
   end function utf8_clean
+
+  !> Where the text of a file starts: 4 after a UTF-8 byte-order mark (editors and
+  !> spreadsheets write one; it is not data), else 1.
+  pure integer function after_bom(text) result(pos)
+    character(len=*), intent(in) :: text
+    pos = 1
+    if (len(text) >= 3) then
+      if (text(1:3) == char(239)//char(187)//char(191)) pos = 4
+    end if
+  end function after_bom
 
   !> An integer as text, without blanks.
   pure function itoa(i) result(s)
