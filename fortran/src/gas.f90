@@ -2,27 +2,17 @@
 module ringlube_gas
   use ringlube_kinds, only: dp
   use ringlube_error, only: error_type, fatal_error, rl_input_error
-  use ringlube_textio, only: read_text_file, itoa, after_bom
-  use, intrinsic :: iso_c_binding, only: c_char, c_double, c_ptr, c_null_char, c_loc, c_size_t
+  use ringlube_textio, only: itoa
+  use ringlube_csv, only: csv_rows, open_csv, next_row, split_pair, row_error, add_pair, &
+                          take_pairs, field_end, is_header, to_real, field_number, field_nonfinite
   implicit none
   private
   public :: read_pressure_csv, gas_pressure, check_pressure_trace
-  ! (the CSV readers of other inputs share the field rules)
+  ! (ringlube_csv's field rules, for the readers that take them from here)
   public :: field_end, is_header, to_real, field_number, field_nonfinite
 
   !> Largest plausible cylinder pressure [Pa] and smallest span of a trace [deg].
   real(dp), parameter, public :: max_pressure = 1e8_dp, min_span_deg = 700.0_dp
-
-  ! what `to_real` made of a field
-  integer, parameter :: field_number = 0, field_nonfinite = 1, field_bad = 2
-
-  interface
-    real(c_double) function c_strtod(str, endptr) bind(c, name='strtod')
-      import :: c_char, c_double, c_ptr
-      character(kind=c_char), intent(in) :: str(*)
-      type(c_ptr), intent(out) :: endptr
-    end function c_strtod
-  end interface
 
 contains
 
@@ -38,186 +28,36 @@ contains
     character(len=*), intent(in) :: path
     real(dp), allocatable, intent(out) :: psi(:), p(:)
     type(error_type), allocatable, intent(out) :: err
-    character(len=:), allocatable :: text, line
-    real(dp), allocatable :: tpsi(:), tp(:)
+    type(csv_rows) :: rows
     real(dp) :: a, b
-    integer :: sz, nline, nrow, pos, eol, icomma, fa, fb
-    logical :: exists, seen_header, ok
+    integer :: fa, fb
+    logical :: header
 
-    inquire (file=path, exist=exists)
-    if (.not. exists) then
-      call fatal_error(err, trim(path)//': pressure file not found', rl_input_error)
-      return
-    end if
-    call read_text_file(path, text, err)
+    call open_csv(path, 'pressure', rows, err, skip_bom=.true.)
     if (allocated(err)) return
-    sz = len(text)
-    allocate (tpsi(max(16, sz / 8)), tp(max(16, sz / 8)))
-    nline = 0
-    nrow = 0
-    seen_header = .false.
-    pos = after_bom(text)
-    do while (pos <= len(text))
-      eol = field_end(text, pos, new_line('a'))
-      line = trim(adjustl(text(pos:eol - 1)))
-      if (len(line) > 0) then
-        if (line(len(line):len(line)) == achar(13)) line = line(1:len(line) - 1)
-      end if
-      pos = eol + 1
-      nline = nline + 1
-      if (len_trim(line) == 0) cycle
-      if (line(1:1) == '#') cycle
-      if (nrow == 0 .and. .not. seen_header) then
-        seen_header = .true.   ! only the first row can be the header
-        if (is_header(line)) cycle
-      end if
-      icomma = index(line, ',')
-      ok = icomma > 1
-      if (ok) ok = index(line(icomma + 1:), ',') == 0
-      fa = 2
-      fb = 2
-      if (ok) then
-        call to_real(line(1:icomma - 1), a, fa)
-        call to_real(line(icomma + 1:), b, fb)
-      end if
+    do while (next_row(rows, header))
+      if (header) cycle
+      call split_pair(rows%line, a, b, fa, fb)
       if (fa == field_nonfinite) then
-        call bad_row('crank angle is not a finite number')
-        return
+        call row_error(rows, 'crank angle is not a finite number', err)
+      else if (fb == field_nonfinite) then
+        call row_error(rows, 'pressure is not a finite number', err)
+      else if (fa /= field_number .or. fb /= field_number) then
+        call row_error(rows, 'expected "crank angle deg, pressure Pa"', err)
+      else if (.not. (a >= 0.0_dp .and. a <= 720.0_dp)) then
+        call row_error(rows, 'crank angle outside [0, 720] deg', err)
+      else if (.not. (b > 0.0_dp .and. b < huge(b))) then
+        call row_error(rows, 'pressure must be positive (absolute, Pa)', err)
+      else
+        call add_pair(rows, a, b, 'crank angles must increase strictly', err)
       end if
-      if (fb == field_nonfinite) then
-        call bad_row('pressure is not a finite number')
-        return
-      end if
-      if (fa /= field_number .or. fb /= field_number) then
-        call bad_row('expected "crank angle deg, pressure Pa"')
-        return
-      end if
-      if (.not. (a >= 0.0_dp .and. a <= 720.0_dp)) then
-        call bad_row('crank angle outside [0, 720] deg')
-        return
-      end if
-      if (.not. (b > 0.0_dp .and. b < huge(b))) then
-        call bad_row('pressure must be positive (absolute, Pa)')
-        return
-      end if
-      if (nrow > 0) then
-        if (a <= tpsi(nrow)) then
-          call bad_row('crank angles must increase strictly')
-          return
-        end if
-      end if
-      nrow = nrow + 1
-      if (nrow > size(tpsi)) then
-        tpsi = [tpsi, tpsi]
-        tp = [tp, tp]
-      end if
-      tpsi(nrow) = a
-      tp(nrow) = b
+      if (allocated(err)) return
     end do
-    if (nrow < 2) then
-      call fatal_error(err, trim(path)//': pressure file needs at least two rows', rl_input_error)
-      return
-    end if
-    psi = tpsi(1:nrow)
-    p = tp(1:nrow)
+    call take_pairs(rows, psi, p, err)
+    if (allocated(err)) return
     call check_pressure_trace(psi, p, err)
     if (allocated(err)) err%message = trim(path)//': '//err%message
-
-  contains
-
-    subroutine bad_row(why)
-      character(len=*), intent(in) :: why
-      call fatal_error(err, trim(path)//': line '//itoa(nline)//': '//why//': "' &
-                       //trim(line)//'"', rl_input_error)
-    end subroutine bad_row
   end subroutine read_pressure_csv
-
-  !> Whether a CSV row is a header: every comma-separated field a non-empty word that
-  !> cannot be read as a number (first character not a digit, sign or point; not a
-  !> spelling of nan or inf).
-  logical function is_header(line)
-    character(len=*), intent(in) :: line
-    integer :: i0, i1
-    character(len=:), allocatable :: f
-    is_header = .false.
-    i0 = 1
-    do
-      i1 = field_end(line, i0, ',')
-      f = trim(adjustl(line(i0:i1 - 1)))
-      if (len(f) == 0) return
-      if (scan(f(1:1), '0123456789+-.') /= 0) return
-      if (nonfinite_word(f)) return
-      if (i1 > len(line)) exit
-      i0 = i1 + 1
-    end do
-    is_header = .true.
-  end function is_header
-
-  !> Where the field of `text` that starts at `from` ends: the index of the next `sep` at or
-  !> after `from`, or len(text) + 1 when there is none (lines of a file, fields of a line).
-  pure integer function field_end(text, from, sep) result(i)
-    character(len=*), intent(in) :: text, sep
-    integer, intent(in) :: from
-    i = index(text(from:), sep)
-    if (i == 0) then
-      i = len(text) + 1
-    else
-      i = from + i - 1
-    end if
-  end function field_end
-
-  !> nan, inf or infinity (any case, optional sign, nan(...) included): what C's strtod
-  !> would read as a non-finite number.
-  pure logical function nonfinite_word(field)
-    character(len=*), intent(in) :: field
-    character(len=:), allocatable :: f
-    integer :: i
-    f = trim(adjustl(field))
-    do i = 1, len(f)
-      if (f(i:i) >= 'A' .and. f(i:i) <= 'Z') f(i:i) = achar(iachar(f(i:i)) + 32)
-    end do
-    if (len(f) > 0) then
-      if (f(1:1) == '+' .or. f(1:1) == '-') f = f(2:)
-    end if
-    nonfinite_word = f == 'nan' .or. f == 'inf' .or. f == 'infinity'
-    if (len(f) >= 4) nonfinite_word = nonfinite_word .or. f(1:4) == 'nan('
-  end function nonfinite_word
-
-  !> A whole field (surrounding blanks allowed) as a real, by C's strtod. `kind` is
-  !> `field_number` (a finite decimal number), `field_nonfinite` (nan, inf, or a number
-  !> beyond the range of a double) or `field_bad` (anything else).
-  subroutine to_real(field, v, kind)
-    character(len=*), intent(in) :: field
-    real(dp), intent(out) :: v
-    integer, intent(out) :: kind
-    character(kind=c_char, len=:), allocatable, target :: buf
-    type(c_ptr) :: endp
-    integer(c_size_t) :: consumed
-    integer :: i
-    character(len=:), allocatable :: f
-    f = trim(adjustl(field))
-    v = 0.0_dp
-    kind = field_bad
-    if (len(f) == 0) return
-    if (nonfinite_word(f)) then
-      kind = field_nonfinite
-      return
-    end if
-    if (verify(f, '0123456789+-.eEdD') /= 0) return   ! no hex or other words
-    ! Fortran-style exponents (1.0d5) as C ones
-    do i = 1, len(f)
-      if (f(i:i) == 'd' .or. f(i:i) == 'D') f(i:i) = 'e'
-    end do
-    buf = f//c_null_char
-    v = c_strtod(buf, endp)
-    consumed = transfer(endp, consumed) - transfer(c_loc(buf), consumed)
-    if (consumed /= int(len(f), c_size_t)) return
-    if (abs(v) > huge(v)) then
-      kind = field_nonfinite   ! overflow: strtod gives +-HUGE_VAL (inf)
-    else
-      kind = field_number
-    end if
-  end subroutine to_real
 
   !> Check a trace (from a CSV file or given as arrays): at least two points, crank angles
   !> strictly increasing in [0, 720] deg and spanning at least `min_span_deg` of the cycle

@@ -8,9 +8,9 @@
 !> [0, b], as profilometer traces across a face are taken.
 module ringlube_profile
   use ringlube_kinds, only: dp
-  use ringlube_error, only: error_type, fatal_error, rl_input_error
-  use ringlube_textio, only: read_text_file, itoa
-  use ringlube_gas, only: is_header, to_real, field_end, field_number, field_nonfinite
+  use ringlube_error, only: error_type
+  use ringlube_csv, only: csv_rows, open_csv, next_row, split_pair, row_error, add_pair, &
+                          take_pairs, field_end, field_number, field_nonfinite
   implicit none
   private
   public :: gauge_profile, gauge_area, table_profile, table_area, read_profile_csv, &
@@ -165,93 +165,36 @@ contains
     character(len=*), intent(in) :: path
     real(dp), allocatable, intent(out) :: tx(:), ts(:)
     type(error_type), allocatable, intent(out) :: err
-    character(len=:), allocatable :: text, line, why
-    real(dp), allocatable :: bx(:), bs(:)
+    type(csv_rows) :: rows
+    character(len=:), allocatable :: why
     real(dp) :: a, b, scale(2)
-    integer :: nline, nrow, pos, eol, icomma, fa, fb
-    logical :: exists, seen_header, ok
+    integer :: fa, fb
+    logical :: header
 
     scale = 1.0_dp
-    inquire (file=path, exist=exists)
-    if (.not. exists) then
-      call fatal_error(err, trim(path)//': profile file not found', rl_input_error)
-      return
-    end if
-    call read_text_file(path, text, err)
+    call open_csv(path, 'profile', rows, err, skip_bom=.false.)
     if (allocated(err)) return
-    allocate (bx(max(16, len(text) / 8)), bs(max(16, len(text) / 8)))
-    nline = 0
-    nrow = 0
-    seen_header = .false.
-    pos = 1
-    do while (pos <= len(text))
-      eol = field_end(text, pos, new_line('a'))
-      line = trim(adjustl(text(pos:eol - 1)))
-      if (len(line) > 0) then
-        if (line(len(line):len(line)) == achar(13)) line = line(1:len(line) - 1)
-      end if
-      pos = eol + 1
-      nline = nline + 1
-      if (len_trim(line) == 0) cycle
-      if (line(1:1) == '#') cycle
-      if (nrow == 0 .and. .not. seen_header) then
-        seen_header = .true.   ! only the first row can be the header
-        if (is_header(line)) then
-          call header_units(line, scale, why)
-          if (allocated(why)) then
-            call bad_row(why)
-            return
-          end if
-          cycle
-        end if
-      end if
-      icomma = index(line, ',')
-      ok = icomma > 1
-      if (ok) ok = index(line(icomma + 1:), ',') == 0
-      fa = 2
-      fb = 2
-      if (ok) then
-        call to_real(line(1:icomma - 1), a, fa)
-        call to_real(line(icomma + 1:), b, fb)
-      end if
-      if (fa == field_nonfinite .or. fb == field_nonfinite) then
-        call bad_row('not a finite number')
-        return
-      end if
-      if (fa /= field_number .or. fb /= field_number) then
-        call bad_row('expected "x, S" (two numbers: position from the top edge, drop)')
-        return
-      end if
-      a = a * scale(1)
-      b = b * scale(2)
-      if (nrow > 0) then
-        if (.not. (a > bx(nrow))) then
-          call bad_row('positions x must increase strictly')
+    do while (next_row(rows, header))
+      if (header) then
+        call header_units(rows%line, scale, why)
+        if (allocated(why)) then
+          call row_error(rows, why, err)
           return
         end if
+        cycle
       end if
-      nrow = nrow + 1
-      if (nrow > size(bx)) then
-        bx = [bx, bx]
-        bs = [bs, bs]
+      call split_pair(rows%line, a, b, fa, fb)
+      if (fa == field_nonfinite .or. fb == field_nonfinite) then
+        call row_error(rows, 'not a finite number', err)
+      else if (fa /= field_number .or. fb /= field_number) then
+        call row_error(rows, 'expected "x, S" (two numbers: position from the top edge, drop)', &
+                       err)
+      else
+        call add_pair(rows, a * scale(1), b * scale(2), 'positions x must increase strictly', err)
       end if
-      bx(nrow) = a
-      bs(nrow) = b
+      if (allocated(err)) return
     end do
-    if (nrow < 2) then
-      call fatal_error(err, trim(path)//': profile file needs at least two rows', rl_input_error)
-      return
-    end if
-    tx = bx(1:nrow)
-    ts = bs(1:nrow)
-
-  contains
-
-    subroutine bad_row(why)
-      character(len=*), intent(in) :: why
-      call fatal_error(err, trim(path)//': line '//itoa(nline)//': '//why//': "' &
-                       //trim(line)//'"', rl_input_error)
-    end subroutine bad_row
+    call take_pairs(rows, tx, ts, err)
   end subroutine read_profile_csv
 
   !> The units the header's two fields name (factors to metres); `why` if a field names one
