@@ -1,7 +1,8 @@
 """The kernel's two-column CSV inputs, the pressure trace and the face profile, are read by
 one reader (ringlube_csv): a bad row in either names the file, the line (blank lines,
 comments and a header counted, Windows line ends dropped) and the row's text; a file with
-fewer than two rows, or none at all, says which kind of file it is."""
+fewer than two rows, or none at all, says which kind of file it is. The bore's distortion
+reader takes the same line, header and number rules (with its own message form)."""
 
 from __future__ import annotations
 
@@ -93,3 +94,22 @@ def test_a_missing_file_is_named_with_its_kind(base, tmp_path):
         gas.read_csv(path)
     with pytest.raises(InputError, match="none.csv: profile file not found"):
         ringlube.run(base.with_ring(profile="table", profile_file=str(path)))
+
+
+@pytest.mark.parametrize(
+    ("row", "why"),
+    [
+        ("0.01,2,nan,0", "amplitude is not a finite number"),
+        ("0.01,2,1e-6", 'expected four fields "z_m, order, amplitude_m, phase_rad"'),
+        ("0,2,1e-6,0", "the rows of order 2 must increase strictly in z"),
+    ],
+)
+def test_the_distortion_file_takes_the_same_field_rules(base, tmp_path, row, why):
+    # the bore's reader (its own message form, "<path>:<line>: <why>") shares the line,
+    # header and number rules of the other two
+    path = tmp_path / "bore.csv"
+    path.write_bytes(f"z_m,order,amplitude_m,phase_rad\r\n# measured\r\n\r\n0,2,1e-6,0\r\n{row}\r\n".encode())
+    case = base.with_physics(bore="distorted").with_bore(distortion_file=str(path), sectors=8)
+    with pytest.raises(InputError) as e:
+        ringlube.run(case)
+    assert f"{path}:5: {why}" in str(e.value)
