@@ -21,6 +21,9 @@ module ringlube_bore
   public :: bore_type, bore_setup, bore_distortion, ring_compliance, conformability, &
             conformability_orders, read_distortion_csv
 
+  !> The most rows a distortion file may hold (every step looks its orders up in them).
+  integer, parameter :: max_distortion_rows = 10000
+
   !> The sectors, the ring's compliance on them and the bore's distortion.
   type :: bore_type
     !> sectors M
@@ -208,15 +211,16 @@ contains
 
   !> Read a distortion CSV: rows `z_m, order, amplitude_m, phase_rad` (an optional header
   !> line; blank lines and lines starting with '#' skipped), the rows of each order in
-  !> strictly increasing z; orders 0..max_order, amplitudes 0..1 mm, |phase| <= 100 rad.
-  !> Rows sorted by order, then z.
+  !> strictly increasing z; orders 0..max_order, amplitudes 0..1 mm, |phase| <= 100 rad; at
+  !> most max_distortion_rows rows; a UTF-8 byte-order mark skipped. Rows sorted by order,
+  !> then z.
   subroutine read_distortion_csv(path, max_order, table, err)
     character(len=*), intent(in) :: path
     integer, intent(in) :: max_order
     real(dp), allocatable, intent(out) :: table(:, :)
     type(error_type), allocatable, intent(out) :: err
     character(len=:), allocatable :: text, line
-    real(dp), allocatable :: rows(:, :)
+    real(dp), allocatable :: rows(:, :), last_z(:)
     real(dp) :: v(4)
     integer :: pos, eol, nline, nrow, i0, i1, f, kind, j, k
     logical :: exists, seen_header
@@ -230,11 +234,15 @@ contains
     end if
     call read_text_file(path, text, err)
     if (allocated(err)) return
-    allocate (rows(4, 16))
+    allocate (rows(4, 16), last_z(0:max_order))
+    last_z = -huge(1.0_dp)
     nrow = 0
     nline = 0
     seen_header = .false.
     pos = 1
+    if (len(text) >= 3) then   ! a UTF-8 byte-order mark (spreadsheets write one) is not data
+      if (text(1:3) == achar(239)//achar(187)//achar(191)) pos = 4
+    end if
     do while (pos <= len(text))
       eol = field_end(text, pos, new_line('a'))
       line = trim(adjustl(text(pos:eol - 1)))
@@ -287,12 +295,16 @@ contains
         call bad_row('phase outside [-100, 100] rad')
         return
       end if
-      do j = 1, nrow
-        if (nint(rows(2, j)) == nint(v(2)) .and. rows(1, j) >= v(1)) then
-          call bad_row('the rows of order '//itoa(nint(v(2)))//' must increase strictly in z')
-          return
-        end if
-      end do
+      if (v(1) <= last_z(nint(v(2)))) then
+        call bad_row('the rows of order '//itoa(nint(v(2)))//' must increase strictly in z')
+        return
+      end if
+      last_z(nint(v(2))) = v(1)
+      if (nrow == max_distortion_rows) then
+        call bad_row('more than '//itoa(max_distortion_rows)//' rows (a distortion needs a '// &
+                     'few rows per order along the stroke)')
+        return
+      end if
       nrow = nrow + 1
       if (nrow > size(rows, 2)) rows = reshape([rows, rows], [4, 2 * size(rows, 2)])
       rows(:, nrow) = v

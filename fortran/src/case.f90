@@ -784,7 +784,7 @@ contains
     end subroutine bad
 
     !> The distortion of a distorted bore: lists of one length, orders up to M/2 once each,
-    !> lists or a file.
+    !> lists or a file, one of them given.
     subroutine check_bore()
       integer :: j
       if (mod(c%sectors, 2) /= 0) then
@@ -813,6 +813,10 @@ contains
       if (len(c%distortion_file) > 0 .and. size(c%bore_order) > 0) then
         call bad('bore', 'distortion_file', 'give the distortion as the lists order, '// &
                  'amplitude, phase or as a file, not both'); return
+      end if
+      if (len(c%distortion_file) == 0 .and. size(c%bore_order) == 0) then
+        call bad('physics', 'bore', "'distorted' needs the distortion: &bore order and "// &
+                 'amplitude, or &bore distortion_file (none is given)'); return
       end if
     end subroutine check_bore
 

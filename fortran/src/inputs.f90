@@ -153,8 +153,8 @@ module ringlube_inputs
       'orders k of the distortion D = sum A_k cos(k (theta - phi_k)) (a list)'), &
     input_spec('bore', 'amplitude', kind_real_list, '', 0.0_dp, 1e-3_dp, 'm', '', &
       'amplitude A_k of each order (a list as long as order)'), &
-    input_spec('bore', 'phase', kind_real_list, '', -100.0_dp, 100.0_dp, 'rad', '', &
-      'phase phi_k of each order (a list as long as order; none given: all 0)'), &
+    input_spec('bore', 'phase', kind_real_list, '', -6.2832_dp, 6.2832_dp, 'rad', '', &
+      'phase phi_k of each order, in rad (not deg) within one turn (as long as order; none: 0)'), &
     input_spec('bore', 'distortion_file', kind_string, '', 0.0_dp, 0.0_dp, '', '', &
     'CSV z_m, order, amplitude_m, phase_rad (A_k, phi_k along the stroke); instead of the lists'), &
     input_spec('bore', 'sectors', kind_int, '24', 4.0_dp, 360.0_dp, '1', '', &

@@ -40,6 +40,7 @@ _PATH_VARS = {
     ("ring", "profile_file"),
     ("output", "file"),
     ("calibration", "file"),
+    ("bore", "distortion_file"),
 }
 _NAME = re.compile(r"[a-z_][a-z0-9_]*")
 
@@ -225,8 +226,12 @@ class Case(_InputOrigins):
             name = str(name).lower()
             if not _NAME.fullmatch(name):
                 raise InputError(f"&{group} {name!r}: not a variable name")
-            if hasattr(value, "item"):  # numpy scalar -> Python scalar
-                value = value.item()
+            if hasattr(value, "tolist"):  # numpy scalar -> Python scalar, array -> list
+                value = value.tolist()
+            if isinstance(value, (list, tuple)):  # numpy scalars in a list: Python scalars
+                value = [v.tolist() if hasattr(v, "tolist") else v for v in value]
+                if any(isinstance(v, (list, tuple)) for v in value):
+                    raise InputError(f"&{group} {name}: a list of lists; a list input takes one flat list")
             if isinstance(value, os.PathLike):
                 value = os.fspath(value)
             value = _plain_number(group, name, value)

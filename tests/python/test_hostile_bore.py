@@ -1,0 +1,158 @@
+"""Hostile inputs of the distorted bore: the `&bore` lists and distortion file, and the
+Python API around them. A bad value is a named error (file, group, variable, row) in
+ringlube-solve and in Python, and nothing is written."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+import ringlube
+from ringlube import InputError
+
+from conftest import INPUTS
+
+pytestmark = [pytest.mark.unit, pytest.mark.io]
+
+DISTORTED = INPUTS / "crf450r_4000rpm_full_hot_distorted.nml"
+BORE_LINE = re.compile(r"^&bore .*$", re.M)
+
+
+def own_deck(folder, bore: str, files: dict[str, str | bytes] | None = None):
+    """The shipped distorted deck (its calibration file and trace beside it) with its `&bore`
+    line replaced by `bore` (and files written beside it); returns the deck and its line."""
+    (folder / "pressure").mkdir()
+    shutil.copy(INPUTS / "pressure" / "crf450r_4000rpm_full.csv", folder / "pressure")
+    shutil.copy(INPUTS / "calibration.nml", folder)
+    text = DISTORTED.read_text()
+    assert len(BORE_LINE.findall(text)) == 1
+    text = BORE_LINE.sub(bore, text)
+    deck = folder / "d.nml"
+    deck.write_text(text)
+    for name, content in (files or {}).items():
+        if isinstance(content, bytes):
+            (folder / name).write_bytes(content)
+        else:
+            (folder / name).write_text(content)
+    return deck
+
+
+def line_of(deck, group: str) -> int:
+    """The line of the deck that opens `group` (e.g. '&bore')."""
+    text = deck.read_text()
+    return text[: re.search(f"^{group} ", text, re.M).start()].count("\n") + 1
+
+
+def refused(solver, deck, message: str) -> None:
+    """ringlube-solve exits with an input error naming `message` and writes nothing; the
+    Python reader raises the same message."""
+    out = deck.parent / "r.h5"
+    p = subprocess.run([solver, str(deck), "-q", "-o", str(out)], capture_output=True, text=True)
+    assert p.returncode == 2, p.stderr
+    assert message in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert sorted(f.name for f in deck.parent.iterdir() if f.name.startswith("r.h5")) == []
+    with pytest.raises(InputError, match=re.escape(message)):
+        ringlube.Case.from_namelist(deck)
+
+
+# --- a distorted bore names its distortion ------------------------------------------------
+
+
+@pytest.mark.cli
+@pytest.mark.parametrize("bore", ["&bore sectors = 24 /", "&bore distortion_file = '' /", ""])
+def test_a_distorted_bore_without_its_distortion_is_refused(tmp_path, solver, bore):
+    """No lists and no file (or no `&bore` at all) is no distortion: refused at the line that
+    asks for a distorted bore, not run as a round bore on 24 sectors."""
+    deck = own_deck(tmp_path, bore)
+    line = line_of(deck, "&physics")
+    refused(solver, deck, f"d.nml:{line}: &physics bore: 'distorted' needs the distortion")
+    case = ringlube.Case().with_physics(bore="distorted", cavitation="jfo")
+    with pytest.raises(InputError, match="&physics bore: 'distorted' needs the distortion"):
+        case.validate()
+
+
+@pytest.mark.cli
+def test_a_phase_in_degrees_is_refused(tmp_path, solver):
+    """Phases are in rad, within one turn: 45 (degrees meant) is refused; 2 pi is read."""
+    deck = own_deck(tmp_path, "&bore order = 2, amplitude = 6.5e-6, phase = 45 /")
+    line = line_of(deck, "&bore")
+    refused(solver, deck, f"d.nml:{line}: &bore phase: value 1: must be in [-6.2832, 6.2832] rad")
+    case = ringlube.Case.from_namelist(DISTORTED)
+    assert case.with_bore(phase=[2 * np.pi, -2 * np.pi, 0.785]).validate() > 0
+
+
+# --- the distortion file -----------------------------------------------------------------
+
+ROWS = "0.0, 2, 6.5e-6, 0\n0.06, 2, 3e-6, 0.5\n0.0, 4, 2e-6, 0\n"
+
+
+def test_a_distortion_file_with_a_byte_order_mark_reads_as_without(tmp_path):
+    """A spreadsheet's UTF-8 byte-order mark before the first row (no header) is not data:
+    the file reads as the same file without it."""
+    for name, content in (("plain", ROWS.encode()), ("bom", b"\xef\xbb\xbf" + ROWS.encode())):
+        folder = tmp_path / name
+        folder.mkdir()
+        deck = own_deck(folder, "&bore distortion_file = 'dist.csv' /", {"dist.csv": content})
+        assert ringlube.Case.from_namelist(deck).validate() > 0
+
+
+@pytest.mark.cli
+def test_a_distortion_file_holds_at_most_ten_thousand_rows(tmp_path, solver):
+    rows = "".join(f"{i * 1e-6:.6e}, 2, 1e-6, 0\n" for i in range(10001))
+    deck = own_deck(tmp_path, "&bore distortion_file = 'dist.csv' /", {"dist.csv": rows})
+    refused(solver, deck, f"{tmp_path / 'dist.csv'}:10001: more than 10000 rows")
+    (tmp_path / "dist.csv").write_text(rows[: rows.rindex("\n", 0, len(rows) - 1) + 1])
+    assert ringlube.Case.from_namelist(deck).validate() > 0
+
+
+@pytest.mark.cli
+def test_the_rows_of_an_order_increase_in_z_between_rows_of_other_orders(tmp_path, solver):
+    """Rows of several orders may interleave; each order's own rows must increase in z."""
+    ok = "0.0, 2, 6.5e-6, 0\n0.0, 4, 3e-6, 0\n0.01, 2, 3e-6, 0\n0.01, 4, 3e-6, 0\n"
+    deck = own_deck(tmp_path, "&bore distortion_file = 'dist.csv' /", {"dist.csv": ok})
+    assert ringlube.Case.from_namelist(deck).validate() > 0
+    (tmp_path / "dist.csv").write_text("0.0, 2, 6.5e-6, 0\n0.01, 4, 3e-6, 0\n0.0, 2, 3e-6, 0\n")
+    refused(solver, deck, f"{tmp_path / 'dist.csv'}:3: the rows of order 2 must increase strictly in z")
+
+
+# --- the Python API ----------------------------------------------------------------------
+
+
+def test_numpy_lists_are_bore_lists():
+    """A numpy array, or a list of numpy scalars, is the list it holds."""
+    case = ringlube.Case.from_namelist(DISTORTED)
+    for order, amplitude in (
+        (np.array([2, 3, 4]), np.array([6.5e-6, 5e-6, 4e-6])),
+        ([np.int64(2), np.int64(3), np.int64(4)], list(np.array([6.5e-6, 5e-6, 4e-6]))),
+    ):
+        c = case.with_bore(order=order, amplitude=amplitude)
+        assert c["bore", "order"] == [2, 3, 4] and c["bore", "amplitude"] == [6.5e-6, 5e-6, 4e-6]
+        assert c.validate() > 0
+        assert c.value("bore", "amplitude") == [6.5e-6, 5e-6, 4e-6]
+
+
+@pytest.mark.parametrize("value", [[[2, 3], 4], np.array([[2], [3], [4]])])
+def test_a_list_of_lists_is_refused(value):
+    with pytest.raises(InputError, match="&bore order: a list of lists"):
+        ringlube.Case.from_namelist(DISTORTED).with_bore(order=value)
+
+
+def test_the_distortion_file_is_a_path_like_the_others(tmp_path, monkeypatch):
+    """Read from a deck, the file is absolute (a deck written elsewhere still finds it); set
+    in Python, a relative path means the working directory of when it was set."""
+    deck = own_deck(tmp_path, "&bore distortion_file = 'dist.csv' /", {"dist.csv": ROWS})
+    case = ringlube.Case.from_namelist(deck)
+    assert case["bore", "distortion_file"] == str(tmp_path / "dist.csv")
+    (tmp_path / "elsewhere").mkdir()
+    case.to_namelist(tmp_path / "elsewhere" / "d.nml")
+    assert ringlube.Case.from_namelist(tmp_path / "elsewhere" / "d.nml").validate() > 0
+    monkeypatch.chdir(tmp_path)
+    built = ringlube.Case().with_physics(bore="distorted", cavitation="jfo")
+    built = built.with_bore(distortion_file="dist.csv")
+    assert built["bore", "distortion_file"] == str(tmp_path / "dist.csv")
+    monkeypatch.chdir(tmp_path / "elsewhere")
+    assert built.validate() > 0
