@@ -156,3 +156,31 @@ def test_the_distortion_file_is_a_path_like_the_others(tmp_path, monkeypatch):
     assert built["bore", "distortion_file"] == str(tmp_path / "dist.csv")
     monkeypatch.chdir(tmp_path / "elsewhere")
     assert built.validate() > 0
+
+
+# --- the study deck's bore constraints ---------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "constraint, why",
+    [
+        ("light_gap_share <= -5", "light_gap_share is 0 .. 100 %"),
+        ("light_gap_share >= 101", "light_gap_share is 0 .. 100 %"),
+        ("conformability <= -1", "conformability is at least 0"),
+    ],
+)
+def test_a_bore_constraint_that_never_holds_is_refused(tmp_path, constraint, why):
+    """A bound outside the values the result can take would leave every design infeasible
+    after the whole study has run: refused when the study deck is read."""
+    from ringlube.study.deck import read_study
+
+    text = (INPUTS / "study_bore.nml").read_text()
+    text = re.sub(r"'(crf450r_\w+\.nml)'", lambda m: f"'{INPUTS / m.group(1)}'", text)
+    study = tmp_path / "study.nml"
+    study.write_text(text.replace("  batch = 2\n", f"  batch = 2\n  constraints = '{constraint}'\n"))
+    line = study.read_text().splitlines().index(f"  constraints = '{constraint}'") + 1
+    message = f"study.nml:{line}: &study constraints: '{constraint}' never holds: {why}"
+    with pytest.raises(InputError, match=re.escape(message)):
+        read_study(study)
+    study.write_text(text.replace("  batch = 2\n", "  batch = 2\n  constraints = 'light_gap_share <= 100'\n"))
+    assert [str(c) for c in read_study(study).parsed_constraints] == ["light_gap_share <= 100"]

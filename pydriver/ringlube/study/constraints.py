@@ -198,4 +198,24 @@ def parse_constraint(text: str) -> Constraint:
         ) from None
     if not math.isfinite(value):
         raise ValueError(f"'{text}': the bound must be a finite number")
+    low, high = _range(name, units[name])
+    if (sense == "<=" and value < low) or (sense == ">=" and value > high):
+        span = f"{_text(low)} .. {_text(high)} {units[name]}" if high < math.inf else f"at least {_text(low)}"
+        raise ValueError(f"'{text}' never holds: {name} is {span}")
     return Constraint(name, sense, value, 1.0, at)
+
+
+def _range(name: str, unit: str) -> tuple[float, float]:
+    """The values a result can take by its definition: a share 0 .. 100 %, a ratio over a
+    limit or a count at least 0; any other result unbounded.
+
+    Example
+    -------
+    >>> _range("light_gap_share", "%"), _range("conformability", "1"), _range("fmep", "Pa")
+    ((0.0, 100.0), (0.0, inf), (-inf, inf))
+    """
+    if name.endswith("_share") and unit == "%":
+        return 0.0, 100.0
+    if name in ("conformability", "flutter_events"):
+        return 0.0, math.inf
+    return -math.inf, math.inf
