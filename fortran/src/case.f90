@@ -790,6 +790,11 @@ contains
       if (mod(c%sectors, 2) /= 0) then
         call bad('bore', 'sectors', 'must be even, got '//itoa(c%sectors)); return
       end if
+      if (len(c%distortion_file) > 0 .and. size(c%bore_order) + size(c%bore_amplitude) + &
+          size(c%bore_phase) > 0) then
+        call bad('bore', 'distortion_file', 'give the distortion as the lists order, '// &
+                 'amplitude, phase or as a file, not both'); return
+      end if
       if (size(c%bore_amplitude) /= size(c%bore_order)) then
         call bad('bore', 'amplitude', 'must have one value per order ('// &
                  itoa(size(c%bore_order))//' orders, '//itoa(size(c%bore_amplitude))// &
@@ -810,10 +815,6 @@ contains
           call bad('bore', 'order', 'order '//itoa(c%bore_order(j))//' given twice'); return
         end if
       end do
-      if (len(c%distortion_file) > 0 .and. size(c%bore_order) > 0) then
-        call bad('bore', 'distortion_file', 'give the distortion as the lists order, '// &
-                 'amplitude, phase or as a file, not both'); return
-      end if
       if (len(c%distortion_file) == 0 .and. size(c%bore_order) == 0) then
         call bad('physics', 'bore', "'distorted' needs the distortion: &bore order and "// &
                  'amplitude, or &bore distortion_file (none is given)'); return

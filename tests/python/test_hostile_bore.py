@@ -119,6 +119,16 @@ def test_the_rows_of_an_order_increase_in_z_between_rows_of_other_orders(tmp_pat
     refused(solver, deck, f"{tmp_path / 'dist.csv'}:3: the rows of order 2 must increase strictly in z")
 
 
+@pytest.mark.cli
+@pytest.mark.parametrize("lists", ["order = 2, amplitude = 1e-6", "amplitude = 1e-6", "phase = 0.5"])
+def test_a_distortion_file_beside_any_list_is_refused(tmp_path, solver, lists):
+    """The file gives the orders, amplitudes and phases: a list beside it is the distortion
+    given twice (not a list of the wrong length)."""
+    deck = own_deck(tmp_path, f"&bore {lists}, distortion_file = 'dist.csv' /", {"dist.csv": ROWS})
+    line = line_of(deck, "&bore")
+    refused(solver, deck, f"d.nml:{line}: &bore distortion_file: give the distortion as the lists")
+
+
 # --- the Python API ----------------------------------------------------------------------
 
 
