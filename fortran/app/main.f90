@@ -32,9 +32,10 @@ program ringlube_solve
   character(len=:), allocatable :: deck, out, summary
   character(len=4096), allocatable :: inputs(:)
   !> what each of `inputs` is, for messages
-  character(len=*), parameter :: input_labels(4) = [character(len=20) :: &
+  character(len=*), parameter :: input_labels(5) = [character(len=20) :: &
                                                     'the deck', 'the pressure file', &
-                                                    'the calibration file', 'the profile file']
+                                                    'the calibration file', 'the profile file', &
+                                                    'the distortion file']
   character(len=4096) :: arg
   integer :: i, nargs
   logical :: made(n_scalars)
@@ -83,7 +84,8 @@ program ringlube_solve
   if (len(c%notes) > 0) write (error_unit, '(a)') 'ringlube-solve: warning: '//c%notes
   if (.not. allocated(out)) out = c%output_file
   ! refuse an unsafe output before spending time on the run
-  inputs = [character(len=4096) :: deck, c%pressure_file, c%calibration_file, c%profile_file]
+  inputs = [character(len=4096) :: deck, c%pressure_file, c%calibration_file, c%profile_file, &
+            c%distortion_file]
   call check_output(out, inputs, input_labels, err)
   if (allocated(err)) call die(err%message, err%code)
   ! the file records where it was written (-o, else the deck's &output file)

@@ -43,9 +43,10 @@ module ringlube_api
 
   character(len=1), parameter :: tab = achar(9), nl = achar(10)
   !> what the inputs of a run are, in output-file messages
-  character(len=*), parameter :: input_labels(4) = [character(len=20) :: &
+  character(len=*), parameter :: input_labels(5) = [character(len=20) :: &
                                                     'the deck', 'the pressure file', &
-                                                    'the calibration file', 'the profile file']
+                                                    'the calibration file', 'the profile file', &
+                                                    'the distortion file']
 
 contains
 
@@ -163,9 +164,10 @@ contains
       if (to_file) then
         call check_output(out_path, [character(len=max(len(c%deck_path), len(c%pressure_file), &
                                                        len(c%calibration_file), &
-                                                       len(c%profile_file), 1)) :: &
+                                                       len(c%profile_file), &
+                                                       len(c%distortion_file), 1)) :: &
                                      c%deck_path, c%pressure_file, c%calibration_file, &
-                                     c%profile_file], input_labels, err)
+                                     c%profile_file, c%distortion_file], input_labels, err)
         if (allocated(err)) return
       end if
       call system_clock(t0, rate)
@@ -178,8 +180,9 @@ contains
       cw = c
       cw%output_file = out_path
       call write_result(out_path, cw, res, err, &
-                        [character(len=max(len(c%calibration_file), len(c%profile_file))) :: &
-                         c%calibration_file, c%profile_file], input_labels(3:4))
+                        [character(len=max(len(c%calibration_file), len(c%profile_file), &
+                                           len(c%distortion_file))) :: &
+                         c%calibration_file, c%profile_file, c%distortion_file], input_labels(3:5))
     end associate
   end subroutine api_run
 

@@ -129,6 +129,20 @@ def test_a_distortion_file_beside_any_list_is_refused(tmp_path, solver, lists):
     refused(solver, deck, f"d.nml:{line}: &bore distortion_file: give the distortion as the lists")
 
 
+@pytest.mark.cli
+def test_the_distortion_file_is_never_the_output(tmp_path, solver):
+    """Like the deck and its other files, the distortion file is an input the result may not
+    replace: refused before the run, in ringlube-solve and in ringlube.run, the file intact."""
+    deck = own_deck(tmp_path, "&bore distortion_file = 'dist.csv' /", {"dist.csv": ROWS})
+    dist = tmp_path / "dist.csv"
+    p = subprocess.run([solver, str(deck), "-q", "-o", str(dist)], capture_output=True, text=True)
+    assert p.returncode == 2 and "the distortion file" in p.stderr, p.stderr
+    assert dist.read_text() == ROWS
+    with pytest.raises(InputError, match="the distortion file"):
+        ringlube.run(deck, output=dist)
+    assert dist.read_text() == ROWS
+
+
 # --- the Python API ----------------------------------------------------------------------
 
 
