@@ -33,11 +33,19 @@ _STROKE_NAMES = ("intake", "compression", "expansion", "exhaust")
 
 
 def _distorted(results: Sequence[CycleResult], what: str) -> list[tuple[int, CycleResult]]:
-    """The results with their index; an :class:`InputError` naming the first round one."""
-    results = list(results)
+    """The results with their index (one result: itself); an :class:`InputError` naming the
+    first that is no result or has a round bore."""
+    from .result import CycleResult
+
+    results = [results] if isinstance(results, CycleResult) else list(results)
     if not results:
         raise InputError(f"{what}: no result given")
     for i, r in enumerate(results):
+        if not isinstance(r, CycleResult):
+            raise InputError(
+                f"{what}: result {i + 1} is a {type(r).__name__}, not a result "
+                "(ringlube.run(case), or ringlube.load(path) of a result file)"
+            )
         if not getattr(r, "distorted", False):
             raise InputError(
                 f"{what}: '{result_label(r, i)}' has a round bore (no sectors); it needs a run with "
@@ -51,7 +59,7 @@ def crank_angles(text: str | Sequence[float]) -> tuple[float, ...]:
 
     Parameters
     ----------
-    text : str or sequence of float
+    text : str, float or sequence of float
 
     Returns
     -------
@@ -71,7 +79,12 @@ def crank_angles(text: str | Sequence[float]) -> tuple[float, ...]:
     ...
     ringlube.errors.InputError: --angles: 800 deg is outside the cycle (0 .. 720 deg)
     """
-    items = [t for t in text.replace(",", " ").split()] if isinstance(text, str) else list(text)
+    if isinstance(text, str):
+        items = text.replace(",", " ").split()
+    elif isinstance(text, Sequence) or hasattr(text, "tolist"):  # a list, a numpy array
+        items = list(np.ravel(text).tolist()) if hasattr(text, "tolist") else list(text)
+    else:  # one angle
+        items = [text]
     if not items:
         raise InputError("--angles: no crank angle given (e.g. --angles 0,90,180,270,360,380,540)")
     out = []

@@ -208,3 +208,34 @@ def test_a_bore_constraint_that_never_holds_is_refused(tmp_path, constraint, why
         read_study(study)
     study.write_text(text.replace("  batch = 2\n", "  batch = 2\n  constraints = 'light_gap_share <= 100'\n"))
     assert [str(c) for c in read_study(study).parsed_constraints] == ["light_gap_share <= 100"]
+
+
+# --- the bore figures ------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def distorted_result():
+    case = ringlube.Case().with_physics(bore="distorted", cavitation="jfo")
+    case = case.with_("bore", order=[4], amplitude=[10e-6], sectors=8).with_numerics(preset="fast")
+    return ringlube.run(case)
+
+
+def test_the_bore_figures_take_one_result_and_one_angle(distorted_result):
+    import matplotlib.pyplot as plt
+
+    from ringlube.plot_bore import bore_map_figure, bore_polar_figure, crank_angles, face_flow_figure
+
+    assert len(bore_polar_figure(distorted_result, angles=380).axes) == 1
+    assert crank_angles(np.array([90.0, 380.0])) == (90.0, 380.0) == crank_angles([90, 380])
+    bore_map_figure(distorted_result)
+    face_flow_figure(distorted_result)
+    plt.close("all")
+    with pytest.raises(InputError, match=r"--angles: 'None' is not a crank angle in deg"):
+        bore_polar_figure([distorted_result], angles=None)
+
+
+def test_the_bore_figures_name_what_is_not_a_result(distorted_result, tmp_path):
+    from ringlube.plot_bore import bore_map_figure
+
+    with pytest.raises(InputError, match=r"map of the gap: result 2 is a str, not a result \(ringlube.run"):
+        bore_map_figure([distorted_result, str(tmp_path / "r.h5")])
