@@ -14,7 +14,7 @@ module ringlube_bore
   use ringlube_kinds, only: dp, pi
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, elastic_pressure
-  use ringlube_textio, only: read_text_file, itoa
+  use ringlube_textio, only: read_text_file, itoa, after_bom
   use ringlube_gas, only: field_end, is_header, to_real, field_number, field_nonfinite
   implicit none
   private
@@ -239,10 +239,7 @@ contains
     nrow = 0
     nline = 0
     seen_header = .false.
-    pos = 1
-    if (len(text) >= 3) then   ! a UTF-8 byte-order mark (spreadsheets write one) is not data
-      if (text(1:3) == achar(239)//achar(187)//achar(191)) pos = 4
-    end if
+    pos = after_bom(text)   ! a UTF-8 byte-order mark (spreadsheets write one) is not data
     do while (pos <= len(text))
       eol = field_end(text, pos, new_line('a'))
       line = trim(adjustl(text(pos:eol - 1)))

@@ -113,3 +113,16 @@ def test_the_distortion_file_takes_the_same_field_rules(base, tmp_path, row, why
     with pytest.raises(InputError) as e:
         ringlube.run(case)
     assert f"{path}:5: {why}" in str(e.value)
+
+
+def test_a_profile_with_a_byte_order_mark_and_no_header_reads_as_without(base, tmp_path):
+    # (spreadsheets write the mark; the pressure trace, the distortion file and the deck skip it)
+    x = [0.0, 0.25e-3, 0.502e-3, 0.75e-3, 1.004e-3]
+    rows = "".join(f"{xi!r},{9.31e-6 * ((xi - 0.502e-3) / 0.502e-3) ** 2!r}\n" for xi in x)
+    energies = []
+    for name, content in (("plain", rows.encode()), ("bom", b"\xef\xbb\xbf" + rows.encode())):
+        path = tmp_path / f"{name}.csv"
+        path.write_bytes(content)
+        r = ringlube.run(base.with_ring(profile="table", profile_file=str(path)))
+        energies.append(r.energy_loss)
+    assert energies[1] == energies[0]
