@@ -41,6 +41,7 @@ __all__ = [
     "pick_designs",
     "run_at_every_point",
     "sample_designs",
+    "ties",
 ]
 
 #: Designs of the merged Pareto set re-simulated per case to choose from (the surrogate's
@@ -161,10 +162,33 @@ def sample_designs(study: Study, label: str) -> Checked:
     )
 
 
+def ties(f: np.ndarray, g: np.ndarray, rtol: float = DOMINANCE_RTOL) -> np.ndarray:
+    """Which values of ``f`` tie with ``g``'s (broadcast): they differ by no more than ``rtol``
+    times the larger magnitude (a value that is not a number ties with nothing).
+
+    Parameters
+    ----------
+    f, g : array_like
+    rtol : float
+
+    Returns
+    -------
+    ndarray of bool
+
+    Example
+    -------
+    >>> ties(np.array([[2.043, 0.1663]]), np.array([2.041, 0.2295])).tolist()
+    [[True, False]]
+    """
+    f, g = np.asarray(f, float), np.asarray(g, float)
+    with np.errstate(invalid="ignore"):
+        return np.abs(f - g) <= rtol * np.maximum(np.abs(f), np.abs(g))
+
+
 def dominates(f: np.ndarray, g: np.ndarray, rtol: float = DOMINANCE_RTOL) -> np.ndarray:
     """Which rows of ``f`` dominate the design ``g`` (objectives minimised): no worse in every
     objective and better in at least one, where two values that differ by no more than
-    ``rtol`` times the larger magnitude are a tie (neither better nor worse). A row or a ``g``
+    ``rtol`` times the larger magnitude are a tie (:func:`ties`: neither better nor worse). A row or a ``g``
     with a value that is not a number dominates nothing.
 
     Parameters
@@ -186,9 +210,9 @@ def dominates(f: np.ndarray, g: np.ndarray, rtol: float = DOMINANCE_RTOL) -> np.
     f, g = np.atleast_2d(np.asarray(f, float)), np.asarray(g, float)
     if not np.isfinite(g).all():
         return np.zeros(len(f), bool)
+    tie = ties(f, g, rtol)
     with np.errstate(invalid="ignore"):
-        tol = rtol * np.maximum(np.abs(f), np.abs(g))
-        better, worse = f < g - tol, f > g + tol
+        better, worse = (f < g) & ~tie, (f > g) & ~tie
     return np.isfinite(f).all(axis=1) & ~worse.any(axis=1) & better.any(axis=1)
 
 

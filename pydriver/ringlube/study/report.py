@@ -15,7 +15,7 @@ import numpy as np
 
 from ..outputs import check_output, write_text
 from .bounds import constraint_bounds, point_violations, unconverged_reference
-from .check import FRONT_CHECKS, candidates_text, dominating_samples
+from .check import FRONT_CHECKS, candidates_text, dominating_samples, ties
 from .figures import BORE_FIGURES, study_figures, tradeoff_stems
 from .format import (
     BRANCH_RISK,
@@ -153,8 +153,8 @@ def dominating_lines(study: Study, label: str) -> list[str]:
         k = len(set(d.sample.tolist()))
         L.append(
             f"**{k} of the {d.compared} {good} {'dominates' if k == 1 else 'dominate'} a chosen design** "
-            f"({how}): {per}. The surfaces misplaced the front there: the true model already "
-            "found a better design than the chosen one."
+            f"({how}, marked '(tie)' below): {per}. The surfaces misplaced the front there: the "
+            "true model already found a better design than the chosen one."
         )
         heads = [display(v, u, lo, hi) for v, u, lo, hi in zip(s.variables, s.units, s.lower, s.upper)]
         shown = [result_display(o) for o in s.objectives]
@@ -178,7 +178,10 @@ def dominating_lines(study: Study, label: str) -> list[str]:
                     f"| {n} | {d.sample[r]} | "
                     + " | ".join(f"{xi * k:.4g}" for xi, (_, k) in zip(d.x[r], heads))
                     + " | "
-                    + " | ".join(f"{a * k:.4g} / {b * k:.4g}" for a, b, (_, k) in zip(d.f[r], g, shown))
+                    + " | ".join(
+                        f"{a * k:.4g} / {b * k:.4g}" + (" (tie)" if tie else "")
+                        for a, b, tie, (_, k) in zip(d.f[r], g, ties(d.f[r], g, d.rtol), shown)
+                    )
                     + " |"
                 )
             if len(rows) > DOMINATING_SHOWN:
