@@ -71,7 +71,7 @@ def test_no_dominating_sample_is_said(plain, tmp_path):
     assert (
         f"None of the {plain.s.samples} good samples of the design of experiments (run by the true "
         "model: converged, on the liner) dominates a chosen design (no worse in every objective and "
-        "better in at least one, differences below 0.1% of the larger value counting as ties)."
+        "better in at least one, differences of at most 0.1% of the larger value counting as ties)."
     ) in report
 
 
@@ -189,3 +189,22 @@ def test_a_resumed_study_file_without_the_comparison_gets_it(plain, tmp_path):
     assert again.cases["cold"].dominating is not None and again.cases["cold"].dominating.compared == 40
     with h5py.File(plain.path) as h:
         assert "cases/cold/dominating" in h
+
+
+def test_one_or_no_good_sample_is_said(plain):
+    """With one good sample the sentence names it as one; with none, it says the chosen designs
+    were compared with none (not that none dominates)."""
+    c = plain.cases["cold"]
+    c.runs.converged[1:] = False
+    c.dominating = dominating_samples(plain, "cold")
+    assert c.dominating.compared == 1 and len(c.dominating.sample) == 0
+    assert dominating_lines(plain, "cold")[0].startswith(
+        "The one good sample of the design of experiments (run by the true model: converged, on the "
+        "liner) does not dominate a chosen design ("
+    )
+    c.runs.converged[0] = False
+    c.dominating = dominating_samples(plain, "cold")
+    assert dominating_lines(plain, "cold") == [
+        "No sample of the design of experiments is good by the true model: the chosen designs were "
+        "compared with none."
+    ]

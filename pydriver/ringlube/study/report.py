@@ -125,18 +125,22 @@ def dominating_lines(study: Study, label: str) -> list[str]:
         return []
     d = c.dominating if c.dominating is not None else dominating_samples(study, label)
     how = (
-        "no worse in every objective and better in at least one, differences below "
+        "no worse in every objective and better in at least one, differences of at most "
         f"{d.rtol:.1%} of the larger value counting as ties"
     )
-    good = (
-        "good samples of the design of experiments (run by the true model: converged, on the liner"
+    why = (
+        "(run by the true model: converged, on the liner"
         + (", within the constraints" if s.constraints else "")
         + ")"
     )
+    good = f"good samples of the design of experiments {why}"
     L = []
     if not len(d.sample):
         L.append(
             f"None of the {d.compared} {good} dominates a chosen design ({how})."
+            if d.compared > 1
+            else f"The one good sample of the design of experiments {why} does not dominate a chosen "
+            f"design ({how})."
             if d.compared
             else "No sample of the design of experiments is good by the true model: the chosen "
             "designs were compared with none."
