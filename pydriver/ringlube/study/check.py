@@ -7,6 +7,10 @@ chosen designs are the extremes and the knee of those that are good by the true 
 (:func:`pick_designs`: converged, on the liner, within the constraints). A surface that fits
 a stepped result poorly (blowby, flutter) then moves no chosen design onto a design the true
 model rejects, as long as one of the candidates is good.
+
+The surfaces can still misplace the front: the study's own samples, already run with the true
+model, are compared with each chosen design (:func:`dominating_samples`), and those that
+dominate one are kept and reported.
 """
 
 from __future__ import annotations
@@ -21,23 +25,34 @@ from .bounds import feasibility
 from .format import format_design, lift_share
 from .optimise import choose_designs, extremes_and_knee, nondominated
 from .runs import _bases
-from .state_checks import Checked
+from .state_checks import Checked, Dominating
 from .store import Study
 from .surfaces import predict
 
 __all__ = [
     "FRONT_CHECKS",
+    "DOMINANCE_RTOL",
     "candidate_designs",
     "candidates_text",
     "check_designs",
+    "dominates",
+    "dominating_samples",
     "good_designs",
     "pick_designs",
     "run_at_every_point",
+    "sample_designs",
+    "ties",
 ]
 
 #: Designs of the merged Pareto set re-simulated per case to choose from (the surrogate's
 #: extremes and knee among them).
 FRONT_CHECKS = 32
+
+#: Relative difference of two true-model values of an objective below which they count as a
+#: tie when a sample is compared with a chosen design (:func:`dominates`): the kernel's default
+#: periodicity tolerance (``&numerics cycle_tol``), below which a converged cycle's results are
+#: not known.
+DOMINANCE_RTOL = 1e-3
 
 
 def candidate_designs(study: Study, n: int = FRONT_CHECKS) -> dict[str, tuple[list[str], np.ndarray]]:
@@ -106,6 +121,165 @@ def good_designs(study: Study, label: str, ch: Checked) -> np.ndarray:
     ok &= feasibility(study, label, f, ch.points)
     ok &= np.array([lift_share(study, ft) == 0 for ft in f], bool)
     return ok
+
+
+def sample_designs(study: Study, label: str) -> Checked:
+    """The samples of a case (its design of experiments, as run by the true model) as a
+    :class:`Checked`, so that :func:`good_designs` judges them by the candidates' rules: a
+    sample not run, failed or not converged counts as not converged; the scene's samples carry
+    their results at every point (its point constraints). Rows are the samples' indices.
+
+    Parameters
+    ----------
+    study : Study
+        With samples run.
+    label : str
+        Case label or ``scene``.
+
+    Returns
+    -------
+    Checked
+        Named ``sample 0``, ``sample 1``, ...; no surrogate values (NaN).
+
+    Example
+    -------
+    >>> good_designs(study, "cold", sample_designs(study, "cold")).sum()   # doctest: +SKIP
+    1019
+    """
+    r = study.cases[label].runs
+    f = np.atleast_2d(r.outputs)
+    points = None
+    if label not in study.s.labels:  # the scene: each point's own runs of the same samples
+        points = {p: np.atleast_2d(study.cases[p].runs.outputs) for p in study.s.labels}
+    return Checked(
+        [f"sample {i}" for i in range(len(f))],
+        np.asarray(study.x),
+        f,
+        np.full(f.shape, np.nan),
+        np.asarray(r.done, bool) & np.asarray(r.converged, bool) & ~np.asarray(r.failed, bool),
+        list(r.errors),
+        points,
+    )
+
+
+def ties(f: np.ndarray, g: np.ndarray, rtol: float = DOMINANCE_RTOL) -> np.ndarray:
+    """Which values of ``f`` tie with ``g``'s (broadcast): they differ by no more than ``rtol``
+    times the larger magnitude (a value that is not a number ties with nothing).
+
+    Parameters
+    ----------
+    f, g : array_like
+    rtol : float
+
+    Returns
+    -------
+    ndarray of bool
+
+    Example
+    -------
+    >>> ties(np.array([[2.043, 0.1663]]), np.array([2.041, 0.2295])).tolist()
+    [[True, False]]
+    """
+    f, g = np.asarray(f, float), np.asarray(g, float)
+    with np.errstate(invalid="ignore"):
+        return np.abs(f - g) <= rtol * np.maximum(np.abs(f), np.abs(g))
+
+
+def dominates(f: np.ndarray, g: np.ndarray, rtol: float = DOMINANCE_RTOL) -> np.ndarray:
+    """Which rows of ``f`` dominate the design ``g`` (objectives minimised): no worse in every
+    objective and better in at least one, where two values that differ by no more than
+    ``rtol`` times the larger magnitude are a tie (:func:`ties`: neither better nor worse). A row or a ``g``
+    with a value that is not a number dominates nothing.
+
+    Parameters
+    ----------
+    f : ndarray, shape (k, m)
+    g : ndarray, shape (m,)
+    rtol : float
+
+    Returns
+    -------
+    ndarray of bool, shape (k,)
+
+    Example
+    -------
+    >>> f = np.array([[1.0, 1.0], [1.0, 2.0], [0.9995, 2.0], [0.5, 3.0]])
+    >>> dominates(f, np.array([1.0, 2.0])).tolist()
+    [True, False, False, False]
+    """
+    f, g = np.atleast_2d(np.asarray(f, float)), np.asarray(g, float)
+    if not np.isfinite(g).all():
+        return np.zeros(len(f), bool)
+    tie = ties(f, g, rtol)
+    with np.errstate(invalid="ignore"):
+        better, worse = (f < g) & ~tie, (f > g) & ~tie
+    return np.isfinite(f).all(axis=1) & ~worse.any(axis=1) & better.any(axis=1)
+
+
+def dominating_samples(study: Study, label: str, rtol: float = DOMINANCE_RTOL) -> Dominating:
+    """The good samples of a case (:func:`sample_designs` judged by :func:`good_designs`:
+    converged, on the liner, within the constraints, by the true model) that dominate one of
+    its chosen designs in the study's objectives (:func:`dominates`), per chosen design (those
+    chosen twice, at one design, together) those not dominated by another good sample first,
+    then by sample index.
+
+    The chosen designs are the true model's best among designs of the surrogate's front; the
+    surfaces may have put that front elsewhere than the true model's, and a sample the study
+    already ran that beats a chosen design says so.
+
+    Parameters
+    ----------
+    study : Study
+        With chosen designs.
+    label : str
+        Case label or ``scene``.
+    rtol : float
+        Relative tolerance of a tie.
+
+    Returns
+    -------
+    Dominating
+
+    Example
+    -------
+    >>> dominating_samples(study, "r12000").chosen              # doctest: +SKIP
+    ['min energy_loss', 'knee']
+    """
+    c = study.cases[label]
+    cols = study.objective_columns()
+    good = np.flatnonzero(good_designs(study, label, sample_designs(study, label)))
+    fg = np.atleast_2d(np.asarray(c.runs.outputs))[good][:, cols]
+    front = np.zeros(len(good), bool)
+    if len(good):
+        front[np.asarray(nondominated(fg), int)] = True
+    chosen, sample, not_compared = [], [], []
+    seen: list[tuple[np.ndarray, list[str]]] = []  # one entry per distinct chosen design
+    for n, x in zip(c.chosen.names, c.chosen.x):
+        same = [names for xs, names in seen if np.array_equal(xs, x)]
+        if same:
+            same[0].append(n)
+        else:
+            seen.append((np.asarray(x), [n]))
+    for x, names in seen:
+        i = next(k for k, xc in enumerate(c.chosen.x) if np.array_equal(xc, x))
+        g = np.atleast_2d(c.chosen.f_true)[i, cols]
+        if not np.isfinite(g).all():
+            not_compared.append(", ".join(names))
+            continue
+        rows = np.flatnonzero(dominates(fg, g, rtol))
+        rows = sorted(rows, key=lambda k: (not front[k], good[k]))
+        chosen += [", ".join(names)] * len(rows)
+        sample += [int(good[k]) for k in rows]
+    sample_a = np.array(sample, int)
+    return Dominating(
+        chosen,
+        sample_a,
+        np.asarray(study.x)[sample_a].reshape(len(sample_a), len(study.s.variables)),
+        np.atleast_2d(np.asarray(c.runs.outputs))[sample_a][:, cols].reshape(len(sample_a), len(cols)),
+        len(good),
+        rtol,
+        not_compared,
+    )
 
 
 def pick_designs(study: Study, label: str, cand: Checked) -> Checked:
@@ -279,6 +453,7 @@ def check_designs(study: Study, ex: Executor, which: tuple[str, ...] = ("chosen"
     if "chosen" in which:
         for label, c in study.cases.items():
             c.chosen = pick_designs(study, label, c.candidates)
+            c.dominating = dominating_samples(study, label)
         run_at_every_point(study, ex)
 
 

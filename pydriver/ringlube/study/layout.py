@@ -7,7 +7,7 @@ matrix carries ``columns`` and ``units`` attributes (UTF-8 strings), e.g.
 record itself (``to_h5``/``from_h5`` of :mod:`ringlube.study.state`,
 :mod:`ringlube.study.state_checks` and :class:`~ringlube.study.surrogate.QuadraticSurface`):
 ``runs``, ``surface/RESULT``, ``repeats/rK/{x,f}``, ``front``, ``candidates``, ``chosen``,
-``reference``, ``sure``, ``direct_generations/gK`` and ``direct`` (the last two with the
+``reference``, ``dominating``, ``sure``, ``direct_generations/gK`` and ``direct`` (the last two with the
 ``key`` of the direct settings they were computed with). Beside the cases, ``/check_runs``
 holds the finished true-model runs of the later stages (:func:`write_check_runs`).
 """
@@ -20,7 +20,7 @@ import numpy as np
 from .h5 import put, put_strings, strings, text
 from .settings import StudySettings
 from .state import CaseState, Front, Runs
-from .state_checks import Checked, Direct, DirectGeneration, Sure
+from .state_checks import Checked, Direct, DirectGeneration, Dominating, Sure
 from .surrogate import QuadraticSurface
 from .variables import output_units
 
@@ -60,6 +60,8 @@ def write_case(g: h5py.Group, c: CaseState, s: StudySettings) -> None:
         ch: Checked | None = getattr(c, key)
         if ch is not None:
             ch.to_h5(g.create_group(key), s)
+    if c.dominating is not None:
+        c.dominating.to_h5(g.create_group("dominating"), s)
     if c.sure is not None:
         c.sure.to_h5(g.create_group("sure"), s)
     direct_key = s.derived_key(g.name.rsplit("/", 1)[-1], direct=True)
@@ -109,6 +111,8 @@ def read_case(g: h5py.Group, s: StudySettings) -> CaseState:
     for key in ("candidates", "chosen", "reference"):
         if key in g:
             setattr(c, key, Checked.from_h5(g[key]))
+    if "dominating" in g:  # (absent in files written before it: computed again from the runs)
+        c.dominating = Dominating.from_h5(g["dominating"])
     if "sure" in g:
         c.sure = Sure.from_h5(g["sure"])
     direct_key = s.derived_key(g.name.rsplit("/", 1)[-1], direct=True)

@@ -31,7 +31,7 @@ import numpy as np
 from ..errors import InputError
 from ..executor import Executor, require
 from ..outputs import check_output
-from .check import check_designs
+from .check import check_designs, dominating_samples
 from .deck import read_study
 from .direct import direct
 from .optimise import optimise
@@ -196,6 +196,11 @@ def _pipeline(
             for c in study.cases.values():
                 c.sure = None
             study.stages.add("checked")
+            study.save()
+        if any(c.chosen is not None and c.dominating is None for c in study.cases.values()):
+            for label, c in study.cases.items():  # a file written before the comparison was stored
+                if c.chosen is not None and c.dominating is None:
+                    c.dominating = dominating_samples(study, label)
             study.save()
         if any(c.sure is None for c in study.cases.values()):
             how_sure(study, ex)

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..outputs import check_output, write_text
 from .bounds import constraint_bounds, point_violations, unconverged_reference
-from .check import FRONT_CHECKS, candidates_text
+from .check import FRONT_CHECKS, candidates_text, dominating_samples, ties
 from .figures import BORE_FIGURES, study_figures, tradeoff_stems
 from .format import (
     BRANCH_RISK,
@@ -39,6 +39,7 @@ from .variables import display, output_units
 
 __all__ = [
     "write_report",
+    "dominating_lines",
     "how_sure_lines",
     "branch_risk_lines",
     "every_point_lines",
@@ -90,6 +91,120 @@ def _design_table(study: Study, ch: Checked, label: str = "") -> list[str]:
             + (f" {_feasible_text(study, label, ft, design_points(ch, i))} |" if cons else "")
         )
     return rows
+
+
+#: Dominating samples shown per chosen design in ``report.md`` (all are in the study file).
+DOMINATING_SHOWN = 5
+
+
+def dominating_lines(study: Study, label: str) -> list[str]:
+    """The paragraph of ``report.md`` that says, for a case, which good samples of its design
+    of experiments (true model) dominate one of its chosen designs: one sentence and a table
+    (sample, its design, its objectives beside the chosen design's), or one sentence saying
+    none does ([] without chosen designs). From the case's stored comparison
+    (:attr:`~ringlube.study.state.CaseState.dominating`; made from the runs if absent).
+
+    Parameters
+    ----------
+    study : Study
+    label : str
+        Case label or ``scene``.
+
+    Returns
+    -------
+    list of str
+        Markdown lines.
+
+    Example
+    -------
+    >>> dominating_lines(study, "cold")[0]                    # doctest: +SKIP
+    'None of the 1019 good samples of the design of experiments ... dominates a chosen design ...'
+    """
+    s, c = study.s, study.cases[label]
+    if c.chosen is None:
+        return []
+    d = c.dominating if c.dominating is not None else dominating_samples(study, label)
+    how = (
+        "no worse in every objective and better in at least one, differences of at most "
+        f"{d.rtol:.1%} of the larger value counting as ties"
+    )
+    why = (
+        "(run by the true model: converged, on the liner"
+        + (", within the constraints" if s.constraints else "")
+        + ")"
+    )
+    good = f"good samples of the design of experiments {why}"
+    L = []
+    if not len(d.sample):
+        L.append(
+            f"None of the {d.compared} {good} dominates a chosen design ({how})."
+            if d.compared > 1
+            else f"The one good sample of the design of experiments {why} does not dominate a chosen "
+            f"design ({how})."
+            if d.compared
+            else "No sample of the design of experiments is good by the true model: the chosen "
+            "designs were compared with none."
+        )
+    else:
+        named = list(dict.fromkeys(d.chosen))
+        per = "; ".join(
+            f"{n} by {len(d.rows_of(n))} samples"
+            if len(d.rows_of(n)) > DOMINATING_SHOWN
+            else f"{n} by sample{'s' if len(d.rows_of(n)) > 1 else ''} "
+            + ", ".join(str(k) for k in d.sample[d.rows_of(n)])
+            for n in named
+        )
+        k = len(set(d.sample.tolist()))
+        L.append(
+            f"**{k} of the {d.compared} {good} {'dominates' if k == 1 else 'dominate'} a chosen design** "
+            f"({how}, marked '(tie)' below): {per}. The surfaces misplaced the front there: the "
+            "true model already found a better design than the chosen one."
+        )
+        heads = [display(v, u, lo, hi) for v, u, lo, hi in zip(s.variables, s.units, s.lower, s.upper)]
+        shown = [result_display(o) for o in s.objectives]
+        L += [
+            "",
+            "| chosen design | sample | "
+            + " | ".join(h for h, _ in heads)
+            + " | "
+            + " | ".join(f"{o} [{u}] sample / chosen" for o, (u, _) in zip(s.objectives, shown))
+            + " |",
+            "|" + "---|" * (2 + len(heads) + len(shown)),
+        ]
+        cols = study.objective_columns()
+        more = []
+        for n in named:
+            rows = d.rows_of(n)
+            first = c.chosen.names.index(n.split(", ")[0])
+            g = np.atleast_2d(c.chosen.f_true)[first, cols]
+            for r in rows[:DOMINATING_SHOWN]:
+                L.append(
+                    f"| {n} | {d.sample[r]} | "
+                    + " | ".join(f"{xi * k:.4g}" for xi, (_, k) in zip(d.x[r], heads))
+                    + " | "
+                    + " | ".join(
+                        f"{a * k:.4g} / {b * k:.4g}" + (" (tie)" if tie else "")
+                        for a, b, tie, (_, k) in zip(d.f[r], g, ties(d.f[r], g, d.rtol), shown)
+                    )
+                    + " |"
+                )
+            if len(rows) > DOMINATING_SHOWN:
+                more.append(f"{n}: the first {DOMINATING_SHOWN} of {len(rows)}")
+        L += [
+            "",
+            "Samples are rows of the study file's `samples/x` and `cases/"
+            + label
+            + "/runs/outputs` (from 0); those not dominated by another good sample come first"
+            + (f" ({'; '.join(more)}; all in `cases/{label}/dominating`)" if more else "")
+            + ".",
+        ]
+    if d.not_compared:
+        L.append(
+            "Not compared (their re-simulation gave no value of an objective): "
+            + ", ".join(d.not_compared)
+            + "."
+        )
+    return L
 
 
 def every_point_lines(study: Study) -> list[str]:
@@ -324,6 +439,7 @@ def write_report(study: Study, out: str | os.PathLike, figures: list[Path] | Non
                     "The reference design lies outside the design box: its surrogate "
                     "values are extrapolated.",
                 ]
+        L += ["", *dominating_lines(study, label)]
     L += every_point_lines(study)
     L += how_sure_lines(study)
     direct = [(label, c.direct) for label, c in study.cases.items() if c.direct is not None]

@@ -21,7 +21,7 @@ import numpy as np
 
 from .h5 import put, put_strings, strings
 from .settings import StudySettings
-from .state_checks import Checked, Direct, DirectGeneration, Sure
+from .state_checks import Checked, Direct, DirectGeneration, Dominating, Sure
 from .surrogate import QuadraticSurface
 from .variables import OUTPUTS, output_units
 
@@ -221,6 +221,8 @@ class CaseState:
     candidates: Checked | None = None
     chosen: Checked | None = None
     reference: Checked | None = None
+    #: the good samples that dominate a chosen design by the true model (check.dominating_samples)
+    dominating: Dominating | None = None
     direct: Direct | None = None
     direct_generations: list[DirectGeneration] = dataclasses.field(default_factory=list)
     sure: Sure | None = None

@@ -2,10 +2,11 @@
 (``to_h5``/``from_h5`` as in :mod:`ringlube.study.state`).
 
 The designs chosen on the surrogate front and the reference re-simulated (:class:`Checked`),
+the study's own samples that dominate a chosen design by the true model (:class:`Dominating`),
 how sure the answer is (:class:`Sure`), and the direct NSGA-II on the true model
 (:class:`Direct`) with its per-generation checkpoints (:class:`DirectGeneration`). They are
 part of a case's :class:`~ringlube.study.state.CaseState`; :mod:`ringlube.study.layout`
-places them in the study file (``chosen``, ``reference``, ``sure``, ``direct``,
+places them in the study file (``chosen``, ``reference``, ``dominating``, ``sure``, ``direct``,
 ``direct_generations/gK``).
 """
 
@@ -20,7 +21,7 @@ from .h5 import put, put_strings, strings, text
 from .settings import StudySettings
 from .variables import output_units
 
-__all__ = ["Checked", "Sure", "Direct", "DirectGeneration"]
+__all__ = ["Checked", "Dominating", "Sure", "Direct", "DirectGeneration"]
 
 
 @dataclasses.dataclass
@@ -135,6 +136,110 @@ class Checked:
             group["converged"][()].astype(bool),
             strings(group["errors"]),
             {p: v[()] for p, v in group["points"].items()} if "points" in group else None,
+        )
+
+
+@dataclasses.dataclass
+class Dominating:
+    """The good samples of a case (true-model runs of the design of experiments: converged,
+    on the liner, within the constraints) that dominate one of its chosen designs by the true
+    model: no worse in every objective and better in at least one, a difference below ``rtol``
+    of the larger magnitude counting as a tie
+    (:func:`~ringlube.study.check.dominating_samples`). No rows: none does.
+
+    Attributes
+    ----------
+    chosen : list of str
+        The chosen design each row dominates (designs chosen twice, e.g. ``min energy_loss``
+        and ``knee`` at one design, named together: ``min energy_loss, knee``).
+    sample : ndarray of int
+        The dominating sample of each row: its row of ``samples/x`` and ``runs/outputs``.
+    x : ndarray, shape (k, d)
+        The samples' designs.
+    f : ndarray, shape (k, len(objectives))
+        The samples' objectives (true model).
+    compared : int
+        Good samples the chosen designs were compared with.
+    rtol : float
+        The relative tolerance of a tie.
+    not_compared : list of str
+        Chosen designs whose own objectives are not all numbers (a failed re-simulation): not
+        compared.
+
+    Example
+    -------
+    >>> d = Dominating(["knee"], np.array([7]), np.zeros((1, 1)), np.ones((1, 2)), 60, 1e-3, [])
+    >>> d.rows_of("knee").tolist(), d.rows_of("min energy_loss").tolist()
+    ([0], [])
+    """
+
+    chosen: list[str]
+    sample: np.ndarray
+    x: np.ndarray
+    f: np.ndarray
+    compared: int
+    rtol: float
+    not_compared: list[str] = dataclasses.field(default_factory=list)
+
+    def rows_of(self, chosen: str) -> np.ndarray:
+        """The rows that dominate the chosen design(s) named ``chosen``.
+
+        Parameters
+        ----------
+        chosen : str
+
+        Returns
+        -------
+        ndarray of int
+
+        Example
+        -------
+        >>> Dominating([], np.zeros(0, int), np.zeros((0, 1)), np.zeros((0, 1)), 0, 1e-3).rows_of("knee")
+        array([], dtype=int64)
+        """
+        return np.array([i for i, c in enumerate(self.chosen) if c == chosen], int)
+
+    def to_h5(self, group: h5py.Group, s: StudySettings) -> None:
+        """Write the dominating samples into the empty ``group`` (``/cases/LABEL/dominating``),
+        every matrix labelled; ``compared`` and ``rtol`` as attributes.
+
+        Example
+        -------
+        >>> s = StudySettings("s", ["a.nml"], ["c"], [1.0], ["width"], [0.0], [1.0],
+        ...                   ["energy_loss"], units=["m"])
+        >>> with h5py.File("x.h5", "w", driver="core", backing_store=False) as f:
+        ...     Dominating(["knee"], np.array([7]), np.zeros((1, 1)), np.ones((1, 1)), 60, 1e-3,
+        ...                []).to_h5(f.create_group("dominating"), s)
+        ...     d = Dominating.from_h5(f["dominating"])
+        ...     d.chosen, d.sample.tolist(), d.compared, d.rtol
+        (['knee'], [7], 60, 0.001)
+        """
+        units = output_units()
+        put_strings(group, "chosen", self.chosen)
+        group.create_dataset("sample", data=np.asarray(self.sample, np.int64))
+        put(group, "x", np.asarray(self.x).reshape(len(self.sample), len(s.variables)), s.variables, s.units)
+        put(
+            group,
+            "f",
+            np.asarray(self.f).reshape(len(self.sample), len(s.objectives)),
+            s.objectives,
+            [units[o] for o in s.objectives],
+        )
+        put_strings(group, "not_compared", self.not_compared)
+        group.attrs["compared"] = int(self.compared)
+        group.attrs["rtol"] = float(self.rtol)
+
+    @classmethod
+    def from_h5(cls, group: h5py.Group) -> Dominating:
+        """The dominating samples :meth:`to_h5` wrote into ``group`` (``/cases/cold/dominating``)."""
+        return cls(
+            strings(group["chosen"]),
+            group["sample"][()].astype(int),
+            group["x"][()],
+            group["f"][()],
+            int(group.attrs["compared"]),
+            float(group.attrs["rtol"]),
+            strings(group["not_compared"]),
         )
 
 
