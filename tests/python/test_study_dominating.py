@@ -15,6 +15,7 @@ from ringlube.study import run_study
 from ringlube.study.check import DOMINANCE_RTOL, dominates, dominating_samples
 from ringlube.study.report import dominating_lines, write_report
 from ringlube.study.store import Study
+from ringlube.study.summary import summary
 
 pytestmark = pytest.mark.unit
 
@@ -208,3 +209,16 @@ def test_one_or_no_good_sample_is_said(plain):
         "No sample of the design of experiments is good by the true model: the chosen designs were "
         "compared with none."
     ]
+
+
+def test_the_printed_summary_warns_of_a_dominating_sample(plain):
+    """The summary printed at the end of a study warns where a good sample dominates a chosen
+    design, and says nothing of it where none does."""
+    assert "dominate a chosen design" not in summary(plain)
+    knee_beaten_by(plain, 11)
+    plain.cases["cold"].dominating = dominating_samples(plain, "cold")
+    text = summary(plain)
+    assert (
+        f"  warning: 1 of the {plain.s.samples} good samples dominate a chosen design (knee) by the "
+        "true model: the surfaces misplaced the front there (report.md names them)"
+    ) in text.splitlines()

@@ -116,6 +116,13 @@ def summary(study: Study) -> str:
                         else ""
                     )
                 )
+        dom = c.dominating
+        if dom is not None and len(dom.sample):
+            lines.append(
+                f"  warning: {len(set(dom.sample.tolist()))} of the {dom.compared} good samples "
+                f"dominate a chosen design ({', '.join(dict.fromkeys(dom.chosen))}) by the true "
+                "model: the surfaces misplaced the front there (report.md names them)"
+            )
         d = c.direct
         if d is not None:
             lines.append(
