@@ -14,6 +14,8 @@ from ringlube.errors import InputError
 
 from conftest import COLD
 
+pytestmark = [pytest.mark.unit, pytest.mark.io]
+
 # a header, a comment and a blank line before the first row: the fifth line is the second row
 HEAD_P = "crank_deg,p_Pa\r\n# measured\r\n\r\n0,1e5\r\n"
 HEAD_S = "x_m,S_m\r\n# measured\r\n\r\n0,0\r\n"
