@@ -239,3 +239,47 @@ def test_the_bore_figures_name_what_is_not_a_result(distorted_result, tmp_path):
 
     with pytest.raises(InputError, match=r"map of the gap: result 2 is a str, not a result \(ringlube.run"):
         bore_map_figure([distorted_result, str(tmp_path / "r.h5")])
+
+
+# --- a study on a deck that names a distortion file -------------------------------------
+
+
+@pytest.mark.parametrize(
+    "bore, profile",
+    [("&bore distortion_file = 'dist.csv' /", ""), ("&bore order = 2, amplitude = 6.5e-6 /", "face.csv")],
+)
+def test_a_study_resumed_after_its_distortion_or_profile_file_was_edited_is_refused(tmp_path, bore, profile):
+    """The distortion file and the face profile are inputs of every run of a study: edited
+    between its start and its resume, the resume is refused as for the deck, its calibration
+    file and its trace (the stored runs were made with the old file); a study file that did not
+    record them (written before they were) still resumes."""
+    import json
+
+    import h5py
+
+    from ringlube.study.deck import read_study
+    from ringlube.study.store import Study
+
+    files = {"dist.csv": ROWS, "face.csv": "x_m, S_m\n0, 5e-6\n0.5e-3, 0\n1.004e-3, 6e-6\n"}
+    deck = own_deck(tmp_path, bore, files)
+    if profile:
+        table = f"&ring profile = 'table', profile_file = '{profile}', "
+        deck.write_text(re.sub(r"^&ring ", table, deck.read_text(), flags=re.M))
+    study = tmp_path / "s.nml"
+    study.write_text(
+        f"&study\n  name = 's'\n  cases = '{deck}'\n  labels = 'd'\n  samples = 8\n"
+        "  variables = 'tension'\n  lower = 10\n  upper = 20\n/\n"
+    )
+    edited = tmp_path / (profile or "dist.csv")
+    s = read_study(study)
+    assert str(edited) in s.inputs
+    Study.open(s, tmp_path / "s.h5").save()
+    Study.open(read_study(study), tmp_path / "s.h5")  # unchanged: resumes
+    edited.write_text(edited.read_text().replace("6", "7"))
+    with pytest.raises(InputError, match=rf"other contents of {re.escape(str(edited))}"):
+        Study.open(read_study(study), tmp_path / "s.h5")
+    with h5py.File(tmp_path / "s.h5", "r+") as h:  # a file that did not record it
+        started = json.loads(h.attrs["inputs"])
+        del started[str(edited)]
+        h.attrs["inputs"] = json.dumps(started)
+    Study.open(read_study(study), tmp_path / "s.h5")

@@ -259,7 +259,8 @@ def display(variable: str, unit: str, lower: float, upper: float) -> tuple[str, 
 
 
 def input_files(case: Case, deck: str | os.PathLike) -> list[Path]:
-    """The files a base deck reads: itself, its calibration file and its pressure trace.
+    """The files a base deck reads: itself, its calibration file, its pressure trace, its face
+    profile (``profile = 'table'``) and its bore's distortion file (``bore = 'distorted'``).
 
     Parameters
     ----------
@@ -285,6 +286,14 @@ def input_files(case: Case, deck: str | os.PathLike) -> list[Path]:
     trace = _effective(case, "operating", "pressure_file")
     if trace:
         files.append(Path(trace).resolve())
+    used = {
+        ("ring", "profile_file"): _effective(case, "ring", "profile") == "table",
+        ("bore", "distortion_file"): _effective(case, "physics", "bore") == "distorted",
+    }
+    for (group, name), read in used.items():
+        f = case.get(group, name) if read else None
+        if f:
+            files.append(Path(f).resolve())
     return list(dict.fromkeys(files))
 
 
