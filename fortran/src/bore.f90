@@ -15,7 +15,7 @@ module ringlube_bore
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_case, only: case_type, elastic_pressure
   use ringlube_textio, only: read_text_file, itoa, after_bom
-  use ringlube_gas, only: field_end, is_header, to_real, field_number, field_nonfinite
+  use ringlube_csv, only: field_end, is_header, to_real, field_number, field_nonfinite
   implicit none
   private
   public :: bore_type, bore_setup, bore_distortion, ring_compliance, conformability, &

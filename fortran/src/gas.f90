@@ -4,12 +4,10 @@ module ringlube_gas
   use ringlube_error, only: error_type, fatal_error, rl_input_error
   use ringlube_textio, only: itoa
   use ringlube_csv, only: csv_rows, open_csv, next_row, split_pair, row_error, add_pair, &
-                          take_pairs, field_end, is_header, to_real, field_number, field_nonfinite
+                          take_pairs, field_number, field_nonfinite
   implicit none
   private
   public :: read_pressure_csv, gas_pressure, check_pressure_trace
-  ! (ringlube_csv's field rules, for the readers that take them from here)
-  public :: field_end, is_header, to_real, field_number, field_nonfinite
 
   !> Largest plausible cylinder pressure [Pa] and smallest span of a trace [deg].
   real(dp), parameter, public :: max_pressure = 1e8_dp, min_span_deg = 700.0_dp
