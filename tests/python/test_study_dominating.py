@@ -219,6 +219,10 @@ def test_the_printed_summary_warns_of_a_dominating_sample(plain):
     plain.cases["cold"].dominating = dominating_samples(plain, "cold")
     text = summary(plain)
     assert (
-        f"  warning: 1 of the {plain.s.samples} good samples dominate a chosen design (knee) by the "
+        f"  warning: 1 of the {plain.s.samples} good samples dominates a chosen design (knee) by the "
         "true model: the surfaces misplaced the front there (report.md names them)"
     ) in text.splitlines()
+    knee_beaten_by(plain, 12)  # two: the plural
+    plain.cases["cold"].dominating = dominating_samples(plain, "cold")
+    two = f"  warning: 2 of the {plain.s.samples} good samples dominate a chosen design (knee)"
+    assert two in summary(plain)

@@ -118,9 +118,10 @@ def summary(study: Study) -> str:
                 )
         dom = c.dominating
         if dom is not None and len(dom.sample):
+            k = len(set(dom.sample.tolist()))
             lines.append(
-                f"  warning: {len(set(dom.sample.tolist()))} of the {dom.compared} good samples "
-                f"dominate a chosen design ({', '.join(dict.fromkeys(dom.chosen))}) by the true "
+                f"  warning: {k} of the {dom.compared} good samples {'dominates' if k == 1 else 'dominate'} "
+                f"a chosen design ({', '.join(dict.fromkeys(dom.chosen))}) by the true "
                 "model: the surfaces misplaced the front there (report.md names them)"
             )
         d = c.direct
