@@ -5,7 +5,7 @@ result that has a distorted bore; a round bore's result is refused with a messag
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING
 
 import matplotlib
@@ -81,8 +81,10 @@ def crank_angles(text: str | Sequence[float]) -> tuple[float, ...]:
     """
     if isinstance(text, str):
         items = text.replace(",", " ").split()
-    elif isinstance(text, Sequence) or hasattr(text, "tolist"):  # a list, a numpy array
-        items = list(np.ravel(text).tolist()) if hasattr(text, "tolist") else list(text)
+    elif hasattr(text, "tolist"):  # a numpy array or scalar
+        items = list(np.ravel(text).tolist())
+    elif isinstance(text, Iterable):  # a list, a tuple, a range, a generator
+        items = list(text)
     else:  # one angle
         items = [text]
     if not items:

@@ -283,3 +283,13 @@ def test_a_study_resumed_after_its_distortion_or_profile_file_was_edited_is_refu
         del started[str(edited)]
         h.attrs["inputs"] = json.dumps(started)
     Study.open(read_study(study), tmp_path / "s.h5")
+
+
+def test_crank_angles_take_any_iterable_of_angles():
+    """Angles given as a generator or a dict's keys are the angles they hold, as a list is
+    (they were taken as one angle named '<generator object ...>' and refused)."""
+    from ringlube.plot_bore import crank_angles
+
+    assert crank_angles(a for a in (90.0, 380.0)) == (90.0, 380.0)
+    assert crank_angles({90.0: "a", 380.0: "b"}.keys()) == (90.0, 380.0)
+    assert crank_angles(np.float64(380.0)) == (380.0,) == crank_angles(380)
