@@ -46,12 +46,12 @@ module ringlube_csv
 contains
 
   !> Open the CSV file `path` holding `what` (a missing file: "<path>: <what> file not found"),
-  !> its text read whole; with `skip_bom` a UTF-8 byte-order mark at its start is not data.
-  subroutine open_csv(path, what, rows, err, skip_bom)
+  !> its text read whole; a UTF-8 byte-order mark at its start (spreadsheets write one) is not
+  !> data.
+  subroutine open_csv(path, what, rows, err)
     character(len=*), intent(in) :: path, what
     type(csv_rows), intent(out) :: rows
     type(error_type), allocatable, intent(out) :: err
-    logical, intent(in) :: skip_bom
     logical :: exists
 
     inquire (file=path, exist=exists)
@@ -63,8 +63,7 @@ contains
     if (allocated(err)) return
     rows%path = trim(path)
     rows%what = what
-    rows%pos = 1
-    if (skip_bom) rows%pos = after_bom(rows%text)
+    rows%pos = after_bom(rows%text)
   end subroutine open_csv
 
   !> The next line that holds data into rows%line (false at the end of the text); `header`:

@@ -31,7 +31,7 @@ contains
     integer :: fa, fb
     logical :: header
 
-    call open_csv(path, 'pressure', rows, err, skip_bom=.true.)
+    call open_csv(path, 'pressure', rows, err)
     if (allocated(err)) return
     do while (next_row(rows, header))
       if (header) cycle

@@ -172,7 +172,7 @@ contains
     logical :: header
 
     scale = 1.0_dp
-    call open_csv(path, 'profile', rows, err, skip_bom=.true.)
+    call open_csv(path, 'profile', rows, err)
     if (allocated(err)) return
     do while (next_row(rows, header))
       if (header) then
