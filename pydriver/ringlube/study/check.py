@@ -253,15 +253,14 @@ def dominating_samples(study: Study, label: str, rtol: float = DOMINANCE_RTOL) -
     if len(good):
         front[np.asarray(nondominated(fg), int)] = True
     chosen, sample, not_compared = [], [], []
-    seen: list[tuple[np.ndarray, list[str]]] = []  # one entry per distinct chosen design
-    for n, x in zip(c.chosen.names, c.chosen.x):
-        same = [names for xs, names in seen if np.array_equal(xs, x)]
+    seen: list[tuple[int, list[str]]] = []  # each distinct chosen design: its first row, its names
+    for i, (n, x) in enumerate(zip(c.chosen.names, c.chosen.x)):
+        same = [names for k, names in seen if np.array_equal(c.chosen.x[k], x)]
         if same:
             same[0].append(n)
         else:
-            seen.append((np.asarray(x), [n]))
-    for x, names in seen:
-        i = next(k for k, xc in enumerate(c.chosen.x) if np.array_equal(xc, x))
+            seen.append((i, [n]))
+    for i, names in seen:
         g = np.atleast_2d(c.chosen.f_true)[i, cols]
         if not np.isfinite(g).all():
             not_compared.append(", ".join(names))
